@@ -1,0 +1,48 @@
+#pragma once
+// The ivgi subcommands. Each returns the process exit status; bad input throws (scene::LoadError,
+// UsageError, vk::VulkanError, std::runtime_error) and main() turns it into one line on stderr.
+#include <string>
+
+#include "engine/scene/scene.h"
+
+namespace ivgi::cli {
+
+struct SceneChoice {
+  std::string scene;  // a .gltf/.glb path or a built-in name; empty: the animated Cornell box
+  int cells = 8;      // tessellation of the built-in scenes
+};
+// The scene named by `choice`, loaded and checked.
+scene::Scene loadScene(const SceneChoice& choice);
+
+struct RenderOptions {
+  SceneChoice source;
+  std::string frames;  // empty: the whole animation
+  double fps = 24.0;
+  std::string size = "640x360";
+  int supersample = 1;
+  std::string out = "out/frame_%04d";
+  std::string formats = "exr,png";
+  std::string tonemap = "aces";
+  float exposure = 0.0f;
+  std::string camera, animation, device, json;
+  bool resume = false;
+};
+int runRender(const RenderOptions& options);
+
+struct InfoOptions {
+  SceneChoice source;
+};
+int runInfo(const InfoOptions& options);
+
+struct SceneOptions {
+  std::string name;
+  std::string out;
+  int cells = 8;
+  float albedo = 0.5f, emission = 1.0f;
+  bool still = false;
+};
+int runScene(const SceneOptions& options);
+
+int runDevices();
+
+}  // namespace ivgi::cli

@@ -1,0 +1,72 @@
+// ivgi: global illumination for animated glTF scenes with implicit visibility, on Vulkan compute.
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <exception>
+
+#include "engine/cli/commands.h"
+
+using namespace ivgi::cli;
+
+namespace {
+
+void addSceneArgument(CLI::App* cmd, SceneChoice& choice) {
+  cmd->add_option("scene", choice.scene, "glTF file (.gltf/.glb) or built-in scene (cornell, furnace); default: the animated Cornell box");
+  cmd->add_option("--cells", choice.cells, "tessellation of a built-in scene: cells along the Cornell box's side")->capture_default_str();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"ivgi " IVGI_VERSION ": global illumination of animated glTF scenes with implicit visibility, on Vulkan compute"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "ivgi " IVGI_VERSION);
+
+  RenderOptions render;
+  auto* r = app.add_subcommand("render", "render a scene's frames to EXR and PNG");
+  addSceneArgument(r, render.source);
+  r->add_option("--frames", render.frames, "frames A, A-B or A-B:STEP (default: the whole animation)");
+  r->add_option("--fps", render.fps, "frames per second: frame f shows time f / fps")->capture_default_str();
+  r->add_option("--size", render.size, "image size WIDTHxHEIGHT")->capture_default_str();
+  r->add_option("--supersample", render.supersample, "N: N×N samples per pixel")->capture_default_str();
+  r->add_option("--out", render.out, "output pattern with a printf frame number; extension from --format")->capture_default_str();
+  r->add_option("--format", render.formats, "comma-separated: exr (linear, all channels), png (tone mapped)")->capture_default_str();
+  r->add_option("--tonemap", render.tonemap, "PNG tone mapping: aces or clamp")->capture_default_str();
+  r->add_option("--exposure", render.exposure, "PNG exposure in stops")->capture_default_str();
+  r->add_option("--camera", render.camera, "camera name or index (default: the first in the scene)");
+  r->add_option("--animation", render.animation, "animation name or index, or none (default: the first)");
+  r->add_option("--device", render.device, "Vulkan device name substring or index (default: IVGI_DEVICE, else the best)");
+  r->add_option("--json", render.json, "sidecar JSON path (default: beside the frames)");
+  r->add_flag("--resume", render.resume, "skip frames whose files all exist");
+
+  InfoOptions info;
+  auto* i = app.add_subcommand("info", "describe a scene: meshes, triangles, surfels, animations, cameras, lights, bounds");
+  addSceneArgument(i, info.source);
+
+  SceneOptions scene;
+  auto* s = app.add_subcommand("scene", "write a built-in scene as glTF");
+  s->add_option("name", scene.name, "cornell or furnace")->required();
+  s->add_option("--out", scene.out, "output file (.gltf or .glb)")->required();
+  s->add_option("--cells", scene.cells, "tessellation: cells along the Cornell box's side, or per furnace face")->capture_default_str();
+  s->add_option("--albedo", scene.albedo, "furnace albedo")->capture_default_str();
+  s->add_option("--emission", scene.emission, "furnace emitted radiance")->capture_default_str();
+  s->add_flag("--static", scene.still, "Cornell box without its animation");
+
+  auto* d = app.add_subcommand("devices", "list Vulkan devices and whether ivgi can use them");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  try {
+    if (r->parsed()) return runRender(render);
+    if (i->parsed()) return runInfo(info);
+    if (s->parsed()) return runScene(scene);
+    if (d->parsed()) return runDevices();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "ivgi: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,99 @@
+#include "engine/cli/options.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <algorithm>
+#include <regex>
+
+namespace ivgi::cli {
+
+std::vector<int> FrameRange::frames() const {
+  std::vector<int> out;
+  for (int f = first; f <= last; f += step) out.push_back(f);
+  return out;
+}
+
+FrameRange parseFrameRange(const std::string& text) {
+  static const std::regex re(R"(^\s*(\d+)(?:\s*-\s*(\d+))?(?::(\d+))?\s*$)");
+  std::smatch m;
+  if (!std::regex_match(text, m, re)) throw UsageError("--frames '" + text + "': expected A, A-B or A-B:STEP with frame numbers >= 0");
+  FrameRange r;
+  try {
+    r.first = std::stoi(m[1]);
+    r.last = m[2].matched ? std::stoi(m[2]) : r.first;
+    r.step = m[3].matched ? std::stoi(m[3]) : 1;
+  } catch (const std::out_of_range&) {
+    throw UsageError("--frames '" + text + "': frame number too large");
+  }
+  if (r.last < r.first) throw UsageError("--frames '" + text + "': the last frame comes before the first");
+  if (r.step < 1) throw UsageError("--frames '" + text + "': the step must be at least 1");
+  return r;
+}
+
+void parseSize(const std::string& text, uint32_t& width, uint32_t& height) {
+  static const std::regex re(R"(^\s*(\d{1,9})\s*[xX]\s*(\d{1,9})\s*$)");
+  std::smatch m;
+  if (!std::regex_match(text, m, re)) throw UsageError("--size '" + text + "': expected WIDTHxHEIGHT, e.g. 640x360");
+  width = uint32_t(std::stoul(m[1]));
+  height = uint32_t(std::stoul(m[2]));
+  if (width == 0 || height == 0) throw UsageError("--size '" + text + "': width and height must be at least 1");
+}
+
+std::vector<std::string> parseFormats(const std::string& text) {
+  std::vector<std::string> out;
+  size_t start = 0;
+  while (start <= text.size()) {
+    size_t comma = text.find(',', start);
+    std::string f = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    if (f != "exr" && f != "png") throw UsageError("--format '" + text + "': formats are exr and png");
+    if (std::find(out.begin(), out.end(), f) == out.end()) out.push_back(f);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+
+OutputPattern::OutputPattern(const std::string& pattern) {
+  std::string p = pattern;
+  std::string ext = std::filesystem::path(p).extension().string();
+  if (ext == ".exr" || ext == ".png") p = p.substr(0, p.size() - ext.size());
+  static const std::regex conv(R"(%(0?)(\d*)d)");
+  std::smatch m;
+  if (std::regex_search(p, m, conv)) {
+    hasNumber_ = true;
+    zeroPad_ = m[1].length() > 0;
+    width_ = m[2].length() ? std::stoi(m[2]) : 0;
+    prefix_ = m.prefix();
+    suffix_ = m.suffix();
+    if (width_ > 12) throw UsageError("--out '" + pattern + "': frame number width above 12");
+  } else {
+    prefix_ = p + "_";  // no conversion given: append the frame number
+    hasNumber_ = true;
+    zeroPad_ = true;
+    width_ = 4;
+  }
+  if (prefix_.find('%') != std::string::npos || suffix_.find('%') != std::string::npos)
+    throw UsageError("--out '" + pattern + "': only one %d conversion (e.g. %04d) is allowed");
+  if (prefix_.empty() && suffix_.empty()) throw UsageError("--out '" + pattern + "': empty file name");
+}
+
+std::string OutputPattern::path(int frame, const std::string& format) const {
+  char number[32];
+  if (zeroPad_) std::snprintf(number, sizeof number, "%0*d", width_, frame);
+  else std::snprintf(number, sizeof number, "%*d", width_, frame);
+  return prefix_ + number + suffix_ + "." + format;
+}
+
+std::string OutputPattern::sidecar() const {
+  std::string stem = prefix_ + suffix_;
+  while (!stem.empty() && (stem.back() == '_' || stem.back() == '-' || stem.back() == '.')) stem.pop_back();
+  if (stem.empty() || stem.back() == '/') stem += "render";
+  return stem + ".json";
+}
+
+std::string OutputPattern::directory() const {
+  auto dir = std::filesystem::path(prefix_ + "0" + suffix_).parent_path();
+  return dir.empty() ? "." : dir.string();
+}
+
+}  // namespace ivgi::cli

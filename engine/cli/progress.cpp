@@ -1,0 +1,44 @@
+#include "engine/cli/progress.h"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+
+namespace ivgi::cli {
+
+Progress::Progress(std::string label, size_t total)
+    : label_(std::move(label)), total_(total), terminal_(isatty(STDERR_FILENO)), start_(std::chrono::steady_clock::now()),
+      lastDraw_(start_) {}
+
+void Progress::advance(size_t skipped) {
+  ++done_;
+  if (!skipped) ++rendered_;
+  auto now = std::chrono::steady_clock::now();
+  if (terminal_ || now - lastDraw_ >= std::chrono::seconds(1) || done_ == total_) draw(false);
+}
+
+void Progress::finish() {
+  if (terminal_) std::fputc('\n', stderr);
+  else if (drawnDone_ != done_) draw(true);
+  std::fflush(stderr);
+}
+
+void Progress::draw(bool) {
+  auto now = std::chrono::steady_clock::now();
+  lastDraw_ = now;
+  drawnDone_ = done_;
+  double seconds = std::chrono::duration<double>(now - start_).count();
+  double fps = seconds > 0 ? rendered_ / seconds : 0;
+  size_t left = total_ - done_;
+  char eta[32] = "--";
+  if (fps > 0) {
+    long s = std::lround(left / fps);
+    std::snprintf(eta, sizeof eta, "%ld:%02ld", s / 60, s % 60);
+  }
+  std::fprintf(stderr, "%s%s: frame %zu/%zu (%3.0f%%), %.2f fps, ETA %s%s", terminal_ ? "\r\033[K" : "", label_.c_str(), done_,
+               total_, total_ ? 100.0 * done_ / total_ : 100.0, fps, eta, terminal_ ? "" : "\n");
+  std::fflush(stderr);
+}
+
+}  // namespace ivgi::cli

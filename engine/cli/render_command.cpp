@@ -1,0 +1,184 @@
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "engine/cli/commands.h"
+#include "engine/cli/options.h"
+#include "engine/cli/progress.h"
+#include "engine/gi/frame_renderer.h"
+#include "engine/image/atomic_file.h"
+#include "engine/image/frame_image.h"
+#include "engine/scene/camera.h"
+#include "engine/scene/geometry.h"
+#include "engine/vk/context.h"
+
+namespace ivgi::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+struct Timeline {
+  int animation = -1;  // -1: static scene
+  double start = 0.0;
+  int lastFrame = 0;
+  double time(int frame, double fps) const { return start + frame / fps; }
+};
+
+Timeline timeline(const scene::Scene& s, const std::string& choice, double fps) {
+  Timeline t;
+  if (choice == "none") return t;
+  if (!choice.empty()) {
+    auto a = s.findAnimation(choice);
+    if (!a) throw scene::LoadError(s.source + ": no animation named '" + choice + "' (" + std::to_string(s.animations.size()) + " animations; see `ivgi info`)");
+    t.animation = *a;
+  } else if (!s.animations.empty()) {
+    t.animation = 0;
+  }
+  if (t.animation >= 0) {
+    const auto& a = s.animations[t.animation];
+    t.start = a.start;
+    t.lastFrame = int(std::floor((a.end - a.start) * fps + 1e-4));
+  }
+  return t;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+void writeJson(const std::string& path, const json& j) {
+  image::writeAtomically(path, [&](const std::string& temp) {
+    std::ofstream out(temp);
+    out << j.dump(2) << "\n";
+    if (!out) throw std::runtime_error(path + ": cannot write");
+  });
+}
+
+}  // namespace
+
+int runRender(const RenderOptions& o) {
+  if (!(o.fps > 0.0 && o.fps <= 1000.0)) throw UsageError("--fps must lie in (0, 1000]");
+  if (!std::isfinite(o.exposure) || std::abs(o.exposure) > 64) throw UsageError("--exposure must lie in [-64, 64] stops");
+  if (o.supersample < 1 || o.supersample > 16) throw UsageError("--supersample must be 1 to 16");
+  if (o.tonemap != "aces" && o.tonemap != "clamp") throw UsageError("--tonemap must be aces or clamp");
+  gi::ImageSettings image;
+  parseSize(o.size, image.width, image.height);
+  image.samples = uint32_t(o.supersample);
+  auto formats = parseFormats(o.formats);
+  OutputPattern pattern(o.out);
+  image::DisplaySettings display{o.tonemap == "aces" ? image::ToneMap::Aces : image::ToneMap::Clamp, o.exposure};
+
+  scene::Scene s = loadScene(o.source);
+  Timeline tl = timeline(s, o.animation, o.fps);
+  FrameRange range{0, tl.lastFrame, 1};
+  if (!o.frames.empty()) range = parseFrameRange(o.frames);
+  if (range.last > tl.lastFrame) {
+    std::string what = tl.animation >= 0 ? "the animation '" + s.animations[tl.animation].name + "' (frames 0-" + std::to_string(tl.lastFrame) +
+                                               " at " + json(o.fps).dump() + " fps)"
+                                         : "a scene without animation (frame 0 only)";
+    throw scene::LoadError(s.source + ": frames " + std::to_string(range.first) + "-" + std::to_string(range.last) + " lie outside " + what);
+  }
+  scene::Geometry g = scene::buildGeometry(s);
+  if (g.triangles.empty()) throw scene::LoadError(s.source + ": the scene has no triangles to render");
+  for (const auto& w : s.warnings) std::fprintf(stderr, "ivgi: warning: %s: %s\n", s.source.c_str(), w.c_str());
+
+  int cameraNode = -1;
+  if (!o.camera.empty()) {
+    auto c = s.findCameraNode(o.camera);
+    if (!c) throw scene::LoadError(s.source + ": no camera named '" + o.camera + "' (" + std::to_string(s.cameraNodes().size()) + " cameras; see `ivgi info`)");
+    cameraNode = *c;
+  } else if (auto cams = s.cameraNodes(); !cams.empty()) {
+    cameraNode = cams.front();
+  }
+
+  vk::Context ctx({.device = o.device});
+  if (std::string why = gi::checkImageSettings(ctx, image); !why.empty()) throw UsageError("--size " + o.size + ": " + why);
+  gi::FrameRenderer renderer(ctx, g, image);
+
+  const auto frames = range.frames();
+  const float aspect = float(image.width) / float(image.height);
+  scene::CameraView framing;
+  if (cameraNode < 0) {  // frame the union of the bounds over (up to 16 of) the frames rendered
+    scene::Bounds all;
+    size_t stride = std::max<size_t>(1, frames.size() / 16);
+    for (size_t i = 0; i < frames.size(); i += stride) {
+      auto pose = scene::evaluatePose(s, tl.animation, float(tl.time(frames[i], o.fps)));
+      auto b = scene::worldBounds(scene::animateOnHost(g, g.frameInputs(s, pose)));
+      all.add(b.min), all.add(b.max);
+    }
+    framing = scene::framingCamera(all, aspect);
+  }
+
+  fs::create_directories(pattern.directory());
+  image::installInterruptCleanup();
+  const char* threads = std::getenv("LP_NUM_THREADS");
+  json sidecar = {
+      {"ivgi", IVGI_VERSION},
+      {"scene", s.source},
+      {"settings",
+       {{"frames", {range.first, range.last, range.step}}, {"fps", o.fps}, {"width", image.width}, {"height", image.height},
+        {"supersample", image.samples}, {"formats", formats}, {"tonemap", o.tonemap}, {"exposure", o.exposure},
+        {"animation", tl.animation >= 0 ? json(s.animations[tl.animation].name) : json(nullptr)},
+        {"camera", cameraNode >= 0 ? json(s.nodes[cameraNode].name) : json("default framing")}}},
+      {"device",
+       {{"name", ctx.info().name}, {"type", ctx.info().type}, {"driver", ctx.info().driverName}, {"driverInfo", ctx.info().driverInfo},
+        {"LP_NUM_THREADS", threads ? json(threads) : json(nullptr)}}},
+      {"counts", {{"triangles", g.triangles.size()}, {"vertices", g.vertices.size()}, {"surfels", g.surfels.size()}}},
+      {"bytesAllocated", renderer.bytesAllocated()},
+      {"frames", json::array()}};
+
+  Progress progress("render", frames.size());
+  std::map<std::string, std::vector<double>> perPass;
+  for (int frame : frames) {
+    std::vector<std::string> paths;
+    for (const auto& f : formats) paths.push_back(pattern.path(frame, f));
+    if (o.resume && std::all_of(paths.begin(), paths.end(), [](auto& p) { return fs::exists(p); })) {
+      progress.advance(1);
+      continue;
+    }
+    double t = tl.time(frame, o.fps);
+    auto pose = scene::evaluatePose(s, tl.animation, float(t));
+    auto view = cameraNode >= 0 ? scene::cameraView(s, pose, cameraNode) : framing;
+    auto result = renderer.render(g.frameInputs(s, pose), view);
+    if (size_t bad = image::sanitize(result.channels))
+      std::fprintf(stderr, "ivgi: warning: frame %d: %zu non-finite values replaced by 0 (a bug: please report it)\n", frame, bad);
+    for (size_t i = 0; i < formats.size(); ++i) {
+      if (formats[i] == "exr") image::writeExr(paths[i], result.channels);
+      else image::writePng(paths[i], result.channels, display);
+    }
+    json passes = json::object();
+    double total = 0;
+    for (const auto& p : result.passTimes) {
+      passes[p.pass] = p.ms;
+      perPass[p.pass].push_back(p.ms);
+      total += p.ms;
+    }
+    perPass["total"].push_back(total);
+    sidecar["frames"].push_back({{"frame", frame}, {"time", t}, {"gpuMs", passes}, {"totalGpuMs", total}, {"files", paths}});
+    progress.advance();
+  }
+  progress.finish();
+  json medians = json::object();
+  for (const auto& [pass, ms] : perPass) medians[pass] = median(ms);
+  sidecar["medianGpuMs"] = medians;
+  std::string sidecarPath = o.json.empty() ? pattern.sidecar() : o.json;
+  writeJson(sidecarPath, sidecar);
+  std::fprintf(stderr, "ivgi: %zu frames to %s, timings in %s (median GPU %.2f ms per frame)\n", frames.size(), pattern.directory().c_str(),
+               sidecarPath.c_str(), medians.value("total", 0.0));
+  if (ctx.validationErrors()) {
+    std::fprintf(stderr, "ivgi: %u Vulkan validation errors\n", ctx.validationErrors());
+    return 3;
+  }
+  return 0;
+}
+
+}  // namespace ivgi::cli

@@ -1,0 +1,76 @@
+#include "engine/image/frame_image.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "engine/image/atomic_file.h"
+#include "engine/scene/texture_sampling.h"
+
+namespace ivgi::image {
+
+namespace OIIO = OIIO_NAMESPACE;
+
+size_t sanitize(FrameChannels& frame) {
+  size_t replaced = 0;
+  for (auto* channel : {&frame.radiance, &frame.albedo, &frame.normalDepth, &frame.emission})
+    for (auto& v : *channel)
+      for (int c = 0; c < 4; ++c)
+        if (!std::isfinite(v[c])) v[c] = 0.0f, ++replaced;
+  return replaced;
+}
+
+float toneMap(float x, ToneMap mode) {
+  x = std::max(x, 0.0f);
+  if (mode == ToneMap::Aces) x = (x * (2.51f * x + 0.03f)) / (x * (2.43f * x + 0.59f) + 0.14f);  // Narkowicz's ACES fit
+  return std::clamp(x, 0.0f, 1.0f);
+}
+
+namespace {
+
+void writeWith(const std::string& path, const OIIO::ImageSpec& spec, OIIO::TypeDesc type, const void* data) {
+  writeAtomically(path, [&](const std::string& temp) {
+    auto out = OIIO::ImageOutput::create(path);
+    if (!out) throw std::runtime_error(path + ": no image writer for this file type");
+    if (!out->open(temp, spec) || !out->write_image(type, data) || !out->close())
+      throw std::runtime_error(path + ": cannot write image: " + out->geterror());
+  });
+}
+
+}  // namespace
+
+void writeExr(const std::string& path, const FrameChannels& f) {
+  const char* names[] = {"R", "G", "B", "A", "albedo.R", "albedo.G", "albedo.B", "N.X", "N.Y", "N.Z", "Z", "emission.R", "emission.G", "emission.B"};
+  const int channels = 14;
+  OIIO::ImageSpec spec(int(f.width), int(f.height), channels, OIIO::TypeDesc::FLOAT);
+  spec.channelnames.assign(names, names + channels);
+  spec.alpha_channel = 3;
+  spec.z_channel = 10;
+  spec.attribute("compression", "zip");
+  spec.attribute("Software", "ivgi " IVGI_VERSION);
+  std::vector<float> pixels(size_t(f.width) * f.height * channels);
+  for (size_t i = 0; i < size_t(f.width) * f.height; ++i) {
+    float* p = &pixels[i * channels];
+    const glm::vec4 &r = f.radiance[i], &a = f.albedo[i], &n = f.normalDepth[i], &e = f.emission[i];
+    float row[] = {r.r, r.g, r.b, r.a, a.r, a.g, a.b, n.x, n.y, n.z, n.w, e.r, e.g, e.b};
+    std::copy(row, row + channels, p);
+  }
+  writeWith(path, spec, OIIO::TypeDesc::FLOAT, pixels.data());
+}
+
+void writePng(const std::string& path, const FrameChannels& f, const DisplaySettings& d) {
+  OIIO::ImageSpec spec(int(f.width), int(f.height), 3, OIIO::TypeDesc::UINT8);
+  spec.attribute("Software", "ivgi " IVGI_VERSION);
+  std::vector<uint8_t> pixels(size_t(f.width) * f.height * 3);
+  const float scale = std::exp2(d.exposure);
+  for (size_t i = 0; i < size_t(f.width) * f.height; ++i)
+    for (int c = 0; c < 3; ++c) {
+      float v = scene::linearToSrgb(toneMap(f.radiance[i][c] * scale, d.tonemap));
+      pixels[i * 3 + c] = uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
+    }
+  writeWith(path, spec, OIIO::TypeDesc::UINT8, pixels.data());
+}
+
+}  // namespace ivgi::image

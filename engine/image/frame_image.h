@@ -1,0 +1,36 @@
+#pragma once
+// The channels of a rendered frame and how they are written: linear OpenEXR with named layers, and a
+// tone-mapped sRGB PNG for display. Every file is written under a temporary name and renamed.
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace ivgi::image {
+
+struct FrameChannels {
+  uint32_t width = 0, height = 0;
+  std::vector<glm::vec4> radiance;     // rgb, a = coverage
+  std::vector<glm::vec4> albedo;       // rgb
+  std::vector<glm::vec4> normalDepth;  // world normal, w = depth along the view axis (0: background)
+  std::vector<glm::vec4> emission;     // rgb
+};
+
+// Replaces NaN/Inf by 0 (a solver bug must never reach a file); returns how many values it replaced.
+size_t sanitize(FrameChannels& frame);
+
+enum class ToneMap { Clamp, Aces };
+struct DisplaySettings {
+  ToneMap tonemap = ToneMap::Aces;
+  float exposure = 0.0f;  // stops
+};
+
+// Channels R G B A, albedo.R/G/B, N.X/Y/Z, Z, emission.R/G/B, 32-bit float, ZIP compression.
+void writeExr(const std::string& path, const FrameChannels& frame);
+// radiance × 2^exposure, tone mapped, sRGB encoded, 8-bit RGB.
+void writePng(const std::string& path, const FrameChannels& frame, const DisplaySettings& display);
+
+float toneMap(float linear, ToneMap mode);  // to [0, 1], before the sRGB curve
+
+}  // namespace ivgi::image

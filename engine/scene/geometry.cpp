@@ -1,0 +1,223 @@
+#include "engine/scene/geometry.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <functional>
+#include <glm/gtc/packing.hpp>
+#include <unordered_map>
+
+#include "engine/scene/texture_sampling.h"
+
+namespace ivgi::scene {
+
+namespace {
+
+uint64_t hashPoint(glm::vec3 p) {
+  uint32_t b[3];
+  std::memcpy(b, &p, 12);
+  return (uint64_t(b[0]) * 0x9E3779B97F4A7C15ull) ^ (uint64_t(b[1]) * 0xC2B2AE3D27D4EB4Full) ^ (uint64_t(b[2]) * 0x165667B19E3779F9ull);
+}
+
+// A triangle whose area is negligible against its longest edge (or that repeats a vertex) carries no
+// transport; design.md §3 wants it counted and excluded.
+bool degenerate(glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+  float cross = glm::length(glm::cross(b - a, c - a));
+  float edge2 = std::max({glm::dot(b - a, b - a), glm::dot(c - b, c - b), glm::dot(a - c, a - c)});
+  return !(cross > 1e-7f * edge2) || edge2 == 0.0f;
+}
+
+// Normal transform without inverting: the cofactor matrix is det·M⁻ᵀ, finite for singular M too.
+glm::vec3 transformNormal(const glm::mat4& m, glm::vec3 n) {
+  glm::vec3 c0(m[0]), c1(m[1]), c2(m[2]);
+  glm::mat3 cof(glm::cross(c1, c2), glm::cross(c2, c0), glm::cross(c0, c1));
+  float det = glm::dot(c0, glm::cross(c1, c2));
+  glm::vec3 r = cof * n * (det < 0.0f ? -1.0f : 1.0f);
+  float len = glm::length(r);
+  return len > 0.0f ? r / len : glm::vec3(0.0f);
+}
+
+}  // namespace
+
+Geometry buildGeometry(const Scene& scene) {
+  Geometry g;
+  g.nodeCount = uint32_t(scene.nodes.size());
+  uint32_t matrices = g.nodeCount;
+  for (const auto& skin : scene.skins) {
+    g.skinJointBase.push_back(matrices);
+    matrices += uint32_t(skin.joints.size());
+  }
+  for (const auto& t : scene.textures) {
+    uint32_t wrap = uint32_t(t.wrapS) | uint32_t(t.wrapT) << 16;
+    g.textures.push_back({uint32_t(g.texels.size() / 2), uint32_t(t.width), uint32_t(t.height), wrap});
+    // Decoded once here to linear RGBA16F, so that a lookup only unpacks: the sRGB curve per texel
+    // fetch cost lavapipe more than the rest of the resolve pass.
+    for (size_t p = 0; p < t.rgba.size() / 4; ++p) {
+      const uint8_t* c = &t.rgba[4 * p];
+      glm::vec4 linear(srgbToLinear(c[0] / 255.0f), srgbToLinear(c[1] / 255.0f), srgbToLinear(c[2] / 255.0f), c[3] / 255.0f);
+      g.texels.push_back(glm::packHalf2x16(glm::vec2(linear.r, linear.g)));
+      g.texels.push_back(glm::packHalf2x16(glm::vec2(linear.b, linear.a)));
+    }
+  }
+  for (const auto& m : scene.materials)
+    g.materials.push_back({m.baseColor, glm::vec4(m.emissive * m.emissiveStrength, 0.0f), m.baseColorTexture, m.emissiveTexture, 0, 0});
+  g.materials.push_back({glm::vec4(1.0f), glm::vec4(0.0f), -1, -1, 0, 0});  // glTF default material
+  const uint32_t defaultMaterial = uint32_t(g.materials.size() - 1);
+
+  std::function<void(int)> visit = [&](int nodeIndex) {
+    const Node& node = scene.nodes[nodeIndex];
+    if (node.mesh >= 0) {
+      for (const Primitive& p : scene.meshes[node.mesh].primitives) {
+        const uint32_t instance = uint32_t(g.instances.size());
+        const uint32_t base = uint32_t(g.vertices.size());
+        const uint32_t n = uint32_t(p.positions.size());
+        const bool skinned = node.skin >= 0 && !p.joints.empty();
+        GpuInstance inst{};
+        inst.matrix = skinned ? g.skinJointBase[node.skin] : uint32_t(nodeIndex);
+        inst.skinned = skinned;
+        inst.morphTargets = uint32_t(p.targets.size());
+        inst.morphWeightBase = g.morphWeightCount;
+        inst.morphDeltaBase = uint32_t(g.morphDeltas.size());
+        inst.vertexCount = n;
+        g.morphWeightCount += inst.morphTargets;
+        g.instances.push_back(inst);
+        g.instanceNode.push_back(nodeIndex);
+        for (const auto& t : p.targets)
+          for (uint32_t v = 0; v < n; ++v)
+            g.morphDeltas.push_back({glm::vec4(t.positions.empty() ? glm::vec3(0) : t.positions[v], 0),
+                                     glm::vec4(t.normals.empty() ? glm::vec3(0) : t.normals[v], 0)});
+
+        const GpuMaterial& material = g.materials[p.material >= 0 ? p.material : defaultMaterial];
+        for (uint32_t v = 0; v < n; ++v) {
+          GpuVertex gv{};
+          gv.position = p.positions[v];
+          gv.instance = instance;
+          gv.normal = p.normals.empty() ? glm::vec3(0) : p.normals[v];
+          gv.local = v;
+          gv.joints = skinned ? p.joints[v] : glm::uvec4(0);
+          gv.weights = skinned ? p.weights[v] : glm::vec4(0);
+          g.vertices.push_back(gv);
+          g.uvs.push_back(p.uvs.empty() ? glm::vec2(0) : p.uvs[v]);
+        }
+
+        // Weld vertices that differ only in UV (seams) into one surfel: same position, normal and skin.
+        std::vector<uint32_t> surfelOf(n, ~0u);
+        std::unordered_multimap<uint64_t, uint32_t> byPosition;  // hash -> first vertex of a surfel
+        std::vector<std::vector<uint32_t>> welded;
+        for (uint32_t v = 0; v < n; ++v) {
+          const GpuVertex& gv = g.vertices[base + v];
+          uint64_t h = hashPoint(gv.position);
+          auto range = byPosition.equal_range(h);
+          for (auto it = range.first; it != range.second && surfelOf[v] == ~0u; ++it) {
+            const GpuVertex& o = g.vertices[base + it->second];
+            bool same = o.position == gv.position && glm::all(glm::lessThan(glm::abs(o.normal - gv.normal), glm::vec3(1e-4f))) &&
+                        o.joints == gv.joints && o.weights == gv.weights;
+            if (same) surfelOf[v] = surfelOf[it->second];
+          }
+          if (surfelOf[v] == ~0u) {
+            surfelOf[v] = uint32_t(welded.size());
+            welded.push_back({});
+            byPosition.emplace(h, v);
+          }
+          welded[surfelOf[v]].push_back(v);
+        }
+
+        std::vector<std::vector<uint32_t>> adjacent(welded.size());
+        for (size_t t = 0; t + 2 < p.indices.size(); t += 3) {
+          uint32_t a = p.indices[t], b = p.indices[t + 1], c = p.indices[t + 2];
+          if (a == b || b == c || a == c || degenerate(p.positions[a], p.positions[b], p.positions[c])) {
+            ++g.degenerateTriangles;
+            continue;
+          }
+          uint32_t tri = uint32_t(g.triangles.size());
+          uint32_t mat = (p.material >= 0 ? uint32_t(p.material) : defaultMaterial) | (p.normals.empty() ? kFlatShaded : 0u);
+          g.triangles.push_back({base + a, base + b, base + c, mat});
+          for (uint32_t v : {a, b, c}) adjacent[surfelOf[v]].push_back(tri);
+        }
+
+        for (size_t s = 0; s < welded.size(); ++s) {
+          if (adjacent[s].empty()) continue;  // only on degenerate triangles, or unreferenced
+          GpuSurfelSource src{uint32_t(g.surfelVertices.size()), uint32_t(welded[s].size()), uint32_t(g.surfelTriangles.size()),
+                              uint32_t(adjacent[s].size())};
+          glm::vec4 albedo(0.0f), emission(0.0f);
+          for (uint32_t v : welded[s]) {
+            g.surfelVertices.push_back(base + v);
+            glm::vec2 uv = p.uvs.empty() ? glm::vec2(0) : p.uvs[v];
+            albedo += material.baseColor * sampleTexture(g, material.baseColorTexture, uv);
+            emission += material.emission * sampleTexture(g, material.emissiveTexture, uv);
+          }
+          g.surfelTriangles.insert(g.surfelTriangles.end(), adjacent[s].begin(), adjacent[s].end());
+          g.surfels.push_back(src);
+          g.surfelAlbedo.push_back(albedo / float(welded[s].size()));
+          g.surfelEmission.push_back(emission / float(welded[s].size()));
+        }
+      }
+    }
+    for (int c : node.children) visit(c);
+  };
+  for (int r : scene.roots) visit(r);
+  return g;
+}
+
+FrameInputs Geometry::frameInputs(const Scene& scene, const Pose& pose) const {
+  FrameInputs in;
+  in.matrices = pose.world;
+  for (size_t s = 0; s < scene.skins.size(); ++s)
+    for (size_t j = 0; j < scene.skins[s].joints.size(); ++j)
+      in.matrices.push_back(pose.world[scene.skins[s].joints[j]] * scene.skins[s].inverseBind[j]);
+  in.morphWeights.assign(morphWeightCount, 0.0f);
+  for (size_t i = 0; i < instances.size(); ++i) {
+    const auto& w = pose.weights[instanceNode[i]];
+    for (uint32_t k = 0; k < instances[i].morphTargets && k < w.size(); ++k) in.morphWeights[instances[i].morphWeightBase + k] = w[k];
+  }
+  return in;
+}
+
+std::vector<WorldVertex> animateOnHost(const Geometry& g, const FrameInputs& in) {
+  std::vector<WorldVertex> out(g.vertices.size());
+  for (size_t i = 0; i < g.vertices.size(); ++i) {
+    const GpuVertex& v = g.vertices[i];
+    const GpuInstance& inst = g.instances[v.instance];
+    glm::vec3 p = v.position, n = v.normal;
+    for (uint32_t k = 0; k < inst.morphTargets; ++k) {
+      float w = in.morphWeights[inst.morphWeightBase + k];
+      const GpuMorphDelta& d = g.morphDeltas[inst.morphDeltaBase + k * inst.vertexCount + v.local];
+      p += w * glm::vec3(d.position), n += w * glm::vec3(d.normal);
+    }
+    glm::mat4 m = inst.skinned ? v.weights.x * in.matrices[inst.matrix + v.joints.x] + v.weights.y * in.matrices[inst.matrix + v.joints.y] +
+                                     v.weights.z * in.matrices[inst.matrix + v.joints.z] + v.weights.w * in.matrices[inst.matrix + v.joints.w]
+                               : in.matrices[inst.matrix];
+    out[i].position = glm::vec4(glm::vec3(m * glm::vec4(p, 1.0f)), 1.0f);
+    out[i].normal = glm::vec4(transformNormal(m, n), 0.0f);
+  }
+  return out;
+}
+
+std::vector<Surfel> surfelsOnHost(const Geometry& g, const std::vector<WorldVertex>& world) {
+  std::vector<Surfel> out(g.surfels.size());
+  for (size_t s = 0; s < g.surfels.size(); ++s) {
+    const GpuSurfelSource& src = g.surfels[s];
+    float area = 0.0f;
+    glm::vec3 faceSum(0.0f), vertexSum(0.0f);
+    for (uint32_t k = 0; k < src.triangleCount; ++k) {
+      const GpuTriangle& t = g.triangles[g.surfelTriangles[src.firstTriangle + k]];
+      glm::vec3 c = glm::cross(glm::vec3(world[t.v1].position - world[t.v0].position), glm::vec3(world[t.v2].position - world[t.v0].position));
+      area += glm::length(c) / 6.0f;  // a third of the triangle's area
+      faceSum += c;
+    }
+    for (uint32_t k = 0; k < src.vertexCount; ++k) vertexSum += glm::vec3(world[g.surfelVertices[src.firstVertex + k]].normal);
+    glm::vec3 n = glm::length(vertexSum) > 1e-6f ? vertexSum : faceSum;
+    float len = glm::length(n);
+    out[s].positionArea = glm::vec4(glm::vec3(world[g.surfelVertices[src.firstVertex]].position), len > 0.0f ? area : 0.0f);
+    out[s].normal = glm::vec4(len > 0.0f ? n / len : glm::vec3(0.0f), 0.0f);
+  }
+  return out;
+}
+
+Bounds worldBounds(const std::vector<WorldVertex>& world) {
+  Bounds b;
+  for (const auto& v : world) b.add(glm::vec3(v.position));
+  return b;
+}
+
+}  // namespace ivgi::scene

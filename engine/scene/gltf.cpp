@@ -1,0 +1,553 @@
+#include "engine/scene/gltf.h"
+
+#include <tiny_gltf.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <glm/gtc/type_ptr.hpp>
+#include <set>
+
+namespace ivgi::scene {
+
+namespace {
+
+const std::set<std::string> kSupportedExtensions = {"KHR_lights_punctual", "KHR_materials_emissive_strength",
+                                                    "KHR_mesh_quantization"};
+
+// Reads accessors with every check the glTF spec implies: indices in range, views inside buffers,
+// sparse substitution, normalized integers, and no NaN/Inf in float data.
+class AccessorReader {
+ public:
+  AccessorReader(const tinygltf::Model& m, const std::string& source) : m_(m), source_(source) {}
+
+  [[noreturn]] void fail(const std::string& what) const { throw LoadError(source_ + ": " + what); }
+
+  // Values of accessor `index` as floats, `components` per element (checked against the type).
+  std::vector<float> floats(int index, int components, const std::string& what) const {
+    const auto& a = accessor(index, what);
+    if (tinygltf::GetNumComponentsInType(a.type) != components)
+      fail(what + ": accessor " + std::to_string(index) + " has " + std::to_string(tinygltf::GetNumComponentsInType(a.type)) +
+           " components, expected " + std::to_string(components));
+    std::vector<float> out(size_t(a.count) * components, 0.0f);
+    forEachElement(a, index, what, [&](size_t element, const uint8_t* p) {
+      for (int c = 0; c < components; ++c) out[element * components + c] = component(a, p, c);
+    });
+    for (float v : out)
+      if (!std::isfinite(v)) fail(what + ": accessor " + std::to_string(index) + " holds a NaN or infinite value");
+    return out;
+  }
+
+  // Integer values (indices, joints), as stored.
+  std::vector<uint32_t> uints(int index, int components, const std::string& what) const {
+    const auto& a = accessor(index, what);
+    if (tinygltf::GetNumComponentsInType(a.type) != components)
+      fail(what + ": accessor " + std::to_string(index) + " has the wrong type");
+    if (a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+        a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+      fail(what + ": accessor " + std::to_string(index) + " must hold unsigned integers");
+    std::vector<uint32_t> out(size_t(a.count) * components, 0);
+    forEachElement(a, index, what, [&](size_t element, const uint8_t* p) {
+      for (int c = 0; c < components; ++c) out[element * components + c] = rawUint(a.componentType, p, c);
+    });
+    return out;
+  }
+
+  size_t count(int index, const std::string& what) const { return accessor(index, what).count; }
+
+ private:
+  const tinygltf::Accessor& accessor(int index, const std::string& what) const {
+    if (index < 0 || size_t(index) >= m_.accessors.size()) fail(what + ": accessor index " + std::to_string(index) + " out of range");
+    return m_.accessors[index];
+  }
+
+  static uint32_t rawUint(int type, const uint8_t* p, int c) {
+    switch (type) {
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return p[c];
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { uint16_t v; std::memcpy(&v, p + 2 * c, 2); return v; }
+      default: { uint32_t v; std::memcpy(&v, p + 4 * c, 4); return v; }
+    }
+  }
+
+  float component(const tinygltf::Accessor& a, const uint8_t* p, int c) const {
+    switch (a.componentType) {
+      case TINYGLTF_COMPONENT_TYPE_FLOAT: { float v; std::memcpy(&v, p + 4 * c, 4); return v; }
+      case TINYGLTF_COMPONENT_TYPE_BYTE: { float v = float(int8_t(p[c])); return a.normalized ? std::max(v / 127.0f, -1.0f) : v; }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return a.normalized ? p[c] / 255.0f : float(p[c]);
+      case TINYGLTF_COMPONENT_TYPE_SHORT: { int16_t v; std::memcpy(&v, p + 2 * c, 2); return a.normalized ? std::max(v / 32767.0f, -1.0f) : float(v); }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { uint16_t v; std::memcpy(&v, p + 2 * c, 2); return a.normalized ? v / 65535.0f : float(v); }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { uint32_t v; std::memcpy(&v, p + 4 * c, 4); return float(v); }
+      default: fail("accessor has an unknown component type " + std::to_string(a.componentType));
+    }
+  }
+
+  // Bytes of `count` elements of `elementSize` at `offset` (stride 0 = packed) in buffer view `view`.
+  const uint8_t* viewData(int view, size_t offset, size_t count, size_t elementSize, size_t* stride, const std::string& what) const {
+    if (view < 0 || size_t(view) >= m_.bufferViews.size()) fail(what + ": buffer view " + std::to_string(view) + " out of range");
+    const auto& bv = m_.bufferViews[view];
+    if (bv.buffer < 0 || size_t(bv.buffer) >= m_.buffers.size()) fail(what + ": buffer " + std::to_string(bv.buffer) + " out of range");
+    const auto& buffer = m_.buffers[bv.buffer];
+    if (bv.byteOffset + bv.byteLength > buffer.data.size())
+      fail(what + ": buffer view " + std::to_string(view) + " reaches past the end of buffer " + std::to_string(bv.buffer) + " (" +
+           std::to_string(bv.byteOffset + bv.byteLength) + " > " + std::to_string(buffer.data.size()) + " bytes)");
+    *stride = bv.byteStride ? bv.byteStride : elementSize;
+    if (count > 0 && offset + *stride * (count - 1) + elementSize > bv.byteLength)
+      fail(what + ": accessor data reaches past the end of buffer view " + std::to_string(view));
+    return buffer.data.data() + bv.byteOffset + offset;
+  }
+
+  void forEachElement(const tinygltf::Accessor& a, int index, const std::string& what,
+                      const std::function<void(size_t, const uint8_t*)>& visit) const {
+    int componentSize = tinygltf::GetComponentSizeInBytes(a.componentType);
+    int components = tinygltf::GetNumComponentsInType(a.type);
+    if (componentSize <= 0 || components <= 0) fail(what + ": accessor " + std::to_string(index) + " has an invalid type");
+    size_t elementSize = size_t(componentSize) * components;
+    if (a.bufferView >= 0) {
+      size_t stride = 0;
+      const uint8_t* base = viewData(a.bufferView, a.byteOffset, a.count, elementSize, &stride, what);
+      for (size_t i = 0; i < a.count; ++i) visit(i, base + i * stride);
+    }  // no buffer view: zeros, possibly replaced by sparse values below
+    if (a.sparse.isSparse) {
+      const auto& s = a.sparse;
+      size_t idxStride = 0, valStride = 0;
+      int idxSize = tinygltf::GetComponentSizeInBytes(s.indices.componentType);
+      if (idxSize <= 0) fail(what + ": sparse accessor " + std::to_string(index) + " has an invalid index type");
+      const uint8_t* idx = viewData(s.indices.bufferView, s.indices.byteOffset, s.count, idxSize, &idxStride, what);
+      const uint8_t* val = viewData(s.values.bufferView, s.values.byteOffset, s.count, elementSize, &valStride, what);
+      for (int i = 0; i < s.count; ++i) {
+        uint32_t target = rawUint(s.indices.componentType, idx + i * idxStride, 0);
+        if (target >= a.count) fail(what + ": sparse index " + std::to_string(target) + " out of range");
+        visit(target, val + i * valStride);
+      }
+    }
+  }
+
+  const tinygltf::Model& m_;
+  std::string source_;
+};
+
+template <class V, int N>
+std::vector<V> toVectors(const std::vector<float>& flat) {
+  std::vector<V> out(flat.size() / N);
+  for (size_t i = 0; i < out.size(); ++i)
+    for (int c = 0; c < N; ++c) out[i][c] = flat[i * N + c];
+  return out;
+}
+
+const tinygltf::Value* extensionValue(const tinygltf::ExtensionMap& ext, const std::string& name, const std::string& key) {
+  auto it = ext.find(name);
+  if (it == ext.end() || !it->second.IsObject() || !it->second.Has(key)) return nullptr;
+  return &it->second.Get(key);
+}
+
+class Converter {
+ public:
+  Converter(const tinygltf::Model& m, const std::string& source) : m_(m), read_(m, source), source_(source) {
+    scene_.source = source;
+  }
+
+  Scene convert() {
+    for (const auto& e : m_.extensionsRequired)
+      if (!kSupportedExtensions.count(e)) read_.fail("requires the unsupported extension " + e);
+    for (const auto& e : m_.extensionsUsed)
+      if (!kSupportedExtensions.count(e)) warn("extension " + e + " is not supported and is ignored");
+    textures();
+    materials();
+    meshes();
+    cameras();
+    lights();
+    nodes();
+    skins();
+    animations();
+    return std::move(scene_);
+  }
+
+ private:
+  void warn(const std::string& w) { scene_.warnings.push_back(w); }
+
+  void textures() {
+    for (size_t i = 0; i < m_.textures.size(); ++i) {
+      const auto& t = m_.textures[i];
+      Texture out;
+      out.name = t.name;
+      if (t.sampler >= 0 && size_t(t.sampler) < m_.samplers.size()) {
+        out.wrapS = m_.samplers[t.sampler].wrapS;
+        out.wrapT = m_.samplers[t.sampler].wrapT;
+      }
+      if (t.source < 0 || size_t(t.source) >= m_.images.size() || m_.images[t.source].image.empty()) {
+        warn("texture " + std::to_string(i) + " has no decodable image; its factor alone is used");
+      } else {
+        const auto& img = m_.images[t.source];
+        out.width = img.width, out.height = img.height;
+        out.rgba.resize(size_t(img.width) * img.height * 4);
+        int bytes = img.bits / 8, comps = img.component;
+        if ((bytes != 1 && bytes != 2) || comps < 1 || comps > 4 ||
+            img.image.size() < size_t(img.width) * img.height * comps * bytes)
+          read_.fail("image " + std::to_string(t.source) + " has an unsupported pixel layout");
+        for (size_t p = 0; p < size_t(img.width) * img.height; ++p)
+          for (int c = 0; c < 4; ++c) {
+            int src = comps >= 3 ? c : (c < 3 ? 0 : 1);  // grey(+alpha) to RGBA
+            uint8_t v = 255;
+            if (src < comps) v = img.image[(p * comps + src) * bytes + (bytes - 1)];  // 16-bit: high byte (little endian)
+            out.rgba[p * 4 + c] = v;
+          }
+      }
+      scene_.textures.push_back(std::move(out));
+    }
+  }
+
+  int textureIndex(int index, int texCoord, const std::string& what) {
+    if (index < 0) return -1;
+    if (size_t(index) >= scene_.textures.size()) read_.fail(what + ": texture index " + std::to_string(index) + " out of range");
+    if (texCoord != 0) warn(what + " uses TEXCOORD_" + std::to_string(texCoord) + "; TEXCOORD_0 is used instead");
+    return scene_.textures[index].rgba.empty() ? -1 : index;
+  }
+
+  void materials() {
+    for (const auto& m : m_.materials) {
+      Material out;
+      out.name = m.name;
+      const auto& pbr = m.pbrMetallicRoughness;
+      for (int c = 0; c < 4 && c < int(pbr.baseColorFactor.size()); ++c) out.baseColor[c] = float(pbr.baseColorFactor[c]);
+      for (int c = 0; c < 3 && c < int(m.emissiveFactor.size()); ++c) out.emissive[c] = float(m.emissiveFactor[c]);
+      out.baseColorTexture = textureIndex(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, "material '" + m.name + "' base colour");
+      out.emissiveTexture = textureIndex(m.emissiveTexture.index, m.emissiveTexture.texCoord, "material '" + m.name + "' emission");
+      out.metallicRoughnessTexture = textureIndex(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord, "material '" + m.name + "' metallic-roughness");
+      out.metallic = float(pbr.metallicFactor);
+      out.roughness = float(pbr.roughnessFactor);
+      out.doubleSided = m.doubleSided;
+      if (auto* v = extensionValue(m.extensions, "KHR_materials_emissive_strength", "emissiveStrength"))
+        out.emissiveStrength = float(v->GetNumberAsDouble());
+      auto finite = [](glm::vec4 v) { return glm::all(glm::lessThan(glm::abs(v), glm::vec4(3.4e38f))); };
+      if (!finite(out.baseColor) || !finite(glm::vec4(out.emissive, out.emissiveStrength)) || out.emissiveStrength < 0)
+        read_.fail("material '" + m.name + "' has a non-finite or negative factor");
+      scene_.materials.push_back(out);
+    }
+  }
+
+  Primitive primitive(const tinygltf::Primitive& p, const std::string& what) {
+    Primitive out;
+    auto attr = [&](const char* name) {
+      auto it = p.attributes.find(name);
+      return it == p.attributes.end() ? -1 : it->second;
+    };
+    int pos = attr("POSITION");
+    if (pos < 0) read_.fail(what + " has no POSITION attribute");
+    out.positions = toVectors<glm::vec3, 3>(read_.floats(pos, 3, what + " POSITION"));
+    size_t n = out.positions.size();
+    auto sized = [&](size_t count, const char* name) {
+      if (count != n) read_.fail(what + " " + name + " has " + std::to_string(count) + " elements, POSITION has " + std::to_string(n));
+    };
+    if (int a = attr("NORMAL"); a >= 0) {
+      out.normals = toVectors<glm::vec3, 3>(read_.floats(a, 3, what + " NORMAL"));
+      sized(out.normals.size(), "NORMAL");
+    }
+    if (int a = attr("TEXCOORD_0"); a >= 0) {
+      out.uvs = toVectors<glm::vec2, 2>(read_.floats(a, 2, what + " TEXCOORD_0"));
+      sized(out.uvs.size(), "TEXCOORD_0");
+    }
+    int joints = attr("JOINTS_0"), weights = attr("WEIGHTS_0");
+    if ((joints >= 0) != (weights >= 0)) read_.fail(what + " has JOINTS_0 without WEIGHTS_0 or the reverse");
+    if (joints >= 0) {
+      auto j = read_.uints(joints, 4, what + " JOINTS_0");
+      out.joints.resize(j.size() / 4);
+      for (size_t i = 0; i < out.joints.size(); ++i) out.joints[i] = {j[4 * i], j[4 * i + 1], j[4 * i + 2], j[4 * i + 3]};
+      out.weights = toVectors<glm::vec4, 4>(read_.floats(weights, 4, what + " WEIGHTS_0"));
+      sized(out.joints.size(), "JOINTS_0");
+      sized(out.weights.size(), "WEIGHTS_0");
+      for (auto& w : out.weights) {  // the spec wants them normalised; exporters are not always exact
+        float sum = w.x + w.y + w.z + w.w;
+        if (sum > 0) w /= sum;
+      }
+    }
+    for (size_t t = 0; t < p.targets.size(); ++t) {
+      MorphTarget target;
+      std::string tw = what + " morph target " + std::to_string(t);
+      for (const auto& [name, index] : p.targets[t]) {
+        if (name == "POSITION") target.positions = toVectors<glm::vec3, 3>(read_.floats(index, 3, tw + " POSITION"));
+        if (name == "NORMAL") target.normals = toVectors<glm::vec3, 3>(read_.floats(index, 3, tw + " NORMAL"));
+      }
+      if (!target.positions.empty()) sized(target.positions.size(), "morph POSITION");
+      if (!target.normals.empty()) sized(target.normals.size(), "morph NORMAL");
+      out.targets.push_back(std::move(target));
+    }
+    std::vector<uint32_t> order;
+    if (p.indices >= 0) {
+      order = read_.uints(p.indices, 1, what + " indices");
+      for (uint32_t i : order)
+        if (i >= n) read_.fail(what + ": index " + std::to_string(i) + " out of range (" + std::to_string(n) + " vertices)");
+    } else {
+      order.resize(n);
+      for (uint32_t i = 0; i < n; ++i) order[i] = i;
+    }
+    if (p.mode == TINYGLTF_MODE_TRIANGLES) {
+      order.resize(order.size() / 3 * 3);
+      out.indices = std::move(order);
+    } else if (p.mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+      for (size_t i = 2; i < order.size(); ++i)
+        if (i % 2 == 0) out.indices.insert(out.indices.end(), {order[i - 2], order[i - 1], order[i]});
+        else out.indices.insert(out.indices.end(), {order[i - 1], order[i - 2], order[i]});
+    } else if (p.mode == TINYGLTF_MODE_TRIANGLE_FAN) {
+      for (size_t i = 2; i < order.size(); ++i) out.indices.insert(out.indices.end(), {order[0], order[i - 1], order[i]});
+    }
+    if (p.material >= int(scene_.materials.size())) read_.fail(what + ": material index " + std::to_string(p.material) + " out of range");
+    out.material = p.material;
+    return out;
+  }
+
+  void meshes() {
+    for (size_t mi = 0; mi < m_.meshes.size(); ++mi) {
+      const auto& m = m_.meshes[mi];
+      Mesh out;
+      out.name = m.name.empty() ? "mesh " + std::to_string(mi) : m.name;
+      for (double w : m.weights) out.weights.push_back(float(w));
+      for (size_t pi = 0; pi < m.primitives.size(); ++pi) {
+        const auto& p = m.primitives[pi];
+        std::string what = "mesh '" + out.name + "' primitive " + std::to_string(pi);
+        if (p.mode != TINYGLTF_MODE_TRIANGLES && p.mode != TINYGLTF_MODE_TRIANGLE_STRIP && p.mode != TINYGLTF_MODE_TRIANGLE_FAN && p.mode != -1) {
+          warn(what + " draws points or lines and is skipped");
+          continue;
+        }
+        out.primitives.push_back(primitive(p, what));
+        if (!out.weights.empty() && out.weights.size() != out.primitives.back().targets.size())
+          read_.fail(what + ": mesh weights and morph targets differ in number");
+      }
+      scene_.meshes.push_back(std::move(out));
+    }
+  }
+
+  void cameras() {
+    for (const auto& c : m_.cameras) {
+      Camera out;
+      out.name = c.name;
+      if (c.type == "perspective") {
+        out.yfov = float(c.perspective.yfov);
+        out.znear = float(c.perspective.znear);
+        out.zfar = float(c.perspective.zfar);
+        out.aspectRatio = float(c.perspective.aspectRatio);
+        if (!(out.yfov > 0 && out.yfov < 3.14159f) || !(out.znear > 0) || !std::isfinite(out.zfar))
+          read_.fail("camera '" + c.name + "' has an invalid field of view or clip range");
+      } else {
+        warn("camera '" + c.name + "' is orthographic; rendered with the default perspective instead");
+      }
+      scene_.cameras.push_back(out);
+    }
+  }
+
+  void lights() {
+    for (const auto& l : m_.lights) {
+      Light out;
+      out.name = l.name;
+      out.type = l.type == "directional" ? Light::Type::Directional : l.type == "spot" ? Light::Type::Spot : Light::Type::Point;
+      for (int c = 0; c < 3 && c < int(l.color.size()); ++c) out.color[c] = float(l.color[c]);
+      out.intensity = float(l.intensity);
+      out.range = float(l.range);
+      out.innerCone = float(l.spot.innerConeAngle);
+      out.outerCone = float(l.spot.outerConeAngle);
+      scene_.lights.push_back(out);
+    }
+  }
+
+  void nodes() {
+    scene_.nodes.resize(m_.nodes.size());
+    for (size_t i = 0; i < m_.nodes.size(); ++i) {
+      const auto& n = m_.nodes[i];
+      Node& out = scene_.nodes[i];
+      out.name = n.name.empty() ? "node " + std::to_string(i) : n.name;
+      if (n.matrix.size() == 16) {
+        glm::mat4 m;
+        for (int k = 0; k < 16; ++k) glm::value_ptr(m)[k] = float(n.matrix[k]);
+        out.matrix = m;
+      }
+      if (n.translation.size() == 3) out.translation = {n.translation[0], n.translation[1], n.translation[2]};
+      if (n.rotation.size() == 4) out.rotation = glm::quat(float(n.rotation[3]), float(n.rotation[0]), float(n.rotation[1]), float(n.rotation[2]));
+      if (n.scale.size() == 3) out.scale = {n.scale[0], n.scale[1], n.scale[2]};
+      for (double w : n.weights) out.weights.push_back(float(w));
+      auto checkIndex = [&](int v, size_t size, const char* kind) {
+        if (v >= int(size)) read_.fail("node '" + out.name + "': " + kind + " index " + std::to_string(v) + " out of range");
+        return v;
+      };
+      out.mesh = checkIndex(n.mesh, scene_.meshes.size(), "mesh");
+      out.skin = checkIndex(n.skin, m_.skins.size(), "skin");
+      out.camera = checkIndex(n.camera, scene_.cameras.size(), "camera");
+      if (auto* v = extensionValue(n.extensions, "KHR_lights_punctual", "light")) out.light = checkIndex(v->GetNumberAsInt(), scene_.lights.size(), "light");
+      for (int c : n.children) {
+        checkIndex(c, m_.nodes.size(), "child");
+        if (c < 0 || scene_.nodes[c].parent >= 0 || c == int(i)) read_.fail("node hierarchy is not a tree (node " + std::to_string(c) + ")");
+        scene_.nodes[c].parent = int(i);
+        out.children.push_back(c);
+      }
+    }
+    // Cycles: every node must reach a root by parent links.
+    for (size_t i = 0; i < scene_.nodes.size(); ++i) {
+      size_t steps = 0;
+      for (int p = int(i); p >= 0; p = scene_.nodes[p].parent)
+        if (++steps > scene_.nodes.size()) read_.fail("node hierarchy has a cycle");
+    }
+    if (!m_.scenes.empty()) {
+      int s = m_.defaultScene >= 0 ? m_.defaultScene : 0;
+      if (s >= int(m_.scenes.size())) read_.fail("default scene index out of range");
+      for (int r : m_.scenes[s].nodes) {
+        if (r < 0 || r >= int(scene_.nodes.size())) read_.fail("scene node index " + std::to_string(r) + " out of range");
+        if (scene_.nodes[r].parent >= 0) read_.fail("scene root node " + std::to_string(r) + " has a parent");
+        scene_.roots.push_back(r);
+      }
+    } else {
+      for (size_t i = 0; i < scene_.nodes.size(); ++i)
+        if (scene_.nodes[i].parent < 0) scene_.roots.push_back(int(i));
+    }
+  }
+
+  void skins() {
+    for (size_t i = 0; i < m_.skins.size(); ++i) {
+      const auto& s = m_.skins[i];
+      Skin out;
+      out.name = s.name;
+      std::string what = "skin " + std::to_string(i);
+      for (int j : s.joints) {
+        if (j < 0 || j >= int(scene_.nodes.size())) read_.fail(what + ": joint node " + std::to_string(j) + " out of range");
+        out.joints.push_back(j);
+      }
+      if (s.inverseBindMatrices >= 0) {
+        auto f = read_.floats(s.inverseBindMatrices, 16, what + " inverseBindMatrices");
+        if (f.size() / 16 < out.joints.size()) read_.fail(what + ": fewer inverse bind matrices than joints");
+        for (size_t j = 0; j < out.joints.size(); ++j) {
+          glm::mat4 m;
+          std::memcpy(glm::value_ptr(m), &f[16 * j], 64);
+          out.inverseBind.push_back(m);
+        }
+      } else {
+        out.inverseBind.assign(out.joints.size(), glm::mat4(1.0f));
+      }
+      scene_.skins.push_back(std::move(out));
+    }
+    for (const auto& node : scene_.nodes) {
+      if (node.mesh < 0) continue;
+      for (const auto& p : scene_.meshes[node.mesh].primitives) {
+        if (p.joints.empty()) continue;
+        if (node.skin < 0) { warn("node '" + node.name + "' has skinning attributes but no skin; drawn unskinned"); continue; }
+        for (auto j : p.joints)
+          if (glm::any(glm::greaterThanEqual(j, glm::uvec4(uint32_t(scene_.skins[node.skin].joints.size())))))
+            read_.fail("node '" + node.name + "': a JOINTS_0 value exceeds the skin's joint count");
+      }
+    }
+  }
+
+  void animations() {
+    for (size_t ai = 0; ai < m_.animations.size(); ++ai) {
+      const auto& a = m_.animations[ai];
+      Animation out;
+      out.name = a.name.empty() ? "animation " + std::to_string(ai) : a.name;
+      std::string what = "animation '" + out.name + "'";
+      out.start = 1e30f, out.end = -1e30f;
+      for (const auto& s : a.samplers) {
+        Sampler smp;
+        smp.input = read_.floats(s.input, 1, what + " sampler input");
+        if (smp.input.empty()) read_.fail(what + ": a sampler has no keys");
+        for (size_t k = 1; k < smp.input.size(); ++k)
+          if (!(smp.input[k] > smp.input[k - 1])) read_.fail(what + ": key times are not strictly increasing");
+        smp.interpolation = s.interpolation == "STEP" ? Interpolation::Step
+                            : s.interpolation == "CUBICSPLINE" ? Interpolation::CubicSpline : Interpolation::Linear;
+        if (s.output < 0 || size_t(s.output) >= m_.accessors.size()) read_.fail(what + ": sampler output accessor out of range");
+        int comps = tinygltf::GetNumComponentsInType(m_.accessors[s.output].type);
+        smp.output = read_.floats(s.output, comps, what + " sampler output");
+        size_t perKey = smp.interpolation == Interpolation::CubicSpline ? 3 : 1;
+        size_t values = smp.output.size() / comps;
+        if (values % (smp.input.size() * perKey) != 0) read_.fail(what + ": sampler output count does not match its keys");
+        smp.components = int(smp.output.size() / (smp.input.size() * perKey));
+        out.start = std::min(out.start, smp.input.front());
+        out.end = std::max(out.end, smp.input.back());
+        out.samplers.push_back(std::move(smp));
+      }
+      for (const auto& c : a.channels) {
+        Channel ch;
+        ch.node = c.target_node;
+        ch.sampler = c.sampler;
+        if (ch.sampler < 0 || ch.sampler >= int(out.samplers.size())) read_.fail(what + ": channel sampler out of range");
+        if (ch.node < 0) { warn(what + ": a channel without a target node is ignored"); continue; }
+        if (ch.node >= int(scene_.nodes.size())) read_.fail(what + ": channel target node out of range");
+        int comps = out.samplers[ch.sampler].components;
+        if (c.target_path == "translation") ch.path = Path::Translation;
+        else if (c.target_path == "rotation") ch.path = Path::Rotation;
+        else if (c.target_path == "scale") ch.path = Path::Scale;
+        else if (c.target_path == "weights") ch.path = Path::Weights;
+        else { warn(what + ": channel path '" + c.target_path + "' is not supported and ignored"); continue; }
+        int expected = ch.path == Path::Rotation ? 4 : ch.path == Path::Weights ? comps : 3;
+        if (comps != expected) read_.fail(what + ": channel '" + c.target_path + "' has " + std::to_string(comps) + " components per key");
+        if (scene_.nodes[ch.node].matrix) warn(what + " animates node '" + scene_.nodes[ch.node].name + "', which is given by a matrix");
+        out.channels.push_back(ch);
+      }
+      if (out.samplers.empty()) out.start = out.end = 0;
+      scene_.animations.push_back(std::move(out));
+    }
+  }
+
+  const tinygltf::Model& m_;
+  AccessorReader read_;
+  std::string source_;
+  Scene scene_;
+};
+
+}  // namespace
+
+Scene sceneFromModel(const tinygltf::Model& model, const std::string& source) { return Converter(model, source).convert(); }
+
+Scene loadGltf(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw LoadError(path + ": no such file");
+  if (fs::is_directory(path, ec)) throw LoadError(path + ": is a directory, not a glTF file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw LoadError(path + ": cannot be opened for reading");
+  char magic[4] = {};
+  in.read(magic, 4);
+  bool binary = in.gcount() == 4 && std::memcmp(magic, "glTF", 4) == 0;
+  in.close();
+
+  tinygltf::TinyGLTF loader;
+  tinygltf::Model model;
+  std::string err, warn;
+  bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path) : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+  if (!ok || !err.empty()) {
+    std::string why = err.empty() ? "not a valid glTF file" : err;
+    std::replace(why.begin(), why.end(), '\n', ' ');
+    while (!why.empty() && why.back() == ' ') why.pop_back();
+    throw LoadError(path + ": " + (binary ? "invalid .glb: " : "invalid glTF: ") + why);
+  }
+  Scene scene = sceneFromModel(model, path);
+  if (!warn.empty()) {
+    std::replace(warn.begin(), warn.end(), '\n', ' ');
+    scene.warnings.insert(scene.warnings.begin(), "tinygltf: " + warn);
+  }
+  return scene;
+}
+
+std::optional<int> Scene::findAnimation(const std::string& key) const {
+  for (size_t i = 0; i < animations.size(); ++i)
+    if (animations[i].name == key) return int(i);
+  if (!key.empty() && std::all_of(key.begin(), key.end(), ::isdigit) && std::stoul(key) < animations.size()) return int(std::stoul(key));
+  return std::nullopt;
+}
+
+std::vector<int> Scene::cameraNodes() const {
+  std::vector<int> out;
+  std::function<void(int)> visit = [&](int n) {
+    if (nodes[n].camera >= 0) out.push_back(n);
+    for (int c : nodes[n].children) visit(c);
+  };
+  for (int r : roots) visit(r);
+  return out;
+}
+
+std::optional<int> Scene::findCameraNode(const std::string& key) const {
+  auto list = cameraNodes();
+  for (int n : list)
+    if (cameras[nodes[n].camera].name == key || nodes[n].name == key) return n;
+  if (!key.empty() && std::all_of(key.begin(), key.end(), ::isdigit) && std::stoul(key) < list.size()) return list[std::stoul(key)];
+  return std::nullopt;
+}
+
+}  // namespace ivgi::scene

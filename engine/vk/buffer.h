@@ -1,0 +1,63 @@
+#pragma once
+// A VkBuffer with its own memory. Device buffers hold what passes exchange; host buffers are mapped
+// and carry per-frame inputs up and results down.
+#include <vulkan/vulkan.h>
+
+#include <cstring>
+#include <span>
+#include <vector>
+
+#include "engine/vk/context.h"
+
+namespace ivgi::vk {
+
+enum class Memory { Device, Host };
+
+class Buffer {
+ public:
+  Buffer() = default;
+  Buffer(const Context& ctx, VkDeviceSize bytes, Memory memory);
+  ~Buffer() { release(); }
+  Buffer(Buffer&& o) noexcept { *this = std::move(o); }
+  Buffer& operator=(Buffer&& o) noexcept;
+  Buffer(const Buffer&) = delete;
+  Buffer& operator=(const Buffer&) = delete;
+
+  VkBuffer handle() const { return buffer_; }
+  VkDeviceSize size() const { return size_; }
+  bool mapped() const { return mapped_ != nullptr; }
+  explicit operator bool() const { return buffer_ != VK_NULL_HANDLE; }
+
+  // Copies bytes in (mapped: memcpy; device: through a staging buffer and one submission).
+  void upload(const void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
+  template <class T>
+  void upload(std::span<const T> items) { upload(items.data(), items.size_bytes()); }
+  template <class T>
+  void upload(const std::vector<T>& items) { upload(items.data(), items.size() * sizeof(T)); }
+
+  void download(void* data, VkDeviceSize bytes, VkDeviceSize offset = 0) const;
+  template <class T>
+  std::vector<T> read(size_t count) const {
+    std::vector<T> out(count);
+    download(out.data(), count * sizeof(T));
+    return out;
+  }
+
+ private:
+  void release();
+  const Context* ctx_ = nullptr;
+  VkBuffer buffer_ = VK_NULL_HANDLE;
+  VkDeviceMemory memory_ = VK_NULL_HANDLE;
+  VkDeviceSize size_ = 0;
+  void* mapped_ = nullptr;
+};
+
+// Creates a buffer sized for `items` (at least one element) and fills it.
+template <class T>
+Buffer makeBuffer(const Context& ctx, const std::vector<T>& items, Memory memory = Memory::Device) {
+  Buffer b(ctx, std::max<size_t>(items.size(), 1) * sizeof(T), memory);
+  if (!items.empty()) b.upload(items);
+  return b;
+}
+
+}  // namespace ivgi::vk

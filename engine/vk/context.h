@@ -1,0 +1,84 @@
+#pragma once
+// The device layer: instance, physical-device choice, logical device with the features ivgi needs,
+// one compute queue, and one-shot command submission. Everything above it records compute passes.
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace ivgi::vk {
+
+// Thrown for any Vulkan failure; the message names the call and the result code.
+struct VulkanError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+void check(VkResult result, const char* what);
+
+struct DeviceInfo {
+  uint32_t index = 0;
+  std::string name;
+  std::string type;  // "discrete", "integrated", "virtual", "cpu", "other"
+  std::string driverName;
+  std::string driverInfo;
+  uint32_t apiVersion = 0;
+  std::string missing;  // empty when the device has every feature ivgi needs
+};
+
+struct ContextOptions {
+  std::string device;        // name substring or index; empty = IVGI_DEVICE, then automatic choice
+  bool validation = false;   // also switched on by IVGI_VALIDATION=1
+};
+
+class Context {
+ public:
+  explicit Context(const ContextOptions& options = {});
+  ~Context();
+  Context(const Context&) = delete;
+  Context& operator=(const Context&) = delete;
+
+  // Every Vulkan device the loader reports, with what each lacks.
+  static std::vector<DeviceInfo> listDevices();
+
+  VkDevice device() const { return device_; }
+  VkPhysicalDevice physicalDevice() const { return physical_; }
+  const DeviceInfo& info() const { return info_; }
+  const VkPhysicalDeviceLimits& limits() const { return properties_.limits; }
+  double timestampPeriodNs() const { return properties_.limits.timestampPeriod; }
+  uint32_t timestampValidBits() const { return timestampValidBits_; }
+
+  // Records with `record` into a fresh command buffer, submits it and waits for completion.
+  void submitAndWait(const std::function<void(VkCommandBuffer)>& record) const;
+
+  uint32_t findMemoryType(uint32_t typeBits, VkMemoryPropertyFlags wanted, VkMemoryPropertyFlags avoid) const;
+
+  // Number of validation-layer errors reported so far (0 when validation is off).
+  uint32_t validationErrors() const { return validationErrors_; }
+  bool validationEnabled() const { return messenger_ != VK_NULL_HANDLE; }
+
+  PFN_vkCmdPushDescriptorSetKHR cmdPushDescriptorSet = nullptr;
+
+ private:
+  VkInstance instance_ = VK_NULL_HANDLE;
+  VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
+  VkPhysicalDevice physical_ = VK_NULL_HANDLE;
+  VkDevice device_ = VK_NULL_HANDLE;
+  VkQueue queue_ = VK_NULL_HANDLE;
+  uint32_t queueFamily_ = 0;
+  uint32_t timestampValidBits_ = 0;
+  VkCommandPool pool_ = VK_NULL_HANDLE;
+  VkFence fence_ = VK_NULL_HANDLE;
+  VkPhysicalDeviceProperties properties_{};
+  VkPhysicalDeviceMemoryProperties memory_{};
+  DeviceInfo info_;
+  mutable uint32_t validationErrors_ = 0;
+
+  static VkBool32 VKAPI_PTR onMessage(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                      VkDebugUtilsMessageTypeFlagsEXT types,
+                                      const VkDebugUtilsMessengerCallbackDataEXT* data, void* self);
+};
+
+}  // namespace ivgi::vk

@@ -1,0 +1,39 @@
+#pragma once
+// Per-pass GPU times: a timestamp at the top of the pipe before a pass and one at the bottom after
+// it, 64-bit, converted with the device's timestampPeriod.
+#include <vulkan/vulkan.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "engine/vk/context.h"
+
+namespace ivgi::vk {
+
+struct PassTime {
+  std::string pass;
+  double ms = 0;
+};
+
+class PassTimer {
+ public:
+  PassTimer(const Context& ctx, uint32_t maxPasses = 64);
+  ~PassTimer();
+  PassTimer(const PassTimer&) = delete;
+  PassTimer& operator=(const PassTimer&) = delete;
+
+  void reset(VkCommandBuffer cmd);  // start of a frame's command buffer
+  void begin(VkCommandBuffer cmd, std::string pass);
+  void end(VkCommandBuffer cmd);
+  // After the command buffer completed: the time of each pass, in recording order.
+  std::vector<PassTime> results() const;
+
+ private:
+  const Context& ctx_;
+  VkQueryPool pool_ = VK_NULL_HANDLE;
+  uint32_t maxPasses_;
+  std::vector<std::string> names_;
+};
+
+}  // namespace ivgi::vk

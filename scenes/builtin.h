@@ -1,0 +1,30 @@
+#pragma once
+// The scenes ivgi makes itself. Each is a glTF model, so that `ivgi scene` can write it out and the
+// renderer loads it through the same path as any file.
+#include <tiny_gltf.h>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace ivgi::scenes {
+
+struct CornellOptions {
+  int cells = 8;          // cells along the box's 0.56 m side; other faces in proportion
+  bool animated = true;   // the short block slides and turns over 2 s
+};
+// The Cornell box from the measured Cornell data, in metres, with its camera (yfov 39.31°).
+tinygltf::Model cornellBox(const CornellOptions& options = {});
+
+struct FurnaceOptions {
+  int cells = 4;          // per face side
+  float albedo = 0.5f;    // uniform, grey
+  float emission = 1.0f;  // uniform radiance of every face
+};
+// A closed 1 m cube, inward facing, every face with the same albedo and emission: radiosity
+// E/(1-ρ) everywhere. Camera at the centre.
+tinygltf::Model furnace(const FurnaceOptions& options = {});
+
+std::vector<std::string> builtinSceneNames();
+
+}  // namespace ivgi::scenes

@@ -1,0 +1,114 @@
+// The Cornell box, from the measured data published by the Cornell Program of Computer Graphics
+// (coordinates in millimetres there, metres here). Its camera looks along +z from z = -0.8 m with
+// a 35 mm focal length on a 25 mm film: a vertical field of view of 2·atan(12.5/35) = 39.31°.
+#include <cmath>
+
+#include "scenes/builtin.h"
+#include "scenes/gltf_builder.h"
+
+namespace ivgi::scenes {
+
+namespace {
+
+glm::vec3 mm(float x, float y, float z) { return glm::vec3(x, y, z) * 0.001f; }
+
+struct Face {
+  glm::vec3 p[4];
+};
+
+void addFace(MeshData& mesh, const Face& f, float cellsPerMetre, glm::vec3 facing) {
+  int nu = cellsFor(std::max(glm::length(f.p[1] - f.p[0]), glm::length(f.p[2] - f.p[3])), cellsPerMetre);
+  int nv = cellsFor(std::max(glm::length(f.p[3] - f.p[0]), glm::length(f.p[2] - f.p[1])), cellsPerMetre);
+  addQuad(mesh, f.p[0], f.p[1], f.p[2], f.p[3], nu, nv, facing);
+}
+
+// A block: top face and four sides (the data has no bottom), relative to `centre`, facing out.
+MeshData block(const Face& top, float height, glm::vec3 centre, float cellsPerMetre) {
+  MeshData m;
+  glm::vec3 inside = centre + glm::vec3(0, height * 0.5f, 0);
+  auto rel = [&](glm::vec3 p) { return p - centre; };
+  auto outward = [&](const Face& f) { return 2.0f * (0.25f * (f.p[0] + f.p[1] + f.p[2] + f.p[3])) - inside; };
+  Face t{{rel(top.p[0]), rel(top.p[1]), rel(top.p[2]), rel(top.p[3])}};
+  addFace(m, t, cellsPerMetre, rel(outward(top)));
+  for (int i = 0; i < 4; ++i) {
+    glm::vec3 a = top.p[i], b = top.p[(i + 1) % 4];
+    Face side{{rel(glm::vec3(a.x, 0, a.z)), rel(glm::vec3(b.x, 0, b.z)), rel(b), rel(a)}};
+    Face world{{glm::vec3(a.x, 0, a.z), glm::vec3(b.x, 0, b.z), b, a}};
+    addFace(m, side, cellsPerMetre, rel(outward(world)));
+  }
+  return m;
+}
+
+}  // namespace
+
+tinygltf::Model cornellBox(const CornellOptions& o) {
+  const float cellsPerMetre = float(std::max(o.cells, 1)) / 0.5592f;
+  GltfBuilder b;
+  int white = b.material("white", {0.725f, 0.71f, 0.68f});
+  int red = b.material("red", {0.63f, 0.065f, 0.05f});
+  int green = b.material("green", {0.14f, 0.45f, 0.091f});
+  int light = b.material("light", {0.78f, 0.78f, 0.78f}, {17.0f, 12.0f, 4.0f});
+
+  const glm::vec3 inside = mm(278, 274, 280);
+  MeshData whites, reds, greens, lamp;
+  addFace(whites, {{mm(552.8f, 0, 0), mm(0, 0, 0), mm(0, 0, 559.2f), mm(549.6f, 0, 559.2f)}}, cellsPerMetre, inside);             // floor
+  addFace(whites, {{mm(549.6f, 0, 559.2f), mm(0, 0, 559.2f), mm(0, 548.8f, 559.2f), mm(556, 548.8f, 559.2f)}}, cellsPerMetre, inside);  // back
+  addFace(reds, {{mm(552.8f, 0, 0), mm(549.6f, 0, 559.2f), mm(556, 548.8f, 559.2f), mm(556, 548.8f, 0)}}, cellsPerMetre, inside);   // left
+  addFace(greens, {{mm(0, 0, 559.2f), mm(0, 0, 0), mm(0, 548.8f, 0), mm(0, 548.8f, 559.2f)}}, cellsPerMetre, inside);              // right
+  // The ceiling in eight pieces around the light, so that light and ceiling never overlap.
+  const float xs[] = {0, 213, 343, 556}, zs[] = {0, 227, 332, 559.2f};
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) {
+      Face f{{mm(xs[i], 548.8f, zs[k]), mm(xs[i + 1], 548.8f, zs[k]), mm(xs[i + 1], 548.8f, zs[k + 1]), mm(xs[i], 548.8f, zs[k + 1])}};
+      addFace(i == 1 && k == 1 ? lamp : whites, f, cellsPerMetre, inside);
+    }
+  int room = b.mesh("room", {{whites, white}, {reds, red}, {greens, green}, {lamp, light}});
+  b.node("room", room);
+
+  const Face shortTop{{mm(130, 165, 65), mm(82, 165, 225), mm(240, 165, 272), mm(290, 165, 114)}};
+  const Face tallTop{{mm(423, 330, 247), mm(265, 330, 296), mm(314, 330, 456), mm(472, 330, 406)}};
+  const glm::vec3 shortCentre = mm(185.5f, 0, 169), tallCentre = mm(368.5f, 0, 351.5f);
+  int shortNode = b.node("short block", b.mesh("short block", {{block(shortTop, 0.165f, shortCentre, cellsPerMetre), white}}), shortCentre);
+  b.node("tall block", b.mesh("tall block", {{block(tallTop, 0.33f, tallCentre, cellsPerMetre), white}}), tallCentre);
+
+  // Camera: at (278, 273, -800) mm looking along +z, so turned 180° about y from glTF's -z.
+  b.camera("Cornell camera", 2.0f * std::atan(12.5f / 35.0f), 0.01f, mm(278, 273, -800), glm::quat(0, 0, 1, 0));
+
+  if (o.animated) {
+    // The short block slides toward the green wall and back while turning ±12°.
+    std::vector<float> times = {0.0f, 0.5f, 1.0f, 1.5f, 2.0f};
+    std::vector<float> slide, turn;
+    const float dx[] = {0.0f, -0.03f, -0.06f, -0.03f, 0.0f}, angle[] = {0.0f, 12.0f, 0.0f, -12.0f, 0.0f};
+    for (int k = 0; k < 5; ++k) {
+      glm::vec3 t = shortCentre + glm::vec3(dx[k], 0, 0);
+      slide.insert(slide.end(), {t.x, t.y, t.z});
+      glm::quat q = glm::angleAxis(glm::radians(angle[k]), glm::vec3(0, 1, 0));
+      turn.insert(turn.end(), {q.x, q.y, q.z, q.w});
+    }
+    b.animate("block moves", shortNode, "translation", times, slide);
+    b.animate("block moves", shortNode, "rotation", times, turn);
+  }
+  return b.finish();
+}
+
+tinygltf::Model furnace(const FurnaceOptions& o) {
+  GltfBuilder b;
+  int wall = b.material("furnace wall", glm::vec3(o.albedo), glm::vec3(o.emission));
+  MeshData box;
+  const glm::vec3 c(0.5f);
+  int n = std::max(o.cells, 1);
+  auto p = [](float x, float y, float z) { return glm::vec3(x, y, z); };
+  addQuad(box, p(0, 0, 0), p(1, 0, 0), p(1, 0, 1), p(0, 0, 1), n, n, c);  // floor
+  addQuad(box, p(0, 1, 0), p(1, 1, 0), p(1, 1, 1), p(0, 1, 1), n, n, c);  // ceiling
+  addQuad(box, p(0, 0, 0), p(1, 0, 0), p(1, 1, 0), p(0, 1, 0), n, n, c);  // z = 0
+  addQuad(box, p(0, 0, 1), p(1, 0, 1), p(1, 1, 1), p(0, 1, 1), n, n, c);  // z = 1
+  addQuad(box, p(0, 0, 0), p(0, 1, 0), p(0, 1, 1), p(0, 0, 1), n, n, c);  // x = 0
+  addQuad(box, p(1, 0, 0), p(1, 1, 0), p(1, 1, 1), p(1, 0, 1), n, n, c);  // x = 1
+  b.node("furnace", b.mesh("furnace", {{box, wall}}));
+  b.camera("furnace camera", glm::radians(90.0f), 0.01f, c, glm::quat(1, 0, 0, 0));
+  return b.finish();
+}
+
+std::vector<std::string> builtinSceneNames() { return {"cornell", "furnace"}; }
+
+}  // namespace ivgi::scenes

@@ -1,0 +1,76 @@
+// Definitions shared by every ivgi compute shader. Their host twins live in engine/scene/geometry.h
+// (layouts), engine/scene/texture_sampling.h (sampling) and engine/gi/shared.h (keys, rays); the
+// test tests/shared_definitions_test.cpp runs the same cases through both.
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_EXT_shader_atomic_int64 : require
+
+struct Vertex { vec3 position; uint instance; vec3 normal; uint local; uvec4 joints; vec4 weights; };
+struct Instance { uint matrix; uint skinned; uint morphTargets; uint morphWeightBase; uint morphDeltaBase; uint vertexCount; uint pad0; uint pad1; };
+struct MorphDelta { vec4 position; vec4 normal; };
+struct Triangle { uint v0; uint v1; uint v2; uint material; };
+struct Material { vec4 baseColor; vec4 emission; int baseColorTexture; int emissiveTexture; int pad0; int pad1; };
+struct Texture { uint offset; uint width; uint height; uint wrap; };
+struct SurfelSource { uint firstVertex; uint vertexCount; uint firstTriangle; uint triangleCount; };
+struct WorldVertex { vec4 position; vec4 normal; };
+struct Surfel { vec4 positionArea; vec4 normal; };
+
+const uint kFlatShaded = 0x80000000u;
+const uint64_t kEmptyVisibility = 0xFFFFFFFFFFFFFFFFul;
+
+// Pinhole camera: right and up are scaled by tan of the half field of view; origin.w = znear,
+// forward.w = zfar (0: none). Image size in samples, pixel (0,0) top-left, centres at +0.5.
+struct Camera { vec4 origin; vec4 right; vec4 up; vec4 forward; };
+
+// Linear item index of a dispatch laid out over x then y (Program::dispatchItems).
+uint itemIndex() {
+  return gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x;
+}
+uint groupIndex() { return gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x; }
+
+// Visibility key: depth (positive float bits order like unsigned integers) above the triangle id,
+// so that 64-bit atomicMin keeps the nearest hit and breaks ties by the lower id.
+uint64_t packDepthKey(float depth, uint id) { return (uint64_t(floatBitsToUint(depth)) << 32) | uint64_t(id); }
+uint keyId(uint64_t key) { return uint(key & 0xFFFFFFFFul); }
+float keyDepth(uint64_t key) { return uintBitsToFloat(uint(key >> 32)); }
+
+vec3 cameraRay(Camera cam, vec2 samplePos, uvec2 size) {
+  vec2 ndc = vec2(2.0 * samplePos.x / float(size.x) - 1.0, 1.0 - 2.0 * samplePos.y / float(size.y));
+  return cam.forward.xyz + ndc.x * cam.right.xyz + ndc.y * cam.up.xyz;
+}
+
+// Möller–Trumbore without culling; t along the unnormalised ray (= depth along forward).
+// Barycentrics get a tiny negative slack so that shared edges leave no cracks.
+bool intersectTriangle(vec3 o, vec3 d, vec3 a, vec3 b, vec3 c, out float t, out vec2 uv) {
+  vec3 e1 = b - a, e2 = c - a;
+  vec3 p = cross(d, e2);
+  float det = dot(e1, p);
+  t = 0.0; uv = vec2(0.0);
+  if (det == 0.0) return false;
+  float inv = 1.0 / det;
+  vec3 s = o - a;
+  float u = dot(s, p) * inv;
+  vec3 q = cross(s, e1);
+  float v = dot(d, q) * inv;
+  const float slack = -1e-6;
+  if (u < slack || v < slack || u + v > 1.0 - slack) return false;
+  t = dot(e2, q) * inv;
+  uv = vec2(u, v);
+  return true;
+}
+
+// The two texels and the weight of the second along one axis of a bilinear lookup under a glTF wrap
+// mode (33071 CLAMP_TO_EDGE, 33648 MIRRORED_REPEAT, else REPEAT). No integer division: lavapipe
+// runs it one lane at a time.
+ivec2 texelPair(float u, int size, uint mode, out float weight) {
+  if (mode == 33648u) {
+    float t = fract(u * 0.5) * 2.0;
+    u = t < 1.0 ? t : 2.0 - t;
+  } else if (mode != 33071u) {
+    u = fract(u);
+  }
+  float x = u * float(size) - 0.5, f = floor(x);
+  weight = x - f;
+  int i = int(f), j = i + 1;
+  if (mode == 33071u || mode == 33648u) return clamp(ivec2(i, j), 0, size - 1);
+  return ivec2(i < 0 ? i + size : i, j >= size ? j - size : j);
+}

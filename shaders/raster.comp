@@ -1,0 +1,48 @@
+#version 460
+// Pass 7a, rasterise: one workgroup per triangle walks the pixels of its screen bounds, casts the
+// camera ray through each sample centre and keeps the nearest hit by 64-bit atomicMin.
+#extension GL_GOOGLE_include_directive : require
+#include "common.glsl"
+layout(local_size_x = 64) in;
+
+layout(std430, binding = 0) readonly buffer World { WorldVertex world[]; };
+layout(std430, binding = 1) readonly buffer Triangles { Triangle triangles[]; };
+layout(std430, binding = 2) buffer Visibility { uint64_t visibility[]; };
+layout(push_constant) uniform Push { Camera cam; uvec2 size; uint triangleCount; uint unused; };
+
+// Sample-space x/y of a world point, or false when it lies at or behind the near plane.
+bool project(vec3 p, out vec2 s) {
+  vec3 d = p - cam.origin.xyz;
+  float z = dot(d, cam.forward.xyz);
+  s = vec2(0.0);
+  if (z <= cam.origin.w) return false;
+  vec2 ndc = vec2(dot(d, cam.right.xyz) / dot(cam.right.xyz, cam.right.xyz), dot(d, cam.up.xyz) / dot(cam.up.xyz, cam.up.xyz)) / z;
+  s = vec2((ndc.x + 1.0) * 0.5 * float(size.x), (1.0 - ndc.y) * 0.5 * float(size.y));
+  return true;
+}
+
+void main() {
+  uint tri = groupIndex();
+  if (tri >= triangleCount) return;
+  Triangle t = triangles[tri];
+  vec3 a = world[t.v0].position.xyz, b = world[t.v1].position.xyz, c = world[t.v2].position.xyz;
+  vec2 pa, pb, pc;
+  ivec2 lo = ivec2(0), hi = ivec2(size) - 1;
+  if (project(a, pa) && project(b, pb) && project(c, pc)) {
+    vec2 mn = min(pa, min(pb, pc)), mx = max(pa, max(pb, pc));
+    if (mx.x < -1.0 || mx.y < -1.0 || mn.x > float(size.x) + 1.0 || mn.y > float(size.y) + 1.0) return;
+    lo = max(lo, ivec2(floor(mn)) - 1);
+    hi = min(hi, ivec2(ceil(mx)));
+  }  // else: a vertex behind the near plane, so the whole image is a conservative bound
+  if (any(lessThan(hi, lo))) return;
+  uint width = uint(hi.x - lo.x + 1), count = width * uint(hi.y - lo.y + 1);
+  for (uint k = gl_LocalInvocationID.x; k < count; k += gl_WorkGroupSize.x) {
+    ivec2 px = lo + ivec2(k % width, k / width);
+    vec3 dir = cameraRay(cam, vec2(px) + 0.5, size);
+    float depth;
+    vec2 uv;
+    if (!intersectTriangle(cam.origin.xyz, dir, a, b, c, depth, uv)) continue;
+    if (depth <= cam.origin.w || (cam.forward.w > 0.0 && depth > cam.forward.w)) continue;
+    atomicMin(visibility[uint(px.y) * size.x + uint(px.x)], packDepthKey(depth, tri));
+  }
+}
