@@ -64,9 +64,10 @@ Reflection reflect(std::span<const uint32_t> code, const std::string& name) {
 
 }  // namespace
 
-Program::Program(const Context& ctx, const std::string& shaderName) : ctx_(ctx), name_(shaderName) {
-  auto code = shaderCode(shaderName);
-  Reflection r = reflect(code, shaderName);
+Program::Program(const Context& ctx, const std::string& shaderName) : Program(ctx, shaderName, shaderCode(shaderName)) {}
+
+Program::Program(const Context& ctx, const std::string& name, std::span<const uint32_t> code) : ctx_(ctx), name_(name) {
+  Reflection r = reflect(code, name);
   bindingCount_ = uint32_t(r.bindings.size());
   pushBytes_ = r.pushBytes;
   std::copy(r.localSize, r.localSize + 3, localSize_);

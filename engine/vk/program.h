@@ -5,6 +5,7 @@
 #include <vulkan/vulkan.h>
 
 #include <initializer_list>
+#include <span>
 #include <string>
 
 #include "engine/vk/buffer.h"
@@ -18,7 +19,9 @@ struct Groups {
 
 class Program {
  public:
+  // The product's shader `shaderName` (shaders/NAME.comp), or the given SPIR-V.
   Program(const Context& ctx, const std::string& shaderName);
+  Program(const Context& ctx, const std::string& name, std::span<const uint32_t> code);
   ~Program();
   Program(const Program&) = delete;
   Program& operator=(const Program&) = delete;

@@ -1,0 +1,170 @@
+// The animate and surfel passes on the GPU against their host evaluations, and the surfel rules of
+// design.md §1.2: areas, welded seams, degenerate triangles.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "engine/gi/frame_renderer.h"
+#include "engine/scene/gltf.h"
+#include "scenes/builtin.h"
+#include "scenes/gltf_builder.h"
+#include "tests/test_support.h"
+
+using namespace ivgi;
+using namespace ivgi::scene;
+
+namespace {
+
+struct Case {
+  std::string name;
+  Scene scene;
+  int animation;
+  float time;
+};
+
+float scaleOf(const Geometry& g, const std::vector<WorldVertex>& w) {
+  Bounds b = worldBounds(w);
+  return std::max(glm::length(b.max - b.min), 1e-6f);
+  (void)g;
+}
+
+// Animates `c` on the GPU and on the host; returns how far the animated vertices are from the rest pose
+// (so that a test can check the case really moves).
+float compareGpuWithHost(const Case& c) {
+  Geometry g = buildGeometry(c.scene);
+  FrameInputs in = g.frameInputs(c.scene, evaluatePose(c.scene, c.animation, c.time));
+  gi::FrameRenderer renderer(test::gpu(), g, {32, 24, 1});
+  renderer.render(in, framingCamera(worldBounds(animateOnHost(g, in)), 32.0f / 24.0f));
+
+  auto host = animateOnHost(g, in);
+  auto device = renderer.worldVertices();
+  EXPECT_EQ(host.size(), device.size());
+  float scale = scaleOf(g, host), worstPosition = 0, worstNormal = 0;
+  for (size_t i = 0; i < host.size(); ++i) {
+    worstPosition = std::max(worstPosition, glm::length(glm::vec3(host[i].position - device[i].position)) / scale);
+    worstNormal = std::max(worstNormal, glm::length(glm::vec3(host[i].normal - device[i].normal)));
+  }
+  EXPECT_LT(worstPosition, 1e-5f) << c.name;
+  EXPECT_LT(worstNormal, 1e-4f) << c.name;
+
+  auto hostSurfels = surfelsOnHost(g, host), deviceSurfels = renderer.surfels();
+  EXPECT_EQ(hostSurfels.size(), deviceSurfels.size());
+  float worstArea = 0;
+  for (size_t i = 0; i < hostSurfels.size(); ++i) {
+    float a = hostSurfels[i].positionArea.w, b = deviceSurfels[i].positionArea.w;
+    worstArea = std::max(worstArea, std::abs(a - b) / std::max(a, 1e-20f));
+  }
+  EXPECT_LT(worstArea, 1e-4f) << c.name;
+
+  auto rest = animateOnHost(g, g.frameInputs(c.scene, evaluatePose(c.scene, -1, 0.0f)));
+  float moved = 0;
+  for (size_t i = 0; i < rest.size(); ++i) moved = std::max(moved, glm::length(glm::vec3(rest[i].position - host[i].position)) / scale);
+  return moved;
+}
+
+float totalArea(const std::vector<Surfel>& surfels) {
+  double sum = 0;
+  for (const auto& s : surfels) sum += s.positionArea.w;
+  return float(sum);
+}
+
+}  // namespace
+
+TEST(GpuAnimation, MorphTargetsMatchTheHost) {
+  auto path = test::assimpGltfDir() / "glTF-Sample-Models/AnimatedMorphCube-glTF/AnimatedMorphCube.gltf";
+  Case c{"AnimatedMorphCube", loadGltf(path.string()), 0, 1.3f};
+  EXPECT_GT(compareGpuWithHost(c), 0.01f) << "the morph animation should move vertices";
+}
+
+TEST(GpuAnimation, SkinningMatchesTheHost) {
+  auto path = test::assimpGltfDir() / "simple_skin/simple_skin.gltf";
+  Case c{"simple_skin", loadGltf(path.string()), 0, 1.25f};
+  EXPECT_GT(compareGpuWithHost(c), 0.01f);
+}
+
+TEST(GpuAnimation, NodeTransformsMatchTheHost) {
+  Case c{"cornell", sceneFromModel(scenes::cornellBox({.cells = 4}), "cornell"), 0, 0.5f};
+  EXPECT_GT(compareGpuWithHost(c), 0.01f);
+}
+
+TEST(GpuAnimation, SharedAssetsMatchTheHost) {
+  auto dir = test::sharedGltfDir();
+  if (!dir) GTEST_SKIP() << "../shared/data/gltf is not present";
+  for (const char* file : {"Fox.gltf", "RiggedSimple.gltf", "SimpleMorph.gltf", "BoxAnimated.gltf", "AnimatedTriangle.gltf", "SimpleSkin.gltf"}) {
+    Scene s = loadGltf((*dir / file).string());
+    int anim = s.animations.empty() ? -1 : int(s.animations.size()) - 1;
+    float t = anim >= 0 ? 0.37f * (s.animations[anim].end - s.animations[anim].start) + s.animations[anim].start : 0.0f;
+    Case c{file, std::move(s), anim, t};
+    EXPECT_GT(compareGpuWithHost(c), 1e-3f) << file;
+  }
+}
+
+TEST(Surfels, AreasSumToTheMeshArea) {
+  // The furnace is a closed unit cube: 6 m² whatever its tessellation.
+  for (int cells : {1, 3, 8}) {
+    Scene s = sceneFromModel(scenes::furnace({.cells = cells}), "furnace");
+    Geometry g = buildGeometry(s);
+    auto surfels = surfelsOnHost(g, animateOnHost(g, g.frameInputs(s, evaluatePose(s, -1, 0))));
+    EXPECT_NEAR(totalArea(surfels), 6.0f, 6.0f * 1e-5f) << cells << " cells";
+    EXPECT_EQ(surfels.size(), size_t(6 * (cells + 1) * (cells + 1))) << "cube edges are hard: not welded";
+  }
+  // The Cornell box, against the sum of its triangles' areas.
+  Scene s = sceneFromModel(scenes::cornellBox({.cells = 5}), "cornell");
+  Geometry g = buildGeometry(s);
+  auto world = animateOnHost(g, g.frameInputs(s, evaluatePose(s, 0, 0.7f)));
+  double triangles = 0;
+  for (const auto& t : g.triangles)
+    triangles += 0.5 * glm::length(glm::cross(glm::vec3(world[t.v1].position - world[t.v0].position),
+                                              glm::vec3(world[t.v2].position - world[t.v0].position)));
+  EXPECT_NEAR(totalArea(surfelsOnHost(g, world)), triangles, triangles * 1e-5);
+}
+
+TEST(Surfels, UvSeamsAreWeldedHardEdgesAreNot) {
+  // Two triangles of one square; the diagonal's vertices are duplicated with other UVs (a seam).
+  scenes::MeshData m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  m.normals.assign(6, glm::vec3(0, 0, 1));
+  m.uvs = {{0, 0}, {1, 0}, {1, 1}, {0.5f, 0}, {0.5f, 1}, {0, 1}};
+  m.indices = {0, 1, 2, 3, 4, 5};
+  // A second square folded at 90° along x = 1: same positions on the fold, other normals (hard edge).
+  scenes::MeshData fold;
+  fold.positions = {{1, 0, 0}, {1, 0, -1}, {1, 1, -1}, {1, 1, 0}};
+  fold.normals.assign(4, glm::vec3(-1, 0, 0));
+  fold.indices = {0, 1, 2, 0, 2, 3};
+  scenes::GltfBuilder b;
+  int mat = b.material("grey", glm::vec3(0.5f));
+  b.node("seam", b.mesh("seam", {{m, mat}}));
+  b.node("fold", b.mesh("fold", {{fold, mat}}));
+  Scene s = sceneFromModel(b.finish(), "seam");
+  Geometry g = buildGeometry(s);
+  ASSERT_EQ(g.surfels.size(), 4u + 4u) << "6 seam vertices weld to 4; the fold's 4 stay apart";
+  auto surfels = surfelsOnHost(g, animateOnHost(g, g.frameInputs(s, evaluatePose(s, -1, 0))));
+  // Corner (0,0,0) and (1,1,0) touch both triangles: area 2 × (0.5 / 3); the others one triangle.
+  std::vector<float> areas;
+  for (size_t i = 0; i < 4; ++i) areas.push_back(surfels[i].positionArea.w);
+  std::sort(areas.begin(), areas.end());
+  EXPECT_NEAR(areas[0], 1.0f / 6.0f, 1e-6f);
+  EXPECT_NEAR(areas[1], 1.0f / 6.0f, 1e-6f);
+  EXPECT_NEAR(areas[2], 1.0f / 3.0f, 1e-6f);
+  EXPECT_NEAR(areas[3], 1.0f / 3.0f, 1e-6f);
+  EXPECT_NEAR(totalArea(surfels), 2.0f, 1e-5f);
+}
+
+TEST(Surfels, DegenerateTrianglesAreCountedAndExcluded) {
+  scenes::MeshData m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {2, 2, 0}, {3, 3, 0}, {4, 4, 0}, {5, 0, 0}};
+  m.indices = {0, 1, 2,   // a real triangle
+               3, 4, 5,   // collinear
+               0, 0, 1,   // repeated index
+               6, 6, 6};  // a point
+  scenes::GltfBuilder b;
+  b.node("mesh", b.mesh("mesh", {{m, b.material("grey", glm::vec3(0.5f))}}));
+  Scene s = sceneFromModel(b.finish(), "degenerate");
+  Geometry g = buildGeometry(s);
+  EXPECT_EQ(g.degenerateTriangles, 3u);
+  EXPECT_EQ(g.triangles.size(), 1u);
+  EXPECT_EQ(g.surfels.size(), 3u) << "vertices on degenerate triangles only get no surfel";
+  auto surfels = surfelsOnHost(g, animateOnHost(g, g.frameInputs(s, evaluatePose(s, -1, 0))));
+  EXPECT_NEAR(totalArea(surfels), 0.5f, 1e-6f);
+  for (const auto& sf : surfels) EXPECT_NEAR(sf.normal.z, 1.0f, 1e-6f) << "no normals given: from the face";
+}

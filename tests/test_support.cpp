@@ -1,0 +1,93 @@
+#include "tests/test_support.h"
+
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <memory>
+#include <sstream>
+
+namespace ivgi::test {
+
+namespace {
+
+std::unique_ptr<vk::Context>& context() {
+  static std::unique_ptr<vk::Context> ctx;
+  return ctx;
+}
+
+class ValidationGuard : public ::testing::Environment {
+ public:
+  void TearDown() override {
+    if (context()) {
+      EXPECT_EQ(context()->validationErrors(), 0u) << "Vulkan validation errors were reported";
+    }
+    context().reset();
+  }
+};
+const auto* const kGuard = ::testing::AddGlobalTestEnvironment(new ValidationGuard);
+
+std::string quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+}  // namespace
+
+vk::Context& gpu() {
+  if (!context()) context() = std::make_unique<vk::Context>(vk::ContextOptions{.validation = true});
+  return *context();
+}
+
+std::vector<std::string> Run::errLines() const {
+  std::vector<std::string> lines;
+  std::stringstream ss(err);
+  for (std::string line; std::getline(ss, line);)
+    if (!line.empty()) lines.push_back(line);
+  return lines;
+}
+
+Run runIvgi(const std::vector<std::string>& args, const std::map<std::string, std::string>& env) {
+  static int counter = 0;
+  auto dir = std::filesystem::temp_directory_path() / ("ivgi-run-" + std::to_string(getpid()) + "-" + std::to_string(counter++));
+  std::filesystem::create_directories(dir);
+  std::string cmd = "env IVGI_VALIDATION=1";
+  for (const auto& [k, v] : env) cmd += " " + k + "=" + quote(v);
+  cmd += " " + quote(IVGI_BINARY);
+  for (const auto& a : args) cmd += " " + quote(a);
+  cmd += " </dev/null >" + quote((dir / "out").string()) + " 2>" + quote((dir / "err").string());
+  int raw = std::system(cmd.c_str());
+  Run r;
+  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw);
+  r.out = slurp(dir / "out");
+  r.err = slurp(dir / "err");
+  std::filesystem::remove_all(dir);
+  return r;
+}
+
+std::optional<std::filesystem::path> sharedGltfDir() {
+  auto p = std::filesystem::path(IVGI_SOURCE_DIR) / ".." / "shared" / "data" / "gltf";
+  if (std::filesystem::is_directory(p)) return std::filesystem::canonical(p);
+  return std::nullopt;
+}
+
+std::filesystem::path assimpGltfDir() { return "/usr/share/assimp/models/glTF2"; }
+
+std::filesystem::path scratchDir(const std::string& name) {
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  std::string test = info ? std::string(info->test_suite_name()) + "." + info->name() : "none";
+  auto dir = std::filesystem::temp_directory_path() / "ivgi-tests" / (test + "-" + name + "-" + std::to_string(getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+}  // namespace ivgi::test

@@ -1,0 +1,35 @@
+#pragma once
+// Helpers shared by the tests: one Vulkan context per test process (validation on), running the
+// ivgi binary, the real glTF assets, scratch folders.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/vk/context.h"
+
+namespace ivgi::test {
+
+// The process's Vulkan context, with validation layers on; the test environment fails any test
+// process whose validation layer reported an error.
+vk::Context& gpu();
+
+struct Run {
+  int status = -1;
+  std::string out, err;
+  std::vector<std::string> errLines() const;
+};
+// Runs build/ivgi with `args` (validation on) and waits.
+Run runIvgi(const std::vector<std::string>& args, const std::map<std::string, std::string>& env = {});
+
+// ../shared/data/gltf beside the checkout, when present.
+std::optional<std::filesystem::path> sharedGltfDir();
+// Debian's assimp-testmodels glTF 2.0 folder (installed by ci/install-deps.sh).
+std::filesystem::path assimpGltfDir();
+// A fresh, empty folder for one test.
+std::filesystem::path scratchDir(const std::string& name);
+
+}  // namespace ivgi::test
