@@ -1,0 +1,256 @@
+// glTF loading: the real assets with figures read off their files, and constructed models for every
+// accessor form the spec allows (component types, normalisation, interleaving, sparse, strips).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+
+#include "engine/scene/geometry.h"
+#include "engine/scene/gltf.h"
+#include "scenes/builtin.h"
+#include "scenes/gltf_builder.h"
+#include "tests/test_support.h"
+
+using namespace ivgi;
+using namespace ivgi::scene;
+
+namespace {
+
+size_t triangleCount(const Scene& s) {
+  size_t n = 0;
+  for (const auto& m : s.meshes)
+    for (const auto& p : m.primitives) n += p.indices.size() / 3;
+  return n;
+}
+
+// A model with one triangle primitive whose attributes the test then rewires.
+struct TriangleModel {
+  scenes::GltfBuilder b;
+  int node;
+  TriangleModel() {
+    scenes::MeshData m;
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    m.normals.assign(3, glm::vec3(0, 0, 1));
+    m.indices = {0, 1, 2};
+    node = b.node("triangle", b.mesh("triangle", {{m, b.material("grey", glm::vec3(0.5f))}}));
+  }
+  tinygltf::Primitive& primitive() { return b.model().meshes[0].primitives[0]; }
+  Scene load() { return sceneFromModel(b.finish(), "constructed.gltf"); }
+};
+
+}  // namespace
+
+TEST(Loader, AnimatedMorphCube) {
+  Scene s = loadGltf((test::assimpGltfDir() / "glTF-Sample-Models/AnimatedMorphCube-glTF/AnimatedMorphCube.gltf").string());
+  ASSERT_EQ(s.meshes.size(), 1u);
+  ASSERT_EQ(s.meshes[0].primitives.size(), 1u);
+  EXPECT_EQ(s.meshes[0].primitives[0].targets.size(), 2u);
+  EXPECT_EQ(s.meshes[0].primitives[0].positions.size(), 24u);
+  EXPECT_EQ(triangleCount(s), 12u);
+  ASSERT_EQ(s.animations.size(), 1u);
+  EXPECT_EQ(s.animations[0].channels[0].path, Path::Weights);
+  EXPECT_TRUE(s.warnings.empty());
+}
+
+TEST(Loader, SimpleSkin) {
+  Scene s = loadGltf((test::assimpGltfDir() / "simple_skin/simple_skin.gltf").string());
+  ASSERT_EQ(s.skins.size(), 1u);
+  EXPECT_EQ(s.skins[0].joints.size(), 2u);
+  EXPECT_EQ(s.meshes[0].primitives[0].positions.size(), 10u);
+  EXPECT_EQ(triangleCount(s), 8u);
+  EXPECT_EQ(s.animations.size(), 1u);
+}
+
+TEST(Loader, EverySharedAsset) {
+  auto dir = test::sharedGltfDir();
+  if (!dir) GTEST_SKIP() << "../shared/data/gltf is not present";
+  int files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(*dir)) {
+    auto ext = entry.path().extension();
+    if (ext != ".gltf" && ext != ".glb") continue;
+    ++files;
+    Scene s = loadGltf(entry.path().string());
+    Geometry g = buildGeometry(s);
+    EXPECT_GT(g.triangles.size(), 0u) << entry.path();
+    EXPECT_GT(g.surfels.size(), 0u) << entry.path();
+    EXPECT_FALSE(s.animations.empty()) << entry.path();
+  }
+  EXPECT_GE(files, 6);
+  // Figures of the Khronos Fox: 1,728 vertices, 576 triangles, 24 joints, three animations.
+  Scene fox = loadGltf((*dir / "Fox.gltf").string());
+  Geometry g = buildGeometry(fox);
+  EXPECT_EQ(g.vertices.size(), 1728u);
+  EXPECT_EQ(g.triangles.size(), 576u);
+  ASSERT_EQ(fox.skins.size(), 1u);
+  EXPECT_EQ(fox.skins[0].joints.size(), 24u);
+  ASSERT_EQ(fox.animations.size(), 3u);
+  EXPECT_EQ(fox.animations[0].name, "Survey");
+  EXPECT_EQ(fox.animations[1].name, "Walk");
+  EXPECT_EQ(fox.animations[2].name, "Run");
+  EXPECT_EQ(fox.textures.size(), 1u);
+  EXPECT_GT(fox.textures[0].width, 0);
+}
+
+TEST(Loader, NormalizedAndQuantizedComponentTypes) {
+  TriangleModel t;
+  // UVs as normalized unsigned bytes and unsigned shorts; positions as plain shorts (KHR_mesh_quantization).
+  const uint8_t uv8[] = {0, 255, 255, 0, 51, 102};
+  int a = t.b.accessor(uv8, 3, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_TYPE_VEC2, 2);
+  t.b.model().accessors[a].normalized = true;
+  t.primitive().attributes["TEXCOORD_0"] = a;
+  const int16_t pos16[] = {0, 0, 0, 2, 0, 0, 0, 3, 0, 0};  // 3 × VEC3 + padding
+  t.primitive().attributes["POSITION"] = t.b.accessor(pos16, 3, TINYGLTF_COMPONENT_TYPE_SHORT, TINYGLTF_TYPE_VEC3, 6);
+  const int8_t n8[] = {0, 0, 127, 0, /**/ 0, 0, 127, 0, /**/ 0, 0, -128, 0};
+  int n = t.b.accessor(n8, 3, TINYGLTF_COMPONENT_TYPE_BYTE, TINYGLTF_TYPE_VEC3, 4);
+  t.b.model().bufferViews.back().byteStride = 4;  // vec3 of bytes padded to 4 bytes, as the spec aligns them
+  t.b.model().accessors[n].normalized = true;
+  t.primitive().attributes["NORMAL"] = n;
+  t.b.model().extensionsUsed.push_back("KHR_mesh_quantization");
+  Scene s = t.load();
+  const Primitive& p = s.meshes[0].primitives[0];
+  EXPECT_EQ(p.uvs[0], glm::vec2(0.0f, 1.0f));
+  EXPECT_FLOAT_EQ(p.uvs[2].x, 0.2f);
+  EXPECT_FLOAT_EQ(p.uvs[2].y, 0.4f);
+  EXPECT_EQ(p.positions[1], glm::vec3(2, 0, 0));
+  EXPECT_EQ(p.positions[2], glm::vec3(0, 3, 0));
+  EXPECT_FLOAT_EQ(p.normals[0].z, 1.0f);
+  EXPECT_FLOAT_EQ(p.normals[2].z, -1.0f) << "-128 clamps to -1";
+  EXPECT_TRUE(s.warnings.empty());
+}
+
+TEST(Loader, IndexComponentTypes) {
+  for (int type : {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT}) {
+    TriangleModel t;
+    uint32_t idx32[] = {2, 1, 0};
+    uint16_t idx16[] = {2, 1, 0};
+    uint8_t idx8[] = {2, 1, 0};
+    const void* data = type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT ? (const void*)idx32 : type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? (const void*)idx16 : idx8;
+    size_t bytes = tinygltf::GetComponentSizeInBytes(type);
+    t.primitive().indices = t.b.accessor(data, 3, type, TINYGLTF_TYPE_SCALAR, bytes);
+    Scene s = t.load();
+    EXPECT_EQ(s.meshes[0].primitives[0].indices, (std::vector<uint32_t>{2, 1, 0})) << type;
+  }
+}
+
+TEST(Loader, InterleavedViews) {
+  TriangleModel t;
+  struct V {
+    float p[3], n[3];
+  } verts[3] = {{{0, 0, 0}, {0, 0, 1}}, {{4, 0, 0}, {0, 0, 1}}, {{0, 5, 0}, {0, 1, 0}}};
+  int pos = t.b.accessor(verts, 3, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, sizeof(V));
+  auto& model = t.b.model();
+  model.bufferViews.back().byteStride = sizeof(V);
+  tinygltf::Accessor nrm = model.accessors[pos];
+  nrm.byteOffset = 12;
+  model.accessors.push_back(nrm);
+  t.primitive().attributes["POSITION"] = pos;
+  t.primitive().attributes["NORMAL"] = int(model.accessors.size() - 1);
+  Scene s = t.load();
+  const Primitive& p = s.meshes[0].primitives[0];
+  EXPECT_EQ(p.positions[1], glm::vec3(4, 0, 0));
+  EXPECT_EQ(p.positions[2], glm::vec3(0, 5, 0));
+  EXPECT_EQ(p.normals[2], glm::vec3(0, 1, 0));
+}
+
+TEST(Loader, SparseAccessors) {
+  TriangleModel t;
+  auto& model = t.b.model();
+  // Replace vertex 1 of the positions by (7, 0, 0) through a sparse substitution.
+  int pos = t.primitive().attributes["POSITION"];
+  uint16_t which[] = {1};
+  float value[] = {7, 0, 0};
+  int idx = t.b.accessor(which, 1, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_SCALAR, 2);
+  int val = t.b.accessor(value, 1, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, 12);
+  auto& a = model.accessors[pos];
+  a.sparse.isSparse = true;
+  a.sparse.count = 1;
+  a.sparse.indices.bufferView = model.accessors[idx].bufferView;
+  a.sparse.indices.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+  a.sparse.values.bufferView = model.accessors[val].bufferView;
+  // A morph target given only as sparse values over zeros (no buffer view).
+  tinygltf::Accessor delta = a;
+  delta.bufferView = -1;
+  delta.byteOffset = 0;
+  model.accessors.push_back(delta);
+  t.primitive().targets.push_back({{"POSITION", int(model.accessors.size() - 1)}});
+  Scene s = t.load();
+  const Primitive& p = s.meshes[0].primitives[0];
+  EXPECT_EQ(p.positions[0], glm::vec3(0, 0, 0));
+  EXPECT_EQ(p.positions[1], glm::vec3(7, 0, 0));
+  ASSERT_EQ(p.targets.size(), 1u);
+  EXPECT_EQ(p.targets[0].positions[0], glm::vec3(0, 0, 0));
+  EXPECT_EQ(p.targets[0].positions[1], glm::vec3(7, 0, 0));
+}
+
+TEST(Loader, StripsFansAndNonIndexed) {
+  TriangleModel strip;
+  uint32_t four[] = {0, 1, 2, 0};
+  strip.primitive().indices = strip.b.accessor(four, 4, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, 4);
+  strip.primitive().mode = TINYGLTF_MODE_TRIANGLE_STRIP;
+  EXPECT_EQ(strip.load().meshes[0].primitives[0].indices, (std::vector<uint32_t>{0, 1, 2, 2, 1, 0})) << "odd strip triangles flip";
+  TriangleModel fan;
+  fan.primitive().indices = fan.b.accessor(four, 4, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, 4);
+  fan.primitive().mode = TINYGLTF_MODE_TRIANGLE_FAN;
+  EXPECT_EQ(fan.load().meshes[0].primitives[0].indices, (std::vector<uint32_t>{0, 1, 2, 0, 2, 0}));
+  TriangleModel plain;
+  plain.primitive().indices = -1;
+  EXPECT_EQ(plain.load().meshes[0].primitives[0].indices, (std::vector<uint32_t>{0, 1, 2}));
+}
+
+TEST(Loader, HarmlessUnsupportedContentIsSkippedWithAWarning) {
+  TriangleModel t;
+  tinygltf::Primitive lines = t.primitive();
+  lines.mode = TINYGLTF_MODE_LINE;
+  t.b.model().meshes[0].primitives.push_back(lines);
+  t.b.model().extensionsUsed.push_back("EXT_made_up");
+  Scene s = t.load();
+  EXPECT_EQ(s.meshes[0].primitives.size(), 1u);
+  ASSERT_EQ(s.warnings.size(), 2u);
+  EXPECT_NE(s.warnings[0].find("EXT_made_up"), std::string::npos);
+  EXPECT_NE(s.warnings[1].find("lines"), std::string::npos);
+}
+
+TEST(Loader, RequiredUnknownExtensionIsAnError) {
+  TriangleModel t;
+  t.b.model().extensionsRequired.push_back("EXT_made_up");
+  t.b.model().extensionsUsed.push_back("EXT_made_up");
+  EXPECT_THROW(t.load(), LoadError);
+}
+
+TEST(Loader, MaterialsLightsAndCameras) {
+  Scene s = sceneFromModel(scenes::cornellBox({.cells = 1}), "cornell");
+  ASSERT_EQ(s.materials.size(), 4u);
+  const Material& light = s.materials[3];
+  EXPECT_NEAR(light.emissiveStrength * light.emissive.r, 17.0f, 1e-5f);
+  EXPECT_NEAR(light.emissiveStrength * light.emissive.g, 12.0f, 1e-5f);
+  EXPECT_NEAR(light.emissiveStrength * light.emissive.b, 4.0f, 1e-5f);
+  ASSERT_EQ(s.cameras.size(), 1u);
+  EXPECT_NEAR(s.cameras[0].yfov * 180.0f / 3.14159265f, 39.31f, 0.01f);
+
+  TriangleModel t;
+  tinygltf::Light point;
+  point.type = "point";
+  point.color = {1, 0.5, 0.25};
+  point.intensity = 40;
+  t.b.model().lights.push_back(point);
+  t.b.model().nodes[t.node].extensions["KHR_lights_punctual"] = tinygltf::Value(tinygltf::Value::Object{{"light", tinygltf::Value(0)}});
+  t.b.model().extensionsUsed.push_back("KHR_lights_punctual");
+  Scene lit = t.load();
+  ASSERT_EQ(lit.lights.size(), 1u);
+  EXPECT_EQ(lit.lights[0].type, Light::Type::Point);
+  EXPECT_FLOAT_EQ(lit.lights[0].intensity, 40.0f);
+  EXPECT_EQ(lit.nodes[t.node].light, 0);
+}
+
+TEST(Loader, MalformedAssimpModelsAreRefused) {
+  auto dir = test::assimpGltfDir();
+  for (const char* file : {"IndexOutOfRange/IndexOutOfRange.gltf", "MissingBin/BoxTextured.gltf",
+                           "BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb", "RecursiveNodes/RecursiveNodes.gltf"}) {
+    try {
+      loadGltf((dir / file).string());
+      ADD_FAILURE() << file << " loaded";
+    } catch (const LoadError& e) {
+      EXPECT_NE(std::string(e.what()).find(file), std::string::npos) << "the message names the file: " << e.what();
+    }
+  }
+}
