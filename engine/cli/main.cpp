@@ -20,6 +20,8 @@ void addSceneArgument(CLI::App* cmd, SceneChoice& choice) {
 int main(int argc, char** argv) {
   CLI::App app{"ivgi " IVGI_VERSION ": global illumination of animated glTF scenes with implicit visibility, on Vulkan compute"};
   app.require_subcommand(1);
+  // Usage errors in the same one-line form as every other error.
+  app.failure_message([](const CLI::App*, const CLI::Error& e) { return "ivgi: error: " + std::string(e.what()) + " (see --help)\n"; });
   app.set_version_flag("--version", "ivgi " IVGI_VERSION);
 
   RenderOptions render;

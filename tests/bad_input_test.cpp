@@ -1,0 +1,154 @@
+// Bad input through the ivgi binary: one clear line naming the file and the problem, a non-zero
+// exit, and nothing written.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+
+#include "scenes/builtin.h"
+#include "scenes/gltf_builder.h"
+#include "tests/test_support.h"
+
+using namespace ivgi;
+namespace fs = std::filesystem;
+
+namespace {
+
+void expectOneLineError(const test::Run& r, const std::vector<std::string>& mentions) {
+  EXPECT_NE(r.status, 0);
+  auto lines = r.errLines();
+  ASSERT_EQ(lines.size(), 1u) << r.err;
+  EXPECT_EQ(lines[0].rfind("ivgi: error: ", 0), 0u) << lines[0];
+  for (const auto& m : mentions) EXPECT_NE(lines[0].find(m), std::string::npos) << "'" << m << "' missing from: " << lines[0];
+}
+
+size_t filesIn(const fs::path& dir) {
+  if (!fs::exists(dir)) return 0;
+  return size_t(std::distance(fs::directory_iterator(dir), fs::directory_iterator()));
+}
+
+// Renders `scene` into a fresh folder; expects the error and that nothing was written there.
+void expectRenderRefused(const std::string& scene, const std::vector<std::string>& extra, const std::vector<std::string>& mentions) {
+  auto out = test::scratchDir("out");
+  std::vector<std::string> args = {"render", scene, "--out", (out / "f_%04d").string()};
+  if (std::find(extra.begin(), extra.end(), "--size") == extra.end()) args.insert(args.end(), {"--size", "16x16"});
+  args.insert(args.end(), extra.begin(), extra.end());
+  expectOneLineError(test::runIvgi(args), mentions);
+  EXPECT_EQ(filesIn(out), 0u) << "nothing may be written";
+}
+
+std::string writeModel(tinygltf::Model model, const std::string& name) {
+  auto path = test::scratchDir("model") / name;
+  scenes::writeModel(model, path.string());
+  return path.string();
+}
+
+tinygltf::Model triangleModel(glm::vec3 corner = glm::vec3(0, 1, 0)) {
+  scenes::MeshData m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, corner};
+  m.indices = {0, 1, 2};
+  scenes::GltfBuilder b;
+  b.node("triangle", b.mesh("triangle", {{m, b.material("grey", glm::vec3(0.5f))}}));
+  return b.finish();
+}
+
+}  // namespace
+
+TEST(BadInput, MissingFile) { expectRenderRefused("/nonexistent/scene.gltf", {}, {"/nonexistent/scene.gltf", "no such file"}); }
+
+TEST(BadInput, NotAGltfFile) {
+  auto path = test::scratchDir("in") / "notes.gltf";
+  std::ofstream(path) << "these are not the droids you are looking for\n";
+  expectRenderRefused(path.string(), {}, {path.string(), "invalid glTF"});
+}
+
+TEST(BadInput, TruncatedGlb) {
+  std::string path = writeModel(scenes::cornellBox({.cells = 2}), "cornell.glb");
+  fs::resize_file(path, fs::file_size(path) / 2);
+  expectRenderRefused(path, {}, {path, "invalid .glb"});
+}
+
+TEST(BadInput, AccessorOutOfRange) {
+  tinygltf::Model m = triangleModel();
+  m.accessors[m.meshes[0].primitives[0].attributes["POSITION"]].count = 1000;
+  std::string path = writeModel(m, "accessor.gltf");
+  expectRenderRefused(path, {}, {path, "POSITION", "past the end of buffer view"});
+}
+
+TEST(BadInput, BufferViewOutOfRange) {
+  tinygltf::Model m = triangleModel();
+  auto& view = m.bufferViews[m.accessors[m.meshes[0].primitives[0].attributes["POSITION"]].bufferView];
+  view.byteOffset = m.buffers[0].data.size() - 4;
+  std::string path = writeModel(m, "view.gltf");
+  auto r = test::runIvgi({"info", path});
+  expectOneLineError(r, {path});
+  EXPECT_NE(r.err.find("buffer"), std::string::npos);
+}
+
+TEST(BadInput, IndexOutOfRange) {
+  tinygltf::Model m = triangleModel();
+  uint32_t* idx = reinterpret_cast<uint32_t*>(m.buffers[0].data.data() + m.bufferViews[m.accessors[m.meshes[0].primitives[0].indices].bufferView].byteOffset);
+  idx[2] = 77;
+  std::string path = writeModel(m, "index.gltf");
+  expectRenderRefused(path, {}, {path, "index 77 out of range"});
+}
+
+TEST(BadInput, NanAndInfInVertexAttributes) {
+  for (float bad : {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity()}) {
+    std::string path = writeModel(triangleModel(glm::vec3(0, bad, 0)), "nan.gltf");
+    expectRenderRefused(path, {}, {path, "POSITION", "NaN or infinite"});
+  }
+}
+
+TEST(BadInput, NoTrianglesAtAll) {
+  tinygltf::Model m = triangleModel();
+  m.meshes[0].primitives[0].mode = TINYGLTF_MODE_POINTS;
+  std::string path = writeModel(m, "points.gltf");
+  auto out = test::scratchDir("out");
+  auto r = test::runIvgi({"render", path, "--out", (out / "f").string()});
+  EXPECT_NE(r.status, 0);
+  // The skipped points earn a warning line; the error is the last line and names the problem.
+  auto lines = r.errLines();
+  ASSERT_FALSE(lines.empty());
+  EXPECT_NE(lines.back().find("no triangles"), std::string::npos) << r.err;
+  EXPECT_NE(lines.back().find(path), std::string::npos);
+  EXPECT_EQ(filesIn(out), 0u);
+}
+
+TEST(BadInput, ImageSizeZeroOrAboveTheDeviceLimits) {
+  expectRenderRefused("cornell", {"--size", "0x240"}, {"--size", "at least 1"});
+  expectRenderRefused("cornell", {"--size", "100000x100000"}, {"--size", "exceeds the device limit"});
+  expectRenderRefused("cornell", {"--size", "8000x8000", "--supersample", "4"}, {"maxStorageBufferRange"});
+  expectRenderRefused("cornell", {"--size", "big"}, {"--size", "WIDTHxHEIGHT"});
+}
+
+TEST(BadInput, FrameRangeOutsideTheAnimation) {
+  expectRenderRefused("cornell", {"--frames", "40-60"}, {"built-in cornell", "frames 40-60", "outside", "frames 0-48"});
+  expectRenderRefused("cornell", {"--frames", "9-3"}, {"--frames", "before the first"});
+  std::string still = writeModel(triangleModel(), "still.gltf");
+  expectRenderRefused(still, {"--frames", "0-1"}, {still, "without animation"});
+}
+
+TEST(BadInput, AbsurdOptions) {
+  expectRenderRefused("cornell", {"--fps", "0"}, {"--fps"});
+  expectRenderRefused("cornell", {"--fps", "nan"}, {"--fps"});
+  expectRenderRefused("cornell", {"--supersample", "100"}, {"--supersample"});
+  expectRenderRefused("cornell", {"--cells", "0"}, {"--cells"});
+  expectRenderRefused("cornell", {"--format", "jpg"}, {"--format"});
+  expectRenderRefused("cornell", {"--device", "no such gpu"}, {"no Vulkan device matches 'no such gpu'"});
+  expectRenderRefused("cornell", {"--camera", "nope"}, {"no camera named 'nope'"});
+  expectRenderRefused("cornell", {"--animation", "nope"}, {"no animation named 'nope'"});
+}
+
+TEST(BadInput, EarlierFramesSurviveAFailedRun) {
+  auto out = test::scratchDir("out");
+  std::string pattern = (out / "f_%04d").string();
+  auto ok = test::runIvgi({"render", "--size", "32x24", "--frames", "0-1", "--out", pattern});
+  ASSERT_EQ(ok.status, 0) << ok.err;
+  auto before = fs::file_size(out / "f_0000.exr");
+  auto failed = test::runIvgi({"render", "--size", "0x24", "--frames", "0-1", "--out", pattern});
+  EXPECT_NE(failed.status, 0);
+  EXPECT_EQ(fs::file_size(out / "f_0000.exr"), before);
+  EXPECT_TRUE(fs::exists(out / "f_0001.png"));
+}
