@@ -49,6 +49,8 @@ void writeExr(const std::string& path, const FrameChannels& f) {
   spec.alpha_channel = 3;
   spec.z_channel = 10;
   spec.attribute("compression", "zip");
+  // A fixed time stamp: the same render must give the same bytes (golden images, caching, diffs).
+  spec.attribute("DateTime", "1970:01:01 00:00:00");
   spec.attribute("Software", "ivgi " IVGI_VERSION);
   std::vector<float> pixels(size_t(f.width) * f.height * channels);
   for (size_t i = 0; i < size_t(f.width) * f.height; ++i) {

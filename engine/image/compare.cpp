@@ -1,0 +1,83 @@
+#include "engine/image/compare.h"
+
+#include <OpenImageIO/imagebuf.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace ivgi::image {
+
+namespace OIIO = OIIO_NAMESPACE;
+
+namespace {
+
+std::vector<int> layerChannels(const OIIO::ImageSpec& spec, const std::string& layer, const std::string& file) {
+  std::vector<std::string> names;
+  if (layer.empty()) names = {"R", "G", "B"};
+  else if (layer == "A" || layer == "Z") names = {layer};
+  else if (layer == "N") names = {"N.X", "N.Y", "N.Z"};
+  else names = {layer + ".R", layer + ".G", layer + ".B"};
+  std::vector<int> out;
+  for (const auto& n : names) {
+    int c = spec.channelindex(n);
+    if (c < 0) throw std::runtime_error(file + ": no channel " + n);
+    out.push_back(c);
+  }
+  return out;
+}
+
+OIIO::ImageBuf readFloat(const std::string& file) {
+  OIIO::ImageBuf buf(file);
+  if (!buf.read(0, 0, true, OIIO::TypeDesc::FLOAT)) throw std::runtime_error(file + ": cannot read: " + buf.geterror());
+  return buf;
+}
+
+}  // namespace
+
+std::vector<LayerDifference> compareLayers(const std::string& testFile, const std::string& refFile,
+                                           const std::vector<LayerTolerance>& tolerances) {
+  OIIO::ImageBuf test = readFloat(testFile), ref = readFloat(refFile);
+  const auto &ts = test.spec(), &rs = ref.spec();
+  if (ts.width != rs.width || ts.height != rs.height)
+    throw std::runtime_error(testFile + ": " + std::to_string(ts.width) + "x" + std::to_string(ts.height) + " differs from the reference's " +
+                             std::to_string(rs.width) + "x" + std::to_string(rs.height));
+  const float* tp = static_cast<const float*>(test.localpixels());
+  const float* rp = static_cast<const float*>(ref.localpixels());
+  const size_t pixels = size_t(ts.width) * ts.height;
+  std::vector<LayerDifference> out;
+  for (const auto& tol : tolerances) {
+    auto tc = layerChannels(ts, tol.layer, testFile), rc = layerChannels(rs, tol.layer, refFile);
+    float largest = 0;
+    for (size_t p = 0; p < pixels; ++p)
+      for (int c : rc) largest = std::max(largest, std::abs(rp[p * rs.nchannels + c]));
+    bool colour = tol.layer.empty() || tol.layer == "albedo" || tol.layer == "emission" || tol.layer == "N" || tol.layer == "A";
+    LayerDifference d;
+    d.layer = tol.layer.empty() ? "RGB" : tol.layer;
+    d.threshold = tol.relativeThreshold * (colour ? std::max(largest, 1.0f) : std::max(largest, 1e-30f));
+    size_t failing = 0;
+    for (size_t p = 0; p < pixels; ++p) {
+      float worst = 0;
+      for (size_t k = 0; k < tc.size(); ++k) {
+        float a = tp[p * ts.nchannels + tc[k]], b = rp[p * rs.nchannels + rc[k]];
+        worst = std::max(worst, std::isfinite(a) ? std::abs(a - b) : INFINITY);
+      }
+      d.maxError = std::max(d.maxError, worst);
+      if (worst > d.threshold) ++failing;
+    }
+    d.failingFraction = double(failing) / double(pixels);
+    d.passed = d.failingFraction <= tol.maxFailingFraction;
+    out.push_back(d);
+  }
+  return out;
+}
+
+std::vector<LayerTolerance> goldenTolerances() {
+  // 2 % of the layer's range per pixel (about 5 of 255 display levels for albedo and normals), and
+  // at most 0.2 % of the pixels beyond it: a moved object, a shifted view or a 5 % change of a
+  // layer fails, while a handful of silhouette pixels may flip between CPUs.
+  return {{"", 0.02f, 0.002f}, {"A", 0.02f, 0.002f}, {"albedo", 0.02f, 0.002f}, {"N", 0.02f, 0.002f}, {"Z", 0.01f, 0.002f},
+          {"emission", 0.02f, 0.002f}};
+}
+
+}  // namespace ivgi::image

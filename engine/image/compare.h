@@ -1,0 +1,31 @@
+#pragma once
+// Comparison of two multi-layer EXRs layer by layer, as golden-image tests need it: a pixel fails
+// when any channel of a layer differs by more than the layer's threshold, and a layer fails when
+// more than a given fraction of its pixels fail.
+#include <string>
+#include <vector>
+
+namespace ivgi::image {
+
+struct LayerTolerance {
+  std::string layer;            // "" for R,G,B; "A"; "Z"; "albedo"; "N"; "emission"
+  float relativeThreshold;      // per-pixel threshold as a fraction of the reference's largest |value| (at least 1 for colours)
+  float maxFailingFraction;     // of all pixels
+};
+
+struct LayerDifference {
+  std::string layer;
+  float threshold = 0;          // the absolute per-pixel threshold used
+  float maxError = 0;
+  double failingFraction = 0;
+  bool passed = true;
+};
+
+// Throws std::runtime_error if a file cannot be read, sizes differ, or a layer is missing.
+std::vector<LayerDifference> compareLayers(const std::string& test, const std::string& reference,
+                                           const std::vector<LayerTolerance>& tolerances);
+
+// R G B and the layers ivgi writes, with the tolerances its golden tests use.
+std::vector<LayerTolerance> goldenTolerances();
+
+}  // namespace ivgi::image

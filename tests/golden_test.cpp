@@ -1,0 +1,102 @@
+// Golden images on lavapipe: every channel of the built-in Cornell box at two frames and of
+// animated assets, against references in tests/golden/. To regenerate them after an intended change:
+//   IVGI_UPDATE_GOLDEN=1 ctest --test-dir build -R Golden
+#include <gtest/gtest.h>
+
+#include <OpenImageIO/imagebuf.h>
+
+#include <cstdlib>
+
+#include "engine/image/compare.h"
+#include "tests/test_support.h"
+
+using namespace ivgi;
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path goldenDir() { return fs::path(IVGI_SOURCE_DIR) / "tests" / "golden"; }
+
+// Renders with `args` to one EXR and returns its path.
+fs::path render(const std::string& name, std::vector<std::string> args) {
+  auto dir = test::scratchDir(name);
+  args.insert(args.begin(), "render");
+  args.insert(args.end(), {"--format", "exr", "--out", (dir / name).string() + ".exr", "--json", (dir / "sidecar.json").string()});
+  auto r = test::runIvgi(args);
+  EXPECT_EQ(r.status, 0) << r.err;
+  for (const auto& entry : fs::directory_iterator(dir))
+    if (entry.path().extension() == ".exr") return entry.path();
+  ADD_FAILURE() << "no EXR written for " << name;
+  return {};
+}
+
+void expectMatchesGolden(const std::string& name, const std::vector<std::string>& args) {
+  fs::path result = render(name, args);
+  fs::path golden = goldenDir() / (name + ".exr");
+  if (const char* update = std::getenv("IVGI_UPDATE_GOLDEN"); update && std::string(update) == "1") {
+    fs::copy_file(result, golden, fs::copy_options::overwrite_existing);
+    GTEST_SKIP() << "updated " << golden;
+  }
+  ASSERT_TRUE(fs::exists(golden)) << golden << " is missing; see the header of tests/golden_test.cpp";
+  for (const auto& d : image::compareLayers(result.string(), golden.string(), image::goldenTolerances()))
+    EXPECT_TRUE(d.passed) << name << " layer " << d.layer << ": " << d.failingFraction * 100 << " % of pixels beyond " << d.threshold
+                          << " (max error " << d.maxError << ")";
+}
+
+const std::vector<std::string> kCornell = {"cornell", "--cells", "8", "--size", "160x120"};
+
+}  // namespace
+
+TEST(Golden, CornellBoxFrame0) {
+  auto args = kCornell;
+  args.insert(args.end(), {"--frames", "0"});
+  expectMatchesGolden("cornell_f0000", args);
+}
+
+TEST(Golden, CornellBoxFrame24) {
+  auto args = kCornell;
+  args.insert(args.end(), {"--frames", "24", "--supersample", "2"});
+  expectMatchesGolden("cornell_f0024_ss2", args);
+}
+
+TEST(Golden, AnimatedMorphCube) {
+  auto path = test::assimpGltfDir() / "glTF-Sample-Models/AnimatedMorphCube-glTF/AnimatedMorphCube.gltf";
+  expectMatchesGolden("morphcube_f0030", {path.string(), "--frames", "30", "--size", "128x96"});
+}
+
+TEST(Golden, TexturedSkinnedFox) {
+  auto dir = test::sharedGltfDir();
+  if (!dir) GTEST_SKIP() << "../shared/data/gltf is not present";
+  expectMatchesGolden("fox_run_f0010", {(*dir / "Fox.gltf").string(), "--animation", "Run", "--frames", "10", "--size", "160x120"});
+}
+
+// The comparison itself must reject a visibly different image: the moving block at another frame,
+// and a 5 % change of one layer.
+TEST(Golden, VisiblyDifferentImagesFail) {
+  auto args = kCornell;
+  args.insert(args.end(), {"--frames", "12"});
+  fs::path moved = render("moved", args);
+  fs::path golden = goldenDir() / "cornell_f0000.exr";
+  ASSERT_TRUE(fs::exists(golden));
+  bool anyFailed = false;
+  for (const auto& d : image::compareLayers(moved.string(), golden.string(), image::goldenTolerances())) anyFailed |= !d.passed;
+  EXPECT_TRUE(anyFailed) << "frame 12 passed as frame 0";
+
+  auto same = kCornell;
+  same.insert(same.end(), {"--frames", "0"});
+  fs::path f0 = render("f0", same);
+  for (auto d : image::compareLayers(f0.string(), golden.string(), {{"albedo", 0.02f, 0.002f}})) EXPECT_TRUE(d.passed);
+  // The same image with albedo brightened by 5 %: must fail.
+  fs::path brighter = f0.parent_path() / "brighter.exr";
+  {
+    OIIO_NAMESPACE::ImageBuf buf(f0.string());
+    ASSERT_TRUE(buf.read(0, 0, true, OIIO_NAMESPACE::TypeDesc::FLOAT));
+    std::vector<int> albedo;
+    for (const char* name : {"albedo.R", "albedo.G", "albedo.B"}) albedo.push_back(buf.spec().channelindex(name));
+    for (OIIO_NAMESPACE::ImageBuf::Iterator<float> it(buf); !it.done(); ++it)
+      for (int c : albedo) it[c] = it[c] * 1.05f;
+    ASSERT_TRUE(buf.write(brighter.string()));
+  }
+  auto d = image::compareLayers(brighter.string(), golden.string(), {{"albedo", 0.02f, 0.002f}});
+  EXPECT_FALSE(d[0].passed) << "a 5 % brighter albedo passed";
+}
