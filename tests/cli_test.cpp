@@ -1,0 +1,179 @@
+// The ivgi command as users drive it: options, output files, sidecar, resume, interruption,
+// progress, built-in scenes, device choice.
+#include <gtest/gtest.h>
+
+#include <OpenImageIO/imageio.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fcntl.h>
+
+#include <chrono>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "engine/cli/options.h"
+#include "tests/test_support.h"
+
+using namespace ivgi;
+namespace fs = std::filesystem;
+
+TEST(Options, FrameRanges) {
+  EXPECT_EQ(cli::parseFrameRange("7").frames(), std::vector<int>{7});
+  EXPECT_EQ(cli::parseFrameRange("0-3").frames(), (std::vector<int>{0, 1, 2, 3}));
+  EXPECT_EQ(cli::parseFrameRange("2-9:3").frames(), (std::vector<int>{2, 5, 8}));
+  for (const char* bad : {"", "-1", "3-1", "1-4:0", "a-b", "1-2-3", "99999999999"}) EXPECT_THROW(cli::parseFrameRange(bad), cli::UsageError) << bad;
+}
+
+TEST(Options, OutputPatterns) {
+  cli::OutputPattern p("out/f_%04d.exr");
+  EXPECT_EQ(p.path(12, "exr"), "out/f_0012.exr");
+  EXPECT_EQ(p.path(12, "png"), "out/f_0012.png");
+  EXPECT_EQ(p.sidecar(), "out/f.json");
+  EXPECT_EQ(p.directory(), "out");
+  EXPECT_EQ(cli::OutputPattern("shot%d_beauty").path(3, "png"), "shot3_beauty.png");
+  EXPECT_EQ(cli::OutputPattern("render").path(3, "exr"), "render_0003.exr") << "no conversion: the number is appended";
+  EXPECT_THROW(cli::OutputPattern("a%d%d"), cli::UsageError);
+  uint32_t w, h;
+  cli::parseSize("640x360", w, h);
+  EXPECT_EQ(w, 640u);
+  EXPECT_EQ(h, 360u);
+  EXPECT_EQ(cli::parseFormats("png,exr,png"), (std::vector<std::string>{"png", "exr"}));
+}
+
+TEST(Render, WritesFramesAndASidecarWithPerPassTimes) {
+  auto dir = test::scratchDir("out");
+  auto r = test::runIvgi({"render", "--frames", "0-4:2", "--size", "64x48", "--out", (dir / "f_%03d").string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (const char* f : {"f_000.exr", "f_000.png", "f_002.exr", "f_002.png", "f_004.exr", "f_004.png"}) EXPECT_TRUE(fs::exists(dir / f)) << f;
+  EXPECT_FALSE(fs::exists(dir / "f_001.exr"));
+  std::ifstream in(dir / "f.json");
+  auto j = nlohmann::json::parse(in);
+  ASSERT_EQ(j["frames"].size(), 3u);
+  for (const auto& frame : j["frames"]) {
+    for (const char* pass : {"animate", "surfels", "raster", "resolve"}) {
+      ASSERT_TRUE(frame["gpuMs"].contains(pass)) << pass;
+      EXPECT_GT(frame["gpuMs"][pass].get<double>(), 0.0) << pass;
+    }
+  }
+  EXPECT_EQ(j["frames"][2]["frame"], 4);
+  EXPECT_NEAR(j["frames"][2]["time"].get<double>(), 4.0 / 24.0, 1e-12);
+  EXPECT_FALSE(j["device"]["name"].get<std::string>().empty());
+  EXPECT_FALSE(j["device"]["driver"].get<std::string>().empty());
+  EXPECT_EQ(j["settings"]["width"], 64);
+  EXPECT_GT(j["medianGpuMs"]["total"].get<double>(), 0.0);
+  // The progress line reached 3/3 and, on a pipe, is plain lines.
+  EXPECT_NE(r.err.find("render: frame 3/3 (100%)"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find('\r'), std::string::npos);
+}
+
+TEST(Render, ExrCarriesEveryLayerAndPngIsDisplayReady) {
+  auto dir = test::scratchDir("out");
+  ASSERT_EQ(test::runIvgi({"render", "--frames", "0", "--size", "64x48", "--out", (dir / "f").string()}).status, 0);
+  auto exr = OIIO_NAMESPACE::ImageInput::open((dir / "f_0000.exr").string());
+  ASSERT_TRUE(exr);
+  const auto& spec = exr->spec();
+  EXPECT_EQ(spec.format, OIIO_NAMESPACE::TypeDesc::FLOAT);
+  for (const char* c : {"R", "G", "B", "A", "albedo.R", "albedo.G", "albedo.B", "N.X", "N.Y", "N.Z", "Z", "emission.R", "emission.G", "emission.B"})
+    EXPECT_GE(spec.channelindex(c), 0) << c;
+  auto png = OIIO_NAMESPACE::ImageInput::open((dir / "f_0000.png").string());
+  ASSERT_TRUE(png);
+  EXPECT_EQ(png->spec().nchannels, 3);
+  EXPECT_EQ(png->spec().format, OIIO_NAMESPACE::TypeDesc::UINT8);
+}
+
+TEST(Render, ResumeSkipsFramesThatExist) {
+  auto dir = test::scratchDir("out");
+  std::string pattern = (dir / "f_%04d").string();
+  ASSERT_EQ(test::runIvgi({"render", "--frames", "0-1", "--size", "32x24", "--out", pattern}).status, 0);
+  auto stamp = fs::last_write_time(dir / "f_0000.exr");
+  fs::remove(dir / "f_0001.png");  // frame 1 is incomplete: it must be rendered again
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  auto r = test::runIvgi({"render", "--frames", "0-2", "--size", "32x24", "--out", pattern, "--resume"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(fs::last_write_time(dir / "f_0000.exr"), stamp) << "frame 0 was complete and is kept";
+  EXPECT_TRUE(fs::exists(dir / "f_0001.png"));
+  EXPECT_TRUE(fs::exists(dir / "f_0002.exr"));
+  std::ifstream in(dir / "f.json");
+  EXPECT_EQ(nlohmann::json::parse(in)["frames"].size(), 2u) << "only frames 1 and 2 were rendered";
+}
+
+TEST(Render, AnInterruptedRunLeavesNoPartialFile) {
+  auto dir = test::scratchDir("out");
+  pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    setenv("IVGI_VALIDATION", "0", 1);
+    int devnull = open("/dev/null", O_WRONLY);
+    dup2(devnull, 2);
+    execl(IVGI_BINARY, IVGI_BINARY, "render", "--size", "1600x1200", "--supersample", "2", "--out", (dir / "f_%04d").c_str(), nullptr);
+    _exit(127);
+  }
+  // Interrupt once the first frame is on disk, i.e. in the middle of the run.
+  auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+  while (!fs::exists(dir / "f_0000.png") && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  kill(pid, SIGINT);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 128 + SIGINT);
+  size_t frames = 0;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    std::string name = e.path().filename().string();
+    EXPECT_EQ(name.find(".ivgi-tmp"), std::string::npos) << "temporary left behind: " << name;
+    if (e.path().extension() == ".exr" || e.path().extension() == ".png") {
+      ++frames;
+      auto in = OIIO_NAMESPACE::ImageInput::open(e.path().string());
+      ASSERT_TRUE(in) << name << " is not a complete image";
+      std::vector<float> pixels(size_t(in->spec().image_pixels()) * in->spec().nchannels);
+      EXPECT_TRUE(in->read_image(0, 0, 0, -1, OIIO_NAMESPACE::TypeDesc::FLOAT, pixels.data())) << name << " is truncated";
+    }
+  }
+  EXPECT_GE(frames, 1u);
+  EXPECT_LT(frames, 2u * 49u) << "the run was interrupted before the end";
+}
+
+TEST(Scene, BuiltInScenesRoundTripThroughGltf) {
+  auto dir = test::scratchDir("scene");
+  for (const char* name : {"cornell", "furnace"}) {
+    std::string file = (dir / (std::string(name) + ".gltf")).string();
+    auto w = test::runIvgi({"scene", name, "--cells", "3", "--out", file});
+    ASSERT_EQ(w.status, 0) << w.err;
+    auto fromFile = test::runIvgi({"info", file});
+    auto builtin = test::runIvgi({"info", name, "--cells", "3"});
+    ASSERT_EQ(fromFile.status, 0) << fromFile.err;
+    auto line = [](const std::string& text, const std::string& key) { return text.substr(text.find(key), text.find('\n', text.find(key)) - text.find(key)); };
+    EXPECT_EQ(line(fromFile.out, "triangles"), line(builtin.out, "triangles"));
+    EXPECT_EQ(line(fromFile.out, "surfels"), line(builtin.out, "surfels"));
+    EXPECT_EQ(line(fromFile.out, "animations"), line(builtin.out, "animations"));
+  }
+  auto glb = test::runIvgi({"scene", "cornell", "--out", (dir / "c.glb").string()});
+  EXPECT_EQ(glb.status, 0) << glb.err;
+  EXPECT_EQ(test::runIvgi({"info", (dir / "c.glb").string()}).status, 0);
+}
+
+TEST(Info, PrintsTheFigures) {
+  auto r = test::runIvgi({"info", "cornell", "--cells", "2"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (const char* key : {"meshes", "triangles", "surfels", "animations", "block moves", "2.000 s", "cameras", "Cornell camera",
+                          "39.31 deg", "lights", "bounds", "warnings"})
+    EXPECT_NE(r.out.find(key), std::string::npos) << key << " missing from:\n" << r.out;
+}
+
+TEST(Devices, ChosenByIndexNameOrEnvironment) {
+  auto list = test::runIvgi({"devices"});
+  ASSERT_EQ(list.status, 0);
+  EXPECT_NE(list.out.find("[0]"), std::string::npos);
+  auto dir = test::scratchDir("out");
+  std::vector<std::string> args = {"render", "--frames", "0", "--size", "16x16", "--format", "png", "--out", (dir / "f").string()};
+  auto byIndex = args;
+  byIndex.insert(byIndex.end(), {"--device", "0"});
+  EXPECT_EQ(test::runIvgi(byIndex).status, 0);
+  EXPECT_EQ(test::runIvgi(args, {{"IVGI_DEVICE", "0"}}).status, 0);
+  auto bad = test::runIvgi(args, {{"IVGI_DEVICE", "7"}});
+  EXPECT_NE(bad.status, 0);
+  EXPECT_NE(bad.err.find("device index 7 out of range"), std::string::npos) << bad.err;
+}

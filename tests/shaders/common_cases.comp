@@ -1,0 +1,24 @@
+#version 460
+// Runs the definitions of shaders/common.glsl on the cases of tests/shared_definitions_test.cpp.
+#extension GL_GOOGLE_include_directive : require
+#include "common.glsl"
+layout(local_size_x = 64) in;
+
+struct Case { float value; uint id; uint size; uint mode; };
+layout(std430, binding = 0) readonly buffer Cases { Case cases[]; };
+layout(std430, binding = 1) writeonly buffer Keys { uint64_t keys[]; };
+layout(std430, binding = 2) writeonly buffer Pairs { vec4 pairs[]; };  // texel pair, weight, key round trip
+layout(std430, binding = 3) writeonly buffer Rays { vec4 rays[]; };
+layout(push_constant) uniform Push { Camera cam; uvec2 size; uint count; uint pad; };
+
+void main() {
+  uint i = itemIndex();
+  if (i >= count) return;
+  Case c = cases[i];
+  uint64_t key = packDepthKey(c.value, c.id);
+  keys[i] = key;
+  float weight;
+  ivec2 pair = texelPair(c.value, int(c.size), c.mode, weight);
+  pairs[i] = vec4(float(pair.x), float(pair.y), weight, keyDepth(key) == c.value && keyId(key) == c.id ? 1.0 : 0.0);
+  rays[i] = vec4(cameraRay(cam, vec2(c.value, float(c.id % 7u)) * float(size.x), size), 0.0);
+}
