@@ -16,9 +16,10 @@ layout(std430, binding = 7) writeonly buffer Radiance { vec4 radiance[]; };
 layout(std430, binding = 8) writeonly buffer Albedo { vec4 albedoOut[]; };
 layout(std430, binding = 9) writeonly buffer NormalDepth { vec4 normalDepth[]; };
 layout(std430, binding = 10) writeonly buffer Emission { vec4 emissionOut[]; };
-// textured = 0 when the scene has no textures: a uniform branch, which lavapipe skips for real
-// (a per-pixel one it runs masked, at the full cost of the lookups).
-layout(push_constant) uniform Push { Camera cam; uvec2 size; uint samples; uint textured; };
+layout(push_constant) uniform Push { Camera cam; uvec2 size; uint samples; uint unused; };
+// False for scenes without textures: the lookups are compiled out. lavapipe runs a branch inside
+// the sample loop masked, so even untaken lookups cost a third of the pass.
+layout(constant_id = 0) const bool kTextured = true;
 
 vec4 texel(Texture t, int x, int y) {
   uint at = 2u * (t.offset + uint(y) * t.width + uint(x));
@@ -26,7 +27,7 @@ vec4 texel(Texture t, int x, int y) {
 }
 
 vec4 sampleTexture(int index, vec2 uv) {
-  if (textured == 0u || index < 0) return vec4(1.0);
+  if (index < 0) return vec4(1.0);
   Texture t = textures[index];
   if (t.width == 0u || t.height == 0u) return vec4(1.0);
   float ax, ay;
@@ -56,9 +57,14 @@ void main() {
         n = w.x * world[t.v0].normal.xyz + w.y * world[t.v1].normal.xyz + w.z * world[t.v2].normal.xyz;
       float len = length(n);
       vec2 uv = w.x * uvs[t.v0] + w.y * uvs[t.v1] + w.z * uvs[t.v2];
-      Material m = materials[t.material & ~kFlatShaded];
-      albedo += m.baseColor.rgb * sampleTexture(m.baseColorTexture, uv).rgb;
-      emission += m.emission.rgb * sampleTexture(m.emissiveTexture, uv).rgb;
+      uint mi = t.material & ~kFlatShaded;
+      vec3 base = materials[mi].baseColor.rgb, emit = materials[mi].emission.rgb;
+      if (kTextured) {
+        base *= sampleTexture(materials[mi].baseColorTexture, uv).rgb;
+        emit *= sampleTexture(materials[mi].emissiveTexture, uv).rgb;
+      }
+      albedo += base;
+      emission += emit;
       normal += len > 0.0 ? n / len : vec3(0.0);
       depth += keyDepth(key);
       hits += 1.0;

@@ -7,8 +7,8 @@ namespace {
 struct ImagePush {
   GpuCamera camera;
   glm::uvec2 size;
-  uint32_t count;     // raster: triangles; resolve: samples per axis
-  uint32_t flag = 0;  // resolve: the scene has textures
+  uint32_t count;  // raster: triangles; resolve: samples per axis
+  uint32_t unused = 0;
 };
 
 // Records `body` as one timed pass followed by a barrier that publishes its writes.
@@ -49,11 +49,10 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
       vertexCount_(uint32_t(g.vertices.size())),
       triangleCount_(uint32_t(g.triangles.size())),
       surfelCount_(uint32_t(g.surfels.size())),
-      textured_(!g.textures.empty()),
       animate_(ctx, "animate"),
       surfelUpdate_(ctx, "surfels"),
       raster_(ctx, "raster"),
-      resolve_(ctx, "resolve"),
+      resolve_(ctx, "resolve", {g.textures.empty() ? 0u : 1u}),
       timer_(ctx) {
   if (std::string why = checkImageSettings(ctx, image); !why.empty()) throw vk::VulkanError(why);
   owned_.reserve(32);  // pointers into owned_ stay valid
@@ -109,7 +108,7 @@ FrameResult FrameRenderer::render(const scene::FrameInputs& in, const scene::Cam
     pass(cmd, timer_, "resolve", [&] {
       resolve_.dispatch(cmd, {(size.x + 7) / 8, (size.y + 7) / 8, 1},
                         {world_, triangles_, visibility_, uvs_, materials_, textures_, texels_, radiance_, albedo_, normalDepth_, emission_},
-                        ImagePush{camera, size, image_.samples, textured_});
+                        ImagePush{camera, size, image_.samples});
     });
   });
 

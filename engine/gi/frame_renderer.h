@@ -45,7 +45,6 @@ class FrameRenderer {
   const vk::Context& ctx_;
   ImageSettings image_;
   uint32_t vertexCount_, triangleCount_, surfelCount_;
-  uint32_t textured_;
   uint64_t bytes_ = 0;
   std::vector<vk::Buffer> owned_;
 

@@ -64,9 +64,11 @@ Reflection reflect(std::span<const uint32_t> code, const std::string& name) {
 
 }  // namespace
 
-Program::Program(const Context& ctx, const std::string& shaderName) : Program(ctx, shaderName, shaderCode(shaderName)) {}
+Program::Program(const Context& ctx, const std::string& shaderName, const std::vector<uint32_t>& constants)
+    : Program(ctx, shaderName, shaderCode(shaderName), constants) {}
 
-Program::Program(const Context& ctx, const std::string& name, std::span<const uint32_t> code) : ctx_(ctx), name_(name) {
+Program::Program(const Context& ctx, const std::string& name, std::span<const uint32_t> code, const std::vector<uint32_t>& constants)
+    : ctx_(ctx), name_(name) {
   Reflection r = reflect(code, name);
   bindingCount_ = uint32_t(r.bindings.size());
   pushBytes_ = r.pushBytes;
@@ -101,6 +103,10 @@ Program::Program(const Context& ctx, const std::string& name, std::span<const ui
   ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
   ci.stage.module = module_;
   ci.stage.pName = "main";
+  std::vector<VkSpecializationMapEntry> entries;
+  for (uint32_t i = 0; i < constants.size(); ++i) entries.push_back({i, 4 * i, 4});
+  VkSpecializationInfo specialization{uint32_t(entries.size()), entries.data(), constants.size() * 4, constants.data()};
+  if (!constants.empty()) ci.stage.pSpecializationInfo = &specialization;
   ci.layout = layout_;
   check(vkCreateComputePipelines(ctx.device(), VK_NULL_HANDLE, 1, &ci, nullptr, &pipeline_), "vkCreateComputePipelines");
 }

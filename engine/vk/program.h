@@ -7,6 +7,7 @@
 #include <initializer_list>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "engine/vk/buffer.h"
 #include "engine/vk/context.h"
@@ -19,9 +20,10 @@ struct Groups {
 
 class Program {
  public:
-  // The product's shader `shaderName` (shaders/NAME.comp), or the given SPIR-V.
-  Program(const Context& ctx, const std::string& shaderName);
-  Program(const Context& ctx, const std::string& name, std::span<const uint32_t> code);
+  // The product's shader `shaderName` (shaders/NAME.comp), or the given SPIR-V; `constants` are the
+  // values of specialization constants 0, 1, … (32-bit each; a bool is 0 or 1).
+  explicit Program(const Context& ctx, const std::string& shaderName, const std::vector<uint32_t>& constants = {});
+  Program(const Context& ctx, const std::string& name, std::span<const uint32_t> code, const std::vector<uint32_t>& constants = {});
   ~Program();
   Program(const Program&) = delete;
   Program& operator=(const Program&) = delete;
