@@ -63,6 +63,24 @@ TEST(BadInput, NotAGltfFile) {
   expectRenderRefused(path.string(), {}, {path.string(), "invalid glTF"});
 }
 
+TEST(BadInput, CorruptedEmbeddedBuffer) {
+  // A broken base64 data URI: the message names the file and stays one short line.
+  tinygltf::Model m = scenes::cornellBox({.cells = 2});
+  std::string path = writeModel(m, "cornell.gltf");
+  std::string text;
+  {
+    std::ifstream in(path);
+    text.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  size_t at = text.find("base64,");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at + 100, 3, "!!!");
+  std::ofstream(path) << text;
+  auto r = test::runIvgi({"info", path});
+  expectOneLineError(r, {path, "invalid glTF"});
+  EXPECT_LT(r.err.size(), 400u) << r.err;
+}
+
 TEST(BadInput, TruncatedGlb) {
   std::string path = writeModel(scenes::cornellBox({.cells = 2}), "cornell.glb");
   fs::resize_file(path, fs::file_size(path) / 2);

@@ -514,6 +514,13 @@ Scene loadGltf(const std::string& path) {
   if (!ok || !err.empty()) {
     std::string why = err.empty() ? "not a valid glTF file" : err;
     std::replace(why.begin(), why.end(), '\n', ' ');
+    // tinygltf quotes a failing data URI whole: keep the message to one readable line.
+    // (No std::regex: it recurses per character and overflows the stack on a megabyte of base64.)
+    for (size_t at = why.find("data:"); at != std::string::npos; at = why.find("data:", at + 1)) {
+      size_t end = why.find(' ', at);
+      why.replace(at, end == std::string::npos ? std::string::npos : end - at, "<embedded data URI>");
+    }
+    if (why.size() > 240) why = why.substr(0, 240) + "...";
     while (!why.empty() && why.back() == ' ') why.pop_back();
     throw LoadError(path + ": " + (binary ? "invalid .glb: " : "invalid glTF: ") + why);
   }
