@@ -91,24 +91,6 @@ tinygltf::Model cornellBox(const CornellOptions& o) {
   return b.finish();
 }
 
-tinygltf::Model furnace(const FurnaceOptions& o) {
-  GltfBuilder b;
-  int wall = b.material("furnace wall", glm::vec3(o.albedo), glm::vec3(o.emission));
-  MeshData box;
-  const glm::vec3 c(0.5f);
-  int n = std::max(o.cells, 1);
-  auto p = [](float x, float y, float z) { return glm::vec3(x, y, z); };
-  addQuad(box, p(0, 0, 0), p(1, 0, 0), p(1, 0, 1), p(0, 0, 1), n, n, c);  // floor
-  addQuad(box, p(0, 1, 0), p(1, 1, 0), p(1, 1, 1), p(0, 1, 1), n, n, c);  // ceiling
-  addQuad(box, p(0, 0, 0), p(1, 0, 0), p(1, 1, 0), p(0, 1, 0), n, n, c);  // z = 0
-  addQuad(box, p(0, 0, 1), p(1, 0, 1), p(1, 1, 1), p(0, 1, 1), n, n, c);  // z = 1
-  addQuad(box, p(0, 0, 0), p(0, 1, 0), p(0, 1, 1), p(0, 0, 1), n, n, c);  // x = 0
-  addQuad(box, p(1, 0, 0), p(1, 1, 0), p(1, 1, 1), p(1, 0, 1), n, n, c);  // x = 1
-  b.node("furnace", b.mesh("furnace", {{box, wall}}));
-  b.camera("furnace camera", glm::radians(90.0f), 0.01f, c, glm::quat(1, 0, 0, 0));
-  return b.finish();
-}
-
 std::vector<std::string> builtinSceneNames() { return {"cornell", "furnace"}; }
 
 }  // namespace ivgi::scenes

@@ -5,6 +5,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "engine/scene/animation.h"
+#include "engine/scene/camera.h"
 
 using namespace ivgi::scene;
 
@@ -111,4 +112,30 @@ TEST(Animation, PoseComposesTheHierarchyAndAppliesChannels) {
   EXPECT_NEAR(p.z, 4.0f, 1e-6f);
   glm::vec3 xAxis(end.world[1][0]);
   EXPECT_NEAR(xAxis.y, 1.0f, 1e-6f);  // child's x axis now points along world y
+}
+
+TEST(Animation, AnimatedCamerasMove) {
+  // A camera node animated along x, looking down -z, turned 90° about y at the end.
+  Scene scene;
+  scene.cameras.push_back({"cam", 0.8f, 0.1f, 0.0f, 0.0f});
+  scene.nodes.resize(1);
+  scene.nodes[0].camera = 0;
+  scene.roots = {0};
+  Animation a;
+  a.samplers.push_back({{0, 2}, {0, 0, 5, 4, 0, 5}, 3, Interpolation::Linear});
+  glm::quat r0 = axisAngle(0, {0, 1, 0}), r1 = axisAngle(90, {0, 1, 0});
+  a.samplers.push_back({{0, 2}, {r0.x, r0.y, r0.z, r0.w, r1.x, r1.y, r1.z, r1.w}, 4, Interpolation::Linear});
+  a.channels = {{0, Path::Translation, 0}, {0, Path::Rotation, 1}};
+  a.end = 2;
+  scene.animations.push_back(a);
+  CameraView start = cameraView(scene, evaluatePose(scene, 0, 0.0f), 0);
+  CameraView middle = cameraView(scene, evaluatePose(scene, 0, 1.0f), 0);
+  CameraView end = cameraView(scene, evaluatePose(scene, 0, 2.0f), 0);
+  EXPECT_EQ(start.origin, glm::vec3(0, 0, 5));
+  EXPECT_NEAR(middle.origin.x, 2.0f, 1e-6f);
+  EXPECT_NEAR(start.forward.z, -1.0f, 1e-6f);
+  EXPECT_NEAR(end.forward.x, -1.0f, 1e-6f) << "-z turned 90° about y looks along -x";
+  EXPECT_NEAR(middle.forward.x, -std::sin(glm::radians(45.0f)), 1e-5f);
+  EXPECT_NEAR(glm::dot(end.right, end.up), 0.0f, 1e-6f);
+  EXPECT_FLOAT_EQ(end.yfov, 0.8f);
 }

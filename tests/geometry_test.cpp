@@ -22,10 +22,9 @@ struct Case {
   float time;
 };
 
-float scaleOf(const Geometry& g, const std::vector<WorldVertex>& w) {
+float scaleOf(const std::vector<WorldVertex>& w) {
   Bounds b = worldBounds(w);
   return std::max(glm::length(b.max - b.min), 1e-6f);
-  (void)g;
 }
 
 // Animates `c` on the GPU and on the host; returns how far the animated vertices are from the rest pose
@@ -39,7 +38,7 @@ float compareGpuWithHost(const Case& c) {
   auto host = animateOnHost(g, in);
   auto device = renderer.worldVertices();
   EXPECT_EQ(host.size(), device.size());
-  float scale = scaleOf(g, host), worstPosition = 0, worstNormal = 0;
+  float scale = scaleOf(host), worstPosition = 0, worstNormal = 0;
   for (size_t i = 0; i < host.size(); ++i) {
     worstPosition = std::max(worstPosition, glm::length(glm::vec3(host[i].position - device[i].position)) / scale);
     worstNormal = std::max(worstNormal, glm::length(glm::vec3(host[i].normal - device[i].normal)));

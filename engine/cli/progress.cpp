@@ -15,16 +15,16 @@ void Progress::advance(size_t skipped) {
   ++done_;
   if (!skipped) ++rendered_;
   auto now = std::chrono::steady_clock::now();
-  if (terminal_ || now - lastDraw_ >= std::chrono::seconds(1) || done_ == total_) draw(false);
+  if (terminal_ || now - lastDraw_ >= std::chrono::seconds(1) || done_ == total_) draw();
 }
 
 void Progress::finish() {
   if (terminal_) std::fputc('\n', stderr);
-  else if (drawnDone_ != done_) draw(true);
+  else if (drawnDone_ != done_) draw();
   std::fflush(stderr);
 }
 
-void Progress::draw(bool) {
+void Progress::draw() {
   auto now = std::chrono::steady_clock::now();
   lastDraw_ = now;
   drawnDone_ = done_;

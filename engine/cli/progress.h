@@ -13,7 +13,7 @@ class Progress {
   void finish();
 
  private:
-  void draw(bool final);
+  void draw();
   std::string label_;
   size_t total_, done_ = 0, rendered_ = 0, drawnDone_ = 0;
   bool terminal_;
