@@ -74,3 +74,51 @@ ivec2 texelPair(float u, int size, uint mode, out float weight) {
   if (mode == 33071u || mode == 33648u) return clamp(ivec2(i, j), 0, size - 1);
   return ivec2(i < 0 ? i + size : i, j >= size ? j - size : j);
 }
+
+// ---- Direction bins, form factors, link keys (design.md §1.2) ----
+
+const float kPi = 3.14159265358979;
+
+// Cube-map bin of a non-zero direction: face = 2·axis + (negative ? 1 : 0), then (i, j) from the two
+// other coordinates divided by the major one. Bins are numbered face·N² + j·N + i.
+uint binOf(vec3 d, uint n) {
+  vec3 a = abs(d);
+  uint axis = (a.x >= a.y && a.x >= a.z) ? 0u : (a.y >= a.z ? 1u : 2u);
+  float major = axis == 0u ? d.x : (axis == 1u ? d.y : d.z);
+  vec2 uv = axis == 0u ? d.yz : (axis == 1u ? d.zx : d.xy);
+  uv /= abs(major);
+  uvec2 ij = uvec2(clamp(floor((uv + 1.0) * 0.5 * float(n)), vec2(0.0), vec2(float(n - 1u))));
+  uint face = 2u * axis + (major < 0.0 ? 1u : 0u);
+  return face * n * n + ij.y * n + ij.x;
+}
+
+// Centre direction (unnormalised, on the unit cube) of bin b.
+vec3 binDirection(uint b, uint n) {
+  uint face = b / (n * n), r = b % (n * n);
+  vec2 uv = (vec2(float(r % n), float(r / n)) + 0.5) / float(n) * 2.0 - 1.0;
+  float s = (face & 1u) == 0u ? 1.0 : -1.0;
+  uint axis = face / 2u;
+  if (axis == 0u) return vec3(s, uv.x, uv.y);
+  if (axis == 1u) return vec3(uv.y, s, uv.x);
+  return vec3(uv.x, uv.y, s);
+}
+
+float cubeAreaIntegral(float u, float v) { return atan(u * v, sqrt(u * u + v * v + 1.0)); }
+
+// Exact solid angle of bin b: Φ(u1,v1) − Φ(u0,v1) − Φ(u1,v0) + Φ(u0,v0).
+float binSolidAngle(uint b, uint n) {
+  uint r = b % (n * n);
+  float step = 2.0 / float(n);
+  float u0 = -1.0 + float(r % n) * step, v0 = -1.0 + float(r / n) * step;
+  float u1 = u0 + step, v1 = v0 + step;
+  return cubeAreaIntegral(u1, v1) - cubeAreaIntegral(u0, v1) - cubeAreaIntegral(u1, v0) + cubeAreaIntegral(u0, v0);
+}
+
+// Disk-to-point form factor: ≤ 1 and finite as d → 0.
+float formFactor(float senderArea, float cosSender, float cosReceiver, float distance2) {
+  return senderArea * max(cosSender, 0.0) * max(cosReceiver, 0.0) / (kPi * distance2 + senderArea);
+}
+
+// Link key: squared distance (positive float bits order as integers) above the sender node id, so
+// that 64-bit atomicMin keeps the nearest sender per bin and breaks ties by id.
+uint64_t packLinkKey(float distance2, uint sender) { return packDepthKey(distance2, sender); }

@@ -2,7 +2,9 @@
 // Host twins of the definitions in shaders/common.glsl that are not plain data layouts.
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstdint>
 
 #include "engine/scene/camera.h"
@@ -33,5 +35,45 @@ inline glm::vec3 cameraRay(const GpuCamera& c, glm::vec2 s, glm::uvec2 size) {
   glm::vec2 ndc(2.0f * s.x / float(size.x) - 1.0f, 1.0f - 2.0f * s.y / float(size.y));
   return glm::vec3(c.forward) + ndc.x * glm::vec3(c.right) + ndc.y * glm::vec3(c.up);
 }
+
+// ---- Direction bins and form factors: the twins of common.glsl ----
+
+constexpr float kPi = 3.14159265358979f;
+
+inline uint32_t binOf(glm::vec3 d, uint32_t n) {
+  glm::vec3 a = glm::abs(d);
+  uint32_t axis = (a.x >= a.y && a.x >= a.z) ? 0u : (a.y >= a.z ? 1u : 2u);
+  float major = axis == 0u ? d.x : (axis == 1u ? d.y : d.z);
+  glm::vec2 uv = axis == 0u ? glm::vec2(d.y, d.z) : (axis == 1u ? glm::vec2(d.z, d.x) : glm::vec2(d.x, d.y));
+  uv /= std::abs(major);
+  glm::uvec2 ij = glm::uvec2(glm::clamp(glm::floor((uv + 1.0f) * 0.5f * float(n)), glm::vec2(0.0f), glm::vec2(float(n - 1u))));
+  uint32_t face = 2u * axis + (major < 0.0f ? 1u : 0u);
+  return face * n * n + ij.y * n + ij.x;
+}
+
+inline glm::vec3 binDirection(uint32_t b, uint32_t n) {
+  uint32_t face = b / (n * n), r = b % (n * n);
+  glm::vec2 uv = (glm::vec2(float(r % n), float(r / n)) + 0.5f) / float(n) * 2.0f - 1.0f;
+  float s = (face & 1u) == 0u ? 1.0f : -1.0f;
+  uint32_t axis = face / 2u;
+  if (axis == 0u) return {s, uv.x, uv.y};
+  if (axis == 1u) return {uv.y, s, uv.x};
+  return {uv.x, uv.y, s};
+}
+
+inline float cubeAreaIntegral(float u, float v) { return std::atan2(u * v, std::sqrt(u * u + v * v + 1.0f)); }
+
+inline float binSolidAngle(uint32_t b, uint32_t n) {
+  uint32_t r = b % (n * n);
+  float step = 2.0f / float(n);
+  float u0 = -1.0f + float(r % n) * step, v0 = -1.0f + float(r / n) * step, u1 = u0 + step, v1 = v0 + step;
+  return cubeAreaIntegral(u1, v1) - cubeAreaIntegral(u0, v1) - cubeAreaIntegral(u1, v0) + cubeAreaIntegral(u0, v0);
+}
+
+inline float formFactor(float senderArea, float cosSender, float cosReceiver, float distance2) {
+  return senderArea * std::max(cosSender, 0.0f) * std::max(cosReceiver, 0.0f) / (kPi * distance2 + senderArea);
+}
+
+inline uint64_t packLinkKey(float distance2, uint32_t sender) { return packDepthKey(distance2, sender); }
 
 }  // namespace ivgi::gi

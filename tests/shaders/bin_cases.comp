@@ -1,0 +1,24 @@
+#version 460
+// Runs the bin and form-factor definitions of shaders/common.glsl on the cases of
+// tests/shared_definitions_test.cpp.
+#extension GL_GOOGLE_include_directive : require
+#include "common.glsl"
+layout(local_size_x = 64) in;
+
+struct BinCase { vec4 direction; uint n; uint bin; float area; float distance2; };
+struct BinResult { uint bin; float solidAngle; float formFactor; uint roundTrip; vec4 centre; uint64_t key; uint64_t pad; };
+layout(std430, binding = 0) readonly buffer Cases { BinCase cases[]; };
+layout(std430, binding = 1) writeonly buffer Results { BinResult results[]; };
+layout(push_constant) uniform Push { uint count; };
+
+void main() {
+  uint i = itemIndex();
+  if (i >= count) return;
+  BinCase c = cases[i];
+  results[i].bin = binOf(c.direction.xyz, c.n);
+  results[i].solidAngle = binSolidAngle(c.bin, c.n);
+  results[i].formFactor = formFactor(c.area, c.direction.w, c.direction.x, c.distance2);
+  results[i].roundTrip = binOf(binDirection(c.bin, c.n), c.n);
+  results[i].centre = vec4(binDirection(c.bin, c.n), 0.0);
+  results[i].key = packLinkKey(c.distance2, c.bin);
+}
