@@ -168,7 +168,7 @@ TEST(SharedDefinitions, BinSolidAnglesCoverTheSphere) {
       ASSERT_EQ(gi::binOf(gi::binDirection(b, n), n), b);
     }
     EXPECT_NEAR(sum, 4.0 * 3.14159265358979, 1e-4) << n;
-    if (n >= 8) EXPECT_GT(largest / smallest, 4.0f) << "corner bins are several times smaller than centre bins";
+    if (n >= 16) EXPECT_GT(largest / smallest, 4.0f) << "corner bins are several times smaller than centre bins";
   }
   EXPECT_NEAR(gi::binSolidAngle(0, 1), 4.0f * 3.14159265f / 6.0f, 1e-6f) << "one bin per face: a sixth of the sphere";
 }
@@ -176,7 +176,7 @@ TEST(SharedDefinitions, BinSolidAnglesCoverTheSphere) {
 TEST(SharedDefinitions, FormFactorIsBoundedAndFinite) {
   EXPECT_EQ(gi::formFactor(1.0f, 1.0f, 1.0f, 0.0f), 1.0f) << "d → 0 gives 1, not infinity";
   EXPECT_EQ(gi::formFactor(1.0f, -0.5f, 1.0f, 1.0f), 0.0f) << "back faces send nothing";
-  EXPECT_NEAR(gi::formFactor(1e-4f, 1.0f, 1.0f, 1.0f), 1e-4f / 3.14159265f, 1e-9f) << "far away: A cos cos / (π d²)";
+  EXPECT_NEAR(gi::formFactor(1e-4f, 1.0f, 1.0f, 1.0f), 1e-4f / 3.14159265f, 1e-4f * 1e-4f / 3.14159265f) << "far away: A cos cos / (π d²)";
   // Scale invariance: scaling areas by s² and distances by s leaves it unchanged.
   for (float s : {1e-3f, 1.0f, 1e3f}) EXPECT_NEAR(gi::formFactor(0.3f * s * s, 0.8f, 0.6f, 2.0f * s * s), gi::formFactor(0.3f, 0.8f, 0.6f, 2.0f), 1e-6f);
 }
