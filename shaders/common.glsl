@@ -122,3 +122,19 @@ float formFactor(float senderArea, float cosSender, float cosReceiver, float dis
 // Link key: squared distance (positive float bits order as integers) above the sender node id, so
 // that 64-bit atomicMin keeps the nearest sender per bin and breaks ties by id.
 uint64_t packLinkKey(float distance2, uint sender) { return packDepthKey(distance2, sender); }
+
+// ---- The surfel hierarchy and links (engine/gi/hierarchy.h, engine/gi/iv_solver.h) ----
+
+struct TreeNode { int parent; uint firstChild; uint childCount; int surfel; };
+// Per frame: area-weighted position and total area; normal and the half-angle of the cone holding
+// every normal below; radius of a sphere around the position holding every surfel disk below.
+struct NodeState { vec4 positionArea; vec4 normalCone; vec4 radius; };
+struct LeafRange { uint first; uint count; };
+// A surviving link of a leaf: sender node and the clamped form factor.
+struct LeafLink { uint sender; float formFactor; };
+// Indices into the solver's counter buffer.
+const uint kCounterWorklistA = 0u, kCounterWorklistB = 1u, kCounterLinks = 2u, kCounterLeafLinks = 3u, kCounterOverflow = 4u,
+           kCounterWorklistPeak = 5u;
+// KHR_lights_punctual, in world space for the frame. position.w: 0 directional, 1 point, 2 spot;
+// direction: where the light points, w = range (0: none); cone: cos outer, cos inner.
+struct PunctualLight { vec4 position; vec4 direction; vec4 intensity; vec4 cone; };

@@ -16,10 +16,17 @@ layout(std430, binding = 7) writeonly buffer Radiance { vec4 radiance[]; };
 layout(std430, binding = 8) writeonly buffer Albedo { vec4 albedoOut[]; };
 layout(std430, binding = 9) writeonly buffer NormalDepth { vec4 normalDepth[]; };
 layout(std430, binding = 10) writeonly buffer Emission { vec4 emissionOut[]; };
+layout(std430, binding = 11) readonly buffer VertexSurfel { int vertexSurfel[]; };
+layout(std430, binding = 12) readonly buffer SurfelIrradiance { vec4 surfelIrradiance[]; };
 layout(push_constant) uniform Push { Camera cam; uvec2 size; uint samples; uint unused; };
 // False for scenes without textures: the lookups are compiled out. lavapipe runs a branch inside
 // the sample loop masked, so even untaken lookups cost a third of the pass.
 layout(constant_id = 0) const bool kTextured = true;
+// True when a solver computed the irradiance at the surfels: pixel radiance = Le + ρ·E/π, with the
+// irradiance E interpolated from the triangle's vertices and ρ the pixel's own (textured) albedo.
+layout(constant_id = 1) const bool kLit = false;
+
+vec3 irradianceAt(int surfel) { return surfel >= 0 ? surfelIrradiance[surfel].rgb : vec3(0.0); }
 
 vec4 texel(Texture t, int x, int y) {
   uint at = 2u * (t.offset + uint(y) * t.width + uint(x));
@@ -39,7 +46,7 @@ void main() {
   uvec2 px = gl_GlobalInvocationID.xy;
   if (px.x >= size.x || px.y >= size.y) return;
   uvec2 fine = size * samples;
-  vec3 albedo = vec3(0.0), normal = vec3(0.0), emission = vec3(0.0);
+  vec3 albedo = vec3(0.0), normal = vec3(0.0), emission = vec3(0.0), reflected = vec3(0.0);
   float depth = 0.0, hits = 0.0;
   for (uint sy = 0; sy < samples; ++sy)
     for (uint sx = 0; sx < samples; ++sx) {
@@ -65,6 +72,10 @@ void main() {
       }
       albedo += base;
       emission += emit;
+      if (kLit) {
+        vec3 e = w.x * irradianceAt(vertexSurfel[t.v0]) + w.y * irradianceAt(vertexSurfel[t.v1]) + w.z * irradianceAt(vertexSurfel[t.v2]);
+        reflected += base * e / kPi;
+      }
       normal += len > 0.0 ? n / len : vec3(0.0);
       depth += keyDepth(key);
       hits += 1.0;
@@ -72,8 +83,7 @@ void main() {
   float all = float(samples * samples);
   float nlen = length(normal);
   uint o = px.y * size.x + px.x;
-  // Radiance is emission alone until a solver adds the transported light.
-  radiance[o] = vec4(emission / all, hits / all);
+  radiance[o] = vec4((emission + reflected) / all, hits / all);
   albedoOut[o] = vec4(albedo / all, 1.0);
   normalDepth[o] = vec4(nlen > 0.0 ? normal / nlen : vec3(0.0), hits > 0.0 ? depth / hits : 0.0);
   emissionOut[o] = vec4(emission / all, 0.0);

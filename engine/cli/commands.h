@@ -1,8 +1,11 @@
 #pragma once
 // The ivgi subcommands. Each returns the process exit status; bad input throws (scene::LoadError,
 // UsageError, vk::VulkanError, std::runtime_error) and main() turns it into one line on stderr.
+#include <optional>
 #include <string>
 
+#include "engine/gi/iv_solver.h"
+#include "engine/scene/geometry.h"
 #include "engine/scene/scene.h"
 
 namespace ivgi::cli {
@@ -14,8 +17,21 @@ struct SceneChoice {
 // The scene named by `choice`, loaded and checked.
 scene::Scene loadScene(const SceneChoice& choice);
 
+// The lighting method and its settings, shared by render, bench and info.
+struct SolverOptions {
+  std::string method = "iv";  // iv or none (emission only)
+  uint32_t bins = 16;
+  float epsilon = 1e-3f;
+  int bounces = 2;
+  std::string environment;  // "R,G,B" or an .exr; empty: none
+};
+
+// The iv set-up for `options` (checked), or nothing for --method none.
+std::optional<gi::IvSetup> solverSetup(const SolverOptions& options, const scene::Scene& scene, const scene::Geometry& geometry);
+
 struct RenderOptions {
   SceneChoice source;
+  SolverOptions solver;
   std::string frames;  // empty: the whole animation
   double fps = 24.0;
   std::string size = "640x360";
@@ -31,6 +47,8 @@ int runRender(const RenderOptions& options);
 
 struct InfoOptions {
   SceneChoice source;
+  SolverOptions solver;
+  bool memory = false;  // set when --method is given: report the solver's memory
 };
 int runInfo(const InfoOptions& options);
 

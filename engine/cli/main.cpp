@@ -15,6 +15,14 @@ void addSceneArgument(CLI::App* cmd, SceneChoice& choice) {
   cmd->add_option("--cells", choice.cells, "tessellation of a built-in scene: cells along the Cornell box's side")->capture_default_str();
 }
 
+void addSolverOptions(CLI::App* cmd, SolverOptions& o) {
+  cmd->add_option("--method", o.method, "lighting: iv (implicit-visibility radiosity) or none (emission only)")->capture_default_str();
+  cmd->add_option("--bins", o.bins, "N: 6×N×N direction bins per receiver (1–64)")->capture_default_str();
+  cmd->add_option("--eps", o.epsilon, "refine links while their form-factor estimate exceeds this")->capture_default_str();
+  cmd->add_option("--bounces", o.bounces, "indirect bounces (0: direct light only)")->capture_default_str();
+  cmd->add_option("--env", o.environment, "environment light: R,G,B radiance or an equirectangular .exr");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -27,6 +35,7 @@ int main(int argc, char** argv) {
   RenderOptions render;
   auto* r = app.add_subcommand("render", "render a scene's frames to EXR and PNG");
   addSceneArgument(r, render.source);
+  addSolverOptions(r, render.solver);
   r->add_option("--frames", render.frames, "frames A, A-B or A-B:STEP (default: the whole animation)");
   r->add_option("--fps", render.fps, "frames per second: frame f shows time f / fps")->capture_default_str();
   r->add_option("--size", render.size, "image size WIDTHxHEIGHT")->capture_default_str();

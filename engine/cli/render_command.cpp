@@ -102,7 +102,8 @@ int runRender(const RenderOptions& o) {
 
   vk::Context ctx({.device = o.device});
   if (std::string why = gi::checkImageSettings(ctx, image); !why.empty()) throw UsageError("--size " + o.size + ": " + why);
-  gi::FrameRenderer renderer(ctx, g, image);
+  gi::FrameRenderer renderer(ctx, g, image, solverSetup(o.solver, s, g));
+  const bool geometryAnimated = scene::animationMovesGeometry(s, tl.animation);
 
   const auto frames = range.frames();
   const float aspect = float(image.width) / float(image.height);
@@ -128,6 +129,8 @@ int runRender(const RenderOptions& o) {
        {{"frames", {range.first, range.last, range.step}}, {"fps", o.fps}, {"width", image.width}, {"height", image.height},
         {"supersample", image.samples}, {"formats", formats}, {"tonemap", o.tonemap}, {"exposure", o.exposure},
         {"animation", tl.animation >= 0 ? json(s.animations[tl.animation].name) : json(nullptr)},
+        {"method", o.solver.method}, {"bins", o.solver.bins}, {"eps", o.solver.epsilon}, {"bounces", o.solver.bounces},
+        {"environment", o.solver.environment},
         {"camera", cameraNode >= 0 ? json(s.nodes[cameraNode].name) : json("default framing")}}},
       {"device",
        {{"name", ctx.info().name}, {"type", ctx.info().type}, {"driver", ctx.info().driverName}, {"driverInfo", ctx.info().driverInfo},
@@ -148,7 +151,8 @@ int runRender(const RenderOptions& o) {
     double t = tl.time(frame, o.fps);
     auto pose = scene::evaluatePose(s, tl.animation, float(t));
     auto view = cameraNode >= 0 ? scene::cameraView(s, pose, cameraNode) : framing;
-    auto result = renderer.render(g.frameInputs(s, pose), view);
+    bool first = frame == frames.front() || sidecar["frames"].empty();
+    auto result = renderer.render(g.frameInputs(s, pose), view, gi::worldLights(s, pose), first || geometryAnimated);
     if (size_t bad = image::sanitize(result.channels))
       std::fprintf(stderr, "ivgi: warning: frame %d: %zu non-finite values replaced by 0 (a bug: please report it)\n", frame, bad);
     for (size_t i = 0; i < formats.size(); ++i) {
@@ -167,6 +171,12 @@ int runRender(const RenderOptions& o) {
     progress.advance();
   }
   progress.finish();
+  if (const gi::IvSolver* iv = renderer.solver()) {
+    gi::IvStats st = iv->stats();
+    sidecar["solver"] = {{"nodes", st.nodes}, {"levels", st.levels}, {"links", st.links}, {"leafLinks", st.leafLinks},
+                         {"bytes", st.bytes}, {"sharedMemoryBins", st.sharedBins}};
+    sidecar["bytesAllocated"] = renderer.bytesAllocated() + st.bytes;
+  }
   json medians = json::object();
   for (const auto& [pass, ms] : perPass) medians[pass] = median(ms);
   sidecar["medianGpuMs"] = medians;

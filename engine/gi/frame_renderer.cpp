@@ -1,5 +1,7 @@
 #include "engine/gi/frame_renderer.h"
 
+#include "engine/gi/pass.h"
+
 namespace ivgi::gi {
 
 namespace {
@@ -11,13 +13,12 @@ struct ImagePush {
   uint32_t unused = 0;
 };
 
-// Records `body` as one timed pass followed by a barrier that publishes its writes.
-template <class Body>
-void pass(VkCommandBuffer cmd, vk::PassTimer& timer, const char* name, Body&& body) {
-  timer.begin(cmd, name);
-  body();
-  timer.end(cmd);
-  vk::barrier(cmd);
+// Surfel of each vertex (welded vertices share one), -1 for vertices without one.
+std::vector<int32_t> vertexSurfels(const scene::Geometry& g) {
+  std::vector<int32_t> out(g.vertices.size(), -1);
+  for (size_t s = 0; s < g.surfels.size(); ++s)
+    for (uint32_t k = 0; k < g.surfels[s].vertexCount; ++k) out[g.surfelVertices[g.surfels[s].firstVertex + k]] = int32_t(s);
+  return out;
 }
 
 }  // namespace
@@ -43,7 +44,7 @@ vk::Buffer& FrameRenderer::track(vk::Buffer&& b) {
   return owned_.back();
 }
 
-FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, const ImageSettings& image)
+FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, const ImageSettings& image, std::optional<IvSetup> iv)
     : ctx_(ctx),
       image_(image),
       vertexCount_(uint32_t(g.vertices.size())),
@@ -52,7 +53,7 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
       animate_(ctx, "animate"),
       surfelUpdate_(ctx, "surfels"),
       raster_(ctx, "raster"),
-      resolve_(ctx, "resolve", {g.textures.empty() ? 0u : 1u}),
+      resolve_(ctx, "resolve", {g.textures.empty() ? 0u : 1u, iv ? 1u : 0u}),
       timer_(ctx) {
   if (std::string why = checkImageSettings(ctx, image); !why.empty()) throw vk::VulkanError(why);
   owned_.reserve(32);  // pointers into owned_ stay valid
@@ -77,9 +78,16 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
   visibility_ = &track(vk::Buffer(ctx, pixels * image.samples * image.samples * sizeof(uint64_t), Memory::Device));
   for (vk::Buffer** channel : {&radiance_, &albedo_, &normalDepth_, &emission_})
     *channel = &track(vk::Buffer(ctx, pixels * sizeof(glm::vec4), Memory::Host));
+  vertexSurfel_ = &track(vk::makeBuffer(ctx, vertexSurfels(g)));
+  unlitIrradiance_ = &track(vk::Buffer(ctx, 16, Memory::Device));
+  if (iv) {
+    iv_ = std::make_unique<IvSetup>(std::move(*iv));
+    solver_ = std::make_unique<IvSolver>(ctx, g, iv_->hierarchy, iv_->settings);
+  }
 }
 
-FrameResult FrameRenderer::render(const scene::FrameInputs& in, const scene::CameraView& view) {
+FrameResult FrameRenderer::render(const scene::FrameInputs& in, const scene::CameraView& view, const std::vector<GpuLight>& lights,
+                                  bool geometryMoved) {
   if (matrices_->size() < in.matrices.size() * sizeof(glm::mat4)) {
     bytes_ -= matrices_->size();
     *matrices_ = vk::Buffer(ctx_, in.matrices.size() * sizeof(glm::mat4), vk::Memory::Host);
@@ -87,30 +95,36 @@ FrameResult FrameRenderer::render(const scene::FrameInputs& in, const scene::Cam
   }
   matrices_->upload(in.matrices);
   morphWeights_->upload(in.morphWeights);
+  if (solver_) solver_->setLights(lights);
 
   const glm::uvec2 size(image_.width, image_.height), fine = size * image_.samples;
   const GpuCamera camera = gpuCamera(view, float(image_.width) / float(image_.height));
-  ctx_.submitAndWait([&](VkCommandBuffer cmd) {
+  const vk::Buffer* irradiance = solver_ ? &solver_->irradiance() : unlitIrradiance_;
+  bool redo = false;
+  do ctx_.submitAndWait([&](VkCommandBuffer cmd) {
     timer_.reset(cmd);
-    pass(cmd, timer_, "animate", [&] {
+    timedPass(cmd, timer_, "animate", [&] {
       animate_.dispatchItems(cmd, vertexCount_, {vertices_, instances_, morphDeltas_, matrices_, morphWeights_, world_}, vertexCount_);
     });
-    pass(cmd, timer_, "surfels", [&] {
+    timedPass(cmd, timer_, "surfels", [&] {
       surfelUpdate_.dispatchItems(cmd, surfelCount_, {surfelSources_, surfelVertices_, surfelTriangles_, triangles_, world_, surfels_},
                                   surfelCount_);
     });
-    pass(cmd, timer_, "raster", [&] {
+    if (solver_) solver_->record(cmd, timer_, *surfels_, geometryMoved || redo);
+    timedPass(cmd, timer_, "raster", [&] {
       vkCmdFillBuffer(cmd, visibility_->handle(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
       vk::barrier(cmd);
       raster_.dispatch(cmd, raster_.groupsFor(triangleCount_, 1), {world_, triangles_, visibility_},
                        ImagePush{camera, fine, triangleCount_});
     });
-    pass(cmd, timer_, "resolve", [&] {
+    timedPass(cmd, timer_, "resolve", [&] {
       resolve_.dispatch(cmd, {(size.x + 7) / 8, (size.y + 7) / 8, 1},
-                        {world_, triangles_, visibility_, uvs_, materials_, textures_, texels_, radiance_, albedo_, normalDepth_, emission_},
+                        {world_, triangles_, visibility_, uvs_, materials_, textures_, texels_, radiance_, albedo_, normalDepth_, emission_,
+                         vertexSurfel_, irradiance},
                         ImagePush{camera, size, image_.samples});
     });
   });
+  while ((redo = solver_ && solver_->growIfOverflowed()));
 
   FrameResult result;
   result.passTimes = timer_.results();

@@ -5,6 +5,11 @@
 #include <string>
 #include <vector>
 
+#include <memory>
+#include <optional>
+
+#include "engine/gi/hierarchy.h"
+#include "engine/gi/iv_solver.h"
 #include "engine/gi/shared.h"
 #include "engine/image/frame_image.h"
 #include "engine/scene/camera.h"
@@ -30,9 +35,13 @@ struct FrameResult {
 
 class FrameRenderer {
  public:
-  FrameRenderer(const vk::Context& ctx, const scene::Geometry& geometry, const ImageSettings& image);
+  FrameRenderer(const vk::Context& ctx, const scene::Geometry& geometry, const ImageSettings& image, std::optional<IvSetup> iv = {});
 
-  FrameResult render(const scene::FrameInputs& inputs, const scene::CameraView& view);
+  // `lights`: the punctual lights in world space; `geometryMoved`: whether the solver must refit and
+  // relink (false only for static geometry after the first frame).
+  FrameResult render(const scene::FrameInputs& inputs, const scene::CameraView& view, const std::vector<GpuLight>& lights = {},
+                     bool geometryMoved = true);
+  const IvSolver* solver() const { return solver_.get(); }
 
   // Results of the last frame's geometry passes (for tests and later solvers).
   std::vector<scene::WorldVertex> worldVertices() const;
@@ -54,6 +63,10 @@ class FrameRenderer {
   // Per frame.
   vk::Buffer *matrices_, *morphWeights_, *world_, *surfels_, *visibility_;
   vk::Buffer *radiance_, *albedo_, *normalDepth_, *emission_;
+  vk::Buffer *vertexSurfel_, *unlitIrradiance_;
+
+  std::unique_ptr<IvSetup> iv_;
+  std::unique_ptr<IvSolver> solver_;
 
   vk::Program animate_, surfelUpdate_, raster_, resolve_;
   vk::PassTimer timer_;

@@ -63,6 +63,24 @@ glm::mat4 localMatrix(const Node& node, glm::vec3 t, glm::quat r, glm::vec3 s) {
   return glm::translate(glm::mat4(1.0f), t) * glm::mat4_cast(r) * glm::scale(glm::mat4(1.0f), s);
 }
 
+bool animationMovesGeometry(const Scene& scene, int animation) {
+  if (animation < 0) return false;
+  std::vector<char> carries(scene.nodes.size(), 0);  // node or a descendant carries geometry or a light
+  for (const auto& skin : scene.skins)
+    for (int j : skin.joints) carries[j] = 1;
+  std::function<bool(int)> visit = [&](int n) {
+    bool any = scene.nodes[n].mesh >= 0 || scene.nodes[n].light >= 0 || carries[n];
+    for (int c : scene.nodes[n].children) any = visit(c) || any;
+    carries[n] = any;
+    return any;
+  };
+  for (size_t i = 0; i < scene.nodes.size(); ++i)
+    if (scene.nodes[i].parent < 0) visit(int(i));
+  for (const Channel& ch : scene.animations[animation].channels)
+    if (ch.path == Path::Weights || carries[ch.node]) return true;
+  return false;
+}
+
 Pose evaluatePose(const Scene& scene, int animation, float t) {
   Pose pose;
   size_t n = scene.nodes.size();

@@ -26,6 +26,10 @@ struct Pose {
 // Pose of all nodes at time t of `animation` (-1: rest pose).
 Pose evaluatePose(const Scene& scene, int animation, float t);
 
+// Whether `animation` moves any geometry or light (a mesh, light or joint node or one above it, or
+// morph weights); false when it animates only cameras, or for -1.
+bool animationMovesGeometry(const Scene& scene, int animation);
+
 glm::mat4 localMatrix(const Node& node, glm::vec3 t, glm::quat r, glm::vec3 s);
 
 }  // namespace ivgi::scene

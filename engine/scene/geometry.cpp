@@ -198,17 +198,21 @@ std::vector<Surfel> surfelsOnHost(const Geometry& g, const std::vector<WorldVert
   for (size_t s = 0; s < g.surfels.size(); ++s) {
     const GpuSurfelSource& src = g.surfels[s];
     float area = 0.0f;
-    glm::vec3 faceSum(0.0f), vertexSum(0.0f);
+    glm::vec3 faceSum(0.0f), vertexSum(0.0f), moment(0.0f);
+    const glm::vec3 self(world[g.surfelVertices[src.firstVertex]].position);
     for (uint32_t k = 0; k < src.triangleCount; ++k) {
       const GpuTriangle& t = g.triangles[g.surfelTriangles[src.firstTriangle + k]];
-      glm::vec3 c = glm::cross(glm::vec3(world[t.v1].position - world[t.v0].position), glm::vec3(world[t.v2].position - world[t.v0].position));
-      area += glm::length(c) / 6.0f;  // a third of the triangle's area
-      faceSum += c;
+      glm::vec3 a(world[t.v0].position), b(world[t.v1].position), c(world[t.v2].position);
+      glm::vec3 n = glm::cross(b - a, c - a);
+      float third = glm::length(n) / 6.0f;  // a third of the triangle's area
+      area += third;
+      faceSum += n;
+      moment += third * (22.0f * self + 7.0f * (a + b + c - self)) / 36.0f;  // centroid of the vertex's corner quad
     }
     for (uint32_t k = 0; k < src.vertexCount; ++k) vertexSum += glm::vec3(world[g.surfelVertices[src.firstVertex + k]].normal);
     glm::vec3 n = glm::length(vertexSum) > 1e-6f ? vertexSum : faceSum;
     float len = glm::length(n);
-    out[s].positionArea = glm::vec4(glm::vec3(world[g.surfelVertices[src.firstVertex]].position), len > 0.0f ? area : 0.0f);
+    out[s].positionArea = glm::vec4(area > 0.0f ? moment / area : self, len > 0.0f ? area : 0.0f);
     out[s].normal = glm::vec4(len > 0.0f ? n / len : glm::vec3(0.0f), 0.0f);
   }
   return out;

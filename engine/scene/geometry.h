@@ -54,7 +54,7 @@ struct WorldVertex {  // output of the animate pass
   glm::vec4 position, normal;
 };
 struct Surfel {  // output of the surfel pass
-  glm::vec4 positionArea;  // xyz position, w area
+  glm::vec4 positionArea;  // xyz: centroid of the surfel's area (its vertex's third of each triangle), w: area
   glm::vec4 normal;
 };
 

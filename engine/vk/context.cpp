@@ -219,8 +219,13 @@ Context::Context(const ContextOptions& options) {
   qi.queueFamilyIndex = queueFamily_;
   qi.queueCount = 1;
   qi.pQueuePriorities = &priority;
+  VkPhysicalDeviceVulkan12Features supported{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+  VkPhysicalDeviceFeatures2 query{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &supported};
+  vkGetPhysicalDeviceFeatures2(physical_, &query);
+  sharedInt64Atomics_ = supported.shaderSharedInt64Atomics;
   VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
   f12.shaderBufferInt64Atomics = VK_TRUE;
+  f12.shaderSharedInt64Atomics = supported.shaderSharedInt64Atomics;
   f12.hostQueryReset = VK_TRUE;
   VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &f12};
   features.features.shaderInt64 = VK_TRUE;

@@ -49,6 +49,8 @@ class Context {
   const VkPhysicalDeviceLimits& limits() const { return properties_.limits; }
   double timestampPeriodNs() const { return properties_.limits.timestampPeriod; }
   uint32_t timestampValidBits() const { return timestampValidBits_; }
+  // 64-bit atomics on workgroup-shared memory (else passes keep such data in buffers).
+  bool sharedInt64Atomics() const { return sharedInt64Atomics_; }
 
   // Records with `record` into a fresh command buffer, submits it and waits for completion.
   void submitAndWait(const std::function<void(VkCommandBuffer)>& record) const;
@@ -69,6 +71,7 @@ class Context {
   VkQueue queue_ = VK_NULL_HANDLE;
   uint32_t queueFamily_ = 0;
   uint32_t timestampValidBits_ = 0;
+  bool sharedInt64Atomics_ = false;
   VkCommandPool pool_ = VK_NULL_HANDLE;
   VkFence fence_ = VK_NULL_HANDLE;
   VkPhysicalDeviceProperties properties_{};

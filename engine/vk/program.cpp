@@ -129,6 +129,11 @@ Groups Program::groupsFor(uint64_t count, uint32_t perGroup) const {
 
 void Program::dispatch(VkCommandBuffer cmd, Groups groups, std::initializer_list<const Buffer*> buffers,
                        const void* push, uint32_t pushBytes) const {
+  bind(cmd, buffers, push, pushBytes);
+  vkCmdDispatch(cmd, groups.x, groups.y, groups.z);
+}
+
+void Program::bind(VkCommandBuffer cmd, std::initializer_list<const Buffer*> buffers, const void* push, uint32_t pushBytes) const {
   if (buffers.size() != bindingCount_)
     throw VulkanError("pass " + name_ + " binds " + std::to_string(bindingCount_) + " buffers, given " + std::to_string(buffers.size()));
   if (pushBytes != pushBytes_)
@@ -153,7 +158,6 @@ void Program::dispatch(VkCommandBuffer cmd, Groups groups, std::initializer_list
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
   if (bindingCount_) ctx_.cmdPushDescriptorSet(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, bindingCount_, writes.data());
   if (pushBytes_) vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, pushBytes_, push);
-  vkCmdDispatch(cmd, groups.x, groups.y, groups.z);
 }
 
 void barrier(VkCommandBuffer cmd) {

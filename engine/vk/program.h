@@ -40,6 +40,13 @@ class Program {
   void dispatch(VkCommandBuffer cmd, Groups groups, std::initializer_list<const Buffer*> buffers, const Push& push) const {
     dispatch(cmd, groups, buffers, &push, sizeof(Push));
   }
+  // Dispatch with the group counts at `offset` in `args` (a VkDispatchIndirectCommand).
+  template <class Push>
+  void dispatchIndirect(VkCommandBuffer cmd, const Buffer& args, VkDeviceSize offset, std::initializer_list<const Buffer*> buffers,
+                        const Push& push) const {
+    bind(cmd, buffers, &push, sizeof(Push));
+    vkCmdDispatchIndirect(cmd, args.handle(), offset);
+  }
   // One invocation per item (items laid out over x and y so that no dimension exceeds the device
   // limit; shaders read their item with itemIndex() from common.glsl and test it against the count).
   template <class Push>
@@ -50,6 +57,8 @@ class Program {
   Groups groupsFor(uint64_t count, uint32_t perGroup) const;
 
  private:
+  void bind(VkCommandBuffer cmd, std::initializer_list<const Buffer*> buffers, const void* push, uint32_t pushBytes) const;
+
   const Context& ctx_;
   std::string name_;
   VkShaderModule module_ = VK_NULL_HANDLE;

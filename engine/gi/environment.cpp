@@ -1,0 +1,67 @@
+#include "engine/gi/environment.h"
+
+#include <OpenImageIO/imagebuf.h>
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "engine/gi/shared.h"
+
+namespace ivgi::gi {
+
+namespace {
+
+glm::vec3 parseColour(const std::string& spec) {
+  std::stringstream ss(spec);
+  glm::vec3 c;
+  char comma1 = 0, comma2 = 0;
+  if (!(ss >> c.r >> comma1 >> c.g >> comma2 >> c.b) || comma1 != ',' || comma2 != ',' || !ss.eof())
+    throw std::runtime_error("--env '" + spec + "': expected R,G,B or an .exr file");
+  if (!glm::all(glm::greaterThanEqual(c, glm::vec3(0.0f))) || !glm::all(glm::lessThan(c, glm::vec3(1e30f))))
+    throw std::runtime_error("--env '" + spec + "': radiance must be finite and >= 0");
+  return c;
+}
+
+}  // namespace
+
+std::vector<glm::vec4> environmentBins(const std::string& spec, uint32_t n) {
+  const uint32_t bins = 6 * n * n;
+  bool file = spec.size() > 4 && spec.substr(spec.size() - 4) == ".exr";
+  if (!file) return std::vector<glm::vec4>(bins, glm::vec4(parseColour(spec), 0.0f));
+
+  OIIO_NAMESPACE::ImageBuf image(spec);
+  if (!image.read(0, 0, true, OIIO_NAMESPACE::TypeDesc::FLOAT)) throw std::runtime_error(spec + ": cannot read the environment: " + image.geterror());
+  const auto& is = image.spec();
+  if (is.nchannels < 3 || is.width < 1 || is.height < 1) throw std::runtime_error(spec + ": the environment needs RGB channels");
+  const float* px = static_cast<const float*>(image.localpixels());
+  auto lookup = [&](glm::vec3 d) {
+    d = glm::normalize(d);
+    float u = std::atan2(d.x, -d.z) / (2.0f * kPi) + 0.5f, v = std::acos(glm::clamp(d.y, -1.0f, 1.0f)) / kPi;
+    int x = std::min(int(u * is.width), is.width - 1), y = std::min(int(v * is.height), is.height - 1);
+    const float* p = px + (size_t(y) * is.width + x) * is.nchannels;
+    return glm::vec3(p[0], p[1], p[2]);
+  };
+  std::vector<glm::vec4> out(bins);
+  for (uint32_t b = 0; b < bins; ++b) {
+    // Sub-directions on the bin's face cell, around its centre.
+    glm::vec3 c = binDirection(b, n), sum(0.0f);
+    uint32_t face = b / (n * n), axis = face / 2;
+    float half = 1.0f / float(n);
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 4; ++i) {
+        glm::vec3 d = c;
+        float du = ((i + 0.5f) / 4.0f - 0.5f) * 2.0f * half, dv = ((j + 0.5f) / 4.0f - 0.5f) * 2.0f * half;
+        if (axis == 0) d.y += du, d.z += dv;
+        else if (axis == 1) d.z += du, d.x += dv;
+        else d.x += du, d.y += dv;
+        sum += lookup(d);
+      }
+    glm::vec3 mean = sum / 16.0f;
+    if (!glm::all(glm::lessThan(glm::abs(mean), glm::vec3(1e30f)))) throw std::runtime_error(spec + ": the environment holds NaN or infinite values");
+    out[b] = glm::vec4(glm::max(mean, glm::vec3(0.0f)), 0.0f);
+  }
+  return out;
+}
+
+}  // namespace ivgi::gi

@@ -1,0 +1,164 @@
+#include "engine/gi/hierarchy.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace ivgi::gi {
+
+namespace {
+
+// A tree under construction: nodes with their depth, children by index.
+struct BuildNode {
+  std::vector<uint32_t> children;
+  int32_t surfel = -1;
+  uint32_t depth = 0;
+};
+
+class TreeBuilder {
+ public:
+  TreeBuilder(const std::vector<glm::vec3>& positions, const std::vector<glm::vec2>& uvs, bool uv)
+      : pos_(positions), uv_(uvs), useUv_(uv) {}
+
+  std::vector<BuildNode> build(std::vector<uint32_t> surfels) {
+    nodes_.clear();
+    nodes_.push_back({});
+    split(0, surfels, glm::vec2(0), glm::vec2(1), 0);
+    return nodes_;
+  }
+
+ private:
+  uint32_t add(uint32_t parent, uint32_t depth) {
+    nodes_.push_back({});
+    nodes_.back().depth = depth;
+    nodes_[parent].children.push_back(uint32_t(nodes_.size() - 1));
+    return uint32_t(nodes_.size() - 1);
+  }
+
+  void split(uint32_t node, std::vector<uint32_t>& items, glm::vec2 lo, glm::vec2 hi, int uvDepth) {
+    if (items.size() == 1) {
+      nodes_[node].surfel = int32_t(items[0]);
+      return;
+    }
+    std::vector<std::vector<uint32_t>> parts;
+    std::vector<std::pair<glm::vec2, glm::vec2>> boxes;
+    if (useUv_ && uvDepth < 40) {  // quadrants of the UV square; past float resolution: spatial
+      glm::vec2 mid = 0.5f * (lo + hi);
+      parts.resize(4);
+      for (uint32_t s : items) parts[(uv_[s].x >= mid.x ? 1 : 0) + (uv_[s].y >= mid.y ? 2 : 0)].push_back(s);
+      boxes = {{lo, mid}, {{mid.x, lo.y}, {hi.x, mid.y}}, {{lo.x, mid.y}, {mid.x, hi.y}}, {mid, hi}};
+      int nonEmpty = 0;
+      for (auto& p : parts) nonEmpty += !p.empty();
+      if (nonEmpty == 1) {  // all in one quadrant: descend without making a node
+        for (size_t q = 0; q < 4; ++q)
+          if (!parts[q].empty()) return split(node, parts[q], boxes[q].first, boxes[q].second, uvDepth + 1);
+      }
+    } else {  // median split along the longest axis of the positions' bounds
+      glm::vec3 mn(1e30f), mx(-1e30f);
+      for (uint32_t s : items) mn = glm::min(mn, pos_[s]), mx = glm::max(mx, pos_[s]);
+      glm::vec3 ext = mx - mn;
+      int axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
+      size_t half = items.size() / 2;
+      std::nth_element(items.begin(), items.begin() + long(half), items.end(), [&](uint32_t a, uint32_t b) {
+        return pos_[a][axis] < pos_[b][axis] || (pos_[a][axis] == pos_[b][axis] && a < b);
+      });
+      parts = {std::vector<uint32_t>(items.begin(), items.begin() + long(half)), std::vector<uint32_t>(items.begin() + long(half), items.end())};
+      boxes.assign(2, {lo, hi});
+    }
+    for (size_t q = 0; q < parts.size(); ++q) {
+      if (parts[q].empty()) continue;
+      uint32_t child = add(node, nodes_[node].depth + 1);
+      split(child, parts[q], boxes[q].first, boxes[q].second, uvDepth + 1);
+    }
+  }
+
+  const std::vector<glm::vec3>& pos_;
+  const std::vector<glm::vec2>& uv_;
+  bool useUv_;
+  std::vector<BuildNode> nodes_;
+};
+
+}  // namespace
+
+bool usableUvAtlas(const std::vector<glm::vec2>& uvs, const std::vector<glm::uvec3>& triangles) {
+  if (triangles.empty()) return false;
+  constexpr int kGrid = 512;
+  std::vector<uint8_t> covered(size_t(kGrid) * kGrid, 0);
+  double uvArea = 0;
+  for (const auto& t : triangles) {
+    glm::vec2 a = uvs[t.x], b = uvs[t.y], c = uvs[t.z];
+    for (glm::vec2 p : {a, b, c})
+      if (!std::isfinite(p.x) || !std::isfinite(p.y) || p.x < -1e-4f || p.y < -1e-4f || p.x > 1.0001f || p.y > 1.0001f) return false;
+    float area2 = (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
+    if (area2 == 0.0f) return false;  // collapsed UVs: no atlas
+    uvArea += 0.5 * std::abs(area2);
+    glm::ivec2 lo = glm::clamp(glm::ivec2(glm::floor(glm::min(a, glm::min(b, c)) * float(kGrid))), 0, kGrid - 1);
+    glm::ivec2 hi = glm::clamp(glm::ivec2(glm::ceil(glm::max(a, glm::max(b, c)) * float(kGrid))), 0, kGrid - 1);
+    for (int y = lo.y; y <= hi.y; ++y)
+      for (int x = lo.x; x <= hi.x; ++x) {
+        glm::vec2 p((x + 0.5f) / kGrid, (y + 0.5f) / kGrid);
+        float w0 = (b.x - p.x) * (c.y - p.y) - (c.x - p.x) * (b.y - p.y);
+        float w1 = (c.x - p.x) * (a.y - p.y) - (a.x - p.x) * (c.y - p.y);
+        float w2 = (a.x - p.x) * (b.y - p.y) - (b.x - p.x) * (a.y - p.y);
+        bool inside = (w0 >= 0 && w1 >= 0 && w2 >= 0) || (w0 <= 0 && w1 <= 0 && w2 <= 0);
+        if (inside) covered[size_t(y) * kGrid + x] = 1;
+      }
+  }
+  double coveredArea = double(std::accumulate(covered.begin(), covered.end(), size_t(0))) / (double(kGrid) * kGrid);
+  // Overlapping charts cover less than their summed area. Tiny atlases are below the grid's
+  // resolution; treat them as unusable rather than guess.
+  return coveredArea > 0.01 && uvArea <= coveredArea * 1.05 + 4.0 / kGrid;
+}
+
+Hierarchy buildHierarchy(const scene::Geometry& g, const std::vector<scene::Surfel>& rest) {
+  const size_t surfelCount = g.surfels.size();
+  std::vector<glm::vec3> positions(surfelCount);
+  std::vector<glm::vec2> uvs(surfelCount);
+  std::vector<std::vector<uint32_t>> byInstance(g.instances.size());
+  for (size_t s = 0; s < surfelCount; ++s) {
+    uint32_t v = g.surfelVertices[g.surfels[s].firstVertex];
+    positions[s] = glm::vec3(rest[s].positionArea);
+    uvs[s] = g.uvs[v];
+    byInstance[g.vertices[v].instance].push_back(uint32_t(s));
+  }
+  // Triangles per instance, in surfel-independent vertex indices, for the atlas test.
+  std::vector<std::vector<glm::uvec3>> instanceTriangles(g.instances.size());
+  for (const auto& t : g.triangles) instanceTriangles[g.vertices[t.v0].instance].push_back({t.v0, t.v1, t.v2});
+
+  std::vector<std::vector<BuildNode>> trees;
+  Hierarchy h;
+  for (size_t i = 0; i < g.instances.size(); ++i) {
+    if (byInstance[i].empty()) continue;
+    bool uv = usableUvAtlas(g.uvs, instanceTriangles[i]);
+    h.uvTree.push_back(uv);
+    trees.push_back(TreeBuilder(positions, uvs, uv).build(byInstance[i]));
+  }
+  // Number level by level over all trees: a node's children, in order, are contiguous.
+  struct Pending {
+    size_t tree;
+    uint32_t local;
+    int32_t parent;
+  };
+  std::vector<Pending> level;
+  for (size_t t = 0; t < trees.size(); ++t) level.push_back({t, 0, -1});
+  h.leafOfSurfel.assign(surfelCount, ~0u);
+  while (!level.empty()) {
+    h.levelStart.push_back(uint32_t(h.nodes.size()));
+    uint32_t nextIndex = uint32_t(h.nodes.size() + level.size());
+    std::vector<Pending> next;
+    for (const Pending& p : level) {
+      const BuildNode& b = trees[p.tree][p.local];
+      uint32_t self = uint32_t(h.nodes.size());
+      if (p.parent < 0) h.roots.push_back(self);
+      h.nodes.push_back({p.parent, nextIndex, uint32_t(b.children.size()), b.surfel});
+      if (b.surfel >= 0) h.leafOfSurfel[size_t(b.surfel)] = self;
+      for (uint32_t c : b.children) next.push_back({p.tree, c, int32_t(self)});
+      nextIndex += uint32_t(b.children.size());
+    }
+    level = std::move(next);
+  }
+  h.levelStart.push_back(uint32_t(h.nodes.size()));
+  return h;
+}
+
+}  // namespace ivgi::gi

@@ -1,0 +1,261 @@
+#include "engine/gi/iv_solver.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "engine/gi/pass.h"
+#include "engine/gi/shared.h"
+
+namespace ivgi::gi {
+
+namespace {
+
+struct LevelPush {
+  uint32_t first, count;
+};
+struct ArgsPush {
+  uint32_t source, clear, slot, groupSize;
+};
+struct RefinePush {
+  uint32_t source, target, capacity, linkCapacity;
+  float epsilon, binSolidAngle;
+};
+struct PrunePush {
+  uint32_t surfelCount, linkCapacity, lightCount, environmentOn;
+};
+constexpr uint32_t kNoCounter = 0xFFFFFFFFu;
+constexpr uint32_t kCounterLinks = 2, kCounterLeafLinks = 3, kCounterOverflow = 4, kCounterWorklistPeak = 5;
+constexpr uint32_t kMaxPruneGroups = 512;
+
+uint32_t maskWords(uint32_t n) { return (6 * n * n + 31) / 32; }
+
+template <class T>
+vk::Buffer deviceArray(const vk::Context& ctx, size_t count) {
+  return vk::Buffer(ctx, std::max<size_t>(count, 1) * sizeof(T), vk::Memory::Device);
+}
+
+}  // namespace
+
+std::vector<GpuLight> worldLights(const scene::Scene& scene, const scene::Pose& pose) {
+  std::vector<GpuLight> out;
+  for (size_t i = 0; i < scene.nodes.size(); ++i) {
+    if (scene.nodes[i].light < 0) continue;
+    const scene::Light& l = scene.lights[scene.nodes[i].light];
+    const glm::mat4& m = pose.world[i];
+    glm::vec3 dir = -glm::vec3(m[2]);
+    float len = glm::length(dir);
+    dir = len > 0 ? dir / len : glm::vec3(0, 0, -1);
+    float type = l.type == scene::Light::Type::Directional ? 0.0f : (l.type == scene::Light::Type::Point ? 1.0f : 2.0f);
+    out.push_back({glm::vec4(glm::vec3(m[3]), type), glm::vec4(dir, l.range), glm::vec4(l.color * l.intensity, 0.0f),
+                   glm::vec4(std::cos(l.outerCone), std::cos(l.innerCone), 0.0f, 0.0f)});
+  }
+  return out;
+}
+
+IvSetup makeIvSetup(const scene::Scene& scene, const scene::Geometry& g, const IvSettings& settings) {
+  auto rest = scene::surfelsOnHost(g, scene::animateOnHost(g, g.frameInputs(scene, scene::evaluatePose(scene, -1, 0.0f))));
+  return {buildHierarchy(g, rest), settings};
+}
+
+std::vector<glm::vec4> IvSolver::binTable(uint32_t n) {
+  std::vector<glm::vec4> table(6 * n * n);
+  for (uint32_t b = 0; b < table.size(); ++b) table[b] = glm::vec4(glm::normalize(binDirection(b, n)), binSolidAngle(b, n));
+  return table;
+}
+
+bool IvSolver::binsFitShared(const vk::Context& ctx, uint32_t n) {
+  uint64_t bytes = uint64_t(6) * n * n * (8 + 4) + uint64_t(maskWords(n)) * 8 + 64 * 16 + 16;
+  return ctx.sharedInt64Atomics() && bytes <= ctx.limits().maxComputeSharedMemorySize;
+}
+
+IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, const Hierarchy& h, const IvSettings& settings)
+    : ctx_(ctx),
+      hierarchy_(h),
+      settings_(settings),
+      surfelCount_(uint32_t(g.surfels.size())),
+      nodeCount_(uint32_t(h.nodes.size())),
+      sharedBins_(binsFitShared(ctx, settings.bins)),
+      refit_(ctx, "refit"),
+      linkArgs_(ctx, "link_args"),
+      refine_(ctx, "refine_links"),
+      countLinks_(ctx, "count_links"),
+      scanCounts_(ctx, "scan_counts"),
+      scatterLinks_(ctx, "scatter_links"),
+      prune_(ctx, "prune_bins",
+             {settings.bins, sharedBins_ ? 1u : 0u, sharedBins_ ? 6 * settings.bins * settings.bins : 1u, maskWords(settings.bins)}),
+      emit_(ctx, "emit"),
+      gather_(ctx, "gather"),
+      pullUp_(ctx, "pull_up") {
+  if (settings.bins < 1 || settings.bins > 64) throw vk::VulkanError("--bins must be 1 to 64");
+  if (!settings.environment.empty() && settings.environment.size() != 6 * settings.bins * settings.bins)
+    throw vk::VulkanError("environment table does not match the bins");
+  tree_ = vk::makeBuffer(ctx, h.nodes);
+  leafOfSurfel_ = vk::makeBuffer(ctx, h.leafOfSurfel);
+  albedo_ = vk::makeBuffer(ctx, g.surfelAlbedo);
+  emission_ = vk::makeBuffer(ctx, g.surfelEmission);
+  binTable_ = vk::makeBuffer(ctx, binTable(settings.bins));
+  environment_ = vk::makeBuffer(ctx, settings.environment.empty() ? std::vector<glm::vec4>{glm::vec4(0)} : settings.environment);
+  lights_ = vk::Buffer(ctx, sizeof(GpuLight), vk::Memory::Host);
+  nodes_ = deviceArray<glm::vec4[3]>(ctx, nodeCount_);
+  counters_ = vk::Buffer(ctx, 8 * sizeof(uint32_t), vk::Memory::Host);
+  args_ = vk::Buffer(ctx, 4 * sizeof(glm::uvec4), vk::Memory::Device);
+  for (uint32_t a : h.roots)
+    for (uint32_t b : h.roots) rootPairs_.insert(rootPairs_.end(), {a, b});
+  roots_ = vk::makeBuffer(ctx, rootPairs_);
+  counts_ = deviceArray<uint32_t>(ctx, nodeCount_);
+  starts_ = deviceArray<uint32_t>(ctx, nodeCount_ + 1);
+  ranges_ = deviceArray<glm::uvec2>(ctx, surfelCount_);
+  external_ = deviceArray<glm::vec4>(ctx, surfelCount_);
+  radiosityA_ = deviceArray<glm::vec4>(ctx, nodeCount_);
+  radiosityB_ = deviceArray<glm::vec4>(ctx, nodeCount_);
+  irradiance_ = deviceArray<glm::vec4>(ctx, surfelCount_);
+  if (sharedBins_) {
+    globalBins_ = vk::Buffer(ctx, 16, vk::Memory::Device);
+    globalCoverage_ = vk::Buffer(ctx, 16, vk::Memory::Device);
+  } else {
+    uint64_t slots = uint64_t(pruneGroups()) * 6 * settings.bins * settings.bins;
+    globalBins_ = vk::Buffer(ctx, slots * 8, vk::Memory::Device);
+    globalCoverage_ = vk::Buffer(ctx, slots * 4, vk::Memory::Device);
+    ctx.submitAndWait([&](VkCommandBuffer cmd) {
+      vkCmdFillBuffer(cmd, globalBins_.handle(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
+      vkCmdFillBuffer(cmd, globalCoverage_.handle(), 0, VK_WHOLE_SIZE, 0u);
+    });
+  }
+  worklistCapacity_ = std::max<uint32_t>(uint32_t(rootPairs_.size() / 2), 8 * nodeCount_ + 1024);
+  linkCapacity_ = 32 * nodeCount_ + 1024;
+  leafLinkCapacity_ = surfelCount_ * std::min(6 * settings.bins * settings.bins, 128u) + 1024;
+  allocateLinks();
+}
+
+uint32_t IvSolver::pruneGroups() const {
+  uint32_t groups = std::min(std::max(surfelCount_, 1u), kMaxPruneGroups);
+  if (!sharedBins_) {  // every workgroup owns a slot of 6·N² bins in one buffer within the device's range
+    uint64_t slotBytes = uint64_t(6) * settings_.bins * settings_.bins * 8;  // the larger of the two slot arrays
+    groups = std::min<uint32_t>(groups, uint32_t(std::max<uint64_t>(1, std::min<uint64_t>(ctx_.limits().maxStorageBufferRange, 512ull << 20) / slotBytes)));
+  }
+  return groups;
+}
+
+void IvSolver::allocateLinks() {
+  auto check = [&](uint64_t bytes, const char* what) {
+    if (bytes > ctx_.limits().maxStorageBufferRange)
+      throw vk::VulkanError(std::string("the iv solver needs ") + std::to_string(bytes >> 20) + " MiB of " + what +
+                            ", above the device's maxStorageBufferRange of " + std::to_string(ctx_.limits().maxStorageBufferRange >> 20) +
+                            " MiB: raise --eps or lower --bins");
+  };
+  check(uint64_t(worklistCapacity_) * 8, "refinement worklist");
+  check(uint64_t(linkCapacity_) * 8, "links");
+  check(uint64_t(leafLinkCapacity_) * 8, "leaf links");
+  worklistA_ = deviceArray<glm::uvec2>(ctx_, worklistCapacity_);
+  worklistB_ = deviceArray<glm::uvec2>(ctx_, worklistCapacity_);
+  links_ = deviceArray<glm::uvec2>(ctx_, linkCapacity_);
+  senders_ = deviceArray<uint32_t>(ctx_, linkCapacity_);
+  leafLinks_ = deviceArray<glm::uvec2>(ctx_, leafLinkCapacity_);
+  linked_ = false;
+}
+
+void IvSolver::setLights(const std::vector<GpuLight>& lights) {
+  if (lights_.size() < lights.size() * sizeof(GpuLight)) lights_ = vk::Buffer(ctx_, lights.size() * sizeof(GpuLight), vk::Memory::Host);
+  lights_.upload(lights);
+  lightCount_ = uint32_t(lights.size());
+}
+
+void IvSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffer& surfels, bool relink) {
+  const auto& levels = hierarchy_.levelStart;
+  auto eachLevelBottomUp = [&](auto&& body) {
+    for (size_t l = levels.size() - 1; l-- > 0;) {
+      body(LevelPush{levels[l], levels[l + 1] - levels[l]});
+      vk::barrier(cmd);
+    }
+  };
+  if (relink || !linked_) {
+    timedPass(cmd, timer, "refit", [&] {
+      eachLevelBottomUp([&](LevelPush level) { refit_.dispatchItems(cmd, level.count, {&tree_, &surfels, &nodes_}, level); });
+    });
+    timedPass(cmd, timer, "links", [&] {
+      uint32_t start[2] = {uint32_t(rootPairs_.size() / 2), 0};
+      vkCmdFillBuffer(cmd, counters_.handle(), 0, VK_WHOLE_SIZE, 0);
+      vkCmdFillBuffer(cmd, counts_.handle(), 0, VK_WHOLE_SIZE, 0);
+      vk::barrier(cmd);
+      vkCmdUpdateBuffer(cmd, counters_.handle(), 0, sizeof(start), start);
+      VkBufferCopy copy{0, 0, rootPairs_.size() * sizeof(uint32_t)};
+      vkCmdCopyBuffer(cmd, roots_.handle(), worklistA_.handle(), 1, &copy);
+      vk::barrier(cmd);
+      // Each level refines at least one side of every pair: at most the two trees' depths.
+      const uint32_t iterations = 2 * (hierarchy_.maxDepth() + 1) + 1;
+      const float omega = settings_.kappa * 4.0f * kPi / float(6 * settings_.bins * settings_.bins);
+      for (uint32_t it = 0; it < iterations; ++it) {
+        uint32_t in = it % 2, out = 1 - in;
+        linkArgs_.dispatch(cmd, {1, 1, 1}, {&counters_, &args_}, ArgsPush{in, out, 0, 256});
+        vk::barrier(cmd);
+        refine_.dispatchIndirect(cmd, args_, 0, {&tree_, &nodes_, in ? &worklistB_ : &worklistA_, in ? &worklistA_ : &worklistB_, &links_, &counters_},
+                                 RefinePush{in, out, worklistCapacity_, linkCapacity_, settings_.epsilon, omega});
+        vk::barrier(cmd);
+      }
+      // Links sorted by receiver: count, scan, scatter.
+      linkArgs_.dispatch(cmd, {1, 1, 1}, {&counters_, &args_}, ArgsPush{kCounterLinks, kNoCounter, 1, 256});
+      vk::barrier(cmd);
+      countLinks_.dispatchIndirect(cmd, args_, sizeof(glm::uvec4), {&links_, &counts_, &counters_}, linkCapacity_);
+      vk::barrier(cmd);
+      scanCounts_.dispatch(cmd, {1, 1, 1}, {&counts_, &starts_}, nodeCount_);
+      vk::barrier(cmd);
+      scatterLinks_.dispatchIndirect(cmd, args_, sizeof(glm::uvec4), {&links_, &counts_, &senders_, &counters_}, linkCapacity_);
+    });
+    timedPass(cmd, timer, "prune", [&] {
+      prune_.dispatch(cmd, {pruneGroups(), 1, 1},
+                      {&tree_, &nodes_, &starts_, &senders_, &leafOfSurfel_, &binTable_, &globalBins_, &ranges_, &leafLinks_, &counters_,
+                       &external_, &lights_, &environment_, &globalCoverage_},
+                      PrunePush{surfelCount_, leafLinkCapacity_, lightCount_, settings_.environment.empty() ? 0u : 1u});
+    });
+    linked_ = true;
+  }
+  timedPass(cmd, timer, "bounces", [&] {
+    emit_.dispatchItems(cmd, surfelCount_, {&leafOfSurfel_, &emission_, &radiosityA_}, surfelCount_);
+    vk::barrier(cmd);
+    eachLevelBottomUp([&](LevelPush level) { pullUp_.dispatchItems(cmd, level.count, {&tree_, &nodes_, &radiosityA_}, level); });
+    for (uint32_t k = 0; k <= settings_.bounces; ++k) {
+      vk::Buffer& in = k % 2 ? radiosityB_ : radiosityA_;
+      vk::Buffer& out = k % 2 ? radiosityA_ : radiosityB_;
+      gather_.dispatchItems(cmd, surfelCount_, {&leafOfSurfel_, &ranges_, &leafLinks_, &external_, &albedo_, &emission_, &in, &out, &irradiance_},
+                            surfelCount_);
+      vk::barrier(cmd);
+      eachLevelBottomUp([&](LevelPush level) { pullUp_.dispatchItems(cmd, level.count, {&tree_, &nodes_, &out}, level); });
+    }
+    finalRadiosity_ = settings_.bounces % 2 ? 0 : 1;
+  });
+}
+
+bool IvSolver::growIfOverflowed() {
+  auto c = counters_.read<uint32_t>(8);
+  if (c[kCounterOverflow] == 0) return false;
+  auto grown = [](uint32_t needed) { return uint32_t(std::min<uint64_t>(uint64_t(needed) * 5 / 4 + 1024, 0xFFFFFFF0u)); };
+  if (c[kCounterOverflow] & 1) worklistCapacity_ = std::max(worklistCapacity_, grown(c[kCounterWorklistPeak]));
+  if (c[kCounterOverflow] & 2) linkCapacity_ = std::max(linkCapacity_, grown(c[kCounterLinks]));
+  if (c[kCounterOverflow] & 4) leafLinkCapacity_ = std::max(leafLinkCapacity_, grown(c[kCounterLeafLinks]));
+  allocateLinks();
+  return true;
+}
+
+IvStats IvSolver::stats() const {
+  auto c = counters_.read<uint32_t>(8);
+  IvStats s;
+  s.nodes = nodeCount_;
+  s.levels = hierarchy_.levels();
+  s.links = c[kCounterLinks];
+  s.leafLinks = c[kCounterLeafLinks];
+  s.sharedBins = sharedBins_;
+  for (const vk::Buffer* b : {&tree_, &leafOfSurfel_, &albedo_, &emission_, &binTable_, &environment_, &lights_, &nodes_, &counters_, &args_,
+                              &roots_, &worklistA_, &worklistB_, &links_, &counts_, &starts_, &senders_, &globalBins_, &globalCoverage_, &ranges_, &leafLinks_,
+                              &external_, &radiosityA_, &radiosityB_, &irradiance_})
+    s.bytes += b->size();
+  return s;
+}
+
+std::vector<glm::vec4> IvSolver::leafRadiosity() const {
+  auto nodes = (finalRadiosity_ ? radiosityB_ : radiosityA_).read<glm::vec4>(nodeCount_);
+  std::vector<glm::vec4> out(surfelCount_);
+  for (uint32_t s = 0; s < surfelCount_; ++s) out[s] = nodes[hierarchy_.leafOfSurfel[s]];
+  return out;
+}
+
+}  // namespace ivgi::gi

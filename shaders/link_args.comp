@@ -1,0 +1,16 @@
+#version 460
+// Worklist bookkeeping between two refinement levels: the indirect dispatch size for the list just
+// written, and a zeroed counter for the next one.
+#extension GL_GOOGLE_include_directive : require
+#include "common.glsl"
+layout(local_size_x = 1) in;
+
+layout(std430, binding = 0) buffer Counters { uint counters[]; };
+layout(std430, binding = 1) writeonly buffer Args { uvec4 args[]; };
+layout(push_constant) uniform Push { uint source; uint clear; uint slot; uint groupSize; };
+
+void main() {
+  uint items = counters[source];
+  args[slot] = uvec4(min((items + groupSize - 1u) / groupSize, 65535u), 1u, 1u, 0u);
+  if (clear != 0xFFFFFFFFu) counters[clear] = 0u;
+}

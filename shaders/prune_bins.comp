@@ -1,0 +1,210 @@
+#version 460
+// Pass 5, bin pruning and push-down: each leaf takes the links of itself and of all its ancestors,
+// re-bins them from its own position into 6×N×N direction bins and keeps the nearest sender per bin
+// (64-bit atomicMin on distance², sender); everything farther in a bin is occluded. The links along
+// a leaf's root path partition every other surface once, so the solid angles they subtend also say
+// how much of each bin is covered; the survivor stands for that covered part:
+// F = cos θr · min(Ω_bin, Ω_covered) / π (a hemisphere never sums above 1). Survivors are written
+// in bin order. Punctual lights and the environment are tested against the same bins. Bins live in
+// shared memory where they fit, else in a global slot per workgroup; each workgroup walks many
+// leaves and resets only the bins it touched.
+#extension GL_GOOGLE_include_directive : require
+#include "common.glsl"
+layout(local_size_x = 64) in;
+
+layout(constant_id = 0) const uint kN = 16;              // bins per face side
+layout(constant_id = 1) const bool kSharedBins = true;
+layout(constant_id = 2) const uint kSharedSlots = 1536;  // 6·N² on the shared path, else 1
+layout(constant_id = 3) const uint kMaskWords = 48;      // ⌈6·N² / 32⌉
+
+layout(std430, binding = 0) readonly buffer Tree { TreeNode tree[]; };
+layout(std430, binding = 1) readonly buffer Nodes { NodeState nodes[]; };
+layout(std430, binding = 2) readonly buffer Starts { uint starts[]; };
+layout(std430, binding = 3) readonly buffer Senders { uint senders[]; };
+layout(std430, binding = 4) readonly buffer LeafOfSurfel { uint leafOfSurfel[]; };
+layout(std430, binding = 5) readonly buffer BinTable { vec4 binTable[]; };  // centre direction (unit), solid angle
+layout(std430, binding = 6) buffer GlobalBins { uint64_t globalBins[]; };
+layout(std430, binding = 7) writeonly buffer Ranges { LeafRange ranges[]; };
+layout(std430, binding = 8) writeonly buffer Links { LeafLink leafLinks[]; };
+layout(std430, binding = 9) buffer Counters { uint counters[]; };
+layout(std430, binding = 10) writeonly buffer External { vec4 externalLight[]; };  // irradiance from lights and environment
+layout(std430, binding = 11) readonly buffer Lights { PunctualLight lights[]; };
+layout(std430, binding = 12) readonly buffer Environment { vec4 environment[]; };  // radiance per bin
+layout(std430, binding = 13) buffer GlobalCoverage { uint globalCoverage[]; };
+layout(push_constant) uniform Push { uint surfelCount; uint linkCapacity; uint lightCount; uint environmentOn; };
+
+shared uint64_t sharedBins[kSharedSlots];
+shared uint sharedCoverage[kSharedSlots];  // covered solid angle in 1/kCoverageUnit of the bin's
+shared uint mask[kMaskWords];
+shared uint wordStart[kMaskWords];
+shared vec3 partial[64];
+shared uint leafBase;
+
+const uint kBinCount = 6u * kN * kN;
+// Coverage is summed as integers so that the sum does not depend on the order of the atomics.
+const float kCoverageUnit = 65536.0;
+
+uint64_t loadBin(uint slot, uint b) { return kSharedBins ? sharedBins[b] : globalBins[slot + b]; }
+uint64_t minBin(uint slot, uint b, uint64_t key) { return kSharedBins ? atomicMin(sharedBins[b], key) : atomicMin(globalBins[slot + b], key); }
+void addCoverage(uint slot, uint b, uint amount) {
+  if (kSharedBins) atomicAdd(sharedCoverage[b], amount);
+  else atomicAdd(globalCoverage[slot + b], amount);
+}
+float coverage(uint slot, uint b) { return float(kSharedBins ? sharedCoverage[b] : globalCoverage[slot + b]) / kCoverageUnit; }
+void resetBin(uint slot, uint b) {
+  if (kSharedBins) sharedBins[b] = kEmptyVisibility, sharedCoverage[b] = 0u;
+  else globalBins[slot + b] = kEmptyVisibility, globalCoverage[slot + b] = 0u;
+}
+
+void insert(uint slot, uint b, uint64_t key, float omega) {
+  if (minBin(slot, b, key) == kEmptyVisibility) atomicOr(mask[b >> 5], 1u << (b & 31u));
+  addCoverage(slot, b, uint(min(omega / binTable[b].w, 1.0) * kCoverageUnit + 0.5));
+}
+
+// Files sender s (at offset d from the receiver) in every bin its disk covers: one bin when it is
+// smaller than a bin, else k×k stratified points on the disk, each with the solid angle of its
+// share of the area. A surfel larger than the bins would otherwise fill one bin and leave its
+// neighbours empty; a coincident one (hard edges) is seen only through its off-centre points.
+void splat(uint slot, vec3 p, vec3 n, uint s, NodeState sender, vec3 d, float dist2) {
+  float area = sender.positionArea.w;
+  float radius = sqrt(area / kPi);
+  // A curved node is seen at least as much as along the edge of its cone.
+  float minCos = sin(min(sender.normalCone.w, 0.5 * kPi));
+  uint64_t key = packLinkKey(dist2, s);
+  float binAngle = 0.5 * kPi / float(kN);
+  bool coincident = dist2 <= 1e-6 * area;
+  uint k = coincident ? 8u : uint(clamp(ceil(4.0 * atan(radius * inversesqrt(dist2)) / binAngle), 1.0, 8.0));
+  if (k == 1u) {
+    float cosS = abs(dot(sender.normalCone.xyz, d)) * inversesqrt(dist2);
+    insert(slot, binOf(d, kN), key, area * max(cosS, minCos) / (dist2 + area / kPi));
+    return;
+  }
+  vec3 axis = length(sender.normalCone.xyz) > 0.0 && sender.normalCone.w < 0.5 * kPi ? sender.normalCone.xyz
+              : (coincident ? n : -normalize(d));
+  vec3 t1 = normalize(abs(axis.x) < 0.9 ? cross(axis, vec3(1, 0, 0)) : cross(axis, vec3(0, 1, 0))), t2 = cross(axis, t1);
+  float piece = area / float(k * k);
+  for (uint j = 0u; j < k; ++j)
+    for (uint i = 0u; i < k; ++i) {
+      // Equal-area rings and sectors of the disk.
+      float r = radius * sqrt((float(j) + 0.5) / float(k)), phi = 2.0 * kPi * (float(i) + 0.5 * float(j & 1u)) / float(k);
+      vec3 q = d + r * (cos(phi) * t1 + sin(phi) * t2);
+      float q2 = dot(q, q);
+      if (dot(q, n) <= 0.0 || q2 <= 0.0) continue;
+      float cosQ = abs(dot(sender.normalCone.xyz, q)) * inversesqrt(q2);
+      insert(slot, binOf(q, kN), key, piece * max(cosQ, minCos) / (q2 + piece / kPi));
+    }
+}
+
+// Irradiance at the receiver from punctual lights that are nearer than the nearest element in their bin.
+vec3 punctualLight(uint slot, vec3 p, vec3 n) {
+  vec3 sum = vec3(0.0);
+  for (uint l = 0u; l < lightCount; ++l) {
+    PunctualLight light = lights[l];
+    vec3 toLight;
+    float dist2 = 3.4e38, falloff = 1.0;
+    if (light.position.w == 0.0) {
+      toLight = -light.direction.xyz;
+    } else {
+      toLight = light.position.xyz - p;
+      dist2 = dot(toLight, toLight);
+      if (dist2 <= 0.0) continue;
+      falloff = 1.0 / dist2;
+      if (light.direction.w > 0.0) falloff *= pow(clamp(1.0 - pow(sqrt(dist2) / light.direction.w, 4.0), 0.0, 1.0), 2.0);
+      if (light.position.w == 2.0)
+        falloff *= smoothstep(light.cone.x, light.cone.y, dot(normalize(-toLight), light.direction.xyz));
+    }
+    float cosR = dot(n, normalize(toLight));
+    if (cosR <= 0.0 || falloff <= 0.0) continue;
+    uint64_t nearest = loadBin(slot, binOf(toLight, kN));
+    if (nearest != kEmptyVisibility && keyDepth(nearest) <= dist2) continue;  // occluded
+    sum += light.intensity.rgb * cosR * falloff;
+  }
+  return sum;
+}
+
+void main() {
+  uint lid = gl_LocalInvocationID.x;
+  uint slot = kSharedBins ? 0u : groupIndex() * kBinCount;
+  if (kSharedBins)
+    for (uint b = lid; b < kBinCount; b += 64u) sharedBins[b] = kEmptyVisibility, sharedCoverage[b] = 0u;
+  for (uint w = lid; w < kMaskWords; w += 64u) mask[w] = 0u;
+  barrier();
+
+  uint groups = gl_NumWorkGroups.x * gl_NumWorkGroups.y;
+  for (uint surfel = groupIndex(); surfel < surfelCount; surfel += groups) {
+    uint leaf = leafOfSurfel[surfel];
+    NodeState receiver = nodes[leaf];
+    vec3 p = receiver.positionArea.xyz, n = receiver.normalCone.xyz;
+    float area = receiver.positionArea.w;
+    if (area > 0.0) {
+      for (int a = int(leaf); a >= 0; a = tree[a].parent)
+        for (uint k = starts[a] + lid; k < starts[a + 1]; k += 64u) {
+          uint s = senders[k];
+          NodeState sender = nodes[s];
+          vec3 d = sender.positionArea.xyz - p;
+          float dist2 = dot(d, d);
+          // Below the horizon only if the whole disk is: its radius may reach over it.
+          if (s == leaf || dot(d, n) < -sqrt(sender.positionArea.w / kPi)) continue;
+          splat(slot, p, n, s, sender, d, dist2);
+        }
+    }
+    barrier();
+    // Survivors in bin order (deterministic): count per mask word, scan, write.
+    for (uint w = lid; w < kMaskWords; w += 64u) wordStart[w] = bitCount(mask[w]);
+    barrier();
+    if (lid == 0u) {
+      uint total = 0u;
+      for (uint w = 0u; w < kMaskWords; ++w) {
+        uint c = wordStart[w];
+        wordStart[w] = total;
+        total += c;
+      }
+      leafBase = atomicAdd(counters[kCounterLeafLinks], total);
+      ranges[surfel] = LeafRange(leafBase, total);
+      if (leafBase + total > linkCapacity) atomicOr(counters[kCounterOverflow], 4u);
+    }
+    barrier();
+    for (uint w = lid; w < kMaskWords; w += 64u) {
+      uint bits = mask[w], outIndex = leafBase + wordStart[w];
+      while (bits != 0u) {
+        uint b = w * 32u + uint(findLSB(bits));
+        bits &= bits - 1u;
+        uint64_t key = loadBin(slot, b);
+        uint s = keyId(key);
+        NodeState sender = nodes[s];
+        vec4 bin = binTable[b];
+        // Front or back is judged along the bin: the sender may sit at the receiver (hard edges).
+        bool facing = dot(sender.normalCone.xyz, -bin.xyz) > 0.0 || sender.normalCone.w >= 0.5 * kPi;
+        float f = facing ? max(dot(n, bin.xyz), 0.0) * min(coverage(slot, b), 1.0) * bin.w / kPi : 0.0;
+        if (outIndex < linkCapacity) leafLinks[outIndex] = LeafLink(s, f);
+        ++outIndex;
+      }
+    }
+    // Environment through the empty bins above the horizon, summed in a fixed order.
+    vec3 env = vec3(0.0);
+    if (environmentOn != 0u && area > 0.0)
+      for (uint b = lid; b < kBinCount; b += 64u) {
+        vec4 bin = binTable[b];
+        float c = dot(n, bin.xyz);
+        if (c > 0.0) env += environment[b].rgb * c * bin.w * (1.0 - min(coverage(slot, b), 1.0));
+      }
+    partial[lid] = env;
+    barrier();
+    if (lid == 0u) {
+      vec3 sum = vec3(0.0);
+      for (uint t = 0u; t < 64u; ++t) sum += partial[t];
+      if (area > 0.0) sum += punctualLight(slot, p, n);
+      externalLight[surfel] = vec4(sum, 0.0);
+    }
+    barrier();
+    for (uint w = lid; w < kMaskWords; w += 64u) {
+      uint bits = mask[w];
+      while (bits != 0u) {
+        resetBin(slot, w * 32u + uint(findLSB(bits)));
+        bits &= bits - 1u;
+      }
+      mask[w] = 0u;
+    }
+    barrier();
+  }
+}

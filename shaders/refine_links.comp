@@ -1,0 +1,85 @@
+#version 460
+// Pass 4, link creation, one refinement level: each candidate pair (receiver, sender) is stored as
+// a link or split into the pairs of the larger node's children (design.md §1.2).
+#extension GL_GOOGLE_include_directive : require
+#include "common.glsl"
+layout(local_size_x = 256) in;
+
+layout(std430, binding = 0) readonly buffer Tree { TreeNode tree[]; };
+layout(std430, binding = 1) readonly buffer Nodes { NodeState nodes[]; };
+layout(std430, binding = 2) readonly buffer Worklist { uvec2 pairs[]; };
+layout(std430, binding = 3) writeonly buffer NextWorklist { uvec2 nextPairs[]; };
+layout(std430, binding = 4) writeonly buffer Links { uvec2 links[]; };
+layout(std430, binding = 5) buffer Counters { uint counters[]; };
+layout(push_constant) uniform Push {
+  uint source, target;      // counter slots of this level's list and of the next
+  uint capacity;            // of each worklist
+  uint linkCapacity;
+  float epsilon;            // form-factor threshold
+  float binSolidAngle;      // κ·Ω of an average bin
+};
+
+void emitPair(uint r, uint s) {
+  uint slot = atomicAdd(counters[target], 1u);
+  if (slot < capacity) nextPairs[slot] = uvec2(r, s);
+  else atomicOr(counters[kCounterOverflow], 1u);
+  atomicMax(counters[kCounterWorklistPeak], slot + 1u);
+}
+
+// Cosine of the smallest angle between a cone of normals (axis n, half-angle cone) and directions
+// toward a sphere seen at angular radius `spread` along dir.
+float cosUpper(vec3 n, float cone, vec3 dir, float spread) {
+  if (cone >= kPi) return 1.0;
+  float angle = acos(clamp(dot(n, dir), -1.0, 1.0)) - cone - spread;
+  return angle <= 0.0 ? 1.0 : (angle >= 0.5 * kPi ? 0.0 : cos(angle));
+}
+
+void main() {
+  uint total = counters[source];
+  uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+  for (uint k = gl_GlobalInvocationID.x; k < total && k < capacity; k += stride) {
+    uint r = pairs[k].x, s = pairs[k].y;
+    TreeNode tr = tree[r], ts = tree[s];
+    if (r == s) {  // a node with itself (concave objects): all ordered pairs of its children
+      for (uint a = 0; a < tr.childCount; ++a)
+        for (uint b = 0; b < tr.childCount; ++b) emitPair(tr.firstChild + a, tr.firstChild + b);
+      continue;
+    }
+    NodeState nr = nodes[r], ns = nodes[s];
+    vec3 d = ns.positionArea.xyz - nr.positionArea.xyz;
+    float dist2 = dot(d, d), dist = sqrt(dist2);
+    bool leafR = tr.childCount == 0u, leafS = ts.childCount == 0u;
+    float scale = max(nr.positionArea.w, ns.positionArea.w);
+    if (dist2 <= 1e-6 * scale) {  // coincident (hard edges): the pruning bins it by points on its disk
+      if (leafR && leafS) {
+        uint slot = atomicAdd(counters[kCounterLinks], 1u);
+        if (slot < linkCapacity) links[slot] = uvec2(r, s);
+        else atomicOr(counters[kCounterOverflow], 2u);
+        continue;
+      }
+    } else {
+      vec3 dir = d / dist;
+      float spreadS = asin(min(ns.radius.x / dist, 1.0)), spreadR = asin(min(nr.radius.x / dist, 1.0));
+      // Senders wholly below the receiver's horizon matter neither for light nor for visibility.
+      if (nr.positionArea.w > 0.0 && cosUpper(nr.normalCone.xyz, nr.normalCone.w, dir, spreadS) <= 0.0) continue;
+      bool overlapping = dist <= nr.radius.x + ns.radius.x;
+      bool large = ns.positionArea.w > binSolidAngle * dist2;
+      float estimate = formFactor(ns.positionArea.w, cosUpper(ns.normalCone.xyz, ns.normalCone.w, -dir, spreadR),
+                                  cosUpper(nr.normalCone.xyz, nr.normalCone.w, dir, spreadS), dist2);
+      bool refine = !(leafR && leafS) && (overlapping || large || estimate > epsilon);
+      if (!refine) {
+        uint slot = atomicAdd(counters[kCounterLinks], 1u);
+        if (slot < linkCapacity) links[slot] = uvec2(r, s);
+        else atomicOr(counters[kCounterOverflow], 2u);
+        continue;
+      }
+    }
+    if (leafR && leafS) continue;
+    // Split the larger node (by area), or the one that is not a leaf.
+    bool splitReceiver = leafS || (!leafR && nr.positionArea.w >= ns.positionArea.w);
+    if (splitReceiver)
+      for (uint c = 0; c < tr.childCount; ++c) emitPair(tr.firstChild + c, s);
+    else
+      for (uint c = 0; c < ts.childCount; ++c) emitPair(r, ts.firstChild + c);
+  }
+}
