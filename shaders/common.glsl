@@ -92,6 +92,16 @@ uint binOf(vec3 d, uint n) {
   return face * n * n + ij.y * n + ij.x;
 }
 
+// Face of a direction and its position on the face in bin units, (0,0) to (N,N).
+uint binFace(vec3 d, uint n, out vec2 position) {
+  vec3 a = abs(d);
+  uint axis = (a.x >= a.y && a.x >= a.z) ? 0u : (a.y >= a.z ? 1u : 2u);
+  float major = axis == 0u ? d.x : (axis == 1u ? d.y : d.z);
+  vec2 uv = axis == 0u ? d.yz : (axis == 1u ? d.zx : d.xy);
+  position = (uv / abs(major) + 1.0) * 0.5 * float(n);
+  return 2u * axis + (major < 0.0 ? 1u : 0u);
+}
+
 // Centre direction (unnormalised, on the unit cube) of bin b.
 vec3 binDirection(uint b, uint n) {
   uint face = b / (n * n), r = b % (n * n);

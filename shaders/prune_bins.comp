@@ -61,6 +61,20 @@ void insert(uint slot, uint b, uint64_t key, float omega) {
   addCoverage(slot, b, uint(min(omega / binTable[b].w, 1.0) * kCoverageUnit + 0.5));
 }
 
+// Spreads a solid angle seen along d over the 2×2 bins nearest to it (bilinear weights on the
+// face), so that bin-sized pieces cover the bins evenly instead of piling two into one bin and none
+// into the next (the clamp at a full bin would then lose the excess).
+void insertSpread(uint slot, vec3 d, uint64_t key, float omega) {
+  vec2 at;
+  uint face = binFace(d, kN, at);
+  vec2 lo = floor(at - 0.5), w = at - 0.5 - lo;
+  for (uint c = 0u; c < 4u; ++c) {
+    vec2 cell = clamp(lo + vec2(c & 1u, c >> 1u), vec2(0.0), vec2(float(kN - 1u)));
+    float weight = ((c & 1u) != 0u ? w.x : 1.0 - w.x) * ((c >> 1u) != 0u ? w.y : 1.0 - w.y);
+    if (weight > 0.0) insert(slot, face * kN * kN + uint(cell.y) * kN + uint(cell.x), key, omega * weight);
+  }
+}
+
 // Files sender s (at offset d from the receiver) in every bin its disk covers: one bin when it is
 // smaller than a bin, else k×k stratified points on the disk, each with the solid angle of its
 // share of the area. A surfel larger than the bins would otherwise fill one bin and leave its
@@ -73,10 +87,10 @@ void splat(uint slot, vec3 p, vec3 n, uint s, NodeState sender, vec3 d, float di
   uint64_t key = packLinkKey(dist2, s);
   float binAngle = 0.5 * kPi / float(kN);
   bool coincident = dist2 <= 1e-6 * area;
-  uint k = coincident ? 8u : uint(clamp(ceil(4.0 * atan(radius * inversesqrt(dist2)) / binAngle), 1.0, 8.0));
+  uint k = coincident ? 8u : uint(clamp(ceil(2.0 * atan(radius * inversesqrt(dist2)) / binAngle), 1.0, 8.0));
   if (k == 1u) {
     float cosS = abs(dot(sender.normalCone.xyz, d)) * inversesqrt(dist2);
-    insert(slot, binOf(d, kN), key, area * max(cosS, minCos) / (dist2 + area / kPi));
+    insertSpread(slot, d, key, area * max(cosS, minCos) / (dist2 + area / kPi));
     return;
   }
   vec3 axis = length(sender.normalCone.xyz) > 0.0 && sender.normalCone.w < 0.5 * kPi ? sender.normalCone.xyz
@@ -91,7 +105,7 @@ void splat(uint slot, vec3 p, vec3 n, uint s, NodeState sender, vec3 d, float di
       float q2 = dot(q, q);
       if (dot(q, n) <= 0.0 || q2 <= 0.0) continue;
       float cosQ = abs(dot(sender.normalCone.xyz, q)) * inversesqrt(q2);
-      insert(slot, binOf(q, kN), key, piece * max(cosQ, minCos) / (q2 + piece / kPi));
+      insertSpread(slot, q, key, piece * max(cosQ, minCos) / (q2 + piece / kPi));
     }
 }
 

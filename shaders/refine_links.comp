@@ -66,11 +66,18 @@ void main() {
       bool large = ns.positionArea.w > binSolidAngle * dist2;
       float estimate = formFactor(ns.positionArea.w, cosUpper(ns.normalCone.xyz, ns.normalCone.w, -dir, spreadR),
                                   cosUpper(nr.normalCone.xyz, nr.normalCone.w, dir, spreadS), dist2);
-      bool refine = !(leafR && leafS) && (overlapping || large || estimate > epsilon);
+      // A sender wider than a bin must be split itself (leaves re-bin from their own position, so a
+      // coarse receiver is fine); overlap or a large form factor splits the larger node.
+      bool refineSender = large && !leafS;
+      bool refine = refineSender || (!(leafR && leafS) && (overlapping || estimate > epsilon));
       if (!refine) {
         uint slot = atomicAdd(counters[kCounterLinks], 1u);
         if (slot < linkCapacity) links[slot] = uvec2(r, s);
         else atomicOr(counters[kCounterOverflow], 2u);
+        continue;
+      }
+      if (refineSender) {
+        for (uint c = 0; c < ts.childCount; ++c) emitPair(r, ts.firstChild + c);
         continue;
       }
     }

@@ -21,7 +21,7 @@ scene::Scene loadScene(const SceneChoice& choice);
 struct SolverOptions {
   std::string method = "iv";  // iv or none (emission only)
   uint32_t bins = 16;
-  float epsilon = 1e-3f;
+  float epsilon = 0.02f;
   int bounces = 2;
   std::string environment;  // "R,G,B" or an .exr; empty: none
 };

@@ -251,6 +251,15 @@ IvStats IvSolver::stats() const {
   return s;
 }
 
+std::vector<std::vector<IvSolver::LeafLink>> IvSolver::leafLinks() const {
+  auto ranges = ranges_.read<glm::uvec2>(surfelCount_);
+  auto all = leafLinks_.read<LeafLink>(std::min(leafLinkCapacity_, counters_.read<uint32_t>(8)[kCounterLeafLinks]));
+  std::vector<std::vector<LeafLink>> out(surfelCount_);
+  for (uint32_t s = 0; s < surfelCount_; ++s)
+    for (uint32_t k = ranges[s].x; k < ranges[s].x + ranges[s].y && k < all.size(); ++k) out[s].push_back(all[k]);
+  return out;
+}
+
 std::vector<glm::vec4> IvSolver::leafRadiosity() const {
   auto nodes = (finalRadiosity_ ? radiosityB_ : radiosityA_).read<glm::vec4>(nodeCount_);
   std::vector<glm::vec4> out(surfelCount_);

@@ -18,7 +18,7 @@ namespace ivgi::gi {
 
 struct IvSettings {
   uint32_t bins = 16;        // N: 6×N×N direction bins
-  float epsilon = 1e-3f;     // refine while the form-factor estimate is above it
+  float epsilon = 0.02f;     // refine while the form-factor estimate is above it
   uint32_t bounces = 2;      // indirect bounces; 0 = direct light only
   float kappa = 1.0f;        // refine while a sender covers more than κ average bins
   std::vector<glm::vec4> environment;  // radiance per bin (6·N² entries); empty: no environment
@@ -59,6 +59,11 @@ class IvSolver {
   IvStats stats() const;
   const Hierarchy& hierarchy() const { return hierarchy_; }
   std::vector<glm::vec4> leafRadiosity() const;  // per surfel, after the last bounce
+  struct LeafLink {
+    uint32_t sender;
+    float formFactor;
+  };
+  std::vector<std::vector<LeafLink>> leafLinks() const;  // per surfel: its surviving links, in bin order
 
   // Bins and form factors of the solver's bin table (unit centre direction, solid angle).
   static std::vector<glm::vec4> binTable(uint32_t n);
