@@ -1,0 +1,152 @@
+// The iv method through the ivgi command: scale invariance, determinism, and every setting at its
+// extremes finishing with finite, sensible images.
+#include <gtest/gtest.h>
+
+#include <OpenImageIO/imagebuf.h>
+
+#include <cmath>
+#include <fstream>
+#include <iterator>
+
+#include "engine/image/compare.h"
+#include "scenes/builtin.h"
+#include "scenes/gltf_builder.h"
+#include "tests/test_support.h"
+
+using namespace ivgi;
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path renderExr(const std::string& name, const std::vector<std::string>& extra) {
+  auto dir = test::scratchDir(name);
+  std::vector<std::string> args = {"render", "--format", "exr", "--out", (dir / "f").string()};
+  if (std::find(extra.begin(), extra.end(), "--frames") == extra.end()) args.insert(args.end(), {"--frames", "0"});
+  args.insert(args.end(), extra.begin(), extra.end());
+  auto r = test::runIvgi(args);
+  EXPECT_EQ(r.status, 0) << r.err;
+  return dir / "f_0000.exr";
+}
+
+struct Stats {
+  double mean = 0, max = 0;
+  size_t nonFinite = 0;
+};
+
+Stats radianceStats(const fs::path& exr) {
+  OIIO_NAMESPACE::ImageBuf buf(exr.string());
+  Stats st;
+  if (!buf.read(0, 0, true, OIIO_NAMESPACE::TypeDesc::FLOAT)) {
+    ADD_FAILURE() << exr << " unreadable";
+    return st;
+  }
+  const float* p = static_cast<const float*>(buf.localpixels());
+  size_t values = size_t(buf.spec().image_pixels()) * buf.spec().nchannels;
+  for (size_t i = 0; i < values; ++i)
+    if (!std::isfinite(p[i])) ++st.nonFinite;
+  int r = buf.spec().channelindex("R");
+  size_t pixels = size_t(buf.spec().image_pixels());
+  for (size_t i = 0; i < pixels; ++i) {
+    float v = p[i * buf.spec().nchannels + r];
+    if (std::isfinite(v)) st.mean += v / double(pixels), st.max = std::max(st.max, double(v));
+  }
+  return st;
+}
+
+// The Cornell box with everything (camera and its near plane too) scaled by `s`.
+std::string scaledCornell(float s) {
+  tinygltf::Model m = scenes::cornellBox({.cells = 6, .animated = false});
+  tinygltf::Node root;
+  root.name = "scale";
+  root.scale = {s, s, s};
+  root.children = m.scenes[0].nodes;
+  m.nodes.push_back(root);
+  m.scenes[0].nodes = {int(m.nodes.size() - 1)};
+  for (auto& c : m.cameras) c.perspective.znear *= s;
+  auto path = test::scratchDir("model-" + std::to_string(s)) / "cornell.gltf";
+  scenes::writeModel(m, path.string());
+  return path.string();
+}
+
+}  // namespace
+
+TEST(IvScale, ImageIsTheSameFromMillimetresToKilometres) {
+  fs::path unit = renderExr("unit", {scaledCornell(1.0f), "--size", "96x72"});
+  for (float s : {1e-3f, 1e3f}) {
+    fs::path scaled = renderExr("render-" + std::to_string(s), {scaledCornell(s), "--size", "96x72"});
+    // Per pixel within 0.5 % of the image's range, on all but 0.1 % of the pixels.
+    for (const auto& d : image::compareLayers(scaled.string(), unit.string(), {{"", 0.005f, 0.001f}, {"N", 0.005f, 0.001f}}))
+      EXPECT_TRUE(d.passed) << "scale " << s << " layer " << d.layer << ": " << 100 * d.failingFraction << " % of pixels beyond "
+                            << d.threshold << ", max error " << d.maxError;
+  }
+}
+
+TEST(IvDeterminism, TwoRunsGiveIdenticalFiles) {
+  fs::path a = renderExr("a", {"cornell", "--cells", "6", "--size", "96x72", "--frames", "12"});
+  fs::path b = renderExr("b", {"cornell", "--cells", "6", "--size", "96x72", "--frames", "12"});
+  a.replace_filename("f_0012.exr"), b.replace_filename("f_0012.exr");
+  std::ifstream fa(a, std::ios::binary), fb(b, std::ios::binary);
+  std::string da((std::istreambuf_iterator<char>(fa)), {}), db((std::istreambuf_iterator<char>(fb)), {});
+  ASSERT_FALSE(da.empty());
+  EXPECT_TRUE(da == db) << "the two EXRs differ";
+}
+
+TEST(IvExtremes, BinsFromOneToSixtyFour) {
+  for (const char* bins : {"1", "64"}) {
+    Stats st = radianceStats(renderExr(std::string("bins") + bins, {"cornell", "--cells", "3", "--size", "48x36", "--bins", bins}));
+    EXPECT_EQ(st.nonFinite, 0u) << bins;
+    EXPECT_GT(st.mean, 0.01) << "the box is lit, bins " << bins;
+  }
+}
+
+TEST(IvExtremes, EpsilonFromOneToOneMillionth) {
+  for (const char* eps : {"1", "1e-6"}) {
+    Stats st = radianceStats(renderExr(std::string("eps"), {"cornell", "--cells", "2", "--size", "48x36", "--bins", "8", "--eps", eps}));
+    EXPECT_EQ(st.nonFinite, 0u) << eps;
+    EXPECT_GT(st.mean, 0.01) << "eps " << eps;
+  }
+}
+
+TEST(IvExtremes, AlbedoZeroAndNearlyOne) {
+  // Furnace, Le = 1: with ρ = 0 the image is exactly the emission; with ρ = 0.99 it is brighter,
+  // finite, and below the exact 1/(1−ρ) = 100.
+  auto dir = test::scratchDir("furnaces");
+  for (float rho : {0.0f, 0.99f}) {
+    std::string file = (dir / ("furnace_" + std::to_string(rho) + ".gltf")).string();
+    scenes::writeModel(scenes::furnace({.cells = 4, .albedo = rho, .emission = 1.0f}), file);
+    Stats st = radianceStats(renderExr("furnace-" + std::to_string(rho), {file, "--size", "32x32", "--bounces", "40"}));
+    EXPECT_EQ(st.nonFinite, 0u);
+    if (rho == 0.0f) {
+      EXPECT_NEAR(st.mean, 1.0, 1e-5);
+      EXPECT_NEAR(st.max, 1.0, 1e-5);
+    } else {
+      EXPECT_GT(st.mean, 5.0);
+      EXPECT_LT(st.max, 100.0);
+    }
+  }
+}
+
+TEST(IvExtremes, SingleTriangleAndNoEmitter) {
+  scenes::MeshData m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  m.indices = {0, 1, 2};
+  auto dir = test::scratchDir("tiny");
+  {
+    scenes::GltfBuilder b;
+    b.node("one", b.mesh("one", {{m, b.material("lamp", glm::vec3(0.5f), glm::vec3(2.0f))}}));
+    std::string file = (dir / "one.gltf").string();
+    scenes::writeModel(b.finish(), file);
+    Stats st = radianceStats(renderExr("one", {file, "--size", "32x32"}));
+    EXPECT_EQ(st.nonFinite, 0u);
+    EXPECT_NEAR(st.max, 2.0, 1e-5) << "a lone emitter shows its emission and nothing else";
+  }
+  {
+    scenes::GltfBuilder b;
+    b.node("dark", b.mesh("dark", {{m, b.material("grey", glm::vec3(0.5f))}}));
+    std::string file = (dir / "dark.gltf").string();
+    scenes::writeModel(b.finish(), file);
+    Stats st = radianceStats(renderExr("dark", {file, "--size", "32x32"}));
+    EXPECT_EQ(st.nonFinite, 0u);
+    EXPECT_EQ(st.max, 0.0) << "no emitter, no light";
+  }
+}
