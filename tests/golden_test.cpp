@@ -71,6 +71,17 @@ TEST(Golden, TexturedSkinnedFox) {
   expectMatchesGolden("fox_run_f0010", {(*dir / "Fox.gltf").string(), "--animation", "Run", "--frames", "10", "--size", "160x120", "--method", "none"});
 }
 
+// The iv solver's images: the Cornell box (area light, interreflection), and the morph cube lit by
+// a constant environment.
+TEST(Golden, IvCornellBox) {
+  expectMatchesGolden("iv_cornell_f0012", {"cornell", "--cells", "6", "--bins", "8", "--size", "128x96", "--frames", "12"});
+}
+
+TEST(Golden, IvMorphCubeUnderEnvironment) {
+  auto path = test::assimpGltfDir() / "glTF-Sample-Models/AnimatedMorphCube-glTF/AnimatedMorphCube.gltf";
+  expectMatchesGolden("iv_morphcube_env_f0030", {path.string(), "--frames", "30", "--size", "96x72", "--bins", "8", "--env", "0.8,0.9,1.0"});
+}
+
 // The comparison itself must reject a visibly different image: the moving block at another frame,
 // and a 5 % change of one layer.
 TEST(Golden, VisiblyDifferentImagesFail) {

@@ -61,6 +61,17 @@ struct SceneOptions {
 };
 int runScene(const SceneOptions& options);
 
+struct BenchOptions {
+  SceneChoice source;
+  SolverOptions solver;
+  int frames = 20, warmup = 3;
+  double fps = 24.0;
+  std::string size = "320x240";
+  std::string device, json;
+};
+// Renders warm-up + measured frames in memory and prints per-pass GPU times and the counts.
+int runBench(const BenchOptions& options);
+
 int runDevices();
 
 }  // namespace ivgi::cli

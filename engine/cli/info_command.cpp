@@ -3,6 +3,8 @@
 #include "engine/cli/commands.h"
 #include "engine/scene/animation.h"
 #include "engine/scene/geometry.h"
+#include "engine/gi/frame_renderer.h"
+#include "engine/scene/camera.h"
 #include "engine/vk/context.h"
 
 namespace ivgi::cli {
@@ -46,6 +48,18 @@ int runInfo(const InfoOptions& o) {
     std::printf("bounds       (%.4g, %.4g, %.4g) to (%.4g, %.4g, %.4g), rest pose\n", b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z);
   std::printf("warnings     %zu\n", s.warnings.size());
   for (const auto& w : s.warnings) std::printf("  %s\n", w.c_str());
+  if (o.memory && o.solver.method == "iv") {
+    // Link counts are known only once the GPU has refined them: solve frame 0 on a tiny image.
+    vk::Context ctx;
+    gi::FrameRenderer renderer(ctx, g, {16, 16, 1}, solverSetup(o.solver, s, g));
+    auto pose = scene::evaluatePose(s, s.animations.empty() ? -1 : 0, s.animations.empty() ? 0.0f : s.animations[0].start);
+    renderer.render(g.frameInputs(s, pose), scene::framingCamera(scene::worldBounds(scene::animateOnHost(g, g.frameInputs(s, pose))), 1.0f),
+                    gi::worldLights(s, pose));
+    gi::IvStats st = renderer.solver()->stats();
+    std::printf("iv solver    bins 6x%ux%u (%s memory), eps %g: %u nodes in %u levels, %u links, %u leaf links, %.1f MiB on %s\n",
+                o.solver.bins, o.solver.bins, st.sharedBins ? "shared" : "global", o.solver.epsilon, st.nodes, st.levels, st.links,
+                st.leafLinks, double(st.bytes) / (1 << 20), ctx.info().name.c_str());
+  }
   return 0;
 }
 

@@ -53,6 +53,8 @@ int main(int argc, char** argv) {
   InfoOptions info;
   auto* i = app.add_subcommand("info", "describe a scene: meshes, triangles, surfels, animations, cameras, lights, bounds");
   addSceneArgument(i, info.source);
+  addSolverOptions(i, info.solver);
+  i->get_option("--method")->description("with iv: also solve frame 0 and print the memory the solver allocates");
 
   SceneOptions scene;
   auto* s = app.add_subcommand("scene", "write a built-in scene as glTF");
@@ -63,6 +65,17 @@ int main(int argc, char** argv) {
   s->add_option("--emission", scene.emission, "furnace emitted radiance")->capture_default_str();
   s->add_flag("--static", scene.still, "Cornell box without its animation");
 
+  BenchOptions bench;
+  auto* b = app.add_subcommand("bench", "time each pass over frames of a scene (GPU timestamps), print medians and p90");
+  addSceneArgument(b, bench.source);
+  addSolverOptions(b, bench.solver);
+  b->add_option("--frames", bench.frames, "measured frames")->capture_default_str();
+  b->add_option("--warmup", bench.warmup, "frames rendered first and not measured")->capture_default_str();
+  b->add_option("--fps", bench.fps, "frames per second of the animation")->capture_default_str();
+  b->add_option("--size", bench.size, "image size WIDTHxHEIGHT")->capture_default_str();
+  b->add_option("--device", bench.device, "Vulkan device name substring or index");
+  b->add_option("--json", bench.json, "write the figures and per-frame times as JSON");
+
   auto* d = app.add_subcommand("devices", "list Vulkan devices and whether ivgi can use them");
 
   try {
@@ -72,9 +85,13 @@ int main(int argc, char** argv) {
   }
   try {
     if (r->parsed()) return runRender(render);
-    if (i->parsed()) return runInfo(info);
+    if (i->parsed()) {
+      info.memory = i->get_option("--method")->count() > 0;
+      return runInfo(info);
+    }
     if (s->parsed()) return runScene(scene);
     if (d->parsed()) return runDevices();
+    if (b->parsed()) return runBench(bench);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "ivgi: error: %s\n", e.what());
     return 1;

@@ -1,0 +1,118 @@
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "engine/cli/commands.h"
+#include "engine/cli/options.h"
+#include "engine/gi/frame_renderer.h"
+#include "engine/image/atomic_file.h"
+#include "engine/scene/camera.h"
+#include "engine/vk/context.h"
+
+namespace ivgi::cli {
+
+namespace {
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  double at = q * double(v.size() - 1);
+  size_t lo = size_t(std::floor(at)), hi = std::min(lo + 1, v.size() - 1);
+  return v[lo] + (v[hi] - v[lo]) * (at - double(lo));
+}
+
+}  // namespace
+
+int runBench(const BenchOptions& o) {
+  if (o.frames < 1 || o.frames > 100000) throw UsageError("--frames must be 1 to 100000");
+  if (o.warmup < 0 || o.warmup > 1000) throw UsageError("--warmup must be 0 to 1000");
+  gi::ImageSettings image;
+  parseSize(o.size, image.width, image.height);
+  scene::Scene s = loadScene(o.source);
+  scene::Geometry g = scene::buildGeometry(s);
+  if (g.triangles.empty()) throw scene::LoadError(s.source + ": the scene has no triangles to render");
+  int animation = s.animations.empty() ? -1 : 0;
+  double duration = animation >= 0 ? s.animations[0].end - s.animations[0].start : 0.0;
+  int lastFrame = int(std::floor(duration * o.fps + 1e-4));
+  auto cams = s.cameraNodes();
+
+  vk::Context ctx({.device = o.device});
+  if (std::string why = gi::checkImageSettings(ctx, image); !why.empty()) throw UsageError("--size " + o.size + ": " + why);
+  gi::FrameRenderer renderer(ctx, g, image, solverSetup(o.solver, s, g));
+  const bool moving = scene::animationMovesGeometry(s, animation);
+  scene::CameraView framing = scene::framingCamera(
+      scene::worldBounds(scene::animateOnHost(g, g.frameInputs(s, scene::evaluatePose(s, animation, 0.0f)))), float(image.width) / float(image.height));
+
+  std::map<std::string, std::vector<double>> perPass;
+  std::vector<std::string> order;
+  nlohmann::json frames = nlohmann::json::array();
+  for (int i = 0; i < o.warmup + o.frames; ++i) {
+    int frame = lastFrame > 0 ? i % (lastFrame + 1) : 0;
+    float t = float((animation >= 0 ? s.animations[0].start : 0.0) + frame / o.fps);
+    auto pose = scene::evaluatePose(s, animation, t);
+    auto view = cams.empty() ? framing : scene::cameraView(s, pose, cams[0]);
+    auto result = renderer.render(g.frameInputs(s, pose), view, gi::worldLights(s, pose), i == 0 || moving);
+    if (i < o.warmup) continue;
+    double total = 0;
+    nlohmann::json passes = nlohmann::json::object();
+    for (const auto& p : result.passTimes) {
+      if (!perPass.count(p.pass)) order.push_back(p.pass);
+      perPass[p.pass].push_back(p.ms);
+      passes[p.pass] = p.ms;
+      total += p.ms;
+    }
+    perPass["total"].push_back(total);
+    frames.push_back({{"frame", frame}, {"gpuMs", passes}, {"totalGpuMs", total}});
+  }
+
+  const char* threads = std::getenv("LP_NUM_THREADS");
+  std::printf("ivgi bench: %s, %ux%u, method %s", s.source.c_str(), image.width, image.height, o.solver.method.c_str());
+  if (o.solver.method == "iv") std::printf(", bins 6x%ux%u, eps %g, bounces %d", o.solver.bins, o.solver.bins, o.solver.epsilon, o.solver.bounces);
+  std::printf("\ndevice: %s (%s), driver %s %s, LP_NUM_THREADS=%s\n", ctx.info().name.c_str(), ctx.info().type.c_str(),
+              ctx.info().driverName.c_str(), ctx.info().driverInfo.c_str(), threads ? threads : "unset");
+  std::printf("frames: %d measured after %d warm-up%s\n\n", o.frames, o.warmup,
+              moving ? "" : " (static geometry: refit, links and pruning ran once, in the first warm-up frame or the first frame)");
+  std::printf("%-10s %10s %10s\n", "pass", "median ms", "p90 ms");
+  nlohmann::json summary = nlohmann::json::object();
+  order.push_back("total");
+  for (const auto& p : order) {
+    // Passes that did not run every frame (static geometry) are reported over the frames they ran.
+    double med = percentile(perPass[p], 0.5), p90 = percentile(perPass[p], 0.9);
+    std::printf("%-10s %10.3f %10.3f%s\n", p.c_str(), med, p90,
+                perPass[p].size() < size_t(o.frames) ? ("  (" + std::to_string(perPass[p].size()) + " frames)").c_str() : "");
+    summary[p] = {{"medianMs", med}, {"p90Ms", p90}, {"frames", perPass[p].size()}};
+  }
+  double totalMs = percentile(perPass["total"], 0.5);
+  std::printf("\nframe: %.3f ms median GPU, %.2f fps\n", totalMs, totalMs > 0 ? 1000.0 / totalMs : 0.0);
+  std::printf("surfels %zu, triangles %zu", g.surfels.size(), g.triangles.size());
+  nlohmann::json counts = {{"surfels", g.surfels.size()}, {"triangles", g.triangles.size()}, {"vertices", g.vertices.size()}};
+  uint64_t bytes = renderer.bytesAllocated();
+  if (const gi::IvSolver* iv = renderer.solver()) {
+    gi::IvStats st = iv->stats();
+    bytes += st.bytes;
+    std::printf(", nodes %u, links %u created, %u leaf links after push-down and pruning", st.nodes, st.links, st.leafLinks);
+    counts.update({{"nodes", st.nodes}, {"links", st.links}, {"leafLinks", st.leafLinks}, {"sharedMemoryBins", st.sharedBins}});
+  }
+  std::printf("\nbytes allocated: %llu (%.1f MiB)\n", (unsigned long long)bytes, double(bytes) / (1 << 20));
+  if (!o.json.empty()) {
+    nlohmann::json j = {{"scene", s.source},
+                        {"settings", {{"width", image.width}, {"height", image.height}, {"method", o.solver.method}, {"bins", o.solver.bins},
+                                      {"eps", o.solver.epsilon}, {"bounces", o.solver.bounces}, {"frames", o.frames}, {"warmup", o.warmup}}},
+                        {"device", {{"name", ctx.info().name}, {"driver", ctx.info().driverName}, {"driverInfo", ctx.info().driverInfo},
+                                    {"LP_NUM_THREADS", threads ? nlohmann::json(threads) : nlohmann::json(nullptr)}}},
+                        {"passes", summary}, {"fps", totalMs > 0 ? 1000.0 / totalMs : 0.0}, {"counts", counts}, {"bytesAllocated", bytes},
+                        {"frames", frames}};
+    image::writeAtomically(o.json, [&](const std::string& temp) {
+      std::ofstream out(temp);
+      out << j.dump(2) << "\n";
+      if (!out) throw std::runtime_error(o.json + ": cannot write");
+    });
+  }
+  return ctx.validationErrors() ? 3 : 0;
+}
+
+}  // namespace ivgi::cli
