@@ -61,40 +61,53 @@ void insert(uint slot, uint b, uint64_t key, float omega) {
   addCoverage(slot, b, uint(min(omega / binTable[b].w, 1.0) * kCoverageUnit + 0.5));
 }
 
-// Spreads a solid angle seen along d over the 2×2 bins nearest to it (bilinear weights on the
-// face), so that bin-sized pieces cover the bins evenly instead of piling two into one bin and none
-// into the next (the clamp at a full bin would then lose the excess).
-void insertSpread(uint slot, vec3 d, uint64_t key, float omega) {
+// Files a solid angle ω seen along d as a square footprint of the same solid angle on the cube face,
+// box-filtered over the bins it overlaps (the part beyond the face goes to its border bins). Even
+// coverage for senders of any size, at about (1 + width)² inserts for a footprint `width` bins wide.
+void insertFootprint(uint slot, vec3 d, uint64_t key, float omega) {
   vec2 at;
   uint face = binFace(d, kN, at);
-  vec2 lo = floor(at - 0.5), w = at - 0.5 - lo;
-  for (uint c = 0u; c < 4u; ++c) {
-    vec2 cell = clamp(lo + vec2(c & 1u, c >> 1u), vec2(0.0), vec2(float(kN - 1u)));
-    float weight = ((c & 1u) != 0u ? w.x : 1.0 - w.x) * ((c >> 1u) != 0u ? w.y : 1.0 - w.y);
-    if (weight > 0.0) insert(slot, face * kN * kN + uint(cell.y) * kN + uint(cell.x), key, omega * weight);
-  }
+  vec2 uv = at / (0.5 * float(kN)) - 1.0;
+  float side = min(sqrt(omega * pow(1.0 + dot(uv, uv), 1.5)) * 0.5 * float(kN), 16.0);  // in bins
+  vec2 lo = at - 0.5 * side, hi = at + 0.5 * side;
+  float last = float(kN - 1u);
+  ivec2 first = ivec2(clamp(floor(lo), vec2(0.0), vec2(last))), end = ivec2(clamp(floor(hi), vec2(0.0), vec2(last)));
+  float norm = 1.0 / max(side * side, 1e-12);
+  for (int y = first.y; y <= end.y; ++y)
+    for (int x = first.x; x <= end.x; ++x) {
+      // Border bins reach to infinity so that nothing falls off the face.
+      vec2 cellLo = vec2(x == 0 ? -1e9 : float(x), y == 0 ? -1e9 : float(y));
+      vec2 cellHi = vec2(x == int(kN) - 1 ? 1e9 : float(x + 1), y == int(kN) - 1 ? 1e9 : float(y + 1));
+      vec2 overlap = max(min(hi, cellHi) - max(lo, cellLo), vec2(0.0));
+      float weight = side > 0.0 ? overlap.x * overlap.y * norm : 1.0;
+      if (weight > 0.0) insert(slot, face * kN * kN + uint(y) * kN + uint(x), key, omega * weight);
+    }
 }
 
-// Files sender s (at offset d from the receiver) in every bin its disk covers: one bin when it is
-// smaller than a bin, else k×k stratified points on the disk, each with the solid angle of its
-// share of the area. A surfel larger than the bins would otherwise fill one bin and leave its
-// neighbours empty; a coincident one (hard edges) is seen only through its off-centre points.
+// Solid angle of a disk of radius r facing a point at squared distance d²: 2π(1 − d/√(d² + r²)),
+// exact, and 2π (not infinity) as d → 0.
+float diskSolidAngle(float r, float dist2) { return 2.0 * kPi * (1.0 - sqrt(dist2 / (dist2 + r * r))); }
+
+// Files sender s (at offset d from the receiver) over the bins it covers: as one footprint of its
+// solid angle, or as k×k pieces of its disk, each a footprint of its own solid angle (wide senders,
+// near ones, and coincident ones on hard edges, which are seen only through their off-centre pieces).
 void splat(uint slot, vec3 p, vec3 n, uint s, NodeState sender, vec3 d, float dist2) {
   float area = sender.positionArea.w;
   float radius = sqrt(area / kPi);
   // A curved node is seen at least as much as along the edge of its cone.
   float minCos = sin(min(sender.normalCone.w, 0.5 * kPi));
   uint64_t key = packLinkKey(dist2, s);
-  float binAngle = 0.5 * kPi / float(kN);
-  bool coincident = dist2 <= 1e-6 * area;
-  uint k = coincident ? 8u : uint(clamp(ceil(2.0 * atan(radius * inversesqrt(dist2)) / binAngle), 1.0, 8.0));
+  float cosS = abs(dot(sender.normalCone.xyz, d)) * inversesqrt(max(dist2, 1e-30));
+  float omega = diskSolidAngle(radius, dist2) * max(cosS, minCos);
+  // Footprint width in bins; wider than two bins (or near: one direction no longer stands for the
+  // disk), the disk is split into k×k pieces so that the footprints follow its real outline.
+  float width = sqrt(omega) * 0.5 * float(kN) * 2.0;
+  uint k = dist2 <= 4.0 * radius * radius ? 8u : uint(clamp(ceil(0.5 * width), 1.0, 8.0));
   if (k == 1u) {
-    float cosS = abs(dot(sender.normalCone.xyz, d)) * inversesqrt(dist2);
-    insertSpread(slot, d, key, area * max(cosS, minCos) / (dist2 + area / kPi));
+    insertFootprint(slot, d, key, omega);
     return;
   }
-  vec3 axis = length(sender.normalCone.xyz) > 0.0 && sender.normalCone.w < 0.5 * kPi ? sender.normalCone.xyz
-              : (coincident ? n : -normalize(d));
+  vec3 axis = length(sender.normalCone.xyz) > 0.0 && sender.normalCone.w < 0.5 * kPi ? sender.normalCone.xyz : n;
   vec3 t1 = normalize(abs(axis.x) < 0.9 ? cross(axis, vec3(1, 0, 0)) : cross(axis, vec3(0, 1, 0))), t2 = cross(axis, t1);
   float piece = area / float(k * k);
   for (uint j = 0u; j < k; ++j)
@@ -105,7 +118,7 @@ void splat(uint slot, vec3 p, vec3 n, uint s, NodeState sender, vec3 d, float di
       float q2 = dot(q, q);
       if (dot(q, n) <= 0.0 || q2 <= 0.0) continue;
       float cosQ = abs(dot(sender.normalCone.xyz, q)) * inversesqrt(q2);
-      insertSpread(slot, q, key, piece * max(cosQ, minCos) / (q2 + piece / kPi));
+      insertFootprint(slot, q, key, diskSolidAngle(radius / float(k), q2) * max(cosQ, minCos));
     }
 }
 
