@@ -8,24 +8,13 @@
 
 #include "engine/cli/commands.h"
 #include "engine/cli/options.h"
+#include "engine/cli/statistics.h"
 #include "engine/gi/frame_renderer.h"
 #include "engine/image/atomic_file.h"
 #include "engine/scene/camera.h"
 #include "engine/vk/context.h"
 
 namespace ivgi::cli {
-
-namespace {
-
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  double at = q * double(v.size() - 1);
-  size_t lo = size_t(std::floor(at)), hi = std::min(lo + 1, v.size() - 1);
-  return v[lo] + (v[hi] - v[lo]) * (at - double(lo));
-}
-
-}  // namespace
 
 int runBench(const BenchOptions& o) {
   if (o.frames < 1 || o.frames > 100000) throw UsageError("--frames must be 1 to 100000");

@@ -10,6 +10,7 @@
 #include "engine/cli/commands.h"
 #include "engine/cli/options.h"
 #include "engine/cli/progress.h"
+#include "engine/cli/statistics.h"
 #include "engine/gi/frame_renderer.h"
 #include "engine/image/atomic_file.h"
 #include "engine/image/frame_image.h"
@@ -47,12 +48,6 @@ Timeline timeline(const scene::Scene& s, const std::string& choice, double fps) 
     t.lastFrame = int(std::floor((a.end - a.start) * fps + 1e-4));
   }
   return t;
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
 }
 
 void writeJson(const std::string& path, const json& j) {
@@ -178,7 +173,7 @@ int runRender(const RenderOptions& o) {
     sidecar["bytesAllocated"] = renderer.bytesAllocated() + st.bytes;
   }
   json medians = json::object();
-  for (const auto& [pass, ms] : perPass) medians[pass] = median(ms);
+  for (const auto& [pass, ms] : perPass) medians[pass] = percentile(ms, 0.5);
   sidecar["medianGpuMs"] = medians;
   std::string sidecarPath = o.json.empty() ? pattern.sidecar() : o.json;
   writeJson(sidecarPath, sidecar);

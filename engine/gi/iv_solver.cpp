@@ -182,7 +182,7 @@ void IvSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
       vkCmdCopyBuffer(cmd, roots_.handle(), worklistA_.handle(), 1, &copy);
       vk::barrier(cmd);
       // Each level refines at least one side of every pair: at most the two trees' depths.
-      const uint32_t iterations = 2 * (hierarchy_.maxDepth() + 1) + 1;
+      const uint32_t iterations = refineIterations();
       const float omega = settings_.kappa * 4.0f * kPi / float(6 * settings_.bins * settings_.bins);
       for (uint32_t it = 0; it < iterations; ++it) {
         uint32_t in = it % 2, out = 1 - in;
@@ -225,8 +225,12 @@ void IvSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
   });
 }
 
+uint32_t IvSolver::refineIterations() const { return 2 * (hierarchy_.maxDepth() + 1) + 1; }
+
 bool IvSolver::growIfOverflowed() {
   auto c = counters_.read<uint32_t>(8);
+  if (uint32_t left = c[refineIterations() % 2]; left != 0)  // pairs still unrefined after the last level: a bug
+    throw vk::VulkanError("iv link creation left " + std::to_string(left) + " pairs unrefined after " + std::to_string(refineIterations()) + " levels");
   if (c[kCounterOverflow] == 0) return false;
   auto grown = [](uint32_t needed) { return uint32_t(std::min<uint64_t>(uint64_t(needed) * 5 / 4 + 1024, 0xFFFFFFF0u)); };
   if (c[kCounterOverflow] & 1) worklistCapacity_ = std::max(worklistCapacity_, grown(c[kCounterWorklistPeak]));

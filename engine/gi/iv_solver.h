@@ -72,6 +72,7 @@ class IvSolver {
 
  private:
   void allocateLinks();
+  uint32_t refineIterations() const;  // refinement levels: each splits one side of every pair
   uint32_t pruneGroups() const;
 
   const vk::Context& ctx_;
