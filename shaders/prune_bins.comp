@@ -68,7 +68,8 @@ void insertFootprint(uint slot, vec3 d, uint64_t key, float omega) {
   vec2 at;
   uint face = binFace(d, kN, at);
   vec2 uv = at / (0.5 * float(kN)) - 1.0;
-  float side = min(sqrt(omega * pow(1.0 + dot(uv, uv), 1.5)) * 0.5 * float(kN), 16.0);  // in bins
+  float stretch = 1.0 + dot(uv, uv);  // face area per solid angle: stretch^1.5
+  float side = min(sqrt(omega * stretch * sqrt(stretch)) * 0.5 * float(kN), 16.0);  // in bins
   vec2 lo = at - 0.5 * side, hi = at + 0.5 * side;
   float last = float(kN - 1u);
   ivec2 first = ivec2(clamp(floor(lo), vec2(0.0), vec2(last))), end = ivec2(clamp(floor(hi), vec2(0.0), vec2(last)));
@@ -170,8 +171,12 @@ void main() {
           NodeState sender = nodes[s];
           vec3 d = sender.positionArea.xyz - p;
           float dist2 = dot(d, d);
-          // Below the horizon only if the whole disk is: its radius may reach over it.
-          if (s == leaf || dot(d, n) < -sqrt(sender.positionArea.w / kPi)) continue;
+          // Skip a sender whose disk cannot rise above the receiver's tangent plane: wholly below it,
+          // or lying in it (the receiver's own neighbours on a flat face).
+          float rise = sender.normalCone.w < 0.5 * kPi
+                           ? sqrt(sender.positionArea.w / kPi) * sqrt(max(1.0 - pow(dot(sender.normalCone.xyz, n), 2.0), 0.0))
+                           : sender.radius.x;
+          if (s == leaf || dot(d, n) + rise <= 1e-4 * sqrt(area)) continue;
           splat(slot, p, n, s, sender, d, dist2);
         }
     }

@@ -23,6 +23,7 @@ struct SolverOptions {
   uint32_t bins = 16;
   float epsilon = 0.02f;
   int bounces = 2;
+  float kappa = 1.0f;  // senders up to κ average bins wide before they are split
   std::string environment;  // "R,G,B" or an .exr; empty: none
 };
 

@@ -124,7 +124,7 @@ int runRender(const RenderOptions& o) {
        {{"frames", {range.first, range.last, range.step}}, {"fps", o.fps}, {"width", image.width}, {"height", image.height},
         {"supersample", image.samples}, {"formats", formats}, {"tonemap", o.tonemap}, {"exposure", o.exposure},
         {"animation", tl.animation >= 0 ? json(s.animations[tl.animation].name) : json(nullptr)},
-        {"method", o.solver.method}, {"bins", o.solver.bins}, {"eps", o.solver.epsilon}, {"bounces", o.solver.bounces},
+        {"method", o.solver.method}, {"bins", o.solver.bins}, {"eps", o.solver.epsilon}, {"bounces", o.solver.bounces}, {"kappa", o.solver.kappa},
         {"environment", o.solver.environment},
         {"camera", cameraNode >= 0 ? json(s.nodes[cameraNode].name) : json("default framing")}}},
       {"device",

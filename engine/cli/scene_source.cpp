@@ -25,10 +25,12 @@ std::optional<gi::IvSetup> solverSetup(const SolverOptions& o, const scene::Scen
   if (o.bins < 1 || o.bins > 64) throw UsageError("--bins " + std::to_string(o.bins) + ": must be 1 to 64");
   if (!(o.epsilon > 0.0f && o.epsilon <= 1.0f)) throw UsageError("--eps must lie in (0, 1]");
   if (o.bounces < 0 || o.bounces > 64) throw UsageError("--bounces must be 0 to 64");
+  if (!(o.kappa >= 0.01f && o.kappa <= 1000.0f)) throw UsageError("--kappa must lie in [0.01, 1000]");
   gi::IvSettings settings;
   settings.bins = o.bins;
   settings.epsilon = o.epsilon;
   settings.bounces = uint32_t(o.bounces);
+  settings.kappa = o.kappa;
   if (!o.environment.empty()) settings.environment = gi::environmentBins(o.environment, o.bins);
   return gi::makeIvSetup(s, g, settings);
 }
