@@ -65,16 +65,19 @@ tinygltf::Model cornellBox(const CornellOptions& o) {
   int room = b.mesh("room", {{whites, white}, {reds, red}, {greens, green}, {lamp, light}});
   b.node("room", room);
 
-  const Face shortTop{{mm(130, 165, 65), mm(82, 165, 225), mm(240, 165, 272), mm(290, 165, 114)}};
-  const Face tallTop{{mm(423, 330, 247), mm(265, 330, 296), mm(314, 330, 456), mm(472, 330, 406)}};
+  int shortNode = -1;
   const glm::vec3 shortCentre = mm(185.5f, 0, 169), tallCentre = mm(368.5f, 0, 351.5f);
-  int shortNode = b.node("short block", b.mesh("short block", {{block(shortTop, 0.165f, shortCentre, cellsPerMetre), white}}), shortCentre);
-  b.node("tall block", b.mesh("tall block", {{block(tallTop, 0.33f, tallCentre, cellsPerMetre), white}}), tallCentre);
+  if (o.blocks) {
+    const Face shortTop{{mm(130, 165, 65), mm(82, 165, 225), mm(240, 165, 272), mm(290, 165, 114)}};
+    const Face tallTop{{mm(423, 330, 247), mm(265, 330, 296), mm(314, 330, 456), mm(472, 330, 406)}};
+    shortNode = b.node("short block", b.mesh("short block", {{block(shortTop, 0.165f, shortCentre, cellsPerMetre), white}}), shortCentre);
+    b.node("tall block", b.mesh("tall block", {{block(tallTop, 0.33f, tallCentre, cellsPerMetre), white}}), tallCentre);
+  }
 
   // Camera: at (278, 273, -800) mm looking along +z, so turned 180° about y from glTF's -z.
   b.camera("Cornell camera", 2.0f * std::atan(12.5f / 35.0f), 0.01f, mm(278, 273, -800), glm::quat(0, 0, 1, 0));
 
-  if (o.animated) {
+  if (o.animated && shortNode >= 0) {
     // The short block slides toward the green wall and back while turning ±12°.
     std::vector<float> times = {0.0f, 0.5f, 1.0f, 1.5f, 2.0f};
     std::vector<float> slide, turn;
