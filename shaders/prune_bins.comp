@@ -92,7 +92,7 @@ float diskSolidAngle(float r, float dist2) { return 2.0 * kPi * (1.0 - sqrt(dist
 // Files sender s (at offset d from the receiver) over the bins it covers: as one footprint of its
 // solid angle, or as k×k pieces of its disk, each a footprint of its own solid angle (wide senders,
 // near ones, and coincident ones on hard edges, which are seen only through their off-centre pieces).
-void splat(uint slot, vec3 p, vec3 n, uint s, NodeState sender, vec3 d, float dist2) {
+void splat(uint slot, vec3 n, uint s, NodeState sender, vec3 d, float dist2) {
   float area = sender.positionArea.w;
   float radius = sqrt(area / kPi);
   // A curved node is seen at least as much as along the edge of its cone.
@@ -177,7 +177,7 @@ void main() {
                            ? sqrt(sender.positionArea.w / kPi) * sqrt(max(1.0 - pow(dot(sender.normalCone.xyz, n), 2.0), 0.0))
                            : sender.radius.x;
           if (s == leaf || dot(d, n) + rise <= 1e-4 * sqrt(area)) continue;
-          splat(slot, p, n, s, sender, d, dist2);
+          splat(slot, n, s, sender, d, dist2);
         }
     }
     barrier();

@@ -16,7 +16,7 @@ layout(push_constant) uniform Push {
   uint capacity;            // of each worklist
   uint linkCapacity;
   float epsilon;            // form-factor threshold
-  float binSolidAngle;      // κ·Ω of an average bin
+  float largeSender;        // κ·Ω of an average bin: a sender subtending more is split
 };
 
 void emitPair(uint r, uint s) {
@@ -63,7 +63,7 @@ void main() {
       // Senders wholly below the receiver's horizon matter neither for light nor for visibility.
       if (nr.positionArea.w > 0.0 && cosUpper(nr.normalCone.xyz, nr.normalCone.w, dir, spreadS) <= 0.0) continue;
       bool overlapping = dist <= nr.radius.x + ns.radius.x;
-      bool large = ns.positionArea.w > binSolidAngle * dist2;
+      bool large = ns.positionArea.w > largeSender * dist2;
       float estimate = formFactor(ns.positionArea.w, cosUpper(ns.normalCone.xyz, ns.normalCone.w, -dir, spreadR),
                                   cosUpper(nr.normalCone.xyz, nr.normalCone.w, dir, spreadS), dist2);
       // A sender wider than a bin must be split itself (leaves re-bin from their own position, so a

@@ -7,8 +7,10 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/cli/commands.h"
+#include "engine/cli/json_file.h"
 #include "engine/cli/options.h"
 #include "engine/cli/statistics.h"
+#include "engine/cli/timeline.h"
 #include "engine/gi/frame_renderer.h"
 #include "engine/image/atomic_file.h"
 #include "engine/scene/camera.h"
@@ -24,9 +26,8 @@ int runBench(const BenchOptions& o) {
   scene::Scene s = loadScene(o.source);
   scene::Geometry g = scene::buildGeometry(s);
   if (g.triangles.empty()) throw scene::LoadError(s.source + ": the scene has no triangles to render");
-  int animation = s.animations.empty() ? -1 : 0;
-  double duration = animation >= 0 ? s.animations[0].end - s.animations[0].start : 0.0;
-  int lastFrame = int(std::floor(duration * o.fps + 1e-4));
+  const Timeline tl = timeline(s, "", o.fps);
+  const int animation = tl.animation;
   auto cams = s.cameraNodes();
 
   vk::Context ctx({.device = o.device});
@@ -40,8 +41,8 @@ int runBench(const BenchOptions& o) {
   std::vector<std::string> order;
   nlohmann::json frames = nlohmann::json::array();
   for (int i = 0; i < o.warmup + o.frames; ++i) {
-    int frame = lastFrame > 0 ? i % (lastFrame + 1) : 0;
-    float t = float((animation >= 0 ? s.animations[0].start : 0.0) + frame / o.fps);
+    int frame = i % (tl.lastFrame + 1);
+    float t = float(tl.time(frame, o.fps));
     auto pose = scene::evaluatePose(s, animation, t);
     auto view = cams.empty() ? framing : scene::cameraView(s, pose, cams[0]);
     auto result = renderer.render(g.frameInputs(s, pose), view, gi::worldLights(s, pose), i == 0 || moving);
@@ -95,11 +96,7 @@ int runBench(const BenchOptions& o) {
                                     {"LP_NUM_THREADS", threads ? nlohmann::json(threads) : nlohmann::json(nullptr)}}},
                         {"passes", summary}, {"fps", totalMs > 0 ? 1000.0 / totalMs : 0.0}, {"counts", counts}, {"bytesAllocated", bytes},
                         {"frames", frames}};
-    image::writeAtomically(o.json, [&](const std::string& temp) {
-      std::ofstream out(temp);
-      out << j.dump(2) << "\n";
-      if (!out) throw std::runtime_error(o.json + ": cannot write");
-    });
+    writeJson(o.json, j);
   }
   return ctx.validationErrors() ? 3 : 0;
 }

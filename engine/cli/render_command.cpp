@@ -8,9 +8,11 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/cli/commands.h"
+#include "engine/cli/json_file.h"
 #include "engine/cli/options.h"
 #include "engine/cli/progress.h"
 #include "engine/cli/statistics.h"
+#include "engine/cli/timeline.h"
 #include "engine/gi/frame_renderer.h"
 #include "engine/image/atomic_file.h"
 #include "engine/image/frame_image.h"
@@ -24,39 +26,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-struct Timeline {
-  int animation = -1;  // -1: static scene
-  double start = 0.0;
-  int lastFrame = 0;
-  double time(int frame, double fps) const { return start + frame / fps; }
-};
-
-Timeline timeline(const scene::Scene& s, const std::string& choice, double fps) {
-  Timeline t;
-  if (choice == "none") return t;
-  if (!choice.empty()) {
-    auto a = s.findAnimation(choice);
-    if (!a) throw scene::LoadError(s.source + ": no animation named '" + choice + "' (" + std::to_string(s.animations.size()) + " animations; see `ivgi info`)");
-    t.animation = *a;
-  } else if (!s.animations.empty()) {
-    t.animation = 0;
-  }
-  if (t.animation >= 0) {
-    const auto& a = s.animations[t.animation];
-    t.start = a.start;
-    t.lastFrame = int(std::floor((a.end - a.start) * fps + 1e-4));
-  }
-  return t;
-}
-
-void writeJson(const std::string& path, const json& j) {
-  image::writeAtomically(path, [&](const std::string& temp) {
-    std::ofstream out(temp);
-    out << j.dump(2) << "\n";
-    if (!out) throw std::runtime_error(path + ": cannot write");
-  });
-}
 
 }  // namespace
 
@@ -146,7 +115,7 @@ int runRender(const RenderOptions& o) {
     double t = tl.time(frame, o.fps);
     auto pose = scene::evaluatePose(s, tl.animation, float(t));
     auto view = cameraNode >= 0 ? scene::cameraView(s, pose, cameraNode) : framing;
-    bool first = frame == frames.front() || sidecar["frames"].empty();
+    bool first = sidecar["frames"].empty();
     auto result = renderer.render(g.frameInputs(s, pose), view, gi::worldLights(s, pose), first || geometryAnimated);
     if (size_t bad = image::sanitize(result.channels))
       std::fprintf(stderr, "ivgi: warning: frame %d: %zu non-finite values replaced by 0 (a bug: please report it)\n", frame, bad);
