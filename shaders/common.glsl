@@ -148,3 +148,28 @@ const uint kCounterWorklistA = 0u, kCounterWorklistB = 1u, kCounterLinks = 2u, k
 // KHR_lights_punctual, in world space for the frame. position.w: 0 directional, 1 point, 2 spot;
 // direction: where the light points, w = range (0: none); cone: cos outer, cos inner.
 struct PunctualLight { vec4 position; vec4 direction; vec4 intensity; vec4 cone; };
+
+// Irradiance per unit intensity on a surface at p facing the light: 1/d², the range window, the
+// spot cone (smooth between the outer and inner cosines). toLight is not normalised; dist2 is its
+// squared length, 3.4e38 for a directional light. Mirrored by lightFalloff() in engine/gi/shared.h.
+float lightFalloff(PunctualLight light, vec3 p, out vec3 toLight, out float dist2) {
+  dist2 = 3.4e38;
+  if (light.position.w == 0.0) {
+    toLight = -light.direction.xyz;
+    return 1.0;
+  }
+  toLight = light.position.xyz - p;
+  dist2 = dot(toLight, toLight);
+  if (dist2 <= 0.0) return 0.0;
+  float falloff = 1.0 / dist2;
+  if (light.direction.w > 0.0) {
+    float window = clamp(1.0 - pow(sqrt(dist2) / light.direction.w, 4.0), 0.0, 1.0);
+    falloff *= window * window;
+  }
+  if (light.position.w == 2.0) {
+    float c = dot(normalize(-toLight), light.direction.xyz);
+    float t = clamp((c - light.cone.x) / max(light.cone.y - light.cone.x, 1e-6), 0.0, 1.0);
+    falloff *= t * t * (3.0 - 2.0 * t);
+  }
+  return falloff;
+}

@@ -127,25 +127,13 @@ void splat(uint slot, vec3 n, uint s, NodeState sender, vec3 d, float dist2) {
 vec3 punctualLight(uint slot, vec3 p, vec3 n) {
   vec3 sum = vec3(0.0);
   for (uint l = 0u; l < lightCount; ++l) {
-    PunctualLight light = lights[l];
     vec3 toLight;
-    float dist2 = 3.4e38, falloff = 1.0;
-    if (light.position.w == 0.0) {
-      toLight = -light.direction.xyz;
-    } else {
-      toLight = light.position.xyz - p;
-      dist2 = dot(toLight, toLight);
-      if (dist2 <= 0.0) continue;
-      falloff = 1.0 / dist2;
-      if (light.direction.w > 0.0) falloff *= pow(clamp(1.0 - pow(sqrt(dist2) / light.direction.w, 4.0), 0.0, 1.0), 2.0);
-      if (light.position.w == 2.0)
-        falloff *= smoothstep(light.cone.x, light.cone.y, dot(normalize(-toLight), light.direction.xyz));
-    }
+    float dist2, falloff = lightFalloff(lights[l], p, toLight, dist2);
     float cosR = dot(n, normalize(toLight));
     if (cosR <= 0.0 || falloff <= 0.0) continue;
     uint64_t nearest = loadBin(slot, binOf(toLight, kN));
     if (nearest != kEmptyVisibility && keyDepth(nearest) <= dist2) continue;  // occluded
-    sum += light.intensity.rgb * cosR * falloff;
+    sum += lights[l].intensity.rgb * cosR * falloff;
   }
   return sum;
 }

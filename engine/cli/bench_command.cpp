@@ -8,6 +8,7 @@
 
 #include "engine/cli/commands.h"
 #include "engine/cli/json_file.h"
+#include "engine/cli/machine.h"
 #include "engine/cli/options.h"
 #include "engine/cli/statistics.h"
 #include "engine/cli/timeline.h"
@@ -59,11 +60,9 @@ int runBench(const BenchOptions& o) {
     frames.push_back({{"frame", frame}, {"gpuMs", passes}, {"totalGpuMs", total}});
   }
 
-  const char* threads = std::getenv("LP_NUM_THREADS");
   std::printf("ivgi bench: %s, %ux%u, method %s", s.source.c_str(), image.width, image.height, o.solver.method.c_str());
   if (o.solver.method == "iv") std::printf(", bins 6x%ux%u, eps %g, bounces %d", o.solver.bins, o.solver.bins, o.solver.epsilon, o.solver.bounces);
-  std::printf("\ndevice: %s (%s), driver %s %s, LP_NUM_THREADS=%s\n", ctx.info().name.c_str(), ctx.info().type.c_str(),
-              ctx.info().driverName.c_str(), ctx.info().driverInfo.c_str(), threads ? threads : "unset");
+  std::printf("\ndevice: %s\n", deviceLine(ctx).c_str());
   std::printf("frames: %d measured after %d warm-up%s\n\n", o.frames, o.warmup,
               moving ? "" : " (static geometry: refit, links and pruning ran once, in the first warm-up frame or the first frame)");
   std::printf("%-10s %10s %10s\n", "pass", "median ms", "p90 ms");
@@ -92,8 +91,7 @@ int runBench(const BenchOptions& o) {
     nlohmann::json j = {{"scene", s.source},
                         {"settings", {{"width", image.width}, {"height", image.height}, {"method", o.solver.method}, {"bins", o.solver.bins},
                                       {"eps", o.solver.epsilon}, {"bounces", o.solver.bounces}, {"frames", o.frames}, {"warmup", o.warmup}}},
-                        {"device", {{"name", ctx.info().name}, {"driver", ctx.info().driverName}, {"driverInfo", ctx.info().driverInfo},
-                                    {"LP_NUM_THREADS", threads ? nlohmann::json(threads) : nlohmann::json(nullptr)}}},
+                        {"device", deviceJson(ctx)},
                         {"passes", summary}, {"fps", totalMs > 0 ? 1000.0 / totalMs : 0.0}, {"counts", counts}, {"bytesAllocated", bytes},
                         {"frames", frames}};
     writeJson(o.json, j);

@@ -4,7 +4,11 @@
 #include <optional>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "engine/gi/iv_solver.h"
+#include "engine/image/metrics.h"
+#include "engine/reference/path_tracer.h"
 #include "engine/scene/geometry.h"
 #include "engine/scene/scene.h"
 
@@ -19,7 +23,7 @@ scene::Scene loadScene(const SceneChoice& choice);
 
 // The lighting method and its settings, shared by render, bench and info.
 struct SolverOptions {
-  std::string method = "iv";  // iv or none (emission only)
+  std::string method = "iv";  // iv, none (emission only) or pt (render only)
   uint32_t bins = 16;
   float epsilon = 0.02f;
   int bounces = 2;
@@ -30,9 +34,21 @@ struct SolverOptions {
 // The iv set-up for `options` (checked), or nothing for --method none.
 std::optional<gi::IvSetup> solverSetup(const SolverOptions& options, const scene::Scene& scene, const scene::Geometry& geometry);
 
+// The path tracer's own options (--method pt).
+struct PathOptions {
+  uint32_t spp = 64;
+  uint32_t seed = 0;
+  unsigned threads = 0;       // 0: every core
+  bool given = false;         // any of them was given on the command line
+  bool bouncesGiven = false;  // --bounces was given: otherwise pt paths run until roulette ends them
+};
+// Checks the options (throws UsageError) and returns the tracer's settings.
+reference::PathSettings pathSettings(const PathOptions& options, const SolverOptions& solver);
+
 struct RenderOptions {
   SceneChoice source;
   SolverOptions solver;
+  PathOptions pt;
   std::string frames;  // empty: the whole animation
   double fps = 24.0;
   std::string size = "640x360";
@@ -74,5 +90,14 @@ struct BenchOptions {
 int runBench(const BenchOptions& options);
 
 int runDevices();
+
+struct CompareOptions {
+  std::string test, reference;
+  std::string json, heatmap, mask;
+  float exposure = 0.0f;  // stops, before the ACES tone map that FLIP sees
+};
+// Prints relMSE, RMSE, PSNR, max error and FLIP of TEST against REF.
+int runCompare(const CompareOptions& options);
+nlohmann::json metricsJson(const image::ErrorMetrics& metrics);
 
 }  // namespace ivgi::cli

@@ -16,7 +16,7 @@ void addSceneArgument(CLI::App* cmd, SceneChoice& choice) {
 }
 
 void addSolverOptions(CLI::App* cmd, SolverOptions& o) {
-  cmd->add_option("--method", o.method, "lighting: iv (implicit-visibility radiosity) or none (emission only)")->capture_default_str();
+  cmd->add_option("--method", o.method, "lighting: iv (implicit-visibility radiosity), none (emission only); render also: pt (Embree path-traced reference)")->capture_default_str();
   cmd->add_option("--bins", o.bins, "N: 6×N×N direction bins per receiver (1–64)")->capture_default_str();
   cmd->add_option("--eps", o.epsilon, "refine links while their form-factor estimate exceeds this")->capture_default_str();
   cmd->add_option("--bounces", o.bounces, "indirect bounces (0: direct light only)")->capture_default_str();
@@ -50,6 +50,9 @@ int main(int argc, char** argv) {
   r->add_option("--device", render.device, "Vulkan device name substring or index (default: IVGI_DEVICE, else the best)");
   r->add_option("--json", render.json, "sidecar JSON path (default: beside the frames)");
   r->add_flag("--resume", render.resume, "skip frames whose files all exist");
+  auto* spp = r->add_option("--spp", render.pt.spp, "pt: samples per pixel")->capture_default_str();
+  auto* seed = r->add_option("--seed", render.pt.seed, "pt: random seed (another seed, independent noise)")->capture_default_str();
+  auto* threads = r->add_option("--threads", render.pt.threads, "pt: CPU threads (0: every core)")->capture_default_str();
 
   InfoOptions info;
   auto* i = app.add_subcommand("info", "describe a scene: meshes, triangles, surfels, animations, cameras, lights, bounds");
@@ -77,6 +80,15 @@ int main(int argc, char** argv) {
   b->add_option("--device", bench.device, "Vulkan device name substring or index");
   b->add_option("--json", bench.json, "write the figures and per-frame times as JSON");
 
+  CompareOptions compare;
+  auto* c = app.add_subcommand("compare", "score an image against a reference: relMSE, RMSE, PSNR, max error, FLIP");
+  c->add_option("test", compare.test, "image to score (linear OpenEXR)")->required();
+  c->add_option("reference", compare.reference, "reference image (linear OpenEXR), e.g. from --method pt")->required();
+  c->add_option("--json", compare.json, "write the figures as JSON");
+  c->add_option("--heatmap", compare.heatmap, "write the per-pixel FLIP error as a PNG (magma colour map)");
+  c->add_option("--mask", compare.mask, "image whose non-zero pixels (first channel) are left out of the figures");
+  c->add_option("--exposure", compare.exposure, "exposure in stops before the tone map FLIP sees")->capture_default_str();
+
   auto* d = app.add_subcommand("devices", "list Vulkan devices and whether ivgi can use them");
 
   try {
@@ -85,13 +97,18 @@ int main(int argc, char** argv) {
     return app.exit(e);
   }
   try {
-    if (r->parsed()) return runRender(render);
+    if (r->parsed()) {
+      render.pt.given = spp->count() + seed->count() + threads->count() > 0;
+      render.pt.bouncesGiven = r->get_option("--bounces")->count() > 0;
+      return runRender(render);
+    }
     if (i->parsed()) {
       info.memory = i->get_option("--method")->count() > 0;
       return runInfo(info);
     }
     if (s->parsed()) return runScene(scene);
     if (d->parsed()) return runDevices();
+    if (c->parsed()) return runCompare(compare);
     if (b->parsed()) return runBench(bench);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "ivgi: error: %s\n", e.what());

@@ -5,15 +5,21 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <chrono>
+#include <future>
+#include <memory>
 #include <nlohmann/json.hpp>
 
 #include "engine/cli/commands.h"
 #include "engine/cli/json_file.h"
+#include "engine/cli/machine.h"
 #include "engine/cli/options.h"
 #include "engine/cli/progress.h"
 #include "engine/cli/statistics.h"
 #include "engine/cli/timeline.h"
+#include "engine/gi/environment.h"
 #include "engine/gi/frame_renderer.h"
+#include "engine/reference/path_tracer.h"
 #include "engine/image/atomic_file.h"
 #include "engine/image/frame_image.h"
 #include "engine/scene/camera.h"
@@ -27,6 +33,26 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
+// One path-traced frame: the host animates the geometry (animateOnHost is the twin of the GPU's
+// animate pass), Embree traces it; the progress line advances by rows while the threads work.
+gi::FrameResult pathTraceFrame(const scene::Geometry& g, const scene::Scene& s, const scene::Pose& pose, const std::optional<gi::Environment>& env,
+                               const scene::CameraView& view, const gi::ImageSettings& image, uint32_t frame, const reference::PathSettings& settings,
+                               Progress& progress) {
+  auto start = std::chrono::steady_clock::now();
+  reference::PathTracer tracer({&g, scene::animateOnHost(g, g.frameInputs(s, pose)), gi::worldLights(s, pose), env});
+  std::atomic<uint32_t> rows{0};
+  auto job = std::async(std::launch::async, [&] { return tracer.render(view, image.width, image.height, frame, settings, &rows); });
+  uint32_t shown = 0;
+  while (job.wait_for(std::chrono::milliseconds(200)) != std::future_status::ready) {
+    uint32_t now = rows.load();
+    for (; shown < now; ++shown) progress.advance();
+  }
+  gi::FrameResult result{job.get(), {}};
+  for (; shown < image.height; ++shown) progress.advance();
+  result.passTimes.push_back({"pt", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count()});
+  return result;
+}
+
 }  // namespace
 
 int runRender(const RenderOptions& o) {
@@ -34,6 +60,8 @@ int runRender(const RenderOptions& o) {
   if (!std::isfinite(o.exposure) || std::abs(o.exposure) > 64) throw UsageError("--exposure must lie in [-64, 64] stops");
   if (o.supersample < 1 || o.supersample > 16) throw UsageError("--supersample must be 1 to 16");
   if (o.tonemap != "aces" && o.tonemap != "clamp") throw UsageError("--tonemap must be aces or clamp");
+  const bool pt = o.solver.method == "pt";
+  if (!pt && o.pt.given) throw UsageError("--spp, --seed and --threads apply to --method pt only");
   gi::ImageSettings image;
   parseSize(o.size, image.width, image.height);
   image.samples = uint32_t(o.supersample);
@@ -64,9 +92,19 @@ int runRender(const RenderOptions& o) {
     cameraNode = cams.front();
   }
 
-  vk::Context ctx({.device = o.device});
-  if (std::string why = gi::checkImageSettings(ctx, image); !why.empty()) throw UsageError("--size " + o.size + ": " + why);
-  gi::FrameRenderer renderer(ctx, g, image, solverSetup(o.solver, s, g));
+  // The frame source: the GPU pipeline (iv, none) or the Embree path tracer (pt, no Vulkan).
+  std::unique_ptr<vk::Context> ctx;
+  std::unique_ptr<gi::FrameRenderer> renderer;
+  std::optional<gi::Environment> environment;
+  const reference::PathSettings ptSettings = pathSettings(o.pt, o.solver);
+  if (pt) {
+    if (image.samples != 1) throw UsageError("--supersample: pt spreads its --spp samples over each pixel; leave --supersample at 1");
+    if (!o.solver.environment.empty()) environment = gi::Environment::parse(o.solver.environment);
+  } else {
+    ctx = std::make_unique<vk::Context>(vk::ContextOptions{.device = o.device});
+    if (std::string why = gi::checkImageSettings(*ctx, image); !why.empty()) throw UsageError("--size " + o.size + ": " + why);
+    renderer = std::make_unique<gi::FrameRenderer>(*ctx, g, image, solverSetup(o.solver, s, g));
+  }
   const bool geometryAnimated = scene::animationMovesGeometry(s, tl.animation);
 
   const auto frames = range.frames();
@@ -85,7 +123,6 @@ int runRender(const RenderOptions& o) {
 
   fs::create_directories(pattern.directory());
   image::installInterruptCleanup();
-  const char* threads = std::getenv("LP_NUM_THREADS");
   json sidecar = {
       {"ivgi", IVGI_VERSION},
       {"scene", s.source},
@@ -94,29 +131,34 @@ int runRender(const RenderOptions& o) {
         {"supersample", image.samples}, {"formats", formats}, {"tonemap", o.tonemap}, {"exposure", o.exposure},
         {"animation", tl.animation >= 0 ? json(s.animations[tl.animation].name) : json(nullptr)},
         {"method", o.solver.method}, {"bins", o.solver.bins}, {"eps", o.solver.epsilon}, {"bounces", o.solver.bounces}, {"kappa", o.solver.kappa},
-        {"environment", o.solver.environment},
+        {"environment", o.solver.environment}, {"spp", o.pt.spp}, {"seed", o.pt.seed}, {"unbounded", pt && !o.pt.bouncesGiven},
         {"camera", cameraNode >= 0 ? json(s.nodes[cameraNode].name) : json("default framing")}}},
-      {"device",
-       {{"name", ctx.info().name}, {"type", ctx.info().type}, {"driver", ctx.info().driverName}, {"driverInfo", ctx.info().driverInfo},
-        {"LP_NUM_THREADS", threads ? json(threads) : json(nullptr)}}},
+      {"device", ctx ? deviceJson(*ctx) : cpuJson(ptSettings.threads)},
       {"counts", {{"triangles", g.triangles.size()}, {"vertices", g.vertices.size()}, {"surfels", g.surfels.size()}}},
-      {"bytesAllocated", renderer.bytesAllocated()},
+      {"bytesAllocated", renderer ? renderer->bytesAllocated() : 0},
       {"frames", json::array()}};
 
-  Progress progress("render", frames.size());
+  // pt frames take long: its progress counts rows.
+  Progress progress("render", pt ? frames.size() * image.height : frames.size(), pt ? "row" : "frame");
   std::map<std::string, std::vector<double>> perPass;
   for (int frame : frames) {
     std::vector<std::string> paths;
     for (const auto& f : formats) paths.push_back(pattern.path(frame, f));
     if (o.resume && std::all_of(paths.begin(), paths.end(), [](auto& p) { return fs::exists(p); })) {
-      progress.advance(1);
+      progress.advance(pt ? image.height : 1, true);
       continue;
     }
     double t = tl.time(frame, o.fps);
     auto pose = scene::evaluatePose(s, tl.animation, float(t));
     auto view = cameraNode >= 0 ? scene::cameraView(s, pose, cameraNode) : framing;
     bool first = sidecar["frames"].empty();
-    auto result = renderer.render(g.frameInputs(s, pose), view, gi::worldLights(s, pose), first || geometryAnimated);
+    gi::FrameResult result;
+    if (pt) {
+      result = pathTraceFrame(g, s, pose, environment, view, image, uint32_t(frame), ptSettings, progress);
+    } else {
+      result = renderer->render(g.frameInputs(s, pose), view, gi::worldLights(s, pose), first || geometryAnimated);
+      progress.advance();
+    }
     if (size_t bad = image::sanitize(result.channels))
       std::fprintf(stderr, "ivgi: warning: frame %d: %zu non-finite values replaced by 0 (a bug: please report it)\n", frame, bad);
     for (size_t i = 0; i < formats.size(); ++i) {
@@ -131,25 +173,25 @@ int runRender(const RenderOptions& o) {
       total += p.ms;
     }
     perPass["total"].push_back(total);
-    sidecar["frames"].push_back({{"frame", frame}, {"time", t}, {"gpuMs", passes}, {"totalGpuMs", total}, {"files", paths}});
-    progress.advance();
+    // GPU methods report GPU timestamps; pt the wall-clock time of its CPU threads.
+    sidecar["frames"].push_back({{"frame", frame}, {"time", t}, {pt ? "cpuMs" : "gpuMs", passes}, {pt ? "totalCpuMs" : "totalGpuMs", total}, {"files", paths}});
   }
   progress.finish();
-  if (const gi::IvSolver* iv = renderer.solver()) {
+  if (const gi::IvSolver* iv = renderer ? renderer->solver() : nullptr) {
     gi::IvStats st = iv->stats();
     sidecar["solver"] = {{"nodes", st.nodes}, {"levels", st.levels}, {"links", st.links}, {"leafLinks", st.leafLinks},
                          {"bytes", st.bytes}, {"sharedMemoryBins", st.sharedBins}};
-    sidecar["bytesAllocated"] = renderer.bytesAllocated() + st.bytes;
+    sidecar["bytesAllocated"] = renderer->bytesAllocated() + st.bytes;
   }
   json medians = json::object();
   for (const auto& [pass, ms] : perPass) medians[pass] = percentile(ms, 0.5);
-  sidecar["medianGpuMs"] = medians;
+  sidecar[pt ? "medianCpuMs" : "medianGpuMs"] = medians;
   std::string sidecarPath = o.json.empty() ? pattern.sidecar() : o.json;
   writeJson(sidecarPath, sidecar);
-  std::fprintf(stderr, "ivgi: %zu frames to %s, timings in %s (median GPU %.2f ms per frame)\n", frames.size(), pattern.directory().c_str(),
-               sidecarPath.c_str(), medians.value("total", 0.0));
-  if (ctx.validationErrors()) {
-    std::fprintf(stderr, "ivgi: %u Vulkan validation errors\n", ctx.validationErrors());
+  std::fprintf(stderr, "ivgi: %zu frames to %s, timings in %s (median %s %.2f ms per frame)\n", frames.size(), pattern.directory().c_str(),
+               sidecarPath.c_str(), pt ? "CPU" : "GPU", medians.value("total", 0.0));
+  if (ctx && ctx->validationErrors()) {
+    std::fprintf(stderr, "ivgi: %u Vulkan validation errors\n", ctx->validationErrors());
     return 3;
   }
   return 0;

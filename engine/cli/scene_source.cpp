@@ -21,7 +21,8 @@ scene::Scene loadScene(const SceneChoice& choice) {
 
 std::optional<gi::IvSetup> solverSetup(const SolverOptions& o, const scene::Scene& s, const scene::Geometry& g) {
   if (o.method == "none") return std::nullopt;
-  if (o.method != "iv") throw UsageError("--method '" + o.method + "': methods are iv and none");
+  if (o.method == "pt") throw UsageError("--method pt: the path tracer runs on the CPU; use `ivgi render --method pt` (bench and info measure iv and none)");
+  if (o.method != "iv") throw UsageError("--method '" + o.method + "': methods are iv, pt and none");
   if (o.bins < 1 || o.bins > 64) throw UsageError("--bins " + std::to_string(o.bins) + ": must be 1 to 64");
   if (!(o.epsilon > 0.0f && o.epsilon <= 1.0f)) throw UsageError("--eps must lie in (0, 1]");
   if (o.bounces < 0 || o.bounces > 64) throw UsageError("--bounces must be 0 to 64");
@@ -33,6 +34,13 @@ std::optional<gi::IvSetup> solverSetup(const SolverOptions& o, const scene::Scen
   settings.kappa = o.kappa;
   if (!o.environment.empty()) settings.environment = gi::environmentBins(o.environment, o.bins);
   return gi::makeIvSetup(s, g, settings);
+}
+
+reference::PathSettings pathSettings(const PathOptions& o, const SolverOptions& solver) {
+  if (o.spp < 1 || o.spp > 1u << 20) throw UsageError("--spp " + std::to_string(o.spp) + ": must be 1 to 1048576");
+  if (o.threads > 1024) throw UsageError("--threads " + std::to_string(o.threads) + ": must be 0 (every core) to 1024");
+  if (o.bouncesGiven && (solver.bounces < 0 || solver.bounces > 64)) throw UsageError("--bounces must be 0 to 64");
+  return {.spp = o.spp, .bounces = o.bouncesGiven ? solver.bounces : -1, .seed = o.seed, .threads = o.threads};
 }
 
 }  // namespace ivgi::cli

@@ -2,6 +2,7 @@
 
 #include <OpenImageIO/imagebuf.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -25,25 +26,40 @@ glm::vec3 parseColour(const std::string& spec) {
 
 }  // namespace
 
-std::vector<glm::vec4> environmentBins(const std::string& spec, uint32_t n) {
-  const uint32_t bins = 6 * n * n;
+Environment Environment::parse(const std::string& spec) {
+  Environment env;
   bool file = spec.size() > 4 && spec.substr(spec.size() - 4) == ".exr";
-  if (!file) return std::vector<glm::vec4>(bins, glm::vec4(parseColour(spec), 0.0f));
-
+  if (!file) {
+    env.constant_ = parseColour(spec);
+    return env;
+  }
   OIIO_NAMESPACE::ImageBuf image(spec);
   if (!image.read(0, 0, true, OIIO_NAMESPACE::TypeDesc::FLOAT)) throw std::runtime_error(spec + ": cannot read the environment: " + image.geterror());
   const auto& is = image.spec();
   if (is.nchannels < 3 || is.width < 1 || is.height < 1) throw std::runtime_error(spec + ": the environment needs RGB channels");
   const float* px = static_cast<const float*>(image.localpixels());
-  auto lookup = [&](glm::vec3 d) {
-    d = glm::normalize(d);
-    float u = std::atan2(d.x, -d.z) / (2.0f * kPi) + 0.5f, v = std::acos(glm::clamp(d.y, -1.0f, 1.0f)) / kPi;
-    int x = std::min(int(u * is.width), is.width - 1), y = std::min(int(v * is.height), is.height - 1);
-    const float* p = px + (size_t(y) * is.width + x) * is.nchannels;
-    return glm::vec3(p[0], p[1], p[2]);
-  };
-  std::vector<glm::vec4> out(bins);
-  for (uint32_t b = 0; b < bins; ++b) {
+  env.width_ = is.width, env.height_ = is.height;
+  env.texels_.resize(size_t(is.width) * is.height);
+  for (size_t i = 0; i < env.texels_.size(); ++i) {
+    const float* p = px + i * is.nchannels;
+    glm::vec3 c(p[0], p[1], p[2]);
+    if (!glm::all(glm::lessThan(glm::abs(c), glm::vec3(1e30f)))) throw std::runtime_error(spec + ": the environment holds NaN or infinite values");
+    env.texels_[i] = glm::max(c, glm::vec3(0.0f));
+  }
+  return env;
+}
+
+glm::vec3 Environment::radiance(glm::vec3 d) const {
+  if (width_ == 0) return constant_;
+  d = glm::normalize(d);
+  float u = std::atan2(d.x, -d.z) / (2.0f * kPi) + 0.5f, v = std::acos(glm::clamp(d.y, -1.0f, 1.0f)) / kPi;
+  int x = std::clamp(int(u * width_), 0, width_ - 1), y = std::clamp(int(v * height_), 0, height_ - 1);
+  return texels_[size_t(y) * width_ + x];
+}
+
+std::vector<glm::vec4> Environment::bins(uint32_t n) const {
+  std::vector<glm::vec4> out(6 * n * n);
+  for (uint32_t b = 0; b < out.size(); ++b) {
     // Sub-directions on the bin's face cell, around its centre.
     glm::vec3 c = binDirection(b, n), sum(0.0f);
     uint32_t face = b / (n * n), axis = face / 2;
@@ -55,13 +71,13 @@ std::vector<glm::vec4> environmentBins(const std::string& spec, uint32_t n) {
         if (axis == 0) d.y += du, d.z += dv;
         else if (axis == 1) d.z += du, d.x += dv;
         else d.x += du, d.y += dv;
-        sum += lookup(d);
+        sum += radiance(d);
       }
-    glm::vec3 mean = sum / 16.0f;
-    if (!glm::all(glm::lessThan(glm::abs(mean), glm::vec3(1e30f)))) throw std::runtime_error(spec + ": the environment holds NaN or infinite values");
-    out[b] = glm::vec4(glm::max(mean, glm::vec3(0.0f)), 0.0f);
+    out[b] = glm::vec4(sum / 16.0f, 0.0f);
   }
   return out;
 }
+
+std::vector<glm::vec4> environmentBins(const std::string& spec, uint32_t n) { return Environment::parse(spec).bins(n); }
 
 }  // namespace ivgi::gi

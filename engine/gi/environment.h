@@ -1,6 +1,7 @@
 #pragma once
-// Environment light for the bins: radiance per direction bin, from a constant colour or an
-// equirectangular EXR (+y up; u = 0.5 looks along -z).
+// Environment light: radiance arriving from infinitely far away, a constant colour or an
+// equirectangular EXR (+y up; u = 0.5 looks along -z). The iv solver reads it per direction bin, the
+// path tracer per direction.
 #include <glm/glm.hpp>
 
 #include <string>
@@ -8,8 +9,22 @@
 
 namespace ivgi::gi {
 
-// "R,G,B" or a path to an .exr; throws std::runtime_error naming the problem. Each bin holds the
-// mean radiance over 4×4 directions inside it.
+class Environment {
+ public:
+  // "R,G,B" or a path to an .exr; throws std::runtime_error naming the problem.
+  static Environment parse(const std::string& spec);
+
+  glm::vec3 radiance(glm::vec3 direction) const;  // nearest texel; any length of direction
+  // Per bin of the 6·N² table: the mean radiance over 4×4 directions inside it.
+  std::vector<glm::vec4> bins(uint32_t n) const;
+
+ private:
+  glm::vec3 constant_{0.0f};
+  int width_ = 0, height_ = 0;  // 0: constant
+  std::vector<glm::vec3> texels_;
+};
+
+// Environment::parse(spec).bins(n).
 std::vector<glm::vec4> environmentBins(const std::string& spec, uint32_t n);
 
 }  // namespace ivgi::gi

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "engine/gi/hierarchy.h"
+#include "engine/gi/shared.h"
 #include "engine/scene/animation.h"
 #include "engine/scene/geometry.h"
 #include "engine/vk/buffer.h"
@@ -24,9 +25,6 @@ struct IvSettings {
   std::vector<glm::vec4> environment;  // radiance per bin (6·N² entries); empty: no environment
 };
 
-struct GpuLight {  // std430 `PunctualLight` in common.glsl
-  glm::vec4 position, direction, intensity, cone;
-};
 // The scene's punctual lights in world space at `pose`.
 std::vector<GpuLight> worldLights(const scene::Scene& scene, const scene::Pose& pose);
 

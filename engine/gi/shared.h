@@ -76,4 +76,38 @@ inline float formFactor(float senderArea, float cosSender, float cosReceiver, fl
 
 inline uint64_t packLinkKey(float distance2, uint32_t sender) { return packDepthKey(distance2, sender); }
 
+// ---- Punctual lights (KHR_lights_punctual) ----
+
+struct GpuLight {  // std430 `PunctualLight` in common.glsl
+  glm::vec4 position;   // w: 0 directional, 1 point, 2 spot
+  glm::vec4 direction;  // where the light points; w: range (0: none)
+  glm::vec4 intensity;  // rgb: colour × intensity, radiometric
+  glm::vec4 cone;       // cos outer, cos inner
+};
+
+// lightFalloff() of common.glsl: irradiance per unit intensity on a surface facing the light at p
+// (1/d², the range window, the spot cone); `toLight` (not normalised) and its squared length
+// (3.4e38 for a directional light) come back.
+inline float lightFalloff(const GpuLight& light, glm::vec3 p, glm::vec3& toLight, float& dist2) {
+  dist2 = 3.4e38f;
+  if (light.position.w == 0.0f) {
+    toLight = -glm::vec3(light.direction);
+    return 1.0f;
+  }
+  toLight = glm::vec3(light.position) - p;
+  dist2 = glm::dot(toLight, toLight);
+  if (dist2 <= 0.0f) return 0.0f;
+  float falloff = 1.0f / dist2;
+  if (light.direction.w > 0.0f) {
+    float window = std::clamp(1.0f - std::pow(std::sqrt(dist2) / light.direction.w, 4.0f), 0.0f, 1.0f);
+    falloff *= window * window;
+  }
+  if (light.position.w == 2.0f) {
+    float c = glm::dot(glm::normalize(-toLight), glm::vec3(light.direction));
+    float t = std::clamp((c - light.cone.x) / std::max(light.cone.y - light.cone.x, 1e-6f), 0.0f, 1.0f);
+    falloff *= t * t * (3.0f - 2.0f * t);  // GLSL smoothstep
+  }
+  return falloff;
+}
+
 }  // namespace ivgi::gi

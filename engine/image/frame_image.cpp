@@ -62,9 +62,13 @@ void writeExr(const std::string& path, const FrameChannels& f) {
   writeWith(path, spec, OIIO::TypeDesc::FLOAT, pixels.data());
 }
 
-void writePng(const std::string& path, const FrameChannels& f, const DisplaySettings& d) {
-  OIIO::ImageSpec spec(int(f.width), int(f.height), 3, OIIO::TypeDesc::UINT8);
+void writeRgb8Png(const std::string& path, uint32_t width, uint32_t height, const std::vector<uint8_t>& rgb) {
+  OIIO::ImageSpec spec(int(width), int(height), 3, OIIO::TypeDesc::UINT8);
   spec.attribute("Software", "ivgi " IVGI_VERSION);
+  writeWith(path, spec, OIIO::TypeDesc::UINT8, rgb.data());
+}
+
+void writePng(const std::string& path, const FrameChannels& f, const DisplaySettings& d) {
   std::vector<uint8_t> pixels(size_t(f.width) * f.height * 3);
   const float scale = std::exp2(d.exposure);
   for (size_t i = 0; i < size_t(f.width) * f.height; ++i)
@@ -72,7 +76,7 @@ void writePng(const std::string& path, const FrameChannels& f, const DisplaySett
       float v = scene::linearToSrgb(toneMap(f.radiance[i][c] * scale, d.tonemap));
       pixels[i * 3 + c] = uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
     }
-  writeWith(path, spec, OIIO::TypeDesc::UINT8, pixels.data());
+  writeRgb8Png(path, f.width, f.height, pixels);
 }
 
 }  // namespace ivgi::image

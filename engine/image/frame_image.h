@@ -31,6 +31,9 @@ void writeExr(const std::string& path, const FrameChannels& frame);
 // radiance × 2^exposure, tone mapped, sRGB encoded, 8-bit RGB.
 void writePng(const std::string& path, const FrameChannels& frame, const DisplaySettings& display);
 
+// 8-bit RGB rows, top first.
+void writeRgb8Png(const std::string& path, uint32_t width, uint32_t height, const std::vector<uint8_t>& rgb);
+
 float toneMap(float linear, ToneMap mode);  // to [0, 1], before the sRGB curve
 
 }  // namespace ivgi::image

@@ -1,0 +1,320 @@
+#include "engine/reference/path_tracer.h"
+
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <thread>
+
+#include "engine/scene/texture_sampling.h"
+
+namespace ivgi::reference {
+
+namespace {
+
+using gi::kPi;
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+
+// PCG32 (O'Neill): small, fast and good enough for Monte Carlo; seeded per pixel.
+struct Rng {
+  uint64_t state, increment;
+  Rng(uint64_t seed, uint64_t stream) : state(0), increment(stream << 1u | 1u) {
+    next();
+    state += seed;
+    next();
+  }
+  uint32_t next() {
+    uint64_t old = state;
+    state = old * 6364136223846793005ull + increment;
+    uint32_t shifted = uint32_t(((old >> 18u) ^ old) >> 27u), rot = uint32_t(old >> 59u);
+    return (shifted >> rot) | (shifted << ((32u - rot) & 31u));
+  }
+  float uniform() { return float(next() >> 8) * 0x1p-24f; }  // [0, 1)
+};
+
+uint64_t mix64(uint64_t z) {  // splitmix64's finaliser
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+  return z ^ (z >> 31);
+}
+
+float luminance(glm::vec3 c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
+float maxComponent(glm::vec3 c) { return std::max(c.r, std::max(c.g, c.b)); }
+
+// Cosine-weighted direction around the unit normal n.
+glm::vec3 cosineDirection(glm::vec3 n, float u1, float u2) {
+  float r = std::sqrt(u1), phi = 2.0f * kPi * u2;
+  glm::vec3 t = std::abs(n.x) > 0.5f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
+  glm::vec3 b1 = glm::normalize(glm::cross(t, n)), b2 = glm::cross(n, b1);
+  return r * std::cos(phi) * b1 + r * std::sin(phi) * b2 + std::sqrt(std::max(0.0f, 1.0f - u1)) * n;
+}
+
+// Power heuristic (β = 2) weight of a strategy with density a against one with density b.
+float powerHeuristic(float a, float b) { return a * a / (a * a + b * b); }
+
+}  // namespace
+
+struct PathTracer::Impl {
+  PathScene s;
+  const scene::Geometry& g;
+  RTCDevice device = nullptr;
+  RTCScene rtc = nullptr;
+  std::vector<glm::vec3> front;  // per triangle: unit geometric normal on the side its vertex normals face
+  std::vector<float> lightPdfArea;  // per triangle: density per unit area of choosing a point on it (0: no emission)
+  std::vector<uint32_t> emitters;
+  std::vector<float> emitterCdf;
+  float epsilon = 1e-5f;  // ray-origin offset, relative to the scene's size
+
+  struct Surface {
+    uint32_t triangle;
+    float t;
+    glm::vec3 position, shadingNormal, geometricNormal;  // normals unit, not oriented
+    glm::vec3 base, emission;
+  };
+
+  explicit Impl(PathScene scene) : s(std::move(scene)), g(*s.geometry) {
+    device = rtcNewDevice(nullptr);
+    if (!device) throw std::runtime_error("Embree: cannot create a device (error " + std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
+    rtc = rtcNewScene(device);
+    RTCGeometry mesh = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* positions = static_cast<float*>(rtcSetNewGeometryBuffer(mesh, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), s.world.size()));
+    scene::Bounds bounds;
+    for (size_t i = 0; i < s.world.size(); ++i) {
+      glm::vec3 p(s.world[i].position);
+      positions[3 * i] = p.x, positions[3 * i + 1] = p.y, positions[3 * i + 2] = p.z;
+      bounds.add(p);
+    }
+    auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(mesh, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), g.triangles.size()));
+    for (size_t i = 0; i < g.triangles.size(); ++i)
+      indices[3 * i] = g.triangles[i].v0, indices[3 * i + 1] = g.triangles[i].v1, indices[3 * i + 2] = g.triangles[i].v2;
+    rtcCommitGeometry(mesh);
+    rtcAttachGeometry(rtc, mesh);
+    rtcReleaseGeometry(mesh);
+    rtcCommitScene(rtc);
+    if (RTCError e = rtcGetDeviceError(device); e != RTC_ERROR_NONE) throw std::runtime_error("Embree: building the scene failed (error " + std::to_string(int(e)) + ")");
+    if (!bounds.empty()) epsilon = 1e-5f * std::max(glm::length(bounds.max - bounds.min), 1e-30f);
+
+    // Emitters, chosen in proportion to their power (area × luminance of the emissive factor).
+    front.resize(g.triangles.size());
+    lightPdfArea.assign(g.triangles.size(), 0.0f);
+    double total = 0;
+    std::vector<float> power;
+    for (uint32_t i = 0; i < g.triangles.size(); ++i) {
+      const auto& t = g.triangles[i];
+      glm::vec3 a = pos(t.v0), b = pos(t.v1), c = pos(t.v2);
+      glm::vec3 n = glm::cross(b - a, c - a);
+      float area = 0.5f * glm::length(n);
+      glm::vec3 vertexNormals = glm::vec3(s.world[t.v0].normal) + glm::vec3(s.world[t.v1].normal) + glm::vec3(s.world[t.v2].normal);
+      if (!(t.material & scene::kFlatShaded) && glm::dot(n, vertexNormals) < 0.0f) n = -n;
+      front[i] = area > 0.0f ? n / (2.0f * area) : glm::vec3(0.0f);
+      float p = area * luminance(glm::vec3(g.materials[t.material & ~scene::kFlatShaded].emission));
+      if (!(p > 0.0f) || !std::isfinite(p)) continue;
+      emitters.push_back(i);
+      power.push_back(p);
+      total += p;
+    }
+    double running = 0;
+    for (size_t k = 0; k < emitters.size(); ++k) {
+      running += power[k];
+      emitterCdf.push_back(float(running / total));
+      const auto& t = g.triangles[emitters[k]];
+      float area = 0.5f * glm::length(glm::cross(pos(t.v1) - pos(t.v0), pos(t.v2) - pos(t.v0)));
+      lightPdfArea[emitters[k]] = float(power[k] / total) / area;
+    }
+    if (!emitterCdf.empty()) emitterCdf.back() = 1.0f;
+  }
+
+  ~Impl() {
+    if (rtc) rtcReleaseScene(rtc);
+    if (device) rtcReleaseDevice(device);
+  }
+
+  glm::vec3 pos(uint32_t v) const { return glm::vec3(s.world[v].position); }
+
+  std::optional<Surface> intersect(glm::vec3 o, glm::vec3 d, float tnear, float tfar) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit rh{};
+    rh.ray.org_x = o.x, rh.ray.org_y = o.y, rh.ray.org_z = o.z, rh.ray.tnear = tnear;
+    rh.ray.dir_x = d.x, rh.ray.dir_y = d.y, rh.ray.dir_z = d.z, rh.ray.tfar = tfar;
+    rh.ray.mask = ~0u;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(rtc, &context, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
+    return surface(rh.hit.primID, rh.ray.tfar, glm::vec3(1.0f - rh.hit.u - rh.hit.v, rh.hit.u, rh.hit.v));
+  }
+
+  bool occluded(glm::vec3 o, glm::vec3 d, float tfar) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRay ray{};
+    ray.org_x = o.x, ray.org_y = o.y, ray.org_z = o.z, ray.tnear = 0.0f;
+    ray.dir_x = d.x, ray.dir_y = d.y, ray.dir_z = d.z, ray.tfar = tfar;
+    ray.mask = ~0u;
+    rtcOccluded1(rtc, &context, &ray);
+    return ray.tfar < 0.0f;
+  }
+
+  // Everything shading needs at barycentric w of a triangle, as shaders/resolve.comp computes it.
+  Surface surface(uint32_t tri, float t, glm::vec3 w) const {
+    const auto& tr = g.triangles[tri];
+    Surface x{tri, t, w.x * pos(tr.v0) + w.y * pos(tr.v1) + w.z * pos(tr.v2), {}, {}, {}, {}};
+    glm::vec3 ng = glm::cross(pos(tr.v1) - pos(tr.v0), pos(tr.v2) - pos(tr.v0));
+    x.geometricNormal = glm::length(ng) > 0.0f ? glm::normalize(ng) : glm::vec3(0, 0, 1);
+    x.shadingNormal = x.geometricNormal;
+    if (!(tr.material & scene::kFlatShaded)) {
+      glm::vec3 ns = w.x * glm::vec3(s.world[tr.v0].normal) + w.y * glm::vec3(s.world[tr.v1].normal) + w.z * glm::vec3(s.world[tr.v2].normal);
+      if (glm::length(ns) > 0.0f) x.shadingNormal = glm::normalize(ns);
+    }
+    const scene::GpuMaterial& m = g.materials[tr.material & ~scene::kFlatShaded];
+    glm::vec2 uv = w.x * g.uvs[tr.v0] + w.y * g.uvs[tr.v1] + w.z * g.uvs[tr.v2];
+    x.base = glm::vec3(m.baseColor) * glm::vec3(scene::sampleTexture(g, m.baseColorTexture, uv));
+    x.emission = glm::vec3(m.emission) * glm::vec3(scene::sampleTexture(g, m.emissiveTexture, uv));
+    return x;
+  }
+
+  // Emitted radiance of x towards direction `out` (unit): emitters radiate from their front side.
+  glm::vec3 emitted(const Surface& x, glm::vec3 out) const { return glm::dot(front[x.triangle], out) > 0.0f ? x.emission : glm::vec3(0.0f); }
+
+  // Radiance reflected at x towards `out` (unit) with albedo `base`: the path from x on.
+  glm::vec3 reflected(Surface x, glm::vec3 out, glm::vec3 base, Rng& rng, const PathSettings& settings) const {
+    glm::vec3 radiance(0.0f), throughput(1.0f);
+    for (int vertex = 0;; ++vertex) {
+      // Orient both normals to the side the path arrives from: surfaces reflect on both sides.
+      glm::vec3 ng = x.geometricNormal, ns = x.shadingNormal;
+      if (glm::dot(ng, out) < 0.0f) ng = -ng, ns = -ns;
+      if (glm::dot(ns, ng) <= 0.0f) ns = ng;
+      if (maxComponent(base) <= 0.0f) break;
+      glm::vec3 origin = x.position + epsilon * ng;
+      glm::vec3 f = base / kPi;
+
+      // Next-event estimation: one point on the emitters, every punctual light.
+      if (!emitters.empty()) {
+        size_t k = std::min(size_t(std::upper_bound(emitterCdf.begin(), emitterCdf.end(), rng.uniform()) - emitterCdf.begin()), emitters.size() - 1);
+        uint32_t tri = emitters[k];
+        float r1 = std::sqrt(rng.uniform()), r2 = rng.uniform();
+        glm::vec3 w(1.0f - r1, r1 * (1.0f - r2), r1 * r2);
+        Surface y = surface(tri, 0.0f, w);
+        glm::vec3 toY = y.position - origin;
+        float d2 = glm::dot(toY, toY), dist = std::sqrt(d2);
+        if (dist > 0.0f) {
+          glm::vec3 wi = toY / dist;
+          float cosX = glm::dot(ns, wi), cosY = glm::dot(front[tri], -wi);
+          if (cosX > 0.0f && cosY > 0.0f && glm::dot(ng, wi) > 0.0f && !occluded(origin, wi, dist * (1.0f - 1e-4f))) {
+            float pdfLight = lightPdfArea[tri] * d2 / cosY, pdfBsdf = cosX / kPi;
+            radiance += throughput * f * y.emission * (cosX / pdfLight * powerHeuristic(pdfLight, pdfBsdf));
+          }
+        }
+      }
+      for (const gi::GpuLight& light : s.lights) {
+        glm::vec3 toLight;
+        float dist2, falloff = gi::lightFalloff(light, origin, toLight, dist2);
+        if (!(falloff > 0.0f)) continue;
+        glm::vec3 wi = glm::normalize(toLight);
+        float cosX = glm::dot(ns, wi);
+        if (cosX <= 0.0f || glm::dot(ng, wi) <= 0.0f) continue;
+        float tfar = light.position.w == 0.0f ? kInfinity : std::sqrt(dist2) * (1.0f - 1e-4f);
+        if (!occluded(origin, wi, tfar)) radiance += throughput * f * glm::vec3(light.intensity) * (cosX * falloff);
+      }
+
+      // BSDF sampling: the next vertex, and emission or environment found on the way (MIS weighted).
+      glm::vec3 wi = cosineDirection(ns, rng.uniform(), rng.uniform());
+      float cosX = glm::dot(ns, wi);
+      if (cosX <= 0.0f || glm::dot(ng, wi) <= 0.0f) break;
+      throughput *= base;  // f · cos / pdf with pdf = cos / π
+      auto next = intersect(origin, wi, 0.0f, kInfinity);
+      if (!next) {
+        if (s.environment) radiance += throughput * s.environment->radiance(wi);
+        break;
+      }
+      glm::vec3 le = emitted(*next, -wi);
+      if (maxComponent(le) > 0.0f) {
+        float cosY = std::abs(glm::dot(front[next->triangle], wi));
+        float pdfLight = cosY > 0.0f ? lightPdfArea[next->triangle] * next->t * next->t / cosY : 0.0f;
+        radiance += throughput * le * (pdfLight > 0.0f ? powerHeuristic(cosX / kPi, pdfLight) : 1.0f);
+      }
+      if (settings.bounces >= 0 && vertex >= settings.bounces) break;
+      if (vertex >= 2) {  // Russian roulette, unbiased: survivors carry 1/q
+        float q = std::min(0.95f, maxComponent(throughput));
+        if (rng.uniform() >= q) break;
+        throughput /= q;
+      }
+      x = *next;
+      out = -wi;
+      base = x.base;
+    }
+    return radiance;
+  }
+};
+
+PathTracer::PathTracer(PathScene scene) : impl_(std::make_unique<Impl>(std::move(scene))) {}
+PathTracer::~PathTracer() = default;
+
+image::FrameChannels PathTracer::render(const scene::CameraView& view, uint32_t width, uint32_t height, uint32_t frame,
+                                        const PathSettings& settings, std::atomic<uint32_t>* rowsDone) const {
+  const Impl& im = *impl_;
+  image::FrameChannels out;
+  out.width = width, out.height = height;
+  size_t pixels = size_t(width) * height;
+  out.radiance.assign(pixels, glm::vec4(0.0f));
+  out.albedo.assign(pixels, glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
+  out.normalDepth.assign(pixels, glm::vec4(0.0f));
+  out.emission.assign(pixels, glm::vec4(0.0f));
+  const gi::GpuCamera cam = gi::gpuCamera(view, float(width) / float(height));
+  const glm::vec3 eye(cam.origin);
+  const float zfar = cam.forward.w > 0.0f ? cam.forward.w : kInfinity;
+  const uint64_t frameSeed = mix64(uint64_t(settings.seed) << 32 | frame);
+
+  auto renderRow = [&](uint32_t y) {
+    for (uint32_t x = 0; x < width; ++x) {
+      size_t at = size_t(y) * width + x;
+      Rng rng(mix64(frameSeed ^ at), at);
+      glm::vec3 radiance(0.0f), albedo(0.0f), normal(0.0f), emission(0.0f);
+      float depth = 0.0f, hits = 0.0f;
+      for (uint32_t i = 0; i < settings.spp; ++i) {
+        glm::vec2 s = glm::vec2(float(x), float(y)) + glm::vec2(rng.uniform(), rng.uniform());
+        if (settings.spp == 1) s = glm::vec2(float(x), float(y)) + 0.5f;  // one sample: the pixel centre, as the rasteriser
+        glm::vec3 d = gi::cameraRay(cam, s, {width, height});  // t along d is the depth along the view axis
+        auto hit = im.intersect(eye, d, cam.origin.w, zfar);
+        if (!hit) continue;
+        glm::vec3 out = -glm::normalize(d);
+        radiance += im.emitted(*hit, out) + im.reflected(*hit, out, hit->base, rng, settings);
+        albedo += hit->base, normal += hit->shadingNormal, emission += hit->emission;
+        depth += hit->t, hits += 1.0f;
+      }
+      float n = float(settings.spp);
+      out.radiance[at] = glm::vec4(radiance / n, hits / n);
+      out.albedo[at] = glm::vec4(albedo / n, 1.0f);
+      float len = glm::length(normal);
+      out.normalDepth[at] = glm::vec4(len > 0.0f ? normal / len : glm::vec3(0.0f), hits > 0.0f ? depth / hits : 0.0f);
+      out.emission[at] = glm::vec4(emission / n, 0.0f);
+    }
+    if (rowsDone) rowsDone->fetch_add(1);
+  };
+
+  unsigned threads = settings.threads ? settings.threads : std::max(1u, std::thread::hardware_concurrency());
+  std::atomic<uint32_t> nextRow{0};
+  auto worker = [&] {
+    for (uint32_t y; (y = nextRow.fetch_add(1)) < height;) renderRow(y);
+  };
+  std::vector<std::thread> pool;
+  for (unsigned i = 1; i < std::min(threads, height); ++i) pool.emplace_back(worker);
+  worker();
+  for (auto& t : pool) t.join();
+  return out;
+}
+
+glm::vec3 PathTracer::irradiance(glm::vec3 p, glm::vec3 n, uint32_t samples, const PathSettings& settings) const {
+  const Impl& im = *impl_;
+  Rng rng(mix64(uint64_t(settings.seed) << 32 ^ 0x9e3779b97f4a7c15ull), 7);
+  // A white Lambertian point reflects E/π: estimate that and scale back.
+  Impl::Surface x{0, 0.0f, p, glm::normalize(n), glm::normalize(n), glm::vec3(1.0f), glm::vec3(0.0f)};
+  glm::vec3 sum(0.0f);
+  for (uint32_t i = 0; i < samples; ++i) sum += im.reflected(x, x.geometricNormal, glm::vec3(1.0f), rng, settings);
+  return kPi * sum / float(samples);
+}
+
+}  // namespace ivgi::reference
