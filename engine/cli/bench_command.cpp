@@ -29,14 +29,12 @@ int runBench(const BenchOptions& o) {
   if (g.triangles.empty()) throw scene::LoadError(s.source + ": the scene has no triangles to render");
   const Timeline tl = timeline(s, "", o.fps);
   const int animation = tl.animation;
-  auto cams = s.cameraNodes();
 
   vk::Context ctx({.device = o.device});
   if (std::string why = gi::checkImageSettings(ctx, image); !why.empty()) throw UsageError("--size " + o.size + ": " + why);
   gi::FrameRenderer renderer(ctx, g, image, solverSetup(o.solver, s, g));
   const bool moving = scene::animationMovesGeometry(s, animation);
-  scene::CameraView framing = scene::framingCamera(
-      scene::worldBounds(scene::animateOnHost(g, g.frameInputs(s, scene::evaluatePose(s, animation, 0.0f)))), float(image.width) / float(image.height));
+  const FrameCamera camera(s, g, tl, o.fps, "", {0}, float(image.width) / float(image.height));
 
   std::map<std::string, std::vector<double>> perPass;
   std::vector<std::string> order;
@@ -45,7 +43,7 @@ int runBench(const BenchOptions& o) {
     int frame = i % (tl.lastFrame + 1);
     float t = float(tl.time(frame, o.fps));
     auto pose = scene::evaluatePose(s, animation, t);
-    auto view = cams.empty() ? framing : scene::cameraView(s, pose, cams[0]);
+    auto view = camera.at(pose);
     auto result = renderer.render(g.frameInputs(s, pose), view, gi::worldLights(s, pose), i == 0 || moving);
     if (i < o.warmup) continue;
     double total = 0;

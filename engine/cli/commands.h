@@ -100,4 +100,18 @@ struct CompareOptions {
 int runCompare(const CompareOptions& options);
 nlohmann::json metricsJson(const image::ErrorMetrics& metrics);
 
+struct SweepOptions {
+  SceneChoice source;
+  std::string reference;  // linear EXR of the same scene, frame and camera (e.g. render --method pt)
+  std::string methods = "iv", bins = "16", eps = "0.02", bounces = "2", kappa = "1";  // comma-separated lists
+  std::string environment, camera, animation, device;
+  int frame = 0;
+  double fps = 24.0;
+  int repeats = 3, warmup = 1;
+  std::string metric = "relMSE";  // what the Pareto front and the plot use: relMSE or FLIP
+  std::string out = "sweep";
+};
+// Measures each setting of the grid; writes OUT/sweep.csv, sweep.json and sweep.png.
+int runSweep(const SweepOptions& options);
+
 }  // namespace ivgi::cli

@@ -89,6 +89,26 @@ int main(int argc, char** argv) {
   c->add_option("--mask", compare.mask, "image whose non-zero pixels (first channel) are left out of the figures");
   c->add_option("--exposure", compare.exposure, "exposure in stops before the tone map FLIP sees")->capture_default_str();
 
+  SweepOptions sweep;
+  auto* w = app.add_subcommand("sweep", "time and score a grid of settings against a reference; CSV, JSON and a plot of the speed/accuracy front");
+  addSceneArgument(w, sweep.source);
+  w->add_option("--reference", sweep.reference, "reference EXR of the same frame, camera and size (e.g. render --method pt)")->required();
+  w->add_option("--method", sweep.methods, "methods, comma-separated: iv, none")->capture_default_str();
+  w->add_option("--bins", sweep.bins, "N values, comma-separated")->capture_default_str();
+  w->add_option("--eps", sweep.eps, "refinement thresholds, comma-separated")->capture_default_str();
+  w->add_option("--bounces", sweep.bounces, "bounce counts, comma-separated")->capture_default_str();
+  w->add_option("--kappa", sweep.kappa, "sender sizes in bins, comma-separated")->capture_default_str();
+  w->add_option("--env", sweep.environment, "environment light: R,G,B radiance or an equirectangular .exr");
+  w->add_option("--frame", sweep.frame, "the frame the reference shows")->capture_default_str();
+  w->add_option("--fps", sweep.fps, "frames per second of the animation")->capture_default_str();
+  w->add_option("--camera", sweep.camera, "camera name or index (default: the first in the scene)");
+  w->add_option("--animation", sweep.animation, "animation name or index, or none (default: the first)");
+  w->add_option("--repeats", sweep.repeats, "timed renders per setting (the median is reported)")->capture_default_str();
+  w->add_option("--warmup", sweep.warmup, "untimed renders per setting first")->capture_default_str();
+  w->add_option("--metric", sweep.metric, "error of the Pareto front and the plot: relMSE or FLIP")->capture_default_str()->check(CLI::IsMember({"relMSE", "FLIP"}));
+  w->add_option("--out", sweep.out, "output folder")->capture_default_str();
+  w->add_option("--device", sweep.device, "Vulkan device name substring or index");
+
   auto* d = app.add_subcommand("devices", "list Vulkan devices and whether ivgi can use them");
 
   try {
@@ -109,6 +129,7 @@ int main(int argc, char** argv) {
     if (s->parsed()) return runScene(scene);
     if (d->parsed()) return runDevices();
     if (c->parsed()) return runCompare(compare);
+    if (w->parsed()) return runSweep(sweep);
     if (b->parsed()) return runBench(bench);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "ivgi: error: %s\n", e.what());

@@ -83,15 +83,6 @@ int runRender(const RenderOptions& o) {
   if (g.triangles.empty()) throw scene::LoadError(s.source + ": the scene has no triangles to render");
   for (const auto& w : s.warnings) std::fprintf(stderr, "ivgi: warning: %s: %s\n", s.source.c_str(), w.c_str());
 
-  int cameraNode = -1;
-  if (!o.camera.empty()) {
-    auto c = s.findCameraNode(o.camera);
-    if (!c) throw scene::LoadError(s.source + ": no camera named '" + o.camera + "' (" + std::to_string(s.cameraNodes().size()) + " cameras; see `ivgi info`)");
-    cameraNode = *c;
-  } else if (auto cams = s.cameraNodes(); !cams.empty()) {
-    cameraNode = cams.front();
-  }
-
   // The frame source: the GPU pipeline (iv, none) or the Embree path tracer (pt, no Vulkan).
   std::unique_ptr<vk::Context> ctx;
   std::unique_ptr<gi::FrameRenderer> renderer;
@@ -108,18 +99,7 @@ int runRender(const RenderOptions& o) {
   const bool geometryAnimated = scene::animationMovesGeometry(s, tl.animation);
 
   const auto frames = range.frames();
-  const float aspect = float(image.width) / float(image.height);
-  scene::CameraView framing;
-  if (cameraNode < 0) {  // frame the union of the bounds over (up to 16 of) the frames rendered
-    scene::Bounds all;
-    size_t stride = std::max<size_t>(1, frames.size() / 16);
-    for (size_t i = 0; i < frames.size(); i += stride) {
-      auto pose = scene::evaluatePose(s, tl.animation, float(tl.time(frames[i], o.fps)));
-      auto b = scene::worldBounds(scene::animateOnHost(g, g.frameInputs(s, pose)));
-      all.add(b.min), all.add(b.max);
-    }
-    framing = scene::framingCamera(all, aspect);
-  }
+  const FrameCamera camera(s, g, tl, o.fps, o.camera, frames, float(image.width) / float(image.height));
 
   fs::create_directories(pattern.directory());
   image::installInterruptCleanup();
@@ -132,7 +112,7 @@ int runRender(const RenderOptions& o) {
         {"animation", tl.animation >= 0 ? json(s.animations[tl.animation].name) : json(nullptr)},
         {"method", o.solver.method}, {"bins", o.solver.bins}, {"eps", o.solver.epsilon}, {"bounces", o.solver.bounces}, {"kappa", o.solver.kappa},
         {"environment", o.solver.environment}, {"spp", o.pt.spp}, {"seed", o.pt.seed}, {"unbounded", pt && !o.pt.bouncesGiven},
-        {"camera", cameraNode >= 0 ? json(s.nodes[cameraNode].name) : json("default framing")}}},
+        {"camera", camera.name()}}},
       {"device", ctx ? deviceJson(*ctx) : cpuJson(ptSettings.threads)},
       {"counts", {{"triangles", g.triangles.size()}, {"vertices", g.vertices.size()}, {"surfels", g.surfels.size()}}},
       {"bytesAllocated", renderer ? renderer->bytesAllocated() : 0},
@@ -150,7 +130,7 @@ int runRender(const RenderOptions& o) {
     }
     double t = tl.time(frame, o.fps);
     auto pose = scene::evaluatePose(s, tl.animation, float(t));
-    auto view = cameraNode >= 0 ? scene::cameraView(s, pose, cameraNode) : framing;
+    auto view = camera.at(pose);
     bool first = sidecar["frames"].empty();
     gi::FrameResult result;
     if (pt) {

@@ -1,6 +1,9 @@
 #include "engine/cli/timeline.h"
 
+#include <algorithm>
 #include <cmath>
+
+#include "engine/scene/animation.h"
 
 namespace ivgi::cli {
 
@@ -21,5 +24,30 @@ Timeline timeline(const scene::Scene& s, const std::string& choice, double fps) 
   }
   return t;
 }
+
+FrameCamera::FrameCamera(const scene::Scene& s, const scene::Geometry& g, const Timeline& tl, double fps, const std::string& camera,
+                         const std::vector<int>& frames, float aspect)
+    : scene_(s) {
+  if (!camera.empty()) {
+    auto c = s.findCameraNode(camera);
+    if (!c) throw scene::LoadError(s.source + ": no camera named '" + camera + "' (" + std::to_string(s.cameraNodes().size()) + " cameras; see `ivgi info`)");
+    node_ = *c;
+  } else if (auto cams = s.cameraNodes(); !cams.empty()) {
+    node_ = cams.front();
+  }
+  if (node_ >= 0) return;
+  scene::Bounds all;
+  size_t stride = std::max<size_t>(1, frames.size() / 16);
+  for (size_t i = 0; i < frames.size(); i += stride) {
+    auto pose = scene::evaluatePose(s, tl.animation, float(tl.time(frames[i], fps)));
+    auto b = scene::worldBounds(scene::animateOnHost(g, g.frameInputs(s, pose)));
+    all.add(b.min), all.add(b.max);
+  }
+  framing_ = scene::framingCamera(all, aspect);
+}
+
+scene::CameraView FrameCamera::at(const scene::Pose& pose) const { return node_ >= 0 ? scene::cameraView(scene_, pose, node_) : framing_; }
+
+std::string FrameCamera::name() const { return node_ >= 0 ? scene_.nodes[node_].name : "default framing"; }
 
 }  // namespace ivgi::cli

@@ -1,0 +1,188 @@
+// ivgi sweep: for a grid of settings, the median GPU time of a frame, the memory, and the error
+// against a reference image; CSV, JSON and a plot of error against time with the Pareto front.
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "engine/cli/commands.h"
+#include "engine/cli/json_file.h"
+#include "engine/cli/machine.h"
+#include "engine/cli/options.h"
+#include "engine/cli/progress.h"
+#include "engine/cli/statistics.h"
+#include "engine/cli/timeline.h"
+#include "engine/gi/frame_renderer.h"
+#include "engine/image/atomic_file.h"
+#include "plot_sweep_script.h"
+
+namespace ivgi::cli {
+
+namespace {
+
+template <typename T>
+std::vector<T> parseList(const std::string& option, const std::string& text) {
+  std::vector<T> out;
+  std::stringstream ss(text);
+  for (std::string item; std::getline(ss, item, ',');) {
+    std::stringstream one(item);
+    T v;
+    if (!(one >> v) || !one.eof()) throw UsageError(option + " '" + text + "': expected comma-separated numbers");
+    out.push_back(v);
+  }
+  if (out.empty()) throw UsageError(option + ": give at least one value");
+  return out;
+}
+
+std::string label(const SolverOptions& o) {
+  if (o.method != "iv") return o.method;
+  std::ostringstream s;
+  s << "N" << o.bins << " e" << o.epsilon << " b" << o.bounces;
+  if (o.kappa != 1.0f) s << " k" << o.kappa;
+  return s.str();
+}
+
+struct Row {
+  SolverOptions settings;
+  double ms = 0, msP90 = 0;
+  uint64_t bytes = 0;
+  image::ErrorMetrics error;
+  bool pareto = false;
+};
+
+// The interpreter that runs the plotting script: IVGI_PYTHON, else Debian's, else the PATH's.
+std::string python() {
+  if (const char* p = std::getenv("IVGI_PYTHON")) return p;
+  return std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+}
+
+void plot(const std::string& csv, const std::string& png, const std::string& metric) {
+  namespace fs = std::filesystem;
+  fs::path script = fs::path(png).parent_path() / ".plot_sweep.py";
+  {
+    std::ofstream out(script);
+    out << kPlotSweepScript;
+  }
+  image::writeAtomically(png, [&](const std::string& temp) {
+    // The script writes the PNG under the temporary name, so a failed plot leaves no file.
+    std::string command = python() + " '" + script.string() + "' '" + csv + "' '" + temp + ".png' --metric " + metric + " 2>&1";
+    std::string output;
+    if (FILE* pipe = popen(command.c_str(), "r")) {
+      char buf[512];
+      while (fgets(buf, sizeof buf, pipe)) output += buf;
+      int status = pclose(pipe);
+      if (status == 0 && fs::exists(temp + ".png")) {
+        fs::rename(temp + ".png", temp);
+        return;
+      }
+    }
+    fs::remove(temp + ".png");
+    std::string last = output.substr(output.find_last_of('\n', output.size() >= 2 ? output.size() - 2 : 0) + 1);
+    throw std::runtime_error(png + ": plotting failed (needs python3-matplotlib, which ci/install-deps.sh installs): " + last);
+  });
+  fs::remove(script);
+}
+
+}  // namespace
+
+int runSweep(const SweepOptions& o) {
+  if (o.repeats < 1 || o.repeats > 1000) throw UsageError("--repeats must be 1 to 1000");
+  if (o.warmup < 0 || o.warmup > 100) throw UsageError("--warmup must be 0 to 100");
+  if (o.frame < 0) throw UsageError("--frame must be >= 0");
+  auto methods = parseList<std::string>("--method", o.methods);
+  auto bins = parseList<uint32_t>("--bins", o.bins);
+  auto eps = parseList<float>("--eps", o.eps);
+  auto bounces = parseList<int>("--bounces", o.bounces);
+  auto kappas = parseList<float>("--kappa", o.kappa);
+  std::vector<SolverOptions> grid;
+  for (const auto& m : methods) {
+    if (m != "iv" && m != "none") throw UsageError("--method '" + m + "': the sweep measures iv and none (pt is the reference)");
+    if (m == "none") {
+      grid.push_back({.method = "none"});
+      continue;
+    }
+    for (uint32_t n : bins)
+      for (float e : eps)
+        for (int b : bounces)
+          for (float k : kappas) grid.push_back({.method = m, .bins = n, .epsilon = e, .bounces = b, .kappa = k, .environment = o.environment});
+  }
+
+  const image::RgbImage reference = image::readLinearRgb(o.reference);
+  scene::Scene s = loadScene(o.source);
+  scene::Geometry g = scene::buildGeometry(s);
+  if (g.triangles.empty()) throw scene::LoadError(s.source + ": the scene has no triangles to render");
+  const Timeline tl = timeline(s, o.animation, o.fps);
+  if (o.frame > tl.lastFrame) throw UsageError("--frame " + std::to_string(o.frame) + ": the animation ends at frame " + std::to_string(tl.lastFrame));
+  gi::ImageSettings image{reference.width, reference.height, 1};
+  const FrameCamera camera(s, g, tl, o.fps, o.camera, {o.frame}, float(image.width) / float(image.height));
+  const auto pose = scene::evaluatePose(s, tl.animation, float(tl.time(o.frame, o.fps)));
+  const auto inputs = g.frameInputs(s, pose);
+  const auto lights = gi::worldLights(s, pose);
+
+  vk::Context ctx({.device = o.device});
+  if (std::string why = gi::checkImageSettings(ctx, image); !why.empty()) throw UsageError(o.reference + ": " + why);
+  // Every setting solves the frame from scratch (refit, links, pruning, bounces), as an animated
+  // frame does.
+  std::vector<Row> rows;
+  Progress progress("sweep", grid.size(), "setting");
+  for (const auto& settings : grid) {
+    gi::FrameRenderer renderer(ctx, g, image, solverSetup(settings, s, g));
+    std::vector<double> ms;
+    gi::FrameResult last;
+    for (int i = 0; i < o.warmup + o.repeats; ++i) {
+      last = renderer.render(inputs, camera.at(pose), lights, true);
+      double total = 0;
+      for (const auto& p : last.passTimes) total += p.ms;
+      if (i >= o.warmup) ms.push_back(total);
+    }
+    image::sanitize(last.channels);
+    Row row{settings, percentile(ms, 0.5), percentile(ms, 0.9), renderer.bytesAllocated(), {}, false};
+    if (const gi::IvSolver* iv = renderer.solver()) row.bytes += iv->stats().bytes;
+    row.error = image::measureError(image::radianceOf(last.channels), reference);
+    rows.push_back(row);
+    progress.advance();
+  }
+  progress.finish();
+
+  auto errorOf = [&](const Row& r) { return o.metric == "FLIP" ? r.error.flip : r.error.relMse; };
+  for (auto& r : rows) {
+    r.pareto = true;
+    for (const auto& q : rows)
+      if (q.ms <= r.ms && errorOf(q) <= errorOf(r) && (q.ms < r.ms || errorOf(q) < errorOf(r))) r.pareto = false;
+  }
+
+  namespace fs = std::filesystem;
+  fs::create_directories(o.out);
+  const std::string csvPath = (fs::path(o.out) / "sweep.csv").string(), jsonPath = (fs::path(o.out) / "sweep.json").string(),
+                    pngPath = (fs::path(o.out) / "sweep.png").string();
+  std::ostringstream csv;
+  csv << "scene,method,bins,eps,bounces,kappa,ms,msP90,bytes,relMSE,RMSE,PSNR,maxError,FLIP,pareto,label\n";
+  nlohmann::json settingsJson = nlohmann::json::array();
+  std::printf("%-22s %10s %10s %12s %10s %8s %s\n", "setting", "median ms", "MiB", "relMSE", "FLIP", "PSNR dB", "Pareto");
+  for (const auto& r : rows) {
+    const auto& st = r.settings;
+    csv << '"' << s.source << "\"," << st.method << ',' << st.bins << ',' << st.epsilon << ',' << st.bounces << ',' << st.kappa << ',' << r.ms << ','
+        << r.msP90 << ',' << r.bytes << ',' << r.error.relMse << ',' << r.error.rmse << ',' << r.error.psnr << ',' << r.error.maxError << ','
+        << r.error.flip << ',' << (r.pareto ? 1 : 0) << ",\"" << label(st) << "\"\n";
+    nlohmann::json j = {{"method", st.method}, {"bins", st.bins}, {"eps", st.epsilon}, {"bounces", st.bounces}, {"kappa", st.kappa},
+                        {"medianMs", r.ms}, {"p90Ms", r.msP90}, {"bytes", r.bytes}, {"error", metricsJson(r.error)}, {"pareto", r.pareto},
+                        {"label", label(st)}};
+    settingsJson.push_back(j);
+    std::printf("%-22s %10.2f %10.1f %12.5g %10.4f %8.2f %s\n", label(st).c_str(), r.ms, double(r.bytes) / (1 << 20), r.error.relMse, r.error.flip,
+                r.error.psnr, r.pareto ? "*" : "");
+  }
+  image::writeAtomically(csvPath, [&](const std::string& temp) {
+    std::ofstream out(temp);
+    out << csv.str();
+    if (!out.flush()) throw std::runtime_error(csvPath + ": cannot write");
+  });
+  writeJson(jsonPath, {{"scene", s.source}, {"reference", o.reference}, {"frame", o.frame}, {"width", image.width}, {"height", image.height},
+                       {"repeats", o.repeats}, {"warmup", o.warmup}, {"device", deviceJson(ctx)}, {"paretoMetric", o.metric},
+                       {"settings", settingsJson}});
+  plot(csvPath, pngPath, o.metric);
+  std::printf("\ndevice: %s\nwrote %s, %s, %s\n", deviceLine(ctx).c_str(), csvPath.c_str(), jsonPath.c_str(), pngPath.c_str());
+  return ctx.validationErrors() ? 3 : 0;
+}
+
+}  // namespace ivgi::cli
