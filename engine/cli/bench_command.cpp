@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/cli/commands.h"
+#include "engine/cli/frame_times.h"
 #include "engine/cli/json_file.h"
 #include "engine/cli/machine.h"
 #include "engine/cli/options.h"
@@ -19,7 +20,31 @@
 
 namespace ivgi::cli {
 
+FrameTimes timeFrames(gi::FrameRenderer& renderer, const scene::Scene& s, const scene::Geometry& g, const Timeline& tl, const FrameCamera& camera,
+                      double fps, int warmup, int count) {
+  const bool moving = scene::animationMovesGeometry(s, tl.animation);
+  FrameTimes out;
+  for (int i = 0; i < warmup + count; ++i) {
+    int frame = i % (tl.lastFrame + 1);
+    auto pose = scene::evaluatePose(s, tl.animation, float(tl.time(frame, fps)));
+    auto result = renderer.render(g.frameInputs(s, pose), camera.at(pose), gi::worldLights(s, pose), i == 0 || moving);
+    if (i < warmup) continue;
+    double total = 0;
+    nlohmann::json passes = nlohmann::json::object();
+    for (const auto& p : result.passTimes) {
+      if (!out.perPass.count(p.pass)) out.order.push_back(p.pass);
+      out.perPass[p.pass].push_back(p.ms);
+      passes[p.pass] = p.ms;
+      total += p.ms;
+    }
+    out.perPass["total"].push_back(total);
+    out.frames.push_back({{"frame", frame}, {"gpuMs", passes}, {"totalGpuMs", total}});
+  }
+  return out;
+}
+
 int runBench(const BenchOptions& o) {
+  if (o.equalError) return runEqualError(o);
   if (o.frames < 1 || o.frames > 100000) throw UsageError("--frames must be 1 to 100000");
   if (o.warmup < 0 || o.warmup > 1000) throw UsageError("--warmup must be 0 to 1000");
   gi::ImageSettings image;
@@ -33,30 +58,13 @@ int runBench(const BenchOptions& o) {
   vk::Context ctx({.device = o.device});
   if (std::string why = gi::checkImageSettings(ctx, image); !why.empty()) throw UsageError("--size " + o.size + ": " + why);
   gi::FrameRenderer renderer(ctx, g, image, solverSetup(o.solver, s, g));
-  const bool moving = scene::animationMovesGeometry(s, animation);
   const FrameCamera camera(s, g, tl, o.fps, "", {0}, float(image.width) / float(image.height));
 
-  std::map<std::string, std::vector<double>> perPass;
-  std::vector<std::string> order;
-  nlohmann::json frames = nlohmann::json::array();
-  for (int i = 0; i < o.warmup + o.frames; ++i) {
-    int frame = i % (tl.lastFrame + 1);
-    float t = float(tl.time(frame, o.fps));
-    auto pose = scene::evaluatePose(s, animation, t);
-    auto view = camera.at(pose);
-    auto result = renderer.render(g.frameInputs(s, pose), view, gi::worldLights(s, pose), i == 0 || moving);
-    if (i < o.warmup) continue;
-    double total = 0;
-    nlohmann::json passes = nlohmann::json::object();
-    for (const auto& p : result.passTimes) {
-      if (!perPass.count(p.pass)) order.push_back(p.pass);
-      perPass[p.pass].push_back(p.ms);
-      passes[p.pass] = p.ms;
-      total += p.ms;
-    }
-    perPass["total"].push_back(total);
-    frames.push_back({{"frame", frame}, {"gpuMs", passes}, {"totalGpuMs", total}});
-  }
+  const bool moving = scene::animationMovesGeometry(s, animation);
+  FrameTimes times = timeFrames(renderer, s, g, tl, camera, o.fps, o.warmup, o.frames);
+  auto& perPass = times.perPass;
+  auto& order = times.order;
+  auto& frames = times.frames;
 
   std::printf("ivgi bench: %s, %ux%u, method %s", s.source.c_str(), image.width, image.height, o.solver.method.c_str());
   if (o.solver.method == "iv") std::printf(", bins 6x%ux%u, eps %g, bounces %d", o.solver.bins, o.solver.bins, o.solver.epsilon, o.solver.bounces);

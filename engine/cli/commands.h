@@ -85,9 +85,18 @@ struct BenchOptions {
   double fps = 24.0;
   std::string size = "320x240";
   std::string device, json;
+  // --equal-error: iv's time and relMSE against a converged pt reference of one frame, and the time
+  // pt needs to reach that relMSE.
+  bool equalError = false;
+  std::string reference;          // an existing reference EXR; empty: render one with referenceSpp
+  uint32_t referenceSpp = 4096;
+  uint32_t maxSpp = 4096;         // pt stops doubling its spp here
+  int frame = 0;                  // the frame compared
+  unsigned threads = 0;           // pt threads (0: every core)
 };
 // Renders warm-up + measured frames in memory and prints per-pass GPU times and the counts.
 int runBench(const BenchOptions& options);
+int runEqualError(const BenchOptions& options);
 
 int runDevices();
 

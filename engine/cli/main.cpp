@@ -79,6 +79,12 @@ int main(int argc, char** argv) {
   b->add_option("--size", bench.size, "image size WIDTHxHEIGHT")->capture_default_str();
   b->add_option("--device", bench.device, "Vulkan device name substring or index");
   b->add_option("--json", bench.json, "write the figures and per-frame times as JSON");
+  b->add_flag("--equal-error", bench.equalError, "compare iv with pt at equal relMSE against a converged pt reference of one frame");
+  b->add_option("--reference", bench.reference, "equal-error: reference EXR of --frame at --size (default: render one with pt)");
+  b->add_option("--reference-spp", bench.referenceSpp, "equal-error: spp of the reference it renders")->capture_default_str();
+  b->add_option("--max-spp", bench.maxSpp, "equal-error: pt doubles its spp up to this")->capture_default_str();
+  b->add_option("--frame", bench.frame, "equal-error: the frame compared")->capture_default_str();
+  b->add_option("--threads", bench.threads, "equal-error: pt threads (0: every core)")->capture_default_str();
 
   CompareOptions compare;
   auto* c = app.add_subcommand("compare", "score an image against a reference: relMSE, RMSE, PSNR, max error, FLIP");

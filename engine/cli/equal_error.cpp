@@ -1,0 +1,127 @@
+// ivgi bench --equal-error: how much faster iv is than the path tracer at the same error. iv's time
+// is the median GPU time of an animated frame; its error the relMSE of one frame against a converged
+// pt reference; pt's time the wall-clock time, on this machine's cores, of the spp that reaches the
+// same relMSE (doubling spp with an independent seed, interpolated log-log between the two spp
+// that bracket it).
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "engine/cli/commands.h"
+#include "engine/cli/frame_times.h"
+#include "engine/cli/json_file.h"
+#include "engine/cli/machine.h"
+#include "engine/cli/options.h"
+#include "engine/cli/statistics.h"
+#include "engine/reference/path_tracer.h"
+
+namespace ivgi::cli {
+
+namespace {
+
+struct PtRender {
+  image::RgbImage radiance;
+  double ms = 0;
+};
+
+PtRender pathTrace(const scene::Scene& s, const scene::Geometry& g, const scene::Pose& pose, const scene::CameraView& view, uint32_t width,
+                   uint32_t height, uint32_t frame, const reference::PathSettings& settings) {
+  auto start = std::chrono::steady_clock::now();
+  reference::PathTracer tracer({&g, scene::animateOnHost(g, g.frameInputs(s, pose)), gi::worldLights(s, pose), std::nullopt});
+  auto channels = tracer.render(view, width, height, frame, settings);
+  image::sanitize(channels);
+  return {image::radianceOf(channels), std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count()};
+}
+
+}  // namespace
+
+int runEqualError(const BenchOptions& o) {
+  if (o.frames < 1 || o.frames > 100000) throw UsageError("--frames must be 1 to 100000");
+  if (o.warmup < 0 || o.warmup > 1000) throw UsageError("--warmup must be 0 to 1000");
+  if (o.referenceSpp < 1 || o.referenceSpp > 1u << 20) throw UsageError("--reference-spp must be 1 to 1048576");
+  if (o.maxSpp < 1 || o.maxSpp > 1u << 20) throw UsageError("--max-spp must be 1 to 1048576");
+  if (!o.solver.environment.empty()) throw UsageError("--equal-error compares the scene's own lights; leave out --env");
+  gi::ImageSettings image;
+  parseSize(o.size, image.width, image.height);
+  scene::Scene s = loadScene(o.source);
+  scene::Geometry g = scene::buildGeometry(s);
+  if (g.triangles.empty()) throw scene::LoadError(s.source + ": the scene has no triangles to render");
+  const Timeline tl = timeline(s, "", o.fps);
+  if (o.frame < 0 || o.frame > tl.lastFrame) throw UsageError("--frame must be 0 to " + std::to_string(tl.lastFrame));
+  const FrameCamera camera(s, g, tl, o.fps, "", {0}, float(image.width) / float(image.height));
+  const auto pose = scene::evaluatePose(s, tl.animation, float(tl.time(o.frame, o.fps)));
+  const auto view = camera.at(pose);
+
+  // The reference: given, or rendered now with seed 0 (the measured pt runs use seed 1).
+  image::RgbImage ref;
+  double referenceMs = 0;
+  if (!o.reference.empty()) {
+    ref = image::readLinearRgb(o.reference);
+    if (ref.width != image.width || ref.height != image.height) throw UsageError(o.reference + ": the reference is not " + o.size);
+  } else {
+    std::fprintf(stderr, "equal-error: rendering the reference, pt at %u spp...\n", o.referenceSpp);
+    auto r = pathTrace(s, g, pose, view, image.width, image.height, uint32_t(o.frame), {.spp = o.referenceSpp, .seed = 0, .threads = o.threads});
+    ref = std::move(r.radiance);
+    referenceMs = r.ms;
+  }
+
+  // iv: the median GPU time over animated frames, and the error of the compared frame.
+  vk::Context ctx({.device = o.device});
+  if (std::string why = gi::checkImageSettings(ctx, image); !why.empty()) throw UsageError("--size " + o.size + ": " + why);
+  gi::FrameRenderer renderer(ctx, g, image, solverSetup(o.solver, s, g));
+  FrameTimes times = timeFrames(renderer, s, g, tl, camera, o.fps, o.warmup, o.frames);
+  const double ivMs = percentile(times.perPass["total"], 0.5);
+  auto ivFrame = renderer.render(g.frameInputs(s, pose), view, gi::worldLights(s, pose), true);
+  image::sanitize(ivFrame.channels);
+  const image::ErrorMetrics ivError = image::measureError(image::radianceOf(ivFrame.channels), ref);
+
+  std::printf("ivgi bench --equal-error: %s, frame %d, %ux%u\n", s.source.c_str(), o.frame, image.width, image.height);
+  std::printf("iv:  %s; bins 6x%ux%u, eps %g, bounces %d\n", deviceLine(ctx).c_str(), o.solver.bins, o.solver.bins, o.solver.epsilon,
+              o.solver.bounces);
+  std::printf("pt:  %s, unlimited bounces (roulette)\n", cpuLine(o.threads).c_str());
+  std::printf("reference: %s\n\n", o.reference.empty() ? ("pt " + std::to_string(o.referenceSpp) + " spp, seed 0, " +
+                                                          std::to_string(int(std::lround(referenceMs / 1000))) + " s").c_str()
+                                                       : o.reference.c_str());
+  std::printf("iv   %8.2f ms per frame (median GPU over %d frames)   relMSE %.5g   FLIP %.4f\n\n", ivMs, o.frames, ivError.relMse, ivError.flip);
+  std::printf("%8s %12s %12s %10s\n", "pt spp", "ms", "relMSE", "FLIP");
+
+  nlohmann::json ladder = nlohmann::json::array();
+  double ptMs = -1, prevMs = 0, prevErr = 0;
+  bool bracketed = false;
+  for (uint32_t spp = 1; spp <= o.maxSpp; spp *= 2) {
+    auto r = pathTrace(s, g, pose, view, image.width, image.height, uint32_t(o.frame), {.spp = spp, .seed = 1, .threads = o.threads});
+    auto e = image::measureError(r.radiance, ref);
+    std::printf("%8u %12.1f %12.5g %10.4f\n", spp, r.ms, e.relMse, e.flip);
+    ladder.push_back({{"spp", spp}, {"ms", r.ms}, {"relMSE", e.relMse}, {"FLIP", e.flip}});
+    if (e.relMse <= ivError.relMse) {
+      if (spp == 1) {
+        ptMs = r.ms;  // already below iv's error at 1 spp: the ratio is an upper bound
+      } else {        // log-log interpolation between the bracketing spp
+        double f = (std::log(ivError.relMse) - std::log(prevErr)) / (std::log(e.relMse) - std::log(prevErr));
+        ptMs = std::exp(std::log(prevMs) + f * (std::log(r.ms) - std::log(prevMs)));
+        bracketed = true;
+      }
+      break;
+    }
+    prevMs = r.ms, prevErr = e.relMse;
+  }
+  nlohmann::json result = {{"scene", s.source}, {"frame", o.frame}, {"width", image.width}, {"height", image.height},
+                           {"iv", {{"medianGpuMs", ivMs}, {"relMSE", ivError.relMse}, {"FLIP", ivError.flip}, {"bins", o.solver.bins},
+                                   {"eps", o.solver.epsilon}, {"bounces", o.solver.bounces}, {"device", deviceJson(ctx)}}},
+                           {"pt", {{"ladder", ladder}, {"device", cpuJson(o.threads)}}},
+                           {"reference", o.reference.empty() ? nlohmann::json({{"spp", o.referenceSpp}, {"ms", referenceMs}}) : nlohmann::json(o.reference)}};
+  if (ptMs < 0) {
+    std::printf("\npt did not reach iv's relMSE within %u spp: iv is more than %.0fx faster at equal error\n", o.maxSpp, prevMs / ivMs);
+    result["ratio"] = nullptr;
+    result["ratioLowerBound"] = prevMs / ivMs;
+  } else {
+    std::printf("\npt reaches iv's relMSE in %.1f ms%s: iv is %.2fx %s at equal error\n", ptMs, bracketed ? " (interpolated)" : " (at 1 spp)",
+                ptMs / ivMs, ptMs >= ivMs ? "faster" : "slower (ratio < 1)");
+    result["ptMsAtEqualError"] = ptMs;
+    result["ratio"] = ptMs / ivMs;
+  }
+  if (!o.json.empty()) writeJson(o.json, result);
+  return ctx.validationErrors() ? 3 : 0;
+}
+
+}  // namespace ivgi::cli

@@ -1,0 +1,113 @@
+// The image metrics on constructed pairs whose answers are known.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "engine/image/metrics.h"
+
+using namespace ivgi;
+
+namespace {
+
+image::RgbImage uniform(uint32_t w, uint32_t h, glm::vec3 c) { return {w, h, std::vector<glm::vec3>(size_t(w) * h, c)}; }
+
+double meanFlip(const image::RgbImage& a, const image::RgbImage& b) {
+  auto map = image::flipErrorMap(a, b);
+  double s = 0;
+  for (float v : map) s += v;
+  return s / double(map.size());
+}
+
+// A grey image with a bright square in the middle: edges for the feature pipeline.
+image::RgbImage squareImage(float background, float square, int offset = 0) {
+  auto img = uniform(48, 48, glm::vec3(background));
+  for (int y = 16; y < 32; ++y)
+    for (int x = 16 + offset; x < 32 + offset; ++x) img.pixels[size_t(y) * 48 + x] = glm::vec3(square);
+  return img;
+}
+
+}  // namespace
+
+// Reference 1 everywhere, test 1.1: relMSE = 0.01/1.01, RMSE 0.1, PSNR 20 dB, max error 0.1.
+TEST(Metrics, ConstantOffsetHasKnownErrors) {
+  auto ref = uniform(16, 8, glm::vec3(1.0f)), test = uniform(16, 8, glm::vec3(1.1f));
+  auto m = image::measureError(test, ref);
+  EXPECT_NEAR(m.relMse, 0.01 / 1.01, 1e-6);
+  EXPECT_NEAR(m.rmse, 0.1, 1e-6);
+  EXPECT_NEAR(m.psnr, 20.0, 1e-4);
+  EXPECT_NEAR(m.maxError, 0.1, 1e-6);
+  EXPECT_EQ(m.pixels, 128u);
+  // relMSE is relative: the same offset on a reference ten times brighter weighs 100× less.
+  auto bright = image::measureError(uniform(16, 8, glm::vec3(10.1f)), uniform(16, 8, glm::vec3(10.0f)));
+  EXPECT_NEAR(bright.relMse, 0.01 / 100.01, 1e-7);
+}
+
+TEST(Metrics, IdenticalImagesScoreZero) {
+  auto img = squareImage(0.2f, 0.8f);
+  auto m = image::measureError(img, img);
+  EXPECT_EQ(m.relMse, 0.0);
+  EXPECT_EQ(m.rmse, 0.0);
+  EXPECT_TRUE(std::isinf(m.psnr));
+  EXPECT_EQ(m.flip, 0.0);
+}
+
+// Ignored pixels count for nothing: a wildly wrong half masked out leaves the other half's errors.
+TEST(Metrics, MaskLeavesPixelsOut) {
+  auto ref = uniform(8, 8, glm::vec3(1.0f)), test = uniform(8, 8, glm::vec3(1.1f));
+  std::vector<uint8_t> ignore(64, 0);
+  for (int i = 0; i < 32; ++i) test.pixels[i] = glm::vec3(50.0f), ignore[i] = 1;
+  auto m = image::measureError(test, ref, ignore);
+  EXPECT_EQ(m.pixels, 32u);
+  EXPECT_NEAR(m.relMse, 0.01 / 1.01, 1e-6);
+  EXPECT_NEAR(m.rmse, 0.1, 1e-5);
+  EXPECT_NEAR(m.maxError, 0.1, 1e-5);
+  EXPECT_THROW(image::measureError(test, ref, std::vector<uint8_t>(64, 1)), std::invalid_argument);
+  EXPECT_THROW(image::measureError(uniform(8, 4, glm::vec3(1)), ref), std::invalid_argument);
+}
+
+// Uniform black against uniform white: no features, and the colour term follows from the paper's
+// constants alone. CIELAB of white (100, 0, 0), of sRGB green (87.737, −86.185, 83.181) and blue
+// (32.303, 79.197, −107.864); Hunt: a, b × L/100; HyAB(white, black) = 100;
+// c_max = HyAB(green, blue)^0.7; error = p_t + (100^0.7 − p_c·c_max)/(c_max − p_c·c_max)·(1 − p_t).
+TEST(Flip, BlackAgainstWhiteFollowsThePaper) {
+  const double gL = 87.737, ga = -86.185 * gL / 100, gb = 83.181 * gL / 100, bL = 32.303, ba = 79.197 * bL / 100, bb = -107.864 * bL / 100;
+  const double cmax = std::pow(std::abs(gL - bL) + std::hypot(ga - ba, gb - bb), 0.7), e = std::pow(100.0, 0.7);
+  const double expected = 0.95 + (e - 0.4 * cmax) / (cmax - 0.4 * cmax) * 0.05;
+  double got = meanFlip(uniform(24, 24, glm::vec3(0.0f)), uniform(24, 24, glm::vec3(1.0f)));
+  std::printf("[ flip ] black vs white: %.5f (from the paper's constants %.5f)\n", got, expected);
+  EXPECT_NEAR(got, expected, 2e-3);
+}
+
+// Both pipelines are symmetric in the two images.
+TEST(Flip, IsSymmetric) {
+  auto a = squareImage(0.2f, 0.8f), b = squareImage(0.3f, 0.6f, 2);
+  EXPECT_NEAR(meanFlip(a, b), meanFlip(b, a), 1e-6);
+}
+
+// Larger perturbations score higher: a brightness offset, noise, and a displaced edge.
+TEST(Flip, GrowsWithThePerturbation) {
+  auto ref = squareImage(0.3f, 0.7f);
+  double last = 0;
+  for (float d : {0.02f, 0.05f, 0.1f, 0.2f}) {
+    double f = meanFlip(squareImage(0.3f + d, 0.7f + d), ref);
+    EXPECT_GT(f, last) << "offset " << d;
+    last = f;
+  }
+  last = 0;
+  for (float sigma : {0.01f, 0.03f, 0.1f}) {
+    std::mt19937 rng(7);
+    std::normal_distribution<float> noise(0.0f, sigma);
+    auto test = ref;
+    for (auto& p : test.pixels) p = glm::clamp(p + glm::vec3(noise(rng)), 0.0f, 1.0f);
+    double f = meanFlip(test, ref);
+    EXPECT_GT(f, last) << "noise " << sigma;
+    last = f;
+  }
+  last = 0;
+  for (int shift : {1, 2, 4}) {
+    double f = meanFlip(squareImage(0.3f, 0.7f, shift), ref);
+    EXPECT_GT(f, last) << "shift " << shift;
+    last = f;
+  }
+}
