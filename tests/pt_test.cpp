@@ -189,3 +189,47 @@ TEST(PtDeterminism, SameImageForAnyThreadCount) {
   }
   EXPECT_LT(same, one.radiance.size() / 2);
 }
+
+// The rendered image, not only the estimator: direct light only (--bounces 0) in the empty Cornell
+// room, the mean radiance of floor regions (pixels whose normal is up, their world position from the
+// depth layer) against ρ/π·E with E the light's rectangle integrated by quadrature at each pixel's
+// centre. Whole floor and its four quadrants, within 1.5 % (256 spp; pixel-area averaging of a
+// smooth E adds < 0.1 %).
+TEST(PtDirectLight, FloorRegionMeansOfTheRenderedImage) {
+  Traced t(scenes::cornellBox({.cells = 4, .animated = false, .blocks = false}));
+  const uint32_t w = 64, h = 64;
+  auto frame = t.render(w, h, {.spp = 256, .bounces = 0});
+  auto pose = scene::evaluatePose(t.scene, -1, 0.0f);
+  const gi::GpuCamera cam = gi::gpuCamera(scene::cameraView(t.scene, pose, t.scene.cameraNodes().at(0)), 1.0f);
+  const double lightY = 0.5488, x0 = 0.213, x1 = 0.343, z0 = 0.227, z1 = 0.332;
+  auto exactRadiance = [&](glm::dvec3 p) {
+    double e = 0;
+    const int n = 48;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        glm::dvec3 d = glm::dvec3(x0 + (i + 0.5) * (x1 - x0) / n, lightY, z0 + (j + 0.5) * (z1 - z0) / n) - p;
+        double d2 = glm::dot(d, d), c = d.y / std::sqrt(d2);
+        e += 17.0 * c * c / d2 * (x1 - x0) * (z1 - z0) / (n * n);
+      }
+    return 0.725 * e / kPi;  // white floor, red channel
+  };
+  double got[5] = {}, exact[5] = {};
+  int count[5] = {};
+  for (uint32_t y = 0; y < h; ++y)
+    for (uint32_t x = 0; x < w; ++x) {
+      size_t i = size_t(y) * w + x;
+      glm::vec4 nd = frame.normalDepth[i];
+      if (nd.y < 0.99f || nd.w <= 0.0f || frame.radiance[i].a < 1.0f) continue;  // floor pixels, fully covered
+      glm::dvec3 p = glm::dvec3(glm::vec3(cam.origin) + nd.w * gi::cameraRay(cam, glm::vec2(x, y) + 0.5f, {w, h}));
+      if (p.x < 0.02 || p.x > 0.53 || p.z < 0.02 || p.z > 0.54) continue;  // away from the walls' pixels
+      int quadrant = 1 + (p.x > 0.278) + 2 * (p.z > 0.2795);
+      for (int k : {0, quadrant}) got[k] += frame.radiance[i].r, exact[k] += exactRadiance(p), ++count[k];
+    }
+  ASSERT_GT(count[0], 200);
+  for (int k = 0; k < 5; ++k) {
+    ASSERT_GT(count[k], 20) << "region " << k;
+    std::printf("[ pt direct ] floor region %d (%d px): mean %.5f, exact %.5f (%+.2f %%)\n", k, count[k], got[k] / count[k], exact[k] / count[k],
+                100 * (got[k] - exact[k]) / exact[k]);
+    EXPECT_NEAR(got[k] / exact[k], 1.0, 0.015) << "region " << k;
+  }
+}

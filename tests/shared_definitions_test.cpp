@@ -180,3 +180,42 @@ TEST(SharedDefinitions, FormFactorIsBoundedAndFinite) {
   // Scale invariance: scaling areas by s² and distances by s leaves it unchanged.
   for (float s : {1e-3f, 1.0f, 1e3f}) EXPECT_NEAR(gi::formFactor(0.3f * s * s, 0.8f, 0.6f, 2.0f * s * s), gi::formFactor(0.3f, 0.8f, 0.6f, 2.0f), 1e-6f);
 }
+
+// lightFalloff(): the GLSL in common.glsl (prune_bins' punctual lights) against its C++ twin in
+// engine/gi/shared.h (the path tracer's), for directional, point (with and without range) and spot
+// lights (smooth cone and a hard one whose inner and outer cones coincide).
+TEST(SharedDefinitions, LightFalloffMatchesOnTheGpu) {
+  vk::Context& ctx = test::gpu();
+  const glm::vec3 down(0, -1, 0);
+  std::vector<gi::GpuLight> lights = {
+      {glm::vec4(0, 0, 0, 0), glm::vec4(glm::normalize(glm::vec3(0.3f, -1, 0.2f)), 0), glm::vec4(1), glm::vec4(0)},
+      {glm::vec4(0, 2, 0, 1), glm::vec4(down, 0), glm::vec4(1), glm::vec4(0)},
+      {glm::vec4(0, 2, 0, 1), glm::vec4(down, 2.5f), glm::vec4(1), glm::vec4(0)},
+      {glm::vec4(0, 2, 0, 2), glm::vec4(down, 0), glm::vec4(1), glm::vec4(std::cos(0.6f), std::cos(0.3f), 0, 0)},
+      {glm::vec4(0, 2, 0, 2), glm::vec4(down, 0), glm::vec4(1), glm::vec4(std::cos(0.5f), std::cos(0.5f), 0, 0)},
+  };
+  std::vector<glm::vec4> points;
+  for (int i = 0; i < 40; ++i) points.emplace_back(-2.0f + 0.1f * float(i), 0.0f, 0.05f * float(i % 5), 0.0f);
+  points.emplace_back(0, 2, 0, 0);  // at a point light's position
+  const uint32_t n = uint32_t(lights.size() * points.size());
+  vk::Program program(ctx, "light_cases", testShaderCode("light_cases"));
+  vk::Buffer lightBuffer = vk::makeBuffer(ctx, lights), pointBuffer = vk::makeBuffer(ctx, points);
+  vk::Buffer results(ctx, n * 16, vk::Memory::Host), distances(ctx, n * 4, vk::Memory::Host);
+  struct {
+    uint32_t lightCount, pointCount;
+  } push{uint32_t(lights.size()), uint32_t(points.size())};
+  ctx.submitAndWait([&](VkCommandBuffer cmd) { program.dispatchItems(cmd, n, {&lightBuffer, &pointBuffer, &results, &distances}, push); });
+  auto got = results.read<glm::vec4>(n);
+  auto gotDist = distances.read<float>(n);
+  int lit = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    glm::vec3 toLight;
+    float dist2, falloff = gi::lightFalloff(lights[i / points.size()], glm::vec3(points[i % points.size()]), toLight, dist2);
+    EXPECT_NEAR(got[i].w, falloff, 1e-4f * std::max(1.0f, falloff)) << "light " << i / points.size() << " point " << i % points.size();
+    EXPECT_LT(glm::length(glm::vec3(got[i]) - toLight), 1e-5f) << i;
+    EXPECT_NEAR(gotDist[i], dist2, 1e-5f * std::max(1.0f, dist2)) << i;
+    lit += falloff > 0.0f;
+  }
+  EXPECT_GT(lit, int(n / 3));  // the cases light something
+  EXPECT_LT(lit, int(n));      // and the range, cones and the light's own position cut some off
+}
