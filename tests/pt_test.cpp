@@ -60,6 +60,20 @@ tinygltf::Model squareOverFloor(float x0, float x1, float z0, float z1, float h,
   return b.finish();
 }
 
+// Direct irradiance at floor point p from the Cornell light (radiance 17 red, a rectangle at the
+// ceiling), by n×n midpoint quadrature of L·cos θ·cos θ'/d².
+double cornellLightIrradiance(glm::dvec3 p, int n) {
+  const double h = 0.5488, x0 = 0.213, x1 = 0.343, z0 = 0.227, z1 = 0.332;
+  double e = 0;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      glm::dvec3 d = glm::dvec3(x0 + (i + 0.5) * (x1 - x0) / n, h, z0 + (j + 0.5) * (z1 - z0) / n) - p;
+      double d2 = glm::dot(d, d), c = d.y / std::sqrt(d2);
+      e += 17.0 * c * c / d2 * (x1 - x0) * (z1 - z0) / (n * n);
+    }
+  return e;
+}
+
 }  // namespace
 
 // Closed furnace, every face emitting Le = 1 with albedo ρ = 0.5: radiance Le/(1−ρ) = 2 with
@@ -107,16 +121,8 @@ TEST(PtDirectLight, IrradianceUnderASquareEmitterMatchesTheClosedForm) {
 // The same check in the Cornell room (the value iv's IvDirectLight test measures against): direct
 // irradiance at the floor centre of the empty room from the ceiling light, exact by quadrature.
 TEST(PtDirectLight, CornellFloorCentre) {
-  const double h = 0.5488, x0 = 0.213, x1 = 0.343, z0 = 0.227, z1 = 0.332;
   const glm::dvec3 p(0.278, 0.0, 0.2795);
-  double exact = 0;
-  const int n = 400;
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) {
-      glm::dvec3 d = glm::dvec3(x0 + (i + 0.5) * (x1 - x0) / n, h, z0 + (j + 0.5) * (z1 - z0) / n) - p;
-      double d2 = glm::dot(d, d), c = d.y / std::sqrt(d2);
-      exact += 17.0 * c * c / d2 * (x1 - x0) * (z1 - z0) / (n * n);
-    }
+  const double exact = cornellLightIrradiance(p, 400);
   Traced t(scenes::cornellBox({.cells = 4, .animated = false, .blocks = false}));
   double got = t.tracer->irradiance(glm::vec3(p) + glm::vec3(0, 1e-4f, 0), {0, 1, 0}, 20000, {.bounces = 0}).x;
   std::printf("[ pt direct ] Cornell floor centre: E %.4f, exact %.4f (%+.2f %%)\n", got, exact, 100 * (got - exact) / exact);
@@ -201,18 +207,7 @@ TEST(PtDirectLight, FloorRegionMeansOfTheRenderedImage) {
   auto frame = t.render(w, h, {.spp = 256, .bounces = 0});
   auto pose = scene::evaluatePose(t.scene, -1, 0.0f);
   const gi::GpuCamera cam = gi::gpuCamera(scene::cameraView(t.scene, pose, t.scene.cameraNodes().at(0)), 1.0f);
-  const double lightY = 0.5488, x0 = 0.213, x1 = 0.343, z0 = 0.227, z1 = 0.332;
-  auto exactRadiance = [&](glm::dvec3 p) {
-    double e = 0;
-    const int n = 48;
-    for (int i = 0; i < n; ++i)
-      for (int j = 0; j < n; ++j) {
-        glm::dvec3 d = glm::dvec3(x0 + (i + 0.5) * (x1 - x0) / n, lightY, z0 + (j + 0.5) * (z1 - z0) / n) - p;
-        double d2 = glm::dot(d, d), c = d.y / std::sqrt(d2);
-        e += 17.0 * c * c / d2 * (x1 - x0) * (z1 - z0) / (n * n);
-      }
-    return 0.725 * e / kPi;  // white floor, red channel
-  };
+  auto exactRadiance = [](glm::dvec3 p) { return 0.725 * cornellLightIrradiance(p, 48) / kPi; };  // white floor, red channel
   double got[5] = {}, exact[5] = {};
   int count[5] = {};
   for (uint32_t y = 0; y < h; ++y)

@@ -43,15 +43,18 @@ FrameTimes timeFrames(gi::FrameRenderer& renderer, const scene::Scene& s, const 
   return out;
 }
 
-int runBench(const BenchOptions& o) {
-  if (o.equalError) return runEqualError(o);
+void checkFrameCounts(const BenchOptions& o) {
   if (o.frames < 1 || o.frames > 100000) throw UsageError("--frames must be 1 to 100000");
   if (o.warmup < 0 || o.warmup > 1000) throw UsageError("--warmup must be 0 to 1000");
+}
+
+int runBench(const BenchOptions& o) {
+  if (o.equalError) return runEqualError(o);
+  checkFrameCounts(o);
   gi::ImageSettings image;
   parseSize(o.size, image.width, image.height);
   scene::Scene s = loadScene(o.source);
-  scene::Geometry g = scene::buildGeometry(s);
-  if (g.triangles.empty()) throw scene::LoadError(s.source + ": the scene has no triangles to render");
+  scene::Geometry g = renderableGeometry(s);
   const Timeline tl = timeline(s, "", o.fps);
   const int animation = tl.animation;
 

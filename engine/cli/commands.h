@@ -20,6 +20,8 @@ struct SceneChoice {
 };
 // The scene named by `choice`, loaded and checked.
 scene::Scene loadScene(const SceneChoice& choice);
+// Its flattened geometry; throws LoadError when there is no triangle to render.
+scene::Geometry renderableGeometry(const scene::Scene& scene);
 
 // The lighting method and its settings, shared by render, bench and info.
 struct SolverOptions {
@@ -96,6 +98,7 @@ struct BenchOptions {
 };
 // Renders warm-up + measured frames in memory and prints per-pass GPU times and the counts.
 int runBench(const BenchOptions& options);
+void checkFrameCounts(const BenchOptions& options);  // --frames and --warmup
 int runEqualError(const BenchOptions& options);
 
 int runDevices();

@@ -36,16 +36,14 @@ PtRender pathTrace(const scene::Scene& s, const scene::Geometry& g, const scene:
 }  // namespace
 
 int runEqualError(const BenchOptions& o) {
-  if (o.frames < 1 || o.frames > 100000) throw UsageError("--frames must be 1 to 100000");
-  if (o.warmup < 0 || o.warmup > 1000) throw UsageError("--warmup must be 0 to 1000");
+  checkFrameCounts(o);
   if (o.referenceSpp < 1 || o.referenceSpp > 1u << 20) throw UsageError("--reference-spp must be 1 to 1048576");
   if (o.maxSpp < 1 || o.maxSpp > 1u << 20) throw UsageError("--max-spp must be 1 to 1048576");
   if (!o.solver.environment.empty()) throw UsageError("--equal-error compares the scene's own lights; leave out --env");
   gi::ImageSettings image;
   parseSize(o.size, image.width, image.height);
   scene::Scene s = loadScene(o.source);
-  scene::Geometry g = scene::buildGeometry(s);
-  if (g.triangles.empty()) throw scene::LoadError(s.source + ": the scene has no triangles to render");
+  scene::Geometry g = renderableGeometry(s);
   const Timeline tl = timeline(s, "", o.fps);
   if (o.frame < 0 || o.frame > tl.lastFrame) throw UsageError("--frame must be 0 to " + std::to_string(tl.lastFrame));
   const FrameCamera camera(s, g, tl, o.fps, "", {0}, float(image.width) / float(image.height));

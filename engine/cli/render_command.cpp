@@ -79,8 +79,7 @@ int runRender(const RenderOptions& o) {
                                          : "a scene without animation (frame 0 only)";
     throw scene::LoadError(s.source + ": frames " + std::to_string(range.first) + "-" + std::to_string(range.last) + " lie outside " + what);
   }
-  scene::Geometry g = scene::buildGeometry(s);
-  if (g.triangles.empty()) throw scene::LoadError(s.source + ": the scene has no triangles to render");
+  scene::Geometry g = renderableGeometry(s);
   for (const auto& w : s.warnings) std::fprintf(stderr, "ivgi: warning: %s: %s\n", s.source.c_str(), w.c_str());
 
   // The frame source: the GPU pipeline (iv, none) or the Embree path tracer (pt, no Vulkan).

@@ -19,6 +19,12 @@ scene::Scene loadScene(const SceneChoice& choice) {
   return scene::sceneFromModel(scenes::furnace({.cells = choice.cells}), "built-in furnace");
 }
 
+scene::Geometry renderableGeometry(const scene::Scene& s) {
+  scene::Geometry g = scene::buildGeometry(s);
+  if (g.triangles.empty()) throw scene::LoadError(s.source + ": the scene has no triangles to render");
+  return g;
+}
+
 std::optional<gi::IvSetup> solverSetup(const SolverOptions& o, const scene::Scene& s, const scene::Geometry& g) {
   if (o.method == "none") return std::nullopt;
   if (o.method == "pt") throw UsageError("--method pt: the path tracer runs on the CPU; use `ivgi render --method pt` (bench and info measure iv and none)");

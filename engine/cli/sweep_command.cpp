@@ -110,8 +110,7 @@ int runSweep(const SweepOptions& o) {
 
   const image::RgbImage reference = image::readLinearRgb(o.reference);
   scene::Scene s = loadScene(o.source);
-  scene::Geometry g = scene::buildGeometry(s);
-  if (g.triangles.empty()) throw scene::LoadError(s.source + ": the scene has no triangles to render");
+  scene::Geometry g = renderableGeometry(s);
   const Timeline tl = timeline(s, o.animation, o.fps);
   if (o.frame > tl.lastFrame) throw UsageError("--frame " + std::to_string(o.frame) + ": the animation ends at frame " + std::to_string(tl.lastFrame));
   gi::ImageSettings image{reference.width, reference.height, 1};
