@@ -27,8 +27,7 @@ struct Traced {
   std::unique_ptr<reference::PathTracer> tracer;
   explicit Traced(const tinygltf::Model& model) : scene(scene::sceneFromModel(model, "test")), geometry(scene::buildGeometry(scene)) {
     auto pose = scene::evaluatePose(scene, -1, 0.0f);
-    tracer = std::make_unique<reference::PathTracer>(
-        reference::PathScene{&geometry, scene::animateOnHost(geometry, geometry.frameInputs(scene, pose)), gi::worldLights(scene, pose), std::nullopt});
+    tracer = std::make_unique<reference::PathTracer>(reference::PathScene::at(scene, geometry, pose));
   }
   image::FrameChannels render(uint32_t w, uint32_t h, const reference::PathSettings& settings) const {
     auto pose = scene::evaluatePose(scene, -1, 0.0f);

@@ -41,11 +41,11 @@ int runCompare(const CompareOptions& o) {
                              " is " + std::to_string(ref.width) + "x" + std::to_string(ref.height));
   std::vector<uint8_t> ignore = o.mask.empty() ? std::vector<uint8_t>{} : readMask(o.mask, ref);
   const image::DisplaySettings display{image::ToneMap::Aces, o.exposure};
-  image::ErrorMetrics m = image::measureError(test, ref, ignore, display);
+  std::vector<float> flip;
+  image::ErrorMetrics m = image::measureError(test, ref, ignore, display, &flip);
   std::printf("relMSE  %.6g\nRMSE    %.6g\nPSNR    %.2f dB\nmax     %.6g\nFLIP    %.6g\npixels  %zu (%zu ignored)\n", m.relMse, m.rmse, m.psnr,
               m.maxError, m.flip, m.pixels, ref.pixels.size() - m.pixels);
-  if (!o.heatmap.empty())
-    image::writeHeatmap(o.heatmap, image::flipErrorMap(image::displayed(test, display), image::displayed(ref, display)), ref.width, ref.height);
+  if (!o.heatmap.empty()) image::writeHeatmap(o.heatmap, flip, ref.width, ref.height);
   if (!o.json.empty()) {
     nlohmann::json j = metricsJson(m);
     j.update({{"test", o.test}, {"reference", o.reference}, {"mask", o.mask}, {"exposure", o.exposure}, {"tonemap", "aces"}});

@@ -27,7 +27,7 @@ struct PtRender {
 PtRender pathTrace(const scene::Scene& s, const scene::Geometry& g, const scene::Pose& pose, const scene::CameraView& view, uint32_t width,
                    uint32_t height, uint32_t frame, const reference::PathSettings& settings) {
   auto start = std::chrono::steady_clock::now();
-  reference::PathTracer tracer({&g, scene::animateOnHost(g, g.frameInputs(s, pose)), gi::worldLights(s, pose), std::nullopt});
+  reference::PathTracer tracer(reference::PathScene::at(s, g, pose));
   auto channels = tracer.render(view, width, height, frame, settings);
   image::sanitize(channels);
   return {image::radianceOf(channels), std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count()};

@@ -33,13 +33,13 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-// One path-traced frame: the host animates the geometry (animateOnHost is the twin of the GPU's
-// animate pass), Embree traces it; the progress line advances by rows while the threads work.
+// One path-traced frame: the host poses the geometry, Embree traces it; the progress line advances
+// by rows while the threads work.
 gi::FrameResult pathTraceFrame(const scene::Geometry& g, const scene::Scene& s, const scene::Pose& pose, const std::optional<gi::Environment>& env,
                                const scene::CameraView& view, const gi::ImageSettings& image, uint32_t frame, const reference::PathSettings& settings,
                                Progress& progress) {
   auto start = std::chrono::steady_clock::now();
-  reference::PathTracer tracer({&g, scene::animateOnHost(g, g.frameInputs(s, pose)), gi::worldLights(s, pose), env});
+  reference::PathTracer tracer(reference::PathScene::at(s, g, pose, env));
   std::atomic<uint32_t> rows{0};
   auto job = std::async(std::launch::async, [&] { return tracer.render(view, image.width, image.height, frame, settings, &rows); });
   uint32_t shown = 0;

@@ -64,6 +64,10 @@ void plot(const std::string& csv, const std::string& png, const std::string& met
     std::ofstream out(script);
     out << kPlotSweepScript;
   }
+  struct RemoveScript {  // on every path out, a failed plot included
+    fs::path path;
+    ~RemoveScript() { std::error_code ec; fs::remove(path, ec); }
+  } removeScript{script};
   image::writeAtomically(png, [&](const std::string& temp) {
     // The script writes the PNG under the temporary name, so a failed plot leaves no file.
     std::string command = python() + " '" + script.string() + "' '" + csv + "' '" + temp + ".png' --metric " + metric + " 2>&1";
@@ -81,7 +85,6 @@ void plot(const std::string& csv, const std::string& png, const std::string& met
     std::string last = output.substr(output.find_last_of('\n', output.size() >= 2 ? output.size() - 2 : 0) + 1);
     throw std::runtime_error(png + ": plotting failed (needs python3-matplotlib, which ci/install-deps.sh installs): " + last);
   });
-  fs::remove(script);
 }
 
 }  // namespace
@@ -124,9 +127,12 @@ int runSweep(const SweepOptions& o) {
   // Every setting solves the frame from scratch (refit, links, pruning, bounces), as an animated
   // frame does.
   std::vector<Row> rows;
+  std::optional<gi::Hierarchy> hierarchy;  // built by the first iv setting, shared by the others
   Progress progress("sweep", grid.size(), "setting");
   for (const auto& settings : grid) {
-    gi::FrameRenderer renderer(ctx, g, image, solverSetup(settings, s, g));
+    auto setup = solverSetup(settings, s, g, hierarchy ? &*hierarchy : nullptr);
+    if (setup && !hierarchy) hierarchy = setup->hierarchy;
+    gi::FrameRenderer renderer(ctx, g, image, std::move(setup));
     std::vector<double> ms;
     gi::FrameResult last;
     for (int i = 0; i < o.warmup + o.repeats; ++i) {

@@ -62,7 +62,8 @@ RgbImage displayed(const RgbImage& linear, const DisplaySettings& d) {
   return out;
 }
 
-ErrorMetrics measureError(const RgbImage& test, const RgbImage& ref, const std::vector<uint8_t>& ignore, const DisplaySettings& display) {
+ErrorMetrics measureError(const RgbImage& test, const RgbImage& ref, const std::vector<uint8_t>& ignore, const DisplaySettings& display,
+                          std::vector<float>* flipMap) {
   if (test.width != ref.width || test.height != ref.height)
     throw std::invalid_argument("the images differ in size: " + std::to_string(test.width) + "x" + std::to_string(test.height) + " and " +
                                 std::to_string(ref.width) + "x" + std::to_string(ref.height));
@@ -94,6 +95,7 @@ ErrorMetrics measureError(const RgbImage& test, const RgbImage& ref, const std::
   for (size_t i = 0; i < flip.size(); ++i)
     if (kept(i)) sum += flip[i];
   m.flip = sum / double(m.pixels);
+  if (flipMap) *flipMap = std::move(flip);
   return m;
 }
 

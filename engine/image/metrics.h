@@ -32,9 +32,10 @@ struct ErrorMetrics {
 };
 
 // `ignore`, if not empty, holds one flag per pixel: non-zero pixels are left out of every mean (FLIP
-// still filters the whole image, as the eye would). Throws std::invalid_argument on a size mismatch.
+// still filters the whole image, as the eye would). `flipMap`, if given, receives the per-pixel FLIP
+// error. Throws std::invalid_argument on a size mismatch.
 ErrorMetrics measureError(const RgbImage& test, const RgbImage& reference, const std::vector<uint8_t>& ignore = {},
-                          const DisplaySettings& display = {});
+                          const DisplaySettings& display = {}, std::vector<float>* flipMap = nullptr);
 
 // The image as the PNG shows it: exposure, tone map, sRGB encoding, in [0, 1].
 RgbImage displayed(const RgbImage& linear, const DisplaySettings& display);

@@ -9,6 +9,7 @@
 #include <string>
 #include <thread>
 
+#include "engine/gi/iv_solver.h"
 #include "engine/scene/texture_sampling.h"
 
 namespace ivgi::reference {
@@ -249,6 +250,10 @@ struct PathTracer::Impl {
     return radiance;
   }
 };
+
+PathScene PathScene::at(const scene::Scene& s, const scene::Geometry& g, const scene::Pose& pose, std::optional<gi::Environment> env) {
+  return {&g, scene::animateOnHost(g, g.frameInputs(s, pose)), gi::worldLights(s, pose), std::move(env)};
+}
 
 PathTracer::PathTracer(PathScene scene) : impl_(std::make_unique<Impl>(std::move(scene))) {}
 PathTracer::~PathTracer() = default;

@@ -35,6 +35,10 @@ struct PathScene {
   std::vector<scene::WorldVertex> world;
   std::vector<gi::GpuLight> lights;
   std::optional<gi::Environment> environment;
+
+  // The scene at `pose`: the host twin of the animate pass poses the triangles.
+  static PathScene at(const scene::Scene& scene, const scene::Geometry& geometry, const scene::Pose& pose,
+                      std::optional<gi::Environment> environment = std::nullopt);
 };
 
 class PathTracer {
