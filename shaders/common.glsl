@@ -139,6 +139,17 @@ struct TreeNode { int parent; uint firstChild; uint childCount; int surfel; };
 // Per frame: area-weighted position and total area; normal and the half-angle of the cone holding
 // every normal below; radius of a sphere around the position holding every surfel disk below.
 struct NodeState { vec4 positionArea; vec4 normalCone; vec4 radius; };
+
+// Hot loops read arrays through imageBuffers: lavapipe gathers texels with vector loads but reads a
+// storage buffer one lane at a time. A shader defines NODE_TEXELS (the binding) before including
+// this file to read NodeState as three rgba32f texels per node.
+#ifdef NODE_TEXELS
+layout(binding = NODE_TEXELS, rgba32f) readonly uniform imageBuffer nodeTexels;
+vec4 nodePositionArea(uint i) { return imageLoad(nodeTexels, int(3u * i)); }
+vec4 nodeNormalCone(uint i) { return imageLoad(nodeTexels, int(3u * i + 1u)); }
+float nodeRadius(uint i) { return imageLoad(nodeTexels, int(3u * i + 2u)).x; }
+NodeState nodeState(uint i) { return NodeState(nodePositionArea(i), nodeNormalCone(i), vec4(nodeRadius(i), 0.0, 0.0, 0.0)); }
+#endif
 struct LeafRange { uint first; uint count; };
 // A surviving link of a leaf: sender node and the clamped form factor.
 struct LeafLink { uint sender; float formFactor; };

@@ -4,7 +4,7 @@
 #include "common.glsl"
 layout(local_size_x = 256) in;
 
-layout(std430, binding = 0) readonly buffer Links { uvec2 links[]; };
+layout(binding = 0, rg32ui) readonly uniform uimageBuffer links;  // receiver, sender
 layout(std430, binding = 1) buffer Counts { uint counts[]; };
 layout(std430, binding = 2) readonly buffer Counters { uint counters[]; };
 layout(push_constant) uniform Push { uint linkCapacity; };
@@ -12,5 +12,5 @@ layout(push_constant) uniform Push { uint linkCapacity; };
 void main() {
   uint total = min(counters[kCounterLinks], linkCapacity);
   uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
-  for (uint k = gl_GlobalInvocationID.x; k < total; k += stride) atomicAdd(counts[links[k].x], 1u);
+  for (uint k = gl_GlobalInvocationID.x; k < total; k += stride) atomicAdd(counts[imageLoad(links, int(k)).x], 1u);
 }

@@ -5,13 +5,13 @@
 #include "common.glsl"
 layout(local_size_x = 64) in;
 
-layout(std430, binding = 0) readonly buffer LeafOfSurfel { uint leafOfSurfel[]; };
-layout(std430, binding = 1) readonly buffer Ranges { LeafRange ranges[]; };
-layout(std430, binding = 2) readonly buffer Links { LeafLink leafLinks[]; };
-layout(std430, binding = 3) readonly buffer External { vec4 externalLight[]; };
-layout(std430, binding = 4) readonly buffer Albedo { vec4 albedo[]; };
-layout(std430, binding = 5) readonly buffer Emission { vec4 emission[]; };
-layout(std430, binding = 6) readonly buffer RadiosityIn { vec4 radiosityIn[]; };
+layout(binding = 0, r32ui) readonly uniform uimageBuffer leafOfSurfel;
+layout(binding = 1, rg32ui) readonly uniform uimageBuffer ranges;     // LeafRange
+layout(binding = 2, rg32ui) readonly uniform uimageBuffer leafLinks;  // LeafLink: sender, form-factor bits
+layout(binding = 3, rgba32f) readonly uniform imageBuffer externalLight;
+layout(binding = 4, rgba32f) readonly uniform imageBuffer albedo;
+layout(binding = 5, rgba32f) readonly uniform imageBuffer emission;
+layout(binding = 6, rgba32f) readonly uniform imageBuffer radiosityIn;
 layout(std430, binding = 7) writeonly buffer RadiosityOut { vec4 radiosityOut[]; };
 layout(std430, binding = 8) writeonly buffer Irradiance { vec4 irradiance[]; };
 layout(push_constant) uniform Push { uint surfelCount; };
@@ -19,12 +19,12 @@ layout(push_constant) uniform Push { uint surfelCount; };
 void main() {
   uint s = itemIndex();
   if (s >= surfelCount) return;
-  LeafRange range = ranges[s];
-  vec3 g = externalLight[s].rgb;
-  for (uint k = range.first; k < range.first + range.count; ++k) {
-    LeafLink link = leafLinks[k];
-    g += link.formFactor * radiosityIn[link.sender].rgb;
+  uvec2 range = imageLoad(ranges, int(s)).xy;
+  vec3 g = imageLoad(externalLight, int(s)).rgb;
+  for (uint k = range.x; k < range.x + range.y; ++k) {
+    uvec2 link = imageLoad(leafLinks, int(k)).xy;
+    g += uintBitsToFloat(link.y) * imageLoad(radiosityIn, int(link.x)).rgb;
   }
-  radiosityOut[leafOfSurfel[s]] = vec4(kPi * emission[s].rgb + albedo[s].rgb * g, 0.0);
+  radiosityOut[imageLoad(leafOfSurfel, int(s)).x] = vec4(kPi * imageLoad(emission, int(s)).rgb + imageLoad(albedo, int(s)).rgb * g, 0.0);
   irradiance[s] = vec4(g, 0.0);
 }

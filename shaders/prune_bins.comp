@@ -9,6 +9,7 @@
 // shared memory where they fit, else in a global slot per workgroup; each workgroup walks many
 // leaves and resets only the bins it touched.
 #extension GL_GOOGLE_include_directive : require
+#define NODE_TEXELS 1
 #include "common.glsl"
 layout(local_size_x = 64) in;
 
@@ -17,19 +18,18 @@ layout(constant_id = 1) const bool kSharedBins = true;
 layout(constant_id = 2) const uint kSharedSlots = 1536;  // 6·N² on the shared path, else 1
 layout(constant_id = 3) const uint kMaskWords = 48;      // ⌈6·N² / 32⌉
 
-layout(std430, binding = 0) readonly buffer Tree { TreeNode tree[]; };
-layout(std430, binding = 1) readonly buffer Nodes { NodeState nodes[]; };
-layout(std430, binding = 2) readonly buffer Starts { uint starts[]; };
-layout(std430, binding = 3) readonly buffer Senders { uint senders[]; };
-layout(std430, binding = 4) readonly buffer LeafOfSurfel { uint leafOfSurfel[]; };
-layout(std430, binding = 5) readonly buffer BinTable { vec4 binTable[]; };  // centre direction (unit), solid angle
+layout(binding = 0, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode
+layout(binding = 2, r32ui) readonly uniform uimageBuffer starts;
+layout(binding = 3, r32ui) readonly uniform uimageBuffer senders;
+layout(binding = 4, r32ui) readonly uniform uimageBuffer leafOfSurfel;
+layout(binding = 5, rgba32f) readonly uniform imageBuffer binTable;  // centre direction (unit), solid angle
 layout(std430, binding = 6) buffer GlobalBins { uint64_t globalBins[]; };
 layout(std430, binding = 7) writeonly buffer Ranges { LeafRange ranges[]; };
 layout(std430, binding = 8) writeonly buffer Links { LeafLink leafLinks[]; };
 layout(std430, binding = 9) buffer Counters { uint counters[]; };
 layout(std430, binding = 10) writeonly buffer External { vec4 externalLight[]; };  // irradiance from lights and environment
 layout(std430, binding = 11) readonly buffer Lights { PunctualLight lights[]; };
-layout(std430, binding = 12) readonly buffer Environment { vec4 environment[]; };  // radiance per bin
+layout(binding = 12, rgba32f) readonly uniform imageBuffer environment;  // radiance per bin
 layout(std430, binding = 13) buffer GlobalCoverage { uint globalCoverage[]; };
 layout(push_constant) uniform Push { uint surfelCount; uint linkCapacity; uint lightCount; uint environmentOn; };
 
@@ -39,6 +39,9 @@ shared uint mask[kMaskWords];
 shared uint wordStart[kMaskWords];
 shared vec3 partial[64];
 shared uint leafBase;
+const uint kWideQueue = 256u;
+shared uint wideQueue[kWideQueue];
+shared uint wideCount;
 
 const uint kBinCount = 6u * kN * kN;
 // Coverage is summed as integers so that the sum does not depend on the order of the atomics.
@@ -58,12 +61,14 @@ void resetBin(uint slot, uint b) {
 
 void insert(uint slot, uint b, uint64_t key, float omega) {
   if (minBin(slot, b, key) == kEmptyVisibility) atomicOr(mask[b >> 5], 1u << (b & 31u));
-  addCoverage(slot, b, uint(min(omega / binTable[b].w, 1.0) * kCoverageUnit + 0.5));
+  addCoverage(slot, b, uint(min(omega / imageLoad(binTable, int(b)).w, 1.0) * kCoverageUnit + 0.5));
 }
 
 // Files a solid angle ω seen along d as a square footprint of the same solid angle on the cube face,
-// box-filtered over the bins it overlaps (the part beyond the face goes to its border bins). Even
-// coverage for senders of any size, at about (1 + width)² inserts for a footprint `width` bins wide.
+// box-filtered over the bins it overlaps (the part beyond the face goes to its border bins): even
+// coverage for senders of any size. A footprint at most one bin wide overlaps the 2×2 bins from the
+// one under its lower corner, so that the lanes of a subgroup walk loops of the same length (a CPU
+// device runs a subgroup's loop as long as its longest lane); wider footprints walk their own range.
 void insertFootprint(uint slot, vec3 d, uint64_t key, float omega) {
   vec2 at;
   uint face = binFace(d, kN, at);
@@ -73,6 +78,7 @@ void insertFootprint(uint slot, vec3 d, uint64_t key, float omega) {
   vec2 lo = at - 0.5 * side, hi = at + 0.5 * side;
   float last = float(kN - 1u);
   ivec2 first = ivec2(clamp(floor(lo), vec2(0.0), vec2(last))), end = ivec2(clamp(floor(hi), vec2(0.0), vec2(last)));
+  if (side <= 1.0) end = min(first + 1, ivec2(kN - 1u));
   float norm = 1.0 / max(side * side, 1e-12);
   for (int y = first.y; y <= end.y; ++y)
     for (int x = first.x; x <= end.x; ++x) {
@@ -89,38 +95,37 @@ void insertFootprint(uint slot, vec3 d, uint64_t key, float omega) {
 // exact, and 2π (not infinity) as d → 0.
 float diskSolidAngle(float r, float dist2) { return 2.0 * kPi * (1.0 - sqrt(dist2 / (dist2 + r * r))); }
 
-// Files sender s (at offset d from the receiver) over the bins it covers: as one footprint of its
-// solid angle, or as k×k pieces of its disk, each a footprint of its own solid angle (wide senders,
-// near ones, and coincident ones on hard edges, which are seen only through their off-centre pieces).
-void splat(uint slot, vec3 n, uint s, NodeState sender, vec3 d, float dist2) {
-  float area = sender.positionArea.w;
-  float radius = sqrt(area / kPi);
+// A sender as the receiver sees it: offset d, distance², the solid angle ω it subtends, and the
+// number k of pieces per side it is filed as (1: whole).
+struct View { vec3 d; float dist2; float omega; float radius; uint k; };
+
+View viewOf(vec3 p, vec4 positionArea, vec4 normalCone) {
+  View v;
+  v.d = positionArea.xyz - p;
+  v.dist2 = dot(v.d, v.d);
+  v.radius = sqrt(positionArea.w / kPi);
   // A curved node is seen at least as much as along the edge of its cone.
-  float minCos = sin(min(sender.normalCone.w, 0.5 * kPi));
-  uint64_t key = packLinkKey(dist2, s);
-  float cosS = abs(dot(sender.normalCone.xyz, d)) * inversesqrt(max(dist2, 1e-30));
-  float omega = diskSolidAngle(radius, dist2) * max(cosS, minCos);
-  // Footprint width in bins; wider than two bins (or near: one direction no longer stands for the
-  // disk), the disk is split into k×k pieces so that the footprints follow its real outline.
-  float width = sqrt(omega) * 0.5 * float(kN) * 2.0;
-  uint k = dist2 <= 4.0 * radius * radius ? 8u : uint(clamp(ceil(0.5 * width), 1.0, 8.0));
-  if (k == 1u) {
-    insertFootprint(slot, d, key, omega);
-    return;
-  }
-  vec3 axis = length(sender.normalCone.xyz) > 0.0 && sender.normalCone.w < 0.5 * kPi ? sender.normalCone.xyz : n;
+  float cosS = abs(dot(normalCone.xyz, v.d)) * inversesqrt(max(v.dist2, 1e-30));
+  v.omega = diskSolidAngle(v.radius, v.dist2) * max(cosS, sin(min(normalCone.w, 0.5 * kPi)));
+  // Width in bins (a bin at a face centre is 2/N wide); near, one direction no longer stands for the disk.
+  float width = sqrt(v.omega) * 0.5 * float(kN);
+  v.k = v.dist2 <= 4.0 * v.radius * v.radius ? 8u : uint(clamp(ceil(width), 1.0, 8.0));
+  return v;
+}
+
+// Piece `index` of the k×k pieces of a sender's disk (equal-area rings and sectors), filed along its
+// own direction with its own solid angle: the footprints follow the disk's real outline, and a
+// coincident sender on a hard edge is seen through its off-centre pieces.
+void filePiece(uint slot, vec3 n, uint s, vec4 normalCone, View v, uint index) {
+  uint i = index % v.k, j = index / v.k;
+  vec3 axis = length(normalCone.xyz) > 0.0 && normalCone.w < 0.5 * kPi ? normalCone.xyz : n;
   vec3 t1 = normalize(abs(axis.x) < 0.9 ? cross(axis, vec3(1, 0, 0)) : cross(axis, vec3(0, 1, 0))), t2 = cross(axis, t1);
-  float piece = area / float(k * k);
-  for (uint j = 0u; j < k; ++j)
-    for (uint i = 0u; i < k; ++i) {
-      // Equal-area rings and sectors of the disk.
-      float r = radius * sqrt((float(j) + 0.5) / float(k)), phi = 2.0 * kPi * (float(i) + 0.5 * float(j & 1u)) / float(k);
-      vec3 q = d + r * (cos(phi) * t1 + sin(phi) * t2);
-      float q2 = dot(q, q);
-      if (dot(q, n) <= 0.0 || q2 <= 0.0) continue;
-      float cosQ = abs(dot(sender.normalCone.xyz, q)) * inversesqrt(q2);
-      insertFootprint(slot, q, key, diskSolidAngle(radius / float(k), q2) * max(cosQ, minCos));
-    }
+  float r = v.radius * sqrt((float(j) + 0.5) / float(v.k)), phi = 2.0 * kPi * (float(i) + 0.5 * float(j & 1u)) / float(v.k);
+  vec3 q = v.d + r * (cos(phi) * t1 + sin(phi) * t2);
+  float q2 = dot(q, q);
+  if (dot(q, n) <= 0.0 || q2 <= 0.0) return;
+  float cosQ = abs(dot(normalCone.xyz, q)) * inversesqrt(q2);
+  insertFootprint(slot, q, packLinkKey(v.dist2, s), diskSolidAngle(v.radius / float(v.k), q2) * max(cosQ, sin(min(normalCone.w, 0.5 * kPi))));
 }
 
 // Irradiance at the receiver from punctual lights that are nearer than the nearest element in their bin.
@@ -144,29 +149,46 @@ void main() {
   if (kSharedBins)
     for (uint b = lid; b < kBinCount; b += 64u) sharedBins[b] = kEmptyVisibility, sharedCoverage[b] = 0u;
   for (uint w = lid; w < kMaskWords; w += 64u) mask[w] = 0u;
+  if (lid == 0u) wideCount = 0u;
   barrier();
 
   uint groups = gl_NumWorkGroups.x * gl_NumWorkGroups.y;
   for (uint surfel = groupIndex(); surfel < surfelCount; surfel += groups) {
-    uint leaf = leafOfSurfel[surfel];
-    NodeState receiver = nodes[leaf];
-    vec3 p = receiver.positionArea.xyz, n = receiver.normalCone.xyz;
-    float area = receiver.positionArea.w;
+    uint leaf = imageLoad(leafOfSurfel, int(surfel)).x;
+    vec4 receiver = nodePositionArea(leaf);
+    vec3 p = receiver.xyz, n = nodeNormalCone(leaf).xyz;
+    float area = receiver.w;
     if (area > 0.0) {
-      for (int a = int(leaf); a >= 0; a = tree[a].parent)
-        for (uint k = starts[a] + lid; k < starts[a + 1]; k += 64u) {
-          uint s = senders[k];
-          NodeState sender = nodes[s];
-          vec3 d = sender.positionArea.xyz - p;
-          float dist2 = dot(d, d);
+      for (int a = int(leaf); a >= 0; a = int(imageLoad(tree, a).x)) {
+        uint begin = imageLoad(starts, a).x, end = imageLoad(starts, a + 1).x;
+        for (uint k = begin + lid; k < end; k += 64u) {
+          uint s = imageLoad(senders, int(k)).x;
+          vec4 positionArea = nodePositionArea(s), normalCone = nodeNormalCone(s);
+          View v = viewOf(p, positionArea, normalCone);
           // Skip a sender whose disk cannot rise above the receiver's tangent plane: wholly below it,
           // or lying in it (the receiver's own neighbours on a flat face).
-          float rise = sender.normalCone.w < 0.5 * kPi
-                           ? sqrt(sender.positionArea.w / kPi) * sqrt(max(1.0 - pow(dot(sender.normalCone.xyz, n), 2.0), 0.0))
-                           : sender.radius.x;
-          if (s == leaf || dot(d, n) + rise <= 1e-4 * sqrt(area)) continue;
-          splat(slot, n, s, sender, d, dist2);
+          float along = dot(normalCone.xyz, n);
+          float rise = normalCone.w < 0.5 * kPi ? v.radius * sqrt(max(1.0 - along * along, 0.0)) : nodeRadius(s);
+          if (s == leaf || dot(v.d, n) + rise <= 1e-4 * sqrt(area)) continue;
+          if (v.k == 1u) {
+            insertFootprint(slot, v.d, packLinkKey(v.dist2, s), v.omega);
+            continue;
+          }
+          // Wide senders (2 % of the candidates at 4k surfels, a quarter at 500) wait in a queue:
+          // filed one per lane here, their k² pieces would hold up the whole subgroup.
+          uint queued = atomicAdd(wideCount, 1u);
+          if (queued < kWideQueue) wideQueue[queued] = s;
+          else for (uint piece = 0u; piece < v.k * v.k; ++piece) filePiece(slot, n, s, normalCone, v, piece);
         }
+      }
+    }
+    barrier();
+    // Each subgroup of 8 lanes takes a queued sender and files its pieces, one per lane.
+    for (uint e = lid / 8u; e < min(wideCount, kWideQueue); e += 8u) {
+      uint s = wideQueue[e];
+      vec4 normalCone = nodeNormalCone(s);
+      View v = viewOf(p, nodePositionArea(s), normalCone);
+      for (uint piece = lid % 8u; piece < v.k * v.k; piece += 8u) filePiece(slot, n, s, normalCone, v, piece);
     }
     barrier();
     // Survivors in bin order (deterministic): count per mask word, scan, write.
@@ -189,12 +211,10 @@ void main() {
       while (bits != 0u) {
         uint b = w * 32u + uint(findLSB(bits));
         bits &= bits - 1u;
-        uint64_t key = loadBin(slot, b);
-        uint s = keyId(key);
-        NodeState sender = nodes[s];
-        vec4 bin = binTable[b];
+        uint s = keyId(loadBin(slot, b));
+        vec4 normalCone = nodeNormalCone(s), bin = imageLoad(binTable, int(b));
         // Front or back is judged along the bin: the sender may sit at the receiver (hard edges).
-        bool facing = dot(sender.normalCone.xyz, -bin.xyz) > 0.0 || sender.normalCone.w >= 0.5 * kPi;
+        bool facing = dot(normalCone.xyz, -bin.xyz) > 0.0 || normalCone.w >= 0.5 * kPi;
         float f = facing ? max(dot(n, bin.xyz), 0.0) * min(coverage(slot, b), 1.0) * bin.w / kPi : 0.0;
         if (outIndex < linkCapacity) leafLinks[outIndex] = LeafLink(s, f);
         ++outIndex;
@@ -204,9 +224,9 @@ void main() {
     vec3 env = vec3(0.0);
     if (environmentOn != 0u && area > 0.0)
       for (uint b = lid; b < kBinCount; b += 64u) {
-        vec4 bin = binTable[b];
+        vec4 bin = imageLoad(binTable, int(b));
         float c = dot(n, bin.xyz);
-        if (c > 0.0) env += environment[b].rgb * c * bin.w * (1.0 - min(coverage(slot, b), 1.0));
+        if (c > 0.0) env += imageLoad(environment, int(b)).rgb * c * bin.w * (1.0 - min(coverage(slot, b), 1.0));
       }
     partial[lid] = env;
     barrier();
@@ -225,6 +245,7 @@ void main() {
       }
       mask[w] = 0u;
     }
+    if (lid == 0u) wideCount = 0u;
     barrier();
   }
 }

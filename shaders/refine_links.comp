@@ -2,12 +2,12 @@
 // Pass 4, link creation, one refinement level: each candidate pair (receiver, sender) is stored as
 // a link or split into the pairs of the larger node's children (design.md §1.2).
 #extension GL_GOOGLE_include_directive : require
+#define NODE_TEXELS 1
 #include "common.glsl"
 layout(local_size_x = 256) in;
 
-layout(std430, binding = 0) readonly buffer Tree { TreeNode tree[]; };
-layout(std430, binding = 1) readonly buffer Nodes { NodeState nodes[]; };
-layout(std430, binding = 2) readonly buffer Worklist { uvec2 pairs[]; };
+layout(binding = 0, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode
+layout(binding = 2, rg32ui) readonly uniform uimageBuffer pairs;
 layout(std430, binding = 3) writeonly buffer NextWorklist { uvec2 nextPairs[]; };
 layout(std430, binding = 4) writeonly buffer Links { uvec2 links[]; };
 layout(std430, binding = 5) buffer Counters { uint counters[]; };
@@ -38,17 +38,18 @@ void main() {
   uint total = counters[source];
   uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
   for (uint k = gl_GlobalInvocationID.x; k < total && k < capacity; k += stride) {
-    uint r = pairs[k].x, s = pairs[k].y;
-    TreeNode tr = tree[r], ts = tree[s];
+    uvec2 pair = imageLoad(pairs, int(k)).xy;
+    uint r = pair.x, s = pair.y;
+    uvec4 tr = imageLoad(tree, int(r)), ts = imageLoad(tree, int(s));  // parent, firstChild, childCount, surfel
     if (r == s) {  // a node with itself (concave objects): all ordered pairs of its children
-      for (uint a = 0; a < tr.childCount; ++a)
-        for (uint b = 0; b < tr.childCount; ++b) emitPair(tr.firstChild + a, tr.firstChild + b);
+      for (uint a = 0; a < tr.z; ++a)
+        for (uint b = 0; b < tr.z; ++b) emitPair(tr.y + a, tr.y + b);
       continue;
     }
-    NodeState nr = nodes[r], ns = nodes[s];
+    NodeState nr = nodeState(r), ns = nodeState(s);
     vec3 d = ns.positionArea.xyz - nr.positionArea.xyz;
     float dist2 = dot(d, d), dist = sqrt(dist2);
-    bool leafR = tr.childCount == 0u, leafS = ts.childCount == 0u;
+    bool leafR = tr.z == 0u, leafS = ts.z == 0u;
     float scale = max(nr.positionArea.w, ns.positionArea.w);
     if (dist2 <= 1e-6 * scale) {  // coincident (hard edges): the pruning bins it by points on its disk
       if (leafR && leafS) {
@@ -77,7 +78,7 @@ void main() {
         continue;
       }
       if (refineSender) {
-        for (uint c = 0; c < ts.childCount; ++c) emitPair(r, ts.firstChild + c);
+        for (uint c = 0; c < ts.z; ++c) emitPair(r, ts.y + c);
         continue;
       }
     }
@@ -85,8 +86,8 @@ void main() {
     // Split the larger node (by area), or the one that is not a leaf.
     bool splitReceiver = leafS || (!leafR && nr.positionArea.w >= ns.positionArea.w);
     if (splitReceiver)
-      for (uint c = 0; c < tr.childCount; ++c) emitPair(tr.firstChild + c, s);
+      for (uint c = 0; c < tr.z; ++c) emitPair(tr.y + c, s);
     else
-      for (uint c = 0; c < ts.childCount; ++c) emitPair(r, ts.firstChild + c);
+      for (uint c = 0; c < ts.z; ++c) emitPair(r, ts.y + c);
   }
 }

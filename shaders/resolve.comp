@@ -5,19 +5,19 @@
 #include "common.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(std430, binding = 0) readonly buffer World { WorldVertex world[]; };
-layout(std430, binding = 1) readonly buffer Triangles { Triangle triangles[]; };
-layout(std430, binding = 2) readonly buffer Visibility { uint64_t visibility[]; };
-layout(std430, binding = 3) readonly buffer Uvs { vec2 uvs[]; };
-layout(std430, binding = 4) readonly buffer Materials { Material materials[]; };
+layout(binding = 0, rgba32f) readonly uniform imageBuffer world;        // WorldVertex: position, normal
+layout(binding = 1, rgba32ui) readonly uniform uimageBuffer triangles;  // Triangle
+layout(binding = 2, rg32ui) readonly uniform uimageBuffer visibility;   // 64-bit keys, low word first
+layout(binding = 3, rg32f) readonly uniform imageBuffer uvs;
+layout(binding = 4, rgba32ui) readonly uniform uimageBuffer materials;  // Material: base colour, emission, textures
 layout(std430, binding = 5) readonly buffer Textures { Texture textures[]; };
 layout(std430, binding = 6) readonly buffer Texels { uint texels[]; };
 layout(std430, binding = 7) writeonly buffer Radiance { vec4 radiance[]; };
 layout(std430, binding = 8) writeonly buffer Albedo { vec4 albedoOut[]; };
 layout(std430, binding = 9) writeonly buffer NormalDepth { vec4 normalDepth[]; };
 layout(std430, binding = 10) writeonly buffer Emission { vec4 emissionOut[]; };
-layout(std430, binding = 11) readonly buffer VertexSurfel { int vertexSurfel[]; };
-layout(std430, binding = 12) readonly buffer SurfelIrradiance { vec4 surfelIrradiance[]; };
+layout(binding = 11, r32ui) readonly uniform uimageBuffer vertexSurfel;  // int, -1: none
+layout(binding = 12, rgba32f) readonly uniform imageBuffer surfelIrradiance;
 layout(push_constant) uniform Push { Camera cam; uvec2 size; uint samples; uint unused; };
 // False for scenes without textures: the lookups are compiled out. lavapipe runs a branch inside
 // the sample loop masked, so even untaken lookups cost a third of the pass.
@@ -26,7 +26,13 @@ layout(constant_id = 0) const bool kTextured = true;
 // irradiance E interpolated from the triangle's vertices and ρ the pixel's own (textured) albedo.
 layout(constant_id = 1) const bool kLit = false;
 
-vec3 irradianceAt(int surfel) { return surfel >= 0 ? surfelIrradiance[surfel].rgb : vec3(0.0); }
+vec3 irradianceAt(uint vertex) {
+  int surfel = int(imageLoad(vertexSurfel, int(vertex)).x);
+  return surfel >= 0 ? imageLoad(surfelIrradiance, surfel).rgb : vec3(0.0);
+}
+vec3 positionOf(uint vertex) { return imageLoad(world, int(2u * vertex)).xyz; }
+vec3 normalOf(uint vertex) { return imageLoad(world, int(2u * vertex + 1u)).xyz; }
+vec2 uvOf(uint vertex) { return imageLoad(uvs, int(vertex)).xy; }
 
 vec4 texel(Texture t, int x, int y) {
   uint at = 2u * (t.offset + uint(y) * t.width + uint(x));
@@ -51,29 +57,30 @@ void main() {
   for (uint sy = 0; sy < samples; ++sy)
     for (uint sx = 0; sx < samples; ++sx) {
       uvec2 s = px * samples + uvec2(sx, sy);
-      uint64_t key = visibility[s.y * fine.x + s.x];
+      uvec2 words = imageLoad(visibility, int(s.y * fine.x + s.x)).xy;
+      uint64_t key = packUint2x32(words);
       if (key == kEmptyVisibility) continue;
-      Triangle t = triangles[keyId(key)];
-      vec3 a = world[t.v0].position.xyz, b = world[t.v1].position.xyz, c = world[t.v2].position.xyz;
+      uvec4 t = imageLoad(triangles, int(keyId(key)));  // v0, v1, v2, material
+      vec3 a = positionOf(t.x), b = positionOf(t.y), c = positionOf(t.z);
       float tHit;
       vec2 bc;
       intersectTriangle(cam.origin.xyz, cameraRay(cam, vec2(s) + 0.5, fine), a, b, c, tHit, bc);
       vec3 w = vec3(1.0 - bc.x - bc.y, bc.x, bc.y);
       vec3 n = cross(b - a, c - a);
-      if ((t.material & kFlatShaded) == 0u)
-        n = w.x * world[t.v0].normal.xyz + w.y * world[t.v1].normal.xyz + w.z * world[t.v2].normal.xyz;
+      if ((t.w & kFlatShaded) == 0u) n = w.x * normalOf(t.x) + w.y * normalOf(t.y) + w.z * normalOf(t.z);
       float len = length(n);
-      vec2 uv = w.x * uvs[t.v0] + w.y * uvs[t.v1] + w.z * uvs[t.v2];
-      uint mi = t.material & ~kFlatShaded;
-      vec3 base = materials[mi].baseColor.rgb, emit = materials[mi].emission.rgb;
+      uint mi = t.w & ~kFlatShaded;
+      vec3 base = uintBitsToFloat(imageLoad(materials, int(3u * mi)).rgb), emit = uintBitsToFloat(imageLoad(materials, int(3u * mi + 1u)).rgb);
       if (kTextured) {
-        base *= sampleTexture(materials[mi].baseColorTexture, uv).rgb;
-        emit *= sampleTexture(materials[mi].emissiveTexture, uv).rgb;
+        vec2 uv = w.x * uvOf(t.x) + w.y * uvOf(t.y) + w.z * uvOf(t.z);
+        ivec2 textures = ivec2(imageLoad(materials, int(3u * mi + 2u)).xy);  // base colour, emissive; -1: none
+        base *= sampleTexture(textures.x, uv).rgb;
+        emit *= sampleTexture(textures.y, uv).rgb;
       }
       albedo += base;
       emission += emit;
       if (kLit) {
-        vec3 e = w.x * irradianceAt(vertexSurfel[t.v0]) + w.y * irradianceAt(vertexSurfel[t.v1]) + w.z * irradianceAt(vertexSurfel[t.v2]);
+        vec3 e = w.x * irradianceAt(t.x) + w.y * irradianceAt(t.y) + w.z * irradianceAt(t.z);
         reflected += base * e / kPi;
       }
       normal += len > 0.0 ? n / len : vec3(0.0);

@@ -5,7 +5,7 @@
 #include "common.glsl"
 layout(local_size_x = 256) in;
 
-layout(std430, binding = 0) readonly buffer Links { uvec2 links[]; };
+layout(binding = 0, rg32ui) readonly uniform uimageBuffer links;  // receiver, sender
 layout(std430, binding = 1) buffer Cursors { uint cursors[]; };
 layout(std430, binding = 2) writeonly buffer Senders { uint senders[]; };
 layout(std430, binding = 3) readonly buffer Counters { uint counters[]; };
@@ -14,5 +14,5 @@ layout(push_constant) uniform Push { uint linkCapacity; };
 void main() {
   uint total = min(counters[kCounterLinks], linkCapacity);
   uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
-  for (uint k = gl_GlobalInvocationID.x; k < total; k += stride) senders[atomicAdd(cursors[links[k].x], 1u)] = links[k].y;
+  for (uint k = gl_GlobalInvocationID.x; k < total; k += stride) senders[atomicAdd(cursors[imageLoad(links, int(k)).x], 1u)] = imageLoad(links, int(k)).y;
 }

@@ -64,7 +64,8 @@ std::vector<glm::vec4> IvSolver::binTable(uint32_t n) {
 }
 
 bool IvSolver::binsFitShared(const vk::Context& ctx, uint32_t n) {
-  uint64_t bytes = uint64_t(6) * n * n * (8 + 4) + uint64_t(maskWords(n)) * 8 + 64 * 16 + 16;
+  // bins and coverage, mask and word starts, partial sums, the wide-sender queue (prune_bins.comp)
+  uint64_t bytes = uint64_t(6) * n * n * (8 + 4) + uint64_t(maskWords(n)) * 8 + 64 * 16 + 16 + 256 * 4 + 4;
   return ctx.sharedInt64Atomics() && bytes <= ctx.limits().maxComputeSharedMemorySize;
 }
 

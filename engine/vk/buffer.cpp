@@ -8,7 +8,7 @@ Buffer::Buffer(const Context& ctx, VkDeviceSize bytes, Memory memory) : ctx_(&ct
   VkBufferCreateInfo bi{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   bi.size = size_;
   bi.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
-             VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT;
+             VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT;
   bi.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
   check(vkCreateBuffer(ctx.device(), &bi, nullptr, &buffer_), "vkCreateBuffer");
   VkMemoryRequirements req;
@@ -32,14 +32,16 @@ Buffer::Buffer(const Context& ctx, VkDeviceSize bytes, Memory memory) : ctx_(&ct
 Buffer& Buffer::operator=(Buffer&& o) noexcept {
   if (this != &o) {
     release();
-    ctx_ = o.ctx_, buffer_ = o.buffer_, memory_ = o.memory_, size_ = o.size_, mapped_ = o.mapped_;
-    o.buffer_ = VK_NULL_HANDLE, o.memory_ = VK_NULL_HANDLE, o.mapped_ = nullptr, o.size_ = 0;
+    ctx_ = o.ctx_, buffer_ = o.buffer_, memory_ = o.memory_, size_ = o.size_, mapped_ = o.mapped_, views_ = std::move(o.views_);
+    o.buffer_ = VK_NULL_HANDLE, o.memory_ = VK_NULL_HANDLE, o.mapped_ = nullptr, o.size_ = 0, o.views_.clear();
   }
   return *this;
 }
 
 void Buffer::release() {
   if (!ctx_) return;
+  for (auto& [format, view] : views_) vkDestroyBufferView(ctx_->device(), view, nullptr);
+  views_.clear();
   if (buffer_) vkDestroyBuffer(ctx_->device(), buffer_, nullptr);
   if (memory_) vkFreeMemory(ctx_->device(), memory_, nullptr);  // unmaps implicitly
   buffer_ = VK_NULL_HANDLE, memory_ = VK_NULL_HANDLE, mapped_ = nullptr;
@@ -58,6 +60,19 @@ void Buffer::upload(const void* data, VkDeviceSize bytes, VkDeviceSize offset) {
     VkBufferCopy region{0, offset, bytes};
     vkCmdCopyBuffer(cmd, staging.handle(), buffer_, 1, &region);
   });
+}
+
+VkBufferView Buffer::texelView(VkFormat format) const {
+  for (auto& [f, view] : views_)
+    if (f == format) return view;
+  VkBufferViewCreateInfo vi{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+  vi.buffer = buffer_;
+  vi.format = format;
+  vi.range = VK_WHOLE_SIZE;
+  VkBufferView view = VK_NULL_HANDLE;
+  check(vkCreateBufferView(ctx_->device(), &vi, nullptr, &view), "vkCreateBufferView");
+  views_.emplace_back(format, view);
+  return view;
 }
 
 void Buffer::download(void* data, VkDeviceSize bytes, VkDeviceSize offset) const {

@@ -5,6 +5,7 @@
 
 #include <cstring>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "engine/vk/context.h"
@@ -36,6 +37,9 @@ class Buffer {
   void upload(const std::vector<T>& items) { upload(items.data(), items.size() * sizeof(T)); }
 
   void download(void* data, VkDeviceSize bytes, VkDeviceSize offset = 0) const;
+  // A texel view of the whole buffer (made on first use, kept with the buffer): shaders read it as
+  // an imageBuffer, which lavapipe loads with vector gathers instead of one lane at a time.
+  VkBufferView texelView(VkFormat format) const;
   template <class T>
   std::vector<T> read(size_t count) const {
     std::vector<T> out(count);
@@ -50,6 +54,7 @@ class Buffer {
   VkDeviceMemory memory_ = VK_NULL_HANDLE;
   VkDeviceSize size_ = 0;
   void* mapped_ = nullptr;
+  mutable std::vector<std::pair<VkFormat, VkBufferView>> views_;
 };
 
 // Creates a buffer sized for `items` (at least one element) and fills it.

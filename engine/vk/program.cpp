@@ -14,8 +14,27 @@ namespace ivgi::vk {
 
 namespace {
 
+// One descriptor of set 0: a storage buffer, or a storage texel buffer (imageBuffer) of a format.
+struct Binding {
+  uint32_t binding = 0;
+  VkDescriptorType type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  VkFormat format = VK_FORMAT_UNDEFINED;
+};
+
+VkFormat texelFormat(SpvImageFormat f) {
+  switch (f) {
+    case SpvImageFormatRgba32f: return VK_FORMAT_R32G32B32A32_SFLOAT;
+    case SpvImageFormatRgba32ui: return VK_FORMAT_R32G32B32A32_UINT;
+    case SpvImageFormatRg32f: return VK_FORMAT_R32G32_SFLOAT;
+    case SpvImageFormatRg32ui: return VK_FORMAT_R32G32_UINT;
+    case SpvImageFormatR32f: return VK_FORMAT_R32_SFLOAT;
+    case SpvImageFormatR32ui: return VK_FORMAT_R32_UINT;
+    default: return VK_FORMAT_UNDEFINED;
+  }
+}
+
 struct Reflection {
-  std::vector<uint32_t> bindings;
+  std::vector<Binding> bindings;
   uint32_t pushBytes = 0;
   uint32_t localSize[3] = {1, 1, 1};
 };
@@ -38,17 +57,26 @@ Reflection reflect(std::span<const uint32_t> code, const std::string& name) {
 
   const spvc_reflected_resource* list = nullptr;
   size_t count = 0;
+  auto setZeroBinding = [&](const spvc_reflected_resource& res) {
+    if (spvc_compiler_get_decoration(compiler, res.id, SpvDecorationDescriptorSet) != 0) fail("only set 0 is used");
+    return spvc_compiler_get_decoration(compiler, res.id, SpvDecorationBinding);
+  };
   spvc_resources_get_resource_list_for_type(resources, SPVC_RESOURCE_TYPE_STORAGE_BUFFER, &list, &count);
+  for (size_t i = 0; i < count; ++i) r.bindings.push_back({setZeroBinding(list[i])});
+  spvc_resources_get_resource_list_for_type(resources, SPVC_RESOURCE_TYPE_STORAGE_IMAGE, &list, &count);
   for (size_t i = 0; i < count; ++i) {
-    if (spvc_compiler_get_decoration(compiler, list[i].id, SpvDecorationDescriptorSet) != 0) fail("only set 0 is used");
-    r.bindings.push_back(spvc_compiler_get_decoration(compiler, list[i].id, SpvDecorationBinding));
+    spvc_type type = spvc_compiler_get_type_handle(compiler, list[i].type_id);
+    VkFormat format = texelFormat(spvc_type_get_image_storage_format(type));
+    if (spvc_type_get_image_dimension(type) != SpvDimBuffer || format == VK_FORMAT_UNDEFINED)
+      fail("images must be imageBuffers of a 32-bit float or uint format");
+    r.bindings.push_back({setZeroBinding(list[i]), VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER, format});
   }
-  std::sort(r.bindings.begin(), r.bindings.end());
+  std::sort(r.bindings.begin(), r.bindings.end(), [](const Binding& a, const Binding& b) { return a.binding < b.binding; });
   for (size_t i = 0; i < r.bindings.size(); ++i)
-    if (r.bindings[i] != i) fail("storage-buffer bindings must be numbered 0..n-1");
-  for (auto type : {SPVC_RESOURCE_TYPE_UNIFORM_BUFFER, SPVC_RESOURCE_TYPE_SAMPLED_IMAGE, SPVC_RESOURCE_TYPE_STORAGE_IMAGE}) {
+    if (r.bindings[i].binding != i) fail("bindings must be numbered 0..n-1");
+  for (auto type : {SPVC_RESOURCE_TYPE_UNIFORM_BUFFER, SPVC_RESOURCE_TYPE_SAMPLED_IMAGE, SPVC_RESOURCE_TYPE_SEPARATE_IMAGE}) {
     spvc_resources_get_resource_list_for_type(resources, type, &list, &count);
-    if (count) fail("only storage buffers are supported as resources");
+    if (count) fail("only storage buffers and imageBuffers are supported as resources");
   }
   spvc_resources_get_resource_list_for_type(resources, SPVC_RESOURCE_TYPE_PUSH_CONSTANT, &list, &count);
   if (count) {
@@ -71,6 +99,7 @@ Program::Program(const Context& ctx, const std::string& name, std::span<const ui
     : ctx_(ctx), name_(name) {
   Reflection r = reflect(code, name);
   bindingCount_ = uint32_t(r.bindings.size());
+  for (const Binding& b : r.bindings) texelFormats_.push_back(b.format);
   pushBytes_ = r.pushBytes;
   std::copy(r.localSize, r.localSize + 3, localSize_);
   if (pushBytes_ > ctx.limits().maxPushConstantsSize)
@@ -83,7 +112,7 @@ Program::Program(const Context& ctx, const std::string& name, std::span<const ui
 
   std::vector<VkDescriptorSetLayoutBinding> bindings(bindingCount_);
   for (uint32_t i = 0; i < bindingCount_; ++i)
-    bindings[i] = {i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+    bindings[i] = {i, r.bindings[i].type, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
   VkDescriptorSetLayoutCreateInfo li{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
   li.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
   li.bindingCount = bindingCount_;
@@ -138,22 +167,27 @@ void Program::bind(VkCommandBuffer cmd, std::initializer_list<const Buffer*> buf
     throw VulkanError("pass " + name_ + " binds " + std::to_string(bindingCount_) + " buffers, given " + std::to_string(buffers.size()));
   if (pushBytes != pushBytes_)
     throw VulkanError("pass " + name_ + " takes " + std::to_string(pushBytes_) + " push-constant bytes, given " + std::to_string(pushBytes));
-  std::vector<VkDescriptorBufferInfo> infos;
-  std::vector<VkWriteDescriptorSet> writes;
-  infos.reserve(buffers.size());
+  std::vector<VkDescriptorBufferInfo> infos(bindingCount_);
+  std::vector<VkBufferView> views(bindingCount_);
+  std::vector<VkWriteDescriptorSet> writes(bindingCount_, {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET});
+  uint32_t i = 0;
   for (const Buffer* b : buffers) {
-    if (b->size() > ctx_.limits().maxStorageBufferRange)
-      throw VulkanError("pass " + name_ + ": a buffer of " + std::to_string(b->size()) +
-                        " bytes exceeds the device's maxStorageBufferRange of " + std::to_string(ctx_.limits().maxStorageBufferRange));
-    infos.push_back({b->handle(), 0, VK_WHOLE_SIZE});
-  }
-  for (uint32_t i = 0; i < bindingCount_; ++i) {
-    VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    VkWriteDescriptorSet& w = writes[i];
     w.dstBinding = i;
     w.descriptorCount = 1;
-    w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    w.pBufferInfo = &infos[i];
-    writes.push_back(w);
+    if (VkFormat format = texelFormats_[i]; format != VK_FORMAT_UNDEFINED) {
+      views[i] = b->texelView(format);
+      w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
+      w.pTexelBufferView = &views[i];
+    } else {
+      if (b->size() > ctx_.limits().maxStorageBufferRange)
+        throw VulkanError("pass " + name_ + ": a buffer of " + std::to_string(b->size()) +
+                          " bytes exceeds the device's maxStorageBufferRange of " + std::to_string(ctx_.limits().maxStorageBufferRange));
+      infos[i] = {b->handle(), 0, VK_WHOLE_SIZE};
+      w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+      w.pBufferInfo = &infos[i];
+    }
+    ++i;
   }
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
   if (bindingCount_) ctx_.cmdPushDescriptorSet(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, bindingCount_, writes.data());

@@ -1,6 +1,7 @@
 #pragma once
-// A compute program: one embedded SPIR-V shader whose descriptor layout (storage buffers, in binding
-// order) and push-constant size are read from the SPIR-V itself. Buffers go in by push descriptors,
+// A compute program: one embedded SPIR-V shader whose descriptor layout (storage buffers and
+// imageBuffers, in binding order, with their formats) and push-constant size are read from the
+// SPIR-V itself. Buffers go in by push descriptors (an imageBuffer as a texel view of the buffer),
 // so a dispatch is one call naming its buffers.
 #include <vulkan/vulkan.h>
 
@@ -66,6 +67,7 @@ class Program {
   VkPipelineLayout layout_ = VK_NULL_HANDLE;
   VkPipeline pipeline_ = VK_NULL_HANDLE;
   uint32_t bindingCount_ = 0;
+  std::vector<VkFormat> texelFormats_;  // per binding: the imageBuffer's format, or UNDEFINED for a storage buffer
   uint32_t pushBytes_ = 0;
   uint32_t localSize_[3] = {1, 1, 1};
 };
