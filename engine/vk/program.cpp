@@ -33,6 +33,10 @@ VkFormat texelFormat(SpvImageFormat f) {
   }
 }
 
+VkDeviceSize texelBytes(VkFormat f) {
+  return f == VK_FORMAT_R32G32B32A32_SFLOAT || f == VK_FORMAT_R32G32B32A32_UINT ? 16 : (f == VK_FORMAT_R32G32_SFLOAT || f == VK_FORMAT_R32G32_UINT ? 8 : 4);
+}
+
 struct Reflection {
   std::vector<Binding> bindings;
   uint32_t pushBytes = 0;
@@ -176,6 +180,9 @@ void Program::bind(VkCommandBuffer cmd, std::initializer_list<const Buffer*> buf
     w.dstBinding = i;
     w.descriptorCount = 1;
     if (VkFormat format = texelFormats_[i]; format != VK_FORMAT_UNDEFINED) {
+      if (b->size() / texelBytes(format) > ctx_.limits().maxTexelBufferElements)
+        throw VulkanError("pass " + name_ + ": a buffer of " + std::to_string(b->size()) + " bytes exceeds the device's maxTexelBufferElements of " +
+                          std::to_string(ctx_.limits().maxTexelBufferElements));
       views[i] = b->texelView(format);
       w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
       w.pTexelBufferView = &views[i];

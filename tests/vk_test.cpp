@@ -1,0 +1,38 @@
+// The device layer: programs whose layout mixes storage buffers and imageBuffers read the bytes the
+// host wrote, whatever the view's format.
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "engine/vk/program.h"
+#include "tests/test_support.h"
+
+namespace ivgi {
+std::span<const uint32_t> testShaderCode(const std::string& name);
+}
+
+namespace ivgi {
+namespace {
+
+TEST(Program, ImageBuffersReadWhatTheHostWrote) {
+  vk::Context& ctx = test::gpu();
+  const uint32_t count = 96;  // vec4s; a multiple of 3 so that it is whole NodeStates too
+  std::vector<float> data(4 * count);
+  for (size_t i = 0; i < data.size(); ++i) data[i] = 0.25f * float(i) - 7.0f;
+  vk::Buffer input = vk::makeBuffer(ctx, data), output(ctx, count * 4 * 16, vk::Memory::Host);
+  vk::Program program(ctx, "texel_cases", testShaderCode("texel_cases"));
+  ASSERT_EQ(program.bindingCount(), 5u);
+  ctx.submitAndWait([&](VkCommandBuffer cmd) { program.dispatchItems(cmd, count, {&input, &input, &input, &input, &output}, count); });
+  auto got = output.read<float>(count * 16);
+  for (uint32_t i = 0; i < count; ++i) {
+    const float* r = &got[16 * i];
+    for (int c = 0; c < 4; ++c) EXPECT_EQ(r[c], data[4 * i + c]) << "rgba32f element " << i;
+    for (int c = 0; c < 2; ++c) EXPECT_EQ(r[4 + c], data[2 * i + c]) << "rg32ui element " << i;
+    EXPECT_EQ(r[8], data[i]) << "r32ui element " << i;
+    // NodeState: position and area, normal and cone, then the radius alone.
+    for (int c = 0; c < 4; ++c) EXPECT_EQ(r[12 + c], i % 3 == 2 && c > 0 ? 0.0f : data[4 * i + c]) << "NodeState texel " << i;
+  }
+}
+
+}  // namespace
+}  // namespace ivgi
