@@ -17,6 +17,7 @@ layout(constant_id = 0) const uint kN = 16;              // bins per face side
 layout(constant_id = 1) const bool kSharedBins = true;
 layout(constant_id = 2) const uint kSharedSlots = 1536;  // 6·N² on the shared path, else 1
 layout(constant_id = 3) const uint kMaskWords = 48;      // ⌈6·N² / 32⌉
+layout(constant_id = 4) const uint kWideQueue = 256;     // wide senders a leaf queues before filing them inline
 
 layout(binding = 0, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode
 layout(binding = 2, r32ui) readonly uniform uimageBuffer starts;
@@ -39,7 +40,6 @@ shared uint mask[kMaskWords];
 shared uint wordStart[kMaskWords];
 shared vec3 partial[64];
 shared uint leafBase;
-const uint kWideQueue = 256u;
 shared uint wideQueue[kWideQueue];
 shared uint wideCount;
 
@@ -95,9 +95,9 @@ void insertFootprint(uint slot, vec3 d, uint64_t key, float omega) {
 // exact, and 2π (not infinity) as d → 0.
 float diskSolidAngle(float r, float dist2) { return 2.0 * kPi * (1.0 - sqrt(dist2 / (dist2 + r * r))); }
 
-// A sender as the receiver sees it: offset d, distance², the solid angle ω it subtends, and the
-// number k of pieces per side it is filed as (1: whole).
-struct View { vec3 d; float dist2; float omega; float radius; uint k; };
+// A sender as the receiver sees it: offset d, distance², the solid angle ω it subtends, the least
+// cosine it is seen under, and the number k of pieces per side it is filed as (1: whole).
+struct View { vec3 d; float dist2; float omega; float radius; float minCos; uint k; };
 
 View viewOf(vec3 p, vec4 positionArea, vec4 normalCone) {
   View v;
@@ -105,8 +105,9 @@ View viewOf(vec3 p, vec4 positionArea, vec4 normalCone) {
   v.dist2 = dot(v.d, v.d);
   v.radius = sqrt(positionArea.w / kPi);
   // A curved node is seen at least as much as along the edge of its cone.
+  v.minCos = sin(min(normalCone.w, 0.5 * kPi));
   float cosS = abs(dot(normalCone.xyz, v.d)) * inversesqrt(max(v.dist2, 1e-30));
-  v.omega = diskSolidAngle(v.radius, v.dist2) * max(cosS, sin(min(normalCone.w, 0.5 * kPi)));
+  v.omega = diskSolidAngle(v.radius, v.dist2) * max(cosS, v.minCos);
   // Width in bins (a bin at a face centre is 2/N wide); near, one direction no longer stands for the disk.
   float width = sqrt(v.omega) * 0.5 * float(kN);
   v.k = v.dist2 <= 4.0 * v.radius * v.radius ? 8u : uint(clamp(ceil(width), 1.0, 8.0));
@@ -125,7 +126,7 @@ void filePiece(uint slot, vec3 n, uint s, vec4 normalCone, View v, uint index) {
   float q2 = dot(q, q);
   if (dot(q, n) <= 0.0 || q2 <= 0.0) return;
   float cosQ = abs(dot(normalCone.xyz, q)) * inversesqrt(q2);
-  insertFootprint(slot, q, packLinkKey(v.dist2, s), diskSolidAngle(v.radius / float(v.k), q2) * max(cosQ, sin(min(normalCone.w, 0.5 * kPi))));
+  insertFootprint(slot, q, packLinkKey(v.dist2, s), diskSolidAngle(v.radius / float(v.k), q2) * max(cosQ, v.minCos));
 }
 
 // Irradiance at the receiver from punctual lights that are nearer than the nearest element in their bin.
@@ -183,7 +184,7 @@ void main() {
       }
     }
     barrier();
-    // Each subgroup of 8 lanes takes a queued sender and files its pieces, one per lane.
+    // Each group of 8 lanes (a subgroup on lavapipe) takes a queued sender and files its pieces, one per lane.
     for (uint e = lid / 8u; e < min(wideCount, kWideQueue); e += 8u) {
       uint s = wideQueue[e];
       vec4 normalCone = nodeNormalCone(s);

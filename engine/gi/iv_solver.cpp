@@ -26,6 +26,7 @@ struct PrunePush {
 constexpr uint32_t kNoCounter = 0xFFFFFFFFu;
 constexpr uint32_t kCounterLinks = 2, kCounterLeafLinks = 3, kCounterOverflow = 4, kCounterWorklistPeak = 5;
 constexpr uint32_t kMaxPruneGroups = 512;
+constexpr uint32_t kWideQueue = 256;  // prune_bins.comp's queue of wide senders per leaf
 
 uint32_t maskWords(uint32_t n) { return (6 * n * n + 31) / 32; }
 
@@ -65,7 +66,7 @@ std::vector<glm::vec4> IvSolver::binTable(uint32_t n) {
 
 bool IvSolver::binsFitShared(const vk::Context& ctx, uint32_t n) {
   // bins and coverage, mask and word starts, partial sums, the wide-sender queue (prune_bins.comp)
-  uint64_t bytes = uint64_t(6) * n * n * (8 + 4) + uint64_t(maskWords(n)) * 8 + 64 * 16 + 16 + 256 * 4 + 4;
+  uint64_t bytes = uint64_t(6) * n * n * (8 + 4) + uint64_t(maskWords(n)) * 8 + 64 * 16 + 16 + kWideQueue * 4 + 4;
   return ctx.sharedInt64Atomics() && bytes <= ctx.limits().maxComputeSharedMemorySize;
 }
 
@@ -83,7 +84,7 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, const Hiera
       scanCounts_(ctx, "scan_counts"),
       scatterLinks_(ctx, "scatter_links"),
       prune_(ctx, "prune_bins",
-             {settings.bins, sharedBins_ ? 1u : 0u, sharedBins_ ? 6 * settings.bins * settings.bins : 1u, maskWords(settings.bins)}),
+             {settings.bins, sharedBins_ ? 1u : 0u, sharedBins_ ? 6 * settings.bins * settings.bins : 1u, maskWords(settings.bins), kWideQueue}),
       emit_(ctx, "emit"),
       gather_(ctx, "gather"),
       pullUp_(ctx, "pull_up") {

@@ -14,28 +14,30 @@ namespace ivgi::vk {
 
 namespace {
 
+// The view format of an imageBuffer's declared format, and the bytes of one texel.
+struct TexelFormat {
+  VkFormat format = VK_FORMAT_UNDEFINED;
+  VkDeviceSize bytes = 0;
+};
+
+TexelFormat texelFormat(SpvImageFormat f) {
+  switch (f) {
+    case SpvImageFormatRgba32f: return {VK_FORMAT_R32G32B32A32_SFLOAT, 16};
+    case SpvImageFormatRgba32ui: return {VK_FORMAT_R32G32B32A32_UINT, 16};
+    case SpvImageFormatRg32f: return {VK_FORMAT_R32G32_SFLOAT, 8};
+    case SpvImageFormatRg32ui: return {VK_FORMAT_R32G32_UINT, 8};
+    case SpvImageFormatR32f: return {VK_FORMAT_R32_SFLOAT, 4};
+    case SpvImageFormatR32ui: return {VK_FORMAT_R32_UINT, 4};
+    default: return {};
+  }
+}
+
 // One descriptor of set 0: a storage buffer, or a storage texel buffer (imageBuffer) of a format.
 struct Binding {
   uint32_t binding = 0;
   VkDescriptorType type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-  VkFormat format = VK_FORMAT_UNDEFINED;
+  TexelFormat texel;
 };
-
-VkFormat texelFormat(SpvImageFormat f) {
-  switch (f) {
-    case SpvImageFormatRgba32f: return VK_FORMAT_R32G32B32A32_SFLOAT;
-    case SpvImageFormatRgba32ui: return VK_FORMAT_R32G32B32A32_UINT;
-    case SpvImageFormatRg32f: return VK_FORMAT_R32G32_SFLOAT;
-    case SpvImageFormatRg32ui: return VK_FORMAT_R32G32_UINT;
-    case SpvImageFormatR32f: return VK_FORMAT_R32_SFLOAT;
-    case SpvImageFormatR32ui: return VK_FORMAT_R32_UINT;
-    default: return VK_FORMAT_UNDEFINED;
-  }
-}
-
-VkDeviceSize texelBytes(VkFormat f) {
-  return f == VK_FORMAT_R32G32B32A32_SFLOAT || f == VK_FORMAT_R32G32B32A32_UINT ? 16 : (f == VK_FORMAT_R32G32_SFLOAT || f == VK_FORMAT_R32G32_UINT ? 8 : 4);
-}
 
 struct Reflection {
   std::vector<Binding> bindings;
@@ -70,10 +72,10 @@ Reflection reflect(std::span<const uint32_t> code, const std::string& name) {
   spvc_resources_get_resource_list_for_type(resources, SPVC_RESOURCE_TYPE_STORAGE_IMAGE, &list, &count);
   for (size_t i = 0; i < count; ++i) {
     spvc_type type = spvc_compiler_get_type_handle(compiler, list[i].type_id);
-    VkFormat format = texelFormat(spvc_type_get_image_storage_format(type));
-    if (spvc_type_get_image_dimension(type) != SpvDimBuffer || format == VK_FORMAT_UNDEFINED)
+    TexelFormat texel = texelFormat(spvc_type_get_image_storage_format(type));
+    if (spvc_type_get_image_dimension(type) != SpvDimBuffer || texel.format == VK_FORMAT_UNDEFINED)
       fail("images must be imageBuffers of a 32-bit float or uint format");
-    r.bindings.push_back({setZeroBinding(list[i]), VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER, format});
+    r.bindings.push_back({setZeroBinding(list[i]), VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER, texel});
   }
   std::sort(r.bindings.begin(), r.bindings.end(), [](const Binding& a, const Binding& b) { return a.binding < b.binding; });
   for (size_t i = 0; i < r.bindings.size(); ++i)
@@ -103,7 +105,7 @@ Program::Program(const Context& ctx, const std::string& name, std::span<const ui
     : ctx_(ctx), name_(name) {
   Reflection r = reflect(code, name);
   bindingCount_ = uint32_t(r.bindings.size());
-  for (const Binding& b : r.bindings) texelFormats_.push_back(b.format);
+  for (const Binding& b : r.bindings) texels_.emplace_back(b.texel.format, b.texel.bytes);
   pushBytes_ = r.pushBytes;
   std::copy(r.localSize, r.localSize + 3, localSize_);
   if (pushBytes_ > ctx.limits().maxPushConstantsSize)
@@ -179,8 +181,8 @@ void Program::bind(VkCommandBuffer cmd, std::initializer_list<const Buffer*> buf
     VkWriteDescriptorSet& w = writes[i];
     w.dstBinding = i;
     w.descriptorCount = 1;
-    if (VkFormat format = texelFormats_[i]; format != VK_FORMAT_UNDEFINED) {
-      if (b->size() / texelBytes(format) > ctx_.limits().maxTexelBufferElements)
+    if (auto [format, bytes] = texels_[i]; format != VK_FORMAT_UNDEFINED) {
+      if (b->size() / bytes > ctx_.limits().maxTexelBufferElements)
         throw VulkanError("pass " + name_ + ": a buffer of " + std::to_string(b->size()) + " bytes exceeds the device's maxTexelBufferElements of " +
                           std::to_string(ctx_.limits().maxTexelBufferElements));
       views[i] = b->texelView(format);

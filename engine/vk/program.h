@@ -8,6 +8,7 @@
 #include <initializer_list>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "engine/vk/buffer.h"
@@ -67,7 +68,8 @@ class Program {
   VkPipelineLayout layout_ = VK_NULL_HANDLE;
   VkPipeline pipeline_ = VK_NULL_HANDLE;
   uint32_t bindingCount_ = 0;
-  std::vector<VkFormat> texelFormats_;  // per binding: the imageBuffer's format, or UNDEFINED for a storage buffer
+  // Per binding: an imageBuffer's view format and texel bytes, or UNDEFINED for a storage buffer.
+  std::vector<std::pair<VkFormat, VkDeviceSize>> texels_;
   uint32_t pushBytes_ = 0;
   uint32_t localSize_[3] = {1, 1, 1};
 };
