@@ -1,6 +1,7 @@
 #version 460
 // Pass 6b, gather at the leaves: irradiance G = external + Σ F·B_sender over the surviving links,
-// radiosity B = π·Le + ρ·G. Reads last bounce's radiosity, writes the next (no race).
+// radiosity B = π·Le + ρ·G. Reads last bounce's radiosity, writes the next (no race). A static leaf
+// also has the links pruned once against static senders, less those its frame links override.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 layout(local_size_x = 64) in;
@@ -14,7 +15,10 @@ layout(binding = 5, rgba32f) readonly uniform imageBuffer emission;
 layout(binding = 6, rgba32f) readonly uniform imageBuffer radiosityIn;
 layout(std430, binding = 7) writeonly buffer RadiosityOut { vec4 radiosityOut[]; };
 layout(std430, binding = 8) writeonly buffer Irradiance { vec4 irradiance[]; };
-layout(push_constant) uniform Push { uint surfelCount; };
+layout(binding = 9, rg32ui) readonly uniform uimageBuffer staticRanges;  // LeafRange
+layout(binding = 10, rgba32ui) readonly uniform uimageBuffer staticLinks;  // StaticLink
+layout(binding = 11, r32ui) readonly uniform uimageBuffer overrides;       // per leaf and mask word
+layout(push_constant) uniform Push { uint surfelCount; uint maskWords; };
 
 void main() {
   uint s = itemIndex();
@@ -24,6 +28,12 @@ void main() {
   for (uint k = range.x; k < range.x + range.y; ++k) {
     uvec2 link = imageLoad(leafLinks, int(k)).xy;
     g += uintBitsToFloat(link.y) * imageLoad(radiosityIn, int(link.x)).rgb;
+  }
+  uvec2 staticRange = imageLoad(staticRanges, int(s)).xy;
+  for (uint k = staticRange.x; k < staticRange.x + staticRange.y; ++k) {
+    uvec4 link = imageLoad(staticLinks, int(k));
+    uint overridden = imageLoad(overrides, int(s * maskWords + link.z / 32u)).x & (1u << (link.z & 31u));
+    if (overridden == 0u) g += uintBitsToFloat(link.y) * imageLoad(radiosityIn, int(link.x)).rgb;
   }
   radiosityOut[imageLoad(leafOfSurfel, int(s)).x] = vec4(kPi * imageLoad(emission, int(s)).rgb + imageLoad(albedo, int(s)).rgb * g, 0.0);
   irradiance[s] = vec4(g, 0.0);

@@ -8,6 +8,12 @@
 // in bin order. Punctual lights and the environment are tested against the same bins. Bins live in
 // shared memory where they fit, else in a global slot per workgroup; each workgroup walks many
 // leaves and resets only the bins it touched.
+//
+// Objects that cannot move are linked and pruned once (the static pass, over the links between
+// them); every frame (the frame pass) a moving leaf is pruned in full from the links of the pairs
+// with a moving side, and a static leaf files only those and merges the bins they touch with its
+// static bins: nearest key and summed coverage as a full prune would find them. Its touched bins
+// are re-emitted and flagged in an override mask that the gather reads to skip the static entries.
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 1
 #include "common.glsl"
@@ -18,6 +24,7 @@ layout(constant_id = 1) const bool kSharedBins = true;
 layout(constant_id = 2) const uint kSharedSlots = 1536;  // 6·N² on the shared path, else 1
 layout(constant_id = 3) const uint kMaskWords = 48;      // ⌈6·N² / 32⌉
 layout(constant_id = 4) const uint kWideQueue = 256;     // wide senders a leaf queues before filing them inline
+layout(constant_id = 5) const bool kStaticPass = false;   // prune static leaves against static links, once
 
 layout(binding = 0, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode
 layout(binding = 2, r32ui) readonly uniform uimageBuffer starts;
@@ -32,6 +39,14 @@ layout(std430, binding = 10) writeonly buffer External { vec4 externalLight[]; }
 layout(std430, binding = 11) readonly buffer Lights { PunctualLight lights[]; };
 layout(binding = 12, rgba32f) readonly uniform imageBuffer environment;  // radiance per bin
 layout(std430, binding = 13) buffer GlobalCoverage { uint globalCoverage[]; };
+layout(binding = 14, r32ui) readonly uniform uimageBuffer leafMoves;  // per surfel: 1 if its object moves
+// The static pass writes these; the frame pass reads them.
+layout(std430, binding = 15) buffer StaticRanges { LeafRange staticRanges[]; };
+layout(std430, binding = 16) buffer StaticLinks { StaticLink staticLinks[]; };
+layout(std430, binding = 17) buffer StaticDepths { uint staticDepths[]; };  // float bits of d², beside the link
+layout(std430, binding = 18) buffer StaticMasks { uvec2 staticMasks[]; };  // per leaf and mask word: bins held, entries before
+layout(std430, binding = 19) buffer StaticEnvironment { vec4 staticEnvironment[]; };
+layout(std430, binding = 20) writeonly buffer Overrides { uint overrides[]; };  // per static leaf and mask word: bins re-emitted
 layout(push_constant) uniform Push { uint surfelCount; uint linkCapacity; uint lightCount; uint environmentOn; };
 
 shared uint64_t sharedBins[kSharedSlots];
@@ -53,10 +68,32 @@ void addCoverage(uint slot, uint b, uint amount) {
   if (kSharedBins) atomicAdd(sharedCoverage[b], amount);
   else atomicAdd(globalCoverage[slot + b], amount);
 }
-float coverage(uint slot, uint b) { return float(kSharedBins ? sharedCoverage[b] : globalCoverage[slot + b]) / kCoverageUnit; }
+uint loadCoverage(uint slot, uint b) { return kSharedBins ? sharedCoverage[b] : globalCoverage[slot + b]; }
 void resetBin(uint slot, uint b) {
   if (kSharedBins) sharedBins[b] = kEmptyVisibility, sharedCoverage[b] = 0u;
   else globalBins[slot + b] = kEmptyVisibility, globalCoverage[slot + b] = 0u;
+}
+
+// The leaf being pruned (the same in every invocation of the workgroup): whether it merges the
+// frame's senders into its static bins, where its static survivors start, where its mask words start.
+bool merging = false;
+uint staticFirst = 0u, maskBase = 0u;
+
+// What bin b holds: the nearest key and the covered solid angle (in 1/kCoverageUnit of the bin),
+// the filed senders merged with the leaf's static entry; staticCovered is that entry's share.
+struct Bin { uint64_t key; uint covered; uint staticCovered; };
+
+Bin binAt(uint slot, uint b) {
+  Bin bin = Bin(loadBin(slot, b), loadCoverage(slot, b), 0u);
+  if (!merging) return bin;
+  uvec2 word = staticMasks[maskBase + b / 32u];
+  uint bit = 1u << (b & 31u);
+  if ((word.x & bit) == 0u) return bin;
+  uint e = staticFirst + word.y + bitCount(word.x & (bit - 1u));
+  bin.key = min(bin.key, packLinkKey(uintBitsToFloat(staticDepths[e]), staticLinks[e].sender));
+  bin.staticCovered = staticLinks[e].coverage;
+  bin.covered += bin.staticCovered;
+  return bin;
 }
 
 void insert(uint slot, uint b, uint64_t key, float omega) {
@@ -137,10 +174,38 @@ vec3 punctualLight(uint slot, vec3 p, vec3 n) {
     float dist2, falloff = lightFalloff(lights[l], p, toLight, dist2);
     float cosR = dot(n, normalize(toLight));
     if (cosR <= 0.0 || falloff <= 0.0) continue;
-    uint64_t nearest = loadBin(slot, binOf(toLight, kN));
+    uint64_t nearest = binAt(slot, binOf(toLight, kN)).key;
     if (nearest != kEmptyVisibility && keyDepth(nearest) <= dist2) continue;  // occluded
     sum += lights[l].intensity.rgb * cosR * falloff;
   }
+  return sum;
+}
+
+// Fraction of bin b that its senders cover, at most 1.
+float coveredFraction(uint covered) { return min(float(covered) / kCoverageUnit, 1.0); }
+
+// Form factor of the survivor of bin b, standing for the covered part of the bin. Front or back is
+// judged along the bin: the sender may sit at the receiver (hard edges).
+float survivorFormFactor(vec3 n, uint sender, uint b, uint covered) {
+  vec4 normalCone = nodeNormalCone(sender), bin = imageLoad(binTable, int(b));
+  bool facing = dot(normalCone.xyz, -bin.xyz) > 0.0 || normalCone.w >= 0.5 * kPi;
+  return facing ? max(dot(n, bin.xyz), 0.0) * coveredFraction(covered) * bin.w / kPi : 0.0;
+}
+
+// Environment radiance through the uncovered part of bin b, cosine-weighted (0 below the horizon).
+vec3 environmentThrough(vec3 n, uint b, uint covered) {
+  vec4 bin = imageLoad(binTable, int(b));
+  float c = dot(n, bin.xyz);
+  return c > 0.0 ? imageLoad(environment, int(b)).rgb * c * bin.w * (1.0 - coveredFraction(covered)) : vec3(0.0);
+}
+
+// Sum of the workgroup's partial vectors in a fixed order (deterministic); valid in invocation 0.
+vec3 sumPartials(uint lid, vec3 mine) {
+  partial[lid] = mine;
+  barrier();
+  vec3 sum = vec3(0.0);
+  if (lid == 0u)
+    for (uint t = 0u; t < 64u; ++t) sum += partial[t];
   return sum;
 }
 
@@ -155,6 +220,14 @@ void main() {
 
   uint groups = gl_NumWorkGroups.x * gl_NumWorkGroups.y;
   for (uint surfel = groupIndex(); surfel < surfelCount; surfel += groups) {
+    bool moves = imageLoad(leafMoves, int(surfel)).x != 0u;
+    if (kStaticPass && moves) {  // pruned every frame instead
+      if (lid == 0u) staticRanges[surfel] = LeafRange(0u, 0u);
+      continue;
+    }
+    merging = !kStaticPass && !moves;
+    staticFirst = merging ? staticRanges[surfel].first : 0u;
+    maskBase = surfel * kMaskWords;
     uint leaf = imageLoad(leafOfSurfel, int(surfel)).x;
     vec4 receiver = nodePositionArea(leaf);
     vec3 p = receiver.xyz, n = nodeNormalCone(leaf).xyz;
@@ -203,41 +276,50 @@ void main() {
         total += c;
       }
       leafBase = atomicAdd(counters[kCounterLeafLinks], total);
-      ranges[surfel] = LeafRange(leafBase, total);
+      if (kStaticPass) staticRanges[surfel] = LeafRange(leafBase, total);
+      else ranges[surfel] = LeafRange(leafBase, total);
       if (leafBase + total > linkCapacity) atomicOr(counters[kCounterOverflow], 4u);
     }
     barrier();
+    // A merging leaf's environment changes only in the bins it touched: this frame's minus its static share.
+    vec3 environmentChange = vec3(0.0);
     for (uint w = lid; w < kMaskWords; w += 64u) {
       uint bits = mask[w], outIndex = leafBase + wordStart[w];
+      if (kStaticPass) staticMasks[maskBase + w] = uvec2(bits, wordStart[w]);
+      if (merging) overrides[maskBase + w] = bits;
       while (bits != 0u) {
         uint b = w * 32u + uint(findLSB(bits));
         bits &= bits - 1u;
-        uint s = keyId(loadBin(slot, b));
-        vec4 normalCone = nodeNormalCone(s), bin = imageLoad(binTable, int(b));
-        // Front or back is judged along the bin: the sender may sit at the receiver (hard edges).
-        bool facing = dot(normalCone.xyz, -bin.xyz) > 0.0 || normalCone.w >= 0.5 * kPi;
-        float f = facing ? max(dot(n, bin.xyz), 0.0) * min(coverage(slot, b), 1.0) * bin.w / kPi : 0.0;
-        if (outIndex < linkCapacity) leafLinks[outIndex] = LeafLink(s, f);
+        Bin bin = binAt(slot, b);
+        uint s = keyId(bin.key);
+        float f = survivorFormFactor(n, s, b, bin.covered);
+        if (outIndex < linkCapacity) {
+          if (kStaticPass) {
+            staticLinks[outIndex] = StaticLink(s, f, b, bin.covered);
+            staticDepths[outIndex] = uint(bin.key >> 32);
+          } else {
+            leafLinks[outIndex] = LeafLink(s, f);
+          }
+        }
         ++outIndex;
+        if (merging && environmentOn != 0u) environmentChange += environmentThrough(n, b, bin.covered) - environmentThrough(n, b, bin.staticCovered);
       }
     }
     // Environment through the empty bins above the horizon, summed in a fixed order.
-    vec3 env = vec3(0.0);
-    if (environmentOn != 0u && area > 0.0)
-      for (uint b = lid; b < kBinCount; b += 64u) {
-        vec4 bin = imageLoad(binTable, int(b));
-        float c = dot(n, bin.xyz);
-        if (c > 0.0) env += imageLoad(environment, int(b)).rgb * c * bin.w * (1.0 - min(coverage(slot, b), 1.0));
-      }
-    partial[lid] = env;
-    barrier();
+    vec3 env = environmentChange;
+    if (environmentOn != 0u && area > 0.0 && !merging)
+      for (uint b = lid; b < kBinCount; b += 64u) env += environmentThrough(n, b, loadCoverage(slot, b));
+    vec3 sum = sumPartials(lid, env);
     if (lid == 0u) {
-      vec3 sum = vec3(0.0);
-      for (uint t = 0u; t < 64u; ++t) sum += partial[t];
-      if (area > 0.0) sum += punctualLight(slot, p, n);
-      externalLight[surfel] = vec4(sum, 0.0);
+      if (kStaticPass) {
+        staticEnvironment[surfel] = vec4(sum, 0.0);
+      } else {
+        if (merging) sum += staticEnvironment[surfel].rgb;
+        if (area > 0.0) sum += punctualLight(slot, p, n);
+        externalLight[surfel] = vec4(sum, 0.0);
+      }
     }
-    barrier();
+    barrier();  // the lights read the bins
     for (uint w = lid; w < kMaskWords; w += 64u) {
       uint bits = mask[w];
       while (bits != 0u) {

@@ -2,6 +2,7 @@
 // design.md §1.2: areas, welded seams, degenerate triangles.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "engine/gi/frame_renderer.h"
@@ -166,4 +167,22 @@ TEST(Surfels, DegenerateTrianglesAreCountedAndExcluded) {
   auto surfels = surfelsOnHost(g, animateOnHost(g, g.frameInputs(s, evaluatePose(s, -1, 0))));
   EXPECT_NEAR(totalArea(surfels), 0.5f, 1e-6f);
   for (const auto& sf : surfels) EXPECT_NEAR(sf.normal.z, 1.0f, 1e-6f) << "no normals given: from the face";
+}
+
+// What the solver may link once: instances whose world-space geometry no animation channel reaches.
+TEST(MovingInstances, OnlyWhatTheAnimationReaches) {
+  Scene cornell = sceneFromModel(scenes::cornellBox({.cells = 2}), "cornell");
+  Geometry g = buildGeometry(cornell);
+  auto moving = movingInstances(cornell, g, 0);
+  ASSERT_EQ(moving.size(), g.instances.size());
+  for (size_t i = 0; i < moving.size(); ++i)
+    EXPECT_EQ(moving[i], cornell.nodes[g.instanceNode[i]].name == "short block") << cornell.nodes[g.instanceNode[i]].name;
+  auto none = movingInstances(cornell, g, -1);
+  EXPECT_EQ(std::count(none.begin(), none.end(), true), 0);
+
+  // Morph weights move geometry without any node transform.
+  Scene cube = loadGltf((test::assimpGltfDir() / "glTF-Sample-Models/AnimatedMorphCube-glTF/AnimatedMorphCube.gltf").string());
+  Geometry cg = buildGeometry(cube);
+  auto morphing = movingInstances(cube, cg, 0);
+  EXPECT_EQ(std::count(morphing.begin(), morphing.end(), true), long(cg.instances.size()));
 }

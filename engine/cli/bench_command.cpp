@@ -60,7 +60,7 @@ int runBench(const BenchOptions& o) {
 
   vk::Context ctx({.device = o.device});
   if (std::string why = gi::checkImageSettings(ctx, image); !why.empty()) throw UsageError("--size " + o.size + ": " + why);
-  gi::FrameRenderer renderer(ctx, g, image, solverSetup(o.solver, s, g));
+  gi::FrameRenderer renderer(ctx, g, image, solverSetup(o.solver, s, g, animation));
   const FrameCamera camera(s, g, tl, o.fps, "", {0}, float(image.width) / float(image.height));
 
   const bool moving = scene::animationMovesGeometry(s, animation);
@@ -93,7 +93,9 @@ int runBench(const BenchOptions& o) {
     gi::IvStats st = iv->stats();
     bytes += st.bytes;
     std::printf(", nodes %u, links %u created, %u leaf links after push-down and pruning", st.nodes, st.links, st.leafLinks);
-    counts.update({{"nodes", st.nodes}, {"links", st.links}, {"leafLinks", st.leafLinks}, {"sharedMemoryBins", st.sharedBins}});
+    if (st.staticLinks) std::printf(" (of which %u and %u between static objects, made once)", st.staticLinks, st.staticLeafLinks);
+    counts.update({{"nodes", st.nodes}, {"links", st.links}, {"leafLinks", st.leafLinks}, {"staticLinks", st.staticLinks},
+                   {"staticLeafLinks", st.staticLeafLinks}, {"sharedMemoryBins", st.sharedBins}});
   }
   std::printf("\nbytes allocated: %llu (%.1f MiB)\n", (unsigned long long)bytes, double(bytes) / (1 << 20));
   if (!o.json.empty()) {

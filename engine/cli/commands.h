@@ -33,10 +33,10 @@ struct SolverOptions {
   std::string environment;  // "R,G,B" or an .exr; empty: none
 };
 
-// The iv set-up for `options` (checked), or nothing for --method none. The hierarchy depends only on
-// the scene: pass one already built to reuse it.
+// The iv set-up for `options` (checked), or nothing for --method none; `animation` (-1: none) says
+// which objects can move. The hierarchy depends only on the scene: pass one already built to reuse it.
 std::optional<gi::IvSetup> solverSetup(const SolverOptions& options, const scene::Scene& scene, const scene::Geometry& geometry,
-                                       const gi::Hierarchy* hierarchy = nullptr);
+                                       int animation, const gi::Hierarchy* hierarchy = nullptr);
 
 // The path tracer's own options (--method pt).
 struct PathOptions {

@@ -66,7 +66,7 @@ int runEqualError(const BenchOptions& o) {
   // iv: the median GPU time over animated frames, and the error of the compared frame.
   vk::Context ctx({.device = o.device});
   if (std::string why = gi::checkImageSettings(ctx, image); !why.empty()) throw UsageError("--size " + o.size + ": " + why);
-  gi::FrameRenderer renderer(ctx, g, image, solverSetup(o.solver, s, g));
+  gi::FrameRenderer renderer(ctx, g, image, solverSetup(o.solver, s, g, tl.animation));
   FrameTimes times = timeFrames(renderer, s, g, tl, camera, o.fps, o.warmup, o.frames);
   const double ivMs = percentile(times.perPass["total"], 0.5);
   auto ivFrame = renderer.render(g.frameInputs(s, pose), view, gi::worldLights(s, pose), true);

@@ -51,7 +51,7 @@ int runInfo(const InfoOptions& o) {
   if (o.memory && o.solver.method == "iv") {
     // Link counts are known only once the GPU has refined them: solve frame 0 on a tiny image.
     vk::Context ctx;
-    gi::FrameRenderer renderer(ctx, g, {16, 16, 1}, solverSetup(o.solver, s, g));
+    gi::FrameRenderer renderer(ctx, g, {16, 16, 1}, solverSetup(o.solver, s, g, s.animations.empty() ? -1 : 0));
     auto pose = scene::evaluatePose(s, s.animations.empty() ? -1 : 0, s.animations.empty() ? 0.0f : s.animations[0].start);
     renderer.render(g.frameInputs(s, pose), scene::framingCamera(scene::worldBounds(scene::animateOnHost(g, g.frameInputs(s, pose))), 1.0f),
                     gi::worldLights(s, pose));

@@ -93,7 +93,7 @@ int runRender(const RenderOptions& o) {
   } else {
     ctx = std::make_unique<vk::Context>(vk::ContextOptions{.device = o.device});
     if (std::string why = gi::checkImageSettings(*ctx, image); !why.empty()) throw UsageError("--size " + o.size + ": " + why);
-    renderer = std::make_unique<gi::FrameRenderer>(*ctx, g, image, solverSetup(o.solver, s, g));
+    renderer = std::make_unique<gi::FrameRenderer>(*ctx, g, image, solverSetup(o.solver, s, g, tl.animation));
   }
   const bool geometryAnimated = scene::animationMovesGeometry(s, tl.animation);
 
@@ -158,7 +158,7 @@ int runRender(const RenderOptions& o) {
   progress.finish();
   if (const gi::IvSolver* iv = renderer ? renderer->solver() : nullptr) {
     gi::IvStats st = iv->stats();
-    sidecar["solver"] = {{"nodes", st.nodes}, {"levels", st.levels}, {"links", st.links}, {"leafLinks", st.leafLinks},
+    sidecar["solver"] = {{"nodes", st.nodes}, {"levels", st.levels}, {"links", st.links}, {"leafLinks", st.leafLinks}, {"staticLinks", st.staticLinks}, {"staticLeafLinks", st.staticLeafLinks},
                          {"bytes", st.bytes}, {"sharedMemoryBins", st.sharedBins}};
     sidecar["bytesAllocated"] = renderer->bytesAllocated() + st.bytes;
   }

@@ -25,7 +25,8 @@ scene::Geometry renderableGeometry(const scene::Scene& s) {
   return g;
 }
 
-std::optional<gi::IvSetup> solverSetup(const SolverOptions& o, const scene::Scene& s, const scene::Geometry& g, const gi::Hierarchy* hierarchy) {
+std::optional<gi::IvSetup> solverSetup(const SolverOptions& o, const scene::Scene& s, const scene::Geometry& g, int animation,
+                                       const gi::Hierarchy* hierarchy) {
   if (o.method == "none") return std::nullopt;
   if (o.method == "pt") throw UsageError("--method pt: the path tracer runs on the CPU; use `ivgi render --method pt` (bench and info measure iv and none)");
   if (o.method != "iv") throw UsageError("--method '" + o.method + "': methods are iv, pt and none");
@@ -39,8 +40,10 @@ std::optional<gi::IvSetup> solverSetup(const SolverOptions& o, const scene::Scen
   settings.bounces = uint32_t(o.bounces);
   settings.kappa = o.kappa;
   if (!o.environment.empty()) settings.environment = gi::environmentBins(o.environment, o.bins);
-  if (hierarchy) return gi::IvSetup{*hierarchy, settings};
-  return gi::makeIvSetup(s, g, settings);
+  if (!hierarchy) return gi::makeIvSetup(s, g, settings, animation);
+  gi::IvSetup setup{*hierarchy, settings, {}};
+  gi::markMovingObjects(setup, s, g, animation);
+  return setup;
 }
 
 reference::PathSettings pathSettings(const PathOptions& o, const SolverOptions& solver) {

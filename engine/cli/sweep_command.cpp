@@ -130,7 +130,7 @@ int runSweep(const SweepOptions& o) {
   std::optional<gi::Hierarchy> hierarchy;  // built by the first iv setting, shared by the others
   Progress progress("sweep", grid.size(), "setting");
   for (const auto& settings : grid) {
-    auto setup = solverSetup(settings, s, g, hierarchy ? &*hierarchy : nullptr);
+    auto setup = solverSetup(settings, s, g, tl.animation, hierarchy ? &*hierarchy : nullptr);
     if (setup && !hierarchy) hierarchy = setup->hierarchy;
     gi::FrameRenderer renderer(ctx, g, image, std::move(setup));
     std::vector<double> ms;

@@ -82,7 +82,7 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
   unlitIrradiance_ = &track(vk::Buffer(ctx, 16, Memory::Device));
   if (iv) {
     iv_ = std::make_unique<IvSetup>(std::move(*iv));
-    solver_ = std::make_unique<IvSolver>(ctx, g, iv_->hierarchy, iv_->settings);
+    solver_ = std::make_unique<IvSolver>(ctx, g, *iv_);
   }
 }
 

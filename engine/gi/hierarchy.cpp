@@ -131,6 +131,7 @@ Hierarchy buildHierarchy(const scene::Geometry& g, const std::vector<scene::Surf
     if (byInstance[i].empty()) continue;
     bool uv = usableUvAtlas(g.uvs, instanceTriangles[i]);
     h.uvTree.push_back(uv);
+    h.rootInstance.push_back(uint32_t(i));
     trees.push_back(TreeBuilder(positions, uvs, uv).build(byInstance[i]));
   }
   // Number level by level over all trees: a node's children, in order, are contiguous.

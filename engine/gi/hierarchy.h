@@ -22,6 +22,7 @@ struct Hierarchy {
   std::vector<GpuNode> nodes;
   std::vector<uint32_t> levelStart;  // level l holds nodes [levelStart[l], levelStart[l + 1])
   std::vector<uint32_t> roots;       // one per object (drawn instance with surfels)
+  std::vector<uint32_t> rootInstance;  // per root: its instance
   std::vector<uint32_t> leafOfSurfel;
   std::vector<uint8_t> uvTree;       // per root: 1 if built as a UV quadtree
   uint32_t levels() const { return uint32_t(levelStart.size() - 1); }

@@ -23,12 +23,22 @@ struct RefinePush {
 struct PrunePush {
   uint32_t surfelCount, linkCapacity, lightCount, environmentOn;
 };
+struct GatherPush {
+  uint32_t surfelCount, maskWords;
+};
 constexpr uint32_t kNoCounter = 0xFFFFFFFFu;
 constexpr uint32_t kCounterLinks = 2, kCounterLeafLinks = 3, kCounterOverflow = 4, kCounterWorklistPeak = 5;
 constexpr uint32_t kMaxPruneGroups = 512;
 constexpr uint32_t kWideQueue = 256;  // prune_bins.comp's queue of wide senders per leaf
 
-uint32_t maskWords(uint32_t n) { return (6 * n * n + 31) / 32; }
+uint32_t maskWordsFor(uint32_t n) { return (6 * n * n + 31) / 32; }
+
+// Specialization constants of prune_bins.comp.
+std::vector<uint32_t> pruneConstants(uint32_t n, bool sharedBins, bool staticPass) {
+  return {n, sharedBins ? 1u : 0u, sharedBins ? 6 * n * n : 1u, maskWordsFor(n), kWideQueue, staticPass ? 1u : 0u};
+}
+
+vk::Buffer counterBuffer(const vk::Context& ctx) { return vk::Buffer(ctx, 8 * sizeof(uint32_t), vk::Memory::Host); }
 
 template <class T>
 vk::Buffer deviceArray(const vk::Context& ctx, size_t count) {
@@ -53,9 +63,17 @@ std::vector<GpuLight> worldLights(const scene::Scene& scene, const scene::Pose& 
   return out;
 }
 
-IvSetup makeIvSetup(const scene::Scene& scene, const scene::Geometry& g, const IvSettings& settings) {
+IvSetup makeIvSetup(const scene::Scene& scene, const scene::Geometry& g, const IvSettings& settings, std::optional<int> animation) {
   auto rest = scene::surfelsOnHost(g, scene::animateOnHost(g, g.frameInputs(scene, scene::evaluatePose(scene, -1, 0.0f))));
-  return {buildHierarchy(g, rest), settings};
+  IvSetup setup{buildHierarchy(g, rest), settings, {}};
+  if (animation) markMovingObjects(setup, scene, g, *animation);
+  return setup;
+}
+
+void markMovingObjects(IvSetup& setup, const scene::Scene& scene, const scene::Geometry& g, int animation) {
+  std::vector<bool> moving = scene::movingInstances(scene, g, animation);
+  setup.objectMoves.clear();
+  for (uint32_t instance : setup.hierarchy.rootInstance) setup.objectMoves.push_back(moving[instance]);
 }
 
 std::vector<glm::vec4> IvSolver::binTable(uint32_t n) {
@@ -66,51 +84,83 @@ std::vector<glm::vec4> IvSolver::binTable(uint32_t n) {
 
 bool IvSolver::binsFitShared(const vk::Context& ctx, uint32_t n) {
   // bins and coverage, mask and word starts, partial sums, the wide-sender queue (prune_bins.comp)
-  uint64_t bytes = uint64_t(6) * n * n * (8 + 4) + uint64_t(maskWords(n)) * 8 + 64 * 16 + 16 + kWideQueue * 4 + 4;
+  uint64_t bytes = uint64_t(6) * n * n * (8 + 4) + uint64_t(maskWordsFor(n)) * 8 + 64 * 16 + 16 + kWideQueue * 4 + 4;
   return ctx.sharedInt64Atomics() && bytes <= ctx.limits().maxComputeSharedMemorySize;
 }
 
-IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, const Hierarchy& h, const IvSettings& settings)
+uint32_t IvSolver::maskWords() const { return maskWordsFor(settings_.bins); }
+
+IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, const IvSetup& setup)
     : ctx_(ctx),
-      hierarchy_(h),
-      settings_(settings),
+      hierarchy_(setup.hierarchy),
+      settings_(setup.settings),
       surfelCount_(uint32_t(g.surfels.size())),
-      nodeCount_(uint32_t(h.nodes.size())),
-      sharedBins_(binsFitShared(ctx, settings.bins)),
+      nodeCount_(uint32_t(setup.hierarchy.nodes.size())),
+      sharedBins_(binsFitShared(ctx, setup.settings.bins)),
       refit_(ctx, "refit"),
       linkArgs_(ctx, "link_args"),
       refine_(ctx, "refine_links"),
       countLinks_(ctx, "count_links"),
       scanCounts_(ctx, "scan_counts"),
       scatterLinks_(ctx, "scatter_links"),
-      prune_(ctx, "prune_bins",
-             {settings.bins, sharedBins_ ? 1u : 0u, sharedBins_ ? 6 * settings.bins * settings.bins : 1u, maskWords(settings.bins), kWideQueue}),
+      pruneStatic_(ctx, "prune_bins", pruneConstants(setup.settings.bins, sharedBins_, true)),
+      pruneFrame_(ctx, "prune_bins", pruneConstants(setup.settings.bins, sharedBins_, false)),
       emit_(ctx, "emit"),
       gather_(ctx, "gather"),
       pullUp_(ctx, "pull_up") {
+  const IvSettings& settings = setup.settings;
+  const Hierarchy& h = setup.hierarchy;
   if (settings.bins < 1 || settings.bins > 64) throw vk::VulkanError("--bins must be 1 to 64");
   if (!settings.environment.empty() && settings.environment.size() != 6 * settings.bins * settings.bins)
     throw vk::VulkanError("environment table does not match the bins");
+  if (!setup.objectMoves.empty() && setup.objectMoves.size() != h.roots.size()) throw vk::VulkanError("objectMoves does not match the hierarchy");
+  // Pairs of two static objects are linked and pruned once, but only when something else moves.
+  auto moves = [&](size_t root) { return setup.objectMoves.empty() || setup.objectMoves[root]; };
+  bool anyMoves = false, anyStatic = false;
+  for (size_t r = 0; r < h.roots.size(); ++r) (moves(r) ? anyMoves : anyStatic) = true;
+  const bool split = anyMoves && anyStatic;
+  for (size_t a = 0; a < h.roots.size(); ++a)
+    for (size_t b = 0; b < h.roots.size(); ++b) {
+      auto& pairs = (split && !moves(a) && !moves(b) ? staticSet_ : frameSet_).rootPairs;
+      pairs.insert(pairs.end(), {h.roots[a], h.roots[b]});
+    }
+  std::vector<uint32_t> leafMoves(surfelCount_, 1u);
+  if (split) {
+    std::vector<uint32_t> rootOf(nodeCount_);
+    for (uint32_t node = 0; node < nodeCount_; ++node) rootOf[node] = h.nodes[node].parent < 0 ? node : rootOf[uint32_t(h.nodes[node].parent)];
+    std::vector<bool> rootMoves(nodeCount_, false);
+    for (size_t r = 0; r < h.roots.size(); ++r) rootMoves[h.roots[r]] = moves(r);
+    for (uint32_t s = 0; s < surfelCount_; ++s) leafMoves[s] = rootMoves[rootOf[h.leafOfSurfel[s]]] ? 1u : 0u;
+  }
   tree_ = vk::makeBuffer(ctx, h.nodes);
   leafOfSurfel_ = vk::makeBuffer(ctx, h.leafOfSurfel);
+  leafMoves_ = vk::makeBuffer(ctx, leafMoves);
   albedo_ = vk::makeBuffer(ctx, g.surfelAlbedo);
   emission_ = vk::makeBuffer(ctx, g.surfelEmission);
   binTable_ = vk::makeBuffer(ctx, binTable(settings.bins));
   environment_ = vk::makeBuffer(ctx, settings.environment.empty() ? std::vector<glm::vec4>{glm::vec4(0)} : settings.environment);
   lights_ = vk::Buffer(ctx, sizeof(GpuLight), vk::Memory::Host);
   nodes_ = deviceArray<glm::vec4[3]>(ctx, nodeCount_);
-  counters_ = vk::Buffer(ctx, 8 * sizeof(uint32_t), vk::Memory::Host);
   args_ = vk::Buffer(ctx, 4 * sizeof(glm::uvec4), vk::Memory::Device);
-  for (uint32_t a : h.roots)
-    for (uint32_t b : h.roots) rootPairs_.insert(rootPairs_.end(), {a, b});
-  roots_ = vk::makeBuffer(ctx, rootPairs_);
-  counts_ = deviceArray<uint32_t>(ctx, nodeCount_);
-  starts_ = deviceArray<uint32_t>(ctx, nodeCount_ + 1);
+  for (LinkSet* set : {&staticSet_, &frameSet_}) {
+    set->roots = vk::makeBuffer(ctx, set->rootPairs.empty() ? std::vector<uint32_t>{0, 0} : set->rootPairs);
+    set->counters = counterBuffer(ctx);
+    set->counts = deviceArray<uint32_t>(ctx, set->rootPairs.empty() ? 0 : nodeCount_);
+    set->starts = deviceArray<uint32_t>(ctx, set->rootPairs.empty() ? 0 : nodeCount_ + 1);
+    set->linkCapacity = set->rootPairs.empty() ? 0 : 32 * nodeCount_ + 1024;
+    set->leafLinkCapacity = set->rootPairs.empty() ? 0 : surfelCount_ * std::min(6 * settings.bins * settings.bins, 128u) + 1024;
+  }
   ranges_ = deviceArray<glm::uvec2>(ctx, surfelCount_);
   external_ = deviceArray<glm::vec4>(ctx, surfelCount_);
   radiosityA_ = deviceArray<glm::vec4>(ctx, nodeCount_);
   radiosityB_ = deviceArray<glm::vec4>(ctx, nodeCount_);
   irradiance_ = deviceArray<glm::vec4>(ctx, surfelCount_);
+  // What a static leaf keeps between frames; with nothing static, empty ranges and one-word stand-ins.
+  const size_t masks = split ? size_t(surfelCount_) * maskWords() : 0;
+  staticRanges_ = deviceArray<glm::uvec2>(ctx, surfelCount_);
+  staticMasks_ = deviceArray<glm::uvec2>(ctx, masks);
+  overrides_ = deviceArray<uint32_t>(ctx, masks);
+  staticEnvironment_ = deviceArray<glm::vec4>(ctx, split ? surfelCount_ : 0);
   if (sharedBins_) {
     globalBins_ = vk::Buffer(ctx, 16, vk::Memory::Device);
     globalCoverage_ = vk::Buffer(ctx, 16, vk::Memory::Device);
@@ -118,14 +168,13 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, const Hiera
     uint64_t slots = uint64_t(pruneGroups()) * 6 * settings.bins * settings.bins;
     globalBins_ = vk::Buffer(ctx, slots * 8, vk::Memory::Device);
     globalCoverage_ = vk::Buffer(ctx, slots * 4, vk::Memory::Device);
-    ctx.submitAndWait([&](VkCommandBuffer cmd) {
-      vkCmdFillBuffer(cmd, globalBins_.handle(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
-      vkCmdFillBuffer(cmd, globalCoverage_.handle(), 0, VK_WHOLE_SIZE, 0u);
-    });
   }
-  worklistCapacity_ = std::max<uint32_t>(uint32_t(rootPairs_.size() / 2), 8 * nodeCount_ + 1024);
-  linkCapacity_ = 32 * nodeCount_ + 1024;
-  leafLinkCapacity_ = surfelCount_ * std::min(6 * settings.bins * settings.bins, 128u) + 1024;
+  ctx.submitAndWait([&](VkCommandBuffer cmd) {
+    vkCmdFillBuffer(cmd, staticRanges_.handle(), 0, VK_WHOLE_SIZE, 0u);
+    vkCmdFillBuffer(cmd, globalBins_.handle(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
+    vkCmdFillBuffer(cmd, globalCoverage_.handle(), 0, VK_WHOLE_SIZE, 0u);
+  });
+  worklistCapacity_ = std::max<uint32_t>(uint32_t(std::max(staticSet_.rootPairs.size(), frameSet_.rootPairs.size()) / 2), 8 * nodeCount_ + 1024);
   allocateLinks();
 }
 
@@ -146,20 +195,66 @@ void IvSolver::allocateLinks() {
                             " MiB: raise --eps or lower --bins");
   };
   check(uint64_t(worklistCapacity_) * 8, "refinement worklist");
-  check(uint64_t(linkCapacity_) * 8, "links");
-  check(uint64_t(leafLinkCapacity_) * 8, "leaf links");
+  for (const LinkSet* set : {&staticSet_, &frameSet_}) {
+    check(uint64_t(set->linkCapacity) * 8, "links");
+    check(uint64_t(set->leafLinkCapacity) * 16, "leaf links");
+  }
   worklistA_ = deviceArray<glm::uvec2>(ctx_, worklistCapacity_);
   worklistB_ = deviceArray<glm::uvec2>(ctx_, worklistCapacity_);
-  links_ = deviceArray<glm::uvec2>(ctx_, linkCapacity_);
-  senders_ = deviceArray<uint32_t>(ctx_, linkCapacity_);
-  leafLinks_ = deviceArray<glm::uvec2>(ctx_, leafLinkCapacity_);
-  linked_ = false;
+  for (LinkSet* set : {&staticSet_, &frameSet_}) {
+    set->links = deviceArray<glm::uvec2>(ctx_, set->linkCapacity);
+    set->senders = deviceArray<uint32_t>(ctx_, set->linkCapacity);
+  }
+  leafLinks_ = deviceArray<glm::uvec2>(ctx_, frameSet_.leafLinkCapacity);
+  staticLinks_ = deviceArray<glm::uvec4>(ctx_, staticSet_.leafLinkCapacity);
+  staticDepths_ = deviceArray<uint32_t>(ctx_, staticSet_.leafLinkCapacity);
+  linked_ = staticLinked_ = false;
 }
 
 void IvSolver::setLights(const std::vector<GpuLight>& lights) {
   if (lights_.size() < lights.size() * sizeof(GpuLight)) lights_ = vk::Buffer(ctx_, lights.size() * sizeof(GpuLight), vk::Memory::Host);
   lights_.upload(lights);
   lightCount_ = uint32_t(lights.size());
+}
+
+void IvSolver::recordLinks(VkCommandBuffer cmd, LinkSet& set) {
+  uint32_t start[2] = {uint32_t(set.rootPairs.size() / 2), 0};
+  vkCmdFillBuffer(cmd, set.counters.handle(), 0, VK_WHOLE_SIZE, 0);
+  vkCmdFillBuffer(cmd, set.counts.handle(), 0, VK_WHOLE_SIZE, 0);
+  vk::barrier(cmd);
+  vkCmdUpdateBuffer(cmd, set.counters.handle(), 0, sizeof(start), start);
+  VkBufferCopy copy{0, 0, set.rootPairs.size() * sizeof(uint32_t)};
+  vkCmdCopyBuffer(cmd, set.roots.handle(), worklistA_.handle(), 1, &copy);
+  vk::barrier(cmd);
+  // Each level refines at least one side of every pair: at most the two trees' depths.
+  const uint32_t iterations = refineIterations();
+  const float omega = settings_.kappa * 4.0f * kPi / float(6 * settings_.bins * settings_.bins);
+  for (uint32_t it = 0; it < iterations; ++it) {
+    uint32_t in = it % 2, out = 1 - in;
+    linkArgs_.dispatch(cmd, {1, 1, 1}, {&set.counters, &args_}, ArgsPush{in, out, 0, 256});
+    vk::barrier(cmd);
+    refine_.dispatchIndirect(cmd, args_, 0, {&tree_, &nodes_, in ? &worklistB_ : &worklistA_, in ? &worklistA_ : &worklistB_, &set.links, &set.counters},
+                             RefinePush{in, out, worklistCapacity_, set.linkCapacity, settings_.epsilon, omega});
+    vk::barrier(cmd);
+  }
+  // Links sorted by receiver: count, scan, scatter.
+  linkArgs_.dispatch(cmd, {1, 1, 1}, {&set.counters, &args_}, ArgsPush{kCounterLinks, kNoCounter, 1, 256});
+  vk::barrier(cmd);
+  countLinks_.dispatchIndirect(cmd, args_, sizeof(glm::uvec4), {&set.links, &set.counts, &set.counters}, set.linkCapacity);
+  vk::barrier(cmd);
+  scanCounts_.dispatch(cmd, {1, 1, 1}, {&set.counts, &set.starts}, nodeCount_);
+  vk::barrier(cmd);
+  scatterLinks_.dispatchIndirect(cmd, args_, sizeof(glm::uvec4), {&set.links, &set.counts, &set.senders, &set.counters}, set.linkCapacity);
+  vk::barrier(cmd);
+}
+
+void IvSolver::recordPrune(VkCommandBuffer cmd, const vk::Program& pass, LinkSet& set) {
+  pass.dispatch(cmd, {pruneGroups(), 1, 1},
+                {&tree_, &nodes_, &set.starts, &set.senders, &leafOfSurfel_, &binTable_, &globalBins_, &ranges_, &leafLinks_, &set.counters,
+                 &external_, &lights_, &environment_, &globalCoverage_, &leafMoves_, &staticRanges_, &staticLinks_, &staticDepths_,
+                 &staticMasks_, &staticEnvironment_, &overrides_},
+                PrunePush{surfelCount_, set.leafLinkCapacity, lightCount_, settings_.environment.empty() ? 0u : 1u});
+  vk::barrier(cmd);
 }
 
 void IvSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffer& surfels, bool relink) {
@@ -171,45 +266,20 @@ void IvSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
     }
   };
   if (relink || !linked_) {
+    // The static set's links and bins, once; the frame's every time the geometry moved.
+    const bool linkStatic = splitsStatic() && !staticLinked_;
     timedPass(cmd, timer, "refit", [&] {
       eachLevelBottomUp([&](LevelPush level) { refit_.dispatchItems(cmd, level.count, {&tree_, &surfels, &nodes_}, level); });
     });
     timedPass(cmd, timer, "links", [&] {
-      uint32_t start[2] = {uint32_t(rootPairs_.size() / 2), 0};
-      vkCmdFillBuffer(cmd, counters_.handle(), 0, VK_WHOLE_SIZE, 0);
-      vkCmdFillBuffer(cmd, counts_.handle(), 0, VK_WHOLE_SIZE, 0);
-      vk::barrier(cmd);
-      vkCmdUpdateBuffer(cmd, counters_.handle(), 0, sizeof(start), start);
-      VkBufferCopy copy{0, 0, rootPairs_.size() * sizeof(uint32_t)};
-      vkCmdCopyBuffer(cmd, roots_.handle(), worklistA_.handle(), 1, &copy);
-      vk::barrier(cmd);
-      // Each level refines at least one side of every pair: at most the two trees' depths.
-      const uint32_t iterations = refineIterations();
-      const float omega = settings_.kappa * 4.0f * kPi / float(6 * settings_.bins * settings_.bins);
-      for (uint32_t it = 0; it < iterations; ++it) {
-        uint32_t in = it % 2, out = 1 - in;
-        linkArgs_.dispatch(cmd, {1, 1, 1}, {&counters_, &args_}, ArgsPush{in, out, 0, 256});
-        vk::barrier(cmd);
-        refine_.dispatchIndirect(cmd, args_, 0, {&tree_, &nodes_, in ? &worklistB_ : &worklistA_, in ? &worklistA_ : &worklistB_, &links_, &counters_},
-                                 RefinePush{in, out, worklistCapacity_, linkCapacity_, settings_.epsilon, omega});
-        vk::barrier(cmd);
-      }
-      // Links sorted by receiver: count, scan, scatter.
-      linkArgs_.dispatch(cmd, {1, 1, 1}, {&counters_, &args_}, ArgsPush{kCounterLinks, kNoCounter, 1, 256});
-      vk::barrier(cmd);
-      countLinks_.dispatchIndirect(cmd, args_, sizeof(glm::uvec4), {&links_, &counts_, &counters_}, linkCapacity_);
-      vk::barrier(cmd);
-      scanCounts_.dispatch(cmd, {1, 1, 1}, {&counts_, &starts_}, nodeCount_);
-      vk::barrier(cmd);
-      scatterLinks_.dispatchIndirect(cmd, args_, sizeof(glm::uvec4), {&links_, &counts_, &senders_, &counters_}, linkCapacity_);
+      if (linkStatic) recordLinks(cmd, staticSet_);
+      recordLinks(cmd, frameSet_);
     });
     timedPass(cmd, timer, "prune", [&] {
-      prune_.dispatch(cmd, {pruneGroups(), 1, 1},
-                      {&tree_, &nodes_, &starts_, &senders_, &leafOfSurfel_, &binTable_, &globalBins_, &ranges_, &leafLinks_, &counters_,
-                       &external_, &lights_, &environment_, &globalCoverage_},
-                      PrunePush{surfelCount_, leafLinkCapacity_, lightCount_, settings_.environment.empty() ? 0u : 1u});
+      if (linkStatic) recordPrune(cmd, pruneStatic_, staticSet_);
+      recordPrune(cmd, pruneFrame_, frameSet_);
     });
-    linked_ = true;
+    linked_ = staticLinked_ = true;
   }
   timedPass(cmd, timer, "bounces", [&] {
     emit_.dispatchItems(cmd, surfelCount_, {&leafOfSurfel_, &emission_, &radiosityA_}, surfelCount_);
@@ -218,8 +288,10 @@ void IvSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
     for (uint32_t k = 0; k <= settings_.bounces; ++k) {
       vk::Buffer& in = k % 2 ? radiosityB_ : radiosityA_;
       vk::Buffer& out = k % 2 ? radiosityA_ : radiosityB_;
-      gather_.dispatchItems(cmd, surfelCount_, {&leafOfSurfel_, &ranges_, &leafLinks_, &external_, &albedo_, &emission_, &in, &out, &irradiance_},
-                            surfelCount_);
+      gather_.dispatchItems(cmd, surfelCount_,
+                            {&leafOfSurfel_, &ranges_, &leafLinks_, &external_, &albedo_, &emission_, &in, &out, &irradiance_, &staticRanges_,
+                             &staticLinks_, &overrides_},
+                            GatherPush{surfelCount_, maskWords()});
       vk::barrier(cmd);
       eachLevelBottomUp([&](LevelPush level) { pullUp_.dispatchItems(cmd, level.count, {&tree_, &nodes_, &out}, level); });
     }
@@ -230,39 +302,59 @@ void IvSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
 uint32_t IvSolver::refineIterations() const { return 2 * (hierarchy_.maxDepth() + 1) + 1; }
 
 bool IvSolver::growIfOverflowed() {
-  auto c = counters_.read<uint32_t>(8);
-  if (uint32_t left = c[refineIterations() % 2]; left != 0)  // pairs still unrefined after the last level: a bug
-    throw vk::VulkanError("iv link creation left " + std::to_string(left) + " pairs unrefined after " + std::to_string(refineIterations()) + " levels");
-  if (c[kCounterOverflow] == 0) return false;
   auto grown = [](uint32_t needed) { return uint32_t(std::min<uint64_t>(uint64_t(needed) * 5 / 4 + 1024, 0xFFFFFFF0u)); };
-  if (c[kCounterOverflow] & 1) worklistCapacity_ = std::max(worklistCapacity_, grown(c[kCounterWorklistPeak]));
-  if (c[kCounterOverflow] & 2) linkCapacity_ = std::max(linkCapacity_, grown(c[kCounterLinks]));
-  if (c[kCounterOverflow] & 4) leafLinkCapacity_ = std::max(leafLinkCapacity_, grown(c[kCounterLeafLinks]));
-  allocateLinks();
-  return true;
+  bool overflowed = false;
+  for (LinkSet* set : {&staticSet_, &frameSet_}) {
+    if (set->rootPairs.empty()) continue;
+    auto c = set->counters.read<uint32_t>(8);
+    if (uint32_t left = c[refineIterations() % 2]; left != 0)  // pairs still unrefined after the last level: a bug
+      throw vk::VulkanError("iv link creation left " + std::to_string(left) + " pairs unrefined after " + std::to_string(refineIterations()) + " levels");
+    if (c[kCounterOverflow] & 1) worklistCapacity_ = std::max(worklistCapacity_, grown(c[kCounterWorklistPeak]));
+    if (c[kCounterOverflow] & 2) set->linkCapacity = std::max(set->linkCapacity, grown(c[kCounterLinks]));
+    if (c[kCounterOverflow] & 4) set->leafLinkCapacity = std::max(set->leafLinkCapacity, grown(c[kCounterLeafLinks]));
+    overflowed = overflowed || c[kCounterOverflow] != 0;
+  }
+  if (overflowed) allocateLinks();  // and relinks everything
+  return overflowed;
 }
 
 IvStats IvSolver::stats() const {
-  auto c = counters_.read<uint32_t>(8);
   IvStats s;
   s.nodes = nodeCount_;
   s.levels = hierarchy_.levels();
-  s.links = c[kCounterLinks];
-  s.leafLinks = c[kCounterLeafLinks];
   s.sharedBins = sharedBins_;
-  for (const vk::Buffer* b : {&tree_, &leafOfSurfel_, &albedo_, &emission_, &binTable_, &environment_, &lights_, &nodes_, &counters_, &args_,
-                              &roots_, &worklistA_, &worklistB_, &links_, &counts_, &starts_, &senders_, &globalBins_, &globalCoverage_, &ranges_, &leafLinks_,
-                              &external_, &radiosityA_, &radiosityB_, &irradiance_})
+  for (const LinkSet* set : {&staticSet_, &frameSet_}) {
+    if (set->rootPairs.empty()) continue;
+    auto c = set->counters.read<uint32_t>(8);
+    s.links += c[kCounterLinks];
+    s.leafLinks += c[kCounterLeafLinks];
+    if (set == &staticSet_) s.staticLinks = c[kCounterLinks], s.staticLeafLinks = c[kCounterLeafLinks];
+    for (const vk::Buffer* b : {&set->roots, &set->counters, &set->links, &set->counts, &set->starts, &set->senders}) s.bytes += b->size();
+  }
+  for (const vk::Buffer* b : {&tree_, &leafOfSurfel_, &leafMoves_, &albedo_, &emission_, &binTable_, &environment_, &lights_, &nodes_, &args_,
+                              &worklistA_, &worklistB_, &globalBins_, &globalCoverage_, &ranges_, &leafLinks_, &overrides_, &external_,
+                              &radiosityA_, &radiosityB_, &irradiance_, &staticRanges_, &staticLinks_, &staticDepths_, &staticMasks_,
+                              &staticEnvironment_})
     s.bytes += b->size();
   return s;
 }
 
 std::vector<std::vector<IvSolver::LeafLink>> IvSolver::leafLinks() const {
+  auto count = [](const LinkSet& set) { return std::min(set.leafLinkCapacity, set.counters.read<uint32_t>(8)[kCounterLeafLinks]); };
   auto ranges = ranges_.read<glm::uvec2>(surfelCount_);
-  auto all = leafLinks_.read<LeafLink>(std::min(leafLinkCapacity_, counters_.read<uint32_t>(8)[kCounterLeafLinks]));
+  auto all = leafLinks_.read<LeafLink>(count(frameSet_));
   std::vector<std::vector<LeafLink>> out(surfelCount_);
   for (uint32_t s = 0; s < surfelCount_; ++s)
     for (uint32_t k = ranges[s].x; k < ranges[s].x + ranges[s].y && k < all.size(); ++k) out[s].push_back(all[k]);
+  if (!splitsStatic()) return out;
+  auto staticRanges = staticRanges_.read<glm::uvec2>(surfelCount_);
+  auto staticLinks = staticLinks_.read<glm::uvec4>(count(staticSet_));
+  auto overrides = overrides_.read<uint32_t>(size_t(surfelCount_) * maskWords());
+  for (uint32_t s = 0; s < surfelCount_; ++s)
+    for (uint32_t k = staticRanges[s].x; k < staticRanges[s].x + staticRanges[s].y && k < staticLinks.size(); ++k) {
+      glm::uvec4 link = staticLinks[k];  // sender, form factor bits, bin, coverage
+      if (!(overrides[size_t(s) * maskWords() + link.z / 32] & (1u << (link.z & 31)))) out[s].push_back({link.x, glm::uintBitsToFloat(link.y)});
+    }
   return out;
 }
 

@@ -4,6 +4,7 @@
 // and grows them when a frame overflowed.
 #include <glm/glm.hpp>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,21 +31,30 @@ std::vector<GpuLight> worldLights(const scene::Scene& scene, const scene::Pose& 
 
 struct IvStats {
   uint32_t nodes = 0, levels = 0, links = 0, leafLinks = 0;
+  uint32_t staticLinks = 0, staticLeafLinks = 0;  // of those, made once between objects that cannot move
   uint64_t bytes = 0;
   bool sharedBins = true;
 };
 
-// What the iv solver of a frame is made from: the hierarchy over the rest-pose surfels and the
-// user's settings.
+// What the iv solver of a frame is made from: the hierarchy over the rest-pose surfels, the user's
+// settings, and which objects can move.
 struct IvSetup {
   Hierarchy hierarchy;
   IvSettings settings;
+  // Per hierarchy root: whether its object can move (scene::movingInstances). Empty: every object
+  // may move, and everything is linked and pruned whenever the geometry moved.
+  std::vector<bool> objectMoves;
 };
-IvSetup makeIvSetup(const scene::Scene& scene, const scene::Geometry& geometry, const IvSettings& settings);
+// The setup for `scene`; `animation` says which objects can move (-1 none: all static; absent: any).
+IvSetup makeIvSetup(const scene::Scene& scene, const scene::Geometry& geometry, const IvSettings& settings,
+                    std::optional<int> animation = std::nullopt);
+// Sets setup.objectMoves from what `animation` moves.
+void markMovingObjects(IvSetup& setup, const scene::Scene& scene, const scene::Geometry& geometry, int animation);
 
 class IvSolver {
  public:
-  IvSolver(const vk::Context& ctx, const scene::Geometry& geometry, const Hierarchy& hierarchy, const IvSettings& settings);
+  // Keeps a reference to `setup`.
+  IvSolver(const vk::Context& ctx, const scene::Geometry& geometry, const IvSetup& setup);
 
   void setLights(const std::vector<GpuLight>& lights);
   // Records the solver's passes. `relink`: geometry moved (or first frame), so refit, link creation
@@ -61,7 +71,8 @@ class IvSolver {
     uint32_t sender;
     float formFactor;
   };
-  std::vector<std::vector<LeafLink>> leafLinks() const;  // per surfel: its surviving links, in bin order
+  // Per surfel: its surviving links (a static leaf: the frame's, then its static ones not overridden).
+  std::vector<std::vector<LeafLink>> leafLinks() const;
 
   // Bins and form factors of the solver's bin table (unit centre direction, solid angle).
   static std::vector<glm::vec4> binTable(uint32_t n);
@@ -69,26 +80,39 @@ class IvSolver {
   static bool binsFitShared(const vk::Context& ctx, uint32_t n);
 
  private:
+  // Links made from a list of root pairs and sorted by receiver, with the counters of their making.
+  // The solver has one set for the pairs of static objects (made once) and one for the pairs with a
+  // moving side (made whenever the geometry moved).
+  struct LinkSet {
+    std::vector<uint32_t> rootPairs;  // receiver root, sender root
+    vk::Buffer roots, counters, links, counts, starts, senders;
+    uint32_t linkCapacity = 0, leafLinkCapacity = 0;
+  };
   void allocateLinks();
+  void recordLinks(VkCommandBuffer cmd, LinkSet& set);
+  void recordPrune(VkCommandBuffer cmd, const vk::Program& pass, LinkSet& set);
   uint32_t refineIterations() const;  // refinement levels: each splits one side of every pair
   uint32_t pruneGroups() const;
+  uint32_t maskWords() const;
+  bool splitsStatic() const { return !staticSet_.rootPairs.empty(); }
 
   const vk::Context& ctx_;
   const Hierarchy& hierarchy_;
   IvSettings settings_;
   uint32_t surfelCount_, nodeCount_;
-  uint32_t worklistCapacity_, linkCapacity_, leafLinkCapacity_;
+  uint32_t worklistCapacity_;
   bool sharedBins_;
-  bool linked_ = false;
-  std::vector<uint32_t> rootPairs_;
+  bool linked_ = false, staticLinked_ = false;
+  LinkSet staticSet_, frameSet_;
 
-  vk::Buffer tree_, leafOfSurfel_, albedo_, emission_, binTable_, environment_, lights_;
-  vk::Buffer nodes_, counters_, args_, roots_, worklistA_, worklistB_, links_, counts_, starts_, senders_;
-  vk::Buffer globalBins_, globalCoverage_, ranges_, leafLinks_, external_, radiosityA_, radiosityB_, irradiance_;
+  vk::Buffer tree_, leafOfSurfel_, leafMoves_, albedo_, emission_, binTable_, environment_, lights_;
+  vk::Buffer nodes_, args_, worklistA_, worklistB_;
+  vk::Buffer globalBins_, globalCoverage_, ranges_, leafLinks_, overrides_, external_, radiosityA_, radiosityB_, irradiance_;
+  vk::Buffer staticRanges_, staticLinks_, staticDepths_, staticMasks_, staticEnvironment_;
   uint32_t lightCount_ = 0;
   uint32_t finalRadiosity_ = 0;  // 0: A, 1: B
 
-  vk::Program refit_, linkArgs_, refine_, countLinks_, scanCounts_, scatterLinks_, prune_, emit_, gather_, pullUp_;
+  vk::Program refit_, linkArgs_, refine_, countLinks_, scanCounts_, scatterLinks_, pruneStatic_, pruneFrame_, emit_, gather_, pullUp_;
 };
 
 }  // namespace ivgi::gi

@@ -224,4 +224,19 @@ Bounds worldBounds(const std::vector<WorldVertex>& world) {
   return b;
 }
 
+std::vector<bool> movingInstances(const Scene& scene, const Geometry& g, int animation) {
+  std::vector<bool> moves(g.instances.size(), false);
+  if (animation < 0) return moves;
+  std::vector<char> transformed(scene.nodes.size(), 0), reweighted(scene.nodes.size(), 0);
+  for (const Channel& ch : scene.animations[animation].channels) (ch.path == Path::Weights ? reweighted : transformed)[ch.node] = 1;
+  // A node moves when it or any ancestor is transformed.
+  std::function<bool(int)> moved = [&](int n) { return transformed[n] || (scene.nodes[n].parent >= 0 && moved(scene.nodes[n].parent)); };
+  const bool anything = animationMovesGeometry(scene, animation);
+  for (size_t i = 0; i < g.instances.size(); ++i) {
+    const GpuInstance& inst = g.instances[i];
+    moves[i] = inst.skinned ? anything : moved(g.instanceNode[i]) || (inst.morphTargets > 0 && reweighted[g.instanceNode[i]]);
+  }
+  return moves;
+}
+
 }  // namespace ivgi::scene

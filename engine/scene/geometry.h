@@ -87,7 +87,6 @@ struct Geometry {
   std::vector<uint32_t> skinJointBase;  // per skin: index of its first joint matrix
   std::vector<int> instanceNode;        // per instance
   uint32_t morphWeightCount = 0;
-  std::vector<uint32_t> instanceWeightNode;  // per instance: node whose pose weights it reads
 
   FrameInputs frameInputs(const Scene& scene, const Pose& pose) const;
 };
@@ -100,5 +99,10 @@ std::vector<WorldVertex> animateOnHost(const Geometry& geometry, const FrameInpu
 std::vector<Surfel> surfelsOnHost(const Geometry& geometry, const std::vector<WorldVertex>& world);
 
 Bounds worldBounds(const std::vector<WorldVertex>& world);
+
+// Per instance: whether `animation` can move its world-space geometry (its node or an ancestor is
+// animated, its morph weights are, or it is skinned and the animation moves anything). The solver
+// links and prunes what cannot move once.
+std::vector<bool> movingInstances(const Scene& scene, const Geometry& geometry, int animation);
 
 }  // namespace ivgi::scene
