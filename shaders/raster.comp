@@ -1,12 +1,13 @@
 #version 460
-// Pass 7a, rasterise: one workgroup per triangle walks the pixels of its screen bounds, casts the
-// camera ray through each sample centre and keeps the nearest hit by 64-bit atomicMin.
+// Pass 7a, rasterise: one workgroup per triangle walks the pixels of its screen bounds in 8×8 tiles
+// (no integer division: lavapipe divides one lane at a time), casts the camera ray through each
+// sample centre and keeps the nearest hit by 64-bit atomicMin.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 layout(local_size_x = 64) in;
 
-layout(std430, binding = 0) readonly buffer World { WorldVertex world[]; };
-layout(std430, binding = 1) readonly buffer Triangles { Triangle triangles[]; };
+layout(binding = 0, rgba32f) readonly uniform imageBuffer world;       // WorldVertex: position, normal
+layout(binding = 1, rgba32ui) readonly uniform uimageBuffer triangles;  // Triangle
 layout(std430, binding = 2) buffer Visibility { uint64_t visibility[]; };
 layout(push_constant) uniform Push { Camera cam; uvec2 size; uint triangleCount; uint unused; };
 
@@ -24,8 +25,8 @@ bool project(vec3 p, out vec2 s) {
 void main() {
   uint tri = groupIndex();
   if (tri >= triangleCount) return;
-  Triangle t = triangles[tri];
-  vec3 a = world[t.v0].position.xyz, b = world[t.v1].position.xyz, c = world[t.v2].position.xyz;
+  uvec4 t = imageLoad(triangles, int(tri));
+  vec3 a = imageLoad(world, int(2u * t.x)).xyz, b = imageLoad(world, int(2u * t.y)).xyz, c = imageLoad(world, int(2u * t.z)).xyz;
   vec2 pa, pb, pc;
   ivec2 lo = ivec2(0), hi = ivec2(size) - 1;
   if (project(a, pa) && project(b, pb) && project(c, pc)) {
@@ -35,9 +36,11 @@ void main() {
     hi = min(hi, ivec2(ceil(mx)));
   }  // else: a vertex behind the near plane, so the whole image is a conservative bound
   if (any(lessThan(hi, lo))) return;
-  uint width = uint(hi.x - lo.x + 1), count = width * uint(hi.y - lo.y + 1);
-  for (uint k = gl_LocalInvocationID.x; k < count; k += gl_WorkGroupSize.x) {
-    ivec2 px = lo + ivec2(k % width, k / width);
+  ivec2 lane = ivec2(gl_LocalInvocationID.x & 7u, gl_LocalInvocationID.x >> 3u);
+  for (int y = lo.y; y <= hi.y; y += 8)
+    for (int x = lo.x; x <= hi.x; x += 8) {
+    ivec2 px = ivec2(x, y) + lane;
+    if (any(greaterThan(px, hi))) continue;
     vec3 dir = cameraRay(cam, vec2(px) + 0.5, size);
     float depth;
     vec2 uv;
