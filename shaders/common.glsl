@@ -153,9 +153,9 @@ NodeState nodeState(uint i) { return NodeState(nodePositionArea(i), nodeNormalCo
 struct LeafRange { uint first; uint count; };
 // A surviving link of a leaf: sender node and the clamped form factor.
 struct LeafLink { uint sender; float formFactor; };
-// A surviving link of a static leaf against static senders, made once: also its bin and the bin's
-// covered solid angle (1/65536 of the bin's), to be merged with the moving senders of a frame.
-struct StaticLink { uint sender; float formFactor; uint bin; uint coverage; };
+// Beside each surviving link of a static leaf against static senders (made once): its bin and the
+// bin's covered solid angle (1/65536 of the bin's), to be merged with the moving senders of a frame.
+struct StaticBin { uint bin; uint coverage; };
 // Indices into the solver's counter buffer.
 const uint kCounterWorklistA = 0u, kCounterWorklistB = 1u, kCounterLinks = 2u, kCounterLeafLinks = 3u, kCounterOverflow = 4u,
            kCounterWorklistPeak = 5u;

@@ -16,8 +16,9 @@ layout(binding = 6, rgba32f) readonly uniform imageBuffer radiosityIn;
 layout(std430, binding = 7) writeonly buffer RadiosityOut { vec4 radiosityOut[]; };
 layout(std430, binding = 8) writeonly buffer Irradiance { vec4 irradiance[]; };
 layout(binding = 9, rg32ui) readonly uniform uimageBuffer staticRanges;  // LeafRange
-layout(binding = 10, rgba32ui) readonly uniform uimageBuffer staticLinks;  // StaticLink
-layout(binding = 11, r32ui) readonly uniform uimageBuffer overrides;       // per leaf and mask word
+layout(binding = 10, rg32ui) readonly uniform uimageBuffer staticLinks;  // LeafLink
+layout(binding = 11, rg32ui) readonly uniform uimageBuffer staticBins;   // StaticBin
+layout(binding = 12, r32ui) readonly uniform uimageBuffer overrides;     // per leaf and mask word
 layout(push_constant) uniform Push { uint surfelCount; uint maskWords; };
 
 void main() {
@@ -31,8 +32,9 @@ void main() {
   }
   uvec2 staticRange = imageLoad(staticRanges, int(s)).xy;
   for (uint k = staticRange.x; k < staticRange.x + staticRange.y; ++k) {
-    uvec4 link = imageLoad(staticLinks, int(k));
-    uint overridden = imageLoad(overrides, int(s * maskWords + link.z / 32u)).x & (1u << (link.z & 31u));
+    uvec2 link = imageLoad(staticLinks, int(k)).xy;
+    uint bin = imageLoad(staticBins, int(k)).x;
+    uint overridden = imageLoad(overrides, int(s * maskWords + bin / 32u)).x & (1u << (bin & 31u));
     if (overridden == 0u) g += uintBitsToFloat(link.y) * imageLoad(radiosityIn, int(link.x)).rgb;
   }
   radiosityOut[imageLoad(leafOfSurfel, int(s)).x] = vec4(kPi * imageLoad(emission, int(s)).rgb + imageLoad(albedo, int(s)).rgb * g, 0.0);

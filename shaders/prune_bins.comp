@@ -42,11 +42,12 @@ layout(std430, binding = 13) buffer GlobalCoverage { uint globalCoverage[]; };
 layout(binding = 14, r32ui) readonly uniform uimageBuffer leafMoves;  // per surfel: 1 if its object moves
 // The static pass writes these; the frame pass reads them.
 layout(std430, binding = 15) buffer StaticRanges { LeafRange staticRanges[]; };
-layout(std430, binding = 16) buffer StaticLinks { StaticLink staticLinks[]; };
-layout(std430, binding = 17) buffer StaticDepths { uint staticDepths[]; };  // float bits of d², beside the link
-layout(std430, binding = 18) buffer StaticMasks { uvec2 staticMasks[]; };  // per leaf and mask word: bins held, entries before
-layout(std430, binding = 19) buffer StaticEnvironment { vec4 staticEnvironment[]; };
-layout(std430, binding = 20) writeonly buffer Overrides { uint overrides[]; };  // per static leaf and mask word: bins re-emitted
+layout(std430, binding = 16) buffer StaticLinks { LeafLink staticLinks[]; };
+layout(std430, binding = 17) buffer StaticBins { StaticBin staticBins[]; };
+layout(std430, binding = 18) buffer StaticDepths { uint staticDepths[]; };  // float bits of d², beside the link
+layout(std430, binding = 19) buffer StaticMasks { uvec2 staticMasks[]; };  // per leaf and mask word: bins held, entries before
+layout(std430, binding = 20) buffer StaticEnvironment { vec4 staticEnvironment[]; };
+layout(std430, binding = 21) writeonly buffer Overrides { uint overrides[]; };  // per static leaf and mask word: bins re-emitted
 layout(push_constant) uniform Push { uint surfelCount; uint linkCapacity; uint lightCount; uint environmentOn; };
 
 shared uint64_t sharedBins[kSharedSlots];
@@ -91,7 +92,7 @@ Bin binAt(uint slot, uint b) {
   if ((word.x & bit) == 0u) return bin;
   uint e = staticFirst + word.y + bitCount(word.x & (bit - 1u));
   bin.key = min(bin.key, packLinkKey(uintBitsToFloat(staticDepths[e]), staticLinks[e].sender));
-  bin.staticCovered = staticLinks[e].coverage;
+  bin.staticCovered = staticBins[e].coverage;
   bin.covered += bin.staticCovered;
   return bin;
 }
@@ -295,7 +296,8 @@ void main() {
         float f = survivorFormFactor(n, s, b, bin.covered);
         if (outIndex < linkCapacity) {
           if (kStaticPass) {
-            staticLinks[outIndex] = StaticLink(s, f, b, bin.covered);
+            staticLinks[outIndex] = LeafLink(s, f);
+            staticBins[outIndex] = StaticBin(b, bin.covered);
             staticDepths[outIndex] = uint(bin.key >> 32);
           } else {
             leafLinks[outIndex] = LeafLink(s, f);

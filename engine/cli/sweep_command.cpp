@@ -124,8 +124,8 @@ int runSweep(const SweepOptions& o) {
 
   vk::Context ctx({.device = o.device});
   if (std::string why = gi::checkImageSettings(ctx, image); !why.empty()) throw UsageError(o.reference + ": " + why);
-  // Every setting solves the frame from scratch (refit, links, pruning, bounces), as an animated
-  // frame does.
+  // Every timed render solves the frame as a later frame of the animation does: refit, links and
+  // pruning of what moves, bounces (what cannot move is linked by the warm-up render).
   std::vector<Row> rows;
   std::optional<gi::Hierarchy> hierarchy;  // built by the first iv setting, shared by the others
   Progress progress("sweep", grid.size(), "setting");

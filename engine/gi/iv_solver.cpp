@@ -118,7 +118,9 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, const IvSet
   auto moves = [&](size_t root) { return setup.objectMoves.empty() || setup.objectMoves[root]; };
   bool anyMoves = false, anyStatic = false;
   for (size_t r = 0; r < h.roots.size(); ++r) (moves(r) ? anyMoves : anyStatic) = true;
-  const bool split = anyMoves && anyStatic;
+  // A static leaf keeps a mask word pair per 32 bins; where those exceed what one binding can
+  // address (many surfels at many bins), every object is relinked instead.
+  const bool split = anyMoves && anyStatic && uint64_t(surfelCount_) * maskWords() * 8 <= ctx.limits().maxStorageBufferRange;
   for (size_t a = 0; a < h.roots.size(); ++a)
     for (size_t b = 0; b < h.roots.size(); ++b) {
       auto& pairs = (split && !moves(a) && !moves(b) ? staticSet_ : frameSet_).rootPairs;
@@ -197,7 +199,7 @@ void IvSolver::allocateLinks() {
   check(uint64_t(worklistCapacity_) * 8, "refinement worklist");
   for (const LinkSet* set : {&staticSet_, &frameSet_}) {
     check(uint64_t(set->linkCapacity) * 8, "links");
-    check(uint64_t(set->leafLinkCapacity) * 16, "leaf links");
+    check(uint64_t(set->leafLinkCapacity) * 8, "leaf links");
   }
   worklistA_ = deviceArray<glm::uvec2>(ctx_, worklistCapacity_);
   worklistB_ = deviceArray<glm::uvec2>(ctx_, worklistCapacity_);
@@ -206,7 +208,8 @@ void IvSolver::allocateLinks() {
     set->senders = deviceArray<uint32_t>(ctx_, set->linkCapacity);
   }
   leafLinks_ = deviceArray<glm::uvec2>(ctx_, frameSet_.leafLinkCapacity);
-  staticLinks_ = deviceArray<glm::uvec4>(ctx_, staticSet_.leafLinkCapacity);
+  staticLinks_ = deviceArray<glm::uvec2>(ctx_, staticSet_.leafLinkCapacity);
+  staticBins_ = deviceArray<glm::uvec2>(ctx_, staticSet_.leafLinkCapacity);
   staticDepths_ = deviceArray<uint32_t>(ctx_, staticSet_.leafLinkCapacity);
   linked_ = staticLinked_ = false;
 }
@@ -251,7 +254,7 @@ void IvSolver::recordLinks(VkCommandBuffer cmd, LinkSet& set) {
 void IvSolver::recordPrune(VkCommandBuffer cmd, const vk::Program& pass, LinkSet& set) {
   pass.dispatch(cmd, {pruneGroups(), 1, 1},
                 {&tree_, &nodes_, &set.starts, &set.senders, &leafOfSurfel_, &binTable_, &globalBins_, &ranges_, &leafLinks_, &set.counters,
-                 &external_, &lights_, &environment_, &globalCoverage_, &leafMoves_, &staticRanges_, &staticLinks_, &staticDepths_,
+                 &external_, &lights_, &environment_, &globalCoverage_, &leafMoves_, &staticRanges_, &staticLinks_, &staticBins_, &staticDepths_,
                  &staticMasks_, &staticEnvironment_, &overrides_},
                 PrunePush{surfelCount_, set.leafLinkCapacity, lightCount_, settings_.environment.empty() ? 0u : 1u});
   vk::barrier(cmd);
@@ -290,7 +293,7 @@ void IvSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
       vk::Buffer& out = k % 2 ? radiosityA_ : radiosityB_;
       gather_.dispatchItems(cmd, surfelCount_,
                             {&leafOfSurfel_, &ranges_, &leafLinks_, &external_, &albedo_, &emission_, &in, &out, &irradiance_, &staticRanges_,
-                             &staticLinks_, &overrides_},
+                             &staticLinks_, &staticBins_, &overrides_},
                             GatherPush{surfelCount_, maskWords()});
       vk::barrier(cmd);
       eachLevelBottomUp([&](LevelPush level) { pullUp_.dispatchItems(cmd, level.count, {&tree_, &nodes_, &out}, level); });
@@ -333,7 +336,7 @@ IvStats IvSolver::stats() const {
   }
   for (const vk::Buffer* b : {&tree_, &leafOfSurfel_, &leafMoves_, &albedo_, &emission_, &binTable_, &environment_, &lights_, &nodes_, &args_,
                               &worklistA_, &worklistB_, &globalBins_, &globalCoverage_, &ranges_, &leafLinks_, &overrides_, &external_,
-                              &radiosityA_, &radiosityB_, &irradiance_, &staticRanges_, &staticLinks_, &staticDepths_, &staticMasks_,
+                              &radiosityA_, &radiosityB_, &irradiance_, &staticRanges_, &staticLinks_, &staticBins_, &staticDepths_, &staticMasks_,
                               &staticEnvironment_})
     s.bytes += b->size();
   return s;
@@ -348,12 +351,13 @@ std::vector<std::vector<IvSolver::LeafLink>> IvSolver::leafLinks() const {
     for (uint32_t k = ranges[s].x; k < ranges[s].x + ranges[s].y && k < all.size(); ++k) out[s].push_back(all[k]);
   if (!splitsStatic()) return out;
   auto staticRanges = staticRanges_.read<glm::uvec2>(surfelCount_);
-  auto staticLinks = staticLinks_.read<glm::uvec4>(count(staticSet_));
+  auto staticLinks = staticLinks_.read<LeafLink>(count(staticSet_));
+  auto staticBins = staticBins_.read<glm::uvec2>(count(staticSet_));
   auto overrides = overrides_.read<uint32_t>(size_t(surfelCount_) * maskWords());
   for (uint32_t s = 0; s < surfelCount_; ++s)
     for (uint32_t k = staticRanges[s].x; k < staticRanges[s].x + staticRanges[s].y && k < staticLinks.size(); ++k) {
-      glm::uvec4 link = staticLinks[k];  // sender, form factor bits, bin, coverage
-      if (!(overrides[size_t(s) * maskWords() + link.z / 32] & (1u << (link.z & 31)))) out[s].push_back({link.x, glm::uintBitsToFloat(link.y)});
+      uint32_t bin = staticBins[k].x;
+      if (!(overrides[size_t(s) * maskWords() + bin / 32] & (1u << (bin & 31)))) out[s].push_back(staticLinks[k]);
     }
   return out;
 }
