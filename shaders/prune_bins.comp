@@ -48,7 +48,7 @@ layout(std430, binding = 18) buffer StaticDepths { uint staticDepths[]; };  // f
 layout(std430, binding = 19) buffer StaticMasks { uvec2 staticMasks[]; };  // per leaf and mask word: bins held, entries before
 layout(std430, binding = 20) buffer StaticEnvironment { vec4 staticEnvironment[]; };
 layout(std430, binding = 21) writeonly buffer Overrides { uint overrides[]; };  // per static leaf and mask word: bins re-emitted
-layout(push_constant) uniform Push { uint surfelCount; uint linkCapacity; uint lightCount; uint environmentOn; };
+layout(push_constant) uniform Push { uint surfelCount; uint linkCapacity; uint lightCount; uint environmentOn; uint staticCapacity; };
 
 shared uint64_t sharedBins[kSharedSlots];
 shared uint sharedCoverage[kSharedSlots];  // covered solid angle in 1/kCoverageUnit of the bin's
@@ -91,6 +91,7 @@ Bin binAt(uint slot, uint b) {
   uint bit = 1u << (b & 31u);
   if ((word.x & bit) == 0u) return bin;
   uint e = staticFirst + word.y + bitCount(word.x & (bit - 1u));
+  if (e >= staticCapacity) return bin;  // the static pass overflowed: this frame is redone
   bin.key = min(bin.key, packLinkKey(uintBitsToFloat(staticDepths[e]), staticLinks[e].sender));
   bin.staticCovered = staticBins[e].coverage;
   bin.covered += bin.staticCovered;

@@ -21,7 +21,7 @@ struct RefinePush {
   float epsilon, binSolidAngle;
 };
 struct PrunePush {
-  uint32_t surfelCount, linkCapacity, lightCount, environmentOn;
+  uint32_t surfelCount, linkCapacity, lightCount, environmentOn, staticCapacity;
 };
 struct GatherPush {
   uint32_t surfelCount, maskWords;
@@ -256,7 +256,7 @@ void IvSolver::recordPrune(VkCommandBuffer cmd, const vk::Program& pass, LinkSet
                 {&tree_, &nodes_, &set.starts, &set.senders, &leafOfSurfel_, &binTable_, &globalBins_, &ranges_, &leafLinks_, &set.counters,
                  &external_, &lights_, &environment_, &globalCoverage_, &leafMoves_, &staticRanges_, &staticLinks_, &staticBins_, &staticDepths_,
                  &staticMasks_, &staticEnvironment_, &overrides_},
-                PrunePush{surfelCount_, set.leafLinkCapacity, lightCount_, settings_.environment.empty() ? 0u : 1u});
+                PrunePush{surfelCount_, set.leafLinkCapacity, lightCount_, settings_.environment.empty() ? 0u : 1u, staticSet_.leafLinkCapacity});
   vk::barrier(cmd);
 }
 
