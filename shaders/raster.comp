@@ -39,13 +39,13 @@ void main() {
   ivec2 lane = ivec2(gl_LocalInvocationID.x & 7u, gl_LocalInvocationID.x >> 3u);
   for (int y = lo.y; y <= hi.y; y += 8)
     for (int x = lo.x; x <= hi.x; x += 8) {
-    ivec2 px = ivec2(x, y) + lane;
-    if (any(greaterThan(px, hi))) continue;
-    vec3 dir = cameraRay(cam, vec2(px) + 0.5, size);
-    float depth;
-    vec2 uv;
-    if (!intersectTriangle(cam.origin.xyz, dir, a, b, c, depth, uv)) continue;
-    if (depth <= cam.origin.w || (cam.forward.w > 0.0 && depth > cam.forward.w)) continue;
-    atomicMin(visibility[uint(px.y) * size.x + uint(px.x)], packDepthKey(depth, tri));
-  }
+      ivec2 px = ivec2(x, y) + lane;
+      if (any(greaterThan(px, hi))) continue;
+      vec3 dir = cameraRay(cam, vec2(px) + 0.5, size);
+      float depth;
+      vec2 uv;
+      if (!intersectTriangle(cam.origin.xyz, dir, a, b, c, depth, uv)) continue;
+      if (depth <= cam.origin.w || (cam.forward.w > 0.0 && depth > cam.forward.w)) continue;
+      atomicMin(visibility[uint(px.y) * size.x + uint(px.x)], packDepthKey(depth, tri));
+    }
 }

@@ -120,19 +120,20 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, const IvSet
   for (size_t r = 0; r < h.roots.size(); ++r) (moves(r) ? anyMoves : anyStatic) = true;
   // A static leaf keeps a mask word pair per 32 bins; where those exceed what one binding can
   // address (many surfels at many bins), every object is relinked instead.
-  const bool split = anyMoves && anyStatic && uint64_t(surfelCount_) * maskWords() * 8 <= ctx.limits().maxStorageBufferRange;
+  const uint64_t maskBytes = uint64_t(surfelCount_) * maskWords() * sizeof(glm::uvec2);
+  const bool split = anyMoves && anyStatic && maskBytes <= ctx.limits().maxStorageBufferRange;
   for (size_t a = 0; a < h.roots.size(); ++a)
     for (size_t b = 0; b < h.roots.size(); ++b) {
       auto& pairs = (split && !moves(a) && !moves(b) ? staticSet_ : frameSet_).rootPairs;
       pairs.insert(pairs.end(), {h.roots[a], h.roots[b]});
     }
   std::vector<uint32_t> leafMoves(surfelCount_, 1u);
-  if (split) {
-    std::vector<uint32_t> rootOf(nodeCount_);
-    for (uint32_t node = 0; node < nodeCount_; ++node) rootOf[node] = h.nodes[node].parent < 0 ? node : rootOf[uint32_t(h.nodes[node].parent)];
-    std::vector<bool> rootMoves(nodeCount_, false);
-    for (size_t r = 0; r < h.roots.size(); ++r) rootMoves[h.roots[r]] = moves(r);
-    for (uint32_t s = 0; s < surfelCount_; ++s) leafMoves[s] = rootMoves[rootOf[h.leafOfSurfel[s]]] ? 1u : 0u;
+  if (split) {  // a node moves with its root; parents are numbered before their children
+    std::vector<bool> nodeMoves(nodeCount_, false);
+    for (size_t r = 0; r < h.roots.size(); ++r) nodeMoves[h.roots[r]] = moves(r);
+    for (uint32_t node = 0; node < nodeCount_; ++node)
+      if (h.nodes[node].parent >= 0) nodeMoves[node] = nodeMoves[uint32_t(h.nodes[node].parent)];
+    for (uint32_t s = 0; s < surfelCount_; ++s) leafMoves[s] = nodeMoves[h.leafOfSurfel[s]] ? 1u : 0u;
   }
   tree_ = vk::makeBuffer(ctx, h.nodes);
   leafOfSurfel_ = vk::makeBuffer(ctx, h.leafOfSurfel);
@@ -158,7 +159,7 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, const IvSet
   radiosityB_ = deviceArray<glm::vec4>(ctx, nodeCount_);
   irradiance_ = deviceArray<glm::vec4>(ctx, surfelCount_);
   // What a static leaf keeps between frames; with nothing static, empty ranges and one-word stand-ins.
-  const size_t masks = split ? size_t(surfelCount_) * maskWords() : 0;
+  const size_t masks = split ? maskBytes / sizeof(glm::uvec2) : 0;
   staticRanges_ = deviceArray<glm::uvec2>(ctx, surfelCount_);
   staticMasks_ = deviceArray<glm::uvec2>(ctx, masks);
   overrides_ = deviceArray<uint32_t>(ctx, masks);
