@@ -130,15 +130,28 @@ float formFactor(float senderArea, float cosSender, float cosReceiver, float dis
 }
 
 // Link key: squared distance (positive float bits order as integers) above the sender node id, so
-// that 64-bit atomicMin keeps the nearest sender per bin and breaks ties by id.
-uint64_t packLinkKey(float distance2, uint sender) { return packDepthKey(distance2, sender); }
+// that 64-bit atomicMin keeps the nearest sender per bin and breaks ties by id. The top bit marks a
+// footprint's fringe (a bin it only brushes): fringes rank behind every core (a bin holding the
+// footprint's centre or half covered by it), so a near sender's blur does not hide what lies beside it.
+const uint64_t kFringeKey = 0x8000000000000000ul;
+uint64_t packLinkKey(float distance2, uint sender, bool fringe) {
+  return packDepthKey(distance2, sender) | (fringe ? kFringeKey : 0ul);
+}
+float linkKeyDepth(uint64_t key) { return keyDepth(key & ~kFringeKey); }
 
 // ---- The surfel hierarchy and links (engine/gi/hierarchy.h, engine/gi/iv_solver.h) ----
 
 struct TreeNode { int parent; uint firstChild; uint childCount; int surfel; };
 // Per frame: area-weighted position and total area; normal and the half-angle of the cone holding
-// every normal below; radius of a sphere around the position holding every surfel disk below.
-struct NodeState { vec4 positionArea; vec4 normalCone; vec4 radius; };
+// every normal below; shape: x the radius of a sphere around the position holding every surfel disk
+// below, y the angle of the node's rectangle in tangentFrame(normal), zw its half-extents.
+struct NodeState { vec4 positionArea; vec4 normalCone; vec4 shape; };
+
+// A tangent frame of unit normal n that depends on n alone (so that neighbours on a flat face agree).
+void tangentFrame(vec3 n, out vec3 t1, out vec3 t2) {
+  t1 = normalize(abs(n.x) < 0.9 ? cross(n, vec3(1, 0, 0)) : cross(n, vec3(0, 1, 0)));
+  t2 = cross(n, t1);
+}
 
 // Hot loops read arrays through imageBuffers: lavapipe gathers texels with vector loads but reads a
 // storage buffer one lane at a time. A shader defines NODE_TEXELS (the binding) before including
@@ -147,8 +160,9 @@ struct NodeState { vec4 positionArea; vec4 normalCone; vec4 radius; };
 layout(binding = NODE_TEXELS, rgba32f) readonly uniform imageBuffer nodeTexels;
 vec4 nodePositionArea(uint i) { return imageLoad(nodeTexels, int(3u * i)); }
 vec4 nodeNormalCone(uint i) { return imageLoad(nodeTexels, int(3u * i + 1u)); }
-float nodeRadius(uint i) { return imageLoad(nodeTexels, int(3u * i + 2u)).x; }
-NodeState nodeState(uint i) { return NodeState(nodePositionArea(i), nodeNormalCone(i), vec4(nodeRadius(i), 0.0, 0.0, 0.0)); }
+vec4 nodeShape(uint i) { return imageLoad(nodeTexels, int(3u * i + 2u)); }
+float nodeRadius(uint i) { return nodeShape(i).x; }
+NodeState nodeState(uint i) { return NodeState(nodePositionArea(i), nodeNormalCone(i), nodeShape(i)); }
 #endif
 struct LeafRange { uint first; uint count; };
 // A surviving link of a leaf: sender node and the clamped form factor.

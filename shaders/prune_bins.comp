@@ -1,7 +1,8 @@
 #version 460
 // Pass 5, bin pruning and push-down: each leaf takes the links of itself and of all its ancestors,
 // re-bins them from its own position into 6×N×N direction bins and keeps the nearest sender per bin
-// (64-bit atomicMin on distance², sender); everything farther in a bin is occluded. The links along
+// (64-bit atomicMin on distance², sender; senders centred in the bin rank ahead of those whose
+// footprint only brushes it); everything farther in a bin is occluded. The links along
 // a leaf's root path partition every other surface once, so the solid angles they subtend also say
 // how much of each bin is covered; the survivor stands for that covered part:
 // F = cos θr · min(Ω_bin, Ω_covered) / π (a hemisphere never sums above 1). Survivors are written
@@ -44,7 +45,7 @@ layout(binding = 14, r32ui) readonly uniform uimageBuffer leafMoves;  // per sur
 layout(std430, binding = 15) buffer StaticRanges { LeafRange staticRanges[]; };
 layout(std430, binding = 16) buffer StaticLinks { LeafLink staticLinks[]; };
 layout(std430, binding = 17) buffer StaticBins { StaticBin staticBins[]; };
-layout(std430, binding = 18) buffer StaticDepths { uint staticDepths[]; };  // float bits of d², beside the link
+layout(std430, binding = 18) buffer StaticDepths { uint staticDepths[]; };  // the key's upper half (fringe bit, d²), beside the link
 layout(std430, binding = 19) buffer StaticMasks { uvec2 staticMasks[]; };  // per leaf and mask word: bins held, entries before
 layout(std430, binding = 20) buffer StaticEnvironment { vec4 staticEnvironment[]; };
 layout(std430, binding = 21) writeonly buffer Overrides { uint overrides[]; };  // per static leaf and mask word: bins re-emitted
@@ -92,7 +93,7 @@ Bin binAt(uint slot, uint b) {
   if ((word.x & bit) == 0u) return bin;
   uint e = staticFirst + word.y + bitCount(word.x & (bit - 1u));
   if (e >= staticCapacity) return bin;  // the static pass overflowed: this frame is redone
-  bin.key = min(bin.key, packLinkKey(uintBitsToFloat(staticDepths[e]), staticLinks[e].sender));
+  bin.key = min(bin.key, uint64_t(staticDepths[e]) << 32 | staticLinks[e].sender);
   bin.staticCovered = staticBins[e].coverage;
   bin.covered += bin.staticCovered;
   return bin;
@@ -103,31 +104,58 @@ void insert(uint slot, uint b, uint64_t key, float omega) {
   addCoverage(slot, b, uint(min(omega / imageLoad(binTable, int(b)).w, 1.0) * kCoverageUnit + 0.5));
 }
 
-// Files a solid angle ω seen along d as a square footprint of the same solid angle on the cube face,
-// box-filtered over the bins it overlaps (the part beyond the face goes to its border bins): even
-// coverage for senders of any size. A footprint at most one bin wide overlaps the 2×2 bins from the
-// one under its lower corner, so that the lanes of a subgroup walk loops of the same length (a CPU
-// device runs a subgroup's loop as long as its longest lane); wider footprints walk their own range.
-void insertFootprint(uint slot, vec3 d, uint64_t key, float omega) {
+// Files a solid angle ω seen along d as a rectangular footprint of the same solid angle on the cube
+// face, shaped like the filed element (half-sides `sideA`, `sideB` in the world; zero: a square):
+// the bounding box of their projection gives its aspect, at most 8:1. Box-filtered over the bins it
+// overlaps (the part beyond the face goes to its border bins): even coverage for senders of any size
+// and slant. Its core bins (the one under its centre, any it covers by half) take the key as it is,
+// its fringe bins the fringe key, which ranks behind every core. A footprint at most one bin wide
+// overlaps two bins from the one under its lower edge, so that the lanes of a subgroup walk loops of
+// the same length (a CPU device runs a subgroup's loop as long as its longest lane); wider
+// footprints walk their own range.
+void insertFootprint(uint slot, vec3 d, uint64_t key, float omega, vec3 sideA, vec3 sideB) {
   vec2 at;
   uint face = binFace(d, kN, at);
   vec2 uv = at / (0.5 * float(kN)) - 1.0;
   float stretch = 1.0 + dot(uv, uv);  // face area per solid angle: stretch^1.5
-  float side = min(sqrt(omega * stretch * sqrt(stretch)) * 0.5 * float(kN), 16.0);  // in bins
-  vec2 lo = at - 0.5 * side, hi = at + 0.5 * side;
+  float side = min(sqrt(omega * stretch * sqrt(stretch)) * 0.5 * float(kN), 16.0);  // in bins, as a square
+  // A side's step on the face: d(uv) = (d(minor) − uv · d|major|) / |major|; the common factor drops out.
+  uint axis = face / 2u;
+  float sign = (face & 1u) == 0u ? 1.0 : -1.0;
+  vec3 a = axis == 0u ? sideA.yzx : (axis == 1u ? sideA.zxy : sideA), b = axis == 0u ? sideB.yzx : (axis == 1u ? sideB.zxy : sideB);
+  vec2 box = abs(a.xy - uv * (sign * a.z)) + abs(b.xy - uv * (sign * b.z));
+  float aspect = box.x + box.y > 0.0 ? clamp(box.x / max(box.y, 1e-30), 0.125, 8.0) : 1.0;
+  vec2 sides = min(side * vec2(sqrt(aspect), inversesqrt(aspect)), vec2(16.0));
+  vec2 lo = at - 0.5 * sides, hi = at + 0.5 * sides;
   float last = float(kN - 1u);
+  ivec2 centre = ivec2(clamp(floor(at), vec2(0.0), vec2(last)));
   ivec2 first = ivec2(clamp(floor(lo), vec2(0.0), vec2(last))), end = ivec2(clamp(floor(hi), vec2(0.0), vec2(last)));
-  if (side <= 1.0) end = min(first + 1, ivec2(kN - 1u));
-  float norm = 1.0 / max(side * side, 1e-12);
+  end = mix(end, min(first + 1, ivec2(kN - 1u)), lessThanEqual(sides, vec2(1.0)));
+  float norm = 1.0 / max(sides.x * sides.y, 1e-12);
   for (int y = first.y; y <= end.y; ++y)
     for (int x = first.x; x <= end.x; ++x) {
       // Border bins reach to infinity so that nothing falls off the face.
       vec2 cellLo = vec2(x == 0 ? -1e9 : float(x), y == 0 ? -1e9 : float(y));
       vec2 cellHi = vec2(x == int(kN) - 1 ? 1e9 : float(x + 1), y == int(kN) - 1 ? 1e9 : float(y + 1));
       vec2 overlap = max(min(hi, cellHi) - max(lo, cellLo), vec2(0.0));
-      float weight = side > 0.0 ? overlap.x * overlap.y * norm : 1.0;
-      if (weight > 0.0) insert(slot, face * kN * kN + uint(y) * kN + uint(x), key, omega * weight);
+      float covered = overlap.x * overlap.y;  // in bins
+      bool core = covered >= 0.5 || all(equal(centre, ivec2(x, y)));
+      if (covered > 0.0 || side <= 0.0)
+        insert(slot, face * kN * kN + uint(y) * kN + uint(x), core ? key : key | kFringeKey, side > 0.0 ? omega * covered * norm : omega);
     }
+}
+
+// The half-sides of a sender's rectangle (refit.comp) in the world; zero for a curved sender (a cone
+// past 90°), which is filed as a square facing the receiver.
+void senderSides(uint s, vec4 normalCone, out vec3 sideA, out vec3 sideB) {
+  sideA = sideB = vec3(0.0);
+  if (length(normalCone.xyz) == 0.0 || normalCone.w >= 0.5 * kPi) return;
+  vec4 shape = nodeShape(s);
+  vec3 t1, t2;
+  tangentFrame(normalCone.xyz, t1, t2);
+  float c = cos(shape.y), sn = sin(shape.y);
+  sideA = shape.z * (c * t1 + sn * t2);
+  sideB = shape.w * (c * t2 - sn * t1);
 }
 
 // Solid angle of a disk of radius r facing a point at squared distance d²: 2π(1 − d/√(d² + r²)),
@@ -153,19 +181,24 @@ View viewOf(vec3 p, vec4 positionArea, vec4 normalCone) {
   return v;
 }
 
-// Piece `index` of the k×k pieces of a sender's disk (equal-area rings and sectors), filed along its
-// own direction with its own solid angle: the footprints follow the disk's real outline, and a
-// coincident sender on a hard edge is seen through its off-centre pieces.
+// Piece `index` of the k×k pieces of a sender's rectangle, filed along its own direction with its own
+// solid angle: the footprints follow the sender's outline, and a coincident sender on a hard edge is
+// seen through its off-centre pieces. A curved sender is the square of its area facing the receiver.
 void filePiece(uint slot, vec3 n, uint s, vec4 normalCone, View v, uint index) {
-  uint i = index % v.k, j = index / v.k;
-  vec3 axis = length(normalCone.xyz) > 0.0 && normalCone.w < 0.5 * kPi ? normalCone.xyz : n;
-  vec3 t1 = normalize(abs(axis.x) < 0.9 ? cross(axis, vec3(1, 0, 0)) : cross(axis, vec3(0, 1, 0))), t2 = cross(axis, t1);
-  float r = v.radius * sqrt((float(j) + 0.5) / float(v.k)), phi = 2.0 * kPi * (float(i) + 0.5 * float(j & 1u)) / float(v.k);
-  vec3 q = v.d + r * (cos(phi) * t1 + sin(phi) * t2);
+  vec3 sideA, sideB;
+  senderSides(s, normalCone, sideA, sideB);
+  if (sideA == vec3(0.0)) {
+    vec3 t1, t2;
+    tangentFrame(n, t1, t2);
+    sideA = 0.5 * sqrt(kPi) * v.radius * t1, sideB = 0.5 * sqrt(kPi) * v.radius * t2;
+  }
+  vec2 at = (vec2(index % v.k, index / v.k) + 0.5) / float(v.k) * 2.0 - 1.0;  // in (−1, 1)²
+  vec3 q = v.d + at.x * sideA + at.y * sideB;
   float q2 = dot(q, q);
   if (dot(q, n) <= 0.0 || q2 <= 0.0) return;
   float cosQ = abs(dot(normalCone.xyz, q)) * inversesqrt(q2);
-  insertFootprint(slot, q, packLinkKey(v.dist2, s), diskSolidAngle(v.radius / float(v.k), q2) * max(cosQ, v.minCos));
+  float k = float(v.k);
+  insertFootprint(slot, q, packLinkKey(v.dist2, s, false), diskSolidAngle(v.radius / k, q2) * max(cosQ, v.minCos), sideA / k, sideB / k);
 }
 
 // Irradiance at the receiver from punctual lights that are nearer than the nearest element in their bin.
@@ -177,7 +210,7 @@ vec3 punctualLight(uint slot, vec3 p, vec3 n) {
     float cosR = dot(n, normalize(toLight));
     if (cosR <= 0.0 || falloff <= 0.0) continue;
     uint64_t nearest = binAt(slot, binOf(toLight, kN)).key;
-    if (nearest != kEmptyVisibility && keyDepth(nearest) <= dist2) continue;  // occluded
+    if (nearest != kEmptyVisibility && linkKeyDepth(nearest) <= dist2) continue;  // occluded
     sum += lights[l].intensity.rgb * cosR * falloff;
   }
   return sum;
@@ -247,7 +280,9 @@ void main() {
           float rise = normalCone.w < 0.5 * kPi ? v.radius * sqrt(max(1.0 - along * along, 0.0)) : nodeRadius(s);
           if (s == leaf || dot(v.d, n) + rise <= 1e-4 * sqrt(area)) continue;
           if (v.k == 1u) {
-            insertFootprint(slot, v.d, packLinkKey(v.dist2, s), v.omega);
+            vec3 sideA, sideB;
+            senderSides(s, normalCone, sideA, sideB);
+            insertFootprint(slot, v.d, packLinkKey(v.dist2, s, false), v.omega, sideA, sideB);
             continue;
           }
           // Wide senders (2 % of the candidates at 4k surfels, a quarter at 500) wait in a queue:

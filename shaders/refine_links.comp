@@ -60,10 +60,10 @@ void main() {
       }
     } else {
       vec3 dir = d / dist;
-      float spreadS = asin(min(ns.radius.x / dist, 1.0)), spreadR = asin(min(nr.radius.x / dist, 1.0));
+      float spreadS = asin(min(ns.shape.x / dist, 1.0)), spreadR = asin(min(nr.shape.x / dist, 1.0));
       // Senders wholly below the receiver's horizon matter neither for light nor for visibility.
       if (nr.positionArea.w > 0.0 && cosUpper(nr.normalCone.xyz, nr.normalCone.w, dir, spreadS) <= 0.0) continue;
-      bool overlapping = dist <= nr.radius.x + ns.radius.x;
+      bool overlapping = dist <= nr.shape.x + ns.shape.x;
       bool large = ns.positionArea.w > largeSender * dist2;
       float estimate = formFactor(ns.positionArea.w, cosUpper(ns.normalCone.xyz, ns.normalCone.w, -dir, spreadR),
                                   cosUpper(nr.normalCone.xyz, nr.normalCone.w, dir, spreadS), dist2);

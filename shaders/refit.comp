@@ -1,6 +1,12 @@
 #version 460
 // Pass 3, refit: node attributes bottom-up, one dispatch per level (deepest first). Leaves copy
 // their surfel; inner nodes combine their children, already refit.
+//
+// Each node also gets the rectangle that has its area's second moments in its tangent plane
+// (principal axes, half-extents √3·σ): prune files a near sender as pieces of that rectangle, so
+// that neighbouring nodes tile the view as their surfaces do (disks of the same areas would overlap
+// at their sides and leave gaps at their corners, a tenth of the coverage). A surfel is the square
+// of its area in tangentFrame(normal).
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 layout(local_size_x = 64) in;
@@ -10,6 +16,19 @@ layout(std430, binding = 1) readonly buffer Surfels { Surfel surfels[]; };
 layout(std430, binding = 2) buffer Nodes { NodeState nodes[]; };
 layout(push_constant) uniform Push { uint first; uint count; };
 
+// Second moments of a node's area about `centre`, in the tangent axes (a, b), per unit area:
+// its rectangle's own (uniform over ±e: e²/3 along each axis) plus its offset.
+vec3 secondMoments(NodeState node, vec3 centre, vec3 a, vec3 b) {
+  vec3 t1, t2;
+  tangentFrame(node.normalCone.xyz, t1, t2);
+  float c = cos(node.shape.y), s = sin(node.shape.y);
+  vec3 u1 = c * t1 + s * t2, u2 = c * t2 - s * t1, d = node.positionArea.xyz - centre;
+  vec2 e2 = node.shape.zw * node.shape.zw / 3.0;
+  vec2 pa = vec2(dot(u1, a), dot(u2, a)), pb = vec2(dot(u1, b), dot(u2, b));
+  float da = dot(d, a), db = dot(d, b);
+  return vec3(dot(e2, pa * pa) + da * da, dot(e2, pb * pb) + db * db, dot(e2, pa * pb) + da * db);
+}
+
 void main() {
   uint k = itemIndex();
   if (k >= count) return;
@@ -17,9 +36,10 @@ void main() {
   TreeNode t = tree[i];
   if (t.surfel >= 0) {
     Surfel s = surfels[t.surfel];
+    float area = s.positionArea.w;
     nodes[i].positionArea = s.positionArea;
     nodes[i].normalCone = vec4(s.normal.xyz, 0.0);
-    nodes[i].radius = vec4(sqrt(s.positionArea.w / kPi), 0.0, 0.0, 0.0);
+    nodes[i].shape = vec4(sqrt(area / kPi), 0.0, vec2(0.5 * sqrt(area)));
     return;
   }
   float area = 0.0;
@@ -33,15 +53,25 @@ void main() {
   }
   vec3 p = area > 0.0 ? weighted / area : mean / float(t.childCount);
   float len = length(normal);
-  vec3 n = len > 0.0 ? normal / len : vec3(0.0);
+  vec3 n = len > 0.0 ? normal / len : vec3(0.0, 0.0, 1.0);
+  vec3 a, b;
+  tangentFrame(n, a, b);
   float cone = len > 0.0 ? 0.0 : kPi, radius = 0.0;
+  vec3 moments = vec3(0.0);  // about p along a, along b, and mixed
   for (uint c = 0; c < t.childCount; ++c) {
     NodeState child = nodes[t.firstChild + c];
     if (len > 0.0 && child.positionArea.w > 0.0)
       cone = max(cone, acos(clamp(dot(n, child.normalCone.xyz), -1.0, 1.0)) + child.normalCone.w);
-    radius = max(radius, length(child.positionArea.xyz - p) + child.radius.x);
+    radius = max(radius, length(child.positionArea.xyz - p) + child.shape.x);
+    if (child.positionArea.w > 0.0) moments += child.positionArea.w * secondMoments(child, p, a, b);
   }
+  moments /= max(area, 1e-30);
+  // Principal axes of the 2×2 moment matrix [[x, z], [z, y]]: angle and eigenvalues.
+  bool round = moments.z == 0.0 && moments.x == moments.y;  // every axis principal (atan(0, 0) is undefined)
+  float angle = round ? 0.0 : 0.5 * atan(2.0 * moments.z, moments.x - moments.y);
+  float mid = 0.5 * (moments.x + moments.y), spread = length(vec2(0.5 * (moments.x - moments.y), moments.z));
+  vec2 halfExtents = sqrt(3.0 * max(vec2(mid + spread, mid - spread), vec2(0.0)));
   nodes[i].positionArea = vec4(p, area);
-  nodes[i].normalCone = vec4(n, min(cone, kPi));
-  nodes[i].radius = vec4(radius, 0.0, 0.0, 0.0);
+  nodes[i].normalCone = vec4(len > 0.0 ? n : vec3(0.0), min(cone, kPi));
+  nodes[i].shape = vec4(radius, angle, halfExtents);
 }

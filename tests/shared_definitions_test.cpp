@@ -93,6 +93,17 @@ TEST(SharedDefinitions, KeysOrderByDepthThenId) {
   EXPECT_LT(gi::packDepthKey(1e30f, ~0u - 1), gi::kEmptyVisibility) << "any hit beats an empty sample";
 }
 
+TEST(SharedDefinitions, LinkKeysRankCoresBeforeFringes) {
+  // A bin goes to the nearest sender centred in it; a sender that only brushes it wins it only
+  // where no core reached it, and then the nearest such.
+  EXPECT_LT(gi::packLinkKey(1e20f, 9, false), gi::packLinkKey(1e-20f, 1, true)) << "a far core beats a near fringe";
+  EXPECT_LT(gi::packLinkKey(0.5f, 9, true), gi::packLinkKey(2.0f, 1, true)) << "among fringes the nearest";
+  EXPECT_LT(gi::packLinkKey(0.5f, 3, false), gi::packLinkKey(0.5f, 9, false)) << "ties by id";
+  EXPECT_LT(gi::packLinkKey(3.4e38f, ~0u - 1, true), gi::kEmptyVisibility) << "any sender beats an empty bin";
+  EXPECT_EQ(gi::linkKeyDepth(gi::packLinkKey(0.25f, 5, true)), 0.25f);
+  EXPECT_EQ(gi::keyId(gi::packLinkKey(0.25f, 5, true)), 5u);
+}
+
 TEST(SharedDefinitions, TexelPairsFollowTheWrapModes) {
   float w;
   EXPECT_EQ(scene::texelPair(0.0f, 4, 10497u, w), glm::ivec2(3, 0)) << "repeat wraps left of the first texel centre";
@@ -116,7 +127,10 @@ struct BinResult {
   float solidAngle, formFactor;
   uint32_t roundTrip;
   glm::vec4 centre;
-  uint64_t key, pad;
+  uint64_t key, fringeKey;
+  float fringeDepth;
+  uint32_t pad[3];
+  glm::vec4 tangent;
 };
 
 }  // namespace
@@ -153,7 +167,15 @@ TEST(SharedDefinitions, BinsAndFormFactorsAgree) {
     EXPECT_NEAR(got[i].formFactor, ff, 1e-6f * std::max(1.0f, ff)) << "case " << i;
     EXPECT_EQ(got[i].roundTrip, c.bin) << "a bin's centre falls in the bin, case " << i;
     EXPECT_EQ(glm::vec3(got[i].centre), gi::binDirection(c.bin, c.n));
-    EXPECT_EQ(got[i].key, gi::packLinkKey(c.distance2, c.bin)) << "case " << i;
+    EXPECT_EQ(got[i].key, gi::packLinkKey(c.distance2, c.bin, false)) << "case " << i;
+    EXPECT_EQ(got[i].fringeKey, gi::packLinkKey(c.distance2, c.bin, true)) << "case " << i;
+    EXPECT_EQ(got[i].fringeDepth, c.distance2) << "a fringe key keeps its depth, case " << i;
+    if (glm::length(d) > 0.0f) {
+      glm::vec3 t1, t2;
+      gi::tangentFrame(glm::normalize(d), t1, t2);
+      EXPECT_LT(glm::length(glm::vec3(got[i].tangent) - t1), 1e-5f) << "tangent frame, case " << i;
+      EXPECT_NEAR(glm::dot(t1, glm::normalize(d)), 0.0f, 1e-5f);
+    }
   }
 }
 
@@ -168,7 +190,9 @@ TEST(SharedDefinitions, BinSolidAnglesCoverTheSphere) {
       ASSERT_EQ(gi::binOf(gi::binDirection(b, n), n), b);
     }
     EXPECT_NEAR(sum, 4.0 * 3.14159265358979, 1e-4) << n;
-    if (n >= 16) EXPECT_GT(largest / smallest, 4.0f) << "corner bins are several times smaller than centre bins";
+    if (n >= 16) {
+      EXPECT_GT(largest / smallest, 4.0f) << "corner bins are several times smaller than centre bins";
+    }
   }
   EXPECT_NEAR(gi::binSolidAngle(0, 1), 4.0f * 3.14159265f / 6.0f, 1e-6f) << "one bin per face: a sixth of the sphere";
 }

@@ -143,7 +143,7 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, const IvSet
   binTable_ = vk::makeBuffer(ctx, binTable(settings.bins));
   environment_ = vk::makeBuffer(ctx, settings.environment.empty() ? std::vector<glm::vec4>{glm::vec4(0)} : settings.environment);
   lights_ = vk::Buffer(ctx, sizeof(GpuLight), vk::Memory::Host);
-  nodes_ = deviceArray<glm::vec4[3]>(ctx, nodeCount_);
+  nodes_ = deviceArray<NodeState>(ctx, nodeCount_);
   args_ = vk::Buffer(ctx, 4 * sizeof(glm::uvec4), vk::Memory::Device);
   for (LinkSet* set : {&staticSet_, &frameSet_}) {
     set->roots = vk::makeBuffer(ctx, set->rootPairs.empty() ? std::vector<uint32_t>{0, 0} : set->rootPairs);
@@ -362,6 +362,8 @@ std::vector<std::vector<IvSolver::LeafLink>> IvSolver::leafLinks() const {
     }
   return out;
 }
+
+std::vector<IvSolver::NodeState> IvSolver::nodeStates() const { return nodes_.read<NodeState>(nodeCount_); }
 
 std::vector<glm::vec4> IvSolver::leafRadiosity() const {
   auto nodes = (finalRadiosity_ ? radiosityB_ : radiosityA_).read<glm::vec4>(nodeCount_);

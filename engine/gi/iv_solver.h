@@ -73,6 +73,10 @@ class IvSolver {
   };
   // Per surfel: its surviving links (a static leaf: the frame's, then its static ones not overridden).
   std::vector<std::vector<LeafLink>> leafLinks() const;
+  struct NodeState {  // std430 `NodeState` in common.glsl, as the last refit left it
+    glm::vec4 positionArea, normalCone, shape;
+  };
+  std::vector<NodeState> nodeStates() const;
 
   // Bins and form factors of the solver's bin table (unit centre direction, solid angle).
   static std::vector<glm::vec4> binTable(uint32_t n);

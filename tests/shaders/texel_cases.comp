@@ -17,7 +17,7 @@ void main() {
   if (i >= count) return;
   // Element i of each view: a vec4, a pair of words, a word; node i / 3 as a NodeState.
   NodeState node = nodeState(i / 3u);
-  vec4 fromNode = (i % 3u == 0u) ? node.positionArea : (i % 3u == 1u ? node.normalCone : node.radius);
+  vec4 fromNode = (i % 3u == 0u) ? node.positionArea : (i % 3u == 1u ? node.normalCone : node.shape);
   results[4u * i] = imageLoad(asVec4, int(i));
   results[4u * i + 1u] = vec4(uintBitsToFloat(imageLoad(asUvec2, int(i)).xy), 0.0, 0.0);
   results[4u * i + 2u] = vec4(uintBitsToFloat(imageLoad(asUint, int(i)).x), 0.0, 0.0, 0.0);
