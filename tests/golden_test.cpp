@@ -112,3 +112,25 @@ TEST(Golden, VisiblyDifferentImagesFail) {
   auto d = image::compareLayers(brighter.string(), golden.string(), {{"albedo", 0.02f, 0.002f}});
   EXPECT_FALSE(d[0].passed) << "a 5 % brighter albedo passed";
 }
+
+// The radiance is held to each pixel's own value: the indirect light of the iv Cornell box dimmed by
+// 5 % must fail although it is a few thousandths of the light's radiance.
+TEST(Golden, DimmerIndirectLightFails) {
+  fs::path golden = goldenDir() / "iv_cornell_f0012.exr";
+  ASSERT_TRUE(fs::exists(golden));
+  fs::path dimmer = test::scratchDir("dimmer") / "dimmer.exr";
+  {
+    OIIO_NAMESPACE::ImageBuf buf(golden.string());
+    ASSERT_TRUE(buf.read(0, 0, true, OIIO_NAMESPACE::TypeDesc::FLOAT));
+    int emission = buf.spec().channelindex("emission.R");
+    for (OIIO_NAMESPACE::ImageBuf::Iterator<float> it(buf); !it.done(); ++it)
+      if (it[emission] == 0.0f)
+        for (int c = 0; c < 3; ++c) it[c] = it[c] * 0.95f;
+    ASSERT_TRUE(buf.write(dimmer.string()));
+  }
+  for (const auto& d : image::compareLayers(golden.string(), golden.string(), image::goldenTolerances())) EXPECT_TRUE(d.passed) << d.layer;
+  auto d = image::compareLayers(dimmer.string(), golden.string(), image::goldenTolerances());
+  EXPECT_EQ(d[0].layer, "RGB");
+  EXPECT_FALSE(d[0].passed) << "5 % less indirect light passed: " << 100 * d[0].failingFraction << " % of pixels beyond";
+  EXPECT_GT(d[0].failingFraction, 0.5);
+}
