@@ -12,7 +12,7 @@ struct Material { vec4 baseColor; vec4 emission; int baseColorTexture; int emiss
 struct Texture { uint offset; uint width; uint height; uint wrap; };
 struct SurfelSource { uint firstVertex; uint vertexCount; uint firstTriangle; uint triangleCount; };
 struct WorldVertex { vec4 position; vec4 normal; };
-struct Surfel { vec4 positionArea; vec4 normal; };
+struct Surfel { vec4 positionArea; vec4 normal; vec4 shape; };  // shape: as NodeState's
 
 const uint kFlatShaded = 0x80000000u;
 const uint64_t kEmptyVisibility = 0xFFFFFFFFFFFFFFFFul;

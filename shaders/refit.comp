@@ -5,8 +5,8 @@
 // Each node also gets the rectangle that has its area's second moments in its tangent plane
 // (principal axes, half-extents √3·σ): prune files a near sender as pieces of that rectangle, so
 // that neighbouring nodes tile the view as their surfaces do (disks of the same areas would overlap
-// at their sides and leave gaps at their corners, a tenth of the coverage). A surfel is the square
-// of its area in tangentFrame(normal).
+// at their sides and leave gaps at their corners, a tenth of the coverage). A leaf takes its
+// surfel's rectangle (surfels.comp).
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 layout(local_size_x = 64) in;
@@ -36,10 +36,9 @@ void main() {
   TreeNode t = tree[i];
   if (t.surfel >= 0) {
     Surfel s = surfels[t.surfel];
-    float area = s.positionArea.w;
     nodes[i].positionArea = s.positionArea;
     nodes[i].normalCone = vec4(s.normal.xyz, 0.0);
-    nodes[i].shape = vec4(sqrt(area / kPi), 0.0, vec2(0.5 * sqrt(area)));
+    nodes[i].shape = s.shape;
     return;
   }
   float area = 0.0;

@@ -8,6 +8,7 @@
 #include <cstdint>
 
 #include "engine/scene/camera.h"
+#include "engine/scene/geometry.h"
 
 namespace ivgi::gi {
 
@@ -70,11 +71,7 @@ inline float binSolidAngle(uint32_t b, uint32_t n) {
   return cubeAreaIntegral(u1, v1) - cubeAreaIntegral(u0, v1) - cubeAreaIntegral(u1, v0) + cubeAreaIntegral(u0, v0);
 }
 
-// tangentFrame() of common.glsl: the tangents of unit normal n, from n alone.
-inline void tangentFrame(glm::vec3 n, glm::vec3& t1, glm::vec3& t2) {
-  t1 = glm::normalize(std::abs(n.x) < 0.9f ? glm::cross(n, glm::vec3(1, 0, 0)) : glm::cross(n, glm::vec3(0, 1, 0)));
-  t2 = glm::cross(n, t1);
-}
+using scene::tangentFrame;  // the surfels' rectangles are laid out in it
 
 inline float formFactor(float senderArea, float cosSender, float cosReceiver, float distance2) {
   return senderArea * std::max(cosSender, 0.0f) * std::max(cosReceiver, 0.0f) / (kPi * distance2 + senderArea);

@@ -56,6 +56,7 @@ struct WorldVertex {  // output of the animate pass
 struct Surfel {  // output of the surfel pass
   glm::vec4 positionArea;  // xyz: centroid of the surfel's area (its vertex's third of each triangle), w: area
   glm::vec4 normal;
+  glm::vec4 shape;  // x: radius of a disk of its area; zw: half-extents of its rectangle along tangentFrame(normal) (y: angle, 0)
 };
 
 struct FrameInputs {
@@ -92,6 +93,10 @@ struct Geometry {
 };
 
 Geometry buildGeometry(const Scene& scene);
+
+// tangentFrame() of common.glsl: the tangents of unit normal n, from n alone (so that neighbours on
+// a flat face agree).
+void tangentFrame(glm::vec3 n, glm::vec3& t1, glm::vec3& t2);
 
 // The animate pass evaluated on the host: the reference the GPU is tested against.
 std::vector<WorldVertex> animateOnHost(const Geometry& geometry, const FrameInputs& inputs);
