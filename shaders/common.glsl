@@ -102,15 +102,27 @@ uint binFace(vec3 d, uint n, out vec2 position) {
   return 2u * axis + (major < 0.0 ? 1u : 0u);
 }
 
-// Centre direction (unnormalised, on the unit cube) of bin b.
-vec3 binDirection(uint b, uint n) {
-  uint face = b / (n * n), r = b % (n * n);
-  vec2 uv = (vec2(float(r % n), float(r / n)) + 0.5) / float(n) * 2.0 - 1.0;
+// Direction (unnormalised) through position uv of face `face`'s plane; beyond (−1, 1) the plane
+// extends past the face, toward its neighbours.
+vec3 faceDirection(uint face, vec2 uv) {
   float s = (face & 1u) == 0u ? 1.0 : -1.0;
   uint axis = face / 2u;
   if (axis == 0u) return vec3(s, uv.x, uv.y);
   if (axis == 1u) return vec3(uv.y, s, uv.x);
   return vec3(uv.x, uv.y, s);
+}
+
+// Centre direction (unnormalised, on the unit cube) of bin b.
+vec3 binDirection(uint b, uint n) {
+  uint face = b / (n * n), r = b % (n * n);
+  return faceDirection(face, (vec2(float(r % n), float(r / n)) + 0.5) / float(n) * 2.0 - 1.0);
+}
+
+// Bin of cell (x, y) of face `face`'s plane, n cells a side: the face's own bin, or past its edge
+// the bin of the neighbouring face that the cell's centre falls in.
+uint binOfCell(uint face, ivec2 cell, uint n) {
+  if (all(greaterThanEqual(cell, ivec2(0))) && all(lessThan(cell, ivec2(n)))) return face * n * n + uint(cell.y) * n + uint(cell.x);
+  return binOf(faceDirection(face, (vec2(cell) + 0.5) / (0.5 * float(n)) - 1.0), n);
 }
 
 float cubeAreaIntegral(float u, float v) { return atan(u * v, sqrt(u * u + v * v + 1.0)); }

@@ -53,9 +53,10 @@ double meanOverArea(const tinygltf::Model& model, const std::vector<glm::vec4>& 
 // its bins cover (1 in the exact operator, less where surfels are large against the bins and near
 // edges). With every receiver's c in [c_min, c_max], the fixed point lies in
 // [π·Le/(1−ρ·c_min), π·Le/(1−ρ·c_max)] (the operator is monotone): the test checks that bracket for
-// every receiver, that the area-weighted coverage is at least 0.95 at this tessellation (12 cells per
-// face, 6×16×16 bins; measured 0.953, and 0.939 while surfels were squares, whose misfit along the
-// cube's edges fails this), and prints the error against the exact value.
+// every receiver, that the area-weighted coverage is at least 0.975 at this tessellation (12 cells
+// per face, 6×16×16 bins; measured 0.979; 0.953 while footprints past a cube-map face's edge piled
+// into its border bins, 0.939 while surfels were squares too), and prints the error against the
+// exact value.
 TEST(IvFurnace, EnergyIsConservedUpToTheBinCoverage) {
   const double pi = 3.14159265358979;
   for (float rho : {0.3f, 0.5f, 0.9f}) {
@@ -74,7 +75,7 @@ TEST(IvFurnace, EnergyIsConservedUpToTheBinCoverage) {
     double lower = 1.0 / (1.0 - rho * cMin), upper = 1.0 / (1.0 - rho * cMax);
     std::printf("[ furnace ] rho %.1f: coverage %.4f (min %.4f, max %.4f); mean B/pi %.4f, exact %.4f, error %.1f %%\n", rho,
                 meanOverArea(model, coverage), cMin, cMax, mean, exact, 100.0 * (mean - exact) / exact);
-    EXPECT_GE(meanOverArea(model, coverage), 0.95);
+    EXPECT_GE(meanOverArea(model, coverage), 0.975);
     EXPECT_LE(cMax, 1.0 + 1e-5);
     for (const auto& v : solved.radiosity) {
       EXPECT_GE(v.x / pi, lower * (1 - 1e-4)) << "rho " << rho;

@@ -129,7 +129,8 @@ struct BinResult {
   glm::vec4 centre;
   uint64_t key, fringeKey;
   float fringeDepth;
-  uint32_t pad[3];
+  uint32_t beyond;
+  uint32_t pad[2];
   glm::vec4 tangent;
 };
 
@@ -170,6 +171,8 @@ TEST(SharedDefinitions, BinsAndFormFactorsAgree) {
     EXPECT_EQ(got[i].key, gi::packLinkKey(c.distance2, c.bin, false)) << "case " << i;
     EXPECT_EQ(got[i].fringeKey, gi::packLinkKey(c.distance2, c.bin, true)) << "case " << i;
     EXPECT_EQ(got[i].fringeDepth, c.distance2) << "a fringe key keeps its depth, case " << i;
+    uint32_t r = c.bin % (c.n * c.n);
+    EXPECT_EQ(got[i].beyond, gi::binOfCell(c.bin / (c.n * c.n), glm::ivec2(int(r % c.n), -1 - int(r / c.n)), c.n)) << "case " << i;
     if (glm::length(d) > 0.0f) {
       glm::vec3 t1, t2;
       gi::tangentFrame(glm::normalize(d), t1, t2);
@@ -195,6 +198,26 @@ TEST(SharedDefinitions, BinSolidAnglesCoverTheSphere) {
     }
   }
   EXPECT_NEAR(gi::binSolidAngle(0, 1), 4.0f * 3.14159265f / 6.0f, 1e-6f) << "one bin per face: a sixth of the sphere";
+}
+
+// The prune files a footprint across a cube edge on both sides: a cell just past a face's edge is
+// a bin of the neighbouring face that touches the edge, beside the face's own edge bin.
+TEST(SharedDefinitions, CellsPastAFaceEdgeFallOnItsNeighbour) {
+  for (uint32_t n : {1u, 2u, 8u, 16u, 33u}) {
+    const float binWidth = 2.0f / float(n);  // on the unit cube, at the edge
+    for (uint32_t face = 0; face < 6; ++face)
+      for (int along = 0; along < int(n); ++along)
+        for (glm::ivec2 step : {glm::ivec2(0, -1), glm::ivec2(0, 1), glm::ivec2(-1, 0), glm::ivec2(1, 0)}) {
+          // The face's own edge bin, and the cell one step past it.
+          glm::ivec2 inside = step.x != 0 ? glm::ivec2(step.x < 0 ? 0 : int(n) - 1, along) : glm::ivec2(along, step.y < 0 ? 0 : int(n) - 1);
+          uint32_t own = gi::binOfCell(face, inside, n), past = gi::binOfCell(face, inside + step, n);
+          ASSERT_EQ(own, face * n * n + uint32_t(inside.y) * n + uint32_t(inside.x));
+          EXPECT_NE(past / (n * n), face) << "n " << n << " face " << face;
+          // Centres on the unit cube: the two bins are neighbours across the edge.
+          glm::vec3 a = gi::binDirection(own, n), b = gi::binDirection(past, n);
+          EXPECT_LT(glm::length(a - b), 1.5f * binWidth) << "n " << n << " face " << face << " along " << along;
+        }
+  }
 }
 
 TEST(SharedDefinitions, FormFactorIsBoundedAndFinite) {

@@ -52,14 +52,22 @@ inline uint32_t binOf(glm::vec3 d, uint32_t n) {
   return face * n * n + ij.y * n + ij.x;
 }
 
-inline glm::vec3 binDirection(uint32_t b, uint32_t n) {
-  uint32_t face = b / (n * n), r = b % (n * n);
-  glm::vec2 uv = (glm::vec2(float(r % n), float(r / n)) + 0.5f) / float(n) * 2.0f - 1.0f;
+inline glm::vec3 faceDirection(uint32_t face, glm::vec2 uv) {
   float s = (face & 1u) == 0u ? 1.0f : -1.0f;
   uint32_t axis = face / 2u;
   if (axis == 0u) return {s, uv.x, uv.y};
   if (axis == 1u) return {uv.y, s, uv.x};
   return {uv.x, uv.y, s};
+}
+
+inline glm::vec3 binDirection(uint32_t b, uint32_t n) {
+  uint32_t face = b / (n * n), r = b % (n * n);
+  return faceDirection(face, (glm::vec2(float(r % n), float(r / n)) + 0.5f) / float(n) * 2.0f - 1.0f);
+}
+
+inline uint32_t binOfCell(uint32_t face, glm::ivec2 cell, uint32_t n) {
+  if (cell.x >= 0 && cell.y >= 0 && cell.x < int(n) && cell.y < int(n)) return face * n * n + uint32_t(cell.y) * n + uint32_t(cell.x);
+  return binOf(faceDirection(face, (glm::vec2(cell) + 0.5f) / (0.5f * float(n)) - 1.0f), n);
 }
 
 inline float cubeAreaIntegral(float u, float v) { return std::atan2(u * v, std::sqrt(u * u + v * v + 1.0f)); }
