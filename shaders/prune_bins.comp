@@ -108,11 +108,11 @@ void insert(uint slot, uint b, uint64_t key, float omega) {
 // face, shaped like the filed element (half-sides `sideA`, `sideB` in the world; zero: a square):
 // the bounding box of their projection gives its aspect, at most 8:1. Box-filtered over the bins it
 // overlaps, on the face of its centre and past its edges on the neighbouring faces: even coverage
-// for senders of any size and slant, across cube edges too. Its core bins (the one under its centre, any it covers by half) take the key as it is,
-// its fringe bins the fringe key, which ranks behind every core. A footprint at most one bin wide
-// overlaps two bins from the one under its lower edge, so that the lanes of a subgroup walk loops of
-// the same length (a CPU device runs a subgroup's loop as long as its longest lane); wider
-// footprints walk their own range.
+// for senders of any size and slant, across cube edges too. Its core bins (the one under its
+// centre, any it covers by half) take the key as it is, its fringe bins the fringe key, which
+// ranks behind every core. A footprint at most one bin wide overlaps two bins from the one under
+// its lower edge, so that the lanes of a subgroup walk loops of the same length (a CPU device runs a
+// subgroup's loop as long as its longest lane); wider footprints walk their own range.
 void insertFootprint(uint slot, vec3 d, uint64_t key, float omega, vec3 sideA, vec3 sideB) {
   vec2 at;
   uint face = binFace(d, kN, at);

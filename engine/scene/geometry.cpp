@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <functional>
+#include <glm/gtc/constants.hpp>
 #include <glm/gtc/packing.hpp>
 #include <unordered_map>
 
@@ -236,7 +237,7 @@ std::vector<Surfel> surfelsOnHost(const Geometry& g, const std::vector<WorldVert
     extent = extent.x * extent.y > 0.0f ? extent * std::sqrt(area / (4.0f * extent.x * extent.y)) : glm::vec2(0.5f * std::sqrt(area));
     out[s].positionArea = glm::vec4(centre, len > 0.0f ? area : 0.0f);
     out[s].normal = glm::vec4(normal, 0.0f);
-    out[s].shape = glm::vec4(std::sqrt(area / 3.14159265358979f), 0.0f, extent);
+    out[s].shape = glm::vec4(std::sqrt(area / glm::pi<float>()), 0.0f, extent);
   }
   return out;
 }
