@@ -6,7 +6,8 @@
 // a leaf's root path partition every other surface once, so the solid angles they subtend also say
 // how much of each bin is covered; the survivor stands for that covered part:
 // F = cos θr · min(Ω_bin, Ω_covered) / π (a hemisphere never sums above 1). Survivors are written
-// in bin order. Punctual lights and the environment are tested against the same bins. Bins live in
+// in bin order. Punctual lights, the environment and emitters' direct light (each emitter's own
+// form factor, not the whole bins it would win) are tested against the same bins. Bins live in
 // shared memory where they fit, else in a global slot per workgroup; each workgroup walks many
 // leaves and resets only the bins it touched.
 //
@@ -15,6 +16,8 @@
 // with a moving side, and a static leaf files only those and merges the bins they touch with its
 // static bins: nearest key and summed coverage as a full prune would find them. Its touched bins
 // are re-emitted and flagged in an override mask that the gather reads to skip the static entries.
+// A static leaf also keeps the emitters of its static links, whose direct light each frame tests
+// against the merged bins (a moving block may hide them).
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 1
 #include "common.glsl"
@@ -26,6 +29,7 @@ layout(constant_id = 2) const uint kSharedSlots = 1536;  // 6·N² on the shared
 layout(constant_id = 3) const uint kMaskWords = 48;      // ⌈6·N² / 32⌉
 layout(constant_id = 4) const uint kWideQueue = 256;     // wide senders a leaf queues before filing them inline
 layout(constant_id = 5) const bool kStaticPass = false;   // prune static leaves against static links, once
+layout(constant_id = 6) const uint kStaticEmitters = 64;  // emitters a static leaf keeps for the frame's direct light
 
 layout(binding = 0, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode
 layout(binding = 2, r32ui) readonly uniform uimageBuffer starts;
@@ -49,6 +53,10 @@ layout(std430, binding = 18) buffer StaticDepths { uint staticDepths[]; };  // t
 layout(std430, binding = 19) buffer StaticMasks { uvec2 staticMasks[]; };  // per leaf and mask word: bins held, entries before
 layout(std430, binding = 20) buffer StaticEnvironment { vec4 staticEnvironment[]; };
 layout(std430, binding = 21) writeonly buffer Overrides { uint overrides[]; };  // per static leaf and mask word: bins re-emitted
+layout(binding = 22, rgba32f) readonly uniform imageBuffer nodeEmission;  // π·Le per node, pulled up
+layout(std430, binding = 23) buffer StaticEmitters { uint staticEmitters[]; };  // per static leaf: the emitters of its static links
+layout(std430, binding = 24) buffer StaticEmitterCounts { uint staticEmitterCounts[]; };  // kManyEmitters: too many, credited by the bins
+layout(std430, binding = 25) buffer StaticCorrection { vec4 staticCorrection[]; };  // the static bins' emission, taken back
 layout(push_constant) uniform Push { uint surfelCount; uint linkCapacity; uint lightCount; uint environmentOn; uint staticCapacity; };
 
 shared uint64_t sharedBins[kSharedSlots];
@@ -59,6 +67,9 @@ shared vec3 partial[64];
 shared uint leafBase;
 shared uint wideQueue[kWideQueue];
 shared uint wideCount;
+const uint kEmitterQueue = 256u, kManyEmitters = 0xFFFFFFFFu;  // emitters a leaf lists; a static list that did not fit
+shared uint emitterQueue[kEmitterQueue], sortedEmitters[kEmitterQueue];
+shared uint emitterCount;
 
 const uint kBinCount = 6u * kN * kN;
 // Coverage is summed as integers so that the sum does not depend on the order of the atomics.
@@ -83,10 +94,10 @@ uint staticFirst = 0u, maskBase = 0u;
 
 // What bin b holds: the nearest key and the covered solid angle (in 1/kCoverageUnit of the bin),
 // the filed senders merged with the leaf's static entry; staticCovered is that entry's share.
-struct Bin { uint64_t key; uint covered; uint staticCovered; };
+struct Bin { uint64_t key; uint covered; uint staticCovered; int staticEntry; };
 
 Bin binAt(uint slot, uint b) {
-  Bin bin = Bin(loadBin(slot, b), loadCoverage(slot, b), 0u);
+  Bin bin = Bin(loadBin(slot, b), loadCoverage(slot, b), 0u, -1);
   if (!merging) return bin;
   uvec2 word = staticMasks[maskBase + b / 32u];
   uint bit = 1u << (b & 31u);
@@ -95,6 +106,7 @@ Bin binAt(uint slot, uint b) {
   if (e >= staticCapacity) return bin;  // the static pass overflowed: this frame is redone
   bin.key = min(bin.key, uint64_t(staticDepths[e]) << 32 | staticLinks[e].sender);
   bin.staticCovered = staticBins[e].coverage;
+  bin.staticEntry = int(e);
   bin.covered += bin.staticCovered;
   return bin;
 }
@@ -235,6 +247,45 @@ vec3 environmentThrough(vec3 n, uint b, uint covered) {
   return c > 0.0 ? imageLoad(environment, int(b)).rgb * c * bin.w * (1.0 - coveredFraction(covered)) : vec3(0.0);
 }
 
+// Emitted radiosity π·Le of node s (pulled up); zero for a node that emits nothing.
+vec3 emitted(uint s) { return imageLoad(nodeEmission, int(s)).rgb; }
+bool emits(uint s) { return any(greaterThan(emitted(s), vec3(0.0))); }
+
+// Direct light from emitter s at the receiver (p, n): each of its pieces (as filed) with its own
+// form factor, where the bin along it shows it: the bin holds the emitter itself, nothing nearer, or
+// a nearer flat sender that does not separate receiver and emitter (its plane has both on one side:
+// the ceiling beside a lamp, the lamp's own other pieces). Exact where the bins only credit whole
+// bins, so that a small emitter's light no longer jumps as its footprint crosses bin borders.
+vec3 directLight(uint slot, vec3 p, vec3 n, uint s) {
+  vec4 normalCone = nodeNormalCone(s);
+  View v = viewOf(p, nodePositionArea(s), normalCone);
+  vec3 sideA, sideB;
+  senderSides(s, normalCone, sideA, sideB);
+  if (sideA == vec3(0.0)) {
+    vec3 t1, t2;
+    tangentFrame(n, t1, t2);
+    sideA = 0.5 * sqrt(kPi) * v.radius * t1, sideB = 0.5 * sqrt(kPi) * v.radius * t2;
+  }
+  float sum = 0.0;
+  for (uint piece = 0u; piece < v.k * v.k; ++piece) {
+    vec2 at = (vec2(piece % v.k, piece / v.k) + 0.5) / float(v.k) * 2.0 - 1.0;
+    vec3 q = v.k == 1u ? v.d : v.d + at.x * sideA + at.y * sideB;
+    float q2 = dot(q, q);
+    if (dot(q, n) <= 0.0 || q2 <= 0.0 || (dot(normalCone.xyz, q) >= 0.0 && normalCone.w < 0.5 * kPi)) continue;  // below the horizon, or its back
+    float cosQ = abs(dot(normalCone.xyz, q)) * inversesqrt(q2);
+    float omega = v.k == 1u ? v.omega : diskSolidAngle(v.radius / float(v.k), q2) * max(cosQ, v.minCos);
+    uint64_t nearest = binAt(slot, binOf(q, kN)).key;
+    uint o = keyId(nearest);
+    vec4 plane = nodeNormalCone(o);
+    vec3 onPlane = nodePositionArea(o).xyz;
+    float sideOfReceiver = dot(plane.xyz, p - onPlane), sideOfEmitter = dot(plane.xyz, p + q - onPlane), margin = 1e-3 * sqrt(q2);
+    bool separates = plane.w >= 0.5 * kPi || (sideOfReceiver > margin && sideOfEmitter < -margin) || (sideOfReceiver < -margin && sideOfEmitter > margin);
+    bool visible = nearest == kEmptyVisibility || o == s || linkKeyDepth(nearest) >= v.dist2 * 0.999 || !separates;
+    if (visible) sum += omega * dot(n, q) * inversesqrt(q2) / kPi;
+  }
+  return sum * emitted(s);
+}
+
 // Sum of the workgroup's partial vectors in a fixed order (deterministic); valid in invocation 0.
 vec3 sumPartials(uint lid, vec3 mine) {
   partial[lid] = mine;
@@ -251,7 +302,7 @@ void main() {
   if (kSharedBins)
     for (uint b = lid; b < kBinCount; b += 64u) sharedBins[b] = kEmptyVisibility, sharedCoverage[b] = 0u;
   for (uint w = lid; w < kMaskWords; w += 64u) mask[w] = 0u;
-  if (lid == 0u) wideCount = 0u;
+  if (lid == 0u) wideCount = 0u, emitterCount = 0u;
   barrier();
 
   uint groups = gl_NumWorkGroups.x * gl_NumWorkGroups.y;
@@ -268,6 +319,12 @@ void main() {
     vec4 receiver = nodePositionArea(leaf);
     vec3 p = receiver.xyz, n = nodeNormalCone(leaf).xyz;
     float area = receiver.w;
+    // The emitters whose direct light this leaf takes: a merging leaf starts from those of its
+    // static links; the walk adds the rest. Past the queue, the bins credit them as any sender.
+    uint staticEmitterCount = merging ? staticEmitterCounts[surfel] : 0u;
+    if (lid == 0u) emitterCount = staticEmitterCount == kManyEmitters ? kEmitterQueue + 1u : staticEmitterCount;
+    for (uint e = lid; e < min(staticEmitterCount, kStaticEmitters); e += 64u) emitterQueue[e] = staticEmitters[surfel * kStaticEmitters + e];
+    barrier();
     if (area > 0.0) {
       for (int a = int(leaf); a >= 0; a = int(imageLoad(tree, a).x)) {
         uint begin = imageLoad(starts, a).x, end = imageLoad(starts, a + 1).x;
@@ -280,6 +337,10 @@ void main() {
           float along = dot(normalCone.xyz, n);
           float rise = normalCone.w < 0.5 * kPi ? v.radius * sqrt(max(1.0 - along * along, 0.0)) : nodeRadius(s);
           if (s == leaf || dot(v.d, n) + rise <= 1e-4 * sqrt(area)) continue;
+          if (emits(s)) {
+            uint queued = atomicAdd(emitterCount, 1u);
+            if (queued < kEmitterQueue) emitterQueue[queued] = s;
+          }
           if (v.k == 1u) {
             vec3 sideA, sideB;
             senderSides(s, normalCone, sideA, sideB);
@@ -303,6 +364,25 @@ void main() {
       for (uint piece = lid % 8u; piece < v.k * v.k; piece += 8u) filePiece(slot, n, s, normalCone, v, piece);
     }
     barrier();
+    // Emitters' light: direct where they are few enough to list (the static pass keeps the list for
+    // the frames, whose moving senders may hide them), the bins then carrying only their reflected
+    // light; through the bins as before where they are many (a wholly emissive room).
+    uint emitters = emitterCount, listed = min(emitters, kEmitterQueue);
+    bool direct = emitters <= (kStaticPass ? kStaticEmitters : kEmitterQueue);
+    // Sorted by node, so that the sums run in one order whatever order the atomics queued them in.
+    for (uint e = lid; e < listed; e += 64u) {
+      uint s = emitterQueue[e], rank = 0u;
+      for (uint j = 0u; j < listed; ++j) rank += emitterQueue[j] < s ? 1u : 0u;
+      sortedEmitters[rank] = s;
+    }
+    barrier();
+    vec3 emitterLight = vec3(0.0);
+    if (kStaticPass) {
+      for (uint e = lid; e < min(emitters, kStaticEmitters); e += 64u) staticEmitters[surfel * kStaticEmitters + e] = sortedEmitters[e];
+      if (lid == 0u) staticEmitterCounts[surfel] = direct ? emitters : kManyEmitters;
+    } else if (direct) {
+      for (uint e = lid; e < emitters; e += 64u) emitterLight += directLight(slot, p, n, sortedEmitters[e]);
+    }
     // Survivors in bin order (deterministic): count per mask word, scan, write.
     for (uint w = lid; w < kMaskWords; w += 64u) wordStart[w] = bitCount(mask[w]);
     barrier();
@@ -319,7 +399,8 @@ void main() {
       if (leafBase + total > linkCapacity) atomicOr(counters[kCounterOverflow], 4u);
     }
     barrier();
-    // A merging leaf's environment changes only in the bins it touched: this frame's minus its static share.
+    // A merging leaf's environment changes only in the bins it touched: this frame's minus its static
+    // share; so does the emission taken back from emissive survivors.
     vec3 environmentChange = vec3(0.0);
     for (uint w = lid; w < kMaskWords; w += 64u) {
       uint bits = mask[w], outIndex = leafBase + wordStart[w];
@@ -341,6 +422,10 @@ void main() {
           }
         }
         ++outIndex;
+        if (direct) {
+          emitterLight -= f * emitted(s);
+          if (bin.staticEntry >= 0) emitterLight += staticLinks[bin.staticEntry].formFactor * emitted(staticLinks[bin.staticEntry].sender);
+        }
         if (merging && environmentOn != 0u) environmentChange += environmentThrough(n, b, bin.covered) - environmentThrough(n, b, bin.staticCovered);
       }
     }
@@ -348,12 +433,17 @@ void main() {
     vec3 env = environmentChange;
     if (environmentOn != 0u && area > 0.0 && !merging)
       for (uint b = lid; b < kBinCount; b += 64u) env += environmentThrough(n, b, loadCoverage(slot, b));
-    vec3 sum = sumPartials(lid, env);
+    if (kStaticPass) {
+      vec3 correction = sumPartials(lid, emitterLight);
+      barrier();
+      if (lid == 0u) staticCorrection[surfel] = vec4(correction, 0.0);
+    }
+    vec3 sum = sumPartials(lid, kStaticPass ? env : env + emitterLight);
     if (lid == 0u) {
       if (kStaticPass) {
         staticEnvironment[surfel] = vec4(sum, 0.0);
       } else {
-        if (merging) sum += staticEnvironment[surfel].rgb;
+        if (merging) sum += staticEnvironment[surfel].rgb + (direct ? staticCorrection[surfel].rgb : vec3(0.0));
         if (area > 0.0) sum += punctualLight(slot, p, n);
         externalLight[surfel] = vec4(sum, 0.0);
       }

@@ -30,12 +30,14 @@ constexpr uint32_t kNoCounter = 0xFFFFFFFFu;
 constexpr uint32_t kCounterLinks = 2, kCounterLeafLinks = 3, kCounterOverflow = 4, kCounterWorklistPeak = 5;
 constexpr uint32_t kMaxPruneGroups = 512;
 constexpr uint32_t kWideQueue = 256;  // prune_bins.comp's queue of wide senders per leaf
+constexpr uint32_t kStaticEmitters = 64;  // emitters a static leaf keeps for the frame's direct light (prune_bins.comp)
+constexpr uint32_t kEmitterQueue = 256;   // emitters a leaf lists (prune_bins.comp)
 
 uint32_t maskWordsFor(uint32_t n) { return (6 * n * n + 31) / 32; }
 
 // Specialization constants of prune_bins.comp.
 std::vector<uint32_t> pruneConstants(uint32_t n, bool sharedBins, bool staticPass) {
-  return {n, sharedBins ? 1u : 0u, sharedBins ? 6 * n * n : 1u, maskWordsFor(n), kWideQueue, staticPass ? 1u : 0u};
+  return {n, sharedBins ? 1u : 0u, sharedBins ? 6 * n * n : 1u, maskWordsFor(n), kWideQueue, staticPass ? 1u : 0u, kStaticEmitters};
 }
 
 vk::Buffer counterBuffer(const vk::Context& ctx) { return vk::Buffer(ctx, 8 * sizeof(uint32_t), vk::Memory::Host); }
@@ -83,8 +85,9 @@ std::vector<glm::vec4> IvSolver::binTable(uint32_t n) {
 }
 
 bool IvSolver::binsFitShared(const vk::Context& ctx, uint32_t n) {
-  // bins and coverage, mask and word starts, partial sums, the wide-sender queue (prune_bins.comp)
-  uint64_t bytes = uint64_t(6) * n * n * (8 + 4) + uint64_t(maskWordsFor(n)) * 8 + 64 * 16 + 16 + kWideQueue * 4 + 4;
+  // bins and coverage, mask and word starts, partial sums, the wide-sender queue, the emitter
+  // queue and its sorted copy (prune_bins.comp)
+  uint64_t bytes = uint64_t(6) * n * n * (8 + 4) + uint64_t(maskWordsFor(n)) * 8 + 64 * 16 + 16 + kWideQueue * 4 + 4 + kEmitterQueue * 8 + 4;
   return ctx.sharedInt64Atomics() && bytes <= ctx.limits().maxComputeSharedMemorySize;
 }
 
@@ -164,6 +167,9 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, const IvSet
   staticMasks_ = deviceArray<glm::uvec2>(ctx, masks);
   overrides_ = deviceArray<uint32_t>(ctx, masks);
   staticEnvironment_ = deviceArray<glm::vec4>(ctx, split ? surfelCount_ : 0);
+  staticEmitters_ = deviceArray<uint32_t>(ctx, split ? size_t(surfelCount_) * kStaticEmitters : 0);
+  staticEmitterCounts_ = deviceArray<uint32_t>(ctx, split ? surfelCount_ : 0);
+  staticCorrection_ = deviceArray<glm::vec4>(ctx, split ? surfelCount_ : 0);
   if (sharedBins_) {
     globalBins_ = vk::Buffer(ctx, 16, vk::Memory::Device);
     globalCoverage_ = vk::Buffer(ctx, 16, vk::Memory::Device);
@@ -256,7 +262,7 @@ void IvSolver::recordPrune(VkCommandBuffer cmd, const vk::Program& pass, LinkSet
   pass.dispatch(cmd, {pruneGroups(), 1, 1},
                 {&tree_, &nodes_, &set.starts, &set.senders, &leafOfSurfel_, &binTable_, &globalBins_, &ranges_, &leafLinks_, &set.counters,
                  &external_, &lights_, &environment_, &globalCoverage_, &leafMoves_, &staticRanges_, &staticLinks_, &staticBins_, &staticDepths_,
-                 &staticMasks_, &staticEnvironment_, &overrides_},
+                 &staticMasks_, &staticEnvironment_, &overrides_, &radiosityA_, &staticEmitters_, &staticEmitterCounts_, &staticCorrection_},
                 PrunePush{surfelCount_, set.leafLinkCapacity, lightCount_, settings_.environment.empty() ? 0u : 1u, staticSet_.leafLinkCapacity});
   vk::barrier(cmd);
 }
@@ -269,11 +275,20 @@ void IvSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
       vk::barrier(cmd);
     }
   };
-  if (relink || !linked_) {
+  // Emitted radiosity π·Le at the leaves, pulled up: the bounces start from it, and the prune
+  // credits emitters through it (their direct light is the prune's, their links carry the rest).
+  auto emitAndPullUp = [&] {
+    emit_.dispatchItems(cmd, surfelCount_, {&leafOfSurfel_, &emission_, &radiosityA_}, surfelCount_);
+    vk::barrier(cmd);
+    eachLevelBottomUp([&](LevelPush level) { pullUp_.dispatchItems(cmd, level.count, {&tree_, &nodes_, &radiosityA_}, level); });
+  };
+  const bool relinking = relink || !linked_;
+  if (relinking) {
     // The static set's links and bins, once; the frame's every time the geometry moved.
     const bool linkStatic = splitsStatic() && !staticLinked_;
     timedPass(cmd, timer, "refit", [&] {
       eachLevelBottomUp([&](LevelPush level) { refit_.dispatchItems(cmd, level.count, {&tree_, &surfels, &nodes_}, level); });
+      emitAndPullUp();
     });
     timedPass(cmd, timer, "links", [&] {
       if (linkStatic) recordLinks(cmd, staticSet_);
@@ -286,9 +301,7 @@ void IvSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
     linked_ = staticLinked_ = true;
   }
   timedPass(cmd, timer, "bounces", [&] {
-    emit_.dispatchItems(cmd, surfelCount_, {&leafOfSurfel_, &emission_, &radiosityA_}, surfelCount_);
-    vk::barrier(cmd);
-    eachLevelBottomUp([&](LevelPush level) { pullUp_.dispatchItems(cmd, level.count, {&tree_, &nodes_, &radiosityA_}, level); });
+    if (!relinking) emitAndPullUp();
     for (uint32_t k = 0; k <= settings_.bounces; ++k) {
       vk::Buffer& in = k % 2 ? radiosityB_ : radiosityA_;
       vk::Buffer& out = k % 2 ? radiosityA_ : radiosityB_;
@@ -338,7 +351,7 @@ IvStats IvSolver::stats() const {
   for (const vk::Buffer* b : {&tree_, &leafOfSurfel_, &leafMoves_, &albedo_, &emission_, &binTable_, &environment_, &lights_, &nodes_, &args_,
                               &worklistA_, &worklistB_, &globalBins_, &globalCoverage_, &ranges_, &leafLinks_, &overrides_, &external_,
                               &radiosityA_, &radiosityB_, &irradiance_, &staticRanges_, &staticLinks_, &staticBins_, &staticDepths_, &staticMasks_,
-                              &staticEnvironment_})
+                              &staticEnvironment_, &staticEmitters_, &staticEmitterCounts_, &staticCorrection_})
     s.bytes += b->size();
   return s;
 }
