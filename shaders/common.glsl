@@ -15,6 +15,7 @@ struct WorldVertex { vec4 position; vec4 normal; };
 struct Surfel { vec4 positionArea; vec4 normal; vec4 shape; };  // shape: as NodeState's
 
 const uint kFlatShaded = 0x80000000u;
+const uint kEmitterBit = 0x80000000u;  // on a sender in a receiver's list: it emits
 const uint64_t kEmptyVisibility = 0xFFFFFFFFFFFFFFFFul;
 
 // Pinhole camera: right and up are scaled by tan of the half field of view; origin.w = znear,

@@ -33,7 +33,7 @@ layout(constant_id = 6) const uint kStaticEmitters = 64;  // emitters a static l
 
 layout(binding = 0, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode
 layout(binding = 2, r32ui) readonly uniform uimageBuffer starts;
-layout(binding = 3, r32ui) readonly uniform uimageBuffer senders;
+layout(binding = 3, r32ui) readonly uniform uimageBuffer senders;  // kEmitterBit marks emitters
 layout(binding = 4, r32ui) readonly uniform uimageBuffer leafOfSurfel;
 layout(binding = 5, rgba32f) readonly uniform imageBuffer binTable;  // centre direction (unit), solid angle
 layout(std430, binding = 6) buffer GlobalBins { uint64_t globalBins[]; };
@@ -249,7 +249,6 @@ vec3 environmentThrough(vec3 n, uint b, uint covered) {
 
 // Emitted radiosity π·Le of node s (pulled up); zero for a node that emits nothing.
 vec3 emitted(uint s) { return imageLoad(nodeEmission, int(s)).rgb; }
-bool emits(uint s) { return any(greaterThan(emitted(s), vec3(0.0))); }
 
 // Direct light from emitter s at the receiver (p, n): each of its pieces (as filed) with its own
 // form factor, where the bin along it shows it: the bin holds the emitter itself, nothing nearer, or
@@ -286,6 +285,11 @@ vec3 directLight(uint slot, vec3 p, vec3 n, uint s) {
   return sum * emitted(s);
 }
 
+// Emitter e of a leaf's list: its static ones first, then those the walk queued.
+uint emitterAt(uint surfel, uint staticListed, uint e) {
+  return e < staticListed ? staticEmitters[surfel * kStaticEmitters + e] : emitterQueue[e - staticListed];
+}
+
 // Sum of the workgroup's partial vectors in a fixed order (deterministic); valid in invocation 0.
 vec3 sumPartials(uint lid, vec3 mine) {
   partial[lid] = mine;
@@ -319,17 +323,14 @@ void main() {
     vec4 receiver = nodePositionArea(leaf);
     vec3 p = receiver.xyz, n = nodeNormalCone(leaf).xyz;
     float area = receiver.w;
-    // The emitters whose direct light this leaf takes: a merging leaf starts from those of its
-    // static links; the walk adds the rest. Past the queue, the bins credit them as any sender.
+    // The emitters whose direct light this leaf takes: a merging leaf's static ones (listed by the
+    // static pass) and those the walk queues. Past the queue, the bins credit them as any sender.
     uint staticEmitterCount = merging ? staticEmitterCounts[surfel] : 0u;
-    if (lid == 0u) emitterCount = staticEmitterCount == kManyEmitters ? kEmitterQueue + 1u : staticEmitterCount;
-    for (uint e = lid; e < min(staticEmitterCount, kStaticEmitters); e += 64u) emitterQueue[e] = staticEmitters[surfel * kStaticEmitters + e];
-    barrier();
     if (area > 0.0) {
       for (int a = int(leaf); a >= 0; a = int(imageLoad(tree, a).x)) {
         uint begin = imageLoad(starts, a).x, end = imageLoad(starts, a + 1).x;
         for (uint k = begin + lid; k < end; k += 64u) {
-          uint s = imageLoad(senders, int(k)).x;
+          uint marked = imageLoad(senders, int(k)).x, s = marked & ~kEmitterBit;
           vec4 positionArea = nodePositionArea(s), normalCone = nodeNormalCone(s);
           View v = viewOf(p, positionArea, normalCone);
           // Skip a sender whose disk cannot rise above the receiver's tangent plane: wholly below it,
@@ -337,7 +338,9 @@ void main() {
           float along = dot(normalCone.xyz, n);
           float rise = normalCone.w < 0.5 * kPi ? v.radius * sqrt(max(1.0 - along * along, 0.0)) : nodeRadius(s);
           if (s == leaf || dot(v.d, n) + rise <= 1e-4 * sqrt(area)) continue;
-          if (emits(s)) {
+          // A loop, not an if: a CPU device runs an if's atomic for every lane, masked, but leaves a
+          // loop no lane enters (emitters are rare).
+          for (bool emitter = (marked & kEmitterBit) != 0u; emitter; emitter = false) {
             uint queued = atomicAdd(emitterCount, 1u);
             if (queued < kEmitterQueue) emitterQueue[queued] = s;
           }
@@ -366,15 +369,18 @@ void main() {
     barrier();
     // Emitters' light: direct where they are few enough to list (the static pass keeps the list for
     // the frames, whose moving senders may hide them), the bins then carrying only their reflected
-    // light; through the bins as before where they are many (a wholly emissive room).
-    uint emitters = emitterCount, listed = min(emitters, kEmitterQueue);
-    bool direct = emitters <= (kStaticPass ? kStaticEmitters : kEmitterQueue);
-    // Sorted by node, so that the sums run in one order whatever order the atomics queued them in.
-    for (uint e = lid; e < listed; e += 64u) {
-      uint s = emitterQueue[e], rank = 0u;
-      for (uint j = 0u; j < listed; ++j) rank += emitterQueue[j] < s ? 1u : 0u;
-      sortedEmitters[rank] = s;
-    }
+    // light; through the bins as before where they are many (a wholly emissive room). Sorted by node,
+    // so that the sums run in one order whatever order the atomics queued them in.
+    uint staticListed = staticEmitterCount == kManyEmitters ? 0u : staticEmitterCount, emitters = staticListed + emitterCount;
+    bool direct = staticEmitterCount != kManyEmitters && emitters <= (kStaticPass ? kStaticEmitters : kEmitterQueue);
+    if (direct)
+      for (uint e = lid; e < emitters; e += 64u) {
+        uint s = emitterAt(surfel, staticListed, e), rank = 0u;
+        for (uint j = 0u; j < emitters; ++j) rank += emitterAt(surfel, staticListed, j) < s ? 1u : 0u;
+        sortedEmitters[rank] = s;
+      }
+    // Survivors in bin order (deterministic): count per mask word, scan, write.
+    for (uint w = lid; w < kMaskWords; w += 64u) wordStart[w] = bitCount(mask[w]);
     barrier();
     vec3 emitterLight = vec3(0.0);
     if (kStaticPass) {
@@ -383,9 +389,6 @@ void main() {
     } else if (direct) {
       for (uint e = lid; e < emitters; e += 64u) emitterLight += directLight(slot, p, n, sortedEmitters[e]);
     }
-    // Survivors in bin order (deterministic): count per mask word, scan, write.
-    for (uint w = lid; w < kMaskWords; w += 64u) wordStart[w] = bitCount(mask[w]);
-    barrier();
     if (lid == 0u) {
       uint total = 0u;
       for (uint w = 0u; w < kMaskWords; ++w) {
@@ -457,7 +460,7 @@ void main() {
       }
       mask[w] = 0u;
     }
-    if (lid == 0u) wideCount = 0u;
+    if (lid == 0u) wideCount = 0u, emitterCount = 0u;
     barrier();
   }
 }

@@ -1,6 +1,7 @@
 #version 460
 // Pass 4d: senders sorted by receiver. The order inside a receiver's list varies run to run; the
-// pruning after it keeps the nearest per bin by key, which does not depend on that order.
+// pruning after it keeps the nearest per bin by key, which does not depend on that order. A sender
+// that emits is marked (kEmitterBit), so that the pruning lists it without reading its emission.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 layout(local_size_x = 256) in;
@@ -9,10 +10,15 @@ layout(binding = 0, rg32ui) readonly uniform uimageBuffer links;  // receiver, s
 layout(std430, binding = 1) buffer Cursors { uint cursors[]; };
 layout(std430, binding = 2) writeonly buffer Senders { uint senders[]; };
 layout(std430, binding = 3) readonly buffer Counters { uint counters[]; };
+layout(binding = 4, rgba32f) readonly uniform imageBuffer nodeEmission;  // π·Le per node, pulled up
 layout(push_constant) uniform Push { uint linkCapacity; };
 
 void main() {
   uint total = min(counters[kCounterLinks], linkCapacity);
   uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
-  for (uint k = gl_GlobalInvocationID.x; k < total; k += stride) senders[atomicAdd(cursors[imageLoad(links, int(k)).x], 1u)] = imageLoad(links, int(k)).y;
+  for (uint k = gl_GlobalInvocationID.x; k < total; k += stride) {
+    uvec2 link = imageLoad(links, int(k)).xy;
+    bool emits = any(greaterThan(imageLoad(nodeEmission, int(link.y)).rgb, vec3(0.0)));
+    senders[atomicAdd(cursors[link.x], 1u)] = link.y | (emits ? kEmitterBit : 0u);
+  }
 }

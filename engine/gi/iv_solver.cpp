@@ -254,7 +254,7 @@ void IvSolver::recordLinks(VkCommandBuffer cmd, LinkSet& set) {
   vk::barrier(cmd);
   scanCounts_.dispatch(cmd, {1, 1, 1}, {&set.counts, &set.starts}, nodeCount_);
   vk::barrier(cmd);
-  scatterLinks_.dispatchIndirect(cmd, args_, sizeof(glm::uvec4), {&set.links, &set.counts, &set.senders, &set.counters}, set.linkCapacity);
+  scatterLinks_.dispatchIndirect(cmd, args_, sizeof(glm::uvec4), {&set.links, &set.counts, &set.senders, &set.counters, &radiosityA_}, set.linkCapacity);
   vk::barrier(cmd);
 }
 
