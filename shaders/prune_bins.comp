@@ -384,7 +384,8 @@ void main() {
     barrier();
     vec3 emitterLight = vec3(0.0);
     if (kStaticPass) {
-      for (uint e = lid; e < min(emitters, kStaticEmitters); e += 64u) staticEmitters[surfel * kStaticEmitters + e] = sortedEmitters[e];
+      if (direct)
+        for (uint e = lid; e < emitters; e += 64u) staticEmitters[surfel * kStaticEmitters + e] = sortedEmitters[e];
       if (lid == 0u) staticEmitterCounts[surfel] = direct ? emitters : kManyEmitters;
     } else if (direct) {
       for (uint e = lid; e < emitters; e += 64u) emitterLight += directLight(slot, p, n, sortedEmitters[e]);
