@@ -30,6 +30,7 @@ layout(constant_id = 3) const uint kMaskWords = 48;      // ⌈6·N² / 32⌉
 layout(constant_id = 4) const uint kWideQueue = 256;     // wide senders a leaf queues before filing them inline
 layout(constant_id = 5) const bool kStaticPass = false;   // prune static leaves against static links, once
 layout(constant_id = 6) const uint kStaticEmitters = 64;  // emitters a static leaf keeps for the frame's direct light
+layout(constant_id = 7) const uint kEmitterQueue = 256;   // emitters a leaf lists
 
 layout(binding = 0, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode
 layout(binding = 2, r32ui) readonly uniform uimageBuffer starts;
@@ -67,7 +68,7 @@ shared vec3 partial[64];
 shared uint leafBase;
 shared uint wideQueue[kWideQueue];
 shared uint wideCount;
-const uint kEmitterQueue = 256u, kManyEmitters = 0xFFFFFFFFu;  // emitters a leaf lists; a static list that did not fit
+const uint kManyEmitters = 0xFFFFFFFFu;  // a static leaf's emitters that did not fit its list
 shared uint emitterQueue[kEmitterQueue], sortedEmitters[kEmitterQueue];
 shared uint emitterCount;
 
@@ -194,10 +195,11 @@ View viewOf(vec3 p, vec4 positionArea, vec4 normalCone) {
   return v;
 }
 
-// Piece `index` of the k×k pieces of a sender's rectangle, filed along its own direction with its own
-// solid angle: the footprints follow the sender's outline, and a coincident sender on a hard edge is
-// seen through its off-centre pieces. A curved sender is the square of its area facing the receiver.
-void filePiece(uint slot, vec3 n, uint s, vec4 normalCone, View v, uint index) {
+// Piece `index` of the k×k pieces of a sender's rectangle as the receiver (normal n) sees it: its
+// offset q, its own solid angle and half-sides. A curved sender is the square of its area facing
+// the receiver. False for a piece below the receiver's horizon.
+struct Piece { vec3 q; float omega; vec3 sideA, sideB; };
+bool pieceOf(vec3 n, uint s, vec4 normalCone, View v, uint index, out Piece piece) {
   vec3 sideA, sideB;
   senderSides(s, normalCone, sideA, sideB);
   if (sideA == vec3(0.0)) {
@@ -206,12 +208,20 @@ void filePiece(uint slot, vec3 n, uint s, vec4 normalCone, View v, uint index) {
     sideA = 0.5 * sqrt(kPi) * v.radius * t1, sideB = 0.5 * sqrt(kPi) * v.radius * t2;
   }
   vec2 at = (vec2(index % v.k, index / v.k) + 0.5) / float(v.k) * 2.0 - 1.0;  // in (−1, 1)²
-  vec3 q = v.d + at.x * sideA + at.y * sideB;
-  float q2 = dot(q, q);
-  if (dot(q, n) <= 0.0 || q2 <= 0.0) return;
-  float cosQ = abs(dot(normalCone.xyz, q)) * inversesqrt(q2);
-  float k = float(v.k);
-  insertFootprint(slot, q, packLinkKey(v.dist2, s, false), diskSolidAngle(v.radius / k, q2) * max(cosQ, v.minCos), sideA / k, sideB / k);
+  piece.q = v.d + at.x * sideA + at.y * sideB;
+  float q2 = dot(piece.q, piece.q), k = float(v.k);
+  if (dot(piece.q, n) <= 0.0 || q2 <= 0.0) return false;
+  float cosQ = abs(dot(normalCone.xyz, piece.q)) * inversesqrt(q2);
+  piece.omega = diskSolidAngle(v.radius / k, q2) * max(cosQ, v.minCos);
+  piece.sideA = sideA / k, piece.sideB = sideB / k;
+  return true;
+}
+
+// Piece `index`, filed along its own direction with its own solid angle: the footprints follow the
+// sender's outline, and a coincident sender on a hard edge is seen through its off-centre pieces.
+void filePiece(uint slot, vec3 n, uint s, vec4 normalCone, View v, uint index) {
+  Piece piece;
+  if (pieceOf(n, s, normalCone, v, index, piece)) insertFootprint(slot, piece.q, packLinkKey(v.dist2, s, false), piece.omega, piece.sideA, piece.sideB);
 }
 
 // Irradiance at the receiver from punctual lights that are nearer than the nearest element in their bin.
@@ -258,21 +268,12 @@ vec3 emitted(uint s) { return imageLoad(nodeEmission, int(s)).rgb; }
 vec3 directLight(uint slot, vec3 p, vec3 n, uint s) {
   vec4 normalCone = nodeNormalCone(s);
   View v = viewOf(p, nodePositionArea(s), normalCone);
-  vec3 sideA, sideB;
-  senderSides(s, normalCone, sideA, sideB);
-  if (sideA == vec3(0.0)) {
-    vec3 t1, t2;
-    tangentFrame(n, t1, t2);
-    sideA = 0.5 * sqrt(kPi) * v.radius * t1, sideB = 0.5 * sqrt(kPi) * v.radius * t2;
-  }
   float sum = 0.0;
-  for (uint piece = 0u; piece < v.k * v.k; ++piece) {
-    vec2 at = (vec2(piece % v.k, piece / v.k) + 0.5) / float(v.k) * 2.0 - 1.0;
-    vec3 q = v.k == 1u ? v.d : v.d + at.x * sideA + at.y * sideB;
+  for (uint index = 0u; index < v.k * v.k; ++index) {
+    Piece piece;
+    if (!pieceOf(n, s, normalCone, v, index, piece) || (dot(normalCone.xyz, piece.q) >= 0.0 && normalCone.w < 0.5 * kPi)) continue;  // its back
+    vec3 q = piece.q;
     float q2 = dot(q, q);
-    if (dot(q, n) <= 0.0 || q2 <= 0.0 || (dot(normalCone.xyz, q) >= 0.0 && normalCone.w < 0.5 * kPi)) continue;  // below the horizon, or its back
-    float cosQ = abs(dot(normalCone.xyz, q)) * inversesqrt(q2);
-    float omega = v.k == 1u ? v.omega : diskSolidAngle(v.radius / float(v.k), q2) * max(cosQ, v.minCos);
     uint64_t nearest = binAt(slot, binOf(q, kN)).key;
     uint o = keyId(nearest);
     vec4 plane = nodeNormalCone(o);
@@ -280,7 +281,7 @@ vec3 directLight(uint slot, vec3 p, vec3 n, uint s) {
     float sideOfReceiver = dot(plane.xyz, p - onPlane), sideOfEmitter = dot(plane.xyz, p + q - onPlane), margin = 1e-3 * sqrt(q2);
     bool separates = plane.w >= 0.5 * kPi || (sideOfReceiver > margin && sideOfEmitter < -margin) || (sideOfReceiver < -margin && sideOfEmitter > margin);
     bool visible = nearest == kEmptyVisibility || o == s || linkKeyDepth(nearest) >= v.dist2 * 0.999 || !separates;
-    if (visible) sum += omega * dot(n, q) * inversesqrt(q2) / kPi;
+    if (visible) sum += piece.omega * dot(n, q) * inversesqrt(q2) / kPi;
   }
   return sum * emitted(s);
 }

@@ -31,13 +31,13 @@ constexpr uint32_t kCounterLinks = 2, kCounterLeafLinks = 3, kCounterOverflow = 
 constexpr uint32_t kMaxPruneGroups = 512;
 constexpr uint32_t kWideQueue = 256;  // prune_bins.comp's queue of wide senders per leaf
 constexpr uint32_t kStaticEmitters = 64;  // emitters a static leaf keeps for the frame's direct light (prune_bins.comp)
-constexpr uint32_t kEmitterQueue = 256;   // emitters a leaf lists (prune_bins.comp)
+constexpr uint32_t kEmitterQueue = 256;   // emitters a leaf lists (prune_bins.comp), counted in its shared memory
 
 uint32_t maskWordsFor(uint32_t n) { return (6 * n * n + 31) / 32; }
 
 // Specialization constants of prune_bins.comp.
 std::vector<uint32_t> pruneConstants(uint32_t n, bool sharedBins, bool staticPass) {
-  return {n, sharedBins ? 1u : 0u, sharedBins ? 6 * n * n : 1u, maskWordsFor(n), kWideQueue, staticPass ? 1u : 0u, kStaticEmitters};
+  return {n, sharedBins ? 1u : 0u, sharedBins ? 6 * n * n : 1u, maskWordsFor(n), kWideQueue, staticPass ? 1u : 0u, kStaticEmitters, kEmitterQueue};
 }
 
 vk::Buffer counterBuffer(const vk::Context& ctx) { return vk::Buffer(ctx, 8 * sizeof(uint32_t), vk::Memory::Host); }

@@ -112,8 +112,8 @@ class IvSolver {
   vk::Buffer tree_, leafOfSurfel_, leafMoves_, albedo_, emission_, binTable_, environment_, lights_;
   vk::Buffer nodes_, args_, worklistA_, worklistB_;
   vk::Buffer globalBins_, globalCoverage_, ranges_, leafLinks_, overrides_, external_, radiosityA_, radiosityB_, irradiance_;
-  vk::Buffer staticEmitters_, staticEmitterCounts_, staticCorrection_;
   vk::Buffer staticRanges_, staticLinks_, staticBins_, staticDepths_, staticMasks_, staticEnvironment_;
+  vk::Buffer staticEmitters_, staticEmitterCounts_, staticCorrection_;
   uint32_t lightCount_ = 0;
   uint32_t finalRadiosity_ = 0;  // 0: A, 1: B
 
