@@ -27,7 +27,7 @@ layout(constant_id = 0) const uint kN = 16;              // bins per face side
 layout(constant_id = 1) const bool kSharedBins = true;
 layout(constant_id = 2) const uint kSharedSlots = 1536;  // 6·N² on the shared path, else 1
 layout(constant_id = 3) const uint kMaskWords = 48;      // ⌈6·N² / 32⌉
-layout(constant_id = 4) const uint kWideQueue = 256;     // wide senders a leaf queues before filing them inline
+layout(constant_id = 4) const uint kPathChunk = 512;     // root-path senders gathered per round (and the most that can be wide)
 layout(constant_id = 5) const bool kStaticPass = false;   // prune static leaves against static links, once
 layout(constant_id = 6) const uint kStaticEmitters = 64;  // emitters a static leaf keeps for the frame's direct light
 layout(constant_id = 7) const uint kEmitterQueue = 256;   // emitters a leaf lists
@@ -66,7 +66,7 @@ shared uint mask[kMaskWords];
 shared uint wordStart[kMaskWords];
 shared vec3 partial[64];
 shared uint leafBase;
-shared uint wideQueue[kWideQueue];
+shared uint pathChunk[kPathChunk], wideQueue[kPathChunk];
 shared uint wideCount;
 const uint kManyEmitters = 0xFFFFFFFFu;  // a static leaf's emitters that did not fit its list
 shared uint emitterQueue[kEmitterQueue], sortedEmitters[kEmitterQueue];
@@ -224,6 +224,34 @@ void filePiece(uint slot, vec3 n, uint s, vec4 normalCone, View v, uint index) {
   if (pieceOf(n, s, normalCone, v, index, piece)) insertFootprint(slot, piece.q, packLinkKey(v.dist2, s, false), piece.omega, piece.sideA, piece.sideB);
 }
 
+// Files one sender of the leaf's root path (`marked`: its node, kEmitterBit if it emits), seen from
+// the receiver (p, n, area): skipped where its disk cannot rise above the receiver's tangent plane
+// (wholly below it, or lying in it: the receiver's own neighbours on a flat face); an emitter is
+// also listed for its direct light; one at most a bin wide is filed whole, a wider one queued for
+// its pieces (2 % of the candidates at 4k surfels, a quarter at 500: filed one per lane here, their
+// k² pieces would hold up the whole subgroup).
+void fileSender(uint slot, uint leaf, vec3 p, vec3 n, float area, uint marked) {
+  uint s = marked & ~kEmitterBit;
+  vec4 positionArea = nodePositionArea(s), normalCone = nodeNormalCone(s);
+  View v = viewOf(p, positionArea, normalCone);
+  float along = dot(normalCone.xyz, n);
+  float rise = normalCone.w < 0.5 * kPi ? v.radius * sqrt(max(1.0 - along * along, 0.0)) : nodeRadius(s);
+  if (s == leaf || dot(v.d, n) + rise <= 1e-4 * sqrt(area)) return;
+  // A loop, not an if: a CPU device runs an if's atomic for every lane, masked, but leaves a loop no
+  // lane enters (emitters are rare).
+  for (bool emitter = (marked & kEmitterBit) != 0u; emitter; emitter = false) {
+    uint queued = atomicAdd(emitterCount, 1u);
+    if (queued < kEmitterQueue) emitterQueue[queued] = s;
+  }
+  if (v.k == 1u) {
+    vec3 sideA, sideB;
+    senderSides(s, normalCone, sideA, sideB);
+    insertFootprint(slot, v.d, packLinkKey(v.dist2, s, false), v.omega, sideA, sideB);
+  } else {
+    wideQueue[atomicAdd(wideCount, 1u)] = s;  // at most one per sender of the chunk
+  }
+}
+
 // Irradiance at the receiver from punctual lights that are nearer than the nearest element in their bin.
 vec3 punctualLight(uint slot, vec3 p, vec3 n) {
   vec3 sum = vec3(0.0);
@@ -327,45 +355,36 @@ void main() {
     // The emitters whose direct light this leaf takes: a merging leaf's static ones (listed by the
     // static pass) and those the walk queues. Past the queue, the bins credit them as any sender.
     uint staticEmitterCount = merging ? staticEmitterCounts[surfel] : 0u;
-    if (area > 0.0) {
-      for (int a = int(leaf); a >= 0; a = int(imageLoad(tree, a).x)) {
-        uint begin = imageLoad(starts, a).x, end = imageLoad(starts, a + 1).x;
-        for (uint k = begin + lid; k < end; k += 64u) {
-          uint marked = imageLoad(senders, int(k)).x, s = marked & ~kEmitterBit;
-          vec4 positionArea = nodePositionArea(s), normalCone = nodeNormalCone(s);
-          View v = viewOf(p, positionArea, normalCone);
-          // Skip a sender whose disk cannot rise above the receiver's tangent plane: wholly below it,
-          // or lying in it (the receiver's own neighbours on a flat face).
-          float along = dot(normalCone.xyz, n);
-          float rise = normalCone.w < 0.5 * kPi ? v.radius * sqrt(max(1.0 - along * along, 0.0)) : nodeRadius(s);
-          if (s == leaf || dot(v.d, n) + rise <= 1e-4 * sqrt(area)) continue;
-          // A loop, not an if: a CPU device runs an if's atomic for every lane, masked, but leaves a
-          // loop no lane enters (emitters are rare).
-          for (bool emitter = (marked & kEmitterBit) != 0u; emitter; emitter = false) {
-            uint queued = atomicAdd(emitterCount, 1u);
-            if (queued < kEmitterQueue) emitterQueue[queued] = s;
-          }
-          if (v.k == 1u) {
-            vec3 sideA, sideB;
-            senderSides(s, normalCone, sideA, sideB);
-            insertFootprint(slot, v.d, packLinkKey(v.dist2, s, false), v.omega, sideA, sideB);
-            continue;
-          }
-          // Wide senders (2 % of the candidates at 4k surfels, a quarter at 500) wait in a queue:
-          // filed one per lane here, their k² pieces would hold up the whole subgroup.
-          uint queued = atomicAdd(wideCount, 1u);
-          if (queued < kWideQueue) wideQueue[queued] = s;
-          else for (uint piece = 0u; piece < v.k * v.k; ++piece) filePiece(slot, n, s, normalCone, v, piece);
+    // The root path's senders, a chunk at a time, are first gathered into shared memory and then
+    // filed in one pass: a CPU device runs the filing code, lanes masked, on every round of a
+    // subgroup however few of its lanes have a sender, and ancestor by ancestor the ranges are short
+    // (a static leaf's frame senders: a few per ancestor). Gathered, the prune took 18 % less time.
+    int a = area > 0.0 ? int(leaf) : -1;
+    uint next = a >= 0 ? imageLoad(starts, a).x : 0u;
+    while (a >= 0) {
+      uint listed = 0u;
+      while (a >= 0 && listed < kPathChunk) {
+        uint end = imageLoad(starts, a + 1).x, take = min(end - next, kPathChunk - listed);
+        for (uint j = lid; j < take; j += 64u) pathChunk[listed + j] = imageLoad(senders, int(next + j)).x;
+        listed += take;
+        next += take;
+        if (next == end) {
+          a = int(imageLoad(tree, a).x);
+          next = a >= 0 ? imageLoad(starts, a).x : 0u;
         }
       }
-    }
-    barrier();
-    // Each group of 8 lanes (a subgroup on lavapipe) takes a queued sender and files its pieces, one per lane.
-    for (uint e = lid / 8u; e < min(wideCount, kWideQueue); e += 8u) {
-      uint s = wideQueue[e];
-      vec4 normalCone = nodeNormalCone(s);
-      View v = viewOf(p, nodePositionArea(s), normalCone);
-      for (uint piece = lid % 8u; piece < v.k * v.k; piece += 8u) filePiece(slot, n, s, normalCone, v, piece);
+      barrier();
+      for (uint j = lid; j < listed; j += 64u) fileSender(slot, leaf, p, n, area, pathChunk[j]);
+      barrier();
+      // Each group of 8 lanes (a subgroup on lavapipe) takes a queued sender and files its pieces, one per lane.
+      for (uint e = lid / 8u; e < wideCount; e += 8u) {
+        uint s = wideQueue[e];
+        vec4 normalCone = nodeNormalCone(s);
+        View v = viewOf(p, nodePositionArea(s), normalCone);
+        for (uint piece = lid % 8u; piece < v.k * v.k; piece += 8u) filePiece(slot, n, s, normalCone, v, piece);
+      }
+      barrier();
+      if (lid == 0u) wideCount = 0u;  // before the next chunk's filing, past its gathering barrier
     }
     barrier();
     // Emitters' light: direct where they are few enough to list (the static pass keeps the list for

@@ -29,7 +29,7 @@ struct GatherPush {
 constexpr uint32_t kNoCounter = 0xFFFFFFFFu;
 constexpr uint32_t kCounterLinks = 2, kCounterLeafLinks = 3, kCounterOverflow = 4, kCounterWorklistPeak = 5;
 constexpr uint32_t kMaxPruneGroups = 512;
-constexpr uint32_t kWideQueue = 256;  // prune_bins.comp's queue of wide senders per leaf
+constexpr uint32_t kPathChunk = 512;  // root-path senders prune_bins.comp gathers per round, and its queue of wide ones
 constexpr uint32_t kStaticEmitters = 64;  // emitters a static leaf keeps for the frame's direct light (prune_bins.comp)
 constexpr uint32_t kEmitterQueue = 256;   // emitters a leaf lists (prune_bins.comp), counted in its shared memory
 
@@ -37,7 +37,7 @@ uint32_t maskWordsFor(uint32_t n) { return (6 * n * n + 31) / 32; }
 
 // Specialization constants of prune_bins.comp.
 std::vector<uint32_t> pruneConstants(uint32_t n, bool sharedBins, bool staticPass) {
-  return {n, sharedBins ? 1u : 0u, sharedBins ? 6 * n * n : 1u, maskWordsFor(n), kWideQueue, staticPass ? 1u : 0u, kStaticEmitters, kEmitterQueue};
+  return {n, sharedBins ? 1u : 0u, sharedBins ? 6 * n * n : 1u, maskWordsFor(n), kPathChunk, staticPass ? 1u : 0u, kStaticEmitters, kEmitterQueue};
 }
 
 vk::Buffer counterBuffer(const vk::Context& ctx) { return vk::Buffer(ctx, 8 * sizeof(uint32_t), vk::Memory::Host); }
@@ -85,9 +85,9 @@ std::vector<glm::vec4> IvSolver::binTable(uint32_t n) {
 }
 
 bool IvSolver::binsFitShared(const vk::Context& ctx, uint32_t n) {
-  // bins and coverage, mask and word starts, partial sums, the wide-sender queue, the emitter
-  // queue and its sorted copy (prune_bins.comp)
-  uint64_t bytes = uint64_t(6) * n * n * (8 + 4) + uint64_t(maskWordsFor(n)) * 8 + 64 * 16 + 16 + kWideQueue * 4 + 4 + kEmitterQueue * 8 + 4;
+  // bins and coverage, mask and word starts, partial sums, the chunk of root-path senders and its
+  // wide ones, the emitter queue and its sorted copy (prune_bins.comp)
+  uint64_t bytes = uint64_t(6) * n * n * (8 + 4) + uint64_t(maskWordsFor(n)) * 8 + 64 * 16 + 16 + kPathChunk * 8 + 4 + kEmitterQueue * 8 + 4;
   return ctx.sharedInt64Atomics() && bytes <= ctx.limits().maxComputeSharedMemorySize;
 }
 
