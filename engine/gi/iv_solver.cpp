@@ -28,7 +28,12 @@ struct GatherPush {
 };
 constexpr uint32_t kNoCounter = 0xFFFFFFFFu;
 constexpr uint32_t kCounterLinks = 2, kCounterLeafLinks = 3, kCounterOverflow = 4, kCounterWorklistPeak = 5;
-constexpr uint32_t kMaxPruneGroups = 512;
+constexpr uint32_t kMinPruneGroups = 512;
+// lavapipe 22.3 lets a workgroup's subgroups fall out of step at their barriers after many rounds
+// (measured: at 124 leaves a workgroup, a subgroup ran a different number of root-path chunks and
+// bins went unreset, losing ~60 % of the survivors at 63k surfels, differently each run), so no
+// workgroup walks more than this many leaves.
+constexpr uint32_t kMaxLeavesPerGroup = 8;
 constexpr uint32_t kPathChunk = 512;  // root-path senders prune_bins.comp gathers per round, and its queue of wide ones
 constexpr uint32_t kStaticEmitters = 64;  // emitters a static leaf keeps for the frame's direct light (prune_bins.comp)
 constexpr uint32_t kEmitterQueue = 256;   // emitters a leaf lists (prune_bins.comp), counted in its shared memory
@@ -188,7 +193,7 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, const IvSet
 }
 
 uint32_t IvSolver::pruneGroups() const {
-  uint32_t groups = std::min(std::max(surfelCount_, 1u), kMaxPruneGroups);
+  uint32_t groups = std::min(std::max(surfelCount_, 1u), std::max(kMinPruneGroups, (surfelCount_ + kMaxLeavesPerGroup - 1) / kMaxLeavesPerGroup));
   if (!sharedBins_) {  // every workgroup owns a slot of 6·N² bins in one buffer within the device's range
     uint64_t slotBytes = uint64_t(6) * settings_.bins * settings_.bins * 8;  // the larger of the two slot arrays
     groups = std::min<uint32_t>(groups, uint32_t(std::max<uint64_t>(1, std::min<uint64_t>(ctx_.limits().maxStorageBufferRange, 512ull << 20) / slotBytes)));
@@ -259,7 +264,8 @@ void IvSolver::recordLinks(VkCommandBuffer cmd, LinkSet& set) {
 }
 
 void IvSolver::recordPrune(VkCommandBuffer cmd, const vk::Program& pass, LinkSet& set) {
-  pass.dispatch(cmd, {pruneGroups(), 1, 1},
+  const uint32_t groups = pruneGroups();
+  pass.dispatch(cmd, {std::min(groups, 65535u), (groups + 65534u) / 65535u, 1},
                 {&tree_, &nodes_, &set.starts, &set.senders, &leafOfSurfel_, &binTable_, &globalBins_, &ranges_, &leafLinks_, &set.counters,
                  &external_, &lights_, &environment_, &globalCoverage_, &leafMoves_, &staticRanges_, &staticLinks_, &staticBins_, &staticDepths_,
                  &staticMasks_, &staticEnvironment_, &overrides_, &radiosityA_, &staticEmitters_, &staticEmitterCounts_, &staticCorrection_},
