@@ -237,8 +237,8 @@ void fileSender(uint slot, uint leaf, vec3 p, vec3 n, float area, uint marked) {
   float along = dot(normalCone.xyz, n);
   float rise = normalCone.w < 0.5 * kPi ? v.radius * sqrt(max(1.0 - along * along, 0.0)) : nodeRadius(s);
   if (s == leaf || dot(v.d, n) + rise <= 1e-4 * sqrt(area)) return;
-  // A loop, not an if: a CPU device runs an if's atomic for every lane, masked, but leaves a loop no
-  // lane enters (emitters are rare).
+  // A loop, not an if: on lavapipe the if cost 15–20 % of the prune at 17,574 surfels (its atomic
+  // runs lane by lane, masked, for every sender; emitters are rare).
   for (bool emitter = (marked & kEmitterBit) != 0u; emitter; emitter = false) {
     uint queued = atomicAdd(emitterCount, 1u);
     if (queued < kEmitterQueue) emitterQueue[queued] = s;
@@ -481,7 +481,7 @@ void main() {
       }
       mask[w] = 0u;
     }
-    if (lid == 0u) wideCount = 0u, emitterCount = 0u;
+    if (lid == 0u) emitterCount = 0u;  // (each chunk already emptied the wide queue)
     barrier();
   }
 }
