@@ -178,11 +178,10 @@ float nodeRadius(uint i) { return nodeShape(i).x; }
 NodeState nodeState(uint i) { return NodeState(nodePositionArea(i), nodeNormalCone(i), nodeShape(i)); }
 #endif
 struct LeafRange { uint first; uint count; };
-// A surviving link of a leaf: sender node and the clamped form factor.
-struct LeafLink { uint sender; float formFactor; };
-// Beside each surviving link of a static leaf against static senders (made once): its bin and the
-// bin's covered solid angle (1/65536 of the bin's), to be merged with the moving senders of a frame.
-struct StaticBin { uint bin; uint coverage; };
+// Leaf links live in rg32ui texel buffers (their views reach past maxStorageBufferRange):
+// LeafLink, a surviving link of a leaf: sender node, bits of the clamped form factor.
+// StaticBin, beside each surviving link of a static leaf against static senders (made once): its
+// bin and the bin's covered solid angle (1/65536 of the bin's), merged with a frame's moving senders.
 // Indices into the solver's counter buffer.
 const uint kCounterWorklistA = 0u, kCounterWorklistB = 1u, kCounterLinks = 2u, kCounterLeafLinks = 3u, kCounterOverflow = 4u,
            kCounterWorklistPeak = 5u;

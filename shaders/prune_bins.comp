@@ -39,7 +39,9 @@ layout(binding = 4, r32ui) readonly uniform uimageBuffer leafOfSurfel;
 layout(binding = 5, rgba32f) readonly uniform imageBuffer binTable;  // centre direction (unit), solid angle
 layout(std430, binding = 6) buffer GlobalBins { uint64_t globalBins[]; };
 layout(std430, binding = 7) writeonly buffer Ranges { LeafRange ranges[]; };
-layout(std430, binding = 8) writeonly buffer Links { LeafLink leafLinks[]; };
+// The leaf links are texel buffers: a texel view reaches maxTexelBufferElements (2^27 on lavapipe,
+// 1 GiB of links), where a storage buffer stops at maxStorageBufferRange (128 MiB).
+layout(binding = 8, rg32ui) writeonly uniform uimageBuffer leafLinks;  // LeafLink: sender, form-factor bits
 layout(std430, binding = 9) buffer Counters { uint counters[]; };
 layout(std430, binding = 10) writeonly buffer External { vec4 externalLight[]; };  // irradiance from lights and environment
 layout(std430, binding = 11) readonly buffer Lights { PunctualLight lights[]; };
@@ -48,9 +50,9 @@ layout(std430, binding = 13) buffer GlobalCoverage { uint globalCoverage[]; };
 layout(binding = 14, r32ui) readonly uniform uimageBuffer leafMoves;  // per surfel: 1 if its object moves
 // The static pass writes these; the frame pass reads them.
 layout(std430, binding = 15) buffer StaticRanges { LeafRange staticRanges[]; };
-layout(std430, binding = 16) buffer StaticLinks { LeafLink staticLinks[]; };
-layout(std430, binding = 17) buffer StaticBins { StaticBin staticBins[]; };
-layout(std430, binding = 18) buffer StaticDepths { uint staticDepths[]; };  // the key's upper half (fringe bit, d²), beside the link
+layout(binding = 16, rg32ui) uniform uimageBuffer staticLinks;  // LeafLink
+layout(binding = 17, rg32ui) uniform uimageBuffer staticBins;   // StaticBin: bin, coverage
+layout(binding = 18, r32ui) uniform uimageBuffer staticDepths;  // the key's upper half (fringe bit, d²), beside the link
 layout(std430, binding = 19) buffer StaticMasks { uvec2 staticMasks[]; };  // per leaf and mask word: bins held, entries before
 layout(std430, binding = 20) buffer StaticEnvironment { vec4 staticEnvironment[]; };
 layout(std430, binding = 21) writeonly buffer Overrides { uint overrides[]; };  // per static leaf and mask word: bins re-emitted
@@ -58,7 +60,8 @@ layout(binding = 22, rgba32f) readonly uniform imageBuffer nodeEmission;  // π�
 layout(std430, binding = 23) buffer StaticEmitters { uint staticEmitters[]; };  // per static leaf: the emitters of its static links
 layout(std430, binding = 24) buffer StaticEmitterCounts { uint staticEmitterCounts[]; };  // kManyEmitters: too many, credited by the bins
 layout(std430, binding = 25) buffer StaticCorrection { vec4 staticCorrection[]; };  // the static bins' emission, taken back
-layout(push_constant) uniform Push { uint surfelCount; uint linkCapacity; uint lightCount; uint environmentOn; uint staticCapacity; };
+// The leaves [firstSurfel, endSurfel) of this dispatch's batch.
+layout(push_constant) uniform Push { uint firstSurfel; uint endSurfel; uint linkCapacity; uint lightCount; uint environmentOn; uint staticCapacity; };
 
 shared uint64_t sharedBins[kSharedSlots];
 shared uint sharedCoverage[kSharedSlots];  // covered solid angle in 1/kCoverageUnit of the bin's
@@ -105,8 +108,8 @@ Bin binAt(uint slot, uint b) {
   if ((word.x & bit) == 0u) return bin;
   uint e = staticFirst + word.y + bitCount(word.x & (bit - 1u));
   if (e >= staticCapacity) return bin;  // the static pass overflowed: this frame is redone
-  bin.key = min(bin.key, uint64_t(staticDepths[e]) << 32 | staticLinks[e].sender);
-  bin.staticCovered = staticBins[e].coverage;
+  bin.key = min(bin.key, uint64_t(imageLoad(staticDepths, int(e)).x) << 32 | imageLoad(staticLinks, int(e)).x);
+  bin.staticCovered = imageLoad(staticBins, int(e)).y;
   bin.staticEntry = int(e);
   bin.covered += bin.staticCovered;
   return bin;
@@ -339,7 +342,7 @@ void main() {
   barrier();
 
   uint groups = gl_NumWorkGroups.x * gl_NumWorkGroups.y;
-  for (uint surfel = groupIndex(); surfel < surfelCount; surfel += groups) {
+  for (uint surfel = firstSurfel + groupIndex(); surfel < endSurfel; surfel += groups) {
     bool moves = imageLoad(leafMoves, int(surfel)).x != 0u;
     if (kStaticPass && moves) {  // pruned every frame instead
       if (lid == 0u) staticRanges[surfel] = LeafRange(0u, 0u);
@@ -438,17 +441,20 @@ void main() {
         float f = survivorFormFactor(n, s, b, bin.covered);
         if (outIndex < linkCapacity) {
           if (kStaticPass) {
-            staticLinks[outIndex] = LeafLink(s, f);
-            staticBins[outIndex] = StaticBin(b, bin.covered);
-            staticDepths[outIndex] = uint(bin.key >> 32);
+            imageStore(staticLinks, int(outIndex), uvec4(s, floatBitsToUint(f), 0u, 0u));
+            imageStore(staticBins, int(outIndex), uvec4(b, bin.covered, 0u, 0u));
+            imageStore(staticDepths, int(outIndex), uvec4(uint(bin.key >> 32)));
           } else {
-            leafLinks[outIndex] = LeafLink(s, f);
+            imageStore(leafLinks, int(outIndex), uvec4(s, floatBitsToUint(f), 0u, 0u));
           }
         }
         ++outIndex;
         if (direct) {
           emitterLight -= f * emitted(s);
-          if (bin.staticEntry >= 0) emitterLight += staticLinks[bin.staticEntry].formFactor * emitted(staticLinks[bin.staticEntry].sender);
+          if (bin.staticEntry >= 0) {
+            uvec2 link = imageLoad(staticLinks, bin.staticEntry).xy;
+            emitterLight += uintBitsToFloat(link.y) * emitted(link.x);
+          }
         }
         if (merging && environmentOn != 0u) environmentChange += environmentThrough(n, b, bin.covered) - environmentThrough(n, b, bin.staticCovered);
       }

@@ -21,7 +21,7 @@ struct RefinePush {
   float epsilon, binSolidAngle;
 };
 struct PrunePush {
-  uint32_t surfelCount, linkCapacity, lightCount, environmentOn, staticCapacity;
+  uint32_t firstSurfel, endSurfel, linkCapacity, lightCount, environmentOn, staticCapacity;
 };
 struct GatherPush {
   uint32_t surfelCount, maskWords;
@@ -32,7 +32,7 @@ constexpr uint32_t kMinPruneGroups = 512;
 // lavapipe 22.3 lets a workgroup's subgroups fall out of step at their barriers after many rounds
 // (measured: at 124 leaves a workgroup, a subgroup ran a different number of root-path chunks and
 // bins went unreset, losing ~60 % of the survivors at 63k surfels, differently each run), so no
-// workgroup walks more than this many leaves.
+// workgroup walks more than this many leaves in one dispatch.
 constexpr uint32_t kMaxLeavesPerGroup = 8;
 constexpr uint32_t kPathChunk = 512;  // root-path senders prune_bins.comp gathers per round, and its queue of wide ones
 constexpr uint32_t kStaticEmitters = 64;  // emitters a static leaf keeps for the frame's direct light (prune_bins.comp)
@@ -202,27 +202,45 @@ uint32_t IvSolver::pruneGroups() const {
 }
 
 void IvSolver::allocateLinks() {
-  auto check = [&](uint64_t bytes, const char* what) {
-    if (bytes > ctx_.limits().maxStorageBufferRange)
-      throw vk::VulkanError(std::string("the iv solver needs ") + std::to_string(bytes >> 20) + " MiB of " + what +
-                            ", above the device's maxStorageBufferRange of " + std::to_string(ctx_.limits().maxStorageBufferRange >> 20) +
-                            " MiB: raise --eps or lower --bins");
+  // What grows with the link counts, and how each is bound: a storage buffer stops at
+  // maxStorageBufferRange; the leaf links, texels in prune_bins.comp and gather.comp, at
+  // maxTexelBufferElements and the largest allocation.
+  enum class Binding { Storage, Texels };
+  struct Array {
+    vk::Buffer* buffer;
+    uint64_t count, elementBytes;
+    Binding binding;
+    const char* what;
   };
-  check(uint64_t(worklistCapacity_) * 8, "refinement worklist");
-  for (const LinkSet* set : {&staticSet_, &frameSet_}) {
-    check(uint64_t(set->linkCapacity) * 8, "links");
-    check(uint64_t(set->leafLinkCapacity) * 8, "leaf links");
+  std::vector<Array> arrays = {{&worklistA_, worklistCapacity_, 8, Binding::Storage, "refinement worklist"},
+                               {&worklistB_, worklistCapacity_, 8, Binding::Storage, "refinement worklist"},
+                               {&leafLinks_, frameSet_.leafLinkCapacity, 8, Binding::Texels, "leaf links"},
+                               {&staticLinks_, staticSet_.leafLinkCapacity, 8, Binding::Texels, "static leaf links"},
+                               {&staticBins_, staticSet_.leafLinkCapacity, 8, Binding::Texels, "static leaf links' bins"},
+                               {&staticDepths_, staticSet_.leafLinkCapacity, 4, Binding::Texels, "static leaf links' depths"}};
+  for (LinkSet* set : {&staticSet_, &frameSet_})
+    arrays.insert(arrays.end(), {{&set->links, set->linkCapacity, 8, Binding::Storage, "links"},
+                                 {&set->senders, set->linkCapacity, 4, Binding::Storage, "links"}});
+  auto refuse = [&](uint64_t bytes, const std::string& what, const char* limit, uint64_t limitBytes) {
+    throw vk::VulkanError("the iv solver needs " + std::to_string(bytes >> 20) + " MiB of " + what + ", above the device's " + limit + " of " +
+                          std::to_string(limitBytes >> 20) + " MiB: raise --eps or lower --bins");
+  };
+  const VkPhysicalDeviceLimits& limits = ctx_.limits();
+  uint64_t total = allocatedBytes();  // once every array has its new size
+  for (const Array& a : arrays) {
+    const uint64_t count = std::max<uint64_t>(a.count, 1), bytes = count * a.elementBytes;
+    if (a.binding == Binding::Storage && bytes > limits.maxStorageBufferRange)
+      refuse(bytes, a.what, "maxStorageBufferRange", limits.maxStorageBufferRange);
+    if (a.binding == Binding::Texels && count > limits.maxTexelBufferElements)
+      refuse(bytes, a.what, "maxTexelBufferElements", uint64_t(limits.maxTexelBufferElements) * a.elementBytes);
+    if (bytes > ctx_.maxAllocationBytes()) refuse(bytes, a.what, "maxMemoryAllocationSize", ctx_.maxAllocationBytes());
+    total += bytes - a.buffer->size();
   }
-  worklistA_ = deviceArray<glm::uvec2>(ctx_, worklistCapacity_);
-  worklistB_ = deviceArray<glm::uvec2>(ctx_, worklistCapacity_);
-  for (LinkSet* set : {&staticSet_, &frameSet_}) {
-    set->links = deviceArray<glm::uvec2>(ctx_, set->linkCapacity);
-    set->senders = deviceArray<uint32_t>(ctx_, set->linkCapacity);
+  if (total > ctx_.deviceHeapBytes()) refuse(total, "device memory in all", "memory heap", ctx_.deviceHeapBytes());
+  for (const Array& a : arrays) {
+    *a.buffer = vk::Buffer();  // before its successor: the two need not fit at once
+    *a.buffer = vk::Buffer(ctx_, std::max<uint64_t>(a.count, 1) * a.elementBytes, vk::Memory::Device);
   }
-  leafLinks_ = deviceArray<glm::uvec2>(ctx_, frameSet_.leafLinkCapacity);
-  staticLinks_ = deviceArray<glm::uvec2>(ctx_, staticSet_.leafLinkCapacity);
-  staticBins_ = deviceArray<glm::uvec2>(ctx_, staticSet_.leafLinkCapacity);
-  staticDepths_ = deviceArray<uint32_t>(ctx_, staticSet_.leafLinkCapacity);
   linked_ = staticLinked_ = false;
 }
 
@@ -264,13 +282,18 @@ void IvSolver::recordLinks(VkCommandBuffer cmd, LinkSet& set) {
 }
 
 void IvSolver::recordPrune(VkCommandBuffer cmd, const vk::Program& pass, LinkSet& set) {
-  const uint32_t groups = pruneGroups();
-  pass.dispatch(cmd, {std::min(groups, 65535u), (groups + 65534u) / 65535u, 1},
-                {&tree_, &nodes_, &set.starts, &set.senders, &leafOfSurfel_, &binTable_, &globalBins_, &ranges_, &leafLinks_, &set.counters,
-                 &external_, &lights_, &environment_, &globalCoverage_, &leafMoves_, &staticRanges_, &staticLinks_, &staticBins_, &staticDepths_,
-                 &staticMasks_, &staticEnvironment_, &overrides_, &radiosityA_, &staticEmitters_, &staticEmitterCounts_, &staticCorrection_},
-                PrunePush{surfelCount_, set.leafLinkCapacity, lightCount_, settings_.environment.empty() ? 0u : 1u, staticSet_.leafLinkCapacity});
-  vk::barrier(cmd);
+  // Batches of at most kMaxLeavesPerGroup leaves a workgroup: one batch where the bins are shared
+  // memory, several where each workgroup's global-memory slot limits how many there can be.
+  const uint32_t groups = pruneGroups(), batch = groups * kMaxLeavesPerGroup;
+  for (uint32_t first = 0; first < surfelCount_; first += batch) {
+    pass.dispatch(cmd, {std::min(groups, 65535u), (groups + 65534u) / 65535u, 1},
+                  {&tree_, &nodes_, &set.starts, &set.senders, &leafOfSurfel_, &binTable_, &globalBins_, &ranges_, &leafLinks_, &set.counters,
+                   &external_, &lights_, &environment_, &globalCoverage_, &leafMoves_, &staticRanges_, &staticLinks_, &staticBins_, &staticDepths_,
+                   &staticMasks_, &staticEnvironment_, &overrides_, &radiosityA_, &staticEmitters_, &staticEmitterCounts_, &staticCorrection_},
+                  PrunePush{first, std::min(surfelCount_, first + batch), set.leafLinkCapacity, lightCount_, settings_.environment.empty() ? 0u : 1u,
+                            staticSet_.leafLinkCapacity});
+    vk::barrier(cmd);
+  }
 }
 
 void IvSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffer& surfels, bool relink) {
@@ -352,14 +375,21 @@ IvStats IvSolver::stats() const {
     s.links += c[kCounterLinks];
     s.leafLinks += c[kCounterLeafLinks];
     if (set == &staticSet_) s.staticLinks = c[kCounterLinks], s.staticLeafLinks = c[kCounterLeafLinks];
-    for (const vk::Buffer* b : {&set->roots, &set->counters, &set->links, &set->counts, &set->starts, &set->senders}) s.bytes += b->size();
   }
+  s.bytes = allocatedBytes();
+  return s;
+}
+
+uint64_t IvSolver::allocatedBytes() const {
+  uint64_t bytes = 0;
+  for (const LinkSet* set : {&staticSet_, &frameSet_})
+    for (const vk::Buffer* b : {&set->roots, &set->counters, &set->links, &set->counts, &set->starts, &set->senders}) bytes += b->size();
   for (const vk::Buffer* b : {&tree_, &leafOfSurfel_, &leafMoves_, &albedo_, &emission_, &binTable_, &environment_, &lights_, &nodes_, &args_,
                               &worklistA_, &worklistB_, &globalBins_, &globalCoverage_, &ranges_, &leafLinks_, &overrides_, &external_,
                               &radiosityA_, &radiosityB_, &irradiance_, &staticRanges_, &staticLinks_, &staticBins_, &staticDepths_, &staticMasks_,
                               &staticEnvironment_, &staticEmitters_, &staticEmitterCounts_, &staticCorrection_})
-    s.bytes += b->size();
-  return s;
+    bytes += b->size();
+  return bytes;
 }
 
 std::vector<std::vector<IvSolver::LeafLink>> IvSolver::leafLinks() const {

@@ -92,7 +92,8 @@ class IvSolver {
     vk::Buffer roots, counters, links, counts, starts, senders;
     uint32_t linkCapacity = 0, leafLinkCapacity = 0;
   };
-  void allocateLinks();
+  void allocateLinks();  // the arrays that grow with the link counts, after checking the device's limits
+  uint64_t allocatedBytes() const;
   void recordLinks(VkCommandBuffer cmd, LinkSet& set);
   void recordPrune(VkCommandBuffer cmd, const vk::Program& pass, LinkSet& set);
   uint32_t refineIterations() const;  // refinement levels: each splits one side of every pair

@@ -210,7 +210,11 @@ Context::Context(const ContextOptions& options) {
   uint32_t chosen = chooseDevice(pds, infos, want);
   physical_ = pds[chosen];
   info_ = infos[chosen];
-  vkGetPhysicalDeviceProperties(physical_, &properties_);
+  VkPhysicalDeviceMaintenance3Properties maintenance3{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES};
+  VkPhysicalDeviceProperties2 properties2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &maintenance3};
+  vkGetPhysicalDeviceProperties2(physical_, &properties2);
+  properties_ = properties2.properties;
+  maxAllocationBytes_ = maintenance3.maxMemoryAllocationSize;
   vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
   queueFamily_ = *computeQueueFamily(physical_, &timestampValidBits_);
 
@@ -282,6 +286,11 @@ void Context::submitAndWait(const std::function<void(VkCommandBuffer)>& record) 
   check(vkWaitForFences(device_, 1, &fence_, VK_TRUE, UINT64_MAX), "vkWaitForFences");
   check(vkResetFences(device_, 1, &fence_), "vkResetFences");
   vkFreeCommandBuffers(device_, pool_, 1, &cmd);
+}
+
+VkDeviceSize Context::deviceHeapBytes() const {
+  uint32_t type = findMemoryType(~0u, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT);
+  return memory_.memoryHeaps[memory_.memoryTypes[type].heapIndex].size;
 }
 
 uint32_t Context::findMemoryType(uint32_t typeBits, VkMemoryPropertyFlags wanted, VkMemoryPropertyFlags avoid) const {

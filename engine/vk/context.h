@@ -47,6 +47,10 @@ class Context {
   VkPhysicalDevice physicalDevice() const { return physical_; }
   const DeviceInfo& info() const { return info_; }
   const VkPhysicalDeviceLimits& limits() const { return properties_.limits; }
+  // The largest single allocation, and so the largest buffer (VkPhysicalDeviceMaintenance3Properties).
+  VkDeviceSize maxAllocationBytes() const { return maxAllocationBytes_; }
+  // The size of the heap that device-local buffers come from: what the device says it can hold.
+  VkDeviceSize deviceHeapBytes() const;
   double timestampPeriodNs() const { return properties_.limits.timestampPeriod; }
   uint32_t timestampValidBits() const { return timestampValidBits_; }
   // 64-bit atomics on workgroup-shared memory (else passes keep such data in buffers).
@@ -75,6 +79,7 @@ class Context {
   VkCommandPool pool_ = VK_NULL_HANDLE;
   VkFence fence_ = VK_NULL_HANDLE;
   VkPhysicalDeviceProperties properties_{};
+  VkDeviceSize maxAllocationBytes_ = 0;
   VkPhysicalDeviceMemoryProperties memory_{};
   DeviceInfo info_;
   mutable uint32_t validationErrors_ = 0;
