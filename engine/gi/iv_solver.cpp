@@ -234,7 +234,7 @@ void IvSolver::allocateLinks() {
     if (a.binding == Binding::Texels && count > limits.maxTexelBufferElements)
       refuse(bytes, a.what, "maxTexelBufferElements", uint64_t(limits.maxTexelBufferElements) * a.elementBytes);
     if (bytes > ctx_.maxAllocationBytes()) refuse(bytes, a.what, "maxMemoryAllocationSize", ctx_.maxAllocationBytes());
-    total += bytes - a.buffer->size();
+    total = total - a.buffer->size() + bytes;  // replaces what it had
   }
   if (total > ctx_.deviceHeapBytes()) refuse(total, "device memory in all", "memory heap", ctx_.deviceHeapBytes());
   for (const Array& a : arrays) {
