@@ -178,10 +178,18 @@ float nodeRadius(uint i) { return nodeShape(i).x; }
 NodeState nodeState(uint i) { return NodeState(nodePositionArea(i), nodeNormalCone(i), nodeShape(i)); }
 #endif
 struct LeafRange { uint first; uint count; };
-// Leaf links live in rg32ui texel buffers (their views reach past maxStorageBufferRange):
-// LeafLink, a surviving link of a leaf: sender node, bits of the clamped form factor.
-// StaticBin, beside each surviving link of a static leaf against static senders (made once): its
-// bin and the bin's covered solid angle (1/65536 of the bin's), merged with a frame's moving senders.
+// Leaf links live in texel buffers (their views reach past maxStorageBufferRange). LeafLink, a
+// surviving link of a leaf, one rg32ui texel: sender node, bits of the clamped form factor.
+// A bin's covered solid angle is counted in 1/kCoverageUnit of the bin's (integer sums do not
+// depend on the order of the atomics).
+const uint kCoverageUnit = 65536u;
+// StaticBin, one r32ui texel beside each surviving link of a static leaf against static senders
+// (made once), merged with a frame's moving senders: its bin (15 bits; 6·64² < 2^15) and the bin's
+// covered solid angle capped at the whole bin (17 bits; coverage only counts up to the whole bin,
+// so the cap changes nothing).
+uint packStaticBin(uint bin, uint covered) { return bin | min(covered, kCoverageUnit) << 15; }
+uint staticBinOf(uint packed) { return packed & 0x7FFFu; }
+uint staticCoverageOf(uint packed) { return packed >> 15; }
 // Indices into the solver's counter buffer.
 const uint kCounterWorklistA = 0u, kCounterWorklistB = 1u, kCounterLinks = 2u, kCounterLeafLinks = 3u, kCounterOverflow = 4u,
            kCounterWorklistPeak = 5u;

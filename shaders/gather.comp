@@ -17,7 +17,7 @@ layout(std430, binding = 7) writeonly buffer RadiosityOut { vec4 radiosityOut[];
 layout(std430, binding = 8) writeonly buffer Irradiance { vec4 irradiance[]; };
 layout(binding = 9, rg32ui) readonly uniform uimageBuffer staticRanges;  // LeafRange
 layout(binding = 10, rg32ui) readonly uniform uimageBuffer staticLinks;  // LeafLink
-layout(binding = 11, rg32ui) readonly uniform uimageBuffer staticBins;   // StaticBin
+layout(binding = 11, r32ui) readonly uniform uimageBuffer staticBins;    // StaticBin
 layout(binding = 12, r32ui) readonly uniform uimageBuffer overrides;     // per leaf and mask word
 layout(push_constant) uniform Push { uint surfelCount; uint maskWords; };
 
@@ -33,7 +33,7 @@ void main() {
   uvec2 staticRange = imageLoad(staticRanges, int(s)).xy;
   for (uint k = staticRange.x; k < staticRange.x + staticRange.y; ++k) {
     uvec2 link = imageLoad(staticLinks, int(k)).xy;
-    uint bin = imageLoad(staticBins, int(k)).x;
+    uint bin = staticBinOf(imageLoad(staticBins, int(k)).x);
     uint overridden = imageLoad(overrides, int(s * maskWords + bin / 32u)).x & (1u << (bin & 31u));
     if (overridden == 0u) g += uintBitsToFloat(link.y) * imageLoad(radiosityIn, int(link.x)).rgb;
   }

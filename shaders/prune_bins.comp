@@ -51,7 +51,7 @@ layout(binding = 14, r32ui) readonly uniform uimageBuffer leafMoves;  // per sur
 // The static pass writes these; the frame pass reads them.
 layout(std430, binding = 15) buffer StaticRanges { LeafRange staticRanges[]; };
 layout(binding = 16, rg32ui) uniform uimageBuffer staticLinks;  // LeafLink
-layout(binding = 17, rg32ui) uniform uimageBuffer staticBins;   // StaticBin: bin, coverage
+layout(binding = 17, r32ui) uniform uimageBuffer staticBins;    // StaticBin: bin and coverage, packed
 layout(binding = 18, r32ui) uniform uimageBuffer staticDepths;  // the key's upper half (fringe bit, d²), beside the link
 layout(std430, binding = 19) buffer StaticMasks { uvec2 staticMasks[]; };  // per leaf and mask word: bins held, entries before
 layout(std430, binding = 20) buffer StaticEnvironment { vec4 staticEnvironment[]; };
@@ -76,8 +76,6 @@ shared uint emitterQueue[kEmitterQueue], sortedEmitters[kEmitterQueue];
 shared uint emitterCount;
 
 const uint kBinCount = 6u * kN * kN;
-// Coverage is summed as integers so that the sum does not depend on the order of the atomics.
-const float kCoverageUnit = 65536.0;
 
 uint64_t loadBin(uint slot, uint b) { return kSharedBins ? sharedBins[b] : globalBins[slot + b]; }
 uint64_t minBin(uint slot, uint b, uint64_t key) { return kSharedBins ? atomicMin(sharedBins[b], key) : atomicMin(globalBins[slot + b], key); }
@@ -109,7 +107,7 @@ Bin binAt(uint slot, uint b) {
   uint e = staticFirst + word.y + bitCount(word.x & (bit - 1u));
   if (e >= staticCapacity) return bin;  // the static pass overflowed: this frame is redone
   bin.key = min(bin.key, uint64_t(imageLoad(staticDepths, int(e)).x) << 32 | imageLoad(staticLinks, int(e)).x);
-  bin.staticCovered = imageLoad(staticBins, int(e)).y;
+  bin.staticCovered = staticCoverageOf(imageLoad(staticBins, int(e)).x);
   bin.staticEntry = int(e);
   bin.covered += bin.staticCovered;
   return bin;
@@ -117,7 +115,7 @@ Bin binAt(uint slot, uint b) {
 
 void insert(uint slot, uint b, uint64_t key, float omega) {
   if (minBin(slot, b, key) == kEmptyVisibility) atomicOr(mask[b >> 5], 1u << (b & 31u));
-  addCoverage(slot, b, uint(min(omega / imageLoad(binTable, int(b)).w, 1.0) * kCoverageUnit + 0.5));
+  addCoverage(slot, b, uint(min(omega / imageLoad(binTable, int(b)).w, 1.0) * float(kCoverageUnit) + 0.5));
 }
 
 // Files a solid angle ω seen along d as a rectangular footprint of the same solid angle on the cube
@@ -271,7 +269,7 @@ vec3 punctualLight(uint slot, vec3 p, vec3 n) {
 }
 
 // Fraction of bin b that its senders cover, at most 1.
-float coveredFraction(uint covered) { return min(float(covered) / kCoverageUnit, 1.0); }
+float coveredFraction(uint covered) { return min(float(covered) / float(kCoverageUnit), 1.0); }
 
 // Form factor of the survivor of bin b, standing for the covered part of the bin. Front or back is
 // judged along the bin: the sender may sit at the receiver (hard edges).
@@ -442,7 +440,7 @@ void main() {
         if (outIndex < linkCapacity) {
           if (kStaticPass) {
             imageStore(staticLinks, int(outIndex), uvec4(s, floatBitsToUint(f), 0u, 0u));
-            imageStore(staticBins, int(outIndex), uvec4(b, bin.covered, 0u, 0u));
+            imageStore(staticBins, int(outIndex), uvec4(packStaticBin(b, bin.covered)));
             imageStore(staticDepths, int(outIndex), uvec4(uint(bin.key >> 32)));
           } else {
             imageStore(leafLinks, int(outIndex), uvec4(s, floatBitsToUint(f), 0u, 0u));

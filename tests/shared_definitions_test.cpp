@@ -49,6 +49,7 @@ TEST(SharedDefinitions, GlslAndCppAgree) {
   vk::Program program(ctx, "common_cases", testShaderCode("common_cases"));
   vk::Buffer in = vk::makeBuffer(ctx, cs);
   vk::Buffer keys(ctx, cs.size() * 8, vk::Memory::Host), pairs(ctx, cs.size() * 16, vk::Memory::Host), rays(ctx, cs.size() * 16, vk::Memory::Host);
+  vk::Buffer staticBins(ctx, cs.size() * 16, vk::Memory::Host);
   scene::CameraView view;
   view.origin = {1, 2, 3};
   view.forward = glm::normalize(glm::vec3(0.2f, -0.1f, -1.0f));
@@ -56,10 +57,11 @@ TEST(SharedDefinitions, GlslAndCppAgree) {
   view.up = glm::cross(view.right, view.forward);
   view.yfov = 0.6f;
   Push push{gi::gpuCamera(view, 1.5f), {48, 32}, uint32_t(cs.size())};
-  ctx.submitAndWait([&](VkCommandBuffer cmd) { program.dispatchItems(cmd, cs.size(), {&in, &keys, &pairs, &rays}, push); });
+  ctx.submitAndWait([&](VkCommandBuffer cmd) { program.dispatchItems(cmd, cs.size(), {&in, &keys, &pairs, &rays, &staticBins}, push); });
   auto gotKeys = keys.read<uint64_t>(cs.size());
   auto gotPairs = pairs.read<glm::vec4>(cs.size());
   auto gotRays = rays.read<glm::vec4>(cs.size());
+  auto gotStaticBins = staticBins.read<glm::uvec4>(cs.size());
 
   for (size_t i = 0; i < cs.size(); ++i) {
     const Case& c = cs[i];
@@ -75,6 +77,11 @@ TEST(SharedDefinitions, GlslAndCppAgree) {
     EXPECT_LT(pair.y, int(c.size));
     glm::vec3 ray = gi::cameraRay(push.camera, glm::vec2(c.value, float(c.id % 7u)) * float(push.size.x), push.size);
     EXPECT_LT(glm::length(glm::vec3(gotRays[i]) - ray), 1e-4f * std::max(1.0f, glm::length(ray))) << i;
+    // A static leaf link's bin (any of 6·64² bins) and its coverage, capped at the whole bin.
+    const uint32_t bin = c.id % 24576u, covered = c.id >> 13, packed = gi::packStaticBin(bin, covered);
+    EXPECT_EQ(gotStaticBins[i], glm::uvec4(packed, bin, std::min(covered, gi::kCoverageUnit), 0u)) << "covered " << covered;
+    EXPECT_EQ(gi::staticBinOf(packed), bin);
+    EXPECT_EQ(gi::staticCoverageOf(packed), std::min(covered, gi::kCoverageUnit));
   }
 }
 

@@ -216,7 +216,7 @@ void IvSolver::allocateLinks() {
                                {&worklistB_, worklistCapacity_, 8, Binding::Storage, "refinement worklist"},
                                {&leafLinks_, frameSet_.leafLinkCapacity, 8, Binding::Texels, "leaf links"},
                                {&staticLinks_, staticSet_.leafLinkCapacity, 8, Binding::Texels, "static leaf links"},
-                               {&staticBins_, staticSet_.leafLinkCapacity, 8, Binding::Texels, "static leaf links' bins"},
+                               {&staticBins_, staticSet_.leafLinkCapacity, 4, Binding::Texels, "static leaf links' bins"},
                                {&staticDepths_, staticSet_.leafLinkCapacity, 4, Binding::Texels, "static leaf links' depths"}};
   for (LinkSet* set : {&staticSet_, &frameSet_})
     arrays.insert(arrays.end(), {{&set->links, set->linkCapacity, 8, Binding::Storage, "links"},
@@ -402,11 +402,11 @@ std::vector<std::vector<IvSolver::LeafLink>> IvSolver::leafLinks() const {
   if (!splitsStatic()) return out;
   auto staticRanges = staticRanges_.read<glm::uvec2>(surfelCount_);
   auto staticLinks = staticLinks_.read<LeafLink>(count(staticSet_));
-  auto staticBins = staticBins_.read<glm::uvec2>(count(staticSet_));
+  auto staticBins = staticBins_.read<uint32_t>(count(staticSet_));
   auto overrides = overrides_.read<uint32_t>(size_t(surfelCount_) * maskWords());
   for (uint32_t s = 0; s < surfelCount_; ++s)
     for (uint32_t k = staticRanges[s].x; k < staticRanges[s].x + staticRanges[s].y && k < staticLinks.size(); ++k) {
-      uint32_t bin = staticBins[k].x;
+      uint32_t bin = staticBinOf(staticBins[k]);
       if (!(overrides[size_t(s) * maskWords() + bin / 32] & (1u << (bin & 31)))) out[s].push_back(staticLinks[k]);
     }
   return out;

@@ -18,6 +18,12 @@ inline uint64_t packDepthKey(float depth, uint32_t id) { return uint64_t(std::bi
 inline uint32_t keyId(uint64_t key) { return uint32_t(key & 0xFFFFFFFFu); }
 inline float keyDepth(uint64_t key) { return std::bit_cast<float>(uint32_t(key >> 32)); }
 
+// A static leaf link's bin and covered solid angle (in 1/kCoverageUnit of the bin's, capped at the bin).
+constexpr uint32_t kCoverageUnit = 65536u;
+inline uint32_t packStaticBin(uint32_t bin, uint32_t covered) { return bin | std::min(covered, kCoverageUnit) << 15; }
+inline uint32_t staticBinOf(uint32_t packed) { return packed & 0x7FFFu; }
+inline uint32_t staticCoverageOf(uint32_t packed) { return packed >> 15; }
+
 // std430 / push-constant layout of `Camera` in common.glsl.
 struct GpuCamera {
   glm::vec4 origin;   // w: znear
