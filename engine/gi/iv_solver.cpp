@@ -211,6 +211,8 @@ void IvSolver::allocateLinks() {
     uint64_t count, elementBytes;
     Binding binding;
     const char* what;
+    uint64_t elements() const { return std::max<uint64_t>(count, 1); }
+    uint64_t bytes() const { return elements() * elementBytes; }
   };
   std::vector<Array> arrays = {{&worklistA_, worklistCapacity_, 8, Binding::Storage, "refinement worklist"},
                                {&worklistB_, worklistCapacity_, 8, Binding::Storage, "refinement worklist"},
@@ -228,18 +230,17 @@ void IvSolver::allocateLinks() {
   const VkPhysicalDeviceLimits& limits = ctx_.limits();
   uint64_t total = allocatedBytes();  // once every array has its new size
   for (const Array& a : arrays) {
-    const uint64_t count = std::max<uint64_t>(a.count, 1), bytes = count * a.elementBytes;
-    if (a.binding == Binding::Storage && bytes > limits.maxStorageBufferRange)
-      refuse(bytes, a.what, "maxStorageBufferRange", limits.maxStorageBufferRange);
-    if (a.binding == Binding::Texels && count > limits.maxTexelBufferElements)
-      refuse(bytes, a.what, "maxTexelBufferElements", uint64_t(limits.maxTexelBufferElements) * a.elementBytes);
-    if (bytes > ctx_.maxAllocationBytes()) refuse(bytes, a.what, "maxMemoryAllocationSize", ctx_.maxAllocationBytes());
-    total = total - a.buffer->size() + bytes;  // replaces what it had
+    if (a.binding == Binding::Storage && a.bytes() > limits.maxStorageBufferRange)
+      refuse(a.bytes(), a.what, "maxStorageBufferRange", limits.maxStorageBufferRange);
+    if (a.binding == Binding::Texels && a.elements() > limits.maxTexelBufferElements)
+      refuse(a.bytes(), a.what, "maxTexelBufferElements", uint64_t(limits.maxTexelBufferElements) * a.elementBytes);
+    if (a.bytes() > ctx_.maxAllocationBytes()) refuse(a.bytes(), a.what, "maxMemoryAllocationSize", ctx_.maxAllocationBytes());
+    total = total - a.buffer->size() + a.bytes();  // replaces what it had
   }
   if (total > ctx_.deviceHeapBytes()) refuse(total, "device memory in all", "memory heap", ctx_.deviceHeapBytes());
   for (const Array& a : arrays) {
     *a.buffer = vk::Buffer();  // before its successor: the two need not fit at once
-    *a.buffer = vk::Buffer(ctx_, std::max<uint64_t>(a.count, 1) * a.elementBytes, vk::Memory::Device);
+    *a.buffer = vk::Buffer(ctx_, a.bytes(), vk::Memory::Device);
   }
   linked_ = staticLinked_ = false;
 }
@@ -286,7 +287,7 @@ void IvSolver::recordPrune(VkCommandBuffer cmd, const vk::Program& pass, LinkSet
   // memory, several where each workgroup's global-memory slot limits how many there can be.
   const uint32_t groups = pruneGroups(), batch = groups * kMaxLeavesPerGroup;
   for (uint32_t first = 0; first < surfelCount_; first += batch) {
-    pass.dispatch(cmd, {std::min(groups, 65535u), (groups + 65534u) / 65535u, 1},
+    pass.dispatch(cmd, pass.groupsFor(groups, 1),
                   {&tree_, &nodes_, &set.starts, &set.senders, &leafOfSurfel_, &binTable_, &globalBins_, &ranges_, &leafLinks_, &set.counters,
                    &external_, &lights_, &environment_, &globalCoverage_, &leafMoves_, &staticRanges_, &staticLinks_, &staticBins_, &staticDepths_,
                    &staticMasks_, &staticEnvironment_, &overrides_, &radiosityA_, &staticEmitters_, &staticEmitterCounts_, &staticCorrection_},
