@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <iterator>
 
@@ -322,4 +323,46 @@ TEST(IvStaticObjects, LinkedOnceGiveWhatAFullRelinkGives) {
   EXPECT_EQ(full.solver()->stats().staticLinks, 0u);
   // Float sums in another order: a few ulps per link, far below any visible change.
   EXPECT_LT(worst, 1e-4);
+}
+
+// The prune walks at most a few leaves a workgroup per dispatch, so where the bins live in global
+// memory (one slot per workgroup, all within one binding) a large scene takes several dispatches.
+// Each leaf's bins and survivors must not depend on the batch it fell in: a small scene forced into
+// dispatches of three workgroups gives the radiosity and the links of one dispatch, bit for bit, on
+// both the shared-memory and the global-memory path, for moving and static leaves alike.
+TEST(IvStaticObjects, PruneInBatchesGivesWhatOneDispatchGives) {
+  const tinygltf::Model model = scenes::cornellBox({.cells = 6});
+  scene::Scene s = scene::sceneFromModel(model, "test");
+  scene::Geometry g = scene::buildGeometry(s);
+  const auto view = scene::cameraView(s, scene::evaluatePose(s, 0, 0.0f), s.cameraNodes()[0]);
+  for (uint32_t bins : {8u, 24u}) {
+    gi::IvSettings settings;
+    settings.bins = bins;
+    settings.environment.assign(6 * bins * bins, glm::vec4(0.5f, 0.6f, 0.7f, 0.0f));
+    gi::FrameRenderer whole(test::gpu(), g, {16, 16, 1}, gi::makeIvSetup(s, g, settings, 0));
+    settings.pruneGroups = 3;
+    gi::FrameRenderer batched(test::gpu(), g, {16, 16, 1}, gi::makeIvSetup(s, g, settings, 0));
+    for (float t : {0.0f, 0.5f}) {
+      auto pose = scene::evaluatePose(s, 0, t);
+      whole.render(g.frameInputs(s, pose), view);
+      batched.render(g.frameInputs(s, pose), view);
+      const gi::IvStats a = whole.solver()->stats(), b = batched.solver()->stats();
+      std::printf("bins %u, t %.1f: %u leaf links in %u dispatch(es) and in %u\n", bins, t, a.leafLinks, a.pruneBatches, b.pruneBatches);
+      EXPECT_EQ(a.sharedBins, bins <= 16) << "both paths are covered";
+      EXPECT_EQ(a.pruneBatches, 1u);
+      EXPECT_GE(b.pruneBatches, 8u);
+      EXPECT_EQ(a.leafLinks, b.leafLinks);
+      EXPECT_GT(a.staticLeafLinks, 0u);
+      const auto ra = whole.solver()->leafRadiosity(), rb = batched.solver()->leafRadiosity();
+      ASSERT_EQ(ra.size(), rb.size());
+      EXPECT_EQ(std::memcmp(ra.data(), rb.data(), ra.size() * sizeof(glm::vec4)), 0) << "bins " << bins << ", t " << t;
+      const auto la = whole.solver()->leafLinks(), lb = batched.solver()->leafLinks();
+      ASSERT_EQ(la.size(), lb.size());
+      for (size_t i = 0; i < la.size(); ++i) {
+        ASSERT_EQ(la[i].size(), lb[i].size()) << "surfel " << i;
+        for (size_t j = 0; j < la[i].size(); ++j)
+          ASSERT_TRUE(la[i][j].sender == lb[i][j].sender && la[i][j].formFactor == lb[i][j].formFactor) << "surfel " << i << ", link " << j;
+      }
+    }
+  }
 }

@@ -198,8 +198,10 @@ uint32_t IvSolver::pruneGroups() const {
     uint64_t slotBytes = uint64_t(6) * settings_.bins * settings_.bins * 8;  // the larger of the two slot arrays
     groups = std::min<uint32_t>(groups, uint32_t(std::max<uint64_t>(1, std::min<uint64_t>(ctx_.limits().maxStorageBufferRange, 512ull << 20) / slotBytes)));
   }
-  return groups;
+  return settings_.pruneGroups > 0 ? std::min(groups, settings_.pruneGroups) : groups;
 }
+
+uint32_t IvSolver::pruneBatch() const { return pruneGroups() * kMaxLeavesPerGroup; }
 
 void IvSolver::allocateLinks() {
   // What grows with the link counts, and how each is bound: a storage buffer stops at
@@ -285,7 +287,7 @@ void IvSolver::recordLinks(VkCommandBuffer cmd, LinkSet& set) {
 void IvSolver::recordPrune(VkCommandBuffer cmd, const vk::Program& pass, LinkSet& set) {
   // Batches of at most kMaxLeavesPerGroup leaves a workgroup: one batch where the bins are shared
   // memory, several where each workgroup's global-memory slot limits how many there can be.
-  const uint32_t groups = pruneGroups(), batch = groups * kMaxLeavesPerGroup;
+  const uint32_t groups = pruneGroups(), batch = pruneBatch();
   for (uint32_t first = 0; first < surfelCount_; first += batch) {
     pass.dispatch(cmd, pass.groupsFor(groups, 1),
                   {&tree_, &nodes_, &set.starts, &set.senders, &leafOfSurfel_, &binTable_, &globalBins_, &ranges_, &leafLinks_, &set.counters,
@@ -370,6 +372,7 @@ IvStats IvSolver::stats() const {
   s.nodes = nodeCount_;
   s.levels = hierarchy_.levels();
   s.sharedBins = sharedBins_;
+  s.pruneBatches = (surfelCount_ + pruneBatch() - 1) / pruneBatch();
   for (const LinkSet* set : {&staticSet_, &frameSet_}) {
     if (set->rootPairs.empty()) continue;
     auto c = set->counters.read<uint32_t>(8);

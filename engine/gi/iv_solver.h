@@ -24,6 +24,9 @@ struct IvSettings {
   uint32_t bounces = 2;      // indirect bounces; 0 = direct light only
   float kappa = 1.0f;        // refine while a sender covers more than κ average bins
   std::vector<glm::vec4> environment;  // radiance per bin (6·N² entries); empty: no environment
+  // The most workgroups one prune dispatch runs; 0: as many as the scene and the device allow. Fewer
+  // prune in more dispatches (batches) with the same result; tests batch small scenes with it.
+  uint32_t pruneGroups = 0;
 };
 
 // The scene's punctual lights in world space at `pose`.
@@ -34,6 +37,7 @@ struct IvStats {
   uint32_t staticLinks = 0, staticLeafLinks = 0;  // of those, made once between objects that cannot move
   uint64_t bytes = 0;
   bool sharedBins = true;
+  uint32_t pruneBatches = 0;  // dispatches a prune takes (each of at most a few leaves a workgroup)
 };
 
 // What the iv solver of a frame is made from: the hierarchy over the rest-pose surfels, the user's
@@ -98,6 +102,7 @@ class IvSolver {
   void recordPrune(VkCommandBuffer cmd, const vk::Program& pass, LinkSet& set);
   uint32_t refineIterations() const;  // refinement levels: each splits one side of every pair
   uint32_t pruneGroups() const;
+  uint32_t pruneBatch() const;  // leaves one prune dispatch walks
   uint32_t maskWords() const;
   bool splitsStatic() const { return !staticSet_.rootPairs.empty(); }
 
