@@ -193,6 +193,8 @@ uint staticCoverageOf(uint packed) { return packed >> 15; }
 // Indices into the solver's counter buffer.
 const uint kCounterWorklistA = 0u, kCounterWorklistB = 1u, kCounterLinks = 2u, kCounterLeafLinks = 3u, kCounterOverflow = 4u,
            kCounterWorklistPeak = 5u;
+// Bits of counters[kCounterOverflow]: what a frame ran out of room for (it is redone with more).
+const uint kOverflowWorklist = 1u, kOverflowLinks = 2u, kOverflowLeafLinks = 4u;
 // KHR_lights_punctual, in world space for the frame. position.w: 0 directional, 1 point, 2 spot;
 // direction: where the light points, w = range (0: none); cone: cos outer, cos inner.
 struct PunctualLight { vec4 position; vec4 direction; vec4 intensity; vec4 cone; };

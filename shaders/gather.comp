@@ -19,11 +19,14 @@ layout(binding = 9, rg32ui) readonly uniform uimageBuffer staticRanges;  // Leaf
 layout(binding = 10, rg32ui) readonly uniform uimageBuffer staticLinks;  // LeafLink
 layout(binding = 11, r32ui) readonly uniform uimageBuffer staticBins;    // StaticBin
 layout(binding = 12, r32ui) readonly uniform uimageBuffer overrides;     // per leaf and mask word
+layout(std430, binding = 13) readonly buffer FrameCounters { uint frameCounters[]; };
+layout(std430, binding = 14) readonly buffer StaticCounters { uint staticCounters[]; };
 layout(push_constant) uniform Push { uint surfelCount; uint maskWords; };
 
 void main() {
   uint s = itemIndex();
-  if (s >= surfelCount) return;
+  // A frame whose links or leaf links overflowed is redone: its bounces would be wasted.
+  if (s >= surfelCount || (frameCounters[kCounterOverflow] | staticCounters[kCounterOverflow]) != 0u) return;
   uvec2 range = imageLoad(ranges, int(s)).xy;
   vec3 g = imageLoad(externalLight, int(s)).rgb;
   for (uint k = range.x; k < range.x + range.y; ++k) {

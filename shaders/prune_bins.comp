@@ -60,6 +60,7 @@ layout(binding = 22, rgba32f) readonly uniform imageBuffer nodeEmission;  // Ï€Â
 layout(std430, binding = 23) buffer StaticEmitters { uint staticEmitters[]; };  // per static leaf: the emitters of its static links
 layout(std430, binding = 24) buffer StaticEmitterCounts { uint staticEmitterCounts[]; };  // kManyEmitters: too many, credited by the bins
 layout(std430, binding = 25) buffer StaticCorrection { vec4 staticCorrection[]; };  // the static bins' emission, taken back
+layout(std430, binding = 26) readonly buffer StaticCounters { uint staticCounters[]; };  // the static set's (the frame pass merges its bins)
 // The leaves [firstSurfel, endSurfel) of this dispatch's batch.
 layout(push_constant) uniform Push { uint firstSurfel; uint endSurfel; uint linkCapacity; uint lightCount; uint environmentOn; uint staticCapacity; };
 
@@ -331,6 +332,9 @@ vec3 sumPartials(uint lid, vec3 mine) {
 }
 
 void main() {
+  // Links cut short by an overflow (this set's, or the static links a frame pass merges): the frame
+  // is redone, and pruning them would be wasted.
+  if (((counters[kCounterOverflow] | staticCounters[kCounterOverflow]) & (kOverflowWorklist | kOverflowLinks)) != 0u) return;
   uint lid = gl_LocalInvocationID.x;
   uint slot = kSharedBins ? 0u : groupIndex() * kBinCount;
   if (kSharedBins)
@@ -419,9 +423,12 @@ void main() {
         total += c;
       }
       leafBase = atomicAdd(counters[kCounterLeafLinks], total);
-      if (kStaticPass) staticRanges[surfel] = LeafRange(leafBase, total);
-      else ranges[surfel] = LeafRange(leafBase, total);
-      if (leafBase + total > linkCapacity) atomicOr(counters[kCounterOverflow], 4u);
+      // A leaf past the room is counted (the frame is redone with room for all), its range left
+      // empty: nothing reads past the links.
+      bool fits = leafBase + total <= linkCapacity;
+      if (!fits) atomicOr(counters[kCounterOverflow], kOverflowLeafLinks);
+      if (kStaticPass) staticRanges[surfel] = LeafRange(leafBase, fits ? total : 0u);
+      else ranges[surfel] = LeafRange(leafBase, fits ? total : 0u);
     }
     barrier();
     // A merging leaf's environment changes only in the bins it touched: this frame's minus its static

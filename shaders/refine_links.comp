@@ -22,7 +22,7 @@ layout(push_constant) uniform Push {
 void emitPair(uint r, uint s) {
   uint slot = atomicAdd(counters[target], 1u);
   if (slot < capacity) nextPairs[slot] = uvec2(r, s);
-  else atomicOr(counters[kCounterOverflow], 1u);
+  else atomicOr(counters[kCounterOverflow], kOverflowWorklist);
   atomicMax(counters[kCounterWorklistPeak], slot + 1u);
 }
 
@@ -55,7 +55,7 @@ void main() {
       if (leafR && leafS) {
         uint slot = atomicAdd(counters[kCounterLinks], 1u);
         if (slot < linkCapacity) links[slot] = uvec2(r, s);
-        else atomicOr(counters[kCounterOverflow], 2u);
+        else atomicOr(counters[kCounterOverflow], kOverflowLinks);
         continue;
       }
     } else {
@@ -74,7 +74,7 @@ void main() {
       if (!refine) {
         uint slot = atomicAdd(counters[kCounterLinks], 1u);
         if (slot < linkCapacity) links[slot] = uvec2(r, s);
-        else atomicOr(counters[kCounterOverflow], 2u);
+        else atomicOr(counters[kCounterOverflow], kOverflowLinks);
         continue;
       }
       if (refineSender) {

@@ -125,6 +125,7 @@ FrameResult FrameRenderer::render(const scene::FrameInputs& in, const scene::Cam
     });
   });
   while ((redo = solver_ && solver_->growIfOverflowed()));
+  if (solver_) solver_->releaseUnusedLinks();
 
   FrameResult result;
   result.passTimes = timer_.results();

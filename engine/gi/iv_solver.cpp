@@ -28,6 +28,7 @@ struct GatherPush {
 };
 constexpr uint32_t kNoCounter = 0xFFFFFFFFu;
 constexpr uint32_t kCounterLinks = 2, kCounterLeafLinks = 3, kCounterOverflow = 4, kCounterWorklistPeak = 5;
+constexpr uint32_t kOverflowWorklist = 1, kOverflowLinks = 2, kOverflowLeafLinks = 4;  // bits of the overflow counter
 constexpr uint32_t kMinPruneGroups = 512;
 // lavapipe 22.3 lets a workgroup's subgroups fall out of step at their barriers after many rounds
 // (measured: at 124 leaves a workgroup, a subgroup ran a different number of root-path chunks and
@@ -45,7 +46,15 @@ std::vector<uint32_t> pruneConstants(uint32_t n, bool sharedBins, bool staticPas
   return {n, sharedBins ? 1u : 0u, sharedBins ? 6 * n * n : 1u, maskWordsFor(n), kPathChunk, staticPass ? 1u : 0u, kStaticEmitters, kEmitterQueue};
 }
 
-vk::Buffer counterBuffer(const vk::Context& ctx) { return vk::Buffer(ctx, 8 * sizeof(uint32_t), vk::Memory::Host); }
+// The room an array that grows with a count gets: a quarter more, so that the next frames'
+// changes fit.
+uint32_t withMargin(uint32_t needed) { return uint32_t(std::min<uint64_t>(uint64_t(needed) * 5 / 4 + 1024, 0xFFFFFFF0u)); }
+
+vk::Buffer counterBuffer(const vk::Context& ctx) {  // zero: a set never linked has not overflowed
+  vk::Buffer counters(ctx, 8 * sizeof(uint32_t), vk::Memory::Host);
+  counters.upload(std::vector<uint32_t>(8, 0u));
+  return counters;
+}
 
 template <class T>
 vk::Buffer deviceArray(const vk::Context& ctx, size_t count) {
@@ -158,8 +167,10 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, const IvSet
     set->counters = counterBuffer(ctx);
     set->counts = deviceArray<uint32_t>(ctx, set->rootPairs.empty() ? 0 : nodeCount_);
     set->starts = deviceArray<uint32_t>(ctx, set->rootPairs.empty() ? 0 : nodeCount_ + 1);
-    set->linkCapacity = set->rootPairs.empty() ? 0 : 32 * nodeCount_ + 1024;
-    set->leafLinkCapacity = set->rootPairs.empty() ? 0 : surfelCount_ * std::min(6 * settings.bins * settings.bins, 128u) + 1024;
+    // 30.7 links a node in the Cornell box at 17,574 surfels, 32.5 at 63,457 (6×16×16 bins), 41 at
+    // 10k surfels and 6×64×64 bins (more bins refine further).
+    set->linkCapacity = set->rootPairs.empty() ? 0 : 48 * nodeCount_ + 1024;
+    set->leafLinkCapacity = firstLeafLinkGuess(*set, leafMoves);
   }
   ranges_ = deviceArray<glm::uvec2>(ctx, surfelCount_);
   external_ = deviceArray<glm::vec4>(ctx, surfelCount_);
@@ -188,8 +199,27 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, const IvSet
     vkCmdFillBuffer(cmd, globalBins_.handle(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
     vkCmdFillBuffer(cmd, globalCoverage_.handle(), 0, VK_WHOLE_SIZE, 0u);
   });
-  worklistCapacity_ = std::max<uint32_t>(uint32_t(std::max(staticSet_.rootPairs.size(), frameSet_.rootPairs.size()) / 2), 8 * nodeCount_ + 1024);
+  // The refinement's widest level held 6.8 pairs a node in the Cornell box, 8.4 in the furnace and
+  // 11 in Fox.gltf: 16 a node seldom needs a second try.
+  worklistCapacity_ = std::max<uint32_t>(uint32_t(std::max(staticSet_.rootPairs.size(), frameSet_.rootPairs.size()) / 2), 16 * nodeCount_ + 1024);
+  if (!linkArraysRefusal(linkArrays()).empty())  // the guess does not fit the device: start small, grow to what the frame counts
+    for (LinkSet* set : {&staticSet_, &frameSet_})
+      set->leafLinkCapacity = set->rootPairs.empty() ? 0 : surfelCount_ * std::min(6 * settings.bins * settings.bins, 128u) + 1024;
   allocateLinks();
+}
+
+// A first guess at a set's surviving links, so that the first frame is not pruned twice (once to
+// count them): a leaf the set prunes in full keeps about the bins of its hemisphere, 3N² (703 a
+// static leaf in the Cornell box at 4,756 surfels, 826 in the closed furnace at 16 bins, 12,468 at
+// 64 bins; fewer in an open scene, whose surplus the first frame gives back); a static leaf merging
+// the frame's senders re-emits only the bins they touch, N²/2 (66 a leaf there, about 670 at 64
+// bins); plus the usual margin.
+uint32_t IvSolver::firstLeafLinkGuess(const LinkSet& set, const std::vector<uint32_t>& leafMoves) const {
+  if (set.rootPairs.empty()) return 0;
+  const uint64_t hemisphere = 3ull * settings_.bins * settings_.bins, merged = hemisphere / 6;
+  uint64_t guess = 0;
+  for (uint32_t moves : leafMoves) guess += &set == &staticSet_ ? (moves ? 0 : hemisphere) : (moves ? hemisphere : merged);
+  return withMargin(uint32_t(std::min<uint64_t>(guess, 0xFFFFFFF0u)));
 }
 
 uint32_t IvSolver::pruneGroups() const {
@@ -203,48 +233,71 @@ uint32_t IvSolver::pruneGroups() const {
 
 uint32_t IvSolver::pruneBatch() const { return pruneGroups() * kMaxLeavesPerGroup; }
 
-void IvSolver::allocateLinks() {
-  // What grows with the link counts, and how each is bound: a storage buffer stops at
-  // maxStorageBufferRange; the leaf links, texels in prune_bins.comp and gather.comp, at
-  // maxTexelBufferElements and the largest allocation.
-  enum class Binding { Storage, Texels };
-  struct Array {
-    vk::Buffer* buffer;
-    uint64_t count, elementBytes;
-    Binding binding;
-    const char* what;
-    uint64_t elements() const { return std::max<uint64_t>(count, 1); }
-    uint64_t bytes() const { return elements() * elementBytes; }
-  };
-  std::vector<Array> arrays = {{&worklistA_, worklistCapacity_, 8, Binding::Storage, "refinement worklist"},
-                               {&worklistB_, worklistCapacity_, 8, Binding::Storage, "refinement worklist"},
-                               {&leafLinks_, frameSet_.leafLinkCapacity, 8, Binding::Texels, "leaf links"},
-                               {&staticLinks_, staticSet_.leafLinkCapacity, 8, Binding::Texels, "static leaf links"},
-                               {&staticBins_, staticSet_.leafLinkCapacity, 4, Binding::Texels, "static leaf links' bins"},
-                               {&staticDepths_, staticSet_.leafLinkCapacity, 4, Binding::Texels, "static leaf links' depths"}};
+std::vector<IvSolver::LinkArray> IvSolver::linkArrays() {
+  // The leaf links are texels in prune_bins.comp and gather.comp; the rest storage buffers.
+  std::vector<LinkArray> arrays = {{&worklistA_, worklistCapacity_, 8, false, "refinement worklist", nullptr},
+                                   {&worklistB_, worklistCapacity_, 8, false, "refinement worklist", nullptr},
+                                   {&leafLinks_, frameSet_.leafLinkCapacity, 8, true, "leaf links", &frameSet_},
+                                   {&staticLinks_, staticSet_.leafLinkCapacity, 8, true, "static leaf links", &staticSet_},
+                                   {&staticBins_, staticSet_.leafLinkCapacity, 4, true, "static leaf links' bins", &staticSet_},
+                                   {&staticDepths_, staticSet_.leafLinkCapacity, 4, true, "static leaf links' depths", &staticSet_}};
   for (LinkSet* set : {&staticSet_, &frameSet_})
-    arrays.insert(arrays.end(), {{&set->links, set->linkCapacity, 8, Binding::Storage, "links"},
-                                 {&set->senders, set->linkCapacity, 4, Binding::Storage, "links"}});
-  auto refuse = [&](uint64_t bytes, const std::string& what, const char* limit, uint64_t limitBytes) {
-    throw vk::VulkanError("the iv solver needs " + std::to_string(bytes >> 20) + " MiB of " + what + ", above the device's " + limit + " of " +
-                          std::to_string(limitBytes >> 20) + " MiB: raise --eps or lower --bins");
+    arrays.insert(arrays.end(), {{&set->links, set->linkCapacity, 8, false, "links", nullptr}, {&set->senders, set->linkCapacity, 4, false, "links", nullptr}});
+  return arrays;
+}
+
+std::string IvSolver::linkArraysRefusal(const std::vector<LinkArray>& arrays) const {
+  auto refusal = [](uint64_t bytes, const std::string& what, const char* limit, uint64_t limitBytes) {
+    return "the iv solver needs " + std::to_string(bytes >> 20) + " MiB of " + what + ", above the device's " + limit + " of " +
+           std::to_string(limitBytes >> 20) + " MiB: raise --eps or lower --bins";
   };
   const VkPhysicalDeviceLimits& limits = ctx_.limits();
   uint64_t total = allocatedBytes();  // once every array has its new size
-  for (const Array& a : arrays) {
-    if (a.binding == Binding::Storage && a.bytes() > limits.maxStorageBufferRange)
-      refuse(a.bytes(), a.what, "maxStorageBufferRange", limits.maxStorageBufferRange);
-    if (a.binding == Binding::Texels && a.elements() > limits.maxTexelBufferElements)
-      refuse(a.bytes(), a.what, "maxTexelBufferElements", uint64_t(limits.maxTexelBufferElements) * a.elementBytes);
-    if (a.bytes() > ctx_.maxAllocationBytes()) refuse(a.bytes(), a.what, "maxMemoryAllocationSize", ctx_.maxAllocationBytes());
-    total = total - a.buffer->size() + a.bytes();  // replaces what it had
+  for (const LinkArray& a : arrays) {
+    if (!a.texels && a.bytes() > limits.maxStorageBufferRange) return refusal(a.bytes(), a.what, "maxStorageBufferRange", limits.maxStorageBufferRange);
+    if (a.texels && a.elements() > limits.maxTexelBufferElements)
+      return refusal(a.bytes(), a.what, "maxTexelBufferElements", uint64_t(limits.maxTexelBufferElements) * a.elementBytes);
+    if (a.bytes() > ctx_.maxAllocationBytes()) return refusal(a.bytes(), a.what, "maxMemoryAllocationSize", ctx_.maxAllocationBytes());
+    total = total - a.buffer->size() + std::max<uint64_t>(a.bytes(), a.buffer->size());  // grows what it had
   }
-  if (total > ctx_.deviceHeapBytes()) refuse(total, "device memory in all", "memory heap", ctx_.deviceHeapBytes());
-  for (const Array& a : arrays) {
+  if (total > ctx_.deviceHeapBytes()) return refusal(total, "device memory in all", "memory heap", ctx_.deviceHeapBytes());
+  return {};
+}
+
+void IvSolver::allocateLinks() {
+  const std::vector<LinkArray> arrays = linkArrays();
+  if (std::string why = linkArraysRefusal(arrays); !why.empty()) throw vk::VulkanError(why);
+  for (const LinkArray& a : arrays) {
+    if (a.buffer->size() >= a.bytes()) continue;  // keeps what it holds
     *a.buffer = vk::Buffer();  // before its successor: the two need not fit at once
     *a.buffer = vk::Buffer(ctx_, a.bytes(), vk::Memory::Device);
   }
-  linked_ = staticLinked_ = false;
+}
+
+void IvSolver::releaseUnusedLinks() {
+  // The static set's surviving links are made once and never grow: they keep exactly their room,
+  // and the links they were pruned from are not needed again. The frame's keep the margin, and
+  // shrink only past a third unused, lest every frame reallocate.
+  bool shrinks = splitsStatic() && staticLinked_ && staticSet_.linkCapacity > 0;
+  if (shrinks) staticSet_.linkCapacity = 0;
+  for (LinkSet* set : {&staticSet_, &frameSet_}) {
+    if (set->rootPairs.empty()) continue;
+    const uint32_t used = set->counters.read<uint32_t>(8)[kCounterLeafLinks], fitted = set == &staticSet_ ? used : withMargin(used);
+    if (set == &staticSet_ ? set->leafLinkCapacity > fitted : uint64_t(set->leafLinkCapacity) * 2 > uint64_t(fitted) * 3)
+      set->leafLinkCapacity = fitted, shrinks = true;
+  }
+  if (!shrinks) return;
+  for (const LinkArray& a : linkArrays()) {
+    if (std::max(a.bytes(), vk::Buffer::kMinBytes) >= a.buffer->size()) continue;
+    vk::Buffer kept(ctx_, a.bytes(), vk::Memory::Device);
+    const uint64_t used = a.leafLinksOf ? std::min<uint64_t>(a.leafLinksOf->counters.read<uint32_t>(8)[kCounterLeafLinks], a.count) : 0;
+    if (used > 0)  // the surviving links it holds
+      ctx_.submitAndWait([&](VkCommandBuffer cmd) {
+        const VkBufferCopy region{0, 0, used * a.elementBytes};
+        vkCmdCopyBuffer(cmd, a.buffer->handle(), kept.handle(), 1, &region);
+      });
+    *a.buffer = std::move(kept);
+  }
 }
 
 void IvSolver::setLights(const std::vector<GpuLight>& lights) {
@@ -292,7 +345,8 @@ void IvSolver::recordPrune(VkCommandBuffer cmd, const vk::Program& pass, LinkSet
     pass.dispatch(cmd, pass.groupsFor(groups, 1),
                   {&tree_, &nodes_, &set.starts, &set.senders, &leafOfSurfel_, &binTable_, &globalBins_, &ranges_, &leafLinks_, &set.counters,
                    &external_, &lights_, &environment_, &globalCoverage_, &leafMoves_, &staticRanges_, &staticLinks_, &staticBins_, &staticDepths_,
-                   &staticMasks_, &staticEnvironment_, &overrides_, &radiosityA_, &staticEmitters_, &staticEmitterCounts_, &staticCorrection_},
+                   &staticMasks_, &staticEnvironment_, &overrides_, &radiosityA_, &staticEmitters_, &staticEmitterCounts_, &staticCorrection_,
+                   &staticSet_.counters},
                   PrunePush{first, std::min(surfelCount_, first + batch), set.leafLinkCapacity, lightCount_, settings_.environment.empty() ? 0u : 1u,
                             staticSet_.leafLinkCapacity});
     vk::barrier(cmd);
@@ -322,6 +376,7 @@ void IvSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
       eachLevelBottomUp([&](LevelPush level) { refit_.dispatchItems(cmd, level.count, {&tree_, &surfels, &nodes_}, level); });
       emitAndPullUp();
     });
+    staticPasses_ += linkStatic ? 1 : 0;
     timedPass(cmd, timer, "links", [&] {
       if (linkStatic) recordLinks(cmd, staticSet_);
       recordLinks(cmd, frameSet_);
@@ -339,7 +394,7 @@ void IvSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
       vk::Buffer& out = k % 2 ? radiosityA_ : radiosityB_;
       gather_.dispatchItems(cmd, surfelCount_,
                             {&leafOfSurfel_, &ranges_, &leafLinks_, &external_, &albedo_, &emission_, &in, &out, &irradiance_, &staticRanges_,
-                             &staticLinks_, &staticBins_, &overrides_},
+                             &staticLinks_, &staticBins_, &overrides_, &frameSet_.counters, &staticSet_.counters},
                             GatherPush{surfelCount_, maskWords()});
       vk::barrier(cmd);
       eachLevelBottomUp([&](LevelPush level) { pullUp_.dispatchItems(cmd, level.count, {&tree_, &nodes_, &out}, level); });
@@ -351,19 +406,20 @@ void IvSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
 uint32_t IvSolver::refineIterations() const { return 2 * (hierarchy_.maxDepth() + 1) + 1; }
 
 bool IvSolver::growIfOverflowed() {
-  auto grown = [](uint32_t needed) { return uint32_t(std::min<uint64_t>(uint64_t(needed) * 5 / 4 + 1024, 0xFFFFFFF0u)); };
   bool overflowed = false;
   for (LinkSet* set : {&staticSet_, &frameSet_}) {
     if (set->rootPairs.empty()) continue;
     auto c = set->counters.read<uint32_t>(8);
     if (uint32_t left = c[refineIterations() % 2]; left != 0)  // pairs still unrefined after the last level: a bug
       throw vk::VulkanError("iv link creation left " + std::to_string(left) + " pairs unrefined after " + std::to_string(refineIterations()) + " levels");
-    if (c[kCounterOverflow] & 1) worklistCapacity_ = std::max(worklistCapacity_, grown(c[kCounterWorklistPeak]));
-    if (c[kCounterOverflow] & 2) set->linkCapacity = std::max(set->linkCapacity, grown(c[kCounterLinks]));
-    if (c[kCounterOverflow] & 4) set->leafLinkCapacity = std::max(set->leafLinkCapacity, grown(c[kCounterLeafLinks]));
-    overflowed = overflowed || c[kCounterOverflow] != 0;
+    if (c[kCounterOverflow] == 0) continue;
+    if (c[kCounterOverflow] & kOverflowWorklist) worklistCapacity_ = std::max(worklistCapacity_, withMargin(c[kCounterWorklistPeak]));
+    if (c[kCounterOverflow] & kOverflowLinks) set->linkCapacity = std::max(set->linkCapacity, withMargin(c[kCounterLinks]));
+    if (c[kCounterOverflow] & kOverflowLeafLinks) set->leafLinkCapacity = std::max(set->leafLinkCapacity, withMargin(c[kCounterLeafLinks]));
+    overflowed = true;
+    if (set == &staticSet_) staticLinked_ = false;  // a frame set's overflow leaves the static links whole
   }
-  if (overflowed) allocateLinks();  // and relinks everything
+  if (overflowed) allocateLinks(), linked_ = false, ++framesRedone_;
   return overflowed;
 }
 
@@ -373,6 +429,7 @@ IvStats IvSolver::stats() const {
   s.levels = hierarchy_.levels();
   s.sharedBins = sharedBins_;
   s.pruneBatches = (surfelCount_ + pruneBatch() - 1) / pruneBatch();
+  s.framesRedone = framesRedone_, s.staticPasses = staticPasses_;
   for (const LinkSet* set : {&staticSet_, &frameSet_}) {
     if (set->rootPairs.empty()) continue;
     auto c = set->counters.read<uint32_t>(8);

@@ -1,9 +1,10 @@
 #pragma once
 // The iv solver (design.md §1.2, §2 passes 3–6): refit, link creation, bin pruning and push-down,
-// bounces. Every step is a compute pass; the host only sizes buffers from the counts the GPU reports
-// and grows them when a frame overflowed.
+// bounces. Every step is a compute pass; the host only sizes buffers, from a first guess and then
+// from the counts the GPU reports: it grows them when a frame overflowed, shrinks what stays unused.
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <optional>
 #include <string>
 #include <vector>
@@ -38,6 +39,9 @@ struct IvStats {
   uint64_t bytes = 0;
   bool sharedBins = true;
   uint32_t pruneBatches = 0;  // dispatches a prune takes (each of at most a few leaves a workgroup)
+  // Since the solver was made: frames redone because their links outgrew the room they had (the
+  // timings are the redone frame's), and static passes run (1 once the static links are whole).
+  uint32_t framesRedone = 0, staticPasses = 0;
 };
 
 // What the iv solver of a frame is made from: the hierarchy over the rest-pose surfels, the user's
@@ -66,6 +70,10 @@ class IvSolver {
   void record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffer& surfels, bool relink);
   // After the frame completed: grows what overflowed and returns true when the frame must be redone.
   bool growIfOverflowed();
+  // After a frame that needed no redo: gives back the leaf-link room it left unused (the first
+  // frame's guess, or a frame that needed far fewer), keeping the links it holds, and frees the
+  // static pairs' links once their survivors are made.
+  void releaseUnusedLinks();
 
   const vk::Buffer& irradiance() const { return irradiance_; }
   IvStats stats() const;
@@ -96,7 +104,22 @@ class IvSolver {
     vk::Buffer roots, counters, links, counts, starts, senders;
     uint32_t linkCapacity = 0, leafLinkCapacity = 0;
   };
+  // An array that grows with the link counts, and how it is bound (limits: a storage buffer
+  // maxStorageBufferRange; texels, read as imageBuffers, maxTexelBufferElements).
+  struct LinkArray {
+    vk::Buffer* buffer;
+    uint64_t count, elementBytes;
+    bool texels;
+    const char* what;
+    const LinkSet* leafLinksOf;  // the set whose surviving links it holds (kept when it shrinks), or null
+    uint64_t elements() const { return std::max<uint64_t>(count, 1); }
+    uint64_t bytes() const { return elements() * elementBytes; }
+  };
+  std::vector<LinkArray> linkArrays();  // at the capacities the link sets hold now
+  // Why those arrays cannot be allocated on this device (empty: they can).
+  std::string linkArraysRefusal(const std::vector<LinkArray>& arrays) const;
   void allocateLinks();  // the arrays that grow with the link counts, after checking the device's limits
+  uint32_t firstLeafLinkGuess(const LinkSet& set, const std::vector<uint32_t>& leafMoves) const;
   uint64_t allocatedBytes() const;
   void recordLinks(VkCommandBuffer cmd, LinkSet& set);
   void recordPrune(VkCommandBuffer cmd, const vk::Program& pass, LinkSet& set);
@@ -113,6 +136,7 @@ class IvSolver {
   uint32_t worklistCapacity_;
   bool sharedBins_;
   bool linked_ = false, staticLinked_ = false;
+  uint32_t framesRedone_ = 0, staticPasses_ = 0;
   LinkSet staticSet_, frameSet_;
 
   vk::Buffer tree_, leafOfSurfel_, leafMoves_, albedo_, emission_, binTable_, environment_, lights_;

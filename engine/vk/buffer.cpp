@@ -4,7 +4,7 @@
 
 namespace ivgi::vk {
 
-Buffer::Buffer(const Context& ctx, VkDeviceSize bytes, Memory memory) : ctx_(&ctx), size_(std::max<VkDeviceSize>(bytes, 16)) {
+Buffer::Buffer(const Context& ctx, VkDeviceSize bytes, Memory memory) : ctx_(&ctx), size_(std::max(bytes, kMinBytes)) {
   VkBufferCreateInfo bi{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   bi.size = size_;
   bi.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |

@@ -16,6 +16,7 @@ enum class Memory { Device, Host };
 
 class Buffer {
  public:
+  static constexpr VkDeviceSize kMinBytes = 16;  // the least a buffer takes (an empty array gets a stand-in)
   Buffer() = default;
   Buffer(const Context& ctx, VkDeviceSize bytes, Memory memory);
   ~Buffer() { release(); }
