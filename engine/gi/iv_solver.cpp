@@ -233,6 +233,10 @@ uint32_t IvSolver::pruneGroups() const {
 
 uint32_t IvSolver::pruneBatch() const { return pruneGroups() * kMaxLeavesPerGroup; }
 
+uint32_t IvSolver::leafLinksHeld(const LinkSet& set) const {
+  return std::min(set.leafLinkCapacity, set.counters.read<uint32_t>(8)[kCounterLeafLinks]);
+}
+
 std::vector<IvSolver::LinkArray> IvSolver::linkArrays() {
   // The leaf links are texels in prune_bins.comp and gather.comp; the rest storage buffers.
   std::vector<LinkArray> arrays = {{&worklistA_, worklistCapacity_, 8, false, "refinement worklist", nullptr},
@@ -282,7 +286,7 @@ void IvSolver::releaseUnusedLinks() {
   if (shrinks) staticSet_.linkCapacity = 0;
   for (LinkSet* set : {&staticSet_, &frameSet_}) {
     if (set->rootPairs.empty()) continue;
-    const uint32_t used = set->counters.read<uint32_t>(8)[kCounterLeafLinks], fitted = set == &staticSet_ ? used : withMargin(used);
+    const uint32_t used = leafLinksHeld(*set), fitted = set == &staticSet_ ? used : withMargin(used);
     if (set == &staticSet_ ? set->leafLinkCapacity > fitted : uint64_t(set->leafLinkCapacity) * 2 > uint64_t(fitted) * 3)
       set->leafLinkCapacity = fitted, shrinks = true;
   }
@@ -290,7 +294,7 @@ void IvSolver::releaseUnusedLinks() {
   for (const LinkArray& a : linkArrays()) {
     if (std::max(a.bytes(), vk::Buffer::kMinBytes) >= a.buffer->size()) continue;
     vk::Buffer kept(ctx_, a.bytes(), vk::Memory::Device);
-    const uint64_t used = a.leafLinksOf ? std::min<uint64_t>(a.leafLinksOf->counters.read<uint32_t>(8)[kCounterLeafLinks], a.count) : 0;
+    const uint64_t used = a.leafLinksOf ? leafLinksHeld(*a.leafLinksOf) : 0;
     if (used > 0)  // the surviving links it holds
       ctx_.submitAndWait([&](VkCommandBuffer cmd) {
         const VkBufferCopy region{0, 0, used * a.elementBytes};
@@ -454,16 +458,15 @@ uint64_t IvSolver::allocatedBytes() const {
 }
 
 std::vector<std::vector<IvSolver::LeafLink>> IvSolver::leafLinks() const {
-  auto count = [](const LinkSet& set) { return std::min(set.leafLinkCapacity, set.counters.read<uint32_t>(8)[kCounterLeafLinks]); };
   auto ranges = ranges_.read<glm::uvec2>(surfelCount_);
-  auto all = leafLinks_.read<LeafLink>(count(frameSet_));
+  auto all = leafLinks_.read<LeafLink>(leafLinksHeld(frameSet_));
   std::vector<std::vector<LeafLink>> out(surfelCount_);
   for (uint32_t s = 0; s < surfelCount_; ++s)
     for (uint32_t k = ranges[s].x; k < ranges[s].x + ranges[s].y && k < all.size(); ++k) out[s].push_back(all[k]);
   if (!splitsStatic()) return out;
   auto staticRanges = staticRanges_.read<glm::uvec2>(surfelCount_);
-  auto staticLinks = staticLinks_.read<LeafLink>(count(staticSet_));
-  auto staticBins = staticBins_.read<uint32_t>(count(staticSet_));
+  auto staticLinks = staticLinks_.read<LeafLink>(leafLinksHeld(staticSet_));
+  auto staticBins = staticBins_.read<uint32_t>(leafLinksHeld(staticSet_));
   auto overrides = overrides_.read<uint32_t>(size_t(surfelCount_) * maskWords());
   for (uint32_t s = 0; s < surfelCount_; ++s)
     for (uint32_t k = staticRanges[s].x; k < staticRanges[s].x + staticRanges[s].y && k < staticLinks.size(); ++k) {

@@ -120,6 +120,7 @@ class IvSolver {
   std::string linkArraysRefusal(const std::vector<LinkArray>& arrays) const;
   void allocateLinks();  // the arrays that grow with the link counts, after checking the device's limits
   uint32_t firstLeafLinkGuess(const LinkSet& set, const std::vector<uint32_t>& leafMoves) const;
+  uint32_t leafLinksHeld(const LinkSet& set) const;  // the surviving links the last prune wrote (those that fit)
   uint64_t allocatedBytes() const;
   void recordLinks(VkCommandBuffer cmd, LinkSet& set);
   void recordPrune(VkCommandBuffer cmd, const vk::Program& pass, LinkSet& set);
