@@ -166,6 +166,21 @@ void tangentFrame(vec3 n, out vec3 t1, out vec3 t2) {
   t2 = cross(n, t1);
 }
 
+// lavapipe's loop budget. Mesa's gallivm, which compiles lavapipe's shaders (Mesa 22.3 here), counts
+// the rounds of every loop a subgroup runs, all loops of the shader together, and once they reach
+// 65,535 (LP_MAX_TGSI_LOOP_ITERATIONS, never reset while the subgroup runs) it ends each loop after
+// one round, silently. Passes keep a subgroup's rounds below it: the rasteriser cuts large triangles
+// into slices, one workgroup each; the gather's loops are bounded by a leaf's bins (at most
+// 2·6·64² = 49,152); the prune probes whether its workgroup ran out (the frame is then redone with
+// more subgroups a workgroup); the other passes loop a few thousand rounds at most.
+// True when the budget ran out before this call: a loop of lid + 2 rounds, a count no compiler
+// knows, then runs one round. Devices without such a budget never report it.
+bool loopBudgetSpent() {
+  uint rounds = 0u, wanted = gl_LocalInvocationID.x + 2u;
+  for (uint i = 0u; i < wanted; ++i) ++rounds;
+  return rounds != wanted;
+}
+
 // Hot loops read arrays through imageBuffers: lavapipe gathers texels with vector loads but reads a
 // storage buffer one lane at a time. A shader defines NODE_TEXELS (the binding) before including
 // this file to read NodeState as three rgba32f texels per node.
@@ -194,7 +209,9 @@ uint staticCoverageOf(uint packed) { return packed >> 15; }
 const uint kCounterWorklistA = 0u, kCounterWorklistB = 1u, kCounterLinks = 2u, kCounterLeafLinks = 3u, kCounterOverflow = 4u,
            kCounterWorklistPeak = 5u;
 // Bits of counters[kCounterOverflow]: what a frame ran out of room for (it is redone with more).
-const uint kOverflowWorklist = 1u, kOverflowLinks = 2u, kOverflowLeafLinks = 4u;
+// kOverflowLoopBudget: a prune workgroup ran out of lavapipe's loop budget (below); the frame is
+// redone with more subgroups a workgroup.
+const uint kOverflowWorklist = 1u, kOverflowLinks = 2u, kOverflowLeafLinks = 4u, kOverflowLoopBudget = 8u;
 // KHR_lights_punctual, in world space for the frame. position.w: 0 directional, 1 point, 2 spot;
 // direction: where the light points, w = range (0: none); cone: cos outer, cos inner.
 struct PunctualLight { vec4 position; vec4 direction; vec4 intensity; vec4 cone; };

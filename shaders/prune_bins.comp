@@ -21,7 +21,10 @@
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 1
 #include "common.glsl"
-layout(local_size_x = 64) in;
+// As few subgroups a workgroup as lavapipe's loop budget allows (iv_solver.cpp): lavapipe runs a
+// workgroup's subgroups one after another on one thread, switching at every barrier.
+layout(local_size_x_id = 8) in;
+const uint kGroupSize = gl_WorkGroupSize.x;  // a multiple of 8
 
 layout(constant_id = 0) const uint kN = 16;              // bins per face side
 layout(constant_id = 1) const bool kSharedBins = true;
@@ -68,7 +71,7 @@ shared uint64_t sharedBins[kSharedSlots];
 shared uint sharedCoverage[kSharedSlots];  // covered solid angle in 1/kCoverageUnit of the bin's
 shared uint mask[kMaskWords];
 shared uint wordStart[kMaskWords];
-shared vec3 partial[64];
+shared vec3 partial[kGroupSize];
 shared uint leafBase;
 shared uint pathChunk[kPathChunk], wideQueue[kPathChunk];
 shared uint wideCount;
@@ -327,7 +330,7 @@ vec3 sumPartials(uint lid, vec3 mine) {
   barrier();
   vec3 sum = vec3(0.0);
   if (lid == 0u)
-    for (uint t = 0u; t < 64u; ++t) sum += partial[t];
+    for (uint t = 0u; t < kGroupSize; ++t) sum += partial[t];
   return sum;
 }
 
@@ -338,8 +341,8 @@ void main() {
   uint lid = gl_LocalInvocationID.x;
   uint slot = kSharedBins ? 0u : groupIndex() * kBinCount;
   if (kSharedBins)
-    for (uint b = lid; b < kBinCount; b += 64u) sharedBins[b] = kEmptyVisibility, sharedCoverage[b] = 0u;
-  for (uint w = lid; w < kMaskWords; w += 64u) mask[w] = 0u;
+    for (uint b = lid; b < kBinCount; b += kGroupSize) sharedBins[b] = kEmptyVisibility, sharedCoverage[b] = 0u;
+  for (uint w = lid; w < kMaskWords; w += kGroupSize) mask[w] = 0u;
   if (lid == 0u) wideCount = 0u, emitterCount = 0u;
   barrier();
 
@@ -370,7 +373,7 @@ void main() {
       uint listed = 0u;
       while (a >= 0 && listed < kPathChunk) {
         uint end = imageLoad(starts, a + 1).x, take = min(end - next, kPathChunk - listed);
-        for (uint j = lid; j < take; j += 64u) pathChunk[listed + j] = imageLoad(senders, int(next + j)).x;
+        for (uint j = lid; j < take; j += kGroupSize) pathChunk[listed + j] = imageLoad(senders, int(next + j)).x;
         listed += take;
         next += take;
         if (next == end) {
@@ -379,10 +382,10 @@ void main() {
         }
       }
       barrier();
-      for (uint j = lid; j < listed; j += 64u) fileSender(slot, leaf, p, n, area, pathChunk[j]);
+      for (uint j = lid; j < listed; j += kGroupSize) fileSender(slot, leaf, p, n, area, pathChunk[j]);
       barrier();
       // Each group of 8 lanes (a subgroup on lavapipe) takes a queued sender and files its pieces, one per lane.
-      for (uint e = lid / 8u; e < wideCount; e += 8u) {
+      for (uint e = lid / 8u; e < wideCount; e += kGroupSize / 8u) {
         uint s = wideQueue[e];
         vec4 normalCone = nodeNormalCone(s);
         View v = viewOf(p, nodePositionArea(s), normalCone);
@@ -399,21 +402,21 @@ void main() {
     uint staticListed = staticEmitterCount == kManyEmitters ? 0u : staticEmitterCount, emitters = staticListed + emitterCount;
     bool direct = staticEmitterCount != kManyEmitters && emitters <= (kStaticPass ? kStaticEmitters : kEmitterQueue);
     if (direct)
-      for (uint e = lid; e < emitters; e += 64u) {
+      for (uint e = lid; e < emitters; e += kGroupSize) {
         uint s = emitterAt(surfel, staticListed, e), rank = 0u;
         for (uint j = 0u; j < emitters; ++j) rank += emitterAt(surfel, staticListed, j) < s ? 1u : 0u;
         sortedEmitters[rank] = s;
       }
     // Survivors in bin order (deterministic): count per mask word, scan, write.
-    for (uint w = lid; w < kMaskWords; w += 64u) wordStart[w] = bitCount(mask[w]);
+    for (uint w = lid; w < kMaskWords; w += kGroupSize) wordStart[w] = bitCount(mask[w]);
     barrier();
     vec3 emitterLight = vec3(0.0);
     if (kStaticPass) {
       if (direct)
-        for (uint e = lid; e < emitters; e += 64u) staticEmitters[surfel * kStaticEmitters + e] = sortedEmitters[e];
+        for (uint e = lid; e < emitters; e += kGroupSize) staticEmitters[surfel * kStaticEmitters + e] = sortedEmitters[e];
       if (lid == 0u) staticEmitterCounts[surfel] = direct ? emitters : kManyEmitters;
     } else if (direct) {
-      for (uint e = lid; e < emitters; e += 64u) emitterLight += directLight(slot, p, n, sortedEmitters[e]);
+      for (uint e = lid; e < emitters; e += kGroupSize) emitterLight += directLight(slot, p, n, sortedEmitters[e]);
     }
     if (lid == 0u) {
       uint total = 0u;
@@ -434,7 +437,7 @@ void main() {
     // A merging leaf's environment changes only in the bins it touched: this frame's minus its static
     // share; so does the emission taken back from emissive survivors.
     vec3 environmentChange = vec3(0.0);
-    for (uint w = lid; w < kMaskWords; w += 64u) {
+    for (uint w = lid; w < kMaskWords; w += kGroupSize) {
       uint bits = mask[w], outIndex = leafBase + wordStart[w];
       if (kStaticPass) staticMasks[maskBase + w] = uvec2(bits, wordStart[w]);
       if (merging) overrides[maskBase + w] = bits;
@@ -467,7 +470,7 @@ void main() {
     // Environment through the empty bins above the horizon, summed in a fixed order.
     vec3 env = environmentChange;
     if (environmentOn != 0u && area > 0.0 && !merging)
-      for (uint b = lid; b < kBinCount; b += 64u) env += environmentThrough(n, b, loadCoverage(slot, b));
+      for (uint b = lid; b < kBinCount; b += kGroupSize) env += environmentThrough(n, b, loadCoverage(slot, b));
     if (kStaticPass) {
       vec3 correction = sumPartials(lid, emitterLight);
       barrier();
@@ -484,7 +487,7 @@ void main() {
       }
     }
     barrier();  // the lights read the bins
-    for (uint w = lid; w < kMaskWords; w += 64u) {
+    for (uint w = lid; w < kMaskWords; w += kGroupSize) {
       uint bits = mask[w];
       while (bits != 0u) {
         resetBin(slot, w * 32u + uint(findLSB(bits)));
@@ -495,4 +498,7 @@ void main() {
     if (lid == 0u) emitterCount = 0u;  // (each chunk already emptied the wide queue)
     barrier();
   }
+  // Cut short by lavapipe's loop budget (common.glsl), every leaf after the one it ran out in came
+  // out short: the frame is redone with more subgroups a workgroup.
+  if (loopBudgetSpent()) atomicOr(counters[kCounterOverflow], kOverflowLoopBudget);
 }

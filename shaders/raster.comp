@@ -1,10 +1,15 @@
 #version 460
 // Pass 7a, rasterise: one workgroup per triangle walks the pixels of its screen bounds in 8×8 tiles
 // (no integer division: lavapipe divides one lane at a time), casts the camera ray through each
-// sample centre and keeps the nearest hit by 64-bit atomicMin.
+// sample centre and keeps the nearest hit by 64-bit atomicMin. A workgroup walks at most
+// kTilesPerSlice tiles, so that it stays within lavapipe's loop budget (common.glsl: seen from inside
+// the furnace at 3840×2160, walls reaching behind the camera lost their lower rows, 28 % of the
+// frame); bounds holding more are cut into slices of tile rows, slice z walked by workgroup z (the
+// host dispatches as many as bounds as large as the image need).
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 layout(local_size_x = 64) in;
+layout(constant_id = 0) const int kTilesPerSlice = 32768;
 
 layout(binding = 0, rgba32f) readonly uniform imageBuffer world;       // WorldVertex: position, normal
 layout(binding = 1, rgba32ui) readonly uniform uimageBuffer triangles;  // Triangle
@@ -36,11 +41,15 @@ void main() {
     hi = min(hi, ivec2(ceil(mx)));
   }  // else: a vertex behind the near plane, so the whole image is a conservative bound
   if (any(lessThan(hi, lo))) return;
+  // This workgroup's slice: its tile rows, at most kTilesPerSlice tiles (a subgroup's rounds: the
+  // tiles plus a round per row, under 35,000).
+  int tileColumns = (hi.x - lo.x) / 8 + 1, rowsPerSlice = max(1, kTilesPerSlice / tileColumns);
+  int first = lo.y + 8 * rowsPerSlice * int(gl_WorkGroupID.z), last = min(hi.y, first + 8 * rowsPerSlice - 1);
   ivec2 lane = ivec2(gl_LocalInvocationID.x & 7u, gl_LocalInvocationID.x >> 3u);
-  for (int y = lo.y; y <= hi.y; y += 8)
+  for (int y = first; y <= last; y += 8)
     for (int x = lo.x; x <= hi.x; x += 8) {
       ivec2 px = ivec2(x, y) + lane;
-      if (any(greaterThan(px, hi))) continue;
+      if (any(greaterThan(px, ivec2(hi.x, last)))) continue;
       vec3 dir = cameraRay(cam, vec2(px) + 0.5, size);
       float depth;
       vec2 uv;

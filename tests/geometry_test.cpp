@@ -219,3 +219,20 @@ TEST(MovingInstances, OnlyWhatTheAnimationReaches) {
   auto morphing = movingInstances(cube, cg, 0);
   EXPECT_EQ(std::count(morphing.begin(), morphing.end(), true), long(cg.instances.size()));
 }
+
+// Seen from inside the closed furnace, every sample hits a wall, and each wall's triangles reach
+// past the near plane, so that their screen bounds are the whole image. At 3840×2160 samples a
+// workgroup walking such bounds alone would run out of lavapipe's loop budget (common.glsl) and
+// leave the lower third of the image empty, as the rasteriser did before it cut large bounds into
+// slices; here every pixel must be covered by all of its samples.
+TEST(Raster, BoundsAsLargeAsA4KFrameAreCoveredWhole) {
+  const tinygltf::Model model = scenes::furnace({.cells = 1});
+  Scene s = sceneFromModel(model, "furnace");
+  Geometry g = buildGeometry(s);
+  gi::FrameRenderer renderer(test::gpu(), g, {960, 540, 4});
+  const Pose pose = evaluatePose(s, -1, 0.0f);
+  const gi::FrameResult frame = renderer.render(g.frameInputs(s, pose), cameraView(s, pose, s.cameraNodes()[0]));
+  size_t partly = 0;
+  for (const glm::vec4& r : frame.channels.radiance) partly += r.a < 1.0f ? 1 : 0;
+  EXPECT_EQ(partly, 0u) << "pixels not wholly covered, of " << frame.channels.radiance.size();
+}

@@ -325,27 +325,51 @@ TEST(IvStaticObjects, LinkedOnceGiveWhatAFullRelinkGives) {
   EXPECT_LT(worst, 1e-4);
 }
 
+namespace {
+
+// The small room with a moving block in which the tests of the prune's dispatches render.
+struct SmallRoom {
+  tinygltf::Model model = scenes::cornellBox({.cells = 6});
+  scene::Scene scene = scene::sceneFromModel(model, "test");
+  scene::Geometry geometry = scene::buildGeometry(scene);
+  scene::CameraView view = scene::cameraView(scene, scene::evaluatePose(scene, 0, 0.0f), scene.cameraNodes()[0]);
+
+  gi::FrameRenderer renderer(const gi::IvSettings& settings) const {
+    return gi::FrameRenderer(test::gpu(), geometry, {16, 16, 1}, gi::makeIvSetup(scene, geometry, settings, 0));
+  }
+  void render(gi::FrameRenderer& r, float t) const { r.render(geometry.frameInputs(scene, scene::evaluatePose(scene, 0, t)), view); }
+};
+
+// Every leaf of two solvers keeps the same surviving links, sender and form factor bit for bit.
+void expectSameLeafLinks(const gi::IvSolver& a, const gi::IvSolver& b) {
+  const auto la = a.leafLinks(), lb = b.leafLinks();
+  ASSERT_EQ(la.size(), lb.size());
+  for (size_t i = 0; i < la.size(); ++i) {
+    ASSERT_EQ(la[i].size(), lb[i].size()) << "surfel " << i;
+    for (size_t j = 0; j < la[i].size(); ++j)
+      ASSERT_TRUE(la[i][j].sender == lb[i][j].sender && la[i][j].formFactor == lb[i][j].formFactor) << "surfel " << i << ", link " << j;
+  }
+}
+
+}  // namespace
+
 // The prune walks at most a few leaves a workgroup per dispatch, so where the bins live in global
 // memory (one slot per workgroup, all within one binding) a large scene takes several dispatches.
 // Each leaf's bins and survivors must not depend on the batch it fell in: a small scene forced into
 // dispatches of three workgroups gives the radiosity and the links of one dispatch, bit for bit, on
 // both the shared-memory and the global-memory path, for moving and static leaves alike.
 TEST(IvStaticObjects, PruneInBatchesGivesWhatOneDispatchGives) {
-  const tinygltf::Model model = scenes::cornellBox({.cells = 6});
-  scene::Scene s = scene::sceneFromModel(model, "test");
-  scene::Geometry g = scene::buildGeometry(s);
-  const auto view = scene::cameraView(s, scene::evaluatePose(s, 0, 0.0f), s.cameraNodes()[0]);
+  const SmallRoom room;
   for (uint32_t bins : {8u, 24u}) {
     gi::IvSettings settings;
     settings.bins = bins;
     settings.environment.assign(6 * bins * bins, glm::vec4(0.5f, 0.6f, 0.7f, 0.0f));
-    gi::FrameRenderer whole(test::gpu(), g, {16, 16, 1}, gi::makeIvSetup(s, g, settings, 0));
+    gi::FrameRenderer whole = room.renderer(settings);
     settings.pruneGroups = 3;
-    gi::FrameRenderer batched(test::gpu(), g, {16, 16, 1}, gi::makeIvSetup(s, g, settings, 0));
+    gi::FrameRenderer batched = room.renderer(settings);
     for (float t : {0.0f, 0.5f}) {
-      auto pose = scene::evaluatePose(s, 0, t);
-      whole.render(g.frameInputs(s, pose), view);
-      batched.render(g.frameInputs(s, pose), view);
+      room.render(whole, t);
+      room.render(batched, t);
       const gi::IvStats a = whole.solver()->stats(), b = batched.solver()->stats();
       std::printf("bins %u, t %.1f: %u leaf links in %u dispatch(es) and in %u\n", bins, t, a.leafLinks, a.pruneBatches, b.pruneBatches);
       EXPECT_EQ(a.sharedBins, bins <= 16) << "both paths are covered";
@@ -356,13 +380,42 @@ TEST(IvStaticObjects, PruneInBatchesGivesWhatOneDispatchGives) {
       const auto ra = whole.solver()->leafRadiosity(), rb = batched.solver()->leafRadiosity();
       ASSERT_EQ(ra.size(), rb.size());
       EXPECT_EQ(std::memcmp(ra.data(), rb.data(), ra.size() * sizeof(glm::vec4)), 0) << "bins " << bins << ", t " << t;
-      const auto la = whole.solver()->leafLinks(), lb = batched.solver()->leafLinks();
-      ASSERT_EQ(la.size(), lb.size());
-      for (size_t i = 0; i < la.size(); ++i) {
-        ASSERT_EQ(la[i].size(), lb[i].size()) << "surfel " << i;
-        for (size_t j = 0; j < la[i].size(); ++j)
-          ASSERT_TRUE(la[i][j].sender == lb[i][j].sender && la[i][j].formFactor == lb[i][j].formFactor) << "surfel " << i << ", link " << j;
-      }
+      expectSameLeafLinks(*whole.solver(), *batched.solver());
+    }
+  }
+}
+
+// lavapipe ends a subgroup's loops once they ran 65,535 rounds (common.glsl). One workgroup walking
+// 64 leaves of a small room in one dispatch runs out, on the shared and on the global-bins path;
+// the solver must notice, redo the frame with more subgroups a workgroup (on the global path from
+// emptied bins: the leaves cut short left theirs) and give the links of the usual dispatch. The
+// radiosity may differ in the last bits: the sums over a leaf's bins run in another order.
+TEST(IvStaticObjects, APruneThatRunsOutOfLoopRoundsIsRedoneWithMoreSubgroups) {
+  const SmallRoom room;
+  for (uint32_t bins : {8u, 24u}) {
+    gi::IvSettings settings;
+    settings.bins = bins;
+    gi::FrameRenderer usual = room.renderer(settings);
+    settings.pruneGroups = 1;
+    settings.pruneLeaves = 64;
+    gi::FrameRenderer alone = room.renderer(settings);
+    for (float t : {0.0f, 0.5f}) {
+      room.render(usual, t);
+      room.render(alone, t);
+      const gi::IvStats a = usual.solver()->stats(), b = alone.solver()->stats();
+      std::printf("bins %u, t %.1f: 64 leaves a workgroup: frames redone %u, workgroups of %u invocations (usually %u)\n", bins, t,
+                  b.framesRedone, b.pruneGroupSize, a.pruneGroupSize);
+      EXPECT_EQ(a.framesRedone, 0u);
+      EXPECT_GE(b.framesRedone, 1u) << "one workgroup for every leaf ran out of loop rounds";
+      EXPECT_GT(b.pruneGroupSize, a.pruneGroupSize);
+      EXPECT_EQ(b.pruneBatches, (room.geometry.surfels.size() + 63) / 64);
+      EXPECT_EQ(a.leafLinks, b.leafLinks) << "bins " << bins << ", t " << t;
+      expectSameLeafLinks(*usual.solver(), *alone.solver());
+      const auto ra = usual.solver()->leafRadiosity(), rb = alone.solver()->leafRadiosity();
+      ASSERT_EQ(ra.size(), rb.size());
+      float worst = 0.0f;
+      for (size_t i = 0; i < ra.size(); ++i) worst = std::max(worst, glm::length(ra[i] - rb[i]) / std::max(glm::length(ra[i]), 1e-6f));
+      EXPECT_LT(worst, 1e-5f) << "bins " << bins << ", t " << t;
     }
   }
 }

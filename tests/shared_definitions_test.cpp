@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <span>
 
 #include "engine/gi/shared.h"
@@ -272,4 +273,27 @@ TEST(SharedDefinitions, LightFalloffMatchesOnTheGpu) {
   }
   EXPECT_GT(lit, int(n / 3));  // the cases light something
   EXPECT_LT(lit, int(n));      // and the range, cones and the light's own position cut some off
+}
+
+// lavapipe ends every loop of a subgroup, silently, once its loops together ran 65,535 rounds
+// (common.glsl); loopBudgetSpent() must tell exactly when a loop was cut short, here and on any
+// device (where nothing is cut, it must say nothing was). On lavapipe the budget is shared by all
+// loops: two loops of 40,000 rounds each get cut, as does one of 70,000, but not one of 60,000.
+TEST(SharedDefinitions, LoopBudgetSpentTellsWhenLoopsWereCutShort) {
+  auto& ctx = test::gpu();
+  const std::vector<glm::uvec2> cs = {{10, 0}, {60000, 0}, {40000, 20000}, {70000, 0}, {40000, 40000}, {200000, 5}, {0, 0}};
+  vk::Program program(ctx, "loop_budget_cases", testShaderCode("loop_budget_cases"));
+  vk::Buffer in = vk::makeBuffer(ctx, cs);
+  vk::Buffer out(ctx, cs.size() * sizeof(glm::uvec4), vk::Memory::Host);
+  ctx.submitAndWait([&](VkCommandBuffer cmd) { program.dispatch(cmd, program.groupsFor(cs.size(), 1), {&in, &out}, uint32_t(cs.size())); });
+  const auto got = out.read<glm::uvec4>(cs.size());
+  const bool lavapipe = ctx.info().name.find("llvmpipe") != std::string::npos;
+  for (size_t i = 0; i < cs.size(); ++i) {
+    const bool cut = got[i].x != cs[i].x || got[i].y != cs[i].y;
+    std::printf("loops of %u and %u rounds ran %u and %u; spent: %u\n", cs[i].x, cs[i].y, got[i].x, got[i].y, got[i].z);
+    EXPECT_EQ(got[i].z != 0, cut) << "case " << i;
+    if (lavapipe) {
+      EXPECT_EQ(cut, cs[i].x + cs[i].y > 65535) << "case " << i;
+    }
+  }
 }

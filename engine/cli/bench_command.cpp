@@ -95,9 +95,11 @@ int runBench(const BenchOptions& o) {
     std::printf(", nodes %u, links %u created, %u leaf links after push-down and pruning", st.nodes, st.links, st.leafLinks);
     if (st.staticLinks) std::printf(" (of which %u and %u between static objects, made once)", st.staticLinks, st.staticLeafLinks);
     // A redone frame's timings are its second run's: say so where it happened.
-    if (st.framesRedone) std::printf("; %u frame(s) redone with more room for links", st.framesRedone);
+    if (st.framesRedone) std::printf("; %u frame(s) redone with more room for links or loop rounds", st.framesRedone);
+    std::printf("; prune workgroups of %u invocations", st.pruneGroupSize);
     counts.update({{"nodes", st.nodes}, {"links", st.links}, {"leafLinks", st.leafLinks}, {"staticLinks", st.staticLinks},
-                   {"staticLeafLinks", st.staticLeafLinks}, {"sharedMemoryBins", st.sharedBins}, {"framesRedone", st.framesRedone}});
+                   {"staticLeafLinks", st.staticLeafLinks}, {"sharedMemoryBins", st.sharedBins}, {"framesRedone", st.framesRedone},
+                   {"pruneGroupSize", st.pruneGroupSize}});
   }
   std::printf("\nbytes allocated: %llu (%.1f MiB)\n", (unsigned long long)bytes, double(bytes) / (1 << 20));
   if (!o.json.empty()) {

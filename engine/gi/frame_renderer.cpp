@@ -1,10 +1,22 @@
 #include "engine/gi/frame_renderer.h"
 
+#include <algorithm>
+
 #include "engine/gi/pass.h"
 
 namespace ivgi::gi {
 
 namespace {
+
+// The most 8×8-sample tiles one raster workgroup walks (raster.comp): about 35,000 loop rounds a
+// subgroup, within lavapipe's budget of 65,535 (common.glsl).
+constexpr uint32_t kRasterTilesPerSlice = 32768;
+
+// Raster workgroups per triangle: the slices of tile rows that bounds as large as the image need.
+uint32_t rasterSlices(glm::uvec2 samples) {
+  const uint32_t columns = (samples.x + 7) / 8, rows = (samples.y + 7) / 8, rowsPerSlice = std::max(1u, kRasterTilesPerSlice / columns);
+  return (rows + rowsPerSlice - 1) / rowsPerSlice;
+}
 
 struct ImagePush {
   GpuCamera camera;
@@ -52,7 +64,7 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
       surfelCount_(uint32_t(g.surfels.size())),
       animate_(ctx, "animate"),
       surfelUpdate_(ctx, "surfels"),
-      raster_(ctx, "raster"),
+      raster_(ctx, "raster", {kRasterTilesPerSlice}),
       resolve_(ctx, "resolve", {g.textures.empty() ? 0u : 1u, iv ? 1u : 0u}),
       timer_(ctx) {
   if (std::string why = checkImageSettings(ctx, image); !why.empty()) throw vk::VulkanError(why);
@@ -114,8 +126,9 @@ FrameResult FrameRenderer::render(const scene::FrameInputs& in, const scene::Cam
     timedPass(cmd, timer_, "raster", [&] {
       vkCmdFillBuffer(cmd, visibility_->handle(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
       vk::barrier(cmd);
-      raster_.dispatch(cmd, raster_.groupsFor(triangleCount_, 1), {world_, triangles_, visibility_},
-                       ImagePush{camera, fine, triangleCount_});
+      vk::Groups groups = raster_.groupsFor(triangleCount_, 1);
+      groups.z = rasterSlices(fine);
+      raster_.dispatch(cmd, groups, {world_, triangles_, visibility_}, ImagePush{camera, fine, triangleCount_});
     });
     timedPass(cmd, timer_, "resolve", [&] {
       resolve_.dispatch(cmd, {(size.x + 7) / 8, (size.y + 7) / 8, 1},

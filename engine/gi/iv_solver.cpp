@@ -1,6 +1,7 @@
 #include "engine/gi/iv_solver.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 #include "engine/gi/pass.h"
@@ -28,22 +29,46 @@ struct GatherPush {
 };
 constexpr uint32_t kNoCounter = 0xFFFFFFFFu;
 constexpr uint32_t kCounterLinks = 2, kCounterLeafLinks = 3, kCounterOverflow = 4, kCounterWorklistPeak = 5;
-constexpr uint32_t kOverflowWorklist = 1, kOverflowLinks = 2, kOverflowLeafLinks = 4;  // bits of the overflow counter
+// Bits of the overflow counter (common.glsl).
+constexpr uint32_t kOverflowWorklist = 1, kOverflowLinks = 2, kOverflowLeafLinks = 4, kOverflowLoopBudget = 8;
 constexpr uint32_t kMinPruneGroups = 512;
-// lavapipe 22.3 lets a workgroup's subgroups fall out of step at their barriers after many rounds
-// (measured: at 124 leaves a workgroup, a subgroup ran a different number of root-path chunks and
-// bins went unreset, losing ~60 % of the survivors at 63k surfels, differently each run), so no
-// workgroup walks more than this many leaves in one dispatch.
-constexpr uint32_t kMaxLeavesPerGroup = 8;
 constexpr uint32_t kPathChunk = 512;  // root-path senders prune_bins.comp gathers per round, and its queue of wide ones
 constexpr uint32_t kStaticEmitters = 64;  // emitters a static leaf keeps for the frame's direct light (prune_bins.comp)
 constexpr uint32_t kEmitterQueue = 256;   // emitters a leaf lists (prune_bins.comp), counted in its shared memory
 
 uint32_t maskWordsFor(uint32_t n) { return (6 * n * n + 31) / 32; }
 
+// prune_bins.comp's workgroup: whole subgroups of at least 8 invocations (its wide senders are filed
+// 8 lanes apiece). lavapipe runs a workgroup's subgroups one after another on one thread, switching
+// at every barrier, of which a leaf's prune has seven or more: at 6×16×16 bins a workgroup of one
+// subgroup (8 lanes) pruned 4,756 surfels in 375–380 ms, 16, 32 and 64 lanes in 413–418, 423–436
+// and 466–493 ms. But each subgroup has its own loop budget of 65,535 rounds (common.glsl), which
+// the rounds of its workgroup's leaves, divided among its subgroups, must stay within: a leaf at
+// 6×16×16 bins takes about a thousand on one subgroup (the budget ran out after 56–74 leaves), a
+// finer leaf about N² times as many, a leaf with a long root path more (one of 42,496 senders at
+// 63,457 surfels ran out alone). A workgroup starts with (N/16)² subgroups, or one per 16,384
+// surfels at 6×16×16 bins (per 32,768 at 6×8×8: coarser bins, shorter root paths; a power of two),
+// at most 8: the Cornell box needed 1 at 4,756 surfels, 2 at 17,574 and 4 at 63,457 (2 at 6×8×8
+// bins), and 8 at 6×64×64 bins. When one ran out the frame is redone with twice as many. (Unaware
+// of the budget, workgroups of 124 leaves at 63k surfels lost ~60 % of the survivors: the "desync"
+// of earlier notes.)
+uint32_t firstPruneSubgroups(uint32_t n, uint32_t surfels) {
+  const uint64_t perSurfels = (uint64_t(surfels) * n + 16 * 16384 - 1) / (16 * 16384);
+  return std::clamp<uint32_t>(std::max<uint64_t>(n * n / (16 * 16), std::bit_ceil(perSurfels)), 1u, 8u);
+}
+uint32_t maxPruneGroupSize(const vk::Context& ctx) {
+  const VkPhysicalDeviceLimits& limits = ctx.limits();
+  return std::min({256u, limits.maxComputeWorkGroupSize[0], limits.maxComputeWorkGroupInvocations});
+}
+uint32_t pruneGroupSize(const vk::Context& ctx, uint32_t subgroups) {
+  return std::min(std::max(ctx.subgroupSize(), 8u) * subgroups, maxPruneGroupSize(ctx));
+}
+constexpr uint32_t kLeavesPerGroup = 8;  // a prune workgroup's leaves per dispatch, unless the settings say
+
 // Specialization constants of prune_bins.comp.
-std::vector<uint32_t> pruneConstants(uint32_t n, bool sharedBins, bool staticPass) {
-  return {n, sharedBins ? 1u : 0u, sharedBins ? 6 * n * n : 1u, maskWordsFor(n), kPathChunk, staticPass ? 1u : 0u, kStaticEmitters, kEmitterQueue};
+std::vector<uint32_t> pruneConstants(uint32_t n, bool sharedBins, bool staticPass, uint32_t groupSize) {
+  return {n, sharedBins ? 1u : 0u, sharedBins ? 6 * n * n : 1u, maskWordsFor(n), kPathChunk, staticPass ? 1u : 0u, kStaticEmitters, kEmitterQueue,
+          groupSize};
 }
 
 // The room an array that grows with a count gets: a quarter more, so that the next frames'
@@ -99,9 +124,9 @@ std::vector<glm::vec4> IvSolver::binTable(uint32_t n) {
 }
 
 bool IvSolver::binsFitShared(const vk::Context& ctx, uint32_t n) {
-  // bins and coverage, mask and word starts, partial sums, the chunk of root-path senders and its
-  // wide ones, the emitter queue and its sorted copy (prune_bins.comp)
-  uint64_t bytes = uint64_t(6) * n * n * (8 + 4) + uint64_t(maskWordsFor(n)) * 8 + 64 * 16 + 16 + kPathChunk * 8 + 4 + kEmitterQueue * 8 + 4;
+  // bins and coverage, mask and word starts, partial sums (of the largest workgroup), the chunk of
+  // root-path senders and its wide ones, the emitter queue and its sorted copy (prune_bins.comp)
+  uint64_t bytes = uint64_t(6) * n * n * (8 + 4) + uint64_t(maskWordsFor(n)) * 8 + maxPruneGroupSize(ctx) * 16 + 16 + kPathChunk * 8 + 4 + kEmitterQueue * 8 + 4;
   return ctx.sharedInt64Atomics() && bytes <= ctx.limits().maxComputeSharedMemorySize;
 }
 
@@ -114,20 +139,20 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, const IvSet
       surfelCount_(uint32_t(g.surfels.size())),
       nodeCount_(uint32_t(setup.hierarchy.nodes.size())),
       sharedBins_(binsFitShared(ctx, setup.settings.bins)),
+      pruneSubgroups_(firstPruneSubgroups(setup.settings.bins, uint32_t(g.surfels.size()))),
       refit_(ctx, "refit"),
       linkArgs_(ctx, "link_args"),
       refine_(ctx, "refine_links"),
       countLinks_(ctx, "count_links"),
       scanCounts_(ctx, "scan_counts"),
       scatterLinks_(ctx, "scatter_links"),
-      pruneStatic_(ctx, "prune_bins", pruneConstants(setup.settings.bins, sharedBins_, true)),
-      pruneFrame_(ctx, "prune_bins", pruneConstants(setup.settings.bins, sharedBins_, false)),
       emit_(ctx, "emit"),
       gather_(ctx, "gather"),
       pullUp_(ctx, "pull_up") {
   const IvSettings& settings = setup.settings;
   const Hierarchy& h = setup.hierarchy;
   if (settings.bins < 1 || settings.bins > 64) throw vk::VulkanError("--bins must be 1 to 64");
+  makePrunePasses();
   if (!settings.environment.empty() && settings.environment.size() != 6 * settings.bins * settings.bins)
     throw vk::VulkanError("environment table does not match the bins");
   if (!setup.objectMoves.empty() && setup.objectMoves.size() != h.roots.size()) throw vk::VulkanError("objectMoves does not match the hierarchy");
@@ -196,8 +221,7 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, const IvSet
   }
   ctx.submitAndWait([&](VkCommandBuffer cmd) {
     vkCmdFillBuffer(cmd, staticRanges_.handle(), 0, VK_WHOLE_SIZE, 0u);
-    vkCmdFillBuffer(cmd, globalBins_.handle(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
-    vkCmdFillBuffer(cmd, globalCoverage_.handle(), 0, VK_WHOLE_SIZE, 0u);
+    clearGlobalBins(cmd);
   });
   // The refinement's widest level held 6.8 pairs a node in the Cornell box, 8.4 in the furnace and
   // 11 in Fox.gltf: 16 a node seldom needs a second try.
@@ -222,8 +246,15 @@ uint32_t IvSolver::firstLeafLinkGuess(const LinkSet& set, const std::vector<uint
   return withMargin(uint32_t(std::min<uint64_t>(guess, 0xFFFFFFF0u)));
 }
 
+void IvSolver::makePrunePasses() {
+  const uint32_t groupSize = pruneGroupSize(ctx_, pruneSubgroups_);
+  pruneStatic_.emplace(ctx_, "prune_bins", pruneConstants(settings_.bins, sharedBins_, true, groupSize));
+  pruneFrame_.emplace(ctx_, "prune_bins", pruneConstants(settings_.bins, sharedBins_, false, groupSize));
+}
+
 uint32_t IvSolver::pruneGroups() const {
-  uint32_t groups = std::min(std::max(surfelCount_, 1u), std::max(kMinPruneGroups, (surfelCount_ + kMaxLeavesPerGroup - 1) / kMaxLeavesPerGroup));
+  const uint32_t leaves = leavesPerGroup();
+  uint32_t groups = std::min(std::max(surfelCount_, 1u), std::max(kMinPruneGroups, (surfelCount_ + leaves - 1) / leaves));
   if (!sharedBins_) {  // every workgroup owns a slot of 6·N² bins in one buffer within the device's range
     uint64_t slotBytes = uint64_t(6) * settings_.bins * settings_.bins * 8;  // the larger of the two slot arrays
     groups = std::min<uint32_t>(groups, uint32_t(std::max<uint64_t>(1, std::min<uint64_t>(ctx_.limits().maxStorageBufferRange, 512ull << 20) / slotBytes)));
@@ -231,7 +262,8 @@ uint32_t IvSolver::pruneGroups() const {
   return settings_.pruneGroups > 0 ? std::min(groups, settings_.pruneGroups) : groups;
 }
 
-uint32_t IvSolver::pruneBatch() const { return pruneGroups() * kMaxLeavesPerGroup; }
+uint32_t IvSolver::leavesPerGroup() const { return settings_.pruneLeaves > 0 ? settings_.pruneLeaves : kLeavesPerGroup; }
+uint32_t IvSolver::pruneBatch() const { return pruneGroups() * leavesPerGroup(); }
 
 uint32_t IvSolver::leafLinksHeld(const LinkSet& set) const {
   return std::min(set.leafLinkCapacity, set.counters.read<uint32_t>(8)[kCounterLeafLinks]);
@@ -341,8 +373,16 @@ void IvSolver::recordLinks(VkCommandBuffer cmd, LinkSet& set) {
   vk::barrier(cmd);
 }
 
+// Empty bins in every global-memory slot. Each leaf empties the bins it touched; a prune cut short
+// (lavapipe's loop budget) may not have, so a redo starts from this.
+void IvSolver::clearGlobalBins(VkCommandBuffer cmd) {
+  vkCmdFillBuffer(cmd, globalBins_.handle(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
+  vkCmdFillBuffer(cmd, globalCoverage_.handle(), 0, VK_WHOLE_SIZE, 0u);
+  globalBinsDirty_ = false;
+}
+
 void IvSolver::recordPrune(VkCommandBuffer cmd, const vk::Program& pass, LinkSet& set) {
-  // Batches of at most kMaxLeavesPerGroup leaves a workgroup: one batch where the bins are shared
+  // Batches of at most leavesPerGroup() leaves a workgroup: one batch where the bins are shared
   // memory, several where each workgroup's global-memory slot limits how many there can be.
   const uint32_t groups = pruneGroups(), batch = pruneBatch();
   for (uint32_t first = 0; first < surfelCount_; first += batch) {
@@ -386,8 +426,9 @@ void IvSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
       recordLinks(cmd, frameSet_);
     });
     timedPass(cmd, timer, "prune", [&] {
-      if (linkStatic) recordPrune(cmd, pruneStatic_, staticSet_);
-      recordPrune(cmd, pruneFrame_, frameSet_);
+      if (globalBinsDirty_) clearGlobalBins(cmd), vk::barrier(cmd);
+      if (linkStatic) recordPrune(cmd, *pruneStatic_, staticSet_);
+      recordPrune(cmd, *pruneFrame_, frameSet_);
     });
     linked_ = staticLinked_ = true;
   }
@@ -410,7 +451,7 @@ void IvSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
 uint32_t IvSolver::refineIterations() const { return 2 * (hierarchy_.maxDepth() + 1) + 1; }
 
 bool IvSolver::growIfOverflowed() {
-  bool overflowed = false;
+  bool overflowed = false, budgetSpent = false;
   for (LinkSet* set : {&staticSet_, &frameSet_}) {
     if (set->rootPairs.empty()) continue;
     auto c = set->counters.read<uint32_t>(8);
@@ -420,8 +461,17 @@ bool IvSolver::growIfOverflowed() {
     if (c[kCounterOverflow] & kOverflowWorklist) worklistCapacity_ = std::max(worklistCapacity_, withMargin(c[kCounterWorklistPeak]));
     if (c[kCounterOverflow] & kOverflowLinks) set->linkCapacity = std::max(set->linkCapacity, withMargin(c[kCounterLinks]));
     if (c[kCounterOverflow] & kOverflowLeafLinks) set->leafLinkCapacity = std::max(set->leafLinkCapacity, withMargin(c[kCounterLeafLinks]));
+    budgetSpent |= (c[kCounterOverflow] & kOverflowLoopBudget) != 0;
     overflowed = true;
     if (set == &staticSet_) staticLinked_ = false;  // a frame set's overflow leaves the static links whole
+  }
+  if (budgetSpent) {  // a prune workgroup ran out of loop rounds: twice the subgroups share them
+    if (pruneGroupSize(ctx_, pruneSubgroups_) == maxPruneGroupSize(ctx_))
+      throw vk::VulkanError("iv: pruning a leaf takes more loop rounds than this device allows a workgroup of " +
+                            std::to_string(maxPruneGroupSize(ctx_)) + " invocations (lavapipe: 65,535 a subgroup); use fewer --bins or a larger --eps");
+    pruneSubgroups_ *= 2;
+    makePrunePasses();
+    globalBinsDirty_ = !sharedBins_;  // the leaves cut short may have left their bins
   }
   if (overflowed) allocateLinks(), linked_ = false, ++framesRedone_;
   return overflowed;
@@ -433,6 +483,7 @@ IvStats IvSolver::stats() const {
   s.levels = hierarchy_.levels();
   s.sharedBins = sharedBins_;
   s.pruneBatches = (surfelCount_ + pruneBatch() - 1) / pruneBatch();
+  s.pruneGroupSize = pruneGroupSize(ctx_, pruneSubgroups_);
   s.framesRedone = framesRedone_, s.staticPasses = staticPasses_;
   for (const LinkSet* set : {&staticSet_, &frameSet_}) {
     if (set->rootPairs.empty()) continue;

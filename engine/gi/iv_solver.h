@@ -28,6 +28,9 @@ struct IvSettings {
   // The most workgroups one prune dispatch runs; 0: as many as the scene and the device allow. Fewer
   // prune in more dispatches (batches) with the same result; tests batch small scenes with it.
   uint32_t pruneGroups = 0;
+  // Leaves a prune workgroup walks in one dispatch; 0: 8. Tests run many to spend lavapipe's loop
+  // budget (common.glsl), which the solver must notice and redo.
+  uint32_t pruneLeaves = 0;
 };
 
 // The scene's punctual lights in world space at `pose`.
@@ -39,8 +42,10 @@ struct IvStats {
   uint64_t bytes = 0;
   bool sharedBins = true;
   uint32_t pruneBatches = 0;  // dispatches a prune takes (each of at most a few leaves a workgroup)
-  // Since the solver was made: frames redone because their links outgrew the room they had (the
-  // timings are the redone frame's), and static passes run (1 once the static links are whole).
+  uint32_t pruneGroupSize = 0;  // invocations a prune workgroup has (more when one ran out of loop rounds)
+  // Since the solver was made: frames redone because their links outgrew the room they had or a
+  // prune workgroup its loop budget (the timings are the redone frame's), and static passes run (1
+  // once the static links are whole).
   uint32_t framesRedone = 0, staticPasses = 0;
 };
 
@@ -124,8 +129,11 @@ class IvSolver {
   uint64_t allocatedBytes() const;
   void recordLinks(VkCommandBuffer cmd, LinkSet& set);
   void recordPrune(VkCommandBuffer cmd, const vk::Program& pass, LinkSet& set);
+  void clearGlobalBins(VkCommandBuffer cmd);
+  void makePrunePasses();  // the static and the frame prune, with pruneSubgroups_ subgroups a workgroup
   uint32_t refineIterations() const;  // refinement levels: each splits one side of every pair
   uint32_t pruneGroups() const;
+  uint32_t leavesPerGroup() const;
   uint32_t pruneBatch() const;  // leaves one prune dispatch walks
   uint32_t maskWords() const;
   bool splitsStatic() const { return !staticSet_.rootPairs.empty(); }
@@ -138,6 +146,8 @@ class IvSolver {
   bool sharedBins_;
   bool linked_ = false, staticLinked_ = false;
   uint32_t framesRedone_ = 0, staticPasses_ = 0;
+  uint32_t pruneSubgroups_;  // subgroups a prune workgroup has (doubled when one ran out of loop rounds)
+  bool globalBinsDirty_ = false;  // a prune was cut short: the global-memory bins may hold its leaves' keys
   LinkSet staticSet_, frameSet_;
 
   vk::Buffer tree_, leafOfSurfel_, leafMoves_, albedo_, emission_, binTable_, environment_, lights_;
@@ -148,7 +158,8 @@ class IvSolver {
   uint32_t lightCount_ = 0;
   uint32_t finalRadiosity_ = 0;  // 0: A, 1: B
 
-  vk::Program refit_, linkArgs_, refine_, countLinks_, scanCounts_, scatterLinks_, pruneStatic_, pruneFrame_, emit_, gather_, pullUp_;
+  vk::Program refit_, linkArgs_, refine_, countLinks_, scanCounts_, scatterLinks_, emit_, gather_, pullUp_;
+  std::optional<vk::Program> pruneStatic_, pruneFrame_;
 };
 
 }  // namespace ivgi::gi

@@ -210,11 +210,13 @@ Context::Context(const ContextOptions& options) {
   uint32_t chosen = chooseDevice(pds, infos, want);
   physical_ = pds[chosen];
   info_ = infos[chosen];
-  VkPhysicalDeviceMaintenance3Properties maintenance3{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES};
+  VkPhysicalDeviceSubgroupProperties subgroup{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+  VkPhysicalDeviceMaintenance3Properties maintenance3{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES, &subgroup};
   VkPhysicalDeviceProperties2 properties2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &maintenance3};
   vkGetPhysicalDeviceProperties2(physical_, &properties2);
   properties_ = properties2.properties;
   maxAllocationBytes_ = maintenance3.maxMemoryAllocationSize;
+  subgroupSize_ = std::max(subgroup.subgroupSize, 1u);
   vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
   queueFamily_ = *computeQueueFamily(physical_, &timestampValidBits_);
 

@@ -53,6 +53,8 @@ class Context {
   VkDeviceSize deviceHeapBytes() const;
   double timestampPeriodNs() const { return properties_.limits.timestampPeriod; }
   uint32_t timestampValidBits() const { return timestampValidBits_; }
+  // Invocations a subgroup runs together (8 on lavapipe, 32 on NVIDIA).
+  uint32_t subgroupSize() const { return subgroupSize_; }
   // 64-bit atomics on workgroup-shared memory (else passes keep such data in buffers).
   bool sharedInt64Atomics() const { return sharedInt64Atomics_; }
 
@@ -75,6 +77,7 @@ class Context {
   VkQueue queue_ = VK_NULL_HANDLE;
   uint32_t queueFamily_ = 0;
   uint32_t timestampValidBits_ = 0;
+  uint32_t subgroupSize_ = 1;
   bool sharedInt64Atomics_ = false;
   VkCommandPool pool_ = VK_NULL_HANDLE;
   VkFence fence_ = VK_NULL_HANDLE;

@@ -43,6 +43,9 @@ struct Reflection {
   std::vector<Binding> bindings;
   uint32_t pushBytes = 0;
   uint32_t localSize[3] = {1, 1, 1};
+  // Per dimension, the specialization constant that sets the local size (local_size_x_id), or none.
+  static constexpr uint32_t kLiteral = ~0u;
+  uint32_t localSizeConstant[3] = {kLiteral, kLiteral, kLiteral};
 };
 
 Reflection reflect(std::span<const uint32_t> code, const std::string& name) {
@@ -92,6 +95,13 @@ Reflection reflect(std::span<const uint32_t> code, const std::string& name) {
   }
   for (uint32_t d = 0; d < 3; ++d)
     r.localSize[d] = std::max(1u, spvc_compiler_get_execution_mode_argument_by_index(compiler, SpvExecutionModeLocalSize, d));
+  spvc_specialization_constant sizeConstants[3] = {};
+  spvc_compiler_get_work_group_size_specialization_constants(compiler, &sizeConstants[0], &sizeConstants[1], &sizeConstants[2]);
+  for (uint32_t d = 0; d < 3; ++d)
+    if (sizeConstants[d].id != 0) {
+      r.localSizeConstant[d] = sizeConstants[d].constant_id;
+      r.localSize[d] = std::max(1u, spvc_constant_get_scalar_u32(spvc_compiler_get_constant_handle(compiler, sizeConstants[d].id), 0, 0));
+    }
   spvc_context_destroy(sc);
   return r;
 }
@@ -108,6 +118,8 @@ Program::Program(const Context& ctx, const std::string& name, std::span<const ui
   for (const Binding& b : r.bindings) texels_.emplace_back(b.texel.format, b.texel.bytes);
   pushBytes_ = r.pushBytes;
   std::copy(r.localSize, r.localSize + 3, localSize_);
+  for (uint32_t d = 0; d < 3; ++d)
+    if (r.localSizeConstant[d] < constants.size()) localSize_[d] = constants[r.localSizeConstant[d]];
   if (pushBytes_ > ctx.limits().maxPushConstantsSize)
     throw VulkanError("shader " + name_ + " needs more push-constant bytes than the device allows");
 
