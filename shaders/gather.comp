@@ -25,7 +25,7 @@ layout(push_constant) uniform Push { uint surfelCount; uint maskWords; };
 
 void main() {
   uint s = itemIndex();
-  // A frame whose links or leaf links overflowed is redone: its bounces would be wasted.
+  // A frame that overflowed (links, leaf links, a prune's loop budget) is redone: its bounces would be wasted.
   if (s >= surfelCount || (frameCounters[kCounterOverflow] | staticCounters[kCounterOverflow]) != 0u) return;
   uvec2 range = imageLoad(ranges, int(s)).xy;
   vec3 g = imageLoad(externalLight, int(s)).rgb;

@@ -406,7 +406,7 @@ TEST(IvStaticObjects, APruneThatRunsOutOfLoopRoundsIsRedoneWithMoreSubgroups) {
       std::printf("bins %u, t %.1f: 64 leaves a workgroup: frames redone %u, workgroups of %u invocations (usually %u)\n", bins, t,
                   b.framesRedone, b.pruneGroupSize, a.pruneGroupSize);
       EXPECT_EQ(a.framesRedone, 0u);
-      EXPECT_GE(b.framesRedone, 1u) << "one workgroup for every leaf ran out of loop rounds";
+      EXPECT_GE(b.framesRedone, 1u) << "a workgroup of 64 leaves ran out of loop rounds";
       EXPECT_GT(b.pruneGroupSize, a.pruneGroupSize);
       EXPECT_EQ(b.pruneBatches, (room.geometry.surfels.size() + 63) / 64);
       EXPECT_EQ(a.leafLinks, b.leafLinks) << "bins " << bins << ", t " << t;
