@@ -397,14 +397,17 @@ void main() {
     barrier();
     // Emitters' light: direct where they are few enough to list (the static pass keeps the list for
     // the frames, whose moving senders may hide them), the bins then carrying only their reflected
-    // light; through the bins as before where they are many (a wholly emissive room). Sorted by node,
-    // so that the sums run in one order whatever order the atomics queued them in.
+    // light; through the bins as before where they are many (a wholly emissive room). In a fixed
+    // order whatever order the atomics queued them in: the static list (sorted by the static pass),
+    // then the queued ones sorted by node (another object's, so never in the static list). A static
+    // leaf whose emitters stand still queues none and sorts nothing: ranking its static list against
+    // itself, lane by lane, took 6 % of the frame prune at 4,756 surfels.
     uint staticListed = staticEmitterCount == kManyEmitters ? 0u : staticEmitterCount, emitters = staticListed + emitterCount;
     bool direct = staticEmitterCount != kManyEmitters && emitters <= (kStaticPass ? kStaticEmitters : kEmitterQueue);
     if (direct)
       for (uint e = lid; e < emitters; e += kGroupSize) {
-        uint s = emitterAt(surfel, staticListed, e), rank = 0u;
-        for (uint j = 0u; j < emitters; ++j) rank += emitterAt(surfel, staticListed, j) < s ? 1u : 0u;
+        uint s = emitterAt(surfel, staticListed, e), rank = min(e, staticListed);
+        for (uint j = 0u; j < (e < staticListed ? 0u : emitterCount); ++j) rank += emitterQueue[j] < s ? 1u : 0u;
         sortedEmitters[rank] = s;
       }
     // Survivors in bin order (deterministic): count per mask word, scan, write.
