@@ -206,8 +206,9 @@ uint packStaticBin(uint bin, uint covered) { return bin | min(covered, kCoverage
 uint staticBinOf(uint packed) { return packed & 0x7FFFu; }
 uint staticCoverageOf(uint packed) { return packed >> 15; }
 // Indices into the solver's counter buffer.
+// kCounterSendersWalked (low word, then the carries): the root-path senders a prune walked, its work.
 const uint kCounterWorklistA = 0u, kCounterWorklistB = 1u, kCounterLinks = 2u, kCounterLeafLinks = 3u, kCounterOverflow = 4u,
-           kCounterWorklistPeak = 5u;
+           kCounterWorklistPeak = 5u, kCounterSendersWalked = 6u;
 // Bits of counters[kCounterOverflow]: what a frame ran out of room for (it is redone with more).
 // kOverflowLoopBudget: a prune workgroup ran out of lavapipe's loop budget (below); the frame is
 // redone with more subgroups a workgroup.

@@ -382,6 +382,7 @@ void main() {
         }
       }
       barrier();
+      if (lid == 0u && atomicAdd(counters[kCounterSendersWalked], listed) > 0xFFFFFFFFu - listed) atomicAdd(counters[kCounterSendersWalked + 1u], 1u);
       for (uint j = lid; j < listed; j += kGroupSize) fileSender(slot, leaf, p, n, area, pathChunk[j]);
       barrier();
       // Each group of 8 lanes (a subgroup on lavapipe) takes a queued sender and files its pieces, one per lane.

@@ -4,6 +4,8 @@
 
 #include <OpenImageIO/imagebuf.h>
 
+#include <nlohmann/json.hpp>
+
 #include <cmath>
 #include <fstream>
 #include <iterator>
@@ -89,6 +91,27 @@ TEST(IvDeterminism, TwoRunsGiveIdenticalFiles) {
   std::string da((std::istreambuf_iterator<char>(fa)), {}), db((std::istreambuf_iterator<char>(fb)), {});
   ASSERT_FALSE(da.empty());
   EXPECT_TRUE(da == db) << "the two EXRs differ";
+}
+
+// `bench` prints every pass's median and p90, the frame rate, the device, and the solver's figures,
+// its prune's work included; its JSON carries the same.
+TEST(IvBench, PrintsEveryPassAndTheSolversFigures) {
+  const fs::path json = test::scratchDir("bench") / "b.json";
+  auto r = test::runIvgi({"bench", "--cells", "4", "--size", "64x48", "--frames", "2", "--warmup", "1", "--json", json.string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (const char* row : {"\nrefit ", "\nlinks ", "\nprune ", "\nbounces ", "\nraster ", "\nresolve ", "\ntotal ", "fps", "LP_NUM_THREADS",
+                          "leaf links after push-down and pruning", "root-path senders walked in the last frame", "bytes allocated"})
+    EXPECT_NE(r.out.find(row), std::string::npos) << row << " in\n" << r.out;
+  std::ifstream in(json);
+  const auto j = nlohmann::json::parse(in);
+  for (const char* pass : {"refit", "links", "prune", "bounces", "total"}) EXPECT_GT(j["passes"][pass]["medianMs"].get<double>(), 0.0) << pass;
+  EXPECT_EQ(j["frames"].size(), 2u);
+  // The moving block's pairs are walked every frame, the static ones once, and those are most.
+  const auto walked = j["counts"]["sendersWalked"].get<uint64_t>(), once = j["counts"]["staticSendersWalked"].get<uint64_t>();
+  EXPECT_GT(walked, 0u);
+  EXPECT_GT(once, walked);
+  EXPECT_GT(j["counts"]["leafLinks"].get<uint64_t>(), 0u);
+  EXPECT_GT(j["bytesAllocated"].get<uint64_t>(), 0u);
 }
 
 TEST(IvExtremes, BinsFromOneToSixtyFour) {

@@ -311,6 +311,11 @@ std::pair<double, gi::IvStats> splitAgainstFullRelink(const tinygltf::Model& mod
     full.render(g.frameInputs(s, pose), view);
     auto a = split.solver()->leafRadiosity(), b = full.solver()->leafRadiosity();
     EXPECT_EQ(a.size(), b.size());
+    // The same links, walked in two passes: a static leaf's static senders once, every leaf's moving
+    // ones each frame (a moving leaf has no others).
+    const gi::IvStats splitStats = split.solver()->stats(), fullStats = full.solver()->stats();
+    EXPECT_GT(splitStats.sendersWalked, 0u);
+    EXPECT_EQ(splitStats.sendersWalked + splitStats.staticSendersWalked, fullStats.sendersWalked) << "t = " << t;
     for (size_t i = 0; i < a.size() && i < b.size(); ++i)
       for (int c = 0; c < 3; ++c) {
         EXPECT_TRUE(std::isfinite(a[i][c])) << "surfel " << i;

@@ -97,9 +97,14 @@ int runBench(const BenchOptions& o) {
     // A redone frame's timings are its second run's: say so where it happened.
     if (st.framesRedone) std::printf("; %u frame(s) redone with more room for links or loop rounds", st.framesRedone);
     std::printf("; prune workgroups of %u invocations", st.pruneGroupSize);
+    // The prune's work, and its rate where it ran in the measured frames.
+    std::printf("\nprune work: %llu root-path senders walked in the last frame", (unsigned long long)st.sendersWalked);
+    if (!perPass["prune"].empty() && percentile(perPass["prune"], 0.5) > 0)
+      std::printf(" (%.1f M/s at the median prune time)", double(st.sendersWalked) / percentile(perPass["prune"], 0.5) / 1e3);
+    if (st.staticSendersWalked) std::printf(", %llu in the static pass (once)", (unsigned long long)st.staticSendersWalked);
     counts.update({{"nodes", st.nodes}, {"links", st.links}, {"leafLinks", st.leafLinks}, {"staticLinks", st.staticLinks},
                    {"staticLeafLinks", st.staticLeafLinks}, {"sharedMemoryBins", st.sharedBins}, {"framesRedone", st.framesRedone},
-                   {"pruneGroupSize", st.pruneGroupSize}});
+                   {"pruneGroupSize", st.pruneGroupSize}, {"sendersWalked", st.sendersWalked}, {"staticSendersWalked", st.staticSendersWalked}});
   }
   std::printf("\nbytes allocated: %llu (%.1f MiB)\n", (unsigned long long)bytes, double(bytes) / (1 << 20));
   if (!o.json.empty()) {

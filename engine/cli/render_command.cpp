@@ -159,7 +159,8 @@ int runRender(const RenderOptions& o) {
   if (const gi::IvSolver* iv = renderer ? renderer->solver() : nullptr) {
     gi::IvStats st = iv->stats();
     sidecar["solver"] = {{"nodes", st.nodes}, {"levels", st.levels}, {"links", st.links}, {"leafLinks", st.leafLinks}, {"staticLinks", st.staticLinks}, {"staticLeafLinks", st.staticLeafLinks},
-                         {"bytes", st.bytes}, {"sharedMemoryBins", st.sharedBins}, {"framesRedone", st.framesRedone}, {"pruneGroupSize", st.pruneGroupSize}};
+                         {"bytes", st.bytes}, {"sharedMemoryBins", st.sharedBins}, {"framesRedone", st.framesRedone}, {"pruneGroupSize", st.pruneGroupSize},
+                         {"sendersWalked", st.sendersWalked}, {"staticSendersWalked", st.staticSendersWalked}};
     sidecar["bytesAllocated"] = renderer->bytesAllocated() + st.bytes;
   }
   json medians = json::object();

@@ -28,7 +28,7 @@ struct GatherPush {
   uint32_t surfelCount, maskWords;
 };
 constexpr uint32_t kNoCounter = 0xFFFFFFFFu;
-constexpr uint32_t kCounterLinks = 2, kCounterLeafLinks = 3, kCounterOverflow = 4, kCounterWorklistPeak = 5;
+constexpr uint32_t kCounterLinks = 2, kCounterLeafLinks = 3, kCounterOverflow = 4, kCounterWorklistPeak = 5, kCounterSendersWalked = 6;
 // Bits of the overflow counter (common.glsl).
 constexpr uint32_t kOverflowWorklist = 1, kOverflowLinks = 2, kOverflowLeafLinks = 4, kOverflowLoopBudget = 8;
 constexpr uint32_t kMinPruneGroups = 512;
@@ -490,7 +490,9 @@ IvStats IvSolver::stats() const {
     auto c = set->counters.read<uint32_t>(8);
     s.links += c[kCounterLinks];
     s.leafLinks += c[kCounterLeafLinks];
-    if (set == &staticSet_) s.staticLinks = c[kCounterLinks], s.staticLeafLinks = c[kCounterLeafLinks];
+    const uint64_t walked = uint64_t(c[kCounterSendersWalked + 1]) << 32 | c[kCounterSendersWalked];
+    if (set == &staticSet_) s.staticLinks = c[kCounterLinks], s.staticLeafLinks = c[kCounterLeafLinks], s.staticSendersWalked = walked;
+    else s.sendersWalked = walked;
   }
   s.bytes = allocatedBytes();
   return s;
