@@ -291,6 +291,8 @@ TEST(IvDirectLight, EveryReceiverOfTheEmptyRoom) {
 // Objects that cannot move are linked and pruned once; each later frame merges the moving senders
 // into those static bins. That must give what a full relink of every object gives: the same nearest
 // sender and summed coverage in every bin, so the same radiosity up to the order of float sums.
+namespace {
+
 // Renders `model`, whose animation 0 moves one object, both ways at three times; returns the worst
 // relative difference of leaf radiosity and the split solver's figures.
 std::pair<double, gi::IvStats> splitAgainstFullRelink(const tinygltf::Model& model) {
@@ -325,6 +327,8 @@ std::pair<double, gi::IvStats> splitAgainstFullRelink(const tinygltf::Model& mod
   EXPECT_EQ(full.solver()->stats().staticLinks, 0u);
   return {worst, split.solver()->stats()};
 }
+
+}  // namespace
 
 TEST(IvStaticObjects, LinkedOnceGiveWhatAFullRelinkGives) {
   auto [worst, st] = splitAgainstFullRelink(scenes::cornellBox({.cells = 6}));
