@@ -365,6 +365,27 @@ struct SmallRoom {
   scene::Geometry geometry = scene::buildGeometry(scene);
   scene::CameraView view = scene::cameraView(scene, scene::evaluatePose(scene, 0, 0.0f), scene.cameraNodes()[0]);
 
+  // Renders the room with the usual settings and with `tweak`ed ones, at 6×8×8 bins (shared memory)
+  // and 6×24×24 (global memory), each at t = 0 and 0.5 (the block slid); after each pair of frames
+  // calls check(usual, tweaked, bins, t). `environment`: light through the open front too.
+  template <class Tweak, class Check>
+  void compareSolvers(bool environment, Tweak tweak, Check check) const {
+    for (uint32_t bins : {8u, 24u}) {
+      gi::IvSettings settings;
+      settings.bins = bins;
+      if (environment) settings.environment.assign(6 * bins * bins, glm::vec4(0.5f, 0.6f, 0.7f, 0.0f));
+      gi::FrameRenderer usual = renderer(settings);
+      tweak(settings);
+      gi::FrameRenderer tweaked = renderer(settings);
+      for (float t : {0.0f, 0.5f}) {
+        render(usual, t);
+        render(tweaked, t);
+        check(*usual.solver(), *tweaked.solver(), bins, t);
+      }
+    }
+  }
+
+ private:
   gi::FrameRenderer renderer(const gi::IvSettings& settings) const {
     return gi::FrameRenderer(test::gpu(), geometry, {16, 16, 1}, gi::makeIvSetup(scene, geometry, settings, 0));
   }
@@ -390,30 +411,21 @@ void expectSameLeafLinks(const gi::IvSolver& a, const gi::IvSolver& b) {
 // dispatches of three workgroups gives the radiosity and the links of one dispatch, bit for bit, on
 // both the shared-memory and the global-memory path, for moving and static leaves alike.
 TEST(IvStaticObjects, PruneInBatchesGivesWhatOneDispatchGives) {
-  const SmallRoom room;
-  for (uint32_t bins : {8u, 24u}) {
-    gi::IvSettings settings;
-    settings.bins = bins;
-    settings.environment.assign(6 * bins * bins, glm::vec4(0.5f, 0.6f, 0.7f, 0.0f));
-    gi::FrameRenderer whole = room.renderer(settings);
-    settings.pruneGroups = 3;
-    gi::FrameRenderer batched = room.renderer(settings);
-    for (float t : {0.0f, 0.5f}) {
-      room.render(whole, t);
-      room.render(batched, t);
-      const gi::IvStats a = whole.solver()->stats(), b = batched.solver()->stats();
-      std::printf("bins %u, t %.1f: %u leaf links in %u dispatch(es) and in %u\n", bins, t, a.leafLinks, a.pruneBatches, b.pruneBatches);
-      EXPECT_EQ(a.sharedBins, bins <= 16) << "both paths are covered";
-      EXPECT_EQ(a.pruneBatches, 1u);
-      EXPECT_GE(b.pruneBatches, 8u);
-      EXPECT_EQ(a.leafLinks, b.leafLinks);
-      EXPECT_GT(a.staticLeafLinks, 0u);
-      const auto ra = whole.solver()->leafRadiosity(), rb = batched.solver()->leafRadiosity();
-      ASSERT_EQ(ra.size(), rb.size());
-      EXPECT_EQ(std::memcmp(ra.data(), rb.data(), ra.size() * sizeof(glm::vec4)), 0) << "bins " << bins << ", t " << t;
-      expectSameLeafLinks(*whole.solver(), *batched.solver());
-    }
-  }
+  SmallRoom().compareSolvers(
+      true, [](gi::IvSettings& s) { s.pruneGroups = 3; },
+      [](const gi::IvSolver& whole, const gi::IvSolver& batched, uint32_t bins, float t) {
+        const gi::IvStats a = whole.stats(), b = batched.stats();
+        std::printf("bins %u, t %.1f: %u leaf links in %u dispatch(es) and in %u\n", bins, t, a.leafLinks, a.pruneBatches, b.pruneBatches);
+        EXPECT_EQ(a.sharedBins, bins <= 16) << "both paths are covered";
+        EXPECT_EQ(a.pruneBatches, 1u);
+        EXPECT_GE(b.pruneBatches, 8u);
+        EXPECT_EQ(a.leafLinks, b.leafLinks);
+        EXPECT_GT(a.staticLeafLinks, 0u);
+        const auto ra = whole.leafRadiosity(), rb = batched.leafRadiosity();
+        ASSERT_EQ(ra.size(), rb.size());
+        EXPECT_EQ(std::memcmp(ra.data(), rb.data(), ra.size() * sizeof(glm::vec4)), 0) << "bins " << bins << ", t " << t;
+        expectSameLeafLinks(whole, batched);
+      });
 }
 
 // lavapipe ends a subgroup's loops once they ran 65,535 rounds (common.glsl). One workgroup walking
@@ -423,32 +435,25 @@ TEST(IvStaticObjects, PruneInBatchesGivesWhatOneDispatchGives) {
 // radiosity may differ in the last bits: the sums over a leaf's bins run in another order.
 TEST(IvStaticObjects, APruneThatRunsOutOfLoopRoundsIsRedoneWithMoreSubgroups) {
   const SmallRoom room;
-  for (uint32_t bins : {8u, 24u}) {
-    gi::IvSettings settings;
-    settings.bins = bins;
-    gi::FrameRenderer usual = room.renderer(settings);
-    settings.pruneGroups = 1;
-    settings.pruneLeaves = 64;
-    gi::FrameRenderer alone = room.renderer(settings);
-    for (float t : {0.0f, 0.5f}) {
-      room.render(usual, t);
-      room.render(alone, t);
-      const gi::IvStats a = usual.solver()->stats(), b = alone.solver()->stats();
-      std::printf("bins %u, t %.1f: 64 leaves a workgroup: frames redone %u, workgroups of %u invocations (usually %u)\n", bins, t,
-                  b.framesRedone, b.pruneGroupSize, a.pruneGroupSize);
-      EXPECT_EQ(a.framesRedone, 0u);
-      EXPECT_GE(b.framesRedone, 1u) << "a workgroup of 64 leaves ran out of loop rounds";
-      EXPECT_GT(b.pruneGroupSize, a.pruneGroupSize);
-      EXPECT_EQ(b.pruneBatches, (room.geometry.surfels.size() + 63) / 64);
-      EXPECT_EQ(a.leafLinks, b.leafLinks) << "bins " << bins << ", t " << t;
-      expectSameLeafLinks(*usual.solver(), *alone.solver());
-      const auto ra = usual.solver()->leafRadiosity(), rb = alone.solver()->leafRadiosity();
-      ASSERT_EQ(ra.size(), rb.size());
-      float worst = 0.0f;
-      for (size_t i = 0; i < ra.size(); ++i) worst = std::max(worst, glm::length(ra[i] - rb[i]) / std::max(glm::length(ra[i]), 1e-6f));
-      EXPECT_LT(worst, 1e-5f) << "bins " << bins << ", t " << t;
-    }
-  }
+  const size_t surfels = room.geometry.surfels.size();
+  room.compareSolvers(
+      false, [](gi::IvSettings& s) { s.pruneGroups = 1, s.pruneLeaves = 64; },
+      [&](const gi::IvSolver& usual, const gi::IvSolver& alone, uint32_t bins, float t) {
+        const gi::IvStats a = usual.stats(), b = alone.stats();
+        std::printf("bins %u, t %.1f: 64 leaves a workgroup: frames redone %u, workgroups of %u invocations (usually %u)\n", bins, t,
+                    b.framesRedone, b.pruneGroupSize, a.pruneGroupSize);
+        EXPECT_EQ(a.framesRedone, 0u);
+        EXPECT_GE(b.framesRedone, 1u) << "a workgroup of 64 leaves ran out of loop rounds";
+        EXPECT_GT(b.pruneGroupSize, a.pruneGroupSize);
+        EXPECT_EQ(b.pruneBatches, (surfels + 63) / 64);
+        EXPECT_EQ(a.leafLinks, b.leafLinks) << "bins " << bins << ", t " << t;
+        expectSameLeafLinks(usual, alone);
+        const auto ra = usual.leafRadiosity(), rb = alone.leafRadiosity();
+        ASSERT_EQ(ra.size(), rb.size());
+        float worst = 0.0f;
+        for (size_t i = 0; i < ra.size(); ++i) worst = std::max(worst, glm::length(ra[i] - rb[i]) / std::max(glm::length(ra[i]), 1e-6f));
+        EXPECT_LT(worst, 1e-5f) << "bins " << bins << ", t " << t;
+      });
 }
 
 // The solver guesses its leaf links' room, gives back what the first frame left unused and grows
