@@ -3,7 +3,7 @@
 # (ivgi::shaderCode for the product's shaders/).
 function(ivgi_embed_shaders target dir function)
   file(GLOB sources CONFIGURE_DEPENDS ${dir}/*.comp)
-  file(GLOB includes CONFIGURE_DEPENDS ${dir}/*.glsl)
+  file(GLOB includes CONFIGURE_DEPENDS ${dir}/*.glsl ${CMAKE_SOURCE_DIR}/shaders/*.glsl ${CMAKE_SOURCE_DIR}/shaders/*.h)
   set(outdir ${CMAKE_CURRENT_BINARY_DIR}/${target})
   file(MAKE_DIRECTORY ${outdir})
   set(headers)

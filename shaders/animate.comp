@@ -10,7 +10,7 @@ layout(std430, binding = 2) readonly buffer MorphDeltas { MorphDelta deltas[]; }
 layout(std430, binding = 3) readonly buffer Matrices { mat4 matrices[]; };
 layout(std430, binding = 4) readonly buffer MorphWeights { float morphWeights[]; };
 layout(std430, binding = 5) writeonly buffer World { WorldVertex world[]; };
-layout(push_constant) uniform Push { uint vertexCount; };
+layout(push_constant) uniform Push { CountPush push; };  // count: vertices
 
 // det·M⁻ᵀ without a division: finite for singular matrices (a joint scaled to zero).
 vec3 transformNormal(mat4 m, vec3 n) {
@@ -24,7 +24,7 @@ vec3 transformNormal(mat4 m, vec3 n) {
 
 void main() {
   uint i = itemIndex();
-  if (i >= vertexCount) return;
+  if (i >= push.count) return;
   Vertex v = vertices[i];
   Instance inst = instances[v.instance];
   vec3 p = v.position, n = v.normal;

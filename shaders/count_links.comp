@@ -7,10 +7,10 @@ layout(local_size_x = 256) in;
 layout(binding = 0, rg32ui) readonly uniform uimageBuffer links;  // receiver, sender
 layout(std430, binding = 1) buffer Counts { uint counts[]; };
 layout(std430, binding = 2) readonly buffer Counters { uint counters[]; };
-layout(push_constant) uniform Push { uint linkCapacity; };
+layout(push_constant) uniform Push { CountPush push; };  // count: the link capacity
 
 void main() {
-  uint total = min(counters[kCounterLinks], linkCapacity);
+  uint total = min(counters[kCounterLinks], push.count);
   uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
   for (uint k = gl_GlobalInvocationID.x; k < total; k += stride) atomicAdd(counts[imageLoad(links, int(k)).x], 1u);
 }

@@ -7,10 +7,10 @@ layout(local_size_x = 256) in;
 layout(std430, binding = 0) readonly buffer LeafOfSurfel { uint leafOfSurfel[]; };
 layout(std430, binding = 1) readonly buffer Emission { vec4 emission[]; };
 layout(std430, binding = 2) writeonly buffer Radiosity { vec4 radiosity[]; };
-layout(push_constant) uniform Push { uint surfelCount; };
+layout(push_constant) uniform Push { CountPush push; };  // count: surfels
 
 void main() {
   uint s = itemIndex();
-  if (s >= surfelCount) return;
+  if (s >= push.count) return;
   radiosity[leafOfSurfel[s]] = vec4(kPi * emission[s].rgb, 0.0);
 }

@@ -21,12 +21,12 @@ layout(binding = 11, r32ui) readonly uniform uimageBuffer staticBins;    // Stat
 layout(binding = 12, r32ui) readonly uniform uimageBuffer overrides;     // per leaf and mask word
 layout(std430, binding = 13) readonly buffer FrameCounters { uint frameCounters[]; };
 layout(std430, binding = 14) readonly buffer StaticCounters { uint staticCounters[]; };
-layout(push_constant) uniform Push { uint surfelCount; uint maskWords; };
+layout(push_constant) uniform Push { GatherPush push; };
 
 void main() {
   uint s = itemIndex();
   // A frame that overflowed (links, leaf links, a prune's loop budget) is redone: its bounces would be wasted.
-  if (s >= surfelCount || (frameCounters[kCounterOverflow] | staticCounters[kCounterOverflow]) != 0u) return;
+  if (s >= push.surfelCount || (frameCounters[kCounterOverflow] | staticCounters[kCounterOverflow]) != 0u) return;
   uvec2 range = imageLoad(ranges, int(s)).xy;
   vec3 g = imageLoad(externalLight, int(s)).rgb;
   for (uint k = range.x; k < range.x + range.y; ++k) {
@@ -37,7 +37,7 @@ void main() {
   for (uint k = staticRange.x; k < staticRange.x + staticRange.y; ++k) {
     uvec2 link = imageLoad(staticLinks, int(k)).xy;
     uint bin = staticBinOf(imageLoad(staticBins, int(k)).x);
-    uint overridden = imageLoad(overrides, int(s * maskWords + bin / 32u)).x & (1u << (bin & 31u));
+    uint overridden = imageLoad(overrides, int(s * push.maskWords + bin / 32u)).x & (1u << (bin & 31u));
     if (overridden == 0u) g += uintBitsToFloat(link.y) * imageLoad(radiosityIn, int(link.x)).rgb;
   }
   radiosityOut[imageLoad(leafOfSurfel, int(s)).x] = vec4(kPi * imageLoad(emission, int(s)).rgb + imageLoad(albedo, int(s)).rgb * g, 0.0);

@@ -7,10 +7,10 @@ layout(local_size_x = 1) in;
 
 layout(std430, binding = 0) buffer Counters { uint counters[]; };
 layout(std430, binding = 1) writeonly buffer Args { uvec4 args[]; };
-layout(push_constant) uniform Push { uint source; uint clear; uint slot; uint groupSize; };
+layout(push_constant) uniform Push { LinkArgsPush push; };
 
 void main() {
-  uint items = counters[source];
-  args[slot] = uvec4(min((items + groupSize - 1u) / groupSize, 65535u), 1u, 1u, 0u);
-  if (clear != 0xFFFFFFFFu) counters[clear] = 0u;
+  uint items = counters[push.source];
+  args[push.slot] = uvec4(min((items + push.groupSize - 1u) / push.groupSize, 65535u), 1u, 1u, 0u);
+  if (push.clear != kNoCounter) counters[push.clear] = 0u;
 }

@@ -30,10 +30,7 @@ layout(constant_id = 0) const uint kN = 16;              // bins per face side
 layout(constant_id = 1) const bool kSharedBins = true;
 layout(constant_id = 2) const uint kSharedSlots = 1536;  // 6·N² on the shared path, else 1
 layout(constant_id = 3) const uint kMaskWords = 48;      // ⌈6·N² / 32⌉
-layout(constant_id = 4) const uint kPathChunk = 512;     // root-path senders gathered per round (and the most that can be wide)
-layout(constant_id = 5) const bool kStaticPass = false;   // prune static leaves against static links, once
-layout(constant_id = 6) const uint kStaticEmitters = 64;  // emitters a static leaf keeps for the frame's direct light
-layout(constant_id = 7) const uint kEmitterQueue = 256;   // emitters a leaf lists
+layout(constant_id = 4) const bool kStaticPass = false;   // prune static leaves against static links, once
 
 layout(binding = 0, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode
 layout(binding = 2, r32ui) readonly uniform uimageBuffer starts;
@@ -46,7 +43,7 @@ layout(std430, binding = 7) writeonly buffer Ranges { LeafRange ranges[]; };
 // 1 GiB of links), where a storage buffer stops at maxStorageBufferRange (128 MiB).
 layout(binding = 8, rg32ui) writeonly uniform uimageBuffer leafLinks;  // LeafLink: sender, form-factor bits
 layout(std430, binding = 9) buffer Counters { uint counters[]; };
-layout(std430, binding = 10) writeonly buffer External { vec4 externalLight[]; };  // irradiance from lights and environment
+layout(std430, binding = 10) writeonly buffer ExternalLight { vec4 externalLight[]; };  // irradiance from lights and environment
 layout(std430, binding = 11) readonly buffer Lights { PunctualLight lights[]; };
 layout(binding = 12, rgba32f) readonly uniform imageBuffer environment;  // radiance per bin
 layout(std430, binding = 13) buffer GlobalCoverage { uint globalCoverage[]; };
@@ -64,8 +61,7 @@ layout(std430, binding = 23) buffer StaticEmitters { uint staticEmitters[]; };  
 layout(std430, binding = 24) buffer StaticEmitterCounts { uint staticEmitterCounts[]; };  // kManyEmitters: too many, credited by the bins
 layout(std430, binding = 25) buffer StaticCorrection { vec4 staticCorrection[]; };  // the static bins' emission, taken back
 layout(std430, binding = 26) readonly buffer StaticCounters { uint staticCounters[]; };  // the static set's (the frame pass merges its bins)
-// The leaves [firstSurfel, endSurfel) of this dispatch's batch.
-layout(push_constant) uniform Push { uint firstSurfel; uint endSurfel; uint linkCapacity; uint lightCount; uint environmentOn; uint staticCapacity; };
+layout(push_constant) uniform Push { PrunePush push; };
 
 shared uint64_t sharedBins[kSharedSlots];
 shared uint sharedCoverage[kSharedSlots];  // covered solid angle in 1/kCoverageUnit of the bin's
@@ -75,7 +71,6 @@ shared vec3 partial[kGroupSize];
 shared uint leafBase;
 shared uint pathChunk[kPathChunk], wideQueue[kPathChunk];
 shared uint wideCount;
-const uint kManyEmitters = 0xFFFFFFFFu;  // a static leaf's emitters that did not fit its list
 shared uint emitterQueue[kEmitterQueue], sortedEmitters[kEmitterQueue];
 shared uint emitterCount;
 
@@ -109,7 +104,7 @@ Bin binAt(uint slot, uint b) {
   uint bit = 1u << (b & 31u);
   if ((word.x & bit) == 0u) return bin;
   uint e = staticFirst + word.y + bitCount(word.x & (bit - 1u));
-  if (e >= staticCapacity) return bin;  // the static pass overflowed: this frame is redone
+  if (e >= push.staticCapacity) return bin;  // the static pass overflowed: this frame is redone
   bin.key = min(bin.key, uint64_t(imageLoad(staticDepths, int(e)).x) << 32 | imageLoad(staticLinks, int(e)).x);
   bin.staticCovered = staticCoverageOf(imageLoad(staticBins, int(e)).x);
   bin.staticEntry = int(e);
@@ -260,7 +255,7 @@ void fileSender(uint slot, uint leaf, vec3 p, vec3 n, float area, uint marked) {
 // Irradiance at the receiver from punctual lights that are nearer than the nearest element in their bin.
 vec3 punctualLight(uint slot, vec3 p, vec3 n) {
   vec3 sum = vec3(0.0);
-  for (uint l = 0u; l < lightCount; ++l) {
+  for (uint l = 0u; l < push.lightCount; ++l) {
     vec3 toLight;
     float dist2, falloff = lightFalloff(lights[l], p, toLight, dist2);
     float cosR = dot(n, normalize(toLight));
@@ -347,7 +342,7 @@ void main() {
   barrier();
 
   uint groups = gl_NumWorkGroups.x * gl_NumWorkGroups.y;
-  for (uint surfel = firstSurfel + groupIndex(); surfel < endSurfel; surfel += groups) {
+  for (uint surfel = push.firstSurfel + groupIndex(); surfel < push.endSurfel; surfel += groups) {
     bool moves = imageLoad(leafMoves, int(surfel)).x != 0u;
     if (kStaticPass && moves) {  // pruned every frame instead
       if (lid == 0u) staticRanges[surfel] = LeafRange(0u, 0u);
@@ -432,7 +427,7 @@ void main() {
       leafBase = atomicAdd(counters[kCounterLeafLinks], total);
       // A leaf past the room is counted (the frame is redone with room for all), its range left
       // empty: nothing reads past the links.
-      bool fits = leafBase + total <= linkCapacity;
+      bool fits = leafBase + total <= push.linkCapacity;
       if (!fits) atomicOr(counters[kCounterOverflow], kOverflowLeafLinks);
       if (kStaticPass) staticRanges[surfel] = LeafRange(leafBase, fits ? total : 0u);
       else ranges[surfel] = LeafRange(leafBase, fits ? total : 0u);
@@ -451,7 +446,7 @@ void main() {
         Bin bin = binAt(slot, b);
         uint s = keyId(bin.key);
         float f = survivorFormFactor(n, s, b, bin.covered);
-        if (outIndex < linkCapacity) {
+        if (outIndex < push.linkCapacity) {
           if (kStaticPass) {
             imageStore(staticLinks, int(outIndex), uvec4(s, floatBitsToUint(f), 0u, 0u));
             imageStore(staticBins, int(outIndex), uvec4(packStaticBin(b, bin.covered)));
@@ -468,12 +463,12 @@ void main() {
             emitterLight += uintBitsToFloat(link.y) * emitted(link.x);
           }
         }
-        if (merging && environmentOn != 0u) environmentChange += environmentThrough(n, b, bin.covered) - environmentThrough(n, b, bin.staticCovered);
+        if (merging && push.environmentOn != 0u) environmentChange += environmentThrough(n, b, bin.covered) - environmentThrough(n, b, bin.staticCovered);
       }
     }
     // Environment through the empty bins above the horizon, summed in a fixed order.
     vec3 env = environmentChange;
-    if (environmentOn != 0u && area > 0.0 && !merging)
+    if (push.environmentOn != 0u && area > 0.0 && !merging)
       for (uint b = lid; b < kBinCount; b += kGroupSize) env += environmentThrough(n, b, loadCoverage(slot, b));
     if (kStaticPass) {
       vec3 correction = sumPartials(lid, emitterLight);

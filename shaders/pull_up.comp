@@ -8,12 +8,12 @@ layout(local_size_x = 64) in;
 layout(std430, binding = 0) readonly buffer Tree { TreeNode tree[]; };
 layout(std430, binding = 1) readonly buffer Nodes { NodeState nodes[]; };
 layout(std430, binding = 2) buffer Radiosity { vec4 radiosity[]; };
-layout(push_constant) uniform Push { uint first; uint count; };
+layout(push_constant) uniform Push { LevelPush push; };
 
 void main() {
   uint k = itemIndex();
-  if (k >= count) return;
-  uint i = first + k;
+  if (k >= push.count) return;
+  uint i = push.first + k;
   TreeNode t = tree[i];
   if (t.childCount == 0u) return;
   vec3 weighted = vec3(0.0), mean = vec3(0.0);

@@ -14,29 +14,29 @@ layout(constant_id = 0) const int kTilesPerSlice = 32768;
 layout(binding = 0, rgba32f) readonly uniform imageBuffer world;       // WorldVertex: position, normal
 layout(binding = 1, rgba32ui) readonly uniform uimageBuffer triangles;  // Triangle
 layout(std430, binding = 2) buffer Visibility { uint64_t visibility[]; };
-layout(push_constant) uniform Push { Camera cam; uvec2 size; uint triangleCount; uint unused; };
+layout(push_constant) uniform Push { ImagePush push; };  // count: triangles
 
 // Sample-space x/y of a world point, or false when it lies at or behind the near plane.
 bool project(vec3 p, out vec2 s) {
-  vec3 d = p - cam.origin.xyz;
-  float z = dot(d, cam.forward.xyz);
+  vec3 d = p - push.camera.origin.xyz;
+  float z = dot(d, push.camera.forward.xyz);
   s = vec2(0.0);
-  if (z <= cam.origin.w) return false;
-  vec2 ndc = vec2(dot(d, cam.right.xyz) / dot(cam.right.xyz, cam.right.xyz), dot(d, cam.up.xyz) / dot(cam.up.xyz, cam.up.xyz)) / z;
-  s = vec2((ndc.x + 1.0) * 0.5 * float(size.x), (1.0 - ndc.y) * 0.5 * float(size.y));
+  if (z <= push.camera.origin.w) return false;
+  vec2 ndc = vec2(dot(d, push.camera.right.xyz) / dot(push.camera.right.xyz, push.camera.right.xyz), dot(d, push.camera.up.xyz) / dot(push.camera.up.xyz, push.camera.up.xyz)) / z;
+  s = vec2((ndc.x + 1.0) * 0.5 * float(push.size.x), (1.0 - ndc.y) * 0.5 * float(push.size.y));
   return true;
 }
 
 void main() {
   uint tri = groupIndex();
-  if (tri >= triangleCount) return;
+  if (tri >= push.count) return;  // count: triangles
   uvec4 t = imageLoad(triangles, int(tri));
   vec3 a = imageLoad(world, int(2u * t.x)).xyz, b = imageLoad(world, int(2u * t.y)).xyz, c = imageLoad(world, int(2u * t.z)).xyz;
   vec2 pa, pb, pc;
-  ivec2 lo = ivec2(0), hi = ivec2(size) - 1;
+  ivec2 lo = ivec2(0), hi = ivec2(push.size) - 1;
   if (project(a, pa) && project(b, pb) && project(c, pc)) {
     vec2 mn = min(pa, min(pb, pc)), mx = max(pa, max(pb, pc));
-    if (mx.x < -1.0 || mx.y < -1.0 || mn.x > float(size.x) + 1.0 || mn.y > float(size.y) + 1.0) return;
+    if (mx.x < -1.0 || mx.y < -1.0 || mn.x > float(push.size.x) + 1.0 || mn.y > float(push.size.y) + 1.0) return;
     lo = max(lo, ivec2(floor(mn)) - 1);
     hi = min(hi, ivec2(ceil(mx)));
   }  // else: a vertex behind the near plane, so the whole image is a conservative bound
@@ -50,11 +50,11 @@ void main() {
     for (int x = lo.x; x <= hi.x; x += 8) {
       ivec2 px = ivec2(x, y) + lane;
       if (any(greaterThan(px, ivec2(hi.x, last)))) continue;
-      vec3 dir = cameraRay(cam, vec2(px) + 0.5, size);
+      vec3 dir = cameraRay(push.camera, vec2(px) + 0.5, push.size);
       float depth;
       vec2 uv;
-      if (!intersectTriangle(cam.origin.xyz, dir, a, b, c, depth, uv)) continue;
-      if (depth <= cam.origin.w || (cam.forward.w > 0.0 && depth > cam.forward.w)) continue;
-      atomicMin(visibility[uint(px.y) * size.x + uint(px.x)], packDepthKey(depth, tri));
+      if (!intersectTriangle(push.camera.origin.xyz, dir, a, b, c, depth, uv)) continue;
+      if (depth <= push.camera.origin.w || (push.camera.forward.w > 0.0 && depth > push.camera.forward.w)) continue;
+      atomicMin(visibility[uint(px.y) * push.size.x + uint(px.x)], packDepthKey(depth, tri));
     }
 }

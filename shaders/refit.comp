@@ -14,7 +14,7 @@ layout(local_size_x = 64) in;
 layout(std430, binding = 0) readonly buffer Tree { TreeNode tree[]; };
 layout(std430, binding = 1) readonly buffer Surfels { Surfel surfels[]; };
 layout(std430, binding = 2) buffer Nodes { NodeState nodes[]; };
-layout(push_constant) uniform Push { uint first; uint count; };
+layout(push_constant) uniform Push { LevelPush push; };
 
 // Second moments of a node's area about `centre`, in the tangent axes (a, b), per unit area:
 // its rectangle's own (uniform over ±e: e²/3 along each axis) plus its offset.
@@ -31,8 +31,8 @@ vec3 secondMoments(NodeState node, vec3 centre, vec3 a, vec3 b) {
 
 void main() {
   uint k = itemIndex();
-  if (k >= count) return;
-  uint i = first + k;
+  if (k >= push.count) return;
+  uint i = push.first + k;
   TreeNode t = tree[i];
   if (t.surfel >= 0) {
     Surfel s = surfels[t.surfel];

@@ -18,7 +18,7 @@ layout(std430, binding = 9) writeonly buffer NormalDepth { vec4 normalDepth[]; }
 layout(std430, binding = 10) writeonly buffer Emission { vec4 emissionOut[]; };
 layout(binding = 11, r32ui) readonly uniform uimageBuffer vertexSurfel;  // int, -1: none
 layout(binding = 12, rgba32f) readonly uniform imageBuffer surfelIrradiance;
-layout(push_constant) uniform Push { Camera cam; uvec2 size; uint samples; uint unused; };
+layout(push_constant) uniform Push { ImagePush push; };  // count: samples per axis
 // False for scenes without textures: the lookups are compiled out. lavapipe runs a branch inside
 // the sample loop masked, so even untaken lookups cost a third of the pass.
 layout(constant_id = 0) const bool kTextured = true;
@@ -50,8 +50,9 @@ vec4 sampleTexture(int index, vec2 uv) {
 
 void main() {
   uvec2 px = gl_GlobalInvocationID.xy;
-  if (px.x >= size.x || px.y >= size.y) return;
-  uvec2 fine = size * samples;
+  if (px.x >= push.size.x || px.y >= push.size.y) return;
+  uint samples = push.count;
+  uvec2 fine = push.size * samples;
   vec3 albedo = vec3(0.0), normal = vec3(0.0), emission = vec3(0.0), reflected = vec3(0.0);
   float depth = 0.0, hits = 0.0;
   for (uint sy = 0; sy < samples; ++sy)
@@ -64,7 +65,7 @@ void main() {
       vec3 a = positionOf(t.x), b = positionOf(t.y), c = positionOf(t.z);
       float tHit;
       vec2 bc;
-      intersectTriangle(cam.origin.xyz, cameraRay(cam, vec2(s) + 0.5, fine), a, b, c, tHit, bc);
+      intersectTriangle(push.camera.origin.xyz, cameraRay(push.camera, vec2(s) + 0.5, fine), a, b, c, tHit, bc);
       vec3 w = vec3(1.0 - bc.x - bc.y, bc.x, bc.y);
       vec3 n = cross(b - a, c - a);
       if ((t.w & kFlatShaded) == 0u) n = w.x * normalOf(t.x) + w.y * normalOf(t.y) + w.z * normalOf(t.z);
@@ -89,7 +90,7 @@ void main() {
     }
   float all = float(samples * samples);
   float nlen = length(normal);
-  uint o = px.y * size.x + px.x;
+  uint o = px.y * push.size.x + px.x;
   radiance[o] = vec4((emission + reflected) / all, hits / all);
   albedoOut[o] = vec4(albedo / all, 1.0);
   normalDepth[o] = vec4(nlen > 0.0 ? normal / nlen : vec3(0.0), hits > 0.0 ? depth / hits : 0.0);

@@ -7,13 +7,13 @@ layout(local_size_x = 256) in;
 
 layout(std430, binding = 0) buffer Counts { uint counts[]; };
 layout(std430, binding = 1) writeonly buffer Starts { uint starts[]; };
-layout(push_constant) uniform Push { uint nodeCount; };
+layout(push_constant) uniform Push { CountPush push; };  // count: nodes
 
 shared uint partial[256];
 
 void main() {
   uint t = gl_LocalInvocationID.x;
-  uint chunk = (nodeCount + 255u) / 256u, begin = t * chunk, end = min(begin + chunk, nodeCount);
+  uint nodeCount = push.count, chunk = (nodeCount + 255u) / 256u, begin = t * chunk, end = min(begin + chunk, nodeCount);
   uint sum = 0u;
   for (uint i = begin; i < end; ++i) sum += counts[i];
   partial[t] = sum;

@@ -7,14 +7,14 @@
 layout(local_size_x = 256) in;
 
 layout(binding = 0, rg32ui) readonly uniform uimageBuffer links;  // receiver, sender
-layout(std430, binding = 1) buffer Cursors { uint cursors[]; };
+layout(std430, binding = 1) buffer Counts { uint cursors[]; };  // the scan made the counts cursors
 layout(std430, binding = 2) writeonly buffer Senders { uint senders[]; };
 layout(std430, binding = 3) readonly buffer Counters { uint counters[]; };
 layout(binding = 4, rgba32f) readonly uniform imageBuffer nodeEmission;  // π·Le per node, pulled up
-layout(push_constant) uniform Push { uint linkCapacity; };
+layout(push_constant) uniform Push { CountPush push; };  // count: the link capacity
 
 void main() {
-  uint total = min(counters[kCounterLinks], linkCapacity);
+  uint total = min(counters[kCounterLinks], push.count);
   uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
   for (uint k = gl_GlobalInvocationID.x; k < total; k += stride) {
     uvec2 link = imageLoad(links, int(k)).xy;

@@ -7,13 +7,13 @@
 #include "common.glsl"
 layout(local_size_x = 256) in;
 
-layout(std430, binding = 0) readonly buffer Sources { SurfelSource sources[]; };
+layout(std430, binding = 0) readonly buffer SurfelSources { SurfelSource sources[]; };
 layout(std430, binding = 1) readonly buffer SurfelVertices { uint surfelVertices[]; };
 layout(std430, binding = 2) readonly buffer SurfelTriangles { uint surfelTriangles[]; };
 layout(std430, binding = 3) readonly buffer Triangles { Triangle triangles[]; };
 layout(std430, binding = 4) readonly buffer World { WorldVertex world[]; };
 layout(std430, binding = 5) writeonly buffer Surfels { Surfel surfels[]; };
-layout(push_constant) uniform Push { uint surfelCount; };
+layout(push_constant) uniform Push { CountPush push; };  // count: surfels
 
 // Second-moment tensor of triangle (0, p, q) of the given area about its corner 0:
 // area/12 · (ppᵀ + qqᵀ + (p+q)(p+q)ᵀ).
@@ -23,7 +23,7 @@ mat3 cornerMoments(vec3 p, vec3 q, float area) {
 
 void main() {
   uint s = itemIndex();
-  if (s >= surfelCount) return;
+  if (s >= push.count) return;
   SurfelSource src = sources[s];
   float area = 0.0;
   vec3 faceSum = vec3(0.0), vertexSum = vec3(0.0), moment = vec3(0.0);

@@ -24,7 +24,7 @@ TEST(Options, FrameRanges) {
   EXPECT_EQ(cli::parseFrameRange("7").frames(), std::vector<int>{7});
   EXPECT_EQ(cli::parseFrameRange("0-3").frames(), (std::vector<int>{0, 1, 2, 3}));
   EXPECT_EQ(cli::parseFrameRange("2-9:3").frames(), (std::vector<int>{2, 5, 8}));
-  for (const char* bad : {"", "-1", "3-1", "1-4:0", "a-b", "1-2-3", "99999999999"}) EXPECT_THROW(cli::parseFrameRange(bad), cli::UsageError) << bad;
+  for (const char* bad : {"", "-1", "3-1", "1-4:0", "a-b", "1-2-3", "99999999999"}) EXPECT_THROW(cli::parseFrameRange(bad), SettingsError) << bad;
 }
 
 TEST(Options, OutputPatterns) {
@@ -35,7 +35,7 @@ TEST(Options, OutputPatterns) {
   EXPECT_EQ(p.directory(), "out");
   EXPECT_EQ(cli::OutputPattern("shot%d_beauty").path(3, "png"), "shot3_beauty.png");
   EXPECT_EQ(cli::OutputPattern("render").path(3, "exr"), "render_0003.exr") << "no conversion: the number is appended";
-  EXPECT_THROW(cli::OutputPattern("a%d%d"), cli::UsageError);
+  EXPECT_THROW(cli::OutputPattern("a%d%d"), SettingsError);
   uint32_t w, h;
   cli::parseSize("640x360", w, h);
   EXPECT_EQ(w, 640u);

@@ -142,7 +142,7 @@ TEST(Surfels, RectanglesTileAFlatFace) {
         for (const auto& sf : surfels) {
           if (std::abs(sf.positionArea.y) > 1e-6f || sf.normal.y < 0.9f) continue;  // the floor only
           glm::vec3 t1, t2, d = point - glm::vec3(sf.positionArea);
-          tangentFrame(glm::vec3(sf.normal), t1, t2);
+          gpu::tangentFrame(glm::vec3(sf.normal), t1, t2);
           EXPECT_EQ(sf.shape.y, 0.0f) << "along the tangents";
           inside += std::abs(glm::dot(d, t1)) < sf.shape.z && std::abs(glm::dot(d, t2)) < sf.shape.w;
         }

@@ -107,10 +107,10 @@ TEST(IvBench, PrintsEveryPassAndTheSolversFigures) {
   for (const char* pass : {"refit", "links", "prune", "bounces", "total"}) EXPECT_GT(j["passes"][pass]["medianMs"].get<double>(), 0.0) << pass;
   EXPECT_EQ(j["frames"].size(), 2u);
   // The moving block's pairs are walked every frame, the static ones once, and those are most.
-  const auto walked = j["counts"]["sendersWalked"].get<uint64_t>(), once = j["counts"]["staticSendersWalked"].get<uint64_t>();
+  const auto walked = j["solver"]["sendersWalked"].get<uint64_t>(), once = j["solver"]["staticSendersWalked"].get<uint64_t>();
   EXPECT_GT(walked, 0u);
   EXPECT_GT(once, walked);
-  EXPECT_GT(j["counts"]["leafLinks"].get<uint64_t>(), 0u);
+  EXPECT_GT(j["solver"]["leafLinks"].get<uint64_t>(), 0u);
   EXPECT_GT(j["bytesAllocated"].get<uint64_t>(), 0u);
 }
 

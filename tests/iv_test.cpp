@@ -10,7 +10,7 @@
 #include <iterator>
 
 #include "engine/gi/frame_renderer.h"
-#include "engine/gi/shared.h"
+#include "engine/scene/lights.h"
 #include "engine/scene/gltf.h"
 #include "scenes/builtin.h"
 #include "scenes/gltf_builder.h"
@@ -29,13 +29,13 @@ struct Solved {
 Solved solve(const tinygltf::Model& model, gi::IvSettings settings) {
   scene::Scene s = scene::sceneFromModel(model, "test");
   scene::Geometry g = scene::buildGeometry(s);
-  gi::FrameRenderer r(test::gpu(), g, {16, 16, 1}, gi::makeIvSetup(s, g, settings));
+  gi::FrameRenderer r = test::ivRenderer(g, {16, 16, 1}, gi::makeIvSetup(s, g, settings));
   auto pose = scene::evaluatePose(s, -1, 0.0f);
   auto cams = s.cameraNodes();
   auto view = cams.empty() ? scene::framingCamera(scene::worldBounds(scene::animateOnHost(g, g.frameInputs(s, pose))), 1.0f)
                            : scene::cameraView(s, pose, cams[0]);
-  r.render(g.frameInputs(s, pose), view, gi::worldLights(s, pose));
-  return {r.solver()->leafRadiosity(), r.solver()->leafLinks(), r.solver()->stats()};
+  r.render(g.frameInputs(s, pose), view, scene::worldLights(s, pose));
+  return {test::ivSolver(r).leafRadiosity(), test::ivSolver(r).leafLinks(), test::ivSolver(r).stats()};
 }
 
 double meanOverArea(const tinygltf::Model& model, const std::vector<glm::vec4>& values) {
@@ -209,14 +209,14 @@ TEST(IvHierarchy, NodesAreTheRectanglesOfTheirSurfaces) {
   auto model = b.finish();
   scene::Scene s = scene::sceneFromModel(model, "test");
   scene::Geometry g = scene::buildGeometry(s);
-  gi::FrameRenderer r(test::gpu(), g, {16, 16, 1}, gi::makeIvSetup(s, g, {}));
+  gi::FrameRenderer r = test::ivRenderer(g, {16, 16, 1}, gi::makeIvSetup(s, g, {}));
   auto pose = scene::evaluatePose(s, -1, 0.0f);
   r.render(g.frameInputs(s, pose), scene::framingCamera(scene::worldBounds(scene::animateOnHost(g, g.frameInputs(s, pose))), 1.0f));
-  const gi::Hierarchy& h = r.solver()->hierarchy();
-  const auto nodes = r.solver()->nodeStates();
+  const gi::Hierarchy& h = test::ivSolver(r).hierarchy();
+  const auto nodes = test::ivSolver(r).nodeStates();
   const auto& root = nodes[h.roots[0]];
   glm::vec3 t1, t2;
-  gi::tangentFrame(glm::vec3(root.normalCone), t1, t2);
+  gpu::tangentFrame(glm::vec3(root.normalCone), t1, t2);
   glm::vec3 longAxis = std::cos(root.shape.y) * t1 + std::sin(root.shape.y) * t2;
   std::printf("[ shape ] root of the plane: half-extents %.4f x %.4f, long axis %.2f deg off the plane's\n", root.shape.z, root.shape.w,
               glm::degrees(std::acos(std::min(std::abs(glm::dot(longAxis, along)), 1.0f))));
@@ -302,20 +302,20 @@ std::pair<double, gi::IvStats> splitAgainstFullRelink(const tinygltf::Model& mod
   EXPECT_EQ(std::count(moving.begin(), moving.end(), true), 1) << "only the short block moves";
   gi::IvSettings settings;
   settings.bins = 8;
-  settings.environment.assign(6 * 8 * 8, glm::vec4(0.5f, 0.6f, 0.7f, 0.0f));  // through the open front
-  gi::FrameRenderer split(test::gpu(), g, {16, 16, 1}, gi::makeIvSetup(s, g, settings, 0));
-  gi::FrameRenderer full(test::gpu(), g, {16, 16, 1}, gi::makeIvSetup(s, g, settings));
+  settings.environment = scene::Environment::parse("0.5,0.6,0.7");  // through the open front
+  gi::FrameRenderer split = test::ivRenderer(g, {16, 16, 1}, gi::makeIvSetup(s, g, settings, 0));
+  gi::FrameRenderer full = test::ivRenderer(g, {16, 16, 1}, gi::makeIvSetup(s, g, settings));
   const auto view = scene::cameraView(s, scene::evaluatePose(s, 0, 0.0f), s.cameraNodes()[0]);
   double worst = 0;
   for (float t : {0.0f, 0.5f, 1.25f}) {  // the block slid and turned: its shadow and bleeding moved
     auto pose = scene::evaluatePose(s, 0, t);
     split.render(g.frameInputs(s, pose), view);
     full.render(g.frameInputs(s, pose), view);
-    auto a = split.solver()->leafRadiosity(), b = full.solver()->leafRadiosity();
+    auto a = test::ivSolver(split).leafRadiosity(), b = test::ivSolver(full).leafRadiosity();
     EXPECT_EQ(a.size(), b.size());
     // The same links, walked in two passes: a static leaf's static senders once, every leaf's moving
     // ones each frame (a moving leaf has no others).
-    const gi::IvStats splitStats = split.solver()->stats(), fullStats = full.solver()->stats();
+    const gi::IvStats splitStats = test::ivSolver(split).stats(), fullStats = test::ivSolver(full).stats();
     EXPECT_GT(splitStats.sendersWalked, 0u);
     EXPECT_EQ(splitStats.sendersWalked + splitStats.staticSendersWalked, fullStats.sendersWalked) << "t = " << t;
     for (size_t i = 0; i < a.size() && i < b.size(); ++i)
@@ -324,8 +324,8 @@ std::pair<double, gi::IvStats> splitAgainstFullRelink(const tinygltf::Model& mod
         worst = std::max(worst, std::abs(double(a[i][c]) - b[i][c]) / (std::abs(double(b[i][c])) + 1e-3));
       }
   }
-  EXPECT_EQ(full.solver()->stats().staticLinks, 0u);
-  return {worst, split.solver()->stats()};
+  EXPECT_EQ(test::ivSolver(full).stats().staticLinks, 0u);
+  return {worst, test::ivSolver(split).stats()};
 }
 
 }  // namespace
@@ -373,21 +373,21 @@ struct SmallRoom {
     for (uint32_t bins : {8u, 24u}) {
       gi::IvSettings settings;
       settings.bins = bins;
-      if (environment) settings.environment.assign(6 * bins * bins, glm::vec4(0.5f, 0.6f, 0.7f, 0.0f));
+      if (environment) settings.environment = scene::Environment::parse("0.5,0.6,0.7");
       gi::FrameRenderer usual = renderer(settings);
       tweak(settings);
       gi::FrameRenderer tweaked = renderer(settings);
       for (float t : {0.0f, 0.5f}) {
         render(usual, t);
         render(tweaked, t);
-        check(*usual.solver(), *tweaked.solver(), bins, t);
+        check(test::ivSolver(usual), test::ivSolver(tweaked), bins, t);
       }
     }
   }
 
  private:
   gi::FrameRenderer renderer(const gi::IvSettings& settings) const {
-    return gi::FrameRenderer(test::gpu(), geometry, {16, 16, 1}, gi::makeIvSetup(scene, geometry, settings, 0));
+    return test::ivRenderer(geometry, {16, 16, 1}, gi::makeIvSetup(scene, geometry, settings, 0));
   }
   void render(gi::FrameRenderer& r, float t) const { r.render(geometry.frameInputs(scene, scene::evaluatePose(scene, 0, t)), view); }
 };
@@ -478,13 +478,13 @@ TEST(IvStaticObjects, AFrameThatOutgrowsItsRoomIsRedoneKeepingTheStaticLinks) {
   gi::IvSettings settings;
   settings.bins = 16;
   const gi::IvSetup setup = gi::makeIvSetup(s, g, settings, 0);
-  gi::FrameRenderer animated(test::gpu(), g, {16, 16, 1}, setup), fresh(test::gpu(), g, {16, 16, 1}, setup);
+  gi::FrameRenderer animated = test::ivRenderer(g, {16, 16, 1}, setup), fresh = test::ivRenderer(g, {16, 16, 1}, setup);
   animated.render(g.frameInputs(s, scene::evaluatePose(s, 0, 0.0f)), view);
-  const gi::IvStats first = animated.solver()->stats();
+  const gi::IvStats first = test::ivSolver(animated).stats();
   const auto pose = scene::evaluatePose(s, 0, 1.0f);
   animated.render(g.frameInputs(s, pose), view);
   fresh.render(g.frameInputs(s, pose), view);
-  const gi::IvStats a = animated.solver()->stats(), f = fresh.solver()->stats();
+  const gi::IvStats a = test::ivSolver(animated).stats(), f = test::ivSolver(fresh).stats();
   std::printf("leaf links %u at the first frame, %u at the last (%u static); frames redone %u, static passes %u; %.2f MiB\n", first.leafLinks,
               a.leafLinks, a.staticLeafLinks, a.framesRedone, a.staticPasses, double(a.bytes) / (1 << 20));
   EXPECT_EQ(first.framesRedone, 0u) << "the first guess holds the first frame";
@@ -492,7 +492,7 @@ TEST(IvStaticObjects, AFrameThatOutgrowsItsRoomIsRedoneKeepingTheStaticLinks) {
   EXPECT_EQ(a.staticPasses, 1u) << "the static links were kept";
   EXPECT_EQ(f.framesRedone, 0u);
   EXPECT_EQ(a.leafLinks, f.leafLinks);
-  const auto ra = animated.solver()->leafRadiosity(), rf = fresh.solver()->leafRadiosity();
+  const auto ra = test::ivSolver(animated).leafRadiosity(), rf = test::ivSolver(fresh).leafRadiosity();
   ASSERT_EQ(ra.size(), rf.size());
   EXPECT_EQ(std::memcmp(ra.data(), rf.data(), ra.size() * sizeof(glm::vec4)), 0);
   EXPECT_GT(ra[4].x, 0.0f) << "the floor is lit";

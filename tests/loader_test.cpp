@@ -167,6 +167,7 @@ TEST(Loader, SparseAccessors) {
   a.sparse.indices.bufferView = model.accessors[idx].bufferView;
   a.sparse.indices.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
   a.sparse.values.bufferView = model.accessors[val].bufferView;
+  a.sparse.indices.byteOffset = a.sparse.values.byteOffset = 0;  // tinygltf leaves them uninitialised
   // A morph target given only as sparse values over zeros (no buffer view).
   tinygltf::Accessor delta = a;
   delta.bufferView = -1;

@@ -6,11 +6,10 @@
 #include <cmath>
 #include <cstdio>
 
-#include "engine/gi/iv_solver.h"
-#include "engine/gi/shared.h"
 #include "engine/image/metrics.h"
 #include "engine/reference/path_tracer.h"
 #include "engine/scene/gltf.h"
+#include "shaders/interface.h"
 #include "scenes/builtin.h"
 #include "scenes/gltf_builder.h"
 
@@ -146,7 +145,7 @@ TEST(ConfigurationFactor, ParallelUnitSquares) {
       glm::vec3 r((i % n + 0.5f) / n, 0.0f, (i / n + 0.5f) / n), s((j % n + 0.5f) / n, 1.0f, (j / n + 0.5f) / n);
       glm::vec3 d = s - r;
       float d2 = glm::dot(d, d), c = d.y / std::sqrt(d2);
-      iv += a * gi::formFactor(a, c, c, d2);  // area-weighted: F = (1/A_r) Σ A_i F_ij with A_r = 1
+      iv += a * gpu::formFactor(a, c, c, d2);  // area-weighted: F = (1/A_r) Σ A_i F_ij with A_r = 1
     }
 
   Traced t(squareOverFloor(0, 1, 0, 1, 1, 1.0f));
@@ -205,7 +204,7 @@ TEST(PtDirectLight, FloorRegionMeansOfTheRenderedImage) {
   const uint32_t w = 64, h = 64;
   auto frame = t.render(w, h, {.spp = 256, .bounces = 0});
   auto pose = scene::evaluatePose(t.scene, -1, 0.0f);
-  const gi::GpuCamera cam = gi::gpuCamera(scene::cameraView(t.scene, pose, t.scene.cameraNodes().at(0)), 1.0f);
+  const gpu::Camera cam = scene::gpuCamera(scene::cameraView(t.scene, pose, t.scene.cameraNodes().at(0)), 1.0f);
   auto exactRadiance = [](glm::dvec3 p) { return 0.725 * cornellLightIrradiance(p, 48) / kPi; };  // white floor, red channel
   double got[5] = {}, exact[5] = {};
   int count[5] = {};
@@ -214,7 +213,7 @@ TEST(PtDirectLight, FloorRegionMeansOfTheRenderedImage) {
       size_t i = size_t(y) * w + x;
       glm::vec4 nd = frame.normalDepth[i];
       if (nd.y < 0.99f || nd.w <= 0.0f || frame.radiance[i].a < 1.0f) continue;  // floor pixels, fully covered
-      glm::dvec3 p = glm::dvec3(glm::vec3(cam.origin) + nd.w * gi::cameraRay(cam, glm::vec2(x, y) + 0.5f, {w, h}));
+      glm::dvec3 p = glm::dvec3(glm::vec3(cam.origin) + nd.w * gpu::cameraRay(cam, glm::vec2(x, y) + 0.5f, {w, h}));
       if (p.x < 0.02 || p.x > 0.53 || p.z < 0.02 || p.z > 0.54) continue;  // away from the walls' pixels
       int quadrant = 1 + (p.x > 0.278) + 2 * (p.z > 0.2795);
       for (int k : {0, quadrant}) got[k] += frame.radiance[i].r, exact[k] += exactRadiance(p), ++count[k];

@@ -1,14 +1,15 @@
-// shaders/common.glsl and its C++ twins (engine/gi/shared.h, engine/scene/texture_sampling.h) give
-// the same answers on the same cases: key packing and ordering, texel addressing, camera rays.
+// The functions of shaders/interface.h give on the GPU what they give on the host, where both sides
+// use their results: key packing and ordering, texel addressing, camera rays, bins, form factors,
+// tangent frames and lights; and the definitions have the properties the solver relies on.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cstdio>
 #include <span>
 
-#include "engine/gi/shared.h"
-#include "engine/scene/texture_sampling.h"
+#include "engine/scene/camera.h"
 #include "engine/vk/program.h"
+#include "shaders/interface.h"
 #include "tests/test_support.h"
 
 namespace ivgi {
@@ -22,12 +23,6 @@ namespace {
 struct Case {
   float value;
   uint32_t id, size, mode;
-};
-
-struct Push {
-  gi::GpuCamera camera;
-  glm::uvec2 size;
-  uint32_t count, pad = 0;
 };
 
 std::vector<Case> cases() {
@@ -57,8 +52,8 @@ TEST(SharedDefinitions, GlslAndCppAgree) {
   view.right = glm::normalize(glm::cross(view.forward, glm::vec3(0, 1, 0)));
   view.up = glm::cross(view.right, view.forward);
   view.yfov = 0.6f;
-  Push push{gi::gpuCamera(view, 1.5f), {48, 32}, uint32_t(cs.size())};
-  ctx.submitAndWait([&](VkCommandBuffer cmd) { program.dispatchItems(cmd, cs.size(), {&in, &keys, &pairs, &rays, &staticBins}, push); });
+  const gpu::ImagePush push{scene::gpuCamera(view, 1.5f), {48, 32}, uint32_t(cs.size()), 0};
+  ctx.submitAndWait([&](VkCommandBuffer cmd) { program.dispatchItems(cmd, cs.size(), {{"cases", in}, {"keys", keys}, {"pairs", pairs}, {"rays", rays}, {"staticBins", staticBins}}, push); });
   auto gotKeys = keys.read<uint64_t>(cs.size());
   auto gotPairs = pairs.read<glm::vec4>(cs.size());
   auto gotRays = rays.read<glm::vec4>(cs.size());
@@ -67,22 +62,22 @@ TEST(SharedDefinitions, GlslAndCppAgree) {
   for (size_t i = 0; i < cs.size(); ++i) {
     const Case& c = cs[i];
     if (c.value >= 0.0f) {  // keys are defined for depths >= 0
-      EXPECT_EQ(gotKeys[i], gi::packDepthKey(c.value, c.id)) << i;
+      EXPECT_EQ(gotKeys[i], gpu::packDepthKey(c.value, c.id)) << i;
       EXPECT_EQ(gotPairs[i].w, 1.0f) << "keyDepth/keyId round trip, case " << i;
     }
     float weight;
-    glm::ivec2 pair = scene::texelPair(c.value, int(c.size), c.mode, weight);
+    glm::ivec2 pair = gpu::texelPair(c.value, int(c.size), c.mode, weight);
     EXPECT_EQ(glm::ivec2(gotPairs[i]), pair) << "u " << c.value << " size " << c.size << " mode " << c.mode;
     EXPECT_NEAR(gotPairs[i].z, weight, 1e-3f) << "u " << c.value << " size " << c.size << " mode " << c.mode;
     EXPECT_GE(pair.x, 0);
     EXPECT_LT(pair.y, int(c.size));
-    glm::vec3 ray = gi::cameraRay(push.camera, glm::vec2(c.value, float(c.id % 7u)) * float(push.size.x), push.size);
+    glm::vec3 ray = gpu::cameraRay(push.camera, glm::vec2(c.value, float(c.id % 7u)) * float(push.size.x), push.size);
     EXPECT_LT(glm::length(glm::vec3(gotRays[i]) - ray), 1e-4f * std::max(1.0f, glm::length(ray))) << i;
     // A static leaf link's bin (any of 6·64² bins) and its coverage, capped at the whole bin.
-    const uint32_t bin = c.id % 24576u, covered = c.id >> 13, packed = gi::packStaticBin(bin, covered);
-    EXPECT_EQ(gotStaticBins[i], glm::uvec4(packed, bin, std::min(covered, gi::kCoverageUnit), 0u)) << "covered " << covered;
-    EXPECT_EQ(gi::staticBinOf(packed), bin);
-    EXPECT_EQ(gi::staticCoverageOf(packed), std::min(covered, gi::kCoverageUnit));
+    const uint32_t bin = c.id % 24576u, covered = c.id >> 13, packed = gpu::packStaticBin(bin, covered);
+    EXPECT_EQ(gotStaticBins[i], glm::uvec4(packed, bin, std::min(covered, gpu::kCoverageUnit), 0u)) << "covered " << covered;
+    EXPECT_EQ(gpu::staticBinOf(packed), bin);
+    EXPECT_EQ(gpu::staticCoverageOf(packed), std::min(covered, gpu::kCoverageUnit));
   }
 }
 
@@ -90,36 +85,36 @@ TEST(SharedDefinitions, KeysOrderByDepthThenId) {
   // atomicMin on the key must keep the nearest hit, ties broken by the lower id.
   std::vector<std::pair<float, uint32_t>> hits = {{2.0f, 1}, {0.5f, 9}, {0.5f, 3}, {1e-20f, 7}, {1e20f, 0}, {0.0f, 4}};
   std::vector<uint64_t> keys;
-  for (auto [d, id] : hits) keys.push_back(gi::packDepthKey(d, id));
+  for (auto [d, id] : hits) keys.push_back(gpu::packDepthKey(d, id));
   auto sortedHits = hits;
   std::sort(sortedHits.begin(), sortedHits.end());
   std::sort(keys.begin(), keys.end());
   for (size_t i = 0; i < keys.size(); ++i) {
-    EXPECT_EQ(gi::keyDepth(keys[i]), sortedHits[i].first);
-    EXPECT_EQ(gi::keyId(keys[i]), sortedHits[i].second);
+    EXPECT_EQ(gpu::keyDepth(keys[i]), sortedHits[i].first);
+    EXPECT_EQ(gpu::keyId(keys[i]), sortedHits[i].second);
   }
-  EXPECT_LT(gi::packDepthKey(1e30f, ~0u - 1), gi::kEmptyVisibility) << "any hit beats an empty sample";
+  EXPECT_LT(gpu::packDepthKey(1e30f, ~0u - 1), gpu::kEmptyVisibility) << "any hit beats an empty sample";
 }
 
 TEST(SharedDefinitions, LinkKeysRankCoresBeforeFringes) {
   // A bin goes to the nearest sender centred in it; a sender that only brushes it wins it only
   // where no core reached it, and then the nearest such.
-  EXPECT_LT(gi::packLinkKey(1e20f, 9, false), gi::packLinkKey(1e-20f, 1, true)) << "a far core beats a near fringe";
-  EXPECT_LT(gi::packLinkKey(0.5f, 9, true), gi::packLinkKey(2.0f, 1, true)) << "among fringes the nearest";
-  EXPECT_LT(gi::packLinkKey(0.5f, 3, false), gi::packLinkKey(0.5f, 9, false)) << "ties by id";
-  EXPECT_LT(gi::packLinkKey(3.4e38f, ~0u - 1, true), gi::kEmptyVisibility) << "any sender beats an empty bin";
-  EXPECT_EQ(gi::linkKeyDepth(gi::packLinkKey(0.25f, 5, true)), 0.25f);
-  EXPECT_EQ(gi::keyId(gi::packLinkKey(0.25f, 5, true)), 5u);
+  EXPECT_LT(gpu::packLinkKey(1e20f, 9, false), gpu::packLinkKey(1e-20f, 1, true)) << "a far core beats a near fringe";
+  EXPECT_LT(gpu::packLinkKey(0.5f, 9, true), gpu::packLinkKey(2.0f, 1, true)) << "among fringes the nearest";
+  EXPECT_LT(gpu::packLinkKey(0.5f, 3, false), gpu::packLinkKey(0.5f, 9, false)) << "ties by id";
+  EXPECT_LT(gpu::packLinkKey(3.4e38f, ~0u - 1, true), gpu::kEmptyVisibility) << "any sender beats an empty bin";
+  EXPECT_EQ(gpu::linkKeyDepth(gpu::packLinkKey(0.25f, 5, true)), 0.25f);
+  EXPECT_EQ(gpu::keyId(gpu::packLinkKey(0.25f, 5, true)), 5u);
 }
 
 TEST(SharedDefinitions, TexelPairsFollowTheWrapModes) {
   float w;
-  EXPECT_EQ(scene::texelPair(0.0f, 4, 10497u, w), glm::ivec2(3, 0)) << "repeat wraps left of the first texel centre";
+  EXPECT_EQ(gpu::texelPair(0.0f, 4, 10497u, w), glm::ivec2(3, 0)) << "repeat wraps left of the first texel centre";
   EXPECT_FLOAT_EQ(w, 0.5f);
-  EXPECT_EQ(scene::texelPair(0.0f, 4, 33071u, w), glm::ivec2(0, 0)) << "clamp";
-  EXPECT_EQ(scene::texelPair(1.25f, 4, 10497u, w), glm::ivec2(0, 1)) << "repeat: 1.25 is 0.25";
+  EXPECT_EQ(gpu::texelPair(0.0f, 4, 33071u, w), glm::ivec2(0, 0)) << "clamp";
+  EXPECT_EQ(gpu::texelPair(1.25f, 4, 10497u, w), glm::ivec2(0, 1)) << "repeat: 1.25 is 0.25";
   EXPECT_FLOAT_EQ(w, 0.5f);
-  EXPECT_EQ(scene::texelPair(1.25f, 4, 33648u, w), glm::ivec2(2, 3)) << "mirrored: 1.25 is 0.75";
+  EXPECT_EQ(gpu::texelPair(1.25f, 4, 33648u, w), glm::ivec2(2, 3)) << "mirrored: 1.25 is 0.75";
   EXPECT_FLOAT_EQ(w, 0.5f);
 }
 
@@ -163,27 +158,27 @@ TEST(SharedDefinitions, BinsAndFormFactorsAgree) {
   vk::Program program(ctx, "bin_cases", testShaderCode("bin_cases"));
   vk::Buffer in = vk::makeBuffer(ctx, cs);
   vk::Buffer out(ctx, cs.size() * sizeof(BinResult), vk::Memory::Host);
-  ctx.submitAndWait([&](VkCommandBuffer cmd) { program.dispatchItems(cmd, cs.size(), {&in, &out}, uint32_t(cs.size())); });
+  ctx.submitAndWait([&](VkCommandBuffer cmd) { program.dispatchItems(cmd, cs.size(), {{"cases", in}, {"results", out}}, gpu::CountPush{uint32_t(cs.size())}); });
   auto got = out.read<BinResult>(cs.size());
   for (size_t i = 0; i < cs.size(); ++i) {
     const BinCase& c = cs[i];
     glm::vec3 d(c.direction);
-    EXPECT_EQ(got[i].bin, gi::binOf(d, c.n)) << "case " << i;
+    EXPECT_EQ(got[i].bin, gpu::binOf(d, c.n)) << "case " << i;
     // GLSL atan is an approximation (lavapipe's is within about 3e-6 of libm), and the solid angle
     // is a difference of four such terms: the solver builds its bin table on the host for that reason.
-    EXPECT_NEAR(got[i].solidAngle, gi::binSolidAngle(c.bin, c.n), 1.5e-5f) << "case " << i;
-    float ff = gi::formFactor(c.area, c.direction.w, c.direction.x, c.distance2);
+    EXPECT_NEAR(got[i].solidAngle, gpu::binSolidAngle(c.bin, c.n), 1.5e-5f) << "case " << i;
+    float ff = gpu::formFactor(c.area, c.direction.w, c.direction.x, c.distance2);
     EXPECT_NEAR(got[i].formFactor, ff, 1e-6f * std::max(1.0f, ff)) << "case " << i;
     EXPECT_EQ(got[i].roundTrip, c.bin) << "a bin's centre falls in the bin, case " << i;
-    EXPECT_EQ(glm::vec3(got[i].centre), gi::binDirection(c.bin, c.n));
-    EXPECT_EQ(got[i].key, gi::packLinkKey(c.distance2, c.bin, false)) << "case " << i;
-    EXPECT_EQ(got[i].fringeKey, gi::packLinkKey(c.distance2, c.bin, true)) << "case " << i;
+    EXPECT_EQ(glm::vec3(got[i].centre), gpu::binDirection(c.bin, c.n));
+    EXPECT_EQ(got[i].key, gpu::packLinkKey(c.distance2, c.bin, false)) << "case " << i;
+    EXPECT_EQ(got[i].fringeKey, gpu::packLinkKey(c.distance2, c.bin, true)) << "case " << i;
     EXPECT_EQ(got[i].fringeDepth, c.distance2) << "a fringe key keeps its depth, case " << i;
     uint32_t r = c.bin % (c.n * c.n);
-    EXPECT_EQ(got[i].beyond, gi::binOfCell(c.bin / (c.n * c.n), glm::ivec2(int(r % c.n), -1 - int(r / c.n)), c.n)) << "case " << i;
+    EXPECT_EQ(got[i].beyond, gpu::binOfCell(c.bin / (c.n * c.n), glm::ivec2(int(r % c.n), -1 - int(r / c.n)), c.n)) << "case " << i;
     if (glm::length(d) > 0.0f) {
       glm::vec3 t1, t2;
-      gi::tangentFrame(glm::normalize(d), t1, t2);
+      gpu::tangentFrame(glm::normalize(d), t1, t2);
       EXPECT_LT(glm::length(glm::vec3(got[i].tangent) - t1), 1e-5f) << "tangent frame, case " << i;
       EXPECT_NEAR(glm::dot(t1, glm::normalize(d)), 0.0f, 1e-5f);
     }
@@ -195,17 +190,17 @@ TEST(SharedDefinitions, BinSolidAnglesCoverTheSphere) {
     double sum = 0;
     float smallest = 1e9f, largest = 0;
     for (uint32_t b = 0; b < 6 * n * n; ++b) {
-      float w = gi::binSolidAngle(b, n);
+      float w = gpu::binSolidAngle(b, n);
       sum += w;
       smallest = std::min(smallest, w), largest = std::max(largest, w);
-      ASSERT_EQ(gi::binOf(gi::binDirection(b, n), n), b);
+      ASSERT_EQ(gpu::binOf(gpu::binDirection(b, n), n), b);
     }
     EXPECT_NEAR(sum, 4.0 * 3.14159265358979, 1e-4) << n;
     if (n >= 16) {
       EXPECT_GT(largest / smallest, 4.0f) << "corner bins are several times smaller than centre bins";
     }
   }
-  EXPECT_NEAR(gi::binSolidAngle(0, 1), 4.0f * 3.14159265f / 6.0f, 1e-6f) << "one bin per face: a sixth of the sphere";
+  EXPECT_NEAR(gpu::binSolidAngle(0, 1), 4.0f * 3.14159265f / 6.0f, 1e-6f) << "one bin per face: a sixth of the sphere";
 }
 
 // The prune files a footprint across a cube edge on both sides: a cell just past a face's edge is
@@ -218,31 +213,31 @@ TEST(SharedDefinitions, CellsPastAFaceEdgeFallOnItsNeighbour) {
         for (glm::ivec2 step : {glm::ivec2(0, -1), glm::ivec2(0, 1), glm::ivec2(-1, 0), glm::ivec2(1, 0)}) {
           // The face's own edge bin, and the cell one step past it.
           glm::ivec2 inside = step.x != 0 ? glm::ivec2(step.x < 0 ? 0 : int(n) - 1, along) : glm::ivec2(along, step.y < 0 ? 0 : int(n) - 1);
-          uint32_t own = gi::binOfCell(face, inside, n), past = gi::binOfCell(face, inside + step, n);
+          uint32_t own = gpu::binOfCell(face, inside, n), past = gpu::binOfCell(face, inside + step, n);
           ASSERT_EQ(own, face * n * n + uint32_t(inside.y) * n + uint32_t(inside.x));
           EXPECT_NE(past / (n * n), face) << "n " << n << " face " << face;
           // Centres on the unit cube: the two bins are neighbours across the edge.
-          glm::vec3 a = gi::binDirection(own, n), b = gi::binDirection(past, n);
+          glm::vec3 a = gpu::binDirection(own, n), b = gpu::binDirection(past, n);
           EXPECT_LT(glm::length(a - b), 1.5f * binWidth) << "n " << n << " face " << face << " along " << along;
         }
   }
 }
 
 TEST(SharedDefinitions, FormFactorIsBoundedAndFinite) {
-  EXPECT_EQ(gi::formFactor(1.0f, 1.0f, 1.0f, 0.0f), 1.0f) << "d → 0 gives 1, not infinity";
-  EXPECT_EQ(gi::formFactor(1.0f, -0.5f, 1.0f, 1.0f), 0.0f) << "back faces send nothing";
-  EXPECT_NEAR(gi::formFactor(1e-4f, 1.0f, 1.0f, 1.0f), 1e-4f / 3.14159265f, 1e-4f * 1e-4f / 3.14159265f) << "far away: A cos cos / (π d²)";
+  EXPECT_EQ(gpu::formFactor(1.0f, 1.0f, 1.0f, 0.0f), 1.0f) << "d → 0 gives 1, not infinity";
+  EXPECT_EQ(gpu::formFactor(1.0f, -0.5f, 1.0f, 1.0f), 0.0f) << "back faces send nothing";
+  EXPECT_NEAR(gpu::formFactor(1e-4f, 1.0f, 1.0f, 1.0f), 1e-4f / 3.14159265f, 1e-4f * 1e-4f / 3.14159265f) << "far away: A cos cos / (π d²)";
   // Scale invariance: scaling areas by s² and distances by s leaves it unchanged.
-  for (float s : {1e-3f, 1.0f, 1e3f}) EXPECT_NEAR(gi::formFactor(0.3f * s * s, 0.8f, 0.6f, 2.0f * s * s), gi::formFactor(0.3f, 0.8f, 0.6f, 2.0f), 1e-6f);
+  for (float s : {1e-3f, 1.0f, 1e3f}) EXPECT_NEAR(gpu::formFactor(0.3f * s * s, 0.8f, 0.6f, 2.0f * s * s), gpu::formFactor(0.3f, 0.8f, 0.6f, 2.0f), 1e-6f);
 }
 
-// lightFalloff(): the GLSL in common.glsl (prune_bins' punctual lights) against its C++ twin in
-// engine/gi/shared.h (the path tracer's), for directional, point (with and without range) and spot
+// lightFalloff() on the GPU (prune_bins' punctual lights) against the host (the path tracer's), for
+// directional, point (with and without range) and spot
 // lights (smooth cone and a hard one whose inner and outer cones coincide).
 TEST(SharedDefinitions, LightFalloffMatchesOnTheGpu) {
   vk::Context& ctx = test::gpu();
   const glm::vec3 down(0, -1, 0);
-  std::vector<gi::GpuLight> lights = {
+  std::vector<gpu::PunctualLight> lights = {
       {glm::vec4(0, 0, 0, 0), glm::vec4(glm::normalize(glm::vec3(0.3f, -1, 0.2f)), 0), glm::vec4(1), glm::vec4(0)},
       {glm::vec4(0, 2, 0, 1), glm::vec4(down, 0), glm::vec4(1), glm::vec4(0)},
       {glm::vec4(0, 2, 0, 1), glm::vec4(down, 2.5f), glm::vec4(1), glm::vec4(0)},
@@ -259,13 +254,13 @@ TEST(SharedDefinitions, LightFalloffMatchesOnTheGpu) {
   struct {
     uint32_t lightCount, pointCount;
   } push{uint32_t(lights.size()), uint32_t(points.size())};
-  ctx.submitAndWait([&](VkCommandBuffer cmd) { program.dispatchItems(cmd, n, {&lightBuffer, &pointBuffer, &results, &distances}, push); });
+  ctx.submitAndWait([&](VkCommandBuffer cmd) { program.dispatchItems(cmd, n, {{"lights", lightBuffer}, {"points", pointBuffer}, {"results", results}, {"distances", distances}}, push); });
   auto got = results.read<glm::vec4>(n);
   auto gotDist = distances.read<float>(n);
   int lit = 0;
   for (uint32_t i = 0; i < n; ++i) {
     glm::vec3 toLight;
-    float dist2, falloff = gi::lightFalloff(lights[i / points.size()], glm::vec3(points[i % points.size()]), toLight, dist2);
+    float dist2, falloff = gpu::lightFalloff(lights[i / points.size()], glm::vec3(points[i % points.size()]), toLight, dist2);
     EXPECT_NEAR(got[i].w, falloff, 1e-4f * std::max(1.0f, falloff)) << "light " << i / points.size() << " point " << i % points.size();
     EXPECT_LT(glm::length(glm::vec3(got[i]) - toLight), 1e-5f) << i;
     EXPECT_NEAR(gotDist[i], dist2, 1e-5f * std::max(1.0f, dist2)) << i;
@@ -285,7 +280,7 @@ TEST(SharedDefinitions, LoopBudgetSpentTellsWhenLoopsWereCutShort) {
   vk::Program program(ctx, "loop_budget_cases", testShaderCode("loop_budget_cases"));
   vk::Buffer in = vk::makeBuffer(ctx, cs);
   vk::Buffer out(ctx, cs.size() * sizeof(glm::uvec4), vk::Memory::Host);
-  ctx.submitAndWait([&](VkCommandBuffer cmd) { program.dispatch(cmd, program.groupsFor(cs.size(), 1), {&in, &out}, uint32_t(cs.size())); });
+  ctx.submitAndWait([&](VkCommandBuffer cmd) { program.dispatch(cmd, program.groupsFor(cs.size(), 1), {{"cases", in}, {"results", out}}, gpu::CountPush{uint32_t(cs.size())}); });
   const auto got = out.read<glm::uvec4>(cs.size());
   const bool lavapipe = ctx.info().name.find("llvmpipe") != std::string::npos;
   for (size_t i = 0; i < cs.size(); ++i) {

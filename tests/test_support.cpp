@@ -81,6 +81,12 @@ std::optional<std::filesystem::path> sharedGltfDir() {
 
 std::filesystem::path assimpGltfDir() { return "/usr/share/assimp/models/glTF2"; }
 
+gi::FrameRenderer ivRenderer(const scene::Geometry& geometry, gi::ImageSettings image, gi::IvSetup setup) {
+  return gi::FrameRenderer(gpu(), geometry, image, std::make_unique<gi::IvSolver>(gpu(), geometry, std::move(setup)));
+}
+
+const gi::IvSolver& ivSolver(const gi::FrameRenderer& renderer) { return dynamic_cast<const gi::IvSolver&>(*renderer.solver()); }
+
 std::filesystem::path scratchDir(const std::string& name) {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
   std::string test = info ? std::string(info->test_suite_name()) + "." + info->name() : "none";

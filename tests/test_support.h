@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "engine/gi/frame_renderer.h"
+#include "engine/gi/iv/solver.h"
 #include "engine/vk/context.h"
 
 namespace ivgi::test {
@@ -29,6 +31,11 @@ Run runIvgi(const std::vector<std::string>& args, const std::map<std::string, st
 std::optional<std::filesystem::path> sharedGltfDir();
 // Debian's assimp-testmodels glTF 2.0 folder (installed by ci/install-deps.sh).
 std::filesystem::path assimpGltfDir();
+// A renderer of `geometry` lit by an iv solver made from `setup`, on the test process's context.
+gi::FrameRenderer ivRenderer(const scene::Geometry& geometry, gi::ImageSettings image, gi::IvSetup setup);
+// The iv solver of a renderer made by ivRenderer().
+const gi::IvSolver& ivSolver(const gi::FrameRenderer& renderer);
+
 // A fresh, empty folder for one test.
 std::filesystem::path scratchDir(const std::string& name);
 

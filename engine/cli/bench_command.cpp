@@ -11,11 +11,13 @@
 #include "engine/cli/json_file.h"
 #include "engine/cli/machine.h"
 #include "engine/cli/options.h"
+#include "engine/cli/report.h"
 #include "engine/cli/statistics.h"
 #include "engine/cli/timeline.h"
 #include "engine/gi/frame_renderer.h"
 #include "engine/image/atomic_file.h"
 #include "engine/scene/camera.h"
+#include "engine/scene/lights.h"
 #include "engine/vk/context.h"
 
 namespace ivgi::cli {
@@ -27,7 +29,7 @@ FrameTimes timeFrames(gi::FrameRenderer& renderer, const scene::Scene& s, const 
   for (int i = 0; i < warmup + count; ++i) {
     int frame = i % (tl.lastFrame + 1);
     auto pose = scene::evaluatePose(s, tl.animation, float(tl.time(frame, fps)));
-    auto result = renderer.render(g.frameInputs(s, pose), camera.at(pose), gi::worldLights(s, pose), i == 0 || moving);
+    auto result = renderer.render(g.frameInputs(s, pose), camera.at(pose), scene::worldLights(s, pose), i == 0 || moving);
     if (i < warmup) continue;
     double total = 0;
     nlohmann::json passes = nlohmann::json::object();
@@ -44,8 +46,8 @@ FrameTimes timeFrames(gi::FrameRenderer& renderer, const scene::Scene& s, const 
 }
 
 void checkFrameCounts(const BenchOptions& o) {
-  if (o.frames < 1 || o.frames > 100000) throw UsageError("--frames must be 1 to 100000");
-  if (o.warmup < 0 || o.warmup > 1000) throw UsageError("--warmup must be 0 to 1000");
+  if (o.frames < 1 || o.frames > 100000) throw SettingsError("--frames must be 1 to 100000");
+  if (o.warmup < 0 || o.warmup > 1000) throw SettingsError("--warmup must be 0 to 1000");
 }
 
 int runBench(const BenchOptions& o) {
@@ -59,8 +61,8 @@ int runBench(const BenchOptions& o) {
   const int animation = tl.animation;
 
   vk::Context ctx({.device = o.device});
-  if (std::string why = gi::checkImageSettings(ctx, image); !why.empty()) throw UsageError("--size " + o.size + ": " + why);
-  gi::FrameRenderer renderer(ctx, g, image, solverSetup(o.solver, s, g, animation));
+  if (std::string why = gi::checkImageSettings(ctx, image); !why.empty()) throw SettingsError("--size " + o.size + ": " + why);
+  gi::FrameRenderer renderer(ctx, g, image, makeSolver(o.solver, ctx, s, g, animation));
   const FrameCamera camera(s, g, tl, o.fps, "", {0}, float(image.width) / float(image.height));
 
   const bool moving = scene::animationMovesGeometry(s, animation);
@@ -70,7 +72,8 @@ int runBench(const BenchOptions& o) {
   auto& frames = times.frames;
 
   std::printf("ivgi bench: %s, %ux%u, method %s", s.source.c_str(), image.width, image.height, o.solver.method.c_str());
-  if (o.solver.method == "iv") std::printf(", bins 6x%ux%u, eps %g, bounces %d", o.solver.bins, o.solver.bins, o.solver.epsilon, o.solver.bounces);
+  const gi::IvSettings& iv = o.solver.iv;
+  if (o.solver.method == "iv") std::printf(", bins 6x%ux%u, eps %g, bounces %u", iv.bins, iv.bins, iv.epsilon, iv.bounces);
   std::printf("\ndevice: %s\n", deviceLine(ctx).c_str());
   std::printf("frames: %d measured after %d warm-up%s\n\n", o.frames, o.warmup,
               moving ? "" : " (static geometry: refit, links and pruning ran once, in the first warm-up frame or the first frame)");
@@ -88,10 +91,9 @@ int runBench(const BenchOptions& o) {
   std::printf("\nframe: %.3f ms median GPU, %.2f fps\n", totalMs, totalMs > 0 ? 1000.0 / totalMs : 0.0);
   std::printf("surfels %zu, triangles %zu", g.surfels.size(), g.triangles.size());
   nlohmann::json counts = {{"surfels", g.surfels.size()}, {"triangles", g.triangles.size()}, {"vertices", g.vertices.size()}};
-  uint64_t bytes = renderer.bytesAllocated();
-  if (const gi::IvSolver* iv = renderer.solver()) {
-    gi::IvStats st = iv->stats();
-    bytes += st.bytes;
+  const uint64_t bytes = renderer.bytesAllocated();
+  if (const auto* solver = dynamic_cast<const gi::IvSolver*>(renderer.solver())) {
+    const gi::IvStats st = solver->stats();
     std::printf(", nodes %u, links %u created, %u leaf links after push-down and pruning", st.nodes, st.links, st.leafLinks);
     if (st.staticLinks) std::printf(" (of which %u and %u between static objects, made once)", st.staticLinks, st.staticLeafLinks);
     // A redone frame's timings are its second run's: say so where it happened.
@@ -102,17 +104,14 @@ int runBench(const BenchOptions& o) {
     if (!perPass["prune"].empty() && percentile(perPass["prune"], 0.5) > 0)
       std::printf(" (%.1f M/s at the median prune time)", double(st.sendersWalked) / percentile(perPass["prune"], 0.5) / 1e3);
     if (st.staticSendersWalked) std::printf(", %llu in the static pass (once)", (unsigned long long)st.staticSendersWalked);
-    counts.update({{"nodes", st.nodes}, {"links", st.links}, {"leafLinks", st.leafLinks}, {"staticLinks", st.staticLinks},
-                   {"staticLeafLinks", st.staticLeafLinks}, {"sharedMemoryBins", st.sharedBins}, {"framesRedone", st.framesRedone},
-                   {"pruneGroupSize", st.pruneGroupSize}, {"sendersWalked", st.sendersWalked}, {"staticSendersWalked", st.staticSendersWalked}});
   }
   std::printf("\nbytes allocated: %llu (%.1f MiB)\n", (unsigned long long)bytes, double(bytes) / (1 << 20));
   if (!o.json.empty()) {
     nlohmann::json j = {{"scene", s.source},
-                        {"settings", {{"width", image.width}, {"height", image.height}, {"method", o.solver.method}, {"bins", o.solver.bins},
-                                      {"eps", o.solver.epsilon}, {"bounces", o.solver.bounces}, {"frames", o.frames}, {"warmup", o.warmup}}},
+                        {"settings", {{"width", image.width}, {"height", image.height}, {"method", o.solver.method}, {"bins", iv.bins},
+                                      {"eps", iv.epsilon}, {"bounces", iv.bounces}, {"kappa", iv.kappa}, {"frames", o.frames}, {"warmup", o.warmup}}},
                         {"device", deviceJson(ctx)},
-                        {"passes", summary}, {"fps", totalMs > 0 ? 1000.0 / totalMs : 0.0}, {"counts", counts}, {"bytesAllocated", bytes},
+                        {"passes", summary}, {"fps", totalMs > 0 ? 1000.0 / totalMs : 0.0}, {"counts", counts}, {"solver", solverJson(renderer.solver())}, {"bytesAllocated", bytes},
                         {"frames", frames}};
     writeJson(o.json, j);
   }

@@ -1,12 +1,14 @@
 #pragma once
 // The ivgi subcommands. Each returns the process exit status; bad input throws (scene::LoadError,
-// UsageError, vk::VulkanError, std::runtime_error) and main() turns it into one line on stderr.
+// SettingsError, vk::VulkanError, std::runtime_error) and main() turns it into one line on stderr.
+#include <memory>
 #include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
-#include "engine/gi/iv_solver.h"
+#include "engine/gi/frame_renderer.h"
+#include "engine/gi/iv/solver.h"
 #include "engine/image/metrics.h"
 #include "engine/reference/path_tracer.h"
 #include "engine/scene/geometry.h"
@@ -23,20 +25,18 @@ scene::Scene loadScene(const SceneChoice& choice);
 // Its flattened geometry; throws LoadError when there is no triangle to render.
 scene::Geometry renderableGeometry(const scene::Scene& scene);
 
-// The lighting method and its settings, shared by render, bench and info.
+// The lighting method and its settings, shared by render, bench, sweep and info. The defaults are
+// the settings structs' own.
 struct SolverOptions {
   std::string method = "iv";  // iv, none (emission only) or pt (render only)
-  uint32_t bins = 16;
-  float epsilon = 0.02f;
-  int bounces = 2;
-  float kappa = 1.0f;  // senders up to κ average bins wide before they are split
-  std::string environment;  // "R,G,B" or an .exr; empty: none
+  gi::IvSettings iv;          // --bins, --eps, --bounces, --kappa
+  std::string environment;    // --env: "R,G,B" or an .exr; empty: none
 };
 
-// The iv set-up for `options` (checked), or nothing for --method none; `animation` (-1: none) says
-// which objects can move. The hierarchy depends only on the scene: pass one already built to reuse it.
-std::optional<gi::IvSetup> solverSetup(const SolverOptions& options, const scene::Scene& scene, const scene::Geometry& geometry,
-                                       int animation, const gi::Hierarchy* hierarchy = nullptr);
+// The solver for `options`, or none for --method none; `animation` (-1: none) says which objects
+// can move. The hierarchy depends only on the scene: pass one already built to reuse it.
+std::unique_ptr<gi::Solver> makeSolver(const SolverOptions& options, const vk::Context& ctx, const scene::Scene& scene,
+                                       const scene::Geometry& geometry, int animation, const gi::Hierarchy* hierarchy = nullptr);
 
 // The path tracer's own options (--method pt).
 struct PathOptions {
@@ -46,7 +46,7 @@ struct PathOptions {
   bool given = false;         // any of them was given on the command line
   bool bouncesGiven = false;  // --bounces was given: otherwise pt paths run until roulette ends them
 };
-// Checks the options (throws UsageError) and returns the tracer's settings.
+// The tracer's settings (checked: SettingsError).
 reference::PathSettings pathSettings(const PathOptions& options, const SolverOptions& solver);
 
 struct RenderOptions {

@@ -34,7 +34,7 @@ nlohmann::json metricsJson(const image::ErrorMetrics& m) {
 }
 
 int runCompare(const CompareOptions& o) {
-  if (!std::isfinite(o.exposure) || std::abs(o.exposure) > 64) throw UsageError("--exposure must lie in [-64, 64] stops");
+  if (!std::isfinite(o.exposure) || std::abs(o.exposure) > 64) throw SettingsError("--exposure must lie in [-64, 64] stops");
   image::RgbImage test = image::readLinearRgb(o.test), ref = image::readLinearRgb(o.reference);
   if (test.width != ref.width || test.height != ref.height)
     throw std::runtime_error(o.test + ": " + std::to_string(test.width) + "x" + std::to_string(test.height) + ", but the reference " + o.reference +

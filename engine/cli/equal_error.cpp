@@ -14,6 +14,7 @@
 #include "engine/cli/options.h"
 #include "engine/cli/statistics.h"
 #include "engine/reference/path_tracer.h"
+#include "engine/scene/lights.h"
 
 namespace ivgi::cli {
 
@@ -37,15 +38,15 @@ PtRender pathTrace(const scene::Scene& s, const scene::Geometry& g, const scene:
 
 int runEqualError(const BenchOptions& o) {
   checkFrameCounts(o);
-  if (o.referenceSpp < 1 || o.referenceSpp > 1u << 20) throw UsageError("--reference-spp must be 1 to 1048576");
-  if (o.maxSpp < 1 || o.maxSpp > 1u << 20) throw UsageError("--max-spp must be 1 to 1048576");
-  if (!o.solver.environment.empty()) throw UsageError("--equal-error compares the scene's own lights; leave out --env");
+  if (o.referenceSpp < 1 || o.referenceSpp > 1u << 20) throw SettingsError("--reference-spp must be 1 to 1048576");
+  if (o.maxSpp < 1 || o.maxSpp > 1u << 20) throw SettingsError("--max-spp must be 1 to 1048576");
+  if (!o.solver.environment.empty()) throw SettingsError("--equal-error compares the scene's own lights; leave out --env");
   gi::ImageSettings image;
   parseSize(o.size, image.width, image.height);
   scene::Scene s = loadScene(o.source);
   scene::Geometry g = renderableGeometry(s);
   const Timeline tl = timeline(s, "", o.fps);
-  if (o.frame < 0 || o.frame > tl.lastFrame) throw UsageError("--frame must be 0 to " + std::to_string(tl.lastFrame));
+  if (o.frame < 0 || o.frame > tl.lastFrame) throw SettingsError("--frame must be 0 to " + std::to_string(tl.lastFrame));
   const FrameCamera camera(s, g, tl, o.fps, "", {0}, float(image.width) / float(image.height));
   const auto pose = scene::evaluatePose(s, tl.animation, float(tl.time(o.frame, o.fps)));
   const auto view = camera.at(pose);
@@ -55,7 +56,7 @@ int runEqualError(const BenchOptions& o) {
   double referenceMs = 0;
   if (!o.reference.empty()) {
     ref = image::readLinearRgb(o.reference);
-    if (ref.width != image.width || ref.height != image.height) throw UsageError(o.reference + ": the reference is not " + o.size);
+    if (ref.width != image.width || ref.height != image.height) throw SettingsError(o.reference + ": the reference is not " + o.size);
   } else {
     std::fprintf(stderr, "equal-error: rendering the reference, pt at %u spp...\n", o.referenceSpp);
     auto r = pathTrace(s, g, pose, view, image.width, image.height, uint32_t(o.frame), {.spp = o.referenceSpp, .seed = 0, .threads = o.threads});
@@ -65,17 +66,17 @@ int runEqualError(const BenchOptions& o) {
 
   // iv: the median GPU time over animated frames, and the error of the compared frame.
   vk::Context ctx({.device = o.device});
-  if (std::string why = gi::checkImageSettings(ctx, image); !why.empty()) throw UsageError("--size " + o.size + ": " + why);
-  gi::FrameRenderer renderer(ctx, g, image, solverSetup(o.solver, s, g, tl.animation));
+  if (std::string why = gi::checkImageSettings(ctx, image); !why.empty()) throw SettingsError("--size " + o.size + ": " + why);
+  gi::FrameRenderer renderer(ctx, g, image, makeSolver(o.solver, ctx, s, g, tl.animation));
   FrameTimes times = timeFrames(renderer, s, g, tl, camera, o.fps, o.warmup, o.frames);
   const double ivMs = percentile(times.perPass["total"], 0.5);
-  auto ivFrame = renderer.render(g.frameInputs(s, pose), view, gi::worldLights(s, pose), true);
+  auto ivFrame = renderer.render(g.frameInputs(s, pose), view, scene::worldLights(s, pose), true);
   image::sanitize(ivFrame.channels);
   const image::ErrorMetrics ivError = image::measureError(image::radianceOf(ivFrame.channels), ref);
 
   std::printf("ivgi bench --equal-error: %s, frame %d, %ux%u\n", s.source.c_str(), o.frame, image.width, image.height);
-  std::printf("iv:  %s; bins 6x%ux%u, eps %g, bounces %d\n", deviceLine(ctx).c_str(), o.solver.bins, o.solver.bins, o.solver.epsilon,
-              o.solver.bounces);
+  const gi::IvSettings& iv = o.solver.iv;
+  std::printf("iv:  %s; bins 6x%ux%u, eps %g, bounces %u\n", deviceLine(ctx).c_str(), iv.bins, iv.bins, iv.epsilon, iv.bounces);
   std::printf("pt:  %s, unlimited bounces (roulette)\n", cpuLine(o.threads).c_str());
   std::printf("reference: %s\n\n", o.reference.empty() ? ("pt " + std::to_string(o.referenceSpp) + " spp, seed 0, " +
                                                           std::to_string(int(std::lround(referenceMs / 1000))) + " s").c_str()
@@ -104,8 +105,8 @@ int runEqualError(const BenchOptions& o) {
     prevMs = r.ms, prevErr = e.relMse;
   }
   nlohmann::json result = {{"scene", s.source}, {"frame", o.frame}, {"width", image.width}, {"height", image.height},
-                           {"iv", {{"medianGpuMs", ivMs}, {"relMSE", ivError.relMse}, {"FLIP", ivError.flip}, {"bins", o.solver.bins},
-                                   {"eps", o.solver.epsilon}, {"bounces", o.solver.bounces}, {"device", deviceJson(ctx)}}},
+                           {"iv", {{"medianGpuMs", ivMs}, {"relMSE", ivError.relMse}, {"FLIP", ivError.flip}, {"bins", iv.bins},
+                                   {"eps", iv.epsilon}, {"bounces", iv.bounces}, {"device", deviceJson(ctx)}}},
                            {"pt", {{"ladder", ladder}, {"device", cpuJson(o.threads)}}},
                            {"reference", o.reference.empty() ? nlohmann::json({{"spp", o.referenceSpp}, {"ms", referenceMs}}) : nlohmann::json(o.reference)}};
   if (ptMs < 0) {

@@ -5,6 +5,7 @@
 #include "engine/scene/geometry.h"
 #include "engine/gi/frame_renderer.h"
 #include "engine/scene/camera.h"
+#include "engine/scene/lights.h"
 #include "engine/vk/context.h"
 
 namespace ivgi::cli {
@@ -51,13 +52,13 @@ int runInfo(const InfoOptions& o) {
   if (o.memory && o.solver.method == "iv") {
     // Link counts are known only once the GPU has refined them: solve frame 0 on a tiny image.
     vk::Context ctx;
-    gi::FrameRenderer renderer(ctx, g, {16, 16, 1}, solverSetup(o.solver, s, g, s.animations.empty() ? -1 : 0));
+    gi::FrameRenderer renderer(ctx, g, {16, 16, 1}, makeSolver(o.solver, ctx, s, g, s.animations.empty() ? -1 : 0));
     auto pose = scene::evaluatePose(s, s.animations.empty() ? -1 : 0, s.animations.empty() ? 0.0f : s.animations[0].start);
     renderer.render(g.frameInputs(s, pose), scene::framingCamera(scene::worldBounds(scene::animateOnHost(g, g.frameInputs(s, pose))), 1.0f),
-                    gi::worldLights(s, pose));
-    gi::IvStats st = renderer.solver()->stats();
+                    scene::worldLights(s, pose));
+    const gi::IvStats st = dynamic_cast<const gi::IvSolver&>(*renderer.solver()).stats();
     std::printf("iv solver    bins 6x%ux%u (%s memory), eps %g: %u nodes in %u levels, %u links, %u leaf links, %.1f MiB on %s\n",
-                o.solver.bins, o.solver.bins, st.sharedBins ? "shared" : "global", o.solver.epsilon, st.nodes, st.levels, st.links,
+                o.solver.iv.bins, o.solver.iv.bins, st.sharedBins ? "shared" : "global", o.solver.iv.epsilon, st.nodes, st.levels, st.links,
                 st.leafLinks, double(st.bytes) / (1 << 20), ctx.info().name.c_str());
   }
   return 0;

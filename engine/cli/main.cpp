@@ -17,10 +17,10 @@ void addSceneArgument(CLI::App* cmd, SceneChoice& choice) {
 
 void addSolverOptions(CLI::App* cmd, SolverOptions& o) {
   cmd->add_option("--method", o.method, "lighting: iv (implicit-visibility radiosity), none (emission only); render also: pt (Embree path-traced reference)")->capture_default_str();
-  cmd->add_option("--bins", o.bins, "N: 6×N×N direction bins per receiver (1–64)")->capture_default_str();
-  cmd->add_option("--eps", o.epsilon, "refine links while their form-factor estimate exceeds this")->capture_default_str();
-  cmd->add_option("--bounces", o.bounces, "indirect bounces (0: direct light only)")->capture_default_str();
-  cmd->add_option("--kappa", o.kappa, "split senders wider than this many average bins")->capture_default_str();
+  cmd->add_option("--bins", o.iv.bins, "N: 6×N×N direction bins per receiver (1–64)")->capture_default_str();
+  cmd->add_option("--eps", o.iv.epsilon, "refine links while their form-factor estimate exceeds this")->capture_default_str();
+  cmd->add_option("--bounces", o.iv.bounces, "indirect bounces (0: direct light only)")->capture_default_str();
+  cmd->add_option("--kappa", o.iv.kappa, "split senders wider than this many average bins")->capture_default_str();
   cmd->add_option("--env", o.environment, "environment light: R,G,B radiance or an equirectangular .exr");
 }
 

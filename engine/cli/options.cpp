@@ -16,27 +16,27 @@ std::vector<int> FrameRange::frames() const {
 FrameRange parseFrameRange(const std::string& text) {
   static const std::regex re(R"(^\s*(\d+)(?:\s*-\s*(\d+))?(?::(\d+))?\s*$)");
   std::smatch m;
-  if (!std::regex_match(text, m, re)) throw UsageError("--frames '" + text + "': expected A, A-B or A-B:STEP with frame numbers >= 0");
+  if (!std::regex_match(text, m, re)) throw SettingsError("--frames '" + text + "': expected A, A-B or A-B:STEP with frame numbers >= 0");
   FrameRange r;
   try {
     r.first = std::stoi(m[1]);
     r.last = m[2].matched ? std::stoi(m[2]) : r.first;
     r.step = m[3].matched ? std::stoi(m[3]) : 1;
   } catch (const std::out_of_range&) {
-    throw UsageError("--frames '" + text + "': frame number too large");
+    throw SettingsError("--frames '" + text + "': frame number too large");
   }
-  if (r.last < r.first) throw UsageError("--frames '" + text + "': the last frame comes before the first");
-  if (r.step < 1) throw UsageError("--frames '" + text + "': the step must be at least 1");
+  if (r.last < r.first) throw SettingsError("--frames '" + text + "': the last frame comes before the first");
+  if (r.step < 1) throw SettingsError("--frames '" + text + "': the step must be at least 1");
   return r;
 }
 
 void parseSize(const std::string& text, uint32_t& width, uint32_t& height) {
   static const std::regex re(R"(^\s*(\d{1,9})\s*[xX]\s*(\d{1,9})\s*$)");
   std::smatch m;
-  if (!std::regex_match(text, m, re)) throw UsageError("--size '" + text + "': expected WIDTHxHEIGHT, e.g. 640x360");
+  if (!std::regex_match(text, m, re)) throw SettingsError("--size '" + text + "': expected WIDTHxHEIGHT, e.g. 640x360");
   width = uint32_t(std::stoul(m[1]));
   height = uint32_t(std::stoul(m[2]));
-  if (width == 0 || height == 0) throw UsageError("--size '" + text + "': width and height must be at least 1");
+  if (width == 0 || height == 0) throw SettingsError("--size '" + text + "': width and height must be at least 1");
 }
 
 std::vector<std::string> parseFormats(const std::string& text) {
@@ -45,7 +45,7 @@ std::vector<std::string> parseFormats(const std::string& text) {
   while (start <= text.size()) {
     size_t comma = text.find(',', start);
     std::string f = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-    if (f != "exr" && f != "png") throw UsageError("--format '" + text + "': formats are exr and png");
+    if (f != "exr" && f != "png") throw SettingsError("--format '" + text + "': formats are exr and png");
     if (std::find(out.begin(), out.end(), f) == out.end()) out.push_back(f);
     if (comma == std::string::npos) break;
     start = comma + 1;
@@ -65,7 +65,7 @@ OutputPattern::OutputPattern(const std::string& pattern) {
     width_ = m[2].length() ? std::stoi(m[2]) : 0;
     prefix_ = m.prefix();
     suffix_ = m.suffix();
-    if (width_ > 12) throw UsageError("--out '" + pattern + "': frame number width above 12");
+    if (width_ > 12) throw SettingsError("--out '" + pattern + "': frame number width above 12");
   } else {
     prefix_ = p + "_";  // no conversion given: append the frame number
     hasNumber_ = true;
@@ -73,8 +73,8 @@ OutputPattern::OutputPattern(const std::string& pattern) {
     width_ = 4;
   }
   if (prefix_.find('%') != std::string::npos || suffix_.find('%') != std::string::npos)
-    throw UsageError("--out '" + pattern + "': only one %d conversion (e.g. %04d) is allowed");
-  if (prefix_.empty() && suffix_.empty()) throw UsageError("--out '" + pattern + "': empty file name");
+    throw SettingsError("--out '" + pattern + "': only one %d conversion (e.g. %04d) is allowed");
+  if (prefix_.empty() && suffix_.empty()) throw SettingsError("--out '" + pattern + "': empty file name");
 }
 
 std::string OutputPattern::path(int frame, const std::string& format) const {

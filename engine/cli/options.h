@@ -2,31 +2,28 @@
 // Parsing and checking of the values users type: frame ranges, image sizes, output patterns.
 #include <cstdint>
 #include <optional>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
-namespace ivgi::cli {
+#include "engine/core/errors.h"
 
-struct UsageError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
+namespace ivgi::cli {
 
 struct FrameRange {
   int first = 0, last = 0, step = 1;
   std::vector<int> frames() const;
 };
-// "A", "A-B" or "A-B:step"; throws UsageError.
+// "A", "A-B" or "A-B:step"; throws SettingsError.
 FrameRange parseFrameRange(const std::string& text);
-// "WxH"; throws UsageError.
+// "WxH"; throws SettingsError.
 void parseSize(const std::string& text, uint32_t& width, uint32_t& height);
-// "exr,png" → {"exr", "png"}; throws UsageError on anything else.
+// "exr,png" → {"exr", "png"}; throws SettingsError on anything else.
 std::vector<std::string> parseFormats(const std::string& text);
 
 // Output pattern with a printf-style frame number (%d, %04d, …). The extension, if any, is
 // replaced by each format's.
 struct OutputPattern {
-  explicit OutputPattern(const std::string& pattern);  // throws UsageError
+  explicit OutputPattern(const std::string& pattern);  // throws SettingsError
   std::string path(int frame, const std::string& format) const;
   std::string sidecar() const;  // the pattern without frame number and extension, + ".json"
   std::string directory() const;

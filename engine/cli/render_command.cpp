@@ -15,15 +15,17 @@
 #include "engine/cli/machine.h"
 #include "engine/cli/options.h"
 #include "engine/cli/progress.h"
+#include "engine/cli/report.h"
 #include "engine/cli/statistics.h"
 #include "engine/cli/timeline.h"
-#include "engine/gi/environment.h"
 #include "engine/gi/frame_renderer.h"
 #include "engine/reference/path_tracer.h"
 #include "engine/image/atomic_file.h"
 #include "engine/image/frame_image.h"
 #include "engine/scene/camera.h"
+#include "engine/scene/environment.h"
 #include "engine/scene/geometry.h"
+#include "engine/scene/lights.h"
 #include "engine/vk/context.h"
 
 namespace ivgi::cli {
@@ -35,7 +37,7 @@ using nlohmann::json;
 
 // One path-traced frame: the host poses the geometry, Embree traces it; the progress line advances
 // by rows while the threads work.
-gi::FrameResult pathTraceFrame(const scene::Geometry& g, const scene::Scene& s, const scene::Pose& pose, const std::optional<gi::Environment>& env,
+gi::FrameResult pathTraceFrame(const scene::Geometry& g, const scene::Scene& s, const scene::Pose& pose, const std::optional<scene::Environment>& env,
                                const scene::CameraView& view, const gi::ImageSettings& image, uint32_t frame, const reference::PathSettings& settings,
                                Progress& progress) {
   auto start = std::chrono::steady_clock::now();
@@ -56,12 +58,12 @@ gi::FrameResult pathTraceFrame(const scene::Geometry& g, const scene::Scene& s, 
 }  // namespace
 
 int runRender(const RenderOptions& o) {
-  if (!(o.fps > 0.0 && o.fps <= 1000.0)) throw UsageError("--fps must lie in (0, 1000]");
-  if (!std::isfinite(o.exposure) || std::abs(o.exposure) > 64) throw UsageError("--exposure must lie in [-64, 64] stops");
-  if (o.supersample < 1 || o.supersample > 16) throw UsageError("--supersample must be 1 to 16");
-  if (o.tonemap != "aces" && o.tonemap != "clamp") throw UsageError("--tonemap must be aces or clamp");
+  if (!(o.fps > 0.0 && o.fps <= 1000.0)) throw SettingsError("--fps must lie in (0, 1000]");
+  if (!std::isfinite(o.exposure) || std::abs(o.exposure) > 64) throw SettingsError("--exposure must lie in [-64, 64] stops");
+  if (o.supersample < 1 || o.supersample > 16) throw SettingsError("--supersample must be 1 to 16");
+  if (o.tonemap != "aces" && o.tonemap != "clamp") throw SettingsError("--tonemap must be aces or clamp");
   const bool pt = o.solver.method == "pt";
-  if (!pt && o.pt.given) throw UsageError("--spp, --seed and --threads apply to --method pt only");
+  if (!pt && o.pt.given) throw SettingsError("--spp, --seed and --threads apply to --method pt only");
   gi::ImageSettings image;
   parseSize(o.size, image.width, image.height);
   image.samples = uint32_t(o.supersample);
@@ -85,15 +87,15 @@ int runRender(const RenderOptions& o) {
   // The frame source: the GPU pipeline (iv, none) or the Embree path tracer (pt, no Vulkan).
   std::unique_ptr<vk::Context> ctx;
   std::unique_ptr<gi::FrameRenderer> renderer;
-  std::optional<gi::Environment> environment;
+  std::optional<scene::Environment> environment;
   const reference::PathSettings ptSettings = pathSettings(o.pt, o.solver);
   if (pt) {
-    if (image.samples != 1) throw UsageError("--supersample: pt spreads its --spp samples over each pixel; leave --supersample at 1");
-    if (!o.solver.environment.empty()) environment = gi::Environment::parse(o.solver.environment);
+    if (image.samples != 1) throw SettingsError("--supersample: pt spreads its --spp samples over each pixel; leave --supersample at 1");
+    if (!o.solver.environment.empty()) environment = scene::Environment::parse(o.solver.environment);
   } else {
     ctx = std::make_unique<vk::Context>(vk::ContextOptions{.device = o.device});
-    if (std::string why = gi::checkImageSettings(*ctx, image); !why.empty()) throw UsageError("--size " + o.size + ": " + why);
-    renderer = std::make_unique<gi::FrameRenderer>(*ctx, g, image, solverSetup(o.solver, s, g, tl.animation));
+    if (std::string why = gi::checkImageSettings(*ctx, image); !why.empty()) throw SettingsError("--size " + o.size + ": " + why);
+    renderer = std::make_unique<gi::FrameRenderer>(*ctx, g, image, makeSolver(o.solver, *ctx, s, g, tl.animation));
   }
   const bool geometryAnimated = scene::animationMovesGeometry(s, tl.animation);
 
@@ -109,7 +111,7 @@ int runRender(const RenderOptions& o) {
        {{"frames", {range.first, range.last, range.step}}, {"fps", o.fps}, {"width", image.width}, {"height", image.height},
         {"supersample", image.samples}, {"formats", formats}, {"tonemap", o.tonemap}, {"exposure", o.exposure},
         {"animation", tl.animation >= 0 ? json(s.animations[tl.animation].name) : json(nullptr)},
-        {"method", o.solver.method}, {"bins", o.solver.bins}, {"eps", o.solver.epsilon}, {"bounces", o.solver.bounces}, {"kappa", o.solver.kappa},
+        {"method", o.solver.method}, {"bins", o.solver.iv.bins}, {"eps", o.solver.iv.epsilon}, {"bounces", o.solver.iv.bounces}, {"kappa", o.solver.iv.kappa},
         {"environment", o.solver.environment}, {"spp", o.pt.spp}, {"seed", o.pt.seed}, {"unbounded", pt && !o.pt.bouncesGiven},
         {"camera", camera.name()}}},
       {"device", ctx ? deviceJson(*ctx) : cpuJson(ptSettings.threads)},
@@ -135,7 +137,7 @@ int runRender(const RenderOptions& o) {
     if (pt) {
       result = pathTraceFrame(g, s, pose, environment, view, image, uint32_t(frame), ptSettings, progress);
     } else {
-      result = renderer->render(g.frameInputs(s, pose), view, gi::worldLights(s, pose), first || geometryAnimated);
+      result = renderer->render(g.frameInputs(s, pose), view, scene::worldLights(s, pose), first || geometryAnimated);
       progress.advance();
     }
     if (size_t bad = image::sanitize(result.channels))
@@ -156,12 +158,9 @@ int runRender(const RenderOptions& o) {
     sidecar["frames"].push_back({{"frame", frame}, {"time", t}, {pt ? "cpuMs" : "gpuMs", passes}, {pt ? "totalCpuMs" : "totalGpuMs", total}, {"files", paths}});
   }
   progress.finish();
-  if (const gi::IvSolver* iv = renderer ? renderer->solver() : nullptr) {
-    gi::IvStats st = iv->stats();
-    sidecar["solver"] = {{"nodes", st.nodes}, {"levels", st.levels}, {"links", st.links}, {"leafLinks", st.leafLinks}, {"staticLinks", st.staticLinks}, {"staticLeafLinks", st.staticLeafLinks},
-                         {"bytes", st.bytes}, {"sharedMemoryBins", st.sharedBins}, {"framesRedone", st.framesRedone}, {"pruneGroupSize", st.pruneGroupSize},
-                         {"sendersWalked", st.sendersWalked}, {"staticSendersWalked", st.staticSendersWalked}};
-    sidecar["bytesAllocated"] = renderer->bytesAllocated() + st.bytes;
+  if (renderer) {
+    sidecar["solver"] = solverJson(renderer->solver());
+    sidecar["bytesAllocated"] = renderer->bytesAllocated();
   }
   json medians = json::object();
   for (const auto& [pass, ms] : perPass) medians[pass] = percentile(ms, 0.5);

@@ -10,15 +10,15 @@
 namespace ivgi::cli {
 
 int runScene(const SceneOptions& o) {
-  if (o.cells < 1 || o.cells > 512) throw UsageError("--cells " + std::to_string(o.cells) + ": must be 1 to 512");
-  if (!(o.albedo >= 0.0f && o.albedo <= 1.0f)) throw UsageError("--albedo must lie in [0, 1]");
-  if (!(o.emission >= 0.0f && std::isfinite(o.emission))) throw UsageError("--emission must be finite and >= 0");
+  if (o.cells < 1 || o.cells > 512) throw SettingsError("--cells " + std::to_string(o.cells) + ": must be 1 to 512");
+  if (!(o.albedo >= 0.0f && o.albedo <= 1.0f)) throw SettingsError("--albedo must lie in [0, 1]");
+  if (!(o.emission >= 0.0f && std::isfinite(o.emission))) throw SettingsError("--emission must be finite and >= 0");
   auto ext = std::filesystem::path(o.out).extension();
-  if (ext != ".gltf" && ext != ".glb") throw UsageError("--out '" + o.out + "': the file must end in .gltf or .glb");
+  if (ext != ".gltf" && ext != ".glb") throw SettingsError("--out '" + o.out + "': the file must end in .gltf or .glb");
   tinygltf::Model model;
   if (o.name == "cornell") model = scenes::cornellBox({.cells = o.cells, .animated = !o.still});
   else if (o.name == "furnace") model = scenes::furnace({.cells = o.cells, .albedo = o.albedo, .emission = o.emission});
-  else throw UsageError("unknown built-in scene '" + o.name + "' (built-in: cornell, furnace)");
+  else throw SettingsError("unknown built-in scene '" + o.name + "' (built-in: cornell, furnace)");
   auto dir = std::filesystem::path(o.out).parent_path();
   if (!dir.empty()) std::filesystem::create_directories(dir);
   scenes::writeModel(model, o.out);

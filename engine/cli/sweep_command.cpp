@@ -11,10 +11,12 @@
 #include "engine/cli/machine.h"
 #include "engine/cli/options.h"
 #include "engine/cli/progress.h"
+#include "engine/cli/report.h"
 #include "engine/cli/statistics.h"
 #include "engine/cli/timeline.h"
 #include "engine/gi/frame_renderer.h"
 #include "engine/image/atomic_file.h"
+#include "engine/scene/lights.h"
 #include "plot_sweep_script.h"
 
 namespace ivgi::cli {
@@ -28,18 +30,18 @@ std::vector<T> parseList(const std::string& option, const std::string& text) {
   for (std::string item; std::getline(ss, item, ',');) {
     std::stringstream one(item);
     T v;
-    if (!(one >> v) || !one.eof()) throw UsageError(option + " '" + text + "': expected comma-separated numbers");
+    if (!(one >> v) || !one.eof()) throw SettingsError(option + " '" + text + "': expected comma-separated numbers");
     out.push_back(v);
   }
-  if (out.empty()) throw UsageError(option + ": give at least one value");
+  if (out.empty()) throw SettingsError(option + ": give at least one value");
   return out;
 }
 
 std::string label(const SolverOptions& o) {
   if (o.method != "iv") return o.method;
   std::ostringstream s;
-  s << "N" << o.bins << " e" << o.epsilon << " b" << o.bounces;
-  if (o.kappa != 1.0f) s << " k" << o.kappa;
+  s << "N" << o.iv.bins << " e" << o.iv.epsilon << " b" << o.iv.bounces;
+  if (o.iv.kappa != 1.0f) s << " k" << o.iv.kappa;
   return s.str();
 }
 
@@ -48,6 +50,7 @@ struct Row {
   double ms = 0, msP90 = 0;
   uint64_t bytes = 0;
   image::ErrorMetrics error;
+  nlohmann::json solver;
   bool pareto = false;
 };
 
@@ -90,49 +93,49 @@ void plot(const std::string& csv, const std::string& png, const std::string& met
 }  // namespace
 
 int runSweep(const SweepOptions& o) {
-  if (o.repeats < 1 || o.repeats > 1000) throw UsageError("--repeats must be 1 to 1000");
-  if (o.warmup < 0 || o.warmup > 100) throw UsageError("--warmup must be 0 to 100");
-  if (o.frame < 0) throw UsageError("--frame must be >= 0");
+  if (o.repeats < 1 || o.repeats > 1000) throw SettingsError("--repeats must be 1 to 1000");
+  if (o.warmup < 0 || o.warmup > 100) throw SettingsError("--warmup must be 0 to 100");
+  if (o.frame < 0) throw SettingsError("--frame must be >= 0");
   auto methods = parseList<std::string>("--method", o.methods);
   auto bins = parseList<uint32_t>("--bins", o.bins);
   auto eps = parseList<float>("--eps", o.eps);
-  auto bounces = parseList<int>("--bounces", o.bounces);
+  auto bounces = parseList<uint32_t>("--bounces", o.bounces);
   auto kappas = parseList<float>("--kappa", o.kappa);
   std::vector<SolverOptions> grid;
   for (const auto& m : methods) {
-    if (m != "iv" && m != "none") throw UsageError("--method '" + m + "': the sweep measures iv and none (pt is the reference)");
+    if (m != "iv" && m != "none") throw SettingsError("--method '" + m + "': the sweep measures iv and none (pt is the reference)");
     if (m == "none") {
       grid.push_back({.method = "none"});
       continue;
     }
     for (uint32_t n : bins)
       for (float e : eps)
-        for (int b : bounces)
-          for (float k : kappas) grid.push_back({.method = m, .bins = n, .epsilon = e, .bounces = b, .kappa = k, .environment = o.environment});
+        for (uint32_t b : bounces)
+          for (float k : kappas) grid.push_back({.method = m, .iv = {.bins = n, .epsilon = e, .bounces = b, .kappa = k}, .environment = o.environment});
   }
 
   const image::RgbImage reference = image::readLinearRgb(o.reference);
   scene::Scene s = loadScene(o.source);
   scene::Geometry g = renderableGeometry(s);
   const Timeline tl = timeline(s, o.animation, o.fps);
-  if (o.frame > tl.lastFrame) throw UsageError("--frame " + std::to_string(o.frame) + ": the animation ends at frame " + std::to_string(tl.lastFrame));
+  if (o.frame > tl.lastFrame) throw SettingsError("--frame " + std::to_string(o.frame) + ": the animation ends at frame " + std::to_string(tl.lastFrame));
   gi::ImageSettings image{reference.width, reference.height, 1};
   const FrameCamera camera(s, g, tl, o.fps, o.camera, {o.frame}, float(image.width) / float(image.height));
   const auto pose = scene::evaluatePose(s, tl.animation, float(tl.time(o.frame, o.fps)));
   const auto inputs = g.frameInputs(s, pose);
-  const auto lights = gi::worldLights(s, pose);
+  const auto lights = scene::worldLights(s, pose);
 
   vk::Context ctx({.device = o.device});
-  if (std::string why = gi::checkImageSettings(ctx, image); !why.empty()) throw UsageError(o.reference + ": " + why);
+  if (std::string why = gi::checkImageSettings(ctx, image); !why.empty()) throw SettingsError(o.reference + ": " + why);
   // Every timed render solves the frame as a later frame of the animation does: refit, links and
   // pruning of what moves, bounces (what cannot move is linked by the warm-up render).
   std::vector<Row> rows;
   std::optional<gi::Hierarchy> hierarchy;  // built by the first iv setting, shared by the others
   Progress progress("sweep", grid.size(), "setting");
   for (const auto& settings : grid) {
-    auto setup = solverSetup(settings, s, g, tl.animation, hierarchy ? &*hierarchy : nullptr);
-    if (setup && !hierarchy) hierarchy = setup->hierarchy;
-    gi::FrameRenderer renderer(ctx, g, image, std::move(setup));
+    auto solver = makeSolver(settings, ctx, s, g, tl.animation, hierarchy ? &*hierarchy : nullptr);
+    if (const auto* iv = dynamic_cast<const gi::IvSolver*>(solver.get()); iv && !hierarchy) hierarchy = iv->hierarchy();
+    gi::FrameRenderer renderer(ctx, g, image, std::move(solver));
     std::vector<double> ms;
     gi::FrameResult last;
     for (int i = 0; i < o.warmup + o.repeats; ++i) {
@@ -142,8 +145,7 @@ int runSweep(const SweepOptions& o) {
       if (i >= o.warmup) ms.push_back(total);
     }
     image::sanitize(last.channels);
-    Row row{settings, percentile(ms, 0.5), percentile(ms, 0.9), renderer.bytesAllocated(), {}, false};
-    if (const gi::IvSolver* iv = renderer.solver()) row.bytes += iv->stats().bytes;
+    Row row{settings, percentile(ms, 0.5), percentile(ms, 0.9), renderer.bytesAllocated(), {}, solverJson(renderer.solver()), false};
     row.error = image::measureError(image::radianceOf(last.channels), reference);
     rows.push_back(row);
     progress.advance();
@@ -167,12 +169,13 @@ int runSweep(const SweepOptions& o) {
   std::printf("%-22s %10s %10s %12s %10s %8s %s\n", "setting", "median ms", "MiB", "relMSE", "FLIP", "PSNR dB", "Pareto");
   for (const auto& r : rows) {
     const auto& st = r.settings;
-    csv << '"' << s.source << "\"," << st.method << ',' << st.bins << ',' << st.epsilon << ',' << st.bounces << ',' << st.kappa << ',' << r.ms << ','
+    csv << '"' << s.source << "\"," << st.method << ',' << st.iv.bins << ',' << st.iv.epsilon << ',' << st.iv.bounces << ',' << st.iv.kappa << ','
+        << r.ms << ','
         << r.msP90 << ',' << r.bytes << ',' << r.error.relMse << ',' << r.error.rmse << ',' << r.error.psnr << ',' << r.error.maxError << ','
         << r.error.flip << ',' << (r.pareto ? 1 : 0) << ",\"" << label(st) << "\"\n";
-    nlohmann::json j = {{"method", st.method}, {"bins", st.bins}, {"eps", st.epsilon}, {"bounces", st.bounces}, {"kappa", st.kappa},
-                        {"medianMs", r.ms}, {"p90Ms", r.msP90}, {"bytes", r.bytes}, {"error", metricsJson(r.error)}, {"pareto", r.pareto},
-                        {"label", label(st)}};
+    nlohmann::json j = {{"method", st.method}, {"bins", st.iv.bins}, {"eps", st.iv.epsilon}, {"bounces", st.iv.bounces}, {"kappa", st.iv.kappa},
+                        {"medianMs", r.ms}, {"p90Ms", r.msP90}, {"bytes", r.bytes}, {"error", metricsJson(r.error)}, {"solver", r.solver},
+                        {"pareto", r.pareto}, {"label", label(st)}};
     settingsJson.push_back(j);
     std::printf("%-22s %10.2f %10.1f %12.5g %10.4f %8.2f %s\n", label(st).c_str(), r.ms, double(r.bytes) / (1 << 20), r.error.relMse, r.error.flip,
                 r.error.psnr, r.pareto ? "*" : "");

@@ -1,16 +1,13 @@
 #pragma once
-// One frame on the GPU, as the list of passes of design.md §2 that this stage of ivgi has:
-// animate → surfels → rasterise → resolve. Scene data is uploaded once; per frame only the
-// matrices and morph weights go up and the image channels come down.
+// One frame on the GPU as its list of passes (docs/design.md, "The frame"): animate → surfels →
+// the solver's passes (iv: refit → links → prune → bounces) → raster → resolve. Scene data is
+// uploaded once; per frame only the matrices, morph weights and lights go up and the image channels
+// come down.
+#include <memory>
 #include <string>
 #include <vector>
 
-#include <memory>
-#include <optional>
-
-#include "engine/gi/hierarchy.h"
-#include "engine/gi/iv_solver.h"
-#include "engine/gi/shared.h"
+#include "engine/gi/solver.h"
 #include "engine/image/frame_image.h"
 #include "engine/scene/camera.h"
 #include "engine/scene/geometry.h"
@@ -35,39 +32,36 @@ struct FrameResult {
 
 class FrameRenderer {
  public:
-  FrameRenderer(const vk::Context& ctx, const scene::Geometry& geometry, const ImageSettings& image, std::optional<IvSetup> iv = {});
+  // `solver`: the lighting method; none renders emission only.
+  FrameRenderer(const vk::Context& ctx, const scene::Geometry& geometry, const ImageSettings& image,
+                std::unique_ptr<Solver> solver = nullptr);
 
   // `lights`: the punctual lights in world space; `geometryMoved`: whether the solver must refit and
   // relink (false only for static geometry after the first frame).
-  FrameResult render(const scene::FrameInputs& inputs, const scene::CameraView& view, const std::vector<GpuLight>& lights = {},
-                     bool geometryMoved = true);
-  const IvSolver* solver() const { return solver_.get(); }
+  FrameResult render(const scene::FrameInputs& inputs, const scene::CameraView& view,
+                     const std::vector<gpu::PunctualLight>& lights = {}, bool geometryMoved = true);
+  const Solver* solver() const { return solver_.get(); }
 
   // Results of the last frame's geometry passes (for tests and later solvers).
   std::vector<scene::WorldVertex> worldVertices() const;
   std::vector<scene::Surfel> surfels() const;
-  uint64_t bytesAllocated() const { return bytes_; }
+  // Device memory of the frame's own buffers and of the solver's.
+  uint64_t bytesAllocated() const;
 
  private:
-  vk::Buffer& track(vk::Buffer&& b);
+  void recordFrame(VkCommandBuffer cmd, const gpu::Camera& camera, bool geometryMoved);
 
   const vk::Context& ctx_;
   ImageSettings image_;
   uint32_t vertexCount_, triangleCount_, surfelCount_;
-  uint64_t bytes_ = 0;
-  std::vector<vk::Buffer> owned_;
-
+  vk::Allocations allocations_;  // before the buffers, which count themselves into it
   // Scene data, uploaded once.
-  vk::Buffer *vertices_, *instances_, *morphDeltas_, *triangles_, *uvs_, *materials_, *textures_, *texels_;
-  vk::Buffer *surfelSources_, *surfelVertices_, *surfelTriangles_;
+  vk::Buffer vertices_, instances_, morphDeltas_, triangles_, uvs_, materials_, textures_, texels_;
+  vk::Buffer surfelSources_, surfelVertices_, surfelTriangles_, vertexSurfel_;
   // Per frame.
-  vk::Buffer *matrices_, *morphWeights_, *world_, *surfels_, *visibility_;
-  vk::Buffer *radiance_, *albedo_, *normalDepth_, *emission_;
-  vk::Buffer *vertexSurfel_, *unlitIrradiance_;
-
-  std::unique_ptr<IvSetup> iv_;
-  std::unique_ptr<IvSolver> solver_;
-
+  vk::Buffer matrices_, morphWeights_, world_, surfels_, visibility_, unlitIrradiance_;
+  vk::Buffer radiance_, albedo_, normalDepth_, emission_;  // mapped: the image channels
+  std::unique_ptr<Solver> solver_;
   vk::Program animate_, surfelUpdate_, raster_, resolve_;
   vk::PassTimer timer_;
 };

@@ -8,18 +8,12 @@
 #include <vector>
 
 #include "engine/scene/geometry.h"
+#include "shaders/interface.h"
 
 namespace ivgi::gi {
 
-struct GpuNode {  // std430 `TreeNode` in common.glsl
-  int32_t parent;       // -1 for a root
-  uint32_t firstChild;  // children are contiguous in the next level
-  uint32_t childCount;  // 0 for a leaf
-  int32_t surfel;       // the leaf's surfel, -1 for an inner node
-};
-
 struct Hierarchy {
-  std::vector<GpuNode> nodes;
+  std::vector<gpu::TreeNode> nodes;
   std::vector<uint32_t> levelStart;  // level l holds nodes [levelStart[l], levelStart[l + 1])
   std::vector<uint32_t> roots;       // one per object (drawn instance with surfels)
   std::vector<uint32_t> rootInstance;  // per root: its instance

@@ -1,16 +1,37 @@
 #pragma once
-// Records one timed pass: timestamps around `body`, then a barrier that publishes its writes.
+// What every pass record uses: its program from the embedded shaders, timestamps around it, and
+// the walk over the hierarchy's levels that refit and pull-up dispatch one level at a time.
+#include <string>
+
+#include "engine/gi/hierarchy.h"
 #include "engine/vk/program.h"
 #include "engine/vk/timer.h"
+#include "shaders/registry.h"
 
 namespace ivgi::gi {
 
+// The program of shaders/NAME.comp.
+inline vk::Program shaderProgram(const vk::Context& ctx, const std::string& name, const vk::Specialization& specialization = {}) {
+  return vk::Program(ctx, name, shaderCode(name), specialization);
+}
+
+// Records one timed pass: timestamps around `body`, then a barrier that publishes its writes.
 template <class Body>
 void timedPass(VkCommandBuffer cmd, vk::PassTimer& timer, const char* name, Body&& body) {
   timer.begin(cmd, name);
   body();
   timer.end(cmd);
   vk::barrier(cmd);
+}
+
+// `body(level)` for each level of the trees, deepest first, with a barrier after each.
+template <class Body>
+void forEachLevelBottomUp(VkCommandBuffer cmd, const Hierarchy& h, Body&& body) {
+  const auto& levels = h.levelStart;
+  for (size_t l = levels.size() - 1; l-- > 0;) {
+    body(gpu::LevelPush{levels[l], levels[l + 1] - levels[l]});
+    vk::barrier(cmd);
+  }
 }
 
 }  // namespace ivgi::gi

@@ -13,7 +13,7 @@
 #include <stdexcept>
 
 #include "engine/image/metrics.h"
-#include "engine/scene/texture_sampling.h"
+#include "engine/image/colour.h"
 
 namespace ivgi::image {
 
@@ -139,7 +139,7 @@ Prepared prepare(const RgbImage& srgb, double ppd) {
   for (auto& ch : c) ch.resize(n);
   for (size_t i = 0; i < n; ++i) {
     glm::vec3 p = glm::clamp(srgb.pixels[i], 0.0f, 1.0f);
-    glm::vec3 o = linearToYcxcz({scene::srgbToLinear(p.r), scene::srgbToLinear(p.g), scene::srgbToLinear(p.b)});
+    glm::vec3 o = linearToYcxcz({srgbToLinear(p.r), srgbToLinear(p.g), srgbToLinear(p.b)});
     c[0][i] = o.x, c[1][i] = o.y, c[2][i] = o.z;
     achromatic[i] = (o.x + 16.0f) / 116.0f;
   }

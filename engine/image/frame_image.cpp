@@ -7,7 +7,7 @@
 #include <stdexcept>
 
 #include "engine/image/atomic_file.h"
-#include "engine/scene/texture_sampling.h"
+#include "engine/image/colour.h"
 
 namespace ivgi::image {
 
@@ -73,7 +73,7 @@ void writePng(const std::string& path, const FrameChannels& f, const DisplaySett
   const float scale = std::exp2(d.exposure);
   for (size_t i = 0; i < size_t(f.width) * f.height; ++i)
     for (int c = 0; c < 3; ++c) {
-      float v = scene::linearToSrgb(toneMap(f.radiance[i][c] * scale, d.tonemap));
+      float v = linearToSrgb(toneMap(f.radiance[i][c] * scale, d.tonemap));
       pixels[i * 3 + c] = uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
     }
   writeRgb8Png(path, f.width, f.height, pixels);

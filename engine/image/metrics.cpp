@@ -8,7 +8,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "engine/scene/texture_sampling.h"
+#include "engine/image/colour.h"
 
 namespace ivgi::image {
 
@@ -58,7 +58,7 @@ RgbImage displayed(const RgbImage& linear, const DisplaySettings& d) {
   RgbImage out = linear;
   const float scale = std::exp2(d.exposure);
   for (auto& p : out.pixels)
-    for (int c = 0; c < 3; ++c) p[c] = scene::linearToSrgb(toneMap(p[c] * scale, d.tonemap));
+    for (int c = 0; c < 3; ++c) p[c] = linearToSrgb(toneMap(p[c] * scale, d.tonemap));
   return out;
 }
 

@@ -9,14 +9,15 @@
 #include <string>
 #include <thread>
 
-#include "engine/gi/iv_solver.h"
+#include "engine/core/errors.h"
+#include "engine/scene/lights.h"
 #include "engine/scene/texture_sampling.h"
 
 namespace ivgi::reference {
 
 namespace {
 
-using gi::kPi;
+using gpu::kPi;
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
 // PCG32 (O'Neill): small, fast and good enough for Monte Carlo; seeded per pixel.
@@ -109,9 +110,9 @@ struct PathTracer::Impl {
       glm::vec3 n = glm::cross(b - a, c - a);
       float area = 0.5f * glm::length(n);
       glm::vec3 vertexNormals = glm::vec3(s.world[t.v0].normal) + glm::vec3(s.world[t.v1].normal) + glm::vec3(s.world[t.v2].normal);
-      if (!(t.material & scene::kFlatShaded) && glm::dot(n, vertexNormals) < 0.0f) n = -n;
+      if (!(t.material & gpu::kFlatShaded) && glm::dot(n, vertexNormals) < 0.0f) n = -n;
       front[i] = area > 0.0f ? n / (2.0f * area) : glm::vec3(0.0f);
-      float p = area * luminance(glm::vec3(g.materials[t.material & ~scene::kFlatShaded].emission));
+      float p = area * luminance(glm::vec3(g.materials[t.material & ~gpu::kFlatShaded].emission));
       if (!(p > 0.0f) || !std::isfinite(p)) continue;
       emitters.push_back(i);
       power.push_back(p);
@@ -166,11 +167,11 @@ struct PathTracer::Impl {
     glm::vec3 ng = glm::cross(pos(tr.v1) - pos(tr.v0), pos(tr.v2) - pos(tr.v0));
     x.geometricNormal = glm::length(ng) > 0.0f ? glm::normalize(ng) : glm::vec3(0, 0, 1);
     x.shadingNormal = x.geometricNormal;
-    if (!(tr.material & scene::kFlatShaded)) {
+    if (!(tr.material & gpu::kFlatShaded)) {
       glm::vec3 ns = w.x * glm::vec3(s.world[tr.v0].normal) + w.y * glm::vec3(s.world[tr.v1].normal) + w.z * glm::vec3(s.world[tr.v2].normal);
       if (glm::length(ns) > 0.0f) x.shadingNormal = glm::normalize(ns);
     }
-    const scene::GpuMaterial& m = g.materials[tr.material & ~scene::kFlatShaded];
+    const gpu::Material& m = g.materials[tr.material & ~gpu::kFlatShaded];
     glm::vec2 uv = w.x * g.uvs[tr.v0] + w.y * g.uvs[tr.v1] + w.z * g.uvs[tr.v2];
     x.base = glm::vec3(m.baseColor) * glm::vec3(scene::sampleTexture(g, m.baseColorTexture, uv));
     x.emission = glm::vec3(m.emission) * glm::vec3(scene::sampleTexture(g, m.emissiveTexture, uv));
@@ -210,9 +211,9 @@ struct PathTracer::Impl {
           }
         }
       }
-      for (const gi::GpuLight& light : s.lights) {
+      for (const gpu::PunctualLight& light : s.lights) {
         glm::vec3 toLight;
-        float dist2, falloff = gi::lightFalloff(light, origin, toLight, dist2);
+        float dist2, falloff = gpu::lightFalloff(light, origin, toLight, dist2);
         if (!(falloff > 0.0f)) continue;
         glm::vec3 wi = glm::normalize(toLight);
         float cosX = glm::dot(ns, wi);
@@ -251,8 +252,15 @@ struct PathTracer::Impl {
   }
 };
 
-PathScene PathScene::at(const scene::Scene& s, const scene::Geometry& g, const scene::Pose& pose, std::optional<gi::Environment> env) {
-  return {&g, scene::animateOnHost(g, g.frameInputs(s, pose)), gi::worldLights(s, pose), std::move(env)};
+void validate(const PathSettings& s) {
+  if (s.spp < 1 || s.spp > 1u << 20) throw SettingsError("--spp " + std::to_string(s.spp) + ": must be 1 to 1048576");
+  if (s.threads > 1024) throw SettingsError("--threads " + std::to_string(s.threads) + ": must be 0 (every core) to 1024");
+  constexpr int kMaxBounces = 10000;  // a guard against typing errors
+  if (s.bounces < -1 || s.bounces > kMaxBounces) throw SettingsError("--bounces must be 0 to " + std::to_string(kMaxBounces));
+}
+
+PathScene PathScene::at(const scene::Scene& s, const scene::Geometry& g, const scene::Pose& pose, std::optional<scene::Environment> env) {
+  return {&g, scene::animateOnHost(g, g.frameInputs(s, pose)), scene::worldLights(s, pose), std::move(env)};
 }
 
 PathTracer::PathTracer(PathScene scene) : impl_(std::make_unique<Impl>(std::move(scene))) {}
@@ -268,7 +276,7 @@ image::FrameChannels PathTracer::render(const scene::CameraView& view, uint32_t 
   out.albedo.assign(pixels, glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
   out.normalDepth.assign(pixels, glm::vec4(0.0f));
   out.emission.assign(pixels, glm::vec4(0.0f));
-  const gi::GpuCamera cam = gi::gpuCamera(view, float(width) / float(height));
+  const gpu::Camera cam = scene::gpuCamera(view, float(width) / float(height));
   const glm::vec3 eye(cam.origin);
   const float zfar = cam.forward.w > 0.0f ? cam.forward.w : kInfinity;
   const uint64_t frameSeed = mix64(uint64_t(settings.seed) << 32 | frame);
@@ -282,7 +290,7 @@ image::FrameChannels PathTracer::render(const scene::CameraView& view, uint32_t 
       for (uint32_t i = 0; i < settings.spp; ++i) {
         glm::vec2 s = glm::vec2(float(x), float(y)) + glm::vec2(rng.uniform(), rng.uniform());
         if (settings.spp == 1) s = glm::vec2(float(x), float(y)) + 0.5f;  // one sample: the pixel centre, as the rasteriser
-        glm::vec3 d = gi::cameraRay(cam, s, {width, height});  // t along d is the depth along the view axis
+        glm::vec3 d = gpu::cameraRay(cam, s, {width, height});  // t along d is the depth along the view axis
         auto hit = im.intersect(eye, d, cam.origin.w, zfar);
         if (!hit) continue;
         glm::vec3 out = -glm::normalize(d);

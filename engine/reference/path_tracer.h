@@ -14,11 +14,11 @@
 #include <optional>
 #include <vector>
 
-#include "engine/gi/environment.h"
-#include "engine/gi/shared.h"
 #include "engine/image/frame_image.h"
 #include "engine/scene/camera.h"
+#include "engine/scene/environment.h"
 #include "engine/scene/geometry.h"
+#include "shaders/interface.h"
 
 namespace ivgi::reference {
 
@@ -29,16 +29,19 @@ struct PathSettings {
   unsigned threads = 0;   // 0: every core
 };
 
+// Throws SettingsError naming the option when a setting is out of its range.
+void validate(const PathSettings& settings);
+
 // One frame's world: the triangles after animation, the punctual lights, the environment.
 struct PathScene {
   const scene::Geometry* geometry = nullptr;
   std::vector<scene::WorldVertex> world;
-  std::vector<gi::GpuLight> lights;
-  std::optional<gi::Environment> environment;
+  std::vector<gpu::PunctualLight> lights;
+  std::optional<scene::Environment> environment;
 
   // The scene at `pose`: the host twin of the animate pass poses the triangles.
   static PathScene at(const scene::Scene& scene, const scene::Geometry& geometry, const scene::Pose& pose,
-                      std::optional<gi::Environment> environment = std::nullopt);
+                      std::optional<scene::Environment> environment = std::nullopt);
 };
 
 class PathTracer {

@@ -23,6 +23,12 @@ CameraView cameraView(const Scene& scene, const Pose& pose, int cameraNode) {
   return v;
 }
 
+gpu::Camera gpuCamera(const CameraView& v, float aspect) {
+  float ty = std::tan(0.5f * v.yfov), tx = ty * aspect;
+  return {glm::vec4(v.origin, v.znear), glm::vec4(v.right * tx, 0.0f), glm::vec4(v.up * ty, 0.0f),
+          glm::vec4(v.forward, v.zfar)};
+}
+
 CameraView framingCamera(const Bounds& bounds, float aspect) {
   CameraView v;
   glm::vec3 centre = bounds.empty() ? glm::vec3(0) : 0.5f * (bounds.min + bounds.max);

@@ -5,6 +5,7 @@
 
 #include "engine/scene/animation.h"
 #include "engine/scene/geometry.h"
+#include "shaders/interface.h"
 
 namespace ivgi::scene {
 
@@ -17,6 +18,9 @@ struct CameraView {
 
 // View of the camera on `cameraNode` in `pose` (its node's scale is ignored, as glTF asks).
 CameraView cameraView(const Scene& scene, const Pose& pose, int cameraNode);
+
+// The view as the shaders take it, for an image of the given aspect (width / height).
+gpu::Camera gpuCamera(const CameraView& view, float aspect);
 
 // A 45° camera on the +Z side looking down -Z at the centre of `bounds`, far enough back to see the
 // whole box at the given image aspect (width / height).

@@ -8,6 +8,7 @@
 #include <glm/gtc/packing.hpp>
 #include <unordered_map>
 
+#include "engine/image/colour.h"
 #include "engine/scene/texture_sampling.h"
 
 namespace ivgi::scene {
@@ -55,7 +56,8 @@ Geometry buildGeometry(const Scene& scene) {
     // fetch cost lavapipe more than the rest of the resolve pass.
     for (size_t p = 0; p < t.rgba.size() / 4; ++p) {
       const uint8_t* c = &t.rgba[4 * p];
-      glm::vec4 linear(srgbToLinear(c[0] / 255.0f), srgbToLinear(c[1] / 255.0f), srgbToLinear(c[2] / 255.0f), c[3] / 255.0f);
+      glm::vec4 linear(image::srgbToLinear(c[0] / 255.0f), image::srgbToLinear(c[1] / 255.0f),
+                       image::srgbToLinear(c[2] / 255.0f), c[3] / 255.0f);
       g.texels.push_back(glm::packHalf2x16(glm::vec2(linear.r, linear.g)));
       g.texels.push_back(glm::packHalf2x16(glm::vec2(linear.b, linear.a)));
     }
@@ -73,7 +75,7 @@ Geometry buildGeometry(const Scene& scene) {
         const uint32_t base = uint32_t(g.vertices.size());
         const uint32_t n = uint32_t(p.positions.size());
         const bool skinned = node.skin >= 0 && !p.joints.empty();
-        GpuInstance inst{};
+        Instance inst{};
         inst.matrix = skinned ? g.skinJointBase[node.skin] : uint32_t(nodeIndex);
         inst.skinned = skinned;
         inst.morphTargets = uint32_t(p.targets.size());
@@ -88,9 +90,9 @@ Geometry buildGeometry(const Scene& scene) {
             g.morphDeltas.push_back({glm::vec4(t.positions.empty() ? glm::vec3(0) : t.positions[v], 0),
                                      glm::vec4(t.normals.empty() ? glm::vec3(0) : t.normals[v], 0)});
 
-        const GpuMaterial& material = g.materials[p.material >= 0 ? p.material : defaultMaterial];
+        const gpu::Material& material = g.materials[p.material >= 0 ? p.material : defaultMaterial];
         for (uint32_t v = 0; v < n; ++v) {
-          GpuVertex gv{};
+          Vertex gv{};
           gv.position = p.positions[v];
           gv.instance = instance;
           gv.normal = p.normals.empty() ? glm::vec3(0) : p.normals[v];
@@ -106,11 +108,11 @@ Geometry buildGeometry(const Scene& scene) {
         std::unordered_multimap<uint64_t, uint32_t> byPosition;  // hash -> first vertex of a surfel
         std::vector<std::vector<uint32_t>> welded;
         for (uint32_t v = 0; v < n; ++v) {
-          const GpuVertex& gv = g.vertices[base + v];
+          const Vertex& gv = g.vertices[base + v];
           uint64_t h = hashPoint(gv.position);
           auto range = byPosition.equal_range(h);
           for (auto it = range.first; it != range.second && surfelOf[v] == ~0u; ++it) {
-            const GpuVertex& o = g.vertices[base + it->second];
+            const Vertex& o = g.vertices[base + it->second];
             bool same = o.position == gv.position && glm::all(glm::lessThan(glm::abs(o.normal - gv.normal), glm::vec3(1e-4f))) &&
                         o.joints == gv.joints && o.weights == gv.weights;
             if (same) surfelOf[v] = surfelOf[it->second];
@@ -131,14 +133,14 @@ Geometry buildGeometry(const Scene& scene) {
             continue;
           }
           uint32_t tri = uint32_t(g.triangles.size());
-          uint32_t mat = (p.material >= 0 ? uint32_t(p.material) : defaultMaterial) | (p.normals.empty() ? kFlatShaded : 0u);
+          uint32_t mat = (p.material >= 0 ? uint32_t(p.material) : defaultMaterial) | (p.normals.empty() ? gpu::kFlatShaded : 0u);
           g.triangles.push_back({base + a, base + b, base + c, mat});
           for (uint32_t v : {a, b, c}) adjacent[surfelOf[v]].push_back(tri);
         }
 
         for (size_t s = 0; s < welded.size(); ++s) {
           if (adjacent[s].empty()) continue;  // only on degenerate triangles, or unreferenced
-          GpuSurfelSource src{uint32_t(g.surfelVertices.size()), uint32_t(welded[s].size()), uint32_t(g.surfelTriangles.size()),
+          SurfelSource src{uint32_t(g.surfelVertices.size()), uint32_t(welded[s].size()), uint32_t(g.surfelTriangles.size()),
                               uint32_t(adjacent[s].size())};
           glm::vec4 albedo(0.0f), emission(0.0f);
           for (uint32_t v : welded[s]) {
@@ -177,12 +179,12 @@ FrameInputs Geometry::frameInputs(const Scene& scene, const Pose& pose) const {
 std::vector<WorldVertex> animateOnHost(const Geometry& g, const FrameInputs& in) {
   std::vector<WorldVertex> out(g.vertices.size());
   for (size_t i = 0; i < g.vertices.size(); ++i) {
-    const GpuVertex& v = g.vertices[i];
-    const GpuInstance& inst = g.instances[v.instance];
+    const Vertex& v = g.vertices[i];
+    const Instance& inst = g.instances[v.instance];
     glm::vec3 p = v.position, n = v.normal;
     for (uint32_t k = 0; k < inst.morphTargets; ++k) {
       float w = in.morphWeights[inst.morphWeightBase + k];
-      const GpuMorphDelta& d = g.morphDeltas[inst.morphDeltaBase + k * inst.vertexCount + v.local];
+      const MorphDelta& d = g.morphDeltas[inst.morphDeltaBase + k * inst.vertexCount + v.local];
       p += w * glm::vec3(d.position), n += w * glm::vec3(d.normal);
     }
     glm::mat4 m = inst.skinned ? v.weights.x * in.matrices[inst.matrix + v.joints.x] + v.weights.y * in.matrices[inst.matrix + v.joints.y] +
@@ -192,11 +194,6 @@ std::vector<WorldVertex> animateOnHost(const Geometry& g, const FrameInputs& in)
     out[i].normal = glm::vec4(transformNormal(m, n), 0.0f);
   }
   return out;
-}
-
-void tangentFrame(glm::vec3 n, glm::vec3& t1, glm::vec3& t2) {
-  t1 = glm::normalize(std::abs(n.x) < 0.9f ? glm::cross(n, glm::vec3(1, 0, 0)) : glm::cross(n, glm::vec3(0, 1, 0)));
-  t2 = glm::cross(n, t1);
 }
 
 namespace {
@@ -209,13 +206,13 @@ glm::mat3 cornerMoments(glm::vec3 p, glm::vec3 q, float area) {
 std::vector<Surfel> surfelsOnHost(const Geometry& g, const std::vector<WorldVertex>& world) {
   std::vector<Surfel> out(g.surfels.size());
   for (size_t s = 0; s < g.surfels.size(); ++s) {
-    const GpuSurfelSource& src = g.surfels[s];
+    const SurfelSource& src = g.surfels[s];
     float area = 0.0f;
     glm::vec3 faceSum(0.0f), vertexSum(0.0f), moment(0.0f);
     glm::mat3 moments(0.0f);  // about the vertex
     const glm::vec3 self(world[g.surfelVertices[src.firstVertex]].position);
     for (uint32_t k = 0; k < src.triangleCount; ++k) {
-      const GpuTriangle& t = g.triangles[g.surfelTriangles[src.firstTriangle + k]];
+      const Triangle& t = g.triangles[g.surfelTriangles[src.firstTriangle + k]];
       glm::vec3 a(world[t.v0].position), b(world[t.v1].position), c(world[t.v2].position);
       glm::vec3 n = glm::cross(b - a, c - a);
       float third = glm::length(n) / 6.0f;  // a third of the triangle's area
@@ -231,7 +228,7 @@ std::vector<Surfel> surfelsOnHost(const Geometry& g, const std::vector<WorldVert
     float len = glm::length(n);
     glm::vec3 centre = area > 0.0f ? moment / area : self, normal = len > 0.0f ? n / len : glm::vec3(0.0f);
     glm::vec3 t1, t2, offset = centre - self;
-    tangentFrame(len > 0.0f ? normal : glm::vec3(0, 0, 1), t1, t2);
+    gpu::tangentFrame(len > 0.0f ? normal : glm::vec3(0, 0, 1), t1, t2);
     moments -= area * glm::outerProduct(offset, offset);
     glm::vec2 extent = glm::sqrt(3.0f * glm::max(glm::vec2(glm::dot(t1, moments * t1), glm::dot(t2, moments * t2)), glm::vec2(0.0f)) / std::max(area, 1e-30f));
     extent = extent.x * extent.y > 0.0f ? extent * std::sqrt(area / (4.0f * extent.x * extent.y)) : glm::vec2(0.5f * std::sqrt(area));
@@ -257,7 +254,7 @@ std::vector<bool> movingInstances(const Scene& scene, const Geometry& g, int ani
   std::function<bool(int)> moved = [&](int n) { return transformed[n] || (scene.nodes[n].parent >= 0 && moved(scene.nodes[n].parent)); };
   const bool anything = animationMovesGeometry(scene, animation);
   for (size_t i = 0; i < g.instances.size(); ++i) {
-    const GpuInstance& inst = g.instances[i];
+    const Instance& inst = g.instances[i];
     moves[i] = inst.skinned ? anything : moved(g.instanceNode[i]) || (inst.morphTargets > 0 && reweighted[g.instanceNode[i]]);
   }
   return moves;

@@ -9,55 +9,19 @@
 
 #include "engine/scene/animation.h"
 #include "engine/scene/scene.h"
+#include "shaders/interface.h"
 
 namespace ivgi::scene {
 
-// std430 layouts shared with shaders/common.glsl.
-struct GpuVertex {
-  glm::vec3 position;  // rest pose, primitive space
-  uint32_t instance;
-  glm::vec3 normal;
-  uint32_t local;  // index inside its primitive, for morph deltas
-  glm::uvec4 joints;
-  glm::vec4 weights;
-};
-struct GpuInstance {
-  uint32_t matrix;          // node world matrix, or first joint matrix when skinned
-  uint32_t skinned;
-  uint32_t morphTargets;
-  uint32_t morphWeightBase;
-  uint32_t morphDeltaBase;  // deltas of target k, vertex v at morphDeltaBase + k * vertexCount + v
-  uint32_t vertexCount;
-  uint32_t pad0, pad1;
-};
-struct GpuMorphDelta {
-  glm::vec4 position, normal;
-};
-struct GpuTriangle {
-  uint32_t v0, v1, v2;
-  uint32_t material;  // material index | kFlatShaded when the primitive has no normals
-};
-constexpr uint32_t kFlatShaded = 0x80000000u;
-struct GpuMaterial {
-  glm::vec4 baseColor;
-  glm::vec4 emission;  // rgb = emissive factor × strength (radiance), w unused
-  int32_t baseColorTexture, emissiveTexture, pad0, pad1;
-};
-struct GpuTexture {
-  uint32_t offset, width, height, wrap;  // offset in texels; wrap = wrapS | wrapT << 16 (glTF enums)
-};
-struct GpuSurfelSource {
-  uint32_t firstVertex, vertexCount;      // welded vertices, in Geometry::surfelVertices
-  uint32_t firstTriangle, triangleCount;  // adjacent non-degenerate triangles, in Geometry::surfelTriangles
-};
-struct WorldVertex {  // output of the animate pass
-  glm::vec4 position, normal;
-};
-struct Surfel {  // output of the surfel pass
-  glm::vec4 positionArea;  // xyz: centroid of the surfel's area (its vertex's third of each triangle), w: area
-  glm::vec4 normal;
-  glm::vec4 shape;  // x: radius of a disk of its area; zw: half-extents of its rectangle along tangentFrame(normal) (y: angle, 0)
-};
+// The GPU's layouts of scene data (shaders/interface.h); Material and Texture are gpu:: (scene.h
+// has the glTF ones).
+using gpu::Instance;
+using gpu::MorphDelta;
+using gpu::Surfel;
+using gpu::SurfelSource;
+using gpu::Triangle;
+using gpu::Vertex;
+using gpu::WorldVertex;
 
 struct FrameInputs {
   std::vector<glm::mat4> matrices;  // node world matrices, then joint matrices of every skin
@@ -71,15 +35,15 @@ struct Bounds {
 };
 
 struct Geometry {
-  std::vector<GpuVertex> vertices;
+  std::vector<Vertex> vertices;
   std::vector<glm::vec2> uvs;
-  std::vector<GpuInstance> instances;
-  std::vector<GpuMorphDelta> morphDeltas;
-  std::vector<GpuTriangle> triangles;
-  std::vector<GpuMaterial> materials;  // last one: the glTF default material
-  std::vector<GpuTexture> textures;
+  std::vector<Instance> instances;
+  std::vector<MorphDelta> morphDeltas;
+  std::vector<Triangle> triangles;
+  std::vector<gpu::Material> materials;  // last one: the glTF default material
+  std::vector<gpu::Texture> textures;
   std::vector<uint32_t> texels;  // linear RGBA as two packHalf2x16 words per texel
-  std::vector<GpuSurfelSource> surfels;
+  std::vector<SurfelSource> surfels;
   std::vector<uint32_t> surfelVertices, surfelTriangles;
   std::vector<glm::vec4> surfelAlbedo, surfelEmission;  // static: base colour × texture at the vertex UV
 
@@ -93,10 +57,6 @@ struct Geometry {
 };
 
 Geometry buildGeometry(const Scene& scene);
-
-// tangentFrame() of common.glsl: the tangents of unit normal n, from n alone (so that neighbours on
-// a flat face agree).
-void tangentFrame(glm::vec3 n, glm::vec3& t1, glm::vec3& t2);
 
 // The animate pass evaluated on the host: the reference the GPU is tested against.
 std::vector<WorldVertex> animateOnHost(const Geometry& geometry, const FrameInputs& inputs);

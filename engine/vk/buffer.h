@@ -3,6 +3,7 @@
 // and carry per-frame inputs up and results down.
 #include <vulkan/vulkan.h>
 
+#include <cstdint>
 #include <cstring>
 #include <span>
 #include <utility>
@@ -14,11 +15,22 @@ namespace ivgi::vk {
 
 enum class Memory { Device, Host };
 
+// The bytes of the buffers that name it, counted as they are made and freed: what an owner has
+// allocated, without a list of its buffers.
+class Allocations {
+ public:
+  uint64_t bytes() const { return bytes_; }
+
+ private:
+  friend class Buffer;
+  uint64_t bytes_ = 0;
+};
+
 class Buffer {
  public:
   static constexpr VkDeviceSize kMinBytes = 16;  // the least a buffer takes (an empty array gets a stand-in)
   Buffer() = default;
-  Buffer(const Context& ctx, VkDeviceSize bytes, Memory memory);
+  Buffer(const Context& ctx, VkDeviceSize bytes, Memory memory, Allocations* allocations = nullptr);
   ~Buffer() { release(); }
   Buffer(Buffer&& o) noexcept { *this = std::move(o); }
   Buffer& operator=(Buffer&& o) noexcept;
@@ -55,13 +67,15 @@ class Buffer {
   VkDeviceMemory memory_ = VK_NULL_HANDLE;
   VkDeviceSize size_ = 0;
   void* mapped_ = nullptr;
+  Allocations* allocations_ = nullptr;
   mutable std::vector<std::pair<VkFormat, VkBufferView>> views_;
 };
 
 // Creates a buffer sized for `items` (at least one element) and fills it.
 template <class T>
-Buffer makeBuffer(const Context& ctx, const std::vector<T>& items, Memory memory = Memory::Device) {
-  Buffer b(ctx, std::max<size_t>(items.size(), 1) * sizeof(T), memory);
+Buffer makeBuffer(const Context& ctx, const std::vector<T>& items, Memory memory = Memory::Device,
+                  Allocations* allocations = nullptr) {
+  Buffer b(ctx, std::max<size_t>(items.size(), 1) * sizeof(T), memory, allocations);
   if (!items.empty()) b.upload(items);
   return b;
 }

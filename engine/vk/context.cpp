@@ -279,7 +279,12 @@ void Context::submitAndWait(const std::function<void(VkCommandBuffer)>& record) 
   VkCommandBufferBeginInfo bi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
   bi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   check(vkBeginCommandBuffer(cmd, &bi), "vkBeginCommandBuffer");
-  record(cmd);
+  try {
+    record(cmd);
+  } catch (...) {  // a pass refused its bindings: nothing was submitted
+    vkFreeCommandBuffers(device_, pool_, 1, &cmd);
+    throw;
+  }
   check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
   VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
   si.commandBufferCount = 1;

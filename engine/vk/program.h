@@ -1,13 +1,15 @@
 #pragma once
-// A compute program: one embedded SPIR-V shader whose descriptor layout (storage buffers and
-// imageBuffers, in binding order, with their formats) and push-constant size are read from the
-// SPIR-V itself. Buffers go in by push descriptors (an imageBuffer as a texel view of the buffer),
-// so a dispatch is one call naming its buffers.
+// A compute program: one SPIR-V shader whose descriptor layout (storage buffers and imageBuffers,
+// with their formats), binding names, specialization constants and push-constant size are read
+// from the SPIR-V itself. Buffers are bound by the names the shader gives them and go in by push
+// descriptors (an imageBuffer as a texel view of the buffer), so a dispatch is one call naming its
+// buffers, and no binding number is written twice.
 #include <vulkan/vulkan.h>
 
 #include <initializer_list>
 #include <span>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -20,46 +22,59 @@ struct Groups {
   uint32_t x = 1, y = 1, z = 1;
 };
 
+// A buffer bound to the shader's binding of that name: an imageBuffer's variable name, or a
+// storage block's instance name (for an anonymous instance, its block name with the first letter
+// lowered: `buffer GlobalBins { … }` is "globalBins").
+struct Binding {
+  std::string_view name;
+  const Buffer& buffer;
+};
+using Bindings = std::initializer_list<Binding>;
+
+// Values of the shader's specialization constants, by name; the workgroup size set by
+// local_size_x_id has no name and is `localSizeX` (0: the shader's default).
+struct Specialization {
+  std::initializer_list<std::pair<std::string_view, uint32_t>> constants = {};
+  uint32_t localSizeX = 0;
+};
+
 class Program {
  public:
-  // The product's shader `shaderName` (shaders/NAME.comp), or the given SPIR-V; `constants` are the
-  // values of specialization constants 0, 1, … (32-bit each; a bool is 0 or 1).
-  explicit Program(const Context& ctx, const std::string& shaderName, const std::vector<uint32_t>& constants = {});
-  Program(const Context& ctx, const std::string& name, std::span<const uint32_t> code, const std::vector<uint32_t>& constants = {});
+  Program(const Context& ctx, std::string name, std::span<const uint32_t> code, const Specialization& specialization = {});
   ~Program();
   Program(const Program&) = delete;
   Program& operator=(const Program&) = delete;
 
   const std::string& name() const { return name_; }
   uint32_t localSizeX() const { return localSize_[0]; }
-  uint32_t bindingCount() const { return bindingCount_; }
   uint32_t pushConstantBytes() const { return pushBytes_; }
 
-  // Binds `buffers` to bindings 0..n-1, pushes the constants, dispatches `groups`.
-  void dispatch(VkCommandBuffer cmd, Groups groups, std::initializer_list<const Buffer*> buffers,
-                const void* push = nullptr, uint32_t pushBytes = 0) const;
+  // Binds every binding of the shader (each by name, exactly once), pushes the constants,
+  // dispatches `groups`.
   template <class Push>
-  void dispatch(VkCommandBuffer cmd, Groups groups, std::initializer_list<const Buffer*> buffers, const Push& push) const {
-    dispatch(cmd, groups, buffers, &push, sizeof(Push));
+  void dispatch(VkCommandBuffer cmd, Groups groups, Bindings bindings, const Push& push) const {
+    bind(cmd, bindings, &push, sizeof(Push));
+    vkCmdDispatch(cmd, groups.x, groups.y, groups.z);
   }
+  void dispatch(VkCommandBuffer cmd, Groups groups, Bindings bindings) const;
   // Dispatch with the group counts at `offset` in `args` (a VkDispatchIndirectCommand).
   template <class Push>
-  void dispatchIndirect(VkCommandBuffer cmd, const Buffer& args, VkDeviceSize offset, std::initializer_list<const Buffer*> buffers,
+  void dispatchIndirect(VkCommandBuffer cmd, const Buffer& args, VkDeviceSize offset, Bindings bindings,
                         const Push& push) const {
-    bind(cmd, buffers, &push, sizeof(Push));
+    bind(cmd, bindings, &push, sizeof(Push));
     vkCmdDispatchIndirect(cmd, args.handle(), offset);
   }
   // One invocation per item (items laid out over x and y so that no dimension exceeds the device
   // limit; shaders read their item with itemIndex() from common.glsl and test it against the count).
   template <class Push>
-  void dispatchItems(VkCommandBuffer cmd, uint64_t items, std::initializer_list<const Buffer*> buffers, const Push& push) const {
-    dispatch(cmd, groupsFor(items, localSize_[0]), buffers, &push, sizeof(Push));
+  void dispatchItems(VkCommandBuffer cmd, uint64_t items, Bindings bindings, const Push& push) const {
+    dispatch(cmd, groupsFor(items, localSize_[0]), bindings, push);
   }
   // Workgroups for `count` items of `perGroup` each, laid out over x then y.
   Groups groupsFor(uint64_t count, uint32_t perGroup) const;
 
  private:
-  void bind(VkCommandBuffer cmd, std::initializer_list<const Buffer*> buffers, const void* push, uint32_t pushBytes) const;
+  void bind(VkCommandBuffer cmd, Bindings bindings, const void* push, uint32_t pushBytes) const;
 
   const Context& ctx_;
   std::string name_;
@@ -67,9 +82,14 @@ class Program {
   VkDescriptorSetLayout setLayout_ = VK_NULL_HANDLE;
   VkPipelineLayout layout_ = VK_NULL_HANDLE;
   VkPipeline pipeline_ = VK_NULL_HANDLE;
-  uint32_t bindingCount_ = 0;
-  // Per binding: an imageBuffer's view format and texel bytes, or UNDEFINED for a storage buffer.
-  std::vector<std::pair<VkFormat, VkDeviceSize>> texels_;
+  // Per binding (numbered 0..n-1): its name, and an imageBuffer's view format and texel bytes
+  // (UNDEFINED for a storage buffer).
+  struct Slot {
+    std::string name;
+    VkFormat format = VK_FORMAT_UNDEFINED;
+    VkDeviceSize texelBytes = 0;
+  };
+  std::vector<Slot> slots_;
   uint32_t pushBytes_ = 0;
   uint32_t localSize_[3] = {1, 1, 1};
 };

@@ -9,7 +9,7 @@ layout(local_size_x = 64) in;
 layout(binding = 0, rgba32f) readonly uniform imageBuffer asVec4;
 layout(binding = 1, rg32ui) readonly uniform uimageBuffer asUvec2;
 layout(binding = 2, r32ui) readonly uniform uimageBuffer asUint;
-layout(std430, binding = 4) writeonly buffer Out { vec4 results[]; };
+layout(std430, binding = 4) writeonly buffer Results { vec4 results[]; };
 layout(push_constant) uniform Push { uint count; };
 
 void main() {

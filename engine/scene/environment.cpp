@@ -1,4 +1,4 @@
-#include "engine/gi/environment.h"
+#include "engine/scene/environment.h"
 
 #include <OpenImageIO/imagebuf.h>
 
@@ -7,9 +7,11 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "engine/gi/shared.h"
+#include "engine/core/errors.h"
+#include "engine/scene/scene.h"
+#include "shaders/interface.h"
 
-namespace ivgi::gi {
+namespace ivgi::scene {
 
 namespace {
 
@@ -18,9 +20,9 @@ glm::vec3 parseColour(const std::string& spec) {
   glm::vec3 c;
   char comma1 = 0, comma2 = 0;
   if (!(ss >> c.r >> comma1 >> c.g >> comma2 >> c.b) || comma1 != ',' || comma2 != ',' || !ss.eof())
-    throw std::runtime_error("--env '" + spec + "': expected R,G,B or an .exr file");
+    throw SettingsError("--env '" + spec + "': expected R,G,B or an .exr file");
   if (!glm::all(glm::greaterThanEqual(c, glm::vec3(0.0f))) || !glm::all(glm::lessThan(c, glm::vec3(1e30f))))
-    throw std::runtime_error("--env '" + spec + "': radiance must be finite and >= 0");
+    throw SettingsError("--env '" + spec + "': radiance must be finite and >= 0");
   return c;
 }
 
@@ -34,16 +36,16 @@ Environment Environment::parse(const std::string& spec) {
     return env;
   }
   OIIO_NAMESPACE::ImageBuf image(spec);
-  if (!image.read(0, 0, true, OIIO_NAMESPACE::TypeDesc::FLOAT)) throw std::runtime_error(spec + ": cannot read the environment: " + image.geterror());
+  if (!image.read(0, 0, true, OIIO_NAMESPACE::TypeDesc::FLOAT)) throw LoadError(spec + ": cannot read the environment: " + image.geterror());
   const auto& is = image.spec();
-  if (is.nchannels < 3 || is.width < 1 || is.height < 1) throw std::runtime_error(spec + ": the environment needs RGB channels");
+  if (is.nchannels < 3 || is.width < 1 || is.height < 1) throw LoadError(spec + ": the environment needs RGB channels");
   const float* px = static_cast<const float*>(image.localpixels());
   env.width_ = is.width, env.height_ = is.height;
   env.texels_.resize(size_t(is.width) * is.height);
   for (size_t i = 0; i < env.texels_.size(); ++i) {
     const float* p = px + i * is.nchannels;
     glm::vec3 c(p[0], p[1], p[2]);
-    if (!glm::all(glm::lessThan(glm::abs(c), glm::vec3(1e30f)))) throw std::runtime_error(spec + ": the environment holds NaN or infinite values");
+    if (!glm::all(glm::lessThan(glm::abs(c), glm::vec3(1e30f)))) throw LoadError(spec + ": the environment holds NaN or infinite values");
     env.texels_[i] = glm::max(c, glm::vec3(0.0f));
   }
   return env;
@@ -52,7 +54,7 @@ Environment Environment::parse(const std::string& spec) {
 glm::vec3 Environment::radiance(glm::vec3 d) const {
   if (width_ == 0) return constant_;
   d = glm::normalize(d);
-  float u = std::atan2(d.x, -d.z) / (2.0f * kPi) + 0.5f, v = std::acos(glm::clamp(d.y, -1.0f, 1.0f)) / kPi;
+  float u = std::atan2(d.x, -d.z) / (2.0f * gpu::kPi) + 0.5f, v = std::acos(glm::clamp(d.y, -1.0f, 1.0f)) / gpu::kPi;
   int x = std::clamp(int(u * width_), 0, width_ - 1), y = std::clamp(int(v * height_), 0, height_ - 1);
   return texels_[size_t(y) * width_ + x];
 }
@@ -61,7 +63,7 @@ std::vector<glm::vec4> Environment::bins(uint32_t n) const {
   std::vector<glm::vec4> out(6 * n * n);
   for (uint32_t b = 0; b < out.size(); ++b) {
     // Sub-directions on the bin's face cell, around its centre.
-    glm::vec3 c = binDirection(b, n), sum(0.0f);
+    glm::vec3 c = gpu::binDirection(b, n), sum(0.0f);
     uint32_t face = b / (n * n), axis = face / 2;
     float half = 1.0f / float(n);
     for (int j = 0; j < 4; ++j)
@@ -78,6 +80,4 @@ std::vector<glm::vec4> Environment::bins(uint32_t n) const {
   return out;
 }
 
-std::vector<glm::vec4> environmentBins(const std::string& spec, uint32_t n) { return Environment::parse(spec).bins(n); }
-
-}  // namespace ivgi::gi
+}  // namespace ivgi::scene

@@ -1,17 +1,17 @@
 #pragma once
 // Environment light: radiance arriving from infinitely far away, a constant colour or an
-// equirectangular EXR (+y up; u = 0.5 looks along -z). The iv solver reads it per direction bin, the
-// path tracer per direction.
+// equirectangular EXR (+y up; u = 0.5 looks along -z). The GPU solvers read it per direction bin,
+// the path tracer per direction.
 #include <glm/glm.hpp>
 
 #include <string>
 #include <vector>
 
-namespace ivgi::gi {
+namespace ivgi::scene {
 
 class Environment {
  public:
-  // "R,G,B" or a path to an .exr; throws std::runtime_error naming the problem.
+  // "R,G,B" or a path to an .exr; throws SettingsError (--env) or LoadError naming the problem.
   static Environment parse(const std::string& spec);
 
   glm::vec3 radiance(glm::vec3 direction) const;  // nearest texel; any length of direction
@@ -24,7 +24,4 @@ class Environment {
   std::vector<glm::vec3> texels_;
 };
 
-// Environment::parse(spec).bins(n).
-std::vector<glm::vec4> environmentBins(const std::string& spec, uint32_t n);
-
-}  // namespace ivgi::gi
+}  // namespace ivgi::scene

@@ -1,0 +1,65 @@
+#pragma once
+// The room of the arrays that grow with the link counts: the refinement's worklists, each link
+// set's links and its surviving leaf links. Link counts are known only once the GPU made them, so
+// the room starts from a guess, grows when a frame overflowed (the frame is then redone) and gives
+// back what stays unused. A request beyond the device's limits is refused with a message that names
+// the settings to change.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "engine/gi/iv/buffers.h"
+#include "engine/gi/iv/links.h"
+#include "engine/gi/iv/settings.h"
+
+namespace ivgi::gi {
+
+class LinkRoom {
+ public:
+  LinkRoom(const vk::Context& ctx, IvBuffers& buffers, LinkSet& staticSet, LinkSet& frameSet, vk::Allocations& allocations);
+
+  // A first guess for every set (from the leaves each prunes in full or merges), allocated; where
+  // it does not fit the device, a small start that grows to what the first frame counts.
+  void guess(const IvSettings& settings, const std::vector<uint32_t>& leafMoves, uint32_t nodeCount);
+  uint32_t worklistCapacity() const { return worklistCapacity_; }
+
+  // What a frame ran out of, from the link sets' counters.
+  struct Overflow {
+    bool any = false;         // the frame must be redone
+    bool loopBudget = false;  // a prune workgroup ran out of loop rounds
+    bool staticSet = false;   // the static set's links must be made again
+  };
+  // After a frame: grows what overflowed (and allocates it). `levels`: the refinement levels the
+  // frame ran, after which no pair may be left.
+  Overflow grow(uint32_t levels);
+  // After a frame that stands: gives back the leaf-link room it left unused, keeping the links the
+  // sets hold, and frees the static pairs' links once `staticLinked`.
+  void releaseUnused(bool staticLinked);
+
+ private:
+  // An array that grows with a count, and how it is bound (limits: a storage buffer
+  // maxStorageBufferRange; texels, read as imageBuffers, maxTexelBufferElements).
+  struct Array {
+    vk::Buffer* buffer;
+    uint64_t count, elementBytes;
+    bool texels;
+    const char* what;
+    const LinkSet* leafLinksOf;  // the set whose surviving links it holds (kept when it shrinks), or null
+    uint64_t elements() const { return std::max<uint64_t>(count, 1); }
+    uint64_t bytes() const { return elements() * elementBytes; }
+  };
+  std::vector<Array> arrays();  // at the capacities the link sets hold now
+  // Why those arrays cannot be allocated on this device (empty: they can).
+  std::string refusal(const std::vector<Array>& arrays) const;
+  void allocate();
+  uint32_t firstLeafLinkGuess(const LinkSet& set, const IvSettings& settings, const std::vector<uint32_t>& leafMoves) const;
+
+  const vk::Context& ctx_;
+  IvBuffers& b_;
+  LinkSet& staticSet_;
+  LinkSet& frameSet_;
+  vk::Allocations& allocations_;
+  uint32_t worklistCapacity_ = 0;
+};
+
+}  // namespace ivgi::gi

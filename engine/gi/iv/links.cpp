@@ -1,0 +1,68 @@
+#include "engine/gi/iv/links.h"
+
+#include <algorithm>
+
+#include "engine/gi/pass.h"
+
+namespace ivgi::gi {
+
+std::vector<uint32_t> LinkSet::readCounters() const { return counters.read<uint32_t>(gpu::kCounterSlots); }
+
+uint32_t LinkSet::leafLinksHeld() const { return std::min(leafLinkCapacity, readCounters()[gpu::kCounterLeafLinks]); }
+
+LinkCreation::LinkCreation(const vk::Context& ctx)
+    : args_(shaderProgram(ctx, "link_args")),
+      refine_(shaderProgram(ctx, "refine_links")),
+      count_(shaderProgram(ctx, "count_links")),
+      scan_(shaderProgram(ctx, "scan_counts")),
+      scatter_(shaderProgram(ctx, "scatter_links")) {}
+
+uint32_t LinkCreation::levels(const Hierarchy& h) { return 2 * (h.maxDepth() + 1) + 1; }
+
+void LinkCreation::record(VkCommandBuffer cmd, LinkSet& set, const IvBuffers& b, const Hierarchy& h, const IvSettings& settings,
+                          uint32_t worklistCapacity) const {
+  const uint32_t start[2] = {uint32_t(set.rootPairs.size() / 2), 0};
+  vkCmdFillBuffer(cmd, set.counters.handle(), 0, VK_WHOLE_SIZE, 0);
+  vkCmdFillBuffer(cmd, set.counts.handle(), 0, VK_WHOLE_SIZE, 0);
+  vk::barrier(cmd);
+  vkCmdUpdateBuffer(cmd, set.counters.handle(), 0, sizeof(start), start);
+  const VkBufferCopy copy{0, 0, set.rootPairs.size() * sizeof(uint32_t)};
+  vkCmdCopyBuffer(cmd, set.roots.handle(), b.worklistA.handle(), 1, &copy);
+  vk::barrier(cmd);
+  const float largeSender = settings.kappa * 4.0f * gpu::kPi / float(6 * settings.bins * settings.bins);
+  const uint32_t levelCount = levels(h);
+  for (uint32_t level = 0; level < levelCount; ++level) {
+    const uint32_t in = level % 2, out = 1 - in;
+    args_.dispatch(cmd, {}, {{"counters", set.counters}, {"args", b.args}}, gpu::LinkArgsPush{in, out, 0, 256});
+    vk::barrier(cmd);
+    refine_.dispatchIndirect(cmd, b.args, 0,
+                             {{"tree", b.tree},
+                              {"nodes", b.nodes},
+                              {"pairs", in ? b.worklistB : b.worklistA},
+                              {"nextWorklist", in ? b.worklistA : b.worklistB},
+                              {"links", set.links},
+                              {"counters", set.counters}},
+                             gpu::RefinePush{in, out, worklistCapacity, set.linkCapacity, settings.epsilon, largeSender});
+    vk::barrier(cmd);
+  }
+  // Links sorted by receiver: count, scan, scatter.
+  args_.dispatch(cmd, {}, {{"counters", set.counters}, {"args", b.args}},
+                 gpu::LinkArgsPush{gpu::kCounterLinks, gpu::kNoCounter, 1, 256});
+  vk::barrier(cmd);
+  const VkDeviceSize sortArgs = sizeof(glm::uvec4);
+  count_.dispatchIndirect(cmd, b.args, sortArgs, {{"links", set.links}, {"counts", set.counts}, {"counters", set.counters}},
+                          gpu::CountPush{set.linkCapacity});
+  vk::barrier(cmd);
+  scan_.dispatch(cmd, {}, {{"counts", set.counts}, {"starts", set.starts}}, gpu::CountPush{uint32_t(h.nodes.size())});
+  vk::barrier(cmd);
+  scatter_.dispatchIndirect(cmd, b.args, sortArgs,
+                            {{"links", set.links},
+                             {"counts", set.counts},
+                             {"senders", set.senders},
+                             {"counters", set.counters},
+                             {"nodeEmission", b.radiosityA}},
+                            gpu::CountPush{set.linkCapacity});
+  vk::barrier(cmd);
+}
+
+}  // namespace ivgi::gi

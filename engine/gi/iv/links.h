@@ -1,0 +1,41 @@
+#pragma once
+// Pass 4, link creation (docs/design.md): from a list of root pairs, level-synchronous refinement on
+// two worklists with indirect dispatch (a pair is stored as a link or split into the pairs of its
+// larger node's children), then the links sorted by receiver: counted, scanned, scattered.
+#include <cstdint>
+#include <vector>
+
+#include "engine/gi/hierarchy.h"
+#include "engine/gi/iv/buffers.h"
+#include "engine/gi/iv/settings.h"
+#include "engine/vk/program.h"
+
+namespace ivgi::gi {
+
+// The links made from a list of root pairs, sorted by receiver, with the counters of their making
+// (gpu::kCounter… slots). The solver has one set for the pairs of static objects (made once) and
+// one for the pairs with a moving side (made whenever the geometry moved).
+struct LinkSet {
+  std::vector<uint32_t> rootPairs;  // receiver root, sender root
+  vk::Buffer roots, counters, links, counts, starts, senders;
+  uint32_t linkCapacity = 0, leafLinkCapacity = 0;
+
+  bool empty() const { return rootPairs.empty(); }
+  std::vector<uint32_t> readCounters() const;
+  // The surviving links the last prune of this set wrote (those that fit).
+  uint32_t leafLinksHeld() const;
+};
+
+class LinkCreation {
+ public:
+  explicit LinkCreation(const vk::Context& ctx);
+  // Refinement levels: each splits one side of every pair, so at most the two trees' depths.
+  static uint32_t levels(const Hierarchy& hierarchy);
+  void record(VkCommandBuffer cmd, LinkSet& set, const IvBuffers& b, const Hierarchy& hierarchy, const IvSettings& settings,
+              uint32_t worklistCapacity) const;
+
+ private:
+  vk::Program args_, refine_, count_, scan_, scatter_;
+};
+
+}  // namespace ivgi::gi

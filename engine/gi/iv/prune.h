@@ -1,0 +1,57 @@
+#pragma once
+// Pass 5, bin pruning and push-down (shaders/prune_bins.comp): each leaf re-bins the links of itself
+// and its ancestors from its own position and keeps the nearest sender per direction bin. Objects
+// that cannot move are pruned once (the static pass); every frame prunes what the frame's links
+// reach. This record sizes the prune's workgroups and dispatches, and owns its bins when they do not
+// fit in shared memory.
+#include <optional>
+
+#include "engine/gi/iv/buffers.h"
+#include "engine/gi/iv/links.h"
+#include "engine/gi/iv/settings.h"
+#include "engine/vk/program.h"
+
+namespace ivgi::gi {
+
+class Prune {
+ public:
+  Prune(const vk::Context& ctx, const IvSettings& settings, uint32_t surfelCount);
+  // Whether 6·N² bins fit the device's shared memory (else the global-memory path runs).
+  static bool binsFitShared(const vk::Context& ctx, uint32_t n);
+
+  bool sharedBins() const { return sharedBins_; }
+  uint32_t groupSize() const;  // invocations a workgroup has
+  uint32_t batches() const;    // dispatches one prune takes
+  // The bins of the global-memory path, a slot of 6·N² per workgroup (a stand-in on the shared path).
+  void allocateBins(IvBuffers& b, vk::Allocations& allocations) const;
+  // Empty bins in every global-memory slot. Each leaf empties the bins it touched; a prune cut short
+  // (lavapipe's loop budget) may not have, so a redo starts from this.
+  static void clearBins(VkCommandBuffer cmd, const IvBuffers& b);
+
+  // Records the prune of every leaf: first, where `pruneStatic`, the static pass against the static
+  // set's links; then the frame's against `frameSet` (static leaves merge with what the static pass
+  // kept).
+  void record(VkCommandBuffer cmd, bool pruneStatic, const LinkSet& staticSet, const LinkSet& frameSet, const IvBuffers& b,
+              uint32_t lightCount);
+  // A workgroup ran out of lavapipe's loop budget: twice the subgroups share it from the next frame.
+  // Throws SettingsError where the workgroup cannot grow.
+  void onLoopBudgetSpent();
+
+ private:
+  void makePrograms();
+  void recordPass(VkCommandBuffer cmd, const vk::Program& pass, const LinkSet& set, const LinkSet& staticSet, const IvBuffers& b,
+                  uint32_t lightCount) const;
+  uint32_t groups() const;  // workgroups a dispatch runs
+  uint32_t leavesPerGroup() const;
+  uint32_t batch() const;  // leaves one dispatch walks
+
+  const vk::Context& ctx_;
+  const IvSettings& settings_;
+  uint32_t surfelCount_;
+  bool sharedBins_;
+  uint32_t subgroups_;        // subgroups a workgroup has
+  bool binsDirty_ = false;    // a prune was cut short: the global-memory bins may hold its leaves' keys
+  std::optional<vk::Program> static_, frame_;
+};
+
+}  // namespace ivgi::gi

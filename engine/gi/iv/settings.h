@@ -1,0 +1,47 @@
+#pragma once
+// What a user chooses for the iv solver, with its defaults (defined here only), and the figures it
+// reports.
+#include <cstdint>
+#include <optional>
+
+#include "engine/scene/environment.h"
+
+namespace ivgi::gi {
+
+struct IvSettings {
+  uint32_t bins = 16;     // --bins N: 6×N×N direction bins
+  float epsilon = 0.02f;  // --eps: refine links while their form-factor estimate is above it
+  uint32_t bounces = 2;   // --bounces: indirect bounces; 0 = direct light only
+  float kappa = 1.0f;     // --kappa: refine while a sender covers more than κ average bins
+  std::optional<scene::Environment> environment;  // --env; none: no environment light
+  // The most workgroups one prune dispatch runs; 0: as many as the scene and the device allow. Fewer
+  // prune in more dispatches (batches) with the same result; tests batch small scenes with it.
+  uint32_t pruneGroups = 0;
+  // Leaves a prune workgroup walks in one dispatch; 0: 8. Tests run many to spend lavapipe's loop
+  // budget (common.glsl), which the solver must notice and redo.
+  uint32_t pruneLeaves = 0;
+};
+
+// Bounces beyond any use (a bounce is one gather over the links), a guard against typing errors.
+inline constexpr uint32_t kMaxBounces = 10000;
+
+// Throws SettingsError naming the option when a setting is out of its range.
+void validate(const IvSettings& settings);
+
+struct IvStats {
+  uint32_t nodes = 0, levels = 0, links = 0, leafLinks = 0;
+  uint32_t staticLinks = 0, staticLeafLinks = 0;  // of those, made once between objects that cannot move
+  uint64_t bytes = 0;
+  bool sharedBins = true;
+  uint32_t pruneBatches = 0;    // dispatches a prune takes (each of at most a few leaves a workgroup)
+  uint32_t pruneGroupSize = 0;  // invocations a prune workgroup has (more when one ran out of loop rounds)
+  // The prune's work: root-path senders its leaves walked, in the last relinked frame and in the
+  // static pass (once; the frame then walks only the senders of the pairs with a moving side).
+  uint64_t sendersWalked = 0, staticSendersWalked = 0;
+  // Since the solver was made: frames redone because their links outgrew the room they had or a
+  // prune workgroup its loop budget (the timings are the redone frame's), and static passes run (1
+  // once the static links are whole).
+  uint32_t framesRedone = 0, staticPasses = 0;
+};
+
+}  // namespace ivgi::gi

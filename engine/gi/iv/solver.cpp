@@ -1,0 +1,218 @@
+#include "engine/gi/iv/solver.h"
+
+#include "engine/gi/pass.h"
+
+namespace ivgi::gi {
+
+namespace {
+
+IvSetup validated(IvSetup setup) {
+  validate(setup.settings);
+  if (!setup.objectMoves.empty() && setup.objectMoves.size() != setup.hierarchy.roots.size())
+    throw std::invalid_argument("IvSetup: objectMoves does not match the hierarchy");
+  return setup;
+}
+
+template <class T>
+vk::Buffer deviceArray(const vk::Context& ctx, size_t count, vk::Allocations& allocations) {
+  return vk::Buffer(ctx, std::max<size_t>(count, 1) * sizeof(T), vk::Memory::Device, &allocations);
+}
+
+}  // namespace
+
+IvSetup makeIvSetup(const scene::Scene& scene, const scene::Geometry& g, const IvSettings& settings, std::optional<int> animation) {
+  auto rest = scene::surfelsOnHost(g, scene::animateOnHost(g, g.frameInputs(scene, scene::evaluatePose(scene, -1, 0.0f))));
+  IvSetup setup{buildHierarchy(g, rest), settings, {}};
+  if (animation) markMovingObjects(setup, scene, g, *animation);
+  return setup;
+}
+
+void markMovingObjects(IvSetup& setup, const scene::Scene& scene, const scene::Geometry& g, int animation) {
+  std::vector<bool> moving = scene::movingInstances(scene, g, animation);
+  setup.objectMoves.clear();
+  for (uint32_t instance : setup.hierarchy.rootInstance) setup.objectMoves.push_back(moving[instance]);
+}
+
+std::vector<glm::vec4> IvSolver::binTable(uint32_t n) {
+  std::vector<glm::vec4> table(6 * n * n);
+  for (uint32_t b = 0; b < table.size(); ++b)
+    table[b] = glm::vec4(glm::normalize(gpu::binDirection(b, n)), gpu::binSolidAngle(b, n));
+  return table;
+}
+
+IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, IvSetup setup)
+    : ctx_(ctx),
+      setup_(validated(std::move(setup))),
+      settings_(setup_.settings),
+      surfelCount_(uint32_t(g.surfels.size())),
+      nodeCount_(uint32_t(setup_.hierarchy.nodes.size())),
+      refit_(ctx),
+      links_(ctx),
+      prune_(ctx, settings_, surfelCount_),
+      bounces_(ctx),
+      room_(ctx, b_, staticSet_, frameSet_, allocations_) {
+  const Hierarchy& h = setup_.hierarchy;
+  // Pairs of two static objects are linked and pruned once, but only when something else moves.
+  auto moves = [&](size_t root) { return setup_.objectMoves.empty() || setup_.objectMoves[root]; };
+  bool anyMoves = false, anyStatic = false;
+  for (size_t r = 0; r < h.roots.size(); ++r) (moves(r) ? anyMoves : anyStatic) = true;
+  // A static leaf keeps a mask word pair per 32 bins; where those exceed what one binding can
+  // address (many surfels at many bins), every object is relinked instead.
+  const uint64_t maskWords = uint64_t(surfelCount_) * gpu::maskWordsFor(settings_.bins);
+  const bool split = anyMoves && anyStatic && maskWords * sizeof(glm::uvec2) <= ctx.limits().maxStorageBufferRange;
+  for (size_t a = 0; a < h.roots.size(); ++a)
+    for (size_t b = 0; b < h.roots.size(); ++b) {
+      auto& pairs = (split && !moves(a) && !moves(b) ? staticSet_ : frameSet_).rootPairs;
+      pairs.insert(pairs.end(), {h.roots[a], h.roots[b]});
+    }
+  std::vector<uint32_t> leafMoves(surfelCount_, 1u);
+  if (split) {  // a node moves with its root; parents are numbered before their children
+    std::vector<bool> nodeMoves(nodeCount_, false);
+    for (size_t r = 0; r < h.roots.size(); ++r) nodeMoves[h.roots[r]] = moves(r);
+    for (uint32_t node = 0; node < nodeCount_; ++node)
+      if (h.nodes[node].parent >= 0) nodeMoves[node] = nodeMoves[uint32_t(h.nodes[node].parent)];
+    for (uint32_t s = 0; s < surfelCount_; ++s) leafMoves[s] = nodeMoves[h.leafOfSurfel[s]] ? 1u : 0u;
+  }
+  uploadScene(g, leafMoves, split, maskWords);
+  prune_.allocateBins(b_, allocations_);
+  ctx.submitAndWait([&](VkCommandBuffer cmd) {
+    vkCmdFillBuffer(cmd, b_.staticRanges.handle(), 0, VK_WHOLE_SIZE, 0u);
+    Prune::clearBins(cmd, b_);
+  });
+  room_.guess(settings_, leafMoves, nodeCount_);
+}
+
+void IvSolver::uploadScene(const scene::Geometry& g, const std::vector<uint32_t>& leafMoves, bool split, uint64_t maskWords) {
+  const vk::Context& ctx = ctx_;
+  vk::Allocations* tally = &allocations_;
+  const Hierarchy& h = setup_.hierarchy;
+  const uint32_t n = settings_.bins;
+  b_.tree = vk::makeBuffer(ctx, h.nodes, vk::Memory::Device, tally);
+  b_.leafOfSurfel = vk::makeBuffer(ctx, h.leafOfSurfel, vk::Memory::Device, tally);
+  b_.leafMoves = vk::makeBuffer(ctx, leafMoves, vk::Memory::Device, tally);
+  b_.albedo = vk::makeBuffer(ctx, g.surfelAlbedo, vk::Memory::Device, tally);
+  b_.emission = vk::makeBuffer(ctx, g.surfelEmission, vk::Memory::Device, tally);
+  b_.binTable = vk::makeBuffer(ctx, binTable(n), vk::Memory::Device, tally);
+  b_.environment = vk::makeBuffer(ctx, settings_.environment ? settings_.environment->bins(n) : std::vector<glm::vec4>{glm::vec4(0)},
+                                  vk::Memory::Device, tally);
+  b_.lights = vk::Buffer(ctx, sizeof(gpu::PunctualLight), vk::Memory::Host, tally);
+  b_.nodes = deviceArray<gpu::NodeState>(ctx, nodeCount_, allocations_);
+  b_.args = vk::Buffer(ctx, 4 * sizeof(glm::uvec4), vk::Memory::Device, tally);
+  for (LinkSet* set : {&staticSet_, &frameSet_}) {
+    set->roots = vk::makeBuffer(ctx, set->empty() ? std::vector<uint32_t>{0, 0} : set->rootPairs, vk::Memory::Device, tally);
+    set->counters = vk::makeBuffer(ctx, std::vector<uint32_t>(gpu::kCounterSlots, 0u), vk::Memory::Host, tally);
+    set->counts = deviceArray<uint32_t>(ctx, set->empty() ? 0 : nodeCount_, allocations_);
+    set->starts = deviceArray<uint32_t>(ctx, set->empty() ? 0 : nodeCount_ + 1, allocations_);
+  }
+  b_.ranges = deviceArray<gpu::LeafRange>(ctx, surfelCount_, allocations_);
+  b_.externalLight = deviceArray<glm::vec4>(ctx, surfelCount_, allocations_);
+  b_.radiosityA = deviceArray<glm::vec4>(ctx, nodeCount_, allocations_);
+  b_.radiosityB = deviceArray<glm::vec4>(ctx, nodeCount_, allocations_);
+  b_.irradiance = deviceArray<glm::vec4>(ctx, surfelCount_, allocations_);
+  // What a static leaf keeps between frames; with nothing static, empty ranges and one-word stand-ins.
+  const size_t masks = split ? maskWords : 0, statics = split ? surfelCount_ : 0;
+  b_.staticRanges = deviceArray<gpu::LeafRange>(ctx, surfelCount_, allocations_);
+  b_.staticMasks = deviceArray<glm::uvec2>(ctx, masks, allocations_);
+  b_.overrides = deviceArray<uint32_t>(ctx, masks, allocations_);
+  b_.staticEnvironment = deviceArray<glm::vec4>(ctx, statics, allocations_);
+  b_.staticEmitters = deviceArray<uint32_t>(ctx, statics * gpu::kStaticEmitters, allocations_);
+  b_.staticEmitterCounts = deviceArray<uint32_t>(ctx, statics, allocations_);
+  b_.staticCorrection = deviceArray<glm::vec4>(ctx, statics, allocations_);
+}
+
+void IvSolver::setLights(const std::vector<gpu::PunctualLight>& lights) {
+  if (b_.lights.size() < lights.size() * sizeof(gpu::PunctualLight))
+    b_.lights = vk::Buffer(ctx_, lights.size() * sizeof(gpu::PunctualLight), vk::Memory::Host, &allocations_);
+  b_.lights.upload(lights);
+  lightCount_ = uint32_t(lights.size());
+}
+
+void IvSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffer& surfels, bool geometryMoved) {
+  const Hierarchy& h = setup_.hierarchy;
+  const bool relinking = geometryMoved || !linked_;
+  if (relinking) {
+    // The static set's links and bins once; the frame's every time the geometry moved.
+    const bool linkStatic = splitsStatic() && !staticLinked_;
+    timedPass(cmd, timer, "refit", [&] {
+      refit_.record(cmd, h, b_.tree, surfels, b_.nodes);
+      bounces_.recordEmission(cmd, b_, h);
+    });
+    staticPasses_ += linkStatic ? 1 : 0;
+    timedPass(cmd, timer, "links", [&] {
+      if (linkStatic) links_.record(cmd, staticSet_, b_, h, settings_, room_.worklistCapacity());
+      links_.record(cmd, frameSet_, b_, h, settings_, room_.worklistCapacity());
+    });
+    timedPass(cmd, timer, "prune", [&] { prune_.record(cmd, linkStatic, staticSet_, frameSet_, b_, lightCount_); });
+    linked_ = staticLinked_ = true;
+  }
+  timedPass(cmd, timer, "bounces", [&] {
+    if (!relinking) bounces_.recordEmission(cmd, b_, h);
+    finalRadiosity_ = bounces_.record(cmd, b_, h, staticSet_, frameSet_, settings_);
+  });
+}
+
+bool IvSolver::frameMustBeRedone() {
+  const LinkRoom::Overflow overflow = room_.grow(LinkCreation::levels(setup_.hierarchy));
+  if (!overflow.any) return false;
+  if (overflow.loopBudget) prune_.onLoopBudgetSpent();
+  if (overflow.staticSet) staticLinked_ = false;
+  linked_ = false;
+  ++framesRedone_;
+  return true;
+}
+
+void IvSolver::frameStands() { room_.releaseUnused(staticLinked_); }
+
+IvStats IvSolver::stats() const {
+  IvStats s;
+  s.nodes = nodeCount_;
+  s.levels = setup_.hierarchy.levels();
+  s.sharedBins = prune_.sharedBins();
+  s.pruneBatches = prune_.batches();
+  s.pruneGroupSize = prune_.groupSize();
+  s.framesRedone = framesRedone_, s.staticPasses = staticPasses_;
+  for (const LinkSet* set : {&staticSet_, &frameSet_}) {
+    if (set->empty()) continue;
+    const std::vector<uint32_t> c = set->readCounters();
+    s.links += c[gpu::kCounterLinks];
+    s.leafLinks += c[gpu::kCounterLeafLinks];
+    const uint64_t walked = uint64_t(c[gpu::kCounterSendersWalked + 1]) << 32 | c[gpu::kCounterSendersWalked];
+    if (set == &staticSet_)
+      s.staticLinks = c[gpu::kCounterLinks], s.staticLeafLinks = c[gpu::kCounterLeafLinks], s.staticSendersWalked = walked;
+    else
+      s.sendersWalked = walked;
+  }
+  s.bytes = allocatedBytes();
+  return s;
+}
+
+std::vector<std::vector<IvSolver::LeafLink>> IvSolver::leafLinks() const {
+  auto ranges = b_.ranges.read<gpu::LeafRange>(surfelCount_);
+  auto all = b_.leafLinks.read<LeafLink>(frameSet_.leafLinksHeld());
+  std::vector<std::vector<LeafLink>> out(surfelCount_);
+  for (uint32_t s = 0; s < surfelCount_; ++s)
+    for (uint32_t k = ranges[s].first; k < ranges[s].first + ranges[s].count && k < all.size(); ++k) out[s].push_back(all[k]);
+  if (!splitsStatic()) return out;
+  const uint32_t maskWords = gpu::maskWordsFor(settings_.bins), held = staticSet_.leafLinksHeld();
+  auto staticRanges = b_.staticRanges.read<gpu::LeafRange>(surfelCount_);
+  auto staticLinks = b_.staticLinks.read<LeafLink>(held);
+  auto staticBins = b_.staticBins.read<uint32_t>(held);
+  auto overrides = b_.overrides.read<uint32_t>(size_t(surfelCount_) * maskWords);
+  for (uint32_t s = 0; s < surfelCount_; ++s)
+    for (uint32_t k = staticRanges[s].first; k < staticRanges[s].first + staticRanges[s].count && k < staticLinks.size(); ++k) {
+      const uint32_t bin = gpu::staticBinOf(staticBins[k]);
+      if (!(overrides[size_t(s) * maskWords + bin / 32] & (1u << (bin & 31)))) out[s].push_back(staticLinks[k]);
+    }
+  return out;
+}
+
+std::vector<gpu::NodeState> IvSolver::nodeStates() const { return b_.nodes.read<gpu::NodeState>(nodeCount_); }
+
+std::vector<glm::vec4> IvSolver::leafRadiosity() const {
+  auto nodes = (finalRadiosity_ ? b_.radiosityB : b_.radiosityA).read<glm::vec4>(nodeCount_);
+  std::vector<glm::vec4> out(surfelCount_);
+  for (uint32_t s = 0; s < surfelCount_; ++s) out[s] = nodes[setup_.hierarchy.leafOfSurfel[s]];
+  return out;
+}
+
+}  // namespace ivgi::gi

@@ -1,0 +1,92 @@
+#pragma once
+// The iv solver (Dong et al. 2007; docs/design.md): hierarchical radiosity whose visibility is the
+// nearest link per direction bin. Per frame, as passes: refit, link creation, bin pruning and
+// push-down, bounces. Objects that cannot move are linked and pruned once. The host only sizes
+// buffers (LinkRoom), from a guess and then from the counts the GPU reports.
+#include <glm/glm.hpp>
+
+#include <optional>
+#include <vector>
+
+#include "engine/gi/hierarchy.h"
+#include "engine/gi/iv/bounces.h"
+#include "engine/gi/iv/buffers.h"
+#include "engine/gi/iv/link_room.h"
+#include "engine/gi/iv/links.h"
+#include "engine/gi/iv/prune.h"
+#include "engine/gi/iv/settings.h"
+#include "engine/gi/refit.h"
+#include "engine/gi/solver.h"
+#include "engine/scene/animation.h"
+#include "engine/scene/geometry.h"
+
+namespace ivgi::gi {
+
+// What the iv solver of a scene is made from: the hierarchy over the rest-pose surfels, the user's
+// settings, and which objects can move.
+struct IvSetup {
+  Hierarchy hierarchy;
+  IvSettings settings;
+  // Per hierarchy root: whether its object can move (scene::movingInstances). Empty: every object
+  // may move, and everything is linked and pruned whenever the geometry moved.
+  std::vector<bool> objectMoves;
+};
+// The setup for `scene`; `animation` says which objects can move (-1 none: all static; absent: any).
+IvSetup makeIvSetup(const scene::Scene& scene, const scene::Geometry& geometry, const IvSettings& settings,
+                    std::optional<int> animation = std::nullopt);
+// Sets setup.objectMoves from what `animation` moves.
+void markMovingObjects(IvSetup& setup, const scene::Scene& scene, const scene::Geometry& geometry, int animation);
+
+class IvSolver final : public Solver {
+ public:
+  // Validates the settings (SettingsError) and allocates from a first guess at the link counts.
+  IvSolver(const vk::Context& ctx, const scene::Geometry& geometry, IvSetup setup);
+
+  void setLights(const std::vector<gpu::PunctualLight>& lights) override;
+  void record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffer& surfels, bool geometryMoved) override;
+  // Grows what overflowed; a frame that overflowed is redone.
+  bool frameMustBeRedone() override;
+  // Gives back the leaf-link room the frame left unused and the static pairs' links once made.
+  void frameStands() override;
+  const vk::Buffer& irradiance() const override { return b_.irradiance; }
+  uint64_t allocatedBytes() const override { return allocations_.bytes(); }
+
+  IvStats stats() const;
+  const Hierarchy& hierarchy() const { return setup_.hierarchy; }
+  // Readbacks for tests: per surfel, its radiosity after the last bounce and its surviving links (a
+  // static leaf: the frame's, then its static ones not overridden); the nodes as the refit left them.
+  std::vector<glm::vec4> leafRadiosity() const;
+  struct LeafLink {
+    uint32_t sender;
+    float formFactor;
+  };
+  std::vector<std::vector<LeafLink>> leafLinks() const;
+  std::vector<gpu::NodeState> nodeStates() const;
+
+  // The bins' unit centre directions and solid angles, computed on the host (GLSL's atan is not
+  // exact enough for the solid angles).
+  static std::vector<glm::vec4> binTable(uint32_t n);
+
+ private:
+  bool splitsStatic() const { return !staticSet_.empty(); }
+  void uploadScene(const scene::Geometry& g, const std::vector<uint32_t>& leafMoves, bool split, uint64_t maskWords);
+
+  const vk::Context& ctx_;
+  const IvSetup setup_;
+  const IvSettings& settings_;
+  const uint32_t surfelCount_, nodeCount_;
+  vk::Allocations allocations_;  // before the buffers, which count themselves into it
+  IvBuffers b_;
+  LinkSet staticSet_, frameSet_;
+  Refit refit_;
+  LinkCreation links_;
+  Prune prune_;
+  Bounces bounces_;
+  LinkRoom room_;
+  bool linked_ = false, staticLinked_ = false;
+  uint32_t framesRedone_ = 0, staticPasses_ = 0;
+  uint32_t lightCount_ = 0;
+  uint32_t finalRadiosity_ = 0;  // 0: radiosityA, 1: radiosityB
+};
+
+}  // namespace ivgi::gi

@@ -1,0 +1,33 @@
+#pragma once
+// What a lighting method gives the frame (docs/design.md, "A new solver"): after the surfel pass it
+// records its passes, which leave the irradiance at every surfel for the resolve pass. The frame
+// renderer owns one; iv is one, ar will be another.
+#include <cstdint>
+#include <vector>
+
+#include "engine/vk/buffer.h"
+#include "engine/vk/timer.h"
+#include "shaders/interface.h"
+
+namespace ivgi::gi {
+
+class Solver {
+ public:
+  virtual ~Solver() = default;
+
+  // The frame's punctual lights in world space.
+  virtual void setLights(const std::vector<gpu::PunctualLight>& lights) = 0;
+  // Records the solver's passes, each timed. `geometryMoved`: the surfels changed since the last
+  // frame (or this is the first), so whatever depends on the geometry must be made again.
+  virtual void record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffer& surfels, bool geometryMoved) = 0;
+  // After the frame completed: whether it must be recorded again (the solver has made more room),
+  // and, when it stands, a chance to give back what it left unused.
+  virtual bool frameMustBeRedone() = 0;
+  virtual void frameStands() {}
+  // Irradiance per surfel (rgba32f, w unused), read by the resolve pass.
+  virtual const vk::Buffer& irradiance() const = 0;
+  // Device memory the solver holds.
+  virtual uint64_t allocatedBytes() const = 0;
+};
+
+}  // namespace ivgi::gi

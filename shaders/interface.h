@@ -1,0 +1,363 @@
+// What the host and the shaders share, written once: buffer layouts, constants, push-constant
+// structs and the functions whose results both sides use (keys, bins, form factors, lights, rays).
+// Included by GLSL (shaders/common.glsl) and by C++ (namespace ivgi::gpu, on glm), so that nothing
+// is mirrored by hand. Only the common subset of the two languages goes here: no swizzles, float
+// literals with an f, IVGI_OUT for out parameters. Structs are std430 and hold no vec3 that a
+// scalar does not follow (C++ aligns vec3 to 4 bytes, std430 to 16).
+#ifndef IVGI_SHADERS_INTERFACE_H
+#define IVGI_SHADERS_INTERFACE_H
+
+#ifdef __cplusplus
+#include <cstdint>
+#include <glm/glm.hpp>
+namespace ivgi::gpu {
+using namespace glm;
+using uint = uint32_t;
+#define IVGI_CONST inline constexpr
+#define IVGI_FN inline
+#define IVGI_OUT(T) T&
+#else
+#define IVGI_CONST const
+#define IVGI_FN
+#define IVGI_OUT(T) out T
+#endif
+
+IVGI_CONST float kPi = 3.14159265358979f;
+
+// ---- Scene data (engine/scene/geometry.h builds it; animate, surfels, raster and resolve read it) ----
+
+struct Vertex {
+  vec3 position;  // rest pose, primitive space
+  uint instance;
+  vec3 normal;
+  uint local;  // index inside its primitive, for morph deltas
+  uvec4 joints;
+  vec4 weights;
+};
+struct Instance {
+  uint matrix;  // node world matrix, or first joint matrix when skinned
+  uint skinned;
+  uint morphTargets;
+  uint morphWeightBase;
+  uint morphDeltaBase;  // deltas of target k, vertex v at morphDeltaBase + k * vertexCount + v
+  uint vertexCount;
+  uint pad0;
+  uint pad1;
+};
+struct MorphDelta {
+  vec4 position;
+  vec4 normal;
+};
+struct Triangle {
+  uint v0;
+  uint v1;
+  uint v2;
+  uint material;  // material index | kFlatShaded when the primitive has no normals
+};
+IVGI_CONST uint kFlatShaded = 0x80000000u;
+struct Material {
+  vec4 baseColor;
+  vec4 emission;  // rgb: emissive factor × strength (radiance)
+  int baseColorTexture;
+  int emissiveTexture;
+  int pad0;
+  int pad1;
+};
+struct Texture {
+  uint offset;  // in texels; each texel is linear RGBA as two packHalf2x16 words
+  uint width;
+  uint height;
+  uint wrap;  // wrapS | wrapT << 16 (glTF enums)
+};
+struct SurfelSource {
+  uint firstVertex;  // welded vertices, in Geometry::surfelVertices
+  uint vertexCount;
+  uint firstTriangle;  // adjacent non-degenerate triangles, in Geometry::surfelTriangles
+  uint triangleCount;
+};
+struct WorldVertex {  // the animate pass's output
+  vec4 position;
+  vec4 normal;
+};
+struct Surfel {  // the surfel pass's output
+  vec4 positionArea;  // centroid of the surfel's area, area
+  vec4 normal;
+  vec4 shape;  // as NodeState's: x the radius of a disk of its area, y the angle (0), zw half-extents
+};
+
+// Pinhole camera: right and up scaled by tan of the half field of view; origin.w = znear,
+// forward.w = zfar (0: none). Image size in samples, pixel (0,0) top-left, centres at +0.5.
+struct Camera {
+  vec4 origin;
+  vec4 right;
+  vec4 up;
+  vec4 forward;
+};
+
+// KHR_lights_punctual, in world space for the frame (engine/scene/lights.h).
+struct PunctualLight {
+  vec4 position;   // w: 0 directional, 1 point, 2 spot
+  vec4 direction;  // where the light points; w: range (0: none)
+  vec4 intensity;  // rgb: colour × intensity, radiometric
+  vec4 cone;       // cos outer, cos inner
+};
+IVGI_CONST float kLightDirectional = 0.0f;
+IVGI_CONST float kLightPoint = 1.0f;
+IVGI_CONST float kLightSpot = 2.0f;
+
+// ---- The surfel hierarchy (engine/gi/hierarchy.h) ----
+
+struct TreeNode {
+  int parent;       // -1 for a root
+  uint firstChild;  // children are contiguous in the next level
+  uint childCount;  // 0 for a leaf
+  int surfel;       // the leaf's surfel, -1 for an inner node
+};
+// Per frame: area-weighted position and total area; normal and the half-angle of the cone holding
+// every normal below; shape: x the radius of a sphere around the position holding every surfel
+// disk below, y the angle of the node's rectangle in tangentFrame(normal), zw its half-extents.
+struct NodeState {
+  vec4 positionArea;
+  vec4 normalCone;
+  vec4 shape;
+};
+
+// ---- iv: links, leaf links, counters (engine/gi/iv/) ----
+
+// A leaf's surviving links: where they start and how many.
+struct LeafRange {
+  uint first;
+  uint count;
+};
+// A surviving link of a leaf: sender node and the bits of its clamped form factor (one rg32ui texel).
+struct LeafLink {
+  uint sender;
+  uint formFactorBits;
+};
+IVGI_CONST uint kEmitterBit = 0x80000000u;  // on a sender in a receiver's list: it emits
+
+// The slots of a link set's counter buffer. kCounterSendersWalked is the low word of a 64-bit
+// count (the carries go to the next slot): the root-path senders a prune walked, its work.
+IVGI_CONST uint kCounterWorklistA = 0u;
+IVGI_CONST uint kCounterWorklistB = 1u;
+IVGI_CONST uint kCounterLinks = 2u;
+IVGI_CONST uint kCounterLeafLinks = 3u;
+IVGI_CONST uint kCounterOverflow = 4u;
+IVGI_CONST uint kCounterWorklistPeak = 5u;
+IVGI_CONST uint kCounterSendersWalked = 6u;
+IVGI_CONST uint kCounterSlots = 8u;
+IVGI_CONST uint kNoCounter = 0xFFFFFFFFu;
+// Bits of counters[kCounterOverflow]: what a frame ran out of room for (it is redone with more).
+// kOverflowLoopBudget: a prune workgroup ran out of lavapipe's loop budget (common.glsl).
+IVGI_CONST uint kOverflowWorklist = 1u;
+IVGI_CONST uint kOverflowLinks = 2u;
+IVGI_CONST uint kOverflowLeafLinks = 4u;
+IVGI_CONST uint kOverflowLoopBudget = 8u;
+
+// The prune's shared-memory queues: root-path senders gathered per round (also the most that can
+// be wide), emitters a leaf lists, and emitters a static leaf keeps for the frames.
+IVGI_CONST uint kPathChunk = 512u;
+IVGI_CONST uint kEmitterQueue = 256u;
+IVGI_CONST uint kStaticEmitters = 64u;
+IVGI_CONST uint kManyEmitters = 0xFFFFFFFFu;  // a static leaf's emitters that did not fit its list
+
+// Mask words of a leaf's 6·N² bins, one bit a bin.
+IVGI_FN uint maskWordsFor(uint n) { return (6u * n * n + 31u) / 32u; }
+
+// ---- Push constants, one struct a pass ----
+
+struct CountPush {  // animate, surfels, emit: the items; count_links, scatter_links: the link capacity
+  uint count;
+};
+struct LevelPush {  // refit, pull_up: the nodes of one level
+  uint first;
+  uint count;
+};
+struct LinkArgsPush {
+  uint source;     // counter slot whose items the next dispatch takes
+  uint clear;      // counter slot to zero for the next list (kNoCounter: none)
+  uint slot;       // which dispatch arguments to write
+  uint groupSize;  // the next dispatch's workgroup size
+};
+struct RefinePush {
+  uint source;  // counter slots of this level's list and of the next
+  uint target;
+  uint capacity;  // of each worklist
+  uint linkCapacity;
+  float epsilon;      // form-factor threshold
+  float largeSender;  // κ·Ω of an average bin: a sender subtending more is split
+};
+struct PrunePush {
+  uint firstSurfel;  // the leaves [firstSurfel, endSurfel) of this dispatch's batch
+  uint endSurfel;
+  uint linkCapacity;
+  uint lightCount;
+  uint environmentOn;
+  uint staticCapacity;
+};
+struct GatherPush {
+  uint surfelCount;
+  uint maskWords;
+};
+struct ImagePush {  // raster: count = triangles; resolve: count = samples per axis
+  Camera camera;
+  uvec2 size;
+  uint count;
+  uint pad;
+};
+
+// ---- Keys for 64-bit atomicMin ----
+
+IVGI_CONST uint64_t kEmptyVisibility = 0xFFFFFFFFFFFFFFFFul;
+
+// Visibility key: depth (positive float bits order like unsigned integers) above the id, so that
+// 64-bit atomicMin keeps the nearest hit and breaks ties by the lower id.
+IVGI_FN uint64_t packDepthKey(float depth, uint id) { return (uint64_t(floatBitsToUint(depth)) << 32) | uint64_t(id); }
+IVGI_FN uint keyId(uint64_t key) { return uint(key & 0xFFFFFFFFul); }
+IVGI_FN float keyDepth(uint64_t key) { return uintBitsToFloat(uint(key >> 32)); }
+
+// Link key: squared distance above the sender node, so that atomicMin keeps the nearest sender per
+// bin and breaks ties by id. The top bit marks a footprint's fringe (a bin it only brushes):
+// fringes rank behind every core (a bin holding the footprint's centre or half covered by it), so
+// that a near sender's blur does not hide what lies beside it.
+IVGI_CONST uint64_t kFringeKey = 0x8000000000000000ul;
+IVGI_FN uint64_t packLinkKey(float distance2, uint sender, bool fringe) {
+  return packDepthKey(distance2, sender) | (fringe ? kFringeKey : 0ul);
+}
+IVGI_FN float linkKeyDepth(uint64_t key) { return keyDepth(key & ~kFringeKey); }
+
+// A bin's covered solid angle is counted in 1/kCoverageUnit of the bin's (integer sums do not depend
+// on the order of the atomics).
+IVGI_CONST uint kCoverageUnit = 65536u;
+// StaticBin, one r32ui texel beside each surviving link of a static leaf: its bin (15 bits;
+// 6·64² < 2^15) and the bin's covered solid angle capped at the whole bin (17 bits; coverage only
+// counts up to the whole bin, so the cap changes nothing).
+IVGI_FN uint packStaticBin(uint bin, uint covered) { return bin | min(covered, kCoverageUnit) << 15; }
+IVGI_FN uint staticBinOf(uint packed) { return packed & 0x7FFFu; }
+IVGI_FN uint staticCoverageOf(uint packed) { return packed >> 15; }
+
+// ---- Camera rays ----
+
+IVGI_FN vec3 cameraRay(Camera cam, vec2 samplePos, uvec2 size) {
+  vec2 ndc = vec2(2.0f * samplePos.x / float(size.x) - 1.0f, 1.0f - 2.0f * samplePos.y / float(size.y));
+  return vec3(cam.forward) + ndc.x * vec3(cam.right) + ndc.y * vec3(cam.up);
+}
+
+// ---- Textures ----
+
+// The two texels and the weight of the second along one axis of a bilinear lookup under a glTF wrap
+// mode (33071 CLAMP_TO_EDGE, 33648 MIRRORED_REPEAT, else REPEAT). No integer division: lavapipe
+// runs it one lane at a time.
+IVGI_FN ivec2 texelPair(float u, int size, uint mode, IVGI_OUT(float) weight) {
+  if (mode == 33648u) {
+    float t = fract(u * 0.5f) * 2.0f;
+    u = t < 1.0f ? t : 2.0f - t;
+  } else if (mode != 33071u) {
+    u = fract(u);
+  }
+  float x = u * float(size) - 0.5f, f = floor(x);
+  weight = x - f;
+  int i = int(f), j = i + 1;
+  if (mode == 33071u || mode == 33648u) return clamp(ivec2(i, j), 0, size - 1);
+  return ivec2(i < 0 ? i + size : i, j >= size ? j - size : j);
+}
+
+// ---- Direction bins and form factors (docs/design.md, "Bins") ----
+
+// Cube-map bin of a non-zero direction: face = 2·axis + (negative ? 1 : 0), then (i, j) from the two
+// other coordinates divided by the major one. Bins are numbered face·N² + j·N + i.
+IVGI_FN uint binOf(vec3 d, uint n) {
+  vec3 a = abs(d);
+  uint axis = (a.x >= a.y && a.x >= a.z) ? 0u : (a.y >= a.z ? 1u : 2u);
+  float major = axis == 0u ? d.x : (axis == 1u ? d.y : d.z);
+  vec2 uv = axis == 0u ? vec2(d.y, d.z) : (axis == 1u ? vec2(d.z, d.x) : vec2(d.x, d.y));
+  uv /= abs(major);
+  uvec2 ij = uvec2(clamp(floor((uv + 1.0f) * 0.5f * float(n)), vec2(0.0f), vec2(float(n - 1u))));
+  uint face = 2u * axis + (major < 0.0f ? 1u : 0u);
+  return face * n * n + ij.y * n + ij.x;
+}
+
+// Direction (unnormalised) through position uv of face `face`'s plane; beyond (−1, 1) the plane
+// extends past the face, toward its neighbours.
+IVGI_FN vec3 faceDirection(uint face, vec2 uv) {
+  float s = (face & 1u) == 0u ? 1.0f : -1.0f;
+  uint axis = face / 2u;
+  if (axis == 0u) return vec3(s, uv.x, uv.y);
+  if (axis == 1u) return vec3(uv.y, s, uv.x);
+  return vec3(uv.x, uv.y, s);
+}
+
+// Centre direction (unnormalised, on the unit cube) of bin b.
+IVGI_FN vec3 binDirection(uint b, uint n) {
+  uint face = b / (n * n), r = b % (n * n);
+  return faceDirection(face, (vec2(float(r % n), float(r / n)) + 0.5f) / float(n) * 2.0f - 1.0f);
+}
+
+// Bin of cell (x, y) of face `face`'s plane, n cells a side: the face's own bin, or past its edge
+// the bin of the neighbouring face that the cell's centre falls in.
+IVGI_FN uint binOfCell(uint face, ivec2 cell, uint n) {
+  if (all(greaterThanEqual(cell, ivec2(0))) && all(lessThan(cell, ivec2(n))))
+    return face * n * n + uint(cell.y) * n + uint(cell.x);
+  return binOf(faceDirection(face, (vec2(cell) + 0.5f) / (0.5f * float(n)) - 1.0f), n);
+}
+
+IVGI_FN float cubeAreaIntegral(float u, float v) { return atan(u * v, sqrt(u * u + v * v + 1.0f)); }
+
+// Exact solid angle of bin b: Φ(u1,v1) − Φ(u0,v1) − Φ(u1,v0) + Φ(u0,v0). GLSL's atan is an
+// approximation: the solver builds its table of bins on the host.
+IVGI_FN float binSolidAngle(uint b, uint n) {
+  uint r = b % (n * n);
+  float step = 2.0f / float(n);
+  float u0 = -1.0f + float(r % n) * step, v0 = -1.0f + float(r / n) * step;
+  float u1 = u0 + step, v1 = v0 + step;
+  return cubeAreaIntegral(u1, v1) - cubeAreaIntegral(u0, v1) - cubeAreaIntegral(u1, v0) + cubeAreaIntegral(u0, v0);
+}
+
+// Disk-to-point form factor: at most 1, and finite as d → 0.
+IVGI_FN float formFactor(float senderArea, float cosSender, float cosReceiver, float distance2) {
+  return senderArea * max(cosSender, 0.0f) * max(cosReceiver, 0.0f) / (kPi * distance2 + senderArea);
+}
+
+// A tangent frame of unit normal n that depends on n alone (so that neighbours on a flat face agree).
+IVGI_FN void tangentFrame(vec3 n, IVGI_OUT(vec3) t1, IVGI_OUT(vec3) t2) {
+  t1 = normalize(abs(n.x) < 0.9f ? cross(n, vec3(1, 0, 0)) : cross(n, vec3(0, 1, 0)));
+  t2 = cross(n, t1);
+}
+
+// ---- Punctual lights ----
+
+// Irradiance per unit intensity on a surface at p facing the light: 1/d², the range window, the
+// spot cone (smooth between the outer and inner cosines). toLight is not normalised; dist2 is its
+// squared length, 3.4e38 for a directional light.
+IVGI_FN float lightFalloff(PunctualLight light, vec3 p, IVGI_OUT(vec3) toLight, IVGI_OUT(float) dist2) {
+  dist2 = 3.4e38f;
+  if (light.position.w == kLightDirectional) {
+    toLight = -vec3(light.direction);
+    return 1.0f;
+  }
+  toLight = vec3(light.position) - p;
+  dist2 = dot(toLight, toLight);
+  if (dist2 <= 0.0f) return 0.0f;
+  float falloff = 1.0f / dist2;
+  if (light.direction.w > 0.0f) {
+    float window = clamp(1.0f - pow(sqrt(dist2) / light.direction.w, 4.0f), 0.0f, 1.0f);
+    falloff *= window * window;
+  }
+  if (light.position.w == kLightSpot) {
+    float c = dot(normalize(-toLight), vec3(light.direction));
+    float t = clamp((c - light.cone.x) / max(light.cone.y - light.cone.x, 1e-6f), 0.0f, 1.0f);
+    falloff *= t * t * (3.0f - 2.0f * t);
+  }
+  return falloff;
+}
+
+#ifdef __cplusplus
+static_assert(sizeof(Vertex) == 64 && sizeof(Instance) == 32 && sizeof(Material) == 48 && sizeof(Surfel) == 48);
+static_assert(sizeof(NodeState) == 48 && sizeof(PunctualLight) == 64 && sizeof(ImagePush) == 80);
+#undef IVGI_CONST
+#undef IVGI_FN
+#undef IVGI_OUT
+}  // namespace ivgi::gpu
+#endif
+
+#endif
