@@ -17,6 +17,14 @@ struct CornellOptions {
 // The Cornell box from the measured Cornell data, in metres, with its camera (yfov 39.31°).
 tinygltf::Model cornellBox(const CornellOptions& options = {});
 
+// The Cornell box's light: a rectangle in the ceiling, in millimetres, facing down, and its
+// radiance (red, green, blue). Tests integrate its direct light.
+struct CornellLight {
+  float x0 = 213, x1 = 343, z0 = 227, z1 = 332, height = 548.8f;
+  float radiance[3] = {17, 12, 4};
+};
+inline constexpr CornellLight kCornellLight{};
+
 struct FurnaceOptions {
   int cells = 4;          // per face side
   float albedo = 0.5f;    // uniform, grey

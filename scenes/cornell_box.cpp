@@ -47,7 +47,8 @@ tinygltf::Model cornellBox(const CornellOptions& o) {
   int white = b.material("white", {0.725f, 0.71f, 0.68f});
   int red = b.material("red", {0.63f, 0.065f, 0.05f});
   int green = b.material("green", {0.14f, 0.45f, 0.091f});
-  int light = b.material("light", {0.78f, 0.78f, 0.78f}, {17.0f, 12.0f, 4.0f});
+  const CornellLight& l = kCornellLight;
+  int light = b.material("light", {0.78f, 0.78f, 0.78f}, {l.radiance[0], l.radiance[1], l.radiance[2]});
 
   const glm::vec3 inside = mm(278, 274, 280);
   MeshData whites, reds, greens, lamp;
@@ -56,10 +57,11 @@ tinygltf::Model cornellBox(const CornellOptions& o) {
   addFace(reds, {{mm(552.8f, 0, 0), mm(549.6f, 0, 559.2f), mm(556, 548.8f, 559.2f), mm(556, 548.8f, 0)}}, cellsPerMetre, inside);   // left
   addFace(greens, {{mm(0, 0, 559.2f), mm(0, 0, 0), mm(0, 548.8f, 0), mm(0, 548.8f, 559.2f)}}, cellsPerMetre, inside);              // right
   // The ceiling in eight pieces around the light, so that light and ceiling never overlap.
-  const float xs[] = {0, 213, 343, 556}, zs[] = {0, 227, 332, 559.2f};
+  const float xs[] = {0, l.x0, l.x1, 556}, zs[] = {0, l.z0, l.z1, 559.2f};
   for (int i = 0; i < 3; ++i)
     for (int k = 0; k < 3; ++k) {
-      Face f{{mm(xs[i], 548.8f, zs[k]), mm(xs[i + 1], 548.8f, zs[k]), mm(xs[i + 1], 548.8f, zs[k + 1]), mm(xs[i], 548.8f, zs[k + 1])}};
+      Face f{{mm(xs[i], l.height, zs[k]), mm(xs[i + 1], l.height, zs[k]), mm(xs[i + 1], l.height, zs[k + 1]),
+              mm(xs[i], l.height, zs[k + 1])}};
       addFace(i == 1 && k == 1 ? lamp : whites, f, cellsPerMetre, inside);
     }
   int room = b.mesh("room", {{whites, white}, {reds, red}, {greens, green}, {lamp, light}});

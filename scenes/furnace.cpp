@@ -1,5 +1,5 @@
 // The furnace: a closed enclosure whose faces all have the same albedo ρ and emission E, so that
-// the radiosity is E/(1-ρ) everywhere — the energy-conservation check of design.md §3.
+// the radiosity is E/(1-ρ) everywhere — the energy-conservation check of docs/design.md §6.
 #include "scenes/builtin.h"
 #include "scenes/gltf_builder.h"
 

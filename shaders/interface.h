@@ -262,7 +262,7 @@ IVGI_FN ivec2 texelPair(float u, int size, uint mode, IVGI_OUT(float) weight) {
   return ivec2(i < 0 ? i + size : i, j >= size ? j - size : j);
 }
 
-// ---- Direction bins and form factors (docs/design.md, "Bins") ----
+// ---- Direction bins and form factors (docs/design.md §5) ----
 
 // Cube-map bin of a non-zero direction: face = 2·axis + (negative ? 1 : 0), then (i, j) from the two
 // other coordinates divided by the major one. Bins are numbered face·N² + j·N + i.

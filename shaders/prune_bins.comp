@@ -21,8 +21,8 @@
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 1
 #include "common.glsl"
-// As few subgroups a workgroup as lavapipe's loop budget allows (iv_solver.cpp): lavapipe runs a
-// workgroup's subgroups one after another on one thread, switching at every barrier.
+// As few subgroups a workgroup as lavapipe's loop budget allows (engine/gi/iv/prune.cpp): lavapipe
+// runs a workgroup's subgroups one after another on one thread, switching at every barrier.
 layout(local_size_x_id = 8) in;
 const uint kGroupSize = gl_WorkGroupSize.x;  // a multiple of 8
 
@@ -43,7 +43,8 @@ layout(std430, binding = 7) writeonly buffer Ranges { LeafRange ranges[]; };
 // 1 GiB of links), where a storage buffer stops at maxStorageBufferRange (128 MiB).
 layout(binding = 8, rg32ui) writeonly uniform uimageBuffer leafLinks;  // LeafLink: sender, form-factor bits
 layout(std430, binding = 9) buffer Counters { uint counters[]; };
-layout(std430, binding = 10) writeonly buffer ExternalLight { vec4 externalLight[]; };  // irradiance from lights and environment
+// irradiance from lights and environment
+layout(std430, binding = 10) writeonly buffer ExternalLight { vec4 externalLight[]; };
 layout(std430, binding = 11) readonly buffer Lights { PunctualLight lights[]; };
 layout(binding = 12, rgba32f) readonly uniform imageBuffer environment;  // radiance per bin
 layout(std430, binding = 13) buffer GlobalCoverage { uint globalCoverage[]; };
@@ -52,15 +53,22 @@ layout(binding = 14, r32ui) readonly uniform uimageBuffer leafMoves;  // per sur
 layout(std430, binding = 15) buffer StaticRanges { LeafRange staticRanges[]; };
 layout(binding = 16, rg32ui) uniform uimageBuffer staticLinks;  // LeafLink
 layout(binding = 17, r32ui) uniform uimageBuffer staticBins;    // StaticBin: bin and coverage, packed
-layout(binding = 18, r32ui) uniform uimageBuffer staticDepths;  // the key's upper half (fringe bit, d²), beside the link
-layout(std430, binding = 19) buffer StaticMasks { uvec2 staticMasks[]; };  // per leaf and mask word: bins held, entries before
+// the key's upper half (fringe bit, d²), beside the link
+layout(binding = 18, r32ui) uniform uimageBuffer staticDepths;
+// per leaf and mask word: bins held, entries before
+layout(std430, binding = 19) buffer StaticMasks { uvec2 staticMasks[]; };
 layout(std430, binding = 20) buffer StaticEnvironment { vec4 staticEnvironment[]; };
-layout(std430, binding = 21) writeonly buffer Overrides { uint overrides[]; };  // per static leaf and mask word: bins re-emitted
+// per static leaf and mask word: bins re-emitted
+layout(std430, binding = 21) writeonly buffer Overrides { uint overrides[]; };
 layout(binding = 22, rgba32f) readonly uniform imageBuffer nodeEmission;  // π·Le per node, pulled up
-layout(std430, binding = 23) buffer StaticEmitters { uint staticEmitters[]; };  // per static leaf: the emitters of its static links
-layout(std430, binding = 24) buffer StaticEmitterCounts { uint staticEmitterCounts[]; };  // kManyEmitters: too many, credited by the bins
-layout(std430, binding = 25) buffer StaticCorrection { vec4 staticCorrection[]; };  // the static bins' emission, taken back
-layout(std430, binding = 26) readonly buffer StaticCounters { uint staticCounters[]; };  // the static set's (the frame pass merges its bins)
+// per static leaf: the emitters of its static links
+layout(std430, binding = 23) buffer StaticEmitters { uint staticEmitters[]; };
+// kManyEmitters: too many, credited by the bins
+layout(std430, binding = 24) buffer StaticEmitterCounts { uint staticEmitterCounts[]; };
+// the static bins' emission, taken back
+layout(std430, binding = 25) buffer StaticCorrection { vec4 staticCorrection[]; };
+// the static set's (the frame pass merges its bins)
+layout(std430, binding = 26) readonly buffer StaticCounters { uint staticCounters[]; };
 layout(push_constant) uniform Push { PrunePush push; };
 
 shared uint64_t sharedBins[kSharedSlots];
@@ -140,9 +148,9 @@ void insertFootprint(uint slot, vec3 d, uint64_t key, float omega, vec3 sideA, v
   float aspect = box.x + box.y > 0.0 ? clamp(box.x / max(box.y, 1e-30), 0.125, 8.0) : 1.0;
   vec2 sides = min(side * vec2(sqrt(aspect), inversesqrt(aspect)), vec2(16.0));
   vec2 lo = at - 0.5 * sides, hi = at + 0.5 * sides;
-  // Cells past the face's edge, up to half a face beyond, lie on the neighbouring faces (binOfCell;
-  // piled into the face's border bins instead, they overfilled them, and the per-bin cap cost 2.6 %
-  // of the furnace's coverage); the outermost reach to infinity, so that nothing falls off.
+  // Cells past the face's edge, up to half a face beyond, lie on the neighbouring faces (binOfCell),
+  // so that a footprint across a cube edge does not overfill the face's border bins; the outermost
+  // reach to infinity, so that nothing falls off.
   ivec2 centre = ivec2(clamp(floor(at), vec2(0.0), vec2(float(kN - 1u))));
   ivec2 lowest = ivec2(-int(kN / 2u)), highest = ivec2(int(kN - 1u + kN / 2u));
   ivec2 first = clamp(ivec2(floor(lo)), lowest, highest), end = clamp(ivec2(floor(hi)), lowest, highest);
@@ -228,8 +236,7 @@ void filePiece(uint slot, vec3 n, uint s, vec4 normalCone, View v, uint index) {
 // the receiver (p, n, area): skipped where its disk cannot rise above the receiver's tangent plane
 // (wholly below it, or lying in it: the receiver's own neighbours on a flat face); an emitter is
 // also listed for its direct light; one at most a bin wide is filed whole, a wider one queued for
-// its pieces (2 % of the candidates at 4k surfels, a quarter at 500: filed one per lane here, their
-// k² pieces would hold up the whole subgroup).
+// its pieces (filed one per lane here, their k² pieces would hold up the whole subgroup).
 void fileSender(uint slot, uint leaf, vec3 p, vec3 n, float area, uint marked) {
   uint s = marked & ~kEmitterBit;
   vec4 positionArea = nodePositionArea(s), normalCone = nodeNormalCone(s);
@@ -237,8 +244,8 @@ void fileSender(uint slot, uint leaf, vec3 p, vec3 n, float area, uint marked) {
   float along = dot(normalCone.xyz, n);
   float rise = normalCone.w < 0.5 * kPi ? v.radius * sqrt(max(1.0 - along * along, 0.0)) : nodeRadius(s);
   if (s == leaf || dot(v.d, n) + rise <= 1e-4 * sqrt(area)) return;
-  // A loop, not an if: on lavapipe the if cost 15–20 % of the prune at 17,574 surfels (its atomic
-  // runs lane by lane, masked, for every sender; emitters are rare).
+  // A loop, not an if: lavapipe would run the if's atomic lane by lane, masked, for every sender,
+  // and emitters are rare.
   for (bool emitter = (marked & kEmitterBit) != 0u; emitter; emitter = false) {
     uint queued = atomicAdd(emitterCount, 1u);
     if (queued < kEmitterQueue) emitterQueue[queued] = s;
@@ -292,7 +299,7 @@ vec3 emitted(uint s) { return imageLoad(nodeEmission, int(s)).rgb; }
 // form factor, where the bin along it shows it: the bin holds the emitter itself, nothing nearer, or
 // a nearer flat sender that does not separate receiver and emitter (its plane has both on one side:
 // the ceiling beside a lamp, the lamp's own other pieces). Exact where the bins only credit whole
-// bins, so that a small emitter's light no longer jumps as its footprint crosses bin borders.
+// bins, so that a small emitter's light does not jump as its footprint crosses bin borders.
 vec3 directLight(uint slot, vec3 p, vec3 n, uint s) {
   vec4 normalCone = nodeNormalCone(s);
   View v = viewOf(p, nodePositionArea(s), normalCone);
@@ -361,7 +368,7 @@ void main() {
     // The root path's senders, a chunk at a time, are first gathered into shared memory and then
     // filed in one pass: a CPU device runs the filing code, lanes masked, on every round of a
     // subgroup however few of its lanes have a sender, and ancestor by ancestor the ranges are short
-    // (a static leaf's frame senders: a few per ancestor). Gathered, the prune took 18 % less time.
+    // (a static leaf's frame senders: a few per ancestor).
     int a = area > 0.0 ? int(leaf) : -1;
     uint next = a >= 0 ? imageLoad(starts, a).x : 0u;
     while (a >= 0) {
@@ -393,11 +400,10 @@ void main() {
     barrier();
     // Emitters' light: direct where they are few enough to list (the static pass keeps the list for
     // the frames, whose moving senders may hide them), the bins then carrying only their reflected
-    // light; through the bins as before where they are many (a wholly emissive room). In a fixed
-    // order whatever order the atomics queued them in: the static list (sorted by the static pass),
-    // then the queued ones sorted by node (another object's, so never in the static list). A static
-    // leaf whose emitters stand still queues none and sorts nothing: ranking its static list against
-    // itself, lane by lane, took about 6 % of the frame prune at 4,756 surfels.
+    // light; through the bins like any sender where they are many (a wholly emissive room). In a
+    // fixed order whatever order the atomics queued them in: the static list (sorted by the static
+    // pass), then the queued ones sorted by node (another object's, so never in the static list). A
+    // static leaf whose emitters stand still queues none and sorts nothing.
     uint staticListed = staticEmitterCount == kManyEmitters ? 0u : staticEmitterCount, emitters = staticListed + emitterCount;
     bool direct = staticEmitterCount != kManyEmitters && emitters <= (kStaticPass ? kStaticEmitters : kEmitterQueue);
     if (direct)

@@ -2,10 +2,10 @@
 // Pass 7a, rasterise: one workgroup per triangle walks the pixels of its screen bounds in 8×8 tiles
 // (no integer division: lavapipe divides one lane at a time), casts the camera ray through each
 // sample centre and keeps the nearest hit by 64-bit atomicMin. A workgroup walks at most
-// kTilesPerSlice tiles, so that it stays within lavapipe's loop budget (common.glsl: seen from inside
-// the furnace at 3840×2160, walls reaching behind the camera lost their lower rows, 28 % of the
-// frame); bounds holding more are cut into slices of tile rows, slice z walked by workgroup z (the
-// host dispatches as many as bounds as large as the image need).
+// kTilesPerSlice tiles, so that it stays within lavapipe's loop budget (common.glsl; past it a large
+// triangle would silently lose its lower rows); bounds holding more are cut into slices of tile
+// rows, slice z walked by workgroup z (the host dispatches as many as bounds as large as the image
+// need).
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 layout(local_size_x = 64) in;

@@ -1,6 +1,6 @@
 #version 460
 // Pass 4, link creation, one refinement level: each candidate pair (receiver, sender) is stored as
-// a link or split into the pairs of the larger node's children (design.md §1.2).
+// a link or split into the pairs of the larger node's children (docs/design.md §2.1).
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 1
 #include "common.glsl"

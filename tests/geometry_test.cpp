@@ -1,5 +1,5 @@
 // The animate and surfel passes on the GPU against their host evaluations, and the surfel rules of
-// design.md §1.2: areas, welded seams, degenerate triangles.
+// docs/design.md §2.1: areas, welded seams, degenerate triangles.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -124,10 +124,10 @@ TEST(Surfels, AreasSumToTheMeshArea) {
 }
 
 // The rectangles the pruning files senders as: on a regular grid they nearly tile the face as the
-// surfels' areas do (inner surfels their cell, border ones about the half-cell strip). Sampled on a
-// fine grid, 93 % (4 cells) and 97 % (9 cells) of the floor lies in exactly one rectangle; the
-// squares of the same areas, used before, give 81 % and 91 %. Border regions are not rectangles
-// (corner quads of three triangles), so 100 % is out of reach.
+// surfels' areas do (inner surfels their cell, border ones about the half-cell strip): sampled on a
+// fine grid, at least 92 % of the floor lies in exactly one rectangle, where squares of the same
+// areas leave less than that at 4 cells. Border regions are not rectangles (corner quads of three
+// triangles), so 100 % is out of reach.
 TEST(Surfels, RectanglesTileAFlatFace) {
   for (int cells : {4, 9}) {
     Scene s = sceneFromModel(scenes::furnace({.cells = cells}), "furnace");
@@ -223,8 +223,7 @@ TEST(MovingInstances, OnlyWhatTheAnimationReaches) {
 // Seen from inside the closed furnace, every sample hits a wall, and each wall's triangles reach
 // past the near plane, so that their screen bounds are the whole image. At 3840×2160 samples a
 // workgroup walking such bounds alone would run out of lavapipe's loop budget (common.glsl) and
-// leave the lower third of the image empty, as the rasteriser did before it cut large bounds into
-// slices; here every pixel must be covered by all of its samples.
+// leave the lower rows of the image empty; here every pixel must be covered by all of its samples.
 TEST(Raster, BoundsAsLargeAsA4KFrameAreCoveredWhole) {
   const tinygltf::Model model = scenes::furnace({.cells = 1});
   Scene s = sceneFromModel(model, "furnace");

@@ -47,20 +47,6 @@ double meanOverArea(const tinygltf::Model& model, const std::vector<glm::vec4>& 
   return sum / area;
 }
 
-// Irradiance from the Cornell box's light (Le 17, its rectangle at height h) at p with normal n,
-// integrated numerically over k×k points: E = ∫ L cos θ cos θ' / d² dA.
-double cornellLightIrradiance(glm::dvec3 p, glm::dvec3 n, int k) {
-  const double h = 0.5488, x0 = 0.213, x1 = 0.343, z0 = 0.227, z1 = 0.332;
-  double e = 0;
-  for (int i = 0; i < k; ++i)
-    for (int j = 0; j < k; ++j) {
-      glm::dvec3 d = glm::dvec3(x0 + (i + 0.5) * (x1 - x0) / k, h, z0 + (j + 0.5) * (z1 - z0) / k) - p;
-      double d2 = glm::dot(d, d), cosR = glm::dot(n, d) / std::sqrt(d2), cosL = d.y / std::sqrt(d2);
-      if (cosR > 0) e += 17.0 * cosR * cosL / d2 * (x1 - x0) * (z1 - z0) / (k * k);
-    }
-  return e;
-}
-
 // Closed unit cube, uniform emission Le = 1 and albedo ρ: exact radiosity B = π·Le/(1−ρ).
 // iv replaces each receiver's hemisphere by its bins; c = Σ F over a receiver's links is the share
 // its bins cover (1 in the exact operator, less where surfels are large against the bins and near
@@ -98,9 +84,9 @@ FurnaceCoverage checkFurnace(int cells, float rho, uint32_t bins) {
 
 }  // namespace
 
-// At 12 cells per face and 6×16×16 bins the area-weighted coverage is at least 0.975 (measured
-// 0.979; 0.953 while footprints past a cube-map face's edge piled into its border bins, 0.939 while
-// surfels were squares too).
+// At 12 cells per face and 6×16×16 bins the bins cover at least 0.975 of the receivers'
+// hemispheres, area-weighted: footprints that piled into a cube-map face's border bins instead of
+// going on over the neighbouring face, or square surfels, fall below it.
 TEST(IvFurnace, EnergyIsConservedUpToTheBinCoverage) {
   for (float rho : {0.3f, 0.5f, 0.9f}) EXPECT_GE(checkFurnace(12, rho, 16).mean, 0.975) << "rho " << rho;
 }
@@ -169,7 +155,7 @@ double receiverIrradiance(bool blocked, uint32_t bins, float shift = 0.0f) {
 
 // Implicit visibility: with the blocker in place the receiver must get only a small, measured
 // fraction of its light. The blocker is 20 % wider than it needs to be, so nothing passes in
-// reality; what does is the light leaking of design.md §1.2 (coarse elements against the bins).
+// reality; what does is the light leaking of docs/design.md §2.1 (coarse elements against the bins).
 TEST(IvOcclusion, BlockerStopsTheLight) {
   for (uint32_t bins : {4u, 8u, 16u}) {
     double open = receiverIrradiance(false, bins), blocked = receiverIrradiance(true, bins);
@@ -233,7 +219,7 @@ TEST(IvHierarchy, NodesAreTheRectanglesOfTheirSurfaces) {
 TEST(IvDirectLight, FloorCentreUnderTheCornellLight) {
   const double pi = 3.14159265358979;
   const glm::dvec3 p(0.278, 0.0, 0.2795);
-  const double exact = 0.725 * cornellLightIrradiance(p, {0, 1, 0}, 400) / pi;  // red channel
+  const double exact = 0.725 * test::cornellLightIrradiance(p, {0, 1, 0}, 400) / pi;  // red channel
   std::vector<double> errors;
   for (uint32_t bins : {8u, 16u, 32u}) {
     auto model = scenes::cornellBox({.cells = 16, .animated = false, .blocks = false});
@@ -252,15 +238,15 @@ TEST(IvDirectLight, FloorCentreUnderTheCornellLight) {
     std::printf("[ direct ] N = %2u: floor centre B/pi %.4f, exact %.4f (%+.2f %%)\n", bins, got, exact, 100 * (got - exact) / exact);
   }
   // The light's direct light is its own (its pieces' exact form factors where the bins show them),
-  // not the bins': within 1 % at every bin count (measured +0.04 to +0.06 %; +356 %, +35 %, +35 % at
-  // N = 8, 16, 32 while the light took the whole of every bin it was the nearest core of).
+  // not the bins': within 1 % at every bin count (a light credited with the whole of every bin it is
+  // the nearest core of is off by tens of per cent).
   for (double error : errors) EXPECT_LT(error, 0.01);
 }
 
 // The same for every receiver of the empty room that sees the light (walls and floor; the ceiling
-// is level with it): the direct light follows the light's exact integral with no bands, where the
-// bins' whole-bin credit made it jump from one receiver to the next. Measured over 1,081 receivers
-// at N = 16: mean error 0.13 %, worst 0.87 %; gated at 1 % and 3 %.
+// is level with it): the direct light follows the light's exact integral with no bands (whole-bin
+// credit would make it jump from one receiver to the next): at N = 16 the mean error within 1 %, the
+// worst within 3 %.
 TEST(IvDirectLight, EveryReceiverOfTheEmptyRoom) {
   const double pi = 3.14159265358979;
   auto model = scenes::cornellBox({.cells = 16, .animated = false, .blocks = false});
@@ -272,7 +258,7 @@ TEST(IvDirectLight, EveryReceiverOfTheEmptyRoom) {
   double brightest = 0;
   for (size_t r = 0; r < surfels.size(); ++r) {
     if (g.surfelEmission[r].x > 0.0f || surfels[r].normal.y < -0.9f) continue;  // the light, the ceiling
-    exact[r] = cornellLightIrradiance(glm::dvec3(surfels[r].positionArea), glm::dvec3(surfels[r].normal), 48) * g.surfelAlbedo[r].x / pi;
+    exact[r] = test::cornellLightIrradiance(glm::dvec3(surfels[r].positionArea), glm::dvec3(surfels[r].normal), 48) * g.surfelAlbedo[r].x / pi;
     brightest = std::max(brightest, exact[r]);
   }
   double sum = 0, worst = 0;

@@ -10,6 +10,7 @@
 #include "engine/reference/path_tracer.h"
 #include "engine/scene/gltf.h"
 #include "shaders/interface.h"
+#include "tests/test_support.h"
 #include "scenes/builtin.h"
 #include "scenes/gltf_builder.h"
 
@@ -56,20 +57,6 @@ tinygltf::Model squareOverFloor(float x0, float x1, float z0, float z1, float h,
   scenes::addQuad(ground, {-2, 0, -2}, {2, 0, -2}, {2, 0, 2}, {-2, 0, 2}, 1, 1, {0, 1, 0});
   b.node("scene", b.mesh("scene", {{emitter, lamp}, {ground, floor}}));
   return b.finish();
-}
-
-// Direct irradiance at floor point p from the Cornell light (radiance 17 red, a rectangle at the
-// ceiling), by n×n midpoint quadrature of L·cos θ·cos θ'/d².
-double cornellLightIrradiance(glm::dvec3 p, int n) {
-  const double h = 0.5488, x0 = 0.213, x1 = 0.343, z0 = 0.227, z1 = 0.332;
-  double e = 0;
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) {
-      glm::dvec3 d = glm::dvec3(x0 + (i + 0.5) * (x1 - x0) / n, h, z0 + (j + 0.5) * (z1 - z0) / n) - p;
-      double d2 = glm::dot(d, d), c = d.y / std::sqrt(d2);
-      e += 17.0 * c * c / d2 * (x1 - x0) * (z1 - z0) / (n * n);
-    }
-  return e;
 }
 
 }  // namespace
@@ -120,7 +107,7 @@ TEST(PtDirectLight, IrradianceUnderASquareEmitterMatchesTheClosedForm) {
 // irradiance at the floor centre of the empty room from the ceiling light, exact by quadrature.
 TEST(PtDirectLight, CornellFloorCentre) {
   const glm::dvec3 p(0.278, 0.0, 0.2795);
-  const double exact = cornellLightIrradiance(p, 400);
+  const double exact = test::cornellLightIrradiance(p, {0, 1, 0}, 400);
   Traced t(scenes::cornellBox({.cells = 4, .animated = false, .blocks = false}));
   double got = t.tracer->irradiance(glm::vec3(p) + glm::vec3(0, 1e-4f, 0), {0, 1, 0}, 20000, {.bounces = 0}).x;
   std::printf("[ pt direct ] Cornell floor centre: E %.4f, exact %.4f (%+.2f %%)\n", got, exact, 100 * (got - exact) / exact);
@@ -128,7 +115,7 @@ TEST(PtDirectLight, CornellFloorCentre) {
 }
 
 // Two parallel unit squares one unit apart: configuration factor 0.19982 (closed form below).
-// iv's form factor (the clamped disk of design.md §1.2), summed over 32×32 patches of each, and pt's
+// iv's form factor (the clamped disk of docs/design.md §2.1), summed over 32×32 patches of each, and pt's
 // irradiance averaged over an 8×8 grid of the receiver (midpoint rule) must both give it within 1 %.
 TEST(ConfigurationFactor, ParallelUnitSquares) {
   const double X = 1, Y = 1;
@@ -205,7 +192,7 @@ TEST(PtDirectLight, FloorRegionMeansOfTheRenderedImage) {
   auto frame = t.render(w, h, {.spp = 256, .bounces = 0});
   auto pose = scene::evaluatePose(t.scene, -1, 0.0f);
   const gpu::Camera cam = scene::gpuCamera(scene::cameraView(t.scene, pose, t.scene.cameraNodes().at(0)), 1.0f);
-  auto exactRadiance = [](glm::dvec3 p) { return 0.725 * cornellLightIrradiance(p, 48) / kPi; };  // white floor, red channel
+  auto exactRadiance = [](glm::dvec3 p) { return 0.725 * test::cornellLightIrradiance(p, {0, 1, 0}, 48) / kPi; };  // white floor, red channel
   double got[5] = {}, exact[5] = {};
   int count[5] = {};
   for (uint32_t y = 0; y < h; ++y)

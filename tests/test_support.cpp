@@ -7,6 +7,8 @@
 #include <memory>
 #include <sstream>
 
+#include "scenes/builtin.h"
+
 namespace ivgi::test {
 
 namespace {
@@ -86,6 +88,19 @@ gi::FrameRenderer ivRenderer(const scene::Geometry& geometry, gi::ImageSettings 
 }
 
 const gi::IvSolver& ivSolver(const gi::FrameRenderer& renderer) { return dynamic_cast<const gi::IvSolver&>(*renderer.solver()); }
+
+double cornellLightIrradiance(glm::dvec3 p, glm::dvec3 n, int k) {
+  const scenes::CornellLight& l = scenes::kCornellLight;
+  const double x0 = 1e-3 * l.x0, x1 = 1e-3 * l.x1, z0 = 1e-3 * l.z0, z1 = 1e-3 * l.z1, h = 1e-3 * l.height;
+  double e = 0;
+  for (int i = 0; i < k; ++i)
+    for (int j = 0; j < k; ++j) {
+      glm::dvec3 d = glm::dvec3(x0 + (i + 0.5) * (x1 - x0) / k, h, z0 + (j + 0.5) * (z1 - z0) / k) - p;
+      double d2 = glm::dot(d, d), cosR = glm::dot(n, d) / std::sqrt(d2), cosL = d.y / std::sqrt(d2);
+      if (cosR > 0) e += l.radiance[0] * cosR * cosL / d2 * (x1 - x0) * (z1 - z0) / (k * k);
+    }
+  return e;
+}
 
 std::filesystem::path scratchDir(const std::string& name) {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();

@@ -36,6 +36,10 @@ gi::FrameRenderer ivRenderer(const scene::Geometry& geometry, gi::ImageSettings 
 // The iv solver of a renderer made by ivRenderer().
 const gi::IvSolver& ivSolver(const gi::FrameRenderer& renderer);
 
+// Direct irradiance (red) from the built-in Cornell box's light at p with unit normal n, by k×k
+// midpoint quadrature of L·cos θ·cos θ'/d² over its rectangle.
+double cornellLightIrradiance(glm::dvec3 p, glm::dvec3 n, int k);
+
 // A fresh, empty folder for one test.
 std::filesystem::path scratchDir(const std::string& name);
 

@@ -2,29 +2,24 @@
 
 #include "engine/gi/iv/solver.h"
 
+namespace ivgi::gi {
+
+// IvStats as JSON, its fields' names as the keys.
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(IvStats, nodes, levels, links, leafLinks, staticLinks, staticLeafLinks, bytes, sharedBins,
+                                   pruneBatches, pruneGroupSize, sendersWalked, staticSendersWalked, framesRedone, staticPasses)
+
+}  // namespace ivgi::gi
+
 namespace ivgi::cli {
 
 nlohmann::json solverJson(const gi::Solver* solver) {
   if (!solver) return nullptr;
-  nlohmann::json j = {{"bytes", solver->allocatedBytes()}};
   if (const auto* iv = dynamic_cast<const gi::IvSolver*>(solver)) {
-    const gi::IvStats s = iv->stats();
-    j.update({{"method", "iv"},
-              {"nodes", s.nodes},
-              {"levels", s.levels},
-              {"links", s.links},
-              {"leafLinks", s.leafLinks},
-              {"staticLinks", s.staticLinks},
-              {"staticLeafLinks", s.staticLeafLinks},
-              {"sharedMemoryBins", s.sharedBins},
-              {"pruneBatches", s.pruneBatches},
-              {"pruneGroupSize", s.pruneGroupSize},
-              {"sendersWalked", s.sendersWalked},
-              {"staticSendersWalked", s.staticSendersWalked},
-              {"framesRedone", s.framesRedone},
-              {"staticPasses", s.staticPasses}});
+    nlohmann::json j = iv->stats();
+    j["method"] = "iv";
+    return j;
   }
-  return j;
+  return {{"bytes", solver->allocatedBytes()}};
 }
 
 }  // namespace ivgi::cli

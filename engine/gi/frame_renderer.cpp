@@ -79,54 +79,49 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
 
 uint64_t FrameRenderer::bytesAllocated() const { return allocations_.bytes() + (solver_ ? solver_->allocatedBytes() : 0); }
 
+vk::Bindings FrameRenderer::pool() const {
+  return vk::Bindings::pool({{"vertices", vertices_},
+                             {"instances", instances_},
+                             {"morphDeltas", morphDeltas_},
+                             {"triangles", triangles_},
+                             {"uvs", uvs_},
+                             {"materials", materials_},
+                             {"textures", textures_},
+                             {"texels", texels_},
+                             {"surfelSources", surfelSources_},
+                             {"surfelVertices", surfelVertices_},
+                             {"surfelTriangles", surfelTriangles_},
+                             {"vertexSurfel", vertexSurfel_},
+                             {"matrices", matrices_},
+                             {"morphWeights", morphWeights_},
+                             {"world", world_},
+                             {"surfels", surfels_},
+                             {"visibility", visibility_},
+                             {"surfelIrradiance", solver_ ? solver_->irradiance() : unlitIrradiance_},
+                             {"radiance", radiance_},
+                             {"albedo", albedo_},
+                             {"normalDepth", normalDepth_},
+                             {"emission", emission_}});
+}
+
 void FrameRenderer::recordFrame(VkCommandBuffer cmd, const gpu::Camera& camera, bool geometryMoved) {
   const glm::uvec2 size(image_.width, image_.height), fine = size * image_.samples;
+  const vk::Bindings buffers = pool();
   timer_.reset(cmd);
-  timedPass(cmd, timer_, "animate", [&] {
-    animate_.dispatchItems(cmd, vertexCount_,
-                           {{"vertices", vertices_},
-                            {"instances", instances_},
-                            {"morphDeltas", morphDeltas_},
-                            {"matrices", matrices_},
-                            {"morphWeights", morphWeights_},
-                            {"world", world_}},
-                           gpu::CountPush{vertexCount_});
-  });
-  timedPass(cmd, timer_, "surfels", [&] {
-    surfelUpdate_.dispatchItems(cmd, surfelCount_,
-                                {{"surfelSources", surfelSources_},
-                                 {"surfelVertices", surfelVertices_},
-                                 {"surfelTriangles", surfelTriangles_},
-                                 {"triangles", triangles_},
-                                 {"world", world_},
-                                 {"surfels", surfels_}},
-                                gpu::CountPush{surfelCount_});
-  });
+  timedPass(cmd, timer_, "animate",
+            [&] { animate_.dispatchItems(cmd, vertexCount_, buffers, gpu::CountPush{vertexCount_}); });
+  timedPass(cmd, timer_, "surfels",
+            [&] { surfelUpdate_.dispatchItems(cmd, surfelCount_, buffers, gpu::CountPush{surfelCount_}); });
   if (solver_) solver_->record(cmd, timer_, surfels_, geometryMoved);
   timedPass(cmd, timer_, "raster", [&] {
     vkCmdFillBuffer(cmd, visibility_.handle(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
     vk::barrier(cmd);
     vk::Groups groups = raster_.groupsFor(triangleCount_, 1);
     groups.z = rasterSlices(fine);
-    raster_.dispatch(cmd, groups, {{"world", world_}, {"triangles", triangles_}, {"visibility", visibility_}},
-                     gpu::ImagePush{camera, fine, triangleCount_, 0});
+    raster_.dispatch(cmd, groups, buffers, gpu::ImagePush{camera, fine, triangleCount_, 0});
   });
   timedPass(cmd, timer_, "resolve", [&] {
-    resolve_.dispatch(cmd, {(size.x + 7) / 8, (size.y + 7) / 8, 1},
-                      {{"world", world_},
-                       {"triangles", triangles_},
-                       {"visibility", visibility_},
-                       {"uvs", uvs_},
-                       {"materials", materials_},
-                       {"textures", textures_},
-                       {"texels", texels_},
-                       {"radiance", radiance_},
-                       {"albedo", albedo_},
-                       {"normalDepth", normalDepth_},
-                       {"emission", emission_},
-                       {"vertexSurfel", vertexSurfel_},
-                       {"surfelIrradiance", solver_ ? solver_->irradiance() : unlitIrradiance_}},
-                      gpu::ImagePush{camera, size, image_.samples, 0});
+    resolve_.dispatch(cmd, {(size.x + 7) / 8, (size.y + 7) / 8, 1}, buffers, gpu::ImagePush{camera, size, image_.samples, 0});
   });
 }
 

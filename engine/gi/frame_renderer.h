@@ -1,5 +1,5 @@
 #pragma once
-// One frame on the GPU as its list of passes (docs/design.md, "The frame"): animate → surfels →
+// One frame on the GPU as its list of passes (docs/design.md §4): animate → surfels →
 // the solver's passes (iv: refit → links → prune → bounces) → raster → resolve. Scene data is
 // uploaded once; per frame only the matrices, morph weights and lights go up and the image channels
 // come down.
@@ -50,6 +50,7 @@ class FrameRenderer {
 
  private:
   void recordFrame(VkCommandBuffer cmd, const gpu::Camera& camera, bool geometryMoved);
+  vk::Bindings pool() const;  // every buffer by the name the shaders bind it under
 
   const vk::Context& ctx_;
   ImageSettings image_;

@@ -1,5 +1,5 @@
 #pragma once
-// What a lighting method gives the frame (docs/design.md, "A new solver"): after the surfel pass it
+// What a lighting method gives the frame (docs/design.md §8): after the surfel pass it
 // records its passes, which leave the irradiance at every surfel for the resolve pass. The frame
 // renderer owns one; iv is one, ar will be another.
 #include <cstdint>

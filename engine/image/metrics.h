@@ -1,5 +1,5 @@
 #pragma once
-// How far a rendered image is from a reference: the error measures of design.md §4 on linear
+// How far a rendered image is from a reference: the error measures of docs/design.md §7 on linear
 // radiance (relMSE, RMSE, PSNR, max error) and FLIP (Andersson et al., HPG 2020) on the tone-mapped
 // display images.
 #include <glm/glm.hpp>

@@ -1,5 +1,5 @@
 #pragma once
-// The reference (design.md §1.4): an Embree CPU path tracer over the same world-space triangles,
+// The reference (docs/design.md §2.3): an Embree CPU path tracer over the same world-space triangles,
 // materials, lights and camera as the GPU methods. Lambertian surfaces (reflecting on both sides),
 // emitters radiating from their front side, next-event estimation on emissive triangles and punctual
 // lights combined with BSDF sampling by multiple importance sampling, environment light, Russian

@@ -22,7 +22,7 @@ uint64_t hashPoint(glm::vec3 p) {
 }
 
 // A triangle whose area is negligible against its longest edge (or that repeats a vertex) carries no
-// transport; design.md §3 wants it counted and excluded.
+// transport; docs/design.md §6 wants it counted and excluded.
 bool degenerate(glm::vec3 a, glm::vec3 b, glm::vec3 c) {
   float cross = glm::length(glm::cross(b - a, c - a));
   float edge2 = std::max({glm::dot(b - a, b - a), glm::dot(c - b, c - b), glm::dot(a - c, a - c)});

@@ -1,6 +1,6 @@
 #pragma once
 // The scene flattened for the GPU: one vertex array over every drawn (node, primitive) instance, the
-// triangles, the materials and textures, and the surfels of design.md §1.2 with what the surfel pass
+// triangles, the materials and textures, and the surfels of docs/design.md §2.1 with what the surfel pass
 // needs to rebuild them each frame. Built once; per frame only FrameInputs change.
 #include <glm/glm.hpp>
 

@@ -11,123 +11,14 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <set>
 
+#include "engine/scene/gltf_accessors.h"
+
 namespace ivgi::scene {
 
 namespace {
 
 const std::set<std::string> kSupportedExtensions = {"KHR_lights_punctual", "KHR_materials_emissive_strength",
                                                     "KHR_mesh_quantization"};
-
-// Reads accessors with every check the glTF spec implies: indices in range, views inside buffers,
-// sparse substitution, normalized integers, and no NaN/Inf in float data.
-class AccessorReader {
- public:
-  AccessorReader(const tinygltf::Model& m, const std::string& source) : m_(m), source_(source) {}
-
-  [[noreturn]] void fail(const std::string& what) const { throw LoadError(source_ + ": " + what); }
-
-  // Values of accessor `index` as floats, `components` per element (checked against the type).
-  std::vector<float> floats(int index, int components, const std::string& what) const {
-    const auto& a = accessor(index, what);
-    if (tinygltf::GetNumComponentsInType(a.type) != components)
-      fail(what + ": accessor " + std::to_string(index) + " has " + std::to_string(tinygltf::GetNumComponentsInType(a.type)) +
-           " components, expected " + std::to_string(components));
-    std::vector<float> out(size_t(a.count) * components, 0.0f);
-    forEachElement(a, index, what, [&](size_t element, const uint8_t* p) {
-      for (int c = 0; c < components; ++c) out[element * components + c] = component(a, p, c);
-    });
-    for (float v : out)
-      if (!std::isfinite(v)) fail(what + ": accessor " + std::to_string(index) + " holds a NaN or infinite value");
-    return out;
-  }
-
-  // Integer values (indices, joints), as stored.
-  std::vector<uint32_t> uints(int index, int components, const std::string& what) const {
-    const auto& a = accessor(index, what);
-    if (tinygltf::GetNumComponentsInType(a.type) != components)
-      fail(what + ": accessor " + std::to_string(index) + " has the wrong type");
-    if (a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
-        a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
-      fail(what + ": accessor " + std::to_string(index) + " must hold unsigned integers");
-    std::vector<uint32_t> out(size_t(a.count) * components, 0);
-    forEachElement(a, index, what, [&](size_t element, const uint8_t* p) {
-      for (int c = 0; c < components; ++c) out[element * components + c] = rawUint(a.componentType, p, c);
-    });
-    return out;
-  }
-
-  size_t count(int index, const std::string& what) const { return accessor(index, what).count; }
-
- private:
-  const tinygltf::Accessor& accessor(int index, const std::string& what) const {
-    if (index < 0 || size_t(index) >= m_.accessors.size()) fail(what + ": accessor index " + std::to_string(index) + " out of range");
-    return m_.accessors[index];
-  }
-
-  static uint32_t rawUint(int type, const uint8_t* p, int c) {
-    switch (type) {
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return p[c];
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { uint16_t v; std::memcpy(&v, p + 2 * c, 2); return v; }
-      default: { uint32_t v; std::memcpy(&v, p + 4 * c, 4); return v; }
-    }
-  }
-
-  float component(const tinygltf::Accessor& a, const uint8_t* p, int c) const {
-    switch (a.componentType) {
-      case TINYGLTF_COMPONENT_TYPE_FLOAT: { float v; std::memcpy(&v, p + 4 * c, 4); return v; }
-      case TINYGLTF_COMPONENT_TYPE_BYTE: { float v = float(int8_t(p[c])); return a.normalized ? std::max(v / 127.0f, -1.0f) : v; }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return a.normalized ? p[c] / 255.0f : float(p[c]);
-      case TINYGLTF_COMPONENT_TYPE_SHORT: { int16_t v; std::memcpy(&v, p + 2 * c, 2); return a.normalized ? std::max(v / 32767.0f, -1.0f) : float(v); }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { uint16_t v; std::memcpy(&v, p + 2 * c, 2); return a.normalized ? v / 65535.0f : float(v); }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { uint32_t v; std::memcpy(&v, p + 4 * c, 4); return float(v); }
-      default: fail("accessor has an unknown component type " + std::to_string(a.componentType));
-    }
-  }
-
-  // Bytes of `count` elements of `elementSize` at `offset` (stride 0 = packed) in buffer view `view`.
-  const uint8_t* viewData(int view, size_t offset, size_t count, size_t elementSize, size_t* stride, const std::string& what) const {
-    if (view < 0 || size_t(view) >= m_.bufferViews.size()) fail(what + ": buffer view " + std::to_string(view) + " out of range");
-    const auto& bv = m_.bufferViews[view];
-    if (bv.buffer < 0 || size_t(bv.buffer) >= m_.buffers.size()) fail(what + ": buffer " + std::to_string(bv.buffer) + " out of range");
-    const auto& buffer = m_.buffers[bv.buffer];
-    if (bv.byteOffset + bv.byteLength > buffer.data.size())
-      fail(what + ": buffer view " + std::to_string(view) + " reaches past the end of buffer " + std::to_string(bv.buffer) + " (" +
-           std::to_string(bv.byteOffset + bv.byteLength) + " > " + std::to_string(buffer.data.size()) + " bytes)");
-    *stride = bv.byteStride ? bv.byteStride : elementSize;
-    if (count > 0 && offset + *stride * (count - 1) + elementSize > bv.byteLength)
-      fail(what + ": accessor data reaches past the end of buffer view " + std::to_string(view));
-    return buffer.data.data() + bv.byteOffset + offset;
-  }
-
-  void forEachElement(const tinygltf::Accessor& a, int index, const std::string& what,
-                      const std::function<void(size_t, const uint8_t*)>& visit) const {
-    int componentSize = tinygltf::GetComponentSizeInBytes(a.componentType);
-    int components = tinygltf::GetNumComponentsInType(a.type);
-    if (componentSize <= 0 || components <= 0) fail(what + ": accessor " + std::to_string(index) + " has an invalid type");
-    size_t elementSize = size_t(componentSize) * components;
-    if (a.bufferView >= 0) {
-      size_t stride = 0;
-      const uint8_t* base = viewData(a.bufferView, a.byteOffset, a.count, elementSize, &stride, what);
-      for (size_t i = 0; i < a.count; ++i) visit(i, base + i * stride);
-    }  // no buffer view: zeros, possibly replaced by sparse values below
-    if (a.sparse.isSparse) {
-      const auto& s = a.sparse;
-      size_t idxStride = 0, valStride = 0;
-      int idxSize = tinygltf::GetComponentSizeInBytes(s.indices.componentType);
-      if (idxSize <= 0) fail(what + ": sparse accessor " + std::to_string(index) + " has an invalid index type");
-      const uint8_t* idx = viewData(s.indices.bufferView, s.indices.byteOffset, s.count, idxSize, &idxStride, what);
-      const uint8_t* val = viewData(s.values.bufferView, s.values.byteOffset, s.count, elementSize, &valStride, what);
-      for (int i = 0; i < s.count; ++i) {
-        uint32_t target = rawUint(s.indices.componentType, idx + i * idxStride, 0);
-        if (target >= a.count) fail(what + ": sparse index " + std::to_string(target) + " out of range");
-        visit(target, val + i * valStride);
-      }
-    }
-  }
-
-  const tinygltf::Model& m_;
-  std::string source_;
-};
 
 template <class V, int N>
 std::vector<V> toVectors(const std::vector<float>& flat) {
@@ -530,31 +421,6 @@ Scene loadGltf(const std::string& path) {
     scene.warnings.insert(scene.warnings.begin(), "tinygltf: " + warn);
   }
   return scene;
-}
-
-std::optional<int> Scene::findAnimation(const std::string& key) const {
-  for (size_t i = 0; i < animations.size(); ++i)
-    if (animations[i].name == key) return int(i);
-  if (!key.empty() && std::all_of(key.begin(), key.end(), ::isdigit) && std::stoul(key) < animations.size()) return int(std::stoul(key));
-  return std::nullopt;
-}
-
-std::vector<int> Scene::cameraNodes() const {
-  std::vector<int> out;
-  std::function<void(int)> visit = [&](int n) {
-    if (nodes[n].camera >= 0) out.push_back(n);
-    for (int c : nodes[n].children) visit(c);
-  };
-  for (int r : roots) visit(r);
-  return out;
-}
-
-std::optional<int> Scene::findCameraNode(const std::string& key) const {
-  auto list = cameraNodes();
-  for (int n : list)
-    if (cameras[nodes[n].camera].name == key || nodes[n].name == key) return n;
-  if (!key.empty() && std::all_of(key.begin(), key.end(), ::isdigit) && std::stoul(key) < list.size()) return list[std::stoul(key)];
-  return std::nullopt;
 }
 
 }  // namespace ivgi::scene

@@ -204,23 +204,27 @@ Groups Program::groupsFor(uint64_t count, uint32_t perGroup) const {
   return {uint32_t(std::min(groups, maxX)), uint32_t(y), 1};
 }
 
-void Program::dispatch(VkCommandBuffer cmd, Groups groups, Bindings bindings) const {
+void Program::dispatch(VkCommandBuffer cmd, Groups groups, const Bindings& bindings) const {
   bind(cmd, bindings, nullptr, 0);
   vkCmdDispatch(cmd, groups.x, groups.y, groups.z);
 }
 
-void Program::bind(VkCommandBuffer cmd, Bindings bindings, const void* push, uint32_t pushBytes) const {
+void Program::bind(VkCommandBuffer cmd, const Bindings& bindings, const void* push, uint32_t pushBytes) const {
   if (pushBytes != pushBytes_)
     throw VulkanError("pass " + name_ + " takes " + std::to_string(pushBytes_) + " push-constant bytes, given " +
                       std::to_string(pushBytes));
   const uint32_t n = uint32_t(slots_.size());
   std::vector<const Buffer*> bound(n, nullptr);
-  for (const Binding& b : bindings) {
-    auto it = std::find_if(slots_.begin(), slots_.end(), [&](const Slot& s) { return s.name == b.name; });
-    if (it == slots_.end()) throw VulkanError("pass " + name_ + " has no binding named '" + std::string(b.name) + "'");
-    const Buffer*& slot = bound[size_t(it - slots_.begin())];
-    if (slot) throw VulkanError("pass " + name_ + ": '" + std::string(b.name) + "' is bound twice");
-    slot = &b.buffer;
+  std::vector<bool> listed(n, false);
+  for (const Bindings::Entry& e : bindings.entries_) {
+    auto it = std::find_if(slots_.begin(), slots_.end(), [&](const Slot& s) { return s.name == e.name; });
+    if (it == slots_.end()) {
+      if (e.listed) throw VulkanError("pass " + name_ + " has no binding named '" + std::string(e.name) + "'");
+      continue;  // a pool's buffer this shader does not read
+    }
+    const size_t i = size_t(it - slots_.begin());
+    if (e.listed && listed[i]) throw VulkanError("pass " + name_ + ": '" + std::string(e.name) + "' is bound twice");
+    if (!bound[i]) bound[i] = e.buffer, listed[i] = e.listed;  // listed ones come first
   }
   std::vector<VkDescriptorBufferInfo> infos(n);
   std::vector<VkBufferView> views(n);

@@ -3,7 +3,8 @@
 // with their formats), binding names, specialization constants and push-constant size are read
 // from the SPIR-V itself. Buffers are bound by the names the shader gives them and go in by push
 // descriptors (an imageBuffer as a texel view of the buffer), so a dispatch is one call naming its
-// buffers, and no binding number is written twice.
+// buffers, or naming a pool of them that the shader's own names pick from; no binding number is
+// written twice.
 #include <vulkan/vulkan.h>
 
 #include <initializer_list>
@@ -29,7 +30,38 @@ struct Binding {
   std::string_view name;
   const Buffer& buffer;
 };
-using Bindings = std::initializer_list<Binding>;
+
+// The buffers a dispatch binds, by name: listed (each must match a binding of the program), or a
+// pool whose entries a program takes where its shader names them, with listed ones in front.
+class Bindings {
+ public:
+  Bindings(std::initializer_list<Binding> listed) { add(listed, true); }
+  static Bindings pool(std::initializer_list<Binding> entries) {
+    Bindings b;
+    b.add(entries, false);
+    return b;
+  }
+  // These bindings with `listed` in front of them.
+  Bindings with(std::initializer_list<Binding> listed) const {
+    Bindings b;
+    b.add(listed, true);
+    b.entries_.insert(b.entries_.end(), entries_.begin(), entries_.end());
+    return b;
+  }
+
+ private:
+  friend class Program;
+  struct Entry {
+    std::string_view name;
+    const Buffer* buffer;
+    bool listed;
+  };
+  Bindings() = default;
+  void add(std::initializer_list<Binding> entries, bool listed) {
+    for (const Binding& b : entries) entries_.push_back({b.name, &b.buffer, listed});
+  }
+  std::vector<Entry> entries_;
+};
 
 // Values of the shader's specialization constants, by name; the workgroup size set by
 // local_size_x_id has no name and is `localSizeX` (0: the shader's default).
@@ -49,17 +81,16 @@ class Program {
   uint32_t localSizeX() const { return localSize_[0]; }
   uint32_t pushConstantBytes() const { return pushBytes_; }
 
-  // Binds every binding of the shader (each by name, exactly once), pushes the constants,
-  // dispatches `groups`.
+  // Binds every binding of the shader by its name, pushes the constants, dispatches `groups`.
   template <class Push>
-  void dispatch(VkCommandBuffer cmd, Groups groups, Bindings bindings, const Push& push) const {
+  void dispatch(VkCommandBuffer cmd, Groups groups, const Bindings& bindings, const Push& push) const {
     bind(cmd, bindings, &push, sizeof(Push));
     vkCmdDispatch(cmd, groups.x, groups.y, groups.z);
   }
-  void dispatch(VkCommandBuffer cmd, Groups groups, Bindings bindings) const;
+  void dispatch(VkCommandBuffer cmd, Groups groups, const Bindings& bindings) const;
   // Dispatch with the group counts at `offset` in `args` (a VkDispatchIndirectCommand).
   template <class Push>
-  void dispatchIndirect(VkCommandBuffer cmd, const Buffer& args, VkDeviceSize offset, Bindings bindings,
+  void dispatchIndirect(VkCommandBuffer cmd, const Buffer& args, VkDeviceSize offset, const Bindings& bindings,
                         const Push& push) const {
     bind(cmd, bindings, &push, sizeof(Push));
     vkCmdDispatchIndirect(cmd, args.handle(), offset);
@@ -67,14 +98,14 @@ class Program {
   // One invocation per item (items laid out over x and y so that no dimension exceeds the device
   // limit; shaders read their item with itemIndex() from common.glsl and test it against the count).
   template <class Push>
-  void dispatchItems(VkCommandBuffer cmd, uint64_t items, Bindings bindings, const Push& push) const {
+  void dispatchItems(VkCommandBuffer cmd, uint64_t items, const Bindings& bindings, const Push& push) const {
     dispatch(cmd, groupsFor(items, localSize_[0]), bindings, push);
   }
   // Workgroups for `count` items of `perGroup` each, laid out over x then y.
   Groups groupsFor(uint64_t count, uint32_t perGroup) const;
 
  private:
-  void bind(VkCommandBuffer cmd, Bindings bindings, const void* push, uint32_t pushBytes) const;
+  void bind(VkCommandBuffer cmd, const Bindings& bindings, const void* push, uint32_t pushBytes) const;
 
   const Context& ctx_;
   std::string name_;

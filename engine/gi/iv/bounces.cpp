@@ -9,14 +9,13 @@ Bounces::Bounces(const vk::Context& ctx)
 
 void Bounces::pullUp(VkCommandBuffer cmd, const IvBuffers& b, const Hierarchy& h, const vk::Buffer& radiosity) const {
   forEachLevelBottomUp(cmd, h, [&](gpu::LevelPush level) {
-    pullUp_.dispatchItems(cmd, level.count, {{"tree", b.tree}, {"nodes", b.nodes}, {"radiosity", radiosity}}, level);
+    pullUp_.dispatchItems(cmd, level.count, b.pool().with({{"radiosity", radiosity}}), level);
   });
 }
 
 void Bounces::recordEmission(VkCommandBuffer cmd, const IvBuffers& b, const Hierarchy& h) const {
   const uint32_t surfels = uint32_t(h.leafOfSurfel.size());
-  emit_.dispatchItems(cmd, surfels, {{"leafOfSurfel", b.leafOfSurfel}, {"emission", b.emission}, {"radiosity", b.radiosityA}},
-                      gpu::CountPush{surfels});
+  emit_.dispatchItems(cmd, surfels, b.pool().with({{"radiosity", b.radiosityA}}), gpu::CountPush{surfels});
   vk::barrier(cmd);
   pullUp(cmd, b, h, b.radiosityA);
 }
@@ -28,21 +27,10 @@ uint32_t Bounces::record(VkCommandBuffer cmd, const IvBuffers& b, const Hierarch
     const vk::Buffer& in = k % 2 ? b.radiosityB : b.radiosityA;
     const vk::Buffer& out = k % 2 ? b.radiosityA : b.radiosityB;
     gather_.dispatchItems(cmd, surfels,
-                          {{"leafOfSurfel", b.leafOfSurfel},
-                           {"ranges", b.ranges},
-                           {"leafLinks", b.leafLinks},
-                           {"externalLight", b.externalLight},
-                           {"albedo", b.albedo},
-                           {"emission", b.emission},
-                           {"radiosityIn", in},
-                           {"radiosityOut", out},
-                           {"irradiance", b.irradiance},
-                           {"staticRanges", b.staticRanges},
-                           {"staticLinks", b.staticLinks},
-                           {"staticBins", b.staticBins},
-                           {"overrides", b.overrides},
-                           {"frameCounters", frameSet.counters},
-                           {"staticCounters", staticSet.counters}},
+                          b.pool().with({{"radiosityIn", in},
+                                         {"radiosityOut", out},
+                                         {"frameCounters", frameSet.counters},
+                                         {"staticCounters", staticSet.counters}}),
                           gpu::GatherPush{surfels, gpu::maskWordsFor(settings.bins)});
     vk::barrier(cmd);
     pullUp(cmd, b, h, out);

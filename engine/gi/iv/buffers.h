@@ -1,8 +1,9 @@
 #pragma once
-// The iv solver's device memory, by what it holds. The passes bind these by the names their shaders
-// give them (the same names as here), and the link sets (links.h) hold what each set of root pairs
-// links.
+// The iv solver's device memory, by what it holds; the link sets (links.h) hold what each set of
+// root pairs links. The passes bind these by the names their shaders give them: each dispatch takes
+// what its shader names from pool() and lists only what differs (a link set's, a bounce's).
 #include "engine/vk/buffer.h"
+#include "engine/vk/program.h"
 
 namespace ivgi::gi {
 
@@ -26,6 +27,38 @@ struct IvBuffers {
   vk::Buffer staticEmitters, staticEmitterCounts, staticCorrection;
   // The prune's bins where they do not fit in shared memory: a slot of 6·N² per workgroup.
   vk::Buffer globalBins, globalCoverage;
+
+  // Every buffer above by the name the shaders bind it under. nodeEmission is radiosityA while it
+  // holds the emission pulled up (before the bounces).
+  vk::Bindings pool() const {
+    return vk::Bindings::pool({{"tree", tree},
+                               {"leafOfSurfel", leafOfSurfel},
+                               {"leafMoves", leafMoves},
+                               {"albedo", albedo},
+                               {"emission", emission},
+                               {"binTable", binTable},
+                               {"environment", environment},
+                               {"lights", lights},
+                               {"nodes", nodes},
+                               {"nodeEmission", radiosityA},
+                               {"irradiance", irradiance},
+                               {"externalLight", externalLight},
+                               {"args", args},
+                               {"ranges", ranges},
+                               {"leafLinks", leafLinks},
+                               {"overrides", overrides},
+                               {"staticRanges", staticRanges},
+                               {"staticLinks", staticLinks},
+                               {"staticBins", staticBins},
+                               {"staticDepths", staticDepths},
+                               {"staticMasks", staticMasks},
+                               {"staticEnvironment", staticEnvironment},
+                               {"staticEmitters", staticEmitters},
+                               {"staticEmitterCounts", staticEmitterCounts},
+                               {"staticCorrection", staticCorrection},
+                               {"globalBins", globalBins},
+                               {"globalCoverage", globalCoverage}});
+  }
 };
 
 }  // namespace ivgi::gi

@@ -36,12 +36,10 @@ void LinkCreation::record(VkCommandBuffer cmd, LinkSet& set, const IvBuffers& b,
     args_.dispatch(cmd, {}, {{"counters", set.counters}, {"args", b.args}}, gpu::LinkArgsPush{in, out, 0, 256});
     vk::barrier(cmd);
     refine_.dispatchIndirect(cmd, b.args, 0,
-                             {{"tree", b.tree},
-                              {"nodes", b.nodes},
-                              {"pairs", in ? b.worklistB : b.worklistA},
+                             b.pool().with({{"pairs", in ? b.worklistB : b.worklistA},
                               {"nextWorklist", in ? b.worklistA : b.worklistB},
-                              {"links", set.links},
-                              {"counters", set.counters}},
+                                            {"links", set.links},
+                                            {"counters", set.counters}}),
                              gpu::RefinePush{in, out, worklistCapacity, set.linkCapacity, settings.epsilon, largeSender});
     vk::barrier(cmd);
   }
@@ -56,11 +54,10 @@ void LinkCreation::record(VkCommandBuffer cmd, LinkSet& set, const IvBuffers& b,
   scan_.dispatch(cmd, {}, {{"counts", set.counts}, {"starts", set.starts}}, gpu::CountPush{uint32_t(h.nodes.size())});
   vk::barrier(cmd);
   scatter_.dispatchIndirect(cmd, b.args, sortArgs,
-                            {{"links", set.links},
-                             {"counts", set.counts},
-                             {"senders", set.senders},
-                             {"counters", set.counters},
-                             {"nodeEmission", b.radiosityA}},
+                            b.pool().with({{"links", set.links},
+                                           {"counts", set.counts},
+                                           {"senders", set.senders},
+                                           {"counters", set.counters}}),
                             gpu::CountPush{set.linkCapacity});
   vk::barrier(cmd);
 }

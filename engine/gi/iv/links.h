@@ -1,5 +1,5 @@
 #pragma once
-// Pass 4, link creation (docs/design.md): from a list of root pairs, level-synchronous refinement on
+// Pass 4, link creation (docs/design.md §2.1, §5): from a list of root pairs, level-synchronous refinement on
 // two worklists with indirect dispatch (a pair is stored as a link or split into the pairs of its
 // larger node's children), then the links sorted by receiver: counted, scanned, scattered.
 #include <cstdint>

@@ -1,5 +1,5 @@
 #pragma once
-// The iv solver (Dong et al. 2007; docs/design.md): hierarchical radiosity whose visibility is the
+// The iv solver (Dong et al. 2007; docs/design.md §2.1): hierarchical radiosity whose visibility is the
 // nearest link per direction bin. Per frame, as passes: refit, link creation, bin pruning and
 // push-down, bounces. Objects that cannot move are linked and pruned once. The host only sizes
 // buffers (LinkRoom), from a guess and then from the counts the GPU reports.

@@ -1,0 +1,34 @@
+#include <algorithm>
+#include <cctype>
+#include <functional>
+
+#include "engine/scene/scene.h"
+
+namespace ivgi::scene {
+
+std::optional<int> Scene::findAnimation(const std::string& key) const {
+  for (size_t i = 0; i < animations.size(); ++i)
+    if (animations[i].name == key) return int(i);
+  if (!key.empty() && std::all_of(key.begin(), key.end(), ::isdigit) && std::stoul(key) < animations.size()) return int(std::stoul(key));
+  return std::nullopt;
+}
+
+std::vector<int> Scene::cameraNodes() const {
+  std::vector<int> out;
+  std::function<void(int)> visit = [&](int n) {
+    if (nodes[n].camera >= 0) out.push_back(n);
+    for (int c : nodes[n].children) visit(c);
+  };
+  for (int r : roots) visit(r);
+  return out;
+}
+
+std::optional<int> Scene::findCameraNode(const std::string& key) const {
+  auto list = cameraNodes();
+  for (int n : list)
+    if (cameras[nodes[n].camera].name == key || nodes[n].name == key) return n;
+  if (!key.empty() && std::all_of(key.begin(), key.end(), ::isdigit) && std::stoul(key) < list.size()) return list[std::stoul(key)];
+  return std::nullopt;
+}
+
+}  // namespace ivgi::scene
