@@ -10,9 +10,9 @@
 namespace ivgi::scenes {
 
 struct CornellOptions {
-  int cells = 8;          // cells along the box's 0.56 m side; other faces in proportion
-  bool animated = true;   // the short block slides and turns over 2 s
-  bool blocks = true;     // false: the empty room
+  int cells = 8;         // cells along the box's 0.56 m side; other faces in proportion
+  bool animated = true;  // the short block slides and turns over 2 s
+  bool blocks = true;    // false: the empty room
 };
 // The Cornell box from the measured Cornell data, in metres, with its camera (yfov 39.31°).
 tinygltf::Model cornellBox(const CornellOptions& options = {});

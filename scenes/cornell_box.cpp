@@ -52,10 +52,14 @@ tinygltf::Model cornellBox(const CornellOptions& o) {
 
   const glm::vec3 inside = mm(278, 274, 280);
   MeshData whites, reds, greens, lamp;
-  addFace(whites, {{mm(552.8f, 0, 0), mm(0, 0, 0), mm(0, 0, 559.2f), mm(549.6f, 0, 559.2f)}}, cellsPerMetre, inside);             // floor
-  addFace(whites, {{mm(549.6f, 0, 559.2f), mm(0, 0, 559.2f), mm(0, 548.8f, 559.2f), mm(556, 548.8f, 559.2f)}}, cellsPerMetre, inside);  // back
-  addFace(reds, {{mm(552.8f, 0, 0), mm(549.6f, 0, 559.2f), mm(556, 548.8f, 559.2f), mm(556, 548.8f, 0)}}, cellsPerMetre, inside);   // left
-  addFace(greens, {{mm(0, 0, 559.2f), mm(0, 0, 0), mm(0, 548.8f, 0), mm(0, 548.8f, 559.2f)}}, cellsPerMetre, inside);              // right
+  addFace(whites, {{mm(552.8f, 0, 0), mm(0, 0, 0), mm(0, 0, 559.2f), mm(549.6f, 0, 559.2f)}}, cellsPerMetre,
+          inside);  // floor
+  addFace(whites, {{mm(549.6f, 0, 559.2f), mm(0, 0, 559.2f), mm(0, 548.8f, 559.2f), mm(556, 548.8f, 559.2f)}},
+          cellsPerMetre, inside);  // back
+  addFace(reds, {{mm(552.8f, 0, 0), mm(549.6f, 0, 559.2f), mm(556, 548.8f, 559.2f), mm(556, 548.8f, 0)}}, cellsPerMetre,
+          inside);  // left
+  addFace(greens, {{mm(0, 0, 559.2f), mm(0, 0, 0), mm(0, 548.8f, 0), mm(0, 548.8f, 559.2f)}}, cellsPerMetre,
+          inside);  // right
   // The ceiling in eight pieces around the light, so that light and ceiling never overlap.
   const float xs[] = {0, l.x0, l.x1, 556}, zs[] = {0, l.z0, l.z1, 559.2f};
   for (int i = 0; i < 3; ++i)
@@ -72,7 +76,9 @@ tinygltf::Model cornellBox(const CornellOptions& o) {
   if (o.blocks) {
     const Face shortTop{{mm(130, 165, 65), mm(82, 165, 225), mm(240, 165, 272), mm(290, 165, 114)}};
     const Face tallTop{{mm(423, 330, 247), mm(265, 330, 296), mm(314, 330, 456), mm(472, 330, 406)}};
-    shortNode = b.node("short block", b.mesh("short block", {{block(shortTop, 0.165f, shortCentre, cellsPerMetre), white}}), shortCentre);
+    shortNode =
+        b.node("short block", b.mesh("short block", {{block(shortTop, 0.165f, shortCentre, cellsPerMetre), white}}),
+               shortCentre);
     b.node("tall block", b.mesh("tall block", {{block(tallTop, 0.33f, tallCentre, cellsPerMetre), white}}), tallCentre);
   }
 

@@ -25,8 +25,10 @@ void addQuad(MeshData& m, glm::vec3 p0, glm::vec3 p1, glm::vec3 p2, glm::vec3 p3
   for (int j = 0; j < nv; ++j)
     for (int i = 0; i < nu; ++i) {
       uint32_t a = at(i, j), b = at(i + 1, j), c = at(i + 1, j + 1), d = at(i, j + 1);
-      if (flip) m.indices.insert(m.indices.end(), {a, c, b, a, d, c});
-      else m.indices.insert(m.indices.end(), {a, b, c, a, c, d});
+      if (flip)
+        m.indices.insert(m.indices.end(), {a, c, b, a, d, c});
+      else
+        m.indices.insert(m.indices.end(), {a, b, c, a, c, d});
     }
 }
 
@@ -40,7 +42,8 @@ GltfBuilder::GltfBuilder() {
   model_.defaultScene = 0;
 }
 
-int GltfBuilder::accessor(const void* data, size_t count, int componentType, int type, size_t elementBytes, int target) {
+int GltfBuilder::accessor(const void* data, size_t count, int componentType, int type, size_t elementBytes,
+                          int target) {
   auto& buffer = model_.buffers[0].data;
   while (buffer.size() % 4) buffer.push_back(0);
   tinygltf::BufferView view;
@@ -85,22 +88,22 @@ int GltfBuilder::mesh(const std::string& name, const std::vector<std::pair<MeshD
   mesh.name = name;
   for (const auto& [data, material] : primitives) {
     tinygltf::Primitive p;
-    int pos = accessor(data.positions.data(), data.positions.size(), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, 12,
-                       TINYGLTF_TARGET_ARRAY_BUFFER);
+    int pos = accessor(data.positions.data(), data.positions.size(), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3,
+                       12, TINYGLTF_TARGET_ARRAY_BUFFER);
     glm::vec3 lo(1e30f), hi(-1e30f);
     for (auto v : data.positions) lo = glm::min(lo, v), hi = glm::max(hi, v);
     model_.accessors[pos].minValues = {lo.x, lo.y, lo.z};
     model_.accessors[pos].maxValues = {hi.x, hi.y, hi.z};
     p.attributes["POSITION"] = pos;
     if (!data.normals.empty())
-      p.attributes["NORMAL"] = accessor(data.normals.data(), data.normals.size(), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, 12,
-                                        TINYGLTF_TARGET_ARRAY_BUFFER);
+      p.attributes["NORMAL"] = accessor(data.normals.data(), data.normals.size(), TINYGLTF_COMPONENT_TYPE_FLOAT,
+                                        TINYGLTF_TYPE_VEC3, 12, TINYGLTF_TARGET_ARRAY_BUFFER);
     if (!data.uvs.empty())
-      p.attributes["TEXCOORD_0"] = accessor(data.uvs.data(), data.uvs.size(), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, 8,
-                                            TINYGLTF_TARGET_ARRAY_BUFFER);
+      p.attributes["TEXCOORD_0"] = accessor(data.uvs.data(), data.uvs.size(), TINYGLTF_COMPONENT_TYPE_FLOAT,
+                                            TINYGLTF_TYPE_VEC2, 8, TINYGLTF_TARGET_ARRAY_BUFFER);
     if (!data.indices.empty())
-      p.indices = accessor(data.indices.data(), data.indices.size(), TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, 4,
-                           TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+      p.indices = accessor(data.indices.data(), data.indices.size(), TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
+                           TINYGLTF_TYPE_SCALAR, 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
     p.material = material;
     p.mode = TINYGLTF_MODE_TRIANGLES;
     mesh.primitives.push_back(p);
@@ -117,8 +120,10 @@ int GltfBuilder::node(const std::string& name, int mesh, glm::vec3 t, glm::quat 
   if (r != glm::quat(1, 0, 0, 0)) n.rotation = {r.x, r.y, r.z, r.w};
   model_.nodes.push_back(n);
   int index = int(model_.nodes.size() - 1);
-  if (parent >= 0) model_.nodes[parent].children.push_back(index);
-  else model_.scenes[0].nodes.push_back(index);
+  if (parent >= 0)
+    model_.nodes[parent].children.push_back(index);
+  else
+    model_.scenes[0].nodes.push_back(index);
   return index;
 }
 

@@ -40,6 +40,7 @@ void main() {
     uint overridden = imageLoad(overrides, int(s * push.maskWords + bin / 32u)).x & (1u << (bin & 31u));
     if (overridden == 0u) g += uintBitsToFloat(link.y) * imageLoad(radiosityIn, int(link.x)).rgb;
   }
-  radiosityOut[imageLoad(leafOfSurfel, int(s)).x] = vec4(kPi * imageLoad(emission, int(s)).rgb + imageLoad(albedo, int(s)).rgb * g, 0.0);
+  radiosityOut[imageLoad(leafOfSurfel, int(s)).x] =
+      vec4(kPi * imageLoad(emission, int(s)).rgb + imageLoad(albedo, int(s)).rgb * g, 0.0);
   irradiance[s] = vec4(g, 0.0);
 }

@@ -79,7 +79,7 @@ struct WorldVertex {  // the animate pass's output
   vec4 position;
   vec4 normal;
 };
-struct Surfel {  // the surfel pass's output
+struct Surfel {       // the surfel pass's output
   vec4 positionArea;  // centroid of the surfel's area, area
   vec4 normal;
   vec4 shape;  // as NodeState's: x the radius of a disk of its area, y the angle (0), zw half-extents

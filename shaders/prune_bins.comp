@@ -26,11 +26,11 @@
 layout(local_size_x_id = 8) in;
 const uint kGroupSize = gl_WorkGroupSize.x;  // a multiple of 8
 
-layout(constant_id = 0) const uint kN = 16;              // bins per face side
+layout(constant_id = 0) const uint kN = 16;  // bins per face side
 layout(constant_id = 1) const bool kSharedBins = true;
 layout(constant_id = 2) const uint kSharedSlots = 1536;  // 6·N² on the shared path, else 1
 layout(constant_id = 3) const uint kMaskWords = 48;      // ⌈6·N² / 32⌉
-layout(constant_id = 4) const bool kStaticPass = false;   // prune static leaves against static links, once
+layout(constant_id = 4) const bool kStaticPass = false;  // prune static leaves against static links, once
 
 layout(binding = 0, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode
 layout(binding = 2, r32ui) readonly uniform uimageBuffer starts;
@@ -85,15 +85,21 @@ shared uint emitterCount;
 const uint kBinCount = 6u * kN * kN;
 
 uint64_t loadBin(uint slot, uint b) { return kSharedBins ? sharedBins[b] : globalBins[slot + b]; }
-uint64_t minBin(uint slot, uint b, uint64_t key) { return kSharedBins ? atomicMin(sharedBins[b], key) : atomicMin(globalBins[slot + b], key); }
+uint64_t minBin(uint slot, uint b, uint64_t key) {
+  return kSharedBins ? atomicMin(sharedBins[b], key) : atomicMin(globalBins[slot + b], key);
+}
 void addCoverage(uint slot, uint b, uint amount) {
-  if (kSharedBins) atomicAdd(sharedCoverage[b], amount);
-  else atomicAdd(globalCoverage[slot + b], amount);
+  if (kSharedBins)
+    atomicAdd(sharedCoverage[b], amount);
+  else
+    atomicAdd(globalCoverage[slot + b], amount);
 }
 uint loadCoverage(uint slot, uint b) { return kSharedBins ? sharedCoverage[b] : globalCoverage[slot + b]; }
 void resetBin(uint slot, uint b) {
-  if (kSharedBins) sharedBins[b] = kEmptyVisibility, sharedCoverage[b] = 0u;
-  else globalBins[slot + b] = kEmptyVisibility, globalCoverage[slot + b] = 0u;
+  if (kSharedBins)
+    sharedBins[b] = kEmptyVisibility, sharedCoverage[b] = 0u;
+  else
+    globalBins[slot + b] = kEmptyVisibility, globalCoverage[slot + b] = 0u;
 }
 
 // The leaf being pruned (the same in every invocation of the workgroup): whether it merges the
@@ -103,7 +109,12 @@ uint staticFirst = 0u, maskBase = 0u;
 
 // What bin b holds: the nearest key and the covered solid angle (in 1/kCoverageUnit of the bin),
 // the filed senders merged with the leaf's static entry; staticCovered is that entry's share.
-struct Bin { uint64_t key; uint covered; uint staticCovered; int staticEntry; };
+struct Bin {
+  uint64_t key;
+  uint covered;
+  uint staticCovered;
+  int staticEntry;
+};
 
 Bin binAt(uint slot, uint b) {
   Bin bin = Bin(loadBin(slot, b), loadCoverage(slot, b), 0u, -1);
@@ -143,7 +154,8 @@ void insertFootprint(uint slot, vec3 d, uint64_t key, float omega, vec3 sideA, v
   // A side's step on the face: d(uv) = (d(minor) − uv · d|major|) / |major|; the common factor drops out.
   uint axis = face / 2u;
   float sign = (face & 1u) == 0u ? 1.0 : -1.0;
-  vec3 a = axis == 0u ? sideA.yzx : (axis == 1u ? sideA.zxy : sideA), b = axis == 0u ? sideB.yzx : (axis == 1u ? sideB.zxy : sideB);
+  vec3 a = axis == 0u ? sideA.yzx : (axis == 1u ? sideA.zxy : sideA),
+       b = axis == 0u ? sideB.yzx : (axis == 1u ? sideB.zxy : sideB);
   vec2 box = abs(a.xy - uv * (sign * a.z)) + abs(b.xy - uv * (sign * b.z));
   float aspect = box.x + box.y > 0.0 ? clamp(box.x / max(box.y, 1e-30), 0.125, 8.0) : 1.0;
   vec2 sides = min(side * vec2(sqrt(aspect), inversesqrt(aspect)), vec2(16.0));
@@ -163,7 +175,9 @@ void insertFootprint(uint slot, vec3 d, uint64_t key, float omega, vec3 sideA, v
       vec2 overlap = max(min(hi, cellHi) - max(lo, cellLo), vec2(0.0));
       float covered = overlap.x * overlap.y;  // in bins
       bool core = covered >= 0.5 || all(equal(centre, ivec2(x, y)));
-      if (covered > 0.0 || side <= 0.0) insert(slot, binOfCell(face, ivec2(x, y), kN), core ? key : key | kFringeKey, side > 0.0 ? omega * covered * norm : omega);
+      if (covered > 0.0 || side <= 0.0)
+        insert(slot, binOfCell(face, ivec2(x, y), kN), core ? key : key | kFringeKey,
+               side > 0.0 ? omega * covered * norm : omega);
     }
 }
 
@@ -186,7 +200,14 @@ float diskSolidAngle(float r, float dist2) { return 2.0 * kPi * (1.0 - sqrt(dist
 
 // A sender as the receiver sees it: offset d, distance², the solid angle ω it subtends, the least
 // cosine it is seen under, and the number k of pieces per side it is filed as (1: whole).
-struct View { vec3 d; float dist2; float omega; float radius; float minCos; uint k; };
+struct View {
+  vec3 d;
+  float dist2;
+  float omega;
+  float radius;
+  float minCos;
+  uint k;
+};
 
 View viewOf(vec3 p, vec4 positionArea, vec4 normalCone) {
   View v;
@@ -206,7 +227,11 @@ View viewOf(vec3 p, vec4 positionArea, vec4 normalCone) {
 // Piece `index` of the k×k pieces of a sender's rectangle as the receiver (normal n) sees it: its
 // offset q, its own solid angle and half-sides. A curved sender is the square of its area facing
 // the receiver. False for a piece below the receiver's horizon.
-struct Piece { vec3 q; float omega; vec3 sideA, sideB; };
+struct Piece {
+  vec3 q;
+  float omega;
+  vec3 sideA, sideB;
+};
 bool pieceOf(vec3 n, uint s, vec4 normalCone, View v, uint index, out Piece piece) {
   vec3 sideA, sideB;
   senderSides(s, normalCone, sideA, sideB);
@@ -229,7 +254,8 @@ bool pieceOf(vec3 n, uint s, vec4 normalCone, View v, uint index, out Piece piec
 // sender's outline, and a coincident sender on a hard edge is seen through its off-centre pieces.
 void filePiece(uint slot, vec3 n, uint s, vec4 normalCone, View v, uint index) {
   Piece piece;
-  if (pieceOf(n, s, normalCone, v, index, piece)) insertFootprint(slot, piece.q, packLinkKey(v.dist2, s, false), piece.omega, piece.sideA, piece.sideB);
+  if (pieceOf(n, s, normalCone, v, index, piece))
+    insertFootprint(slot, piece.q, packLinkKey(v.dist2, s, false), piece.omega, piece.sideA, piece.sideB);
 }
 
 // Files one sender of the leaf's root path (`marked`: its node, kEmitterBit if it emits), seen from
@@ -306,15 +332,19 @@ vec3 directLight(uint slot, vec3 p, vec3 n, uint s) {
   float sum = 0.0;
   for (uint index = 0u; index < v.k * v.k; ++index) {
     Piece piece;
-    if (!pieceOf(n, s, normalCone, v, index, piece) || (dot(normalCone.xyz, piece.q) >= 0.0 && normalCone.w < 0.5 * kPi)) continue;  // its back
+    if (!pieceOf(n, s, normalCone, v, index, piece) ||
+        (dot(normalCone.xyz, piece.q) >= 0.0 && normalCone.w < 0.5 * kPi))
+      continue;  // its back
     vec3 q = piece.q;
     float q2 = dot(q, q);
     uint64_t nearest = binAt(slot, binOf(q, kN)).key;
     uint o = keyId(nearest);
     vec4 plane = nodeNormalCone(o);
     vec3 onPlane = nodePositionArea(o).xyz;
-    float sideOfReceiver = dot(plane.xyz, p - onPlane), sideOfEmitter = dot(plane.xyz, p + q - onPlane), margin = 1e-3 * sqrt(q2);
-    bool separates = plane.w >= 0.5 * kPi || (sideOfReceiver > margin && sideOfEmitter < -margin) || (sideOfReceiver < -margin && sideOfEmitter > margin);
+    float sideOfReceiver = dot(plane.xyz, p - onPlane), sideOfEmitter = dot(plane.xyz, p + q - onPlane),
+          margin = 1e-3 * sqrt(q2);
+    bool separates = plane.w >= 0.5 * kPi || (sideOfReceiver > margin && sideOfEmitter < -margin) ||
+                     (sideOfReceiver < -margin && sideOfEmitter > margin);
     bool visible = nearest == kEmptyVisibility || o == s || linkKeyDepth(nearest) >= v.dist2 * 0.999 || !separates;
     if (visible) sum += piece.omega * dot(n, q) * inversesqrt(q2) / kPi;
   }
@@ -339,7 +369,8 @@ vec3 sumPartials(uint lid, vec3 mine) {
 void main() {
   // Links cut short by an overflow (this set's, or the static links a frame pass merges): the frame
   // is redone, and pruning them would be wasted.
-  if (((counters[kCounterOverflow] | staticCounters[kCounterOverflow]) & (kOverflowWorklist | kOverflowLinks)) != 0u) return;
+  if (((counters[kCounterOverflow] | staticCounters[kCounterOverflow]) & (kOverflowWorklist | kOverflowLinks)) != 0u)
+    return;
   uint lid = gl_LocalInvocationID.x;
   uint slot = kSharedBins ? 0u : groupIndex() * kBinCount;
   if (kSharedBins)
@@ -384,7 +415,8 @@ void main() {
         }
       }
       barrier();
-      if (lid == 0u && atomicAdd(counters[kCounterSendersWalked], listed) > 0xFFFFFFFFu - listed) atomicAdd(counters[kCounterSendersWalked + 1u], 1u);
+      if (lid == 0u && atomicAdd(counters[kCounterSendersWalked], listed) > 0xFFFFFFFFu - listed)
+        atomicAdd(counters[kCounterSendersWalked + 1u], 1u);
       for (uint j = lid; j < listed; j += kGroupSize) fileSender(slot, leaf, p, n, area, pathChunk[j]);
       barrier();
       // Each group of 8 lanes (a subgroup on lavapipe) takes a queued sender and files its pieces, one per lane.
@@ -404,7 +436,8 @@ void main() {
     // fixed order whatever order the atomics queued them in: the static list (sorted by the static
     // pass), then the queued ones sorted by node (another object's, so never in the static list). A
     // static leaf whose emitters stand still queues none and sorts nothing.
-    uint staticListed = staticEmitterCount == kManyEmitters ? 0u : staticEmitterCount, emitters = staticListed + emitterCount;
+    uint staticListed = staticEmitterCount == kManyEmitters ? 0u : staticEmitterCount,
+         emitters = staticListed + emitterCount;
     bool direct = staticEmitterCount != kManyEmitters && emitters <= (kStaticPass ? kStaticEmitters : kEmitterQueue);
     if (direct)
       for (uint e = lid; e < emitters; e += kGroupSize) {
@@ -418,7 +451,8 @@ void main() {
     vec3 emitterLight = vec3(0.0);
     if (kStaticPass) {
       if (direct)
-        for (uint e = lid; e < emitters; e += kGroupSize) staticEmitters[surfel * kStaticEmitters + e] = sortedEmitters[e];
+        for (uint e = lid; e < emitters; e += kGroupSize)
+          staticEmitters[surfel * kStaticEmitters + e] = sortedEmitters[e];
       if (lid == 0u) staticEmitterCounts[surfel] = direct ? emitters : kManyEmitters;
     } else if (direct) {
       for (uint e = lid; e < emitters; e += kGroupSize) emitterLight += directLight(slot, p, n, sortedEmitters[e]);
@@ -435,8 +469,10 @@ void main() {
       // empty: nothing reads past the links.
       bool fits = leafBase + total <= push.linkCapacity;
       if (!fits) atomicOr(counters[kCounterOverflow], kOverflowLeafLinks);
-      if (kStaticPass) staticRanges[surfel] = LeafRange(leafBase, fits ? total : 0u);
-      else ranges[surfel] = LeafRange(leafBase, fits ? total : 0u);
+      if (kStaticPass)
+        staticRanges[surfel] = LeafRange(leafBase, fits ? total : 0u);
+      else
+        ranges[surfel] = LeafRange(leafBase, fits ? total : 0u);
     }
     barrier();
     // A merging leaf's environment changes only in the bins it touched: this frame's minus its static
@@ -469,7 +505,8 @@ void main() {
             emitterLight += uintBitsToFloat(link.y) * emitted(link.x);
           }
         }
-        if (merging && push.environmentOn != 0u) environmentChange += environmentThrough(n, b, bin.covered) - environmentThrough(n, b, bin.staticCovered);
+        if (merging && push.environmentOn != 0u)
+          environmentChange += environmentThrough(n, b, bin.covered) - environmentThrough(n, b, bin.staticCovered);
       }
     }
     // Environment through the empty bins above the horizon, summed in a fixed order.

@@ -11,7 +11,7 @@
 layout(local_size_x = 64) in;
 layout(constant_id = 0) const int kTilesPerSlice = 32768;
 
-layout(binding = 0, rgba32f) readonly uniform imageBuffer world;       // WorldVertex: position, normal
+layout(binding = 0, rgba32f) readonly uniform imageBuffer world;        // WorldVertex: position, normal
 layout(binding = 1, rgba32ui) readonly uniform uimageBuffer triangles;  // Triangle
 layout(std430, binding = 2) buffer Visibility { uint64_t visibility[]; };
 layout(push_constant) uniform Push { ImagePush push; };  // count: triangles
@@ -22,7 +22,9 @@ bool project(vec3 p, out vec2 s) {
   float z = dot(d, push.camera.forward.xyz);
   s = vec2(0.0);
   if (z <= push.camera.origin.w) return false;
-  vec2 ndc = vec2(dot(d, push.camera.right.xyz) / dot(push.camera.right.xyz, push.camera.right.xyz), dot(d, push.camera.up.xyz) / dot(push.camera.up.xyz, push.camera.up.xyz)) / z;
+  vec2 ndc = vec2(dot(d, push.camera.right.xyz) / dot(push.camera.right.xyz, push.camera.right.xyz),
+                  dot(d, push.camera.up.xyz) / dot(push.camera.up.xyz, push.camera.up.xyz)) /
+             z;
   s = vec2((ndc.x + 1.0) * 0.5 * float(push.size.x), (1.0 - ndc.y) * 0.5 * float(push.size.y));
   return true;
 }
@@ -31,7 +33,8 @@ void main() {
   uint tri = groupIndex();
   if (tri >= push.count) return;  // count: triangles
   uvec4 t = imageLoad(triangles, int(tri));
-  vec3 a = imageLoad(world, int(2u * t.x)).xyz, b = imageLoad(world, int(2u * t.y)).xyz, c = imageLoad(world, int(2u * t.z)).xyz;
+  vec3 a = imageLoad(world, int(2u * t.x)).xyz, b = imageLoad(world, int(2u * t.y)).xyz,
+       c = imageLoad(world, int(2u * t.z)).xyz;
   vec2 pa, pb, pc;
   ivec2 lo = ivec2(0), hi = ivec2(push.size) - 1;
   if (project(a, pa) && project(b, pb) && project(c, pc)) {

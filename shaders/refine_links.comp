@@ -12,17 +12,19 @@ layout(std430, binding = 3) writeonly buffer NextWorklist { uvec2 nextPairs[]; }
 layout(std430, binding = 4) writeonly buffer Links { uvec2 links[]; };
 layout(std430, binding = 5) buffer Counters { uint counters[]; };
 layout(push_constant) uniform Push {
-  uint source, target;      // counter slots of this level's list and of the next
-  uint capacity;            // of each worklist
+  uint source, target;  // counter slots of this level's list and of the next
+  uint capacity;        // of each worklist
   uint linkCapacity;
-  float epsilon;            // form-factor threshold
-  float largeSender;        // κ·Ω of an average bin: a sender subtending more is split
+  float epsilon;      // form-factor threshold
+  float largeSender;  // κ·Ω of an average bin: a sender subtending more is split
 };
 
 void emitPair(uint r, uint s) {
   uint slot = atomicAdd(counters[target], 1u);
-  if (slot < capacity) nextPairs[slot] = uvec2(r, s);
-  else atomicOr(counters[kCounterOverflow], kOverflowWorklist);
+  if (slot < capacity)
+    nextPairs[slot] = uvec2(r, s);
+  else
+    atomicOr(counters[kCounterOverflow], kOverflowWorklist);
   atomicMax(counters[kCounterWorklistPeak], slot + 1u);
 }
 
@@ -54,8 +56,10 @@ void main() {
     if (dist2 <= 1e-6 * scale) {  // coincident (hard edges): the pruning bins it by points on its disk
       if (leafR && leafS) {
         uint slot = atomicAdd(counters[kCounterLinks], 1u);
-        if (slot < linkCapacity) links[slot] = uvec2(r, s);
-        else atomicOr(counters[kCounterOverflow], kOverflowLinks);
+        if (slot < linkCapacity)
+          links[slot] = uvec2(r, s);
+        else
+          atomicOr(counters[kCounterOverflow], kOverflowLinks);
         continue;
       }
     } else {
@@ -73,8 +77,10 @@ void main() {
       bool refine = refineSender || (!(leafR && leafS) && (overlapping || estimate > epsilon));
       if (!refine) {
         uint slot = atomicAdd(counters[kCounterLinks], 1u);
-        if (slot < linkCapacity) links[slot] = uvec2(r, s);
-        else atomicOr(counters[kCounterOverflow], kOverflowLinks);
+        if (slot < linkCapacity)
+          links[slot] = uvec2(r, s);
+        else
+          atomicOr(counters[kCounterOverflow], kOverflowLinks);
         continue;
       }
       if (refineSender) {

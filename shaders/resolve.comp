@@ -45,7 +45,8 @@ vec4 sampleTexture(int index, vec2 uv) {
   if (t.width == 0u || t.height == 0u) return vec4(1.0);
   float ax, ay;
   ivec2 xs = texelPair(uv.x, int(t.width), t.wrap & 0xffffu, ax), ys = texelPair(uv.y, int(t.height), t.wrap >> 16, ay);
-  return mix(mix(texel(t, xs.x, ys.x), texel(t, xs.y, ys.x), ax), mix(texel(t, xs.x, ys.y), texel(t, xs.y, ys.y), ax), ay);
+  return mix(mix(texel(t, xs.x, ys.x), texel(t, xs.y, ys.x), ax), mix(texel(t, xs.x, ys.y), texel(t, xs.y, ys.y), ax),
+             ay);
 }
 
 void main() {
@@ -71,7 +72,8 @@ void main() {
       if ((t.w & kFlatShaded) == 0u) n = w.x * normalOf(t.x) + w.y * normalOf(t.y) + w.z * normalOf(t.z);
       float len = length(n);
       uint mi = t.w & ~kFlatShaded;
-      vec3 base = uintBitsToFloat(imageLoad(materials, int(3u * mi)).rgb), emit = uintBitsToFloat(imageLoad(materials, int(3u * mi + 1u)).rgb);
+      vec3 base = uintBitsToFloat(imageLoad(materials, int(3u * mi)).rgb),
+           emit = uintBitsToFloat(imageLoad(materials, int(3u * mi + 1u)).rgb);
       if (kTextured) {
         vec2 uv = w.x * uvOf(t.x) + w.y * uvOf(t.y) + w.z * uvOf(t.z);
         ivec2 textures = ivec2(imageLoad(materials, int(3u * mi + 2u)).xy);  // base colour, emissive; -1: none

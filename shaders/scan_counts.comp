@@ -13,7 +13,8 @@ shared uint partial[256];
 
 void main() {
   uint t = gl_LocalInvocationID.x;
-  uint nodeCount = push.count, chunk = (nodeCount + 255u) / 256u, begin = t * chunk, end = min(begin + chunk, nodeCount);
+  uint nodeCount = push.count, chunk = (nodeCount + 255u) / 256u, begin = t * chunk,
+       end = min(begin + chunk, nodeCount);
   uint sum = 0u;
   for (uint i = begin; i < end; ++i) sum += counts[i];
   partial[t] = sum;

@@ -7,11 +7,11 @@
 layout(local_size_x = 256) in;
 
 layout(binding = 0, rg32ui) readonly uniform uimageBuffer links;  // receiver, sender
-layout(std430, binding = 1) buffer Counts { uint cursors[]; };  // the scan made the counts cursors
+layout(std430, binding = 1) buffer Counts { uint cursors[]; };    // the scan made the counts cursors
 layout(std430, binding = 2) writeonly buffer Senders { uint senders[]; };
 layout(std430, binding = 3) readonly buffer Counters { uint counters[]; };
 layout(binding = 4, rgba32f) readonly uniform imageBuffer nodeEmission;  // π·Le per node, pulled up
-layout(push_constant) uniform Push { CountPush push; };  // count: the link capacity
+layout(push_constant) uniform Push { CountPush push; };                  // count: the link capacity
 
 void main() {
   uint total = min(counters[kCounterLinks], push.count);

@@ -20,7 +20,8 @@ void expectOneLineError(const test::Run& r, const std::vector<std::string>& ment
   auto lines = r.errLines();
   ASSERT_EQ(lines.size(), 1u) << r.err;
   EXPECT_EQ(lines[0].rfind("ivgi: error: ", 0), 0u) << lines[0];
-  for (const auto& m : mentions) EXPECT_NE(lines[0].find(m), std::string::npos) << "'" << m << "' missing from: " << lines[0];
+  for (const auto& m : mentions)
+    EXPECT_NE(lines[0].find(m), std::string::npos) << "'" << m << "' missing from: " << lines[0];
 }
 
 size_t filesIn(const fs::path& dir) {
@@ -29,7 +30,8 @@ size_t filesIn(const fs::path& dir) {
 }
 
 // Renders `scene` into a fresh folder; expects the error and that nothing was written there.
-void expectRenderRefused(const std::string& scene, const std::vector<std::string>& extra, const std::vector<std::string>& mentions) {
+void expectRenderRefused(const std::string& scene, const std::vector<std::string>& extra,
+                         const std::vector<std::string>& mentions) {
   auto out = test::scratchDir("out");
   std::vector<std::string> args = {"render", scene, "--out", (out / "f_%04d").string()};
   if (std::find(extra.begin(), extra.end(), "--size") == extra.end()) args.insert(args.end(), {"--size", "16x16"});
@@ -55,7 +57,9 @@ tinygltf::Model triangleModel(glm::vec3 corner = glm::vec3(0, 1, 0)) {
 
 }  // namespace
 
-TEST(BadInput, MissingFile) { expectRenderRefused("/nonexistent/scene.gltf", {}, {"/nonexistent/scene.gltf", "no such file"}); }
+TEST(BadInput, MissingFile) {
+  expectRenderRefused("/nonexistent/scene.gltf", {}, {"/nonexistent/scene.gltf", "no such file"});
+}
 
 TEST(BadInput, NotAGltfFile) {
   auto path = test::scratchDir("in") / "notes.gltf";
@@ -106,7 +110,8 @@ TEST(BadInput, BufferViewOutOfRange) {
 
 TEST(BadInput, IndexOutOfRange) {
   tinygltf::Model m = triangleModel();
-  uint32_t* idx = reinterpret_cast<uint32_t*>(m.buffers[0].data.data() + m.bufferViews[m.accessors[m.meshes[0].primitives[0].indices].bufferView].byteOffset);
+  uint32_t* idx = reinterpret_cast<uint32_t*>(
+      m.buffers[0].data.data() + m.bufferViews[m.accessors[m.meshes[0].primitives[0].indices].bufferView].byteOffset);
   idx[2] = 77;
   std::string path = writeModel(m, "index.gltf");
   expectRenderRefused(path, {}, {path, "index 77 out of range"});

@@ -24,7 +24,8 @@ TEST(Options, FrameRanges) {
   EXPECT_EQ(cli::parseFrameRange("7").frames(), std::vector<int>{7});
   EXPECT_EQ(cli::parseFrameRange("0-3").frames(), (std::vector<int>{0, 1, 2, 3}));
   EXPECT_EQ(cli::parseFrameRange("2-9:3").frames(), (std::vector<int>{2, 5, 8}));
-  for (const char* bad : {"", "-1", "3-1", "1-4:0", "a-b", "1-2-3", "99999999999"}) EXPECT_THROW(cli::parseFrameRange(bad), SettingsError) << bad;
+  for (const char* bad : {"", "-1", "3-1", "1-4:0", "a-b", "1-2-3", "99999999999"})
+    EXPECT_THROW(cli::parseFrameRange(bad), SettingsError) << bad;
 }
 
 TEST(Options, OutputPatterns) {
@@ -47,7 +48,8 @@ TEST(Render, WritesFramesAndASidecarWithPerPassTimes) {
   auto dir = test::scratchDir("out");
   auto r = test::runIvgi({"render", "--frames", "0-4:2", "--size", "64x48", "--out", (dir / "f_%03d").string()});
   ASSERT_EQ(r.status, 0) << r.err;
-  for (const char* f : {"f_000.exr", "f_000.png", "f_002.exr", "f_002.png", "f_004.exr", "f_004.png"}) EXPECT_TRUE(fs::exists(dir / f)) << f;
+  for (const char* f : {"f_000.exr", "f_000.png", "f_002.exr", "f_002.png", "f_004.exr", "f_004.png"})
+    EXPECT_TRUE(fs::exists(dir / f)) << f;
   EXPECT_FALSE(fs::exists(dir / "f_001.exr"));
   std::ifstream in(dir / "f.json");
   auto j = nlohmann::json::parse(in);
@@ -76,7 +78,8 @@ TEST(Render, ExrCarriesEveryLayerAndPngIsDisplayReady) {
   ASSERT_TRUE(exr);
   const auto& spec = exr->spec();
   EXPECT_EQ(spec.format, OIIO_NAMESPACE::TypeDesc::FLOAT);
-  for (const char* c : {"R", "G", "B", "A", "albedo.R", "albedo.G", "albedo.B", "N.X", "N.Y", "N.Z", "Z", "emission.R", "emission.G", "emission.B"})
+  for (const char* c : {"R", "G", "B", "A", "albedo.R", "albedo.G", "albedo.B", "N.X", "N.Y", "N.Z", "Z", "emission.R",
+                        "emission.G", "emission.B"})
     EXPECT_GE(spec.channelindex(c), 0) << c;
   auto png = OIIO_NAMESPACE::ImageInput::open((dir / "f_0000.png").string());
   ASSERT_TRUE(png);
@@ -108,7 +111,8 @@ TEST(Render, AnInterruptedRunLeavesNoPartialFile) {
     setenv("IVGI_VALIDATION", "0", 1);
     int devnull = open("/dev/null", O_WRONLY);
     dup2(devnull, 2);
-    execl(IVGI_BINARY, IVGI_BINARY, "render", "--size", "1600x1200", "--supersample", "2", "--out", (dir / "f_%04d").c_str(), nullptr);
+    execl(IVGI_BINARY, IVGI_BINARY, "render", "--size", "1600x1200", "--supersample", "2", "--out",
+          (dir / "f_%04d").c_str(), nullptr);
     _exit(127);
   }
   // Interrupt once the first frame is on disk, i.e. in the middle of the run.
@@ -129,7 +133,8 @@ TEST(Render, AnInterruptedRunLeavesNoPartialFile) {
       auto in = OIIO_NAMESPACE::ImageInput::open(e.path().string());
       ASSERT_TRUE(in) << name << " is not a complete image";
       std::vector<float> pixels(size_t(in->spec().image_pixels()) * in->spec().nchannels);
-      EXPECT_TRUE(in->read_image(0, 0, 0, -1, OIIO_NAMESPACE::TypeDesc::FLOAT, pixels.data())) << name << " is truncated";
+      EXPECT_TRUE(in->read_image(0, 0, 0, -1, OIIO_NAMESPACE::TypeDesc::FLOAT, pixels.data()))
+          << name << " is truncated";
     }
   }
   EXPECT_GE(frames, 1u);
@@ -145,7 +150,9 @@ TEST(Scene, BuiltInScenesRoundTripThroughGltf) {
     auto fromFile = test::runIvgi({"info", file});
     auto builtin = test::runIvgi({"info", name, "--cells", "3"});
     ASSERT_EQ(fromFile.status, 0) << fromFile.err;
-    auto line = [](const std::string& text, const std::string& key) { return text.substr(text.find(key), text.find('\n', text.find(key)) - text.find(key)); };
+    auto line = [](const std::string& text, const std::string& key) {
+      return text.substr(text.find(key), text.find('\n', text.find(key)) - text.find(key));
+    };
     EXPECT_EQ(line(fromFile.out, "triangles"), line(builtin.out, "triangles"));
     EXPECT_EQ(line(fromFile.out, "surfels"), line(builtin.out, "surfels"));
     EXPECT_EQ(line(fromFile.out, "animations"), line(builtin.out, "animations"));
@@ -158,8 +165,8 @@ TEST(Scene, BuiltInScenesRoundTripThroughGltf) {
 TEST(Info, PrintsTheFigures) {
   auto r = test::runIvgi({"info", "cornell", "--cells", "2"});
   ASSERT_EQ(r.status, 0) << r.err;
-  for (const char* key : {"meshes", "triangles", "surfels", "animations", "block moves", "2.000 s", "cameras", "Cornell camera",
-                          "39.31 deg", "lights", "bounds", "warnings"})
+  for (const char* key : {"meshes", "triangles", "surfels", "animations", "block moves", "2.000 s", "cameras",
+                          "Cornell camera", "39.31 deg", "lights", "bounds", "warnings"})
     EXPECT_NE(r.out.find(key), std::string::npos) << key << " missing from:\n" << r.out;
 }
 
@@ -168,7 +175,8 @@ TEST(Devices, ChosenByIndexNameOrEnvironment) {
   ASSERT_EQ(list.status, 0);
   EXPECT_NE(list.out.find("[0]"), std::string::npos);
   auto dir = test::scratchDir("out");
-  std::vector<std::string> args = {"render", "--frames", "0", "--size", "16x16", "--format", "png", "--out", (dir / "f").string()};
+  std::vector<std::string> args = {"render", "--frames",          "0", "--size", "16x16", "--format", "png",
+                                   "--out",  (dir / "f").string()};
   auto byIndex = args;
   byIndex.insert(byIndex.end(), {"--device", "0"});
   EXPECT_EQ(test::runIvgi(byIndex).status, 0);

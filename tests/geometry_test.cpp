@@ -55,14 +55,16 @@ float compareGpuWithHost(const Case& c) {
     worstArea = std::max(worstArea, std::abs(a - b) / std::max(a, 1e-20f));
     // Per half-extent: sliver surfels (230:1 in BoxAnimated) keep float's relative precision on each side.
     for (int k : {2, 3})
-      worstExtent = std::max(worstExtent, std::abs(hostSurfels[i].shape[k] - deviceSurfels[i].shape[k]) / std::max(hostSurfels[i].shape[k], 1e-20f));
+      worstExtent = std::max(worstExtent, std::abs(hostSurfels[i].shape[k] - deviceSurfels[i].shape[k]) /
+                                              std::max(hostSurfels[i].shape[k], 1e-20f));
   }
   EXPECT_LT(worstArea, 1e-4f) << c.name;
   EXPECT_LT(worstExtent, 1e-3f) << c.name;
 
   auto rest = animateOnHost(g, g.frameInputs(c.scene, evaluatePose(c.scene, -1, 0.0f)));
   float moved = 0;
-  for (size_t i = 0; i < rest.size(); ++i) moved = std::max(moved, glm::length(glm::vec3(rest[i].position - host[i].position)) / scale);
+  for (size_t i = 0; i < rest.size(); ++i)
+    moved = std::max(moved, glm::length(glm::vec3(rest[i].position - host[i].position)) / scale);
   return moved;
 }
 
@@ -94,7 +96,8 @@ TEST(GpuAnimation, NodeTransformsMatchTheHost) {
 TEST(GpuAnimation, SharedAssetsMatchTheHost) {
   auto dir = test::sharedGltfDir();
   if (!dir) GTEST_SKIP() << "../shared/data/gltf is not present";
-  for (const char* file : {"Fox.gltf", "RiggedSimple.gltf", "SimpleMorph.gltf", "BoxAnimated.gltf", "AnimatedTriangle.gltf", "SimpleSkin.gltf"}) {
+  for (const char* file : {"Fox.gltf", "RiggedSimple.gltf", "SimpleMorph.gltf", "BoxAnimated.gltf",
+                           "AnimatedTriangle.gltf", "SimpleSkin.gltf"}) {
     Scene s = loadGltf((*dir / file).string());
     int anim = s.animations.empty() ? -1 : int(s.animations.size()) - 1;
     float t = anim >= 0 ? 0.37f * (s.animations[anim].end - s.animations[anim].start) + s.animations[anim].start : 0.0f;
@@ -209,12 +212,14 @@ TEST(MovingInstances, OnlyWhatTheAnimationReaches) {
   auto moving = movingInstances(cornell, g, 0);
   ASSERT_EQ(moving.size(), g.instances.size());
   for (size_t i = 0; i < moving.size(); ++i)
-    EXPECT_EQ(moving[i], cornell.nodes[g.instanceNode[i]].name == "short block") << cornell.nodes[g.instanceNode[i]].name;
+    EXPECT_EQ(moving[i], cornell.nodes[g.instanceNode[i]].name == "short block")
+        << cornell.nodes[g.instanceNode[i]].name;
   auto none = movingInstances(cornell, g, -1);
   EXPECT_EQ(std::count(none.begin(), none.end(), true), 0);
 
   // Morph weights move geometry without any node transform.
-  Scene cube = loadGltf((test::assimpGltfDir() / "glTF-Sample-Models/AnimatedMorphCube-glTF/AnimatedMorphCube.gltf").string());
+  Scene cube =
+      loadGltf((test::assimpGltfDir() / "glTF-Sample-Models/AnimatedMorphCube-glTF/AnimatedMorphCube.gltf").string());
   Geometry cg = buildGeometry(cube);
   auto morphing = movingInstances(cube, cg, 0);
   EXPECT_EQ(std::count(morphing.begin(), morphing.end(), true), long(cg.instances.size()));

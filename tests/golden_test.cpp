@@ -21,7 +21,8 @@ fs::path goldenDir() { return fs::path(IVGI_SOURCE_DIR) / "tests" / "golden"; }
 fs::path render(const std::string& name, std::vector<std::string> args) {
   auto dir = test::scratchDir(name);
   args.insert(args.begin(), "render");
-  args.insert(args.end(), {"--format", "exr", "--out", (dir / name).string() + ".exr", "--json", (dir / "sidecar.json").string()});
+  args.insert(args.end(),
+              {"--format", "exr", "--out", (dir / name).string() + ".exr", "--json", (dir / "sidecar.json").string()});
   auto r = test::runIvgi(args);
   EXPECT_EQ(r.status, 0) << r.err;
   for (const auto& entry : fs::directory_iterator(dir))
@@ -39,8 +40,8 @@ void expectMatchesGolden(const std::string& name, const std::vector<std::string>
   }
   ASSERT_TRUE(fs::exists(golden)) << golden << " is missing; see the header of tests/golden_test.cpp";
   for (const auto& d : image::compareLayers(result.string(), golden.string(), image::goldenTolerances()))
-    EXPECT_TRUE(d.passed) << name << " layer " << d.layer << ": " << d.failingFraction * 100 << " % of pixels beyond " << d.threshold
-                          << " (max error " << d.maxError << ")";
+    EXPECT_TRUE(d.passed) << name << " layer " << d.layer << ": " << d.failingFraction * 100 << " % of pixels beyond "
+                          << d.threshold << " (max error " << d.maxError << ")";
 }
 
 // The foundation's channels: emission-only radiance (--method none) and the geometry layers.
@@ -68,18 +69,21 @@ TEST(Golden, AnimatedMorphCube) {
 TEST(Golden, TexturedSkinnedFox) {
   auto dir = test::sharedGltfDir();
   if (!dir) GTEST_SKIP() << "../shared/data/gltf is not present";
-  expectMatchesGolden("fox_run_f0010", {(*dir / "Fox.gltf").string(), "--animation", "Run", "--frames", "10", "--size", "160x120", "--method", "none"});
+  expectMatchesGolden("fox_run_f0010", {(*dir / "Fox.gltf").string(), "--animation", "Run", "--frames", "10", "--size",
+                                        "160x120", "--method", "none"});
 }
 
 // The iv solver's images: the Cornell box (area light, interreflection), and the morph cube lit by
 // a constant environment.
 TEST(Golden, IvCornellBox) {
-  expectMatchesGolden("iv_cornell_f0012", {"cornell", "--cells", "6", "--bins", "8", "--size", "128x96", "--frames", "12"});
+  expectMatchesGolden("iv_cornell_f0012",
+                      {"cornell", "--cells", "6", "--bins", "8", "--size", "128x96", "--frames", "12"});
 }
 
 TEST(Golden, IvMorphCubeUnderEnvironment) {
   auto path = test::assimpGltfDir() / "glTF-Sample-Models/AnimatedMorphCube-glTF/AnimatedMorphCube.gltf";
-  expectMatchesGolden("iv_morphcube_env_f0030", {path.string(), "--frames", "30", "--size", "96x72", "--bins", "8", "--env", "0.8,0.9,1.0"});
+  expectMatchesGolden("iv_morphcube_env_f0030",
+                      {path.string(), "--frames", "30", "--size", "96x72", "--bins", "8", "--env", "0.8,0.9,1.0"});
 }
 
 // The comparison itself must reject a visibly different image: the moving block at another frame,
@@ -91,7 +95,8 @@ TEST(Golden, VisiblyDifferentImagesFail) {
   fs::path golden = goldenDir() / "cornell_f0000.exr";
   ASSERT_TRUE(fs::exists(golden));
   bool anyFailed = false;
-  for (const auto& d : image::compareLayers(moved.string(), golden.string(), image::goldenTolerances())) anyFailed |= !d.passed;
+  for (const auto& d : image::compareLayers(moved.string(), golden.string(), image::goldenTolerances()))
+    anyFailed |= !d.passed;
   EXPECT_TRUE(anyFailed) << "frame 12 passed as frame 0";
 
   auto same = kCornell;
@@ -128,9 +133,11 @@ TEST(Golden, DimmerIndirectLightFails) {
         for (int c = 0; c < 3; ++c) it[c] = it[c] * 0.95f;
     ASSERT_TRUE(buf.write(dimmer.string()));
   }
-  for (const auto& d : image::compareLayers(golden.string(), golden.string(), image::goldenTolerances())) EXPECT_TRUE(d.passed) << d.layer;
+  for (const auto& d : image::compareLayers(golden.string(), golden.string(), image::goldenTolerances()))
+    EXPECT_TRUE(d.passed) << d.layer;
   auto d = image::compareLayers(dimmer.string(), golden.string(), image::goldenTolerances());
   EXPECT_EQ(d[0].layer, "RGB");
-  EXPECT_FALSE(d[0].passed) << "5 % less indirect light passed: " << 100 * d[0].failingFraction << " % of pixels beyond";
+  EXPECT_FALSE(d[0].passed) << "5 % less indirect light passed: " << 100 * d[0].failingFraction
+                            << " % of pixels beyond";
   EXPECT_GT(d[0].failingFraction, 0.5);
 }

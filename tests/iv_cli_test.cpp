@@ -77,9 +77,10 @@ TEST(IvScale, ImageIsTheSameFromMillimetresToKilometres) {
   for (float s : {1e-3f, 1e3f}) {
     fs::path scaled = renderExr("render-" + std::to_string(s), {scaledCornell(s), "--size", "96x72"});
     // Per pixel within 0.5 % of its own value (radiance) or of the range (normals), on all but 0.1 % of the pixels.
-    for (const auto& d : image::compareLayers(scaled.string(), unit.string(), {{"", 0.005f, 0.001f, true}, {"N", 0.005f, 0.001f}}))
-      EXPECT_TRUE(d.passed) << "scale " << s << " layer " << d.layer << ": " << 100 * d.failingFraction << " % of pixels beyond "
-                            << d.threshold << ", max error " << d.maxError;
+    for (const auto& d :
+         image::compareLayers(scaled.string(), unit.string(), {{"", 0.005f, 0.001f, true}, {"N", 0.005f, 0.001f}}))
+      EXPECT_TRUE(d.passed) << "scale " << s << " layer " << d.layer << ": " << 100 * d.failingFraction
+                            << " % of pixels beyond " << d.threshold << ", max error " << d.maxError;
   }
 }
 
@@ -97,17 +98,21 @@ TEST(IvDeterminism, TwoRunsGiveIdenticalFiles) {
 // its prune's work included; its JSON carries the same.
 TEST(IvBench, PrintsEveryPassAndTheSolversFigures) {
   const fs::path json = test::scratchDir("bench") / "b.json";
-  auto r = test::runIvgi({"bench", "--cells", "4", "--size", "64x48", "--frames", "2", "--warmup", "1", "--json", json.string()});
+  auto r = test::runIvgi(
+      {"bench", "--cells", "4", "--size", "64x48", "--frames", "2", "--warmup", "1", "--json", json.string()});
   ASSERT_EQ(r.status, 0) << r.err;
-  for (const char* row : {"\nrefit ", "\nlinks ", "\nprune ", "\nbounces ", "\nraster ", "\nresolve ", "\ntotal ", "fps", "LP_NUM_THREADS",
-                          "leaf links after push-down and pruning", "root-path senders walked in the last frame", "bytes allocated"})
+  for (const char* row : {"\nrefit ", "\nlinks ", "\nprune ", "\nbounces ", "\nraster ", "\nresolve ", "\ntotal ",
+                          "fps", "LP_NUM_THREADS", "leaf links after push-down and pruning",
+                          "root-path senders walked in the last frame", "bytes allocated"})
     EXPECT_NE(r.out.find(row), std::string::npos) << row << " in\n" << r.out;
   std::ifstream in(json);
   const auto j = nlohmann::json::parse(in);
-  for (const char* pass : {"refit", "links", "prune", "bounces", "total"}) EXPECT_GT(j["passes"][pass]["medianMs"].get<double>(), 0.0) << pass;
+  for (const char* pass : {"refit", "links", "prune", "bounces", "total"})
+    EXPECT_GT(j["passes"][pass]["medianMs"].get<double>(), 0.0) << pass;
   EXPECT_EQ(j["frames"].size(), 2u);
   // The moving block's pairs are walked every frame, the static ones once, and those are most.
-  const auto walked = j["solver"]["sendersWalked"].get<uint64_t>(), once = j["solver"]["staticSendersWalked"].get<uint64_t>();
+  const auto walked = j["solver"]["sendersWalked"].get<uint64_t>(),
+             once = j["solver"]["staticSendersWalked"].get<uint64_t>();
   EXPECT_GT(walked, 0u);
   EXPECT_GT(once, walked);
   EXPECT_GT(j["solver"]["leafLinks"].get<uint64_t>(), 0u);
@@ -116,7 +121,8 @@ TEST(IvBench, PrintsEveryPassAndTheSolversFigures) {
 
 TEST(IvExtremes, BinsFromOneToSixtyFour) {
   for (const char* bins : {"1", "64"}) {
-    Stats st = radianceStats(renderExr(std::string("bins") + bins, {"cornell", "--cells", "3", "--size", "48x36", "--bins", bins}));
+    Stats st = radianceStats(
+        renderExr(std::string("bins") + bins, {"cornell", "--cells", "3", "--size", "48x36", "--bins", bins}));
     EXPECT_EQ(st.nonFinite, 0u) << bins;
     EXPECT_GT(st.mean, 0.01) << "the box is lit, bins " << bins;
   }
@@ -124,7 +130,8 @@ TEST(IvExtremes, BinsFromOneToSixtyFour) {
 
 TEST(IvExtremes, EpsilonFromOneToOneMillionth) {
   for (const char* eps : {"1", "1e-6"}) {
-    Stats st = radianceStats(renderExr(std::string("eps"), {"cornell", "--cells", "2", "--size", "48x36", "--bins", "8", "--eps", eps}));
+    Stats st = radianceStats(
+        renderExr(std::string("eps"), {"cornell", "--cells", "2", "--size", "48x36", "--bins", "8", "--eps", eps}));
     EXPECT_EQ(st.nonFinite, 0u) << eps;
     EXPECT_GT(st.mean, 0.01) << "eps " << eps;
   }

@@ -10,8 +10,8 @@
 #include <iterator>
 
 #include "engine/gi/frame_renderer.h"
-#include "engine/scene/lights.h"
 #include "engine/scene/gltf.h"
+#include "engine/scene/lights.h"
 #include "scenes/builtin.h"
 #include "scenes/gltf_builder.h"
 #include "tests/test_support.h"
@@ -32,8 +32,9 @@ Solved solve(const tinygltf::Model& model, gi::IvSettings settings) {
   gi::FrameRenderer r = test::ivRenderer(g, {16, 16, 1}, gi::makeIvSetup(s, g, settings));
   auto pose = scene::evaluatePose(s, -1, 0.0f);
   auto cams = s.cameraNodes();
-  auto view = cams.empty() ? scene::framingCamera(scene::worldBounds(scene::animateOnHost(g, g.frameInputs(s, pose))), 1.0f)
-                           : scene::cameraView(s, pose, cams[0]);
+  auto view = cams.empty()
+                  ? scene::framingCamera(scene::worldBounds(scene::animateOnHost(g, g.frameInputs(s, pose))), 1.0f)
+                  : scene::cameraView(s, pose, cams[0]);
   r.render(g.frameInputs(s, pose), view, scene::worldLights(s, pose));
   return {test::ivSolver(r).leafRadiosity(), test::ivSolver(r).leafLinks(), test::ivSolver(r).stats()};
 }
@@ -43,7 +44,8 @@ double meanOverArea(const tinygltf::Model& model, const std::vector<glm::vec4>& 
   scene::Geometry g = scene::buildGeometry(s);
   auto surfels = scene::surfelsOnHost(g, scene::animateOnHost(g, g.frameInputs(s, scene::evaluatePose(s, -1, 0))));
   double sum = 0, area = 0;
-  for (size_t i = 0; i < surfels.size(); ++i) sum += surfels[i].positionArea.w * values[i].x, area += surfels[i].positionArea.w;
+  for (size_t i = 0; i < surfels.size(); ++i)
+    sum += surfels[i].positionArea.w * values[i].x, area += surfels[i].positionArea.w;
   return sum / area;
 }
 
@@ -72,8 +74,11 @@ FurnaceCoverage checkFurnace(int cells, float rho, uint32_t bins) {
   }
   double mean = meanOverArea(model, solved.radiosity) / pi, exact = 1.0 / (1.0 - rho);
   double lower = 1.0 / (1.0 - rho * cMin), upper = 1.0 / (1.0 - rho * cMax);
-  std::printf("[ furnace ] %d cells, 6x%ux%u bins, rho %.1f: %u leaf links; coverage %.4f (min %.4f, max %.4f); mean B/pi %.4f, exact %.4f, error %.1f %%\n",
-              cells, bins, bins, rho, solved.stats.leafLinks, meanOverArea(model, coverage), cMin, cMax, mean, exact, 100.0 * (mean - exact) / exact);
+  std::printf(
+      "[ furnace ] %d cells, 6x%ux%u bins, rho %.1f: %u leaf links; coverage %.4f (min %.4f, max %.4f); mean B/pi "
+      "%.4f, exact %.4f, error %.1f %%\n",
+      cells, bins, bins, rho, solved.stats.leafLinks, meanOverArea(model, coverage), cMin, cMax, mean, exact,
+      100.0 * (mean - exact) / exact);
   EXPECT_LE(cMax, 1.0 + 1e-5);
   for (const auto& v : solved.radiosity) {
     EXPECT_GE(v.x / pi, lower * (1 - 1e-4)) << "rho " << rho;
@@ -125,8 +130,8 @@ tinygltf::Model emitterBlockerReceiver(bool blocked, int cells, float shift = 0.
   int black = b.material("blocker", glm::vec3(0.0f));
   scenes::MeshData emitter, receiver, blocker;
   auto square = [&](scenes::MeshData& m, float y, float half, glm::vec3 facing, float dx = 0.0f) {
-    scenes::addQuad(m, {dx - half, y, -half}, {dx + half, y, -half}, {dx + half, y, half}, {dx - half, y, half}, cells, cells,
-                    facing + glm::vec3(dx, 0, 0));
+    scenes::addQuad(m, {dx - half, y, -half}, {dx + half, y, -half}, {dx + half, y, half}, {dx - half, y, half}, cells,
+                    cells, facing + glm::vec3(dx, 0, 0));
   };
   square(emitter, 1.0f, 0.1f, {0, 0, 0});
   square(receiver, 0.0f, 0.1f, {0, 1, 0});
@@ -160,7 +165,8 @@ TEST(IvOcclusion, BlockerStopsTheLight) {
   for (uint32_t bins : {4u, 8u, 16u}) {
     double open = receiverIrradiance(false, bins), blocked = receiverIrradiance(true, bins);
     double leak = blocked / open;
-    std::printf("[ occlusion ] N = %u: receiver irradiance %.4f open, %.4f blocked: leak %.2f %%\n", bins, open, blocked, 100 * leak);
+    std::printf("[ occlusion ] N = %u: receiver irradiance %.4f open, %.4f blocked: leak %.2f %%\n", bins, open,
+                blocked, 100 * leak);
     EXPECT_GT(open, 0.1) << "the open receiver sees the emitter";
     EXPECT_LT(leak, 0.05) << "N = " << bins;
   }
@@ -188,7 +194,8 @@ TEST(IvHierarchy, NodesAreTheRectanglesOfTheirSurfaces) {
   b.node("plane", b.mesh("plane", {{plane, b.material("grey", glm::vec3(0.5f))}}));
   b.node("lamp", b.mesh("lamp", {{[] {
                                     scenes::MeshData m;
-                                    scenes::addQuad(m, {-0.1f, 1, -0.1f}, {0.1f, 1, -0.1f}, {0.1f, 1, 0.1f}, {-0.1f, 1, 0.1f}, 1, 1, {0, 0, 0});
+                                    scenes::addQuad(m, {-0.1f, 1, -0.1f}, {0.1f, 1, -0.1f}, {0.1f, 1, 0.1f},
+                                                    {-0.1f, 1, 0.1f}, 1, 1, {0, 0, 0});
                                     return m;
                                   }(),
                                   b.material("lamp", glm::vec3(0.0f), glm::vec3(1.0f))}}));
@@ -197,15 +204,16 @@ TEST(IvHierarchy, NodesAreTheRectanglesOfTheirSurfaces) {
   scene::Geometry g = scene::buildGeometry(s);
   gi::FrameRenderer r = test::ivRenderer(g, {16, 16, 1}, gi::makeIvSetup(s, g, {}));
   auto pose = scene::evaluatePose(s, -1, 0.0f);
-  r.render(g.frameInputs(s, pose), scene::framingCamera(scene::worldBounds(scene::animateOnHost(g, g.frameInputs(s, pose))), 1.0f));
+  r.render(g.frameInputs(s, pose),
+           scene::framingCamera(scene::worldBounds(scene::animateOnHost(g, g.frameInputs(s, pose))), 1.0f));
   const gi::Hierarchy& h = test::ivSolver(r).hierarchy();
   const auto nodes = test::ivSolver(r).nodeStates();
   const auto& root = nodes[h.roots[0]];
   glm::vec3 t1, t2;
   gpu::tangentFrame(glm::vec3(root.normalCone), t1, t2);
   glm::vec3 longAxis = std::cos(root.shape.y) * t1 + std::sin(root.shape.y) * t2;
-  std::printf("[ shape ] root of the plane: half-extents %.4f x %.4f, long axis %.2f deg off the plane's\n", root.shape.z, root.shape.w,
-              glm::degrees(std::acos(std::min(std::abs(glm::dot(longAxis, along)), 1.0f))));
+  std::printf("[ shape ] root of the plane: half-extents %.4f x %.4f, long axis %.2f deg off the plane's\n",
+              root.shape.z, root.shape.w, glm::degrees(std::acos(std::min(std::abs(glm::dot(longAxis, along)), 1.0f))));
   EXPECT_NEAR(root.positionArea.w, 0.16f, 1e-5f);
   EXPECT_NEAR(root.shape.z, 0.4f, 0.4f * 0.02f);
   EXPECT_NEAR(root.shape.w, 0.1f, 0.1f * 0.03f);
@@ -235,7 +243,8 @@ TEST(IvDirectLight, FloorCentreUnderTheCornellLight) {
     }
     double got = solved.radiosity[best].x / pi;
     errors.push_back(std::abs(got - exact) / exact);
-    std::printf("[ direct ] N = %2u: floor centre B/pi %.4f, exact %.4f (%+.2f %%)\n", bins, got, exact, 100 * (got - exact) / exact);
+    std::printf("[ direct ] N = %2u: floor centre B/pi %.4f, exact %.4f (%+.2f %%)\n", bins, got, exact,
+                100 * (got - exact) / exact);
   }
   // The light's direct light is its own (its pieces' exact form factors where the bins show them),
   // not the bins': within 1 % at every bin count (a light credited with the whole of every bin it is
@@ -258,7 +267,8 @@ TEST(IvDirectLight, EveryReceiverOfTheEmptyRoom) {
   double brightest = 0;
   for (size_t r = 0; r < surfels.size(); ++r) {
     if (g.surfelEmission[r].x > 0.0f || surfels[r].normal.y < -0.9f) continue;  // the light, the ceiling
-    exact[r] = test::cornellLightIrradiance(glm::dvec3(surfels[r].positionArea), glm::dvec3(surfels[r].normal), 48) * g.surfelAlbedo[r].x / pi;
+    exact[r] = test::cornellLightIrradiance(glm::dvec3(surfels[r].positionArea), glm::dvec3(surfels[r].normal), 48) *
+               g.surfelAlbedo[r].x / pi;
     brightest = std::max(brightest, exact[r]);
   }
   double sum = 0, worst = 0;
@@ -268,7 +278,8 @@ TEST(IvDirectLight, EveryReceiverOfTheEmptyRoom) {
     double error = std::abs(solved.radiosity[r].x / pi - exact[r]) / exact[r];
     sum += error, worst = std::max(worst, error), ++counted;
   }
-  std::printf("[ direct ] empty room, N = 16: %d receivers, mean error %.2f %%, worst %.2f %%\n", counted, 100 * sum / counted, 100 * worst);
+  std::printf("[ direct ] empty room, N = 16: %d receivers, mean error %.2f %%, worst %.2f %%\n", counted,
+              100 * sum / counted, 100 * worst);
   EXPECT_GT(counted, 500);
   EXPECT_LT(sum / counted, 0.01);
   EXPECT_LT(worst, 0.03);
@@ -318,8 +329,8 @@ std::pair<double, gi::IvStats> splitAgainstFullRelink(const tinygltf::Model& mod
 
 TEST(IvStaticObjects, LinkedOnceGiveWhatAFullRelinkGives) {
   auto [worst, st] = splitAgainstFullRelink(scenes::cornellBox({.cells = 6}));
-  std::printf("static links %u of %u, static leaf links %u of %u; worst relative radiosity difference %.2e\n", st.staticLinks, st.links,
-              st.staticLeafLinks, st.leafLinks, worst);
+  std::printf("static links %u of %u, static leaf links %u of %u; worst relative radiosity difference %.2e\n",
+              st.staticLinks, st.links, st.staticLeafLinks, st.leafLinks, worst);
   EXPECT_GT(st.staticLinks, st.links / 2) << "most links are between the room and the tall block";
   // Float sums in another order: a few ulps per link, far below any visible change.
   EXPECT_LT(worst, 1e-4);
@@ -334,11 +345,13 @@ TEST(IvStaticObjects, AMovingEmitterGivesWhatAFullRelinkGives) {
   glow.name = "glowing block";
   glow.emissiveFactor = {2.0, 1.0, 0.5};
   model.materials.push_back(glow);
-  auto block = std::find_if(model.meshes.begin(), model.meshes.end(), [](const tinygltf::Mesh& m) { return m.name == "short block"; });
+  auto block = std::find_if(model.meshes.begin(), model.meshes.end(),
+                            [](const tinygltf::Mesh& m) { return m.name == "short block"; });
   ASSERT_NE(block, model.meshes.end());
   for (tinygltf::Primitive& p : block->primitives) p.material = int(model.materials.size()) - 1;
   auto [worst, st] = splitAgainstFullRelink(model);
-  std::printf("static leaf links %u of %u; worst relative radiosity difference %.2e\n", st.staticLeafLinks, st.leafLinks, worst);
+  std::printf("static leaf links %u of %u; worst relative radiosity difference %.2e\n", st.staticLeafLinks,
+              st.leafLinks, worst);
   EXPECT_LT(worst, 1e-4);
 }
 
@@ -375,7 +388,9 @@ struct SmallRoom {
   gi::FrameRenderer renderer(const gi::IvSettings& settings) const {
     return test::ivRenderer(geometry, {16, 16, 1}, gi::makeIvSetup(scene, geometry, settings, 0));
   }
-  void render(gi::FrameRenderer& r, float t) const { r.render(geometry.frameInputs(scene, scene::evaluatePose(scene, 0, t)), view); }
+  void render(gi::FrameRenderer& r, float t) const {
+    r.render(geometry.frameInputs(scene, scene::evaluatePose(scene, 0, t)), view);
+  }
 };
 
 // Every leaf of two solvers keeps the same surviving links, sender and form factor bit for bit.
@@ -385,7 +400,8 @@ void expectSameLeafLinks(const gi::IvSolver& a, const gi::IvSolver& b) {
   for (size_t i = 0; i < la.size(); ++i) {
     ASSERT_EQ(la[i].size(), lb[i].size()) << "surfel " << i;
     for (size_t j = 0; j < la[i].size(); ++j)
-      ASSERT_TRUE(la[i][j].sender == lb[i][j].sender && la[i][j].formFactor == lb[i][j].formFactor) << "surfel " << i << ", link " << j;
+      ASSERT_TRUE(la[i][j].sender == lb[i][j].sender && la[i][j].formFactor == lb[i][j].formFactor)
+          << "surfel " << i << ", link " << j;
   }
 }
 
@@ -401,7 +417,8 @@ TEST(IvStaticObjects, PruneInBatchesGivesWhatOneDispatchGives) {
       true, [](gi::IvSettings& s) { s.pruneGroups = 3; },
       [](const gi::IvSolver& whole, const gi::IvSolver& batched, uint32_t bins, float t) {
         const gi::IvStats a = whole.stats(), b = batched.stats();
-        std::printf("bins %u, t %.1f: %u leaf links in %u dispatch(es) and in %u\n", bins, t, a.leafLinks, a.pruneBatches, b.pruneBatches);
+        std::printf("bins %u, t %.1f: %u leaf links in %u dispatch(es) and in %u\n", bins, t, a.leafLinks,
+                    a.pruneBatches, b.pruneBatches);
         EXPECT_EQ(a.sharedBins, bins <= 16) << "both paths are covered";
         EXPECT_EQ(a.pruneBatches, 1u);
         EXPECT_GE(b.pruneBatches, 8u);
@@ -409,7 +426,8 @@ TEST(IvStaticObjects, PruneInBatchesGivesWhatOneDispatchGives) {
         EXPECT_GT(a.staticLeafLinks, 0u);
         const auto ra = whole.leafRadiosity(), rb = batched.leafRadiosity();
         ASSERT_EQ(ra.size(), rb.size());
-        EXPECT_EQ(std::memcmp(ra.data(), rb.data(), ra.size() * sizeof(glm::vec4)), 0) << "bins " << bins << ", t " << t;
+        EXPECT_EQ(std::memcmp(ra.data(), rb.data(), ra.size() * sizeof(glm::vec4)), 0)
+            << "bins " << bins << ", t " << t;
         expectSameLeafLinks(whole, batched);
       });
 }
@@ -426,8 +444,9 @@ TEST(IvStaticObjects, APruneThatRunsOutOfLoopRoundsIsRedoneWithMoreSubgroups) {
       false, [](gi::IvSettings& s) { s.pruneGroups = 1, s.pruneLeaves = 64; },
       [&](const gi::IvSolver& usual, const gi::IvSolver& alone, uint32_t bins, float t) {
         const gi::IvStats a = usual.stats(), b = alone.stats();
-        std::printf("bins %u, t %.1f: 64 leaves a workgroup: frames redone %u, workgroups of %u invocations (usually %u)\n", bins, t,
-                    b.framesRedone, b.pruneGroupSize, a.pruneGroupSize);
+        std::printf(
+            "bins %u, t %.1f: 64 leaves a workgroup: frames redone %u, workgroups of %u invocations (usually %u)\n",
+            bins, t, b.framesRedone, b.pruneGroupSize, a.pruneGroupSize);
         EXPECT_EQ(a.framesRedone, 0u);
         EXPECT_GE(b.framesRedone, 1u) << "a workgroup of 64 leaves ran out of loop rounds";
         EXPECT_GT(b.pruneGroupSize, a.pruneGroupSize);
@@ -437,7 +456,8 @@ TEST(IvStaticObjects, APruneThatRunsOutOfLoopRoundsIsRedoneWithMoreSubgroups) {
         const auto ra = usual.leafRadiosity(), rb = alone.leafRadiosity();
         ASSERT_EQ(ra.size(), rb.size());
         float worst = 0.0f;
-        for (size_t i = 0; i < ra.size(); ++i) worst = std::max(worst, glm::length(ra[i] - rb[i]) / std::max(glm::length(ra[i]), 1e-6f));
+        for (size_t i = 0; i < ra.size(); ++i)
+          worst = std::max(worst, glm::length(ra[i] - rb[i]) / std::max(glm::length(ra[i]), 1e-6f));
         EXPECT_LT(worst, 1e-5f) << "bins " << bins << ", t " << t;
       });
 }
@@ -453,14 +473,16 @@ TEST(IvStaticObjects, AFrameThatOutgrowsItsRoomIsRedoneKeepingTheStaticLinks) {
   scenes::MeshData emitter, floor, blocker;
   scenes::addQuad(emitter, {-0.1f, 1, -0.1f}, {0.1f, 1, -0.1f}, {0.1f, 1, 0.1f}, {-0.1f, 1, 0.1f}, 2, 2, {0, 0, 0});
   scenes::addQuad(floor, {-0.5f, 0, -0.5f}, {0.5f, 0, -0.5f}, {0.5f, 0, 0.5f}, {-0.5f, 0, 0.5f}, 10, 10, {0, 1, 0});
-  scenes::addQuad(blocker, {-0.15f, 0, -0.15f}, {0.15f, 0, -0.15f}, {0.15f, 0, 0.15f}, {-0.15f, 0, 0.15f}, 4, 4, {0, -1, 0});
+  scenes::addQuad(blocker, {-0.15f, 0, -0.15f}, {0.15f, 0, -0.15f}, {0.15f, 0, 0.15f}, {-0.15f, 0, 0.15f}, 4, 4,
+                  {0, -1, 0});
   b.node("room", b.mesh("room", {{emitter, lamp}, {floor, grey}}));
   int mover = b.node("blocker", b.mesh("blocker", {{blocker, grey}}), {0, 0.5f, 0});
   b.animate("grow", mover, "scale", {0.0f, 1.0f}, {0.01f, 0.01f, 0.01f, 1, 1, 1});
   const tinygltf::Model model = b.finish();
   scene::Scene s = scene::sceneFromModel(model, "test");
   scene::Geometry g = scene::buildGeometry(s);
-  const auto view = scene::framingCamera(scene::worldBounds(scene::animateOnHost(g, g.frameInputs(s, scene::evaluatePose(s, 0, 1.0f)))), 1.0f);
+  const auto view = scene::framingCamera(
+      scene::worldBounds(scene::animateOnHost(g, g.frameInputs(s, scene::evaluatePose(s, 0, 1.0f)))), 1.0f);
   gi::IvSettings settings;
   settings.bins = 16;
   const gi::IvSetup setup = gi::makeIvSetup(s, g, settings, 0);
@@ -471,8 +493,9 @@ TEST(IvStaticObjects, AFrameThatOutgrowsItsRoomIsRedoneKeepingTheStaticLinks) {
   animated.render(g.frameInputs(s, pose), view);
   fresh.render(g.frameInputs(s, pose), view);
   const gi::IvStats a = test::ivSolver(animated).stats(), f = test::ivSolver(fresh).stats();
-  std::printf("leaf links %u at the first frame, %u at the last (%u static); frames redone %u, static passes %u; %.2f MiB\n", first.leafLinks,
-              a.leafLinks, a.staticLeafLinks, a.framesRedone, a.staticPasses, double(a.bytes) / (1 << 20));
+  std::printf(
+      "leaf links %u at the first frame, %u at the last (%u static); frames redone %u, static passes %u; %.2f MiB\n",
+      first.leafLinks, a.leafLinks, a.staticLeafLinks, a.framesRedone, a.staticPasses, double(a.bytes) / (1 << 20));
   EXPECT_EQ(first.framesRedone, 0u) << "the first guess holds the first frame";
   EXPECT_EQ(a.framesRedone, 1u) << "the grown blocker outgrew the room the first frame left";
   EXPECT_EQ(a.staticPasses, 1u) << "the static links were kept";

@@ -41,7 +41,8 @@ struct TriangleModel {
 }  // namespace
 
 TEST(Loader, AnimatedMorphCube) {
-  Scene s = loadGltf((test::assimpGltfDir() / "glTF-Sample-Models/AnimatedMorphCube-glTF/AnimatedMorphCube.gltf").string());
+  Scene s =
+      loadGltf((test::assimpGltfDir() / "glTF-Sample-Models/AnimatedMorphCube-glTF/AnimatedMorphCube.gltf").string());
   ASSERT_EQ(s.meshes.size(), 1u);
   ASSERT_EQ(s.meshes[0].primitives.size(), 1u);
   EXPECT_EQ(s.meshes[0].primitives[0].targets.size(), 2u);
@@ -119,12 +120,15 @@ TEST(Loader, NormalizedAndQuantizedComponentTypes) {
 }
 
 TEST(Loader, IndexComponentTypes) {
-  for (int type : {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT}) {
+  for (int type : {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
+                   TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT}) {
     TriangleModel t;
     uint32_t idx32[] = {2, 1, 0};
     uint16_t idx16[] = {2, 1, 0};
     uint8_t idx8[] = {2, 1, 0};
-    const void* data = type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT ? (const void*)idx32 : type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? (const void*)idx16 : idx8;
+    const void* data = type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT     ? (const void*)idx32
+                       : type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? (const void*)idx16
+                                                                        : idx8;
     size_t bytes = tinygltf::GetComponentSizeInBytes(type);
     t.primitive().indices = t.b.accessor(data, 3, type, TINYGLTF_TYPE_SCALAR, bytes);
     Scene s = t.load();
@@ -188,7 +192,8 @@ TEST(Loader, StripsFansAndNonIndexed) {
   uint32_t four[] = {0, 1, 2, 0};
   strip.primitive().indices = strip.b.accessor(four, 4, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, 4);
   strip.primitive().mode = TINYGLTF_MODE_TRIANGLE_STRIP;
-  EXPECT_EQ(strip.load().meshes[0].primitives[0].indices, (std::vector<uint32_t>{0, 1, 2, 2, 1, 0})) << "odd strip triangles flip";
+  EXPECT_EQ(strip.load().meshes[0].primitives[0].indices, (std::vector<uint32_t>{0, 1, 2, 2, 1, 0}))
+      << "odd strip triangles flip";
   TriangleModel fan;
   fan.primitive().indices = fan.b.accessor(four, 4, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, 4);
   fan.primitive().mode = TINYGLTF_MODE_TRIANGLE_FAN;
@@ -234,7 +239,8 @@ TEST(Loader, MaterialsLightsAndCameras) {
   point.color = {1, 0.5, 0.25};
   point.intensity = 40;
   t.b.model().lights.push_back(point);
-  t.b.model().nodes[t.node].extensions["KHR_lights_punctual"] = tinygltf::Value(tinygltf::Value::Object{{"light", tinygltf::Value(0)}});
+  t.b.model().nodes[t.node].extensions["KHR_lights_punctual"] =
+      tinygltf::Value(tinygltf::Value::Object{{"light", tinygltf::Value(0)}});
   t.b.model().extensionsUsed.push_back("KHR_lights_punctual");
   Scene lit = t.load();
   ASSERT_EQ(lit.lights.size(), 1u);

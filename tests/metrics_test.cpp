@@ -10,7 +10,9 @@ using namespace ivgi;
 
 namespace {
 
-image::RgbImage uniform(uint32_t w, uint32_t h, glm::vec3 c) { return {w, h, std::vector<glm::vec3>(size_t(w) * h, c)}; }
+image::RgbImage uniform(uint32_t w, uint32_t h, glm::vec3 c) {
+  return {w, h, std::vector<glm::vec3>(size_t(w) * h, c)};
+}
 
 double meanFlip(const image::RgbImage& a, const image::RgbImage& b) {
   auto map = image::flipErrorMap(a, b);
@@ -71,7 +73,8 @@ TEST(Metrics, MaskLeavesPixelsOut) {
 // (32.303, 79.197, −107.864); Hunt: a, b × L/100; HyAB(white, black) = 100;
 // c_max = HyAB(green, blue)^0.7; error = p_t + (100^0.7 − p_c·c_max)/(c_max − p_c·c_max)·(1 − p_t).
 TEST(Flip, BlackAgainstWhiteFollowsThePaper) {
-  const double gL = 87.737, ga = -86.185 * gL / 100, gb = 83.181 * gL / 100, bL = 32.303, ba = 79.197 * bL / 100, bb = -107.864 * bL / 100;
+  const double gL = 87.737, ga = -86.185 * gL / 100, gb = 83.181 * gL / 100, bL = 32.303, ba = 79.197 * bL / 100,
+               bb = -107.864 * bL / 100;
   const double cmax = std::pow(std::abs(gL - bL) + std::hypot(ga - ba, gb - bb), 0.7), e = std::pow(100.0, 0.7);
   const double expected = 0.95 + (e - 0.4 * cmax) / (cmax - 0.4 * cmax) * 0.05;
   double got = meanFlip(uniform(24, 24, glm::vec3(0.0f)), uniform(24, 24, glm::vec3(1.0f)));

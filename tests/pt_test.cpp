@@ -9,10 +9,10 @@
 #include "engine/image/metrics.h"
 #include "engine/reference/path_tracer.h"
 #include "engine/scene/gltf.h"
-#include "shaders/interface.h"
-#include "tests/test_support.h"
 #include "scenes/builtin.h"
 #include "scenes/gltf_builder.h"
+#include "shaders/interface.h"
+#include "tests/test_support.h"
 
 using namespace ivgi;
 
@@ -25,7 +25,8 @@ struct Traced {
   scene::Scene scene;
   scene::Geometry geometry;
   std::unique_ptr<reference::PathTracer> tracer;
-  explicit Traced(const tinygltf::Model& model) : scene(scene::sceneFromModel(model, "test")), geometry(scene::buildGeometry(scene)) {
+  explicit Traced(const tinygltf::Model& model)
+      : scene(scene::sceneFromModel(model, "test")), geometry(scene::buildGeometry(scene)) {
     auto pose = scene::evaluatePose(scene, -1, 0.0f);
     tracer = std::make_unique<reference::PathTracer>(reference::PathScene::at(scene, geometry, pose));
   }
@@ -94,11 +95,12 @@ TEST(PtDirectLight, IrradianceUnderASquareEmitterMatchesTheClosedForm) {
   const float x0 = -0.2f, x1 = 0.2f, z0 = -0.15f, z1 = 0.15f, h = 0.5f, L = 4.0f;
   Traced t(squareOverFloor(x0, x1, z0, z1, h, L));
   for (glm::vec2 p : {glm::vec2(0.0f, 0.0f), glm::vec2(0.12f, -0.05f)}) {
-    double f = cornerFormFactor(x1 - p.x, z1 - p.y, h) + cornerFormFactor(p.x - x0, z1 - p.y, h) + cornerFormFactor(x1 - p.x, p.y - z0, h) +
-               cornerFormFactor(p.x - x0, p.y - z0, h);
+    double f = cornerFormFactor(x1 - p.x, z1 - p.y, h) + cornerFormFactor(p.x - x0, z1 - p.y, h) +
+               cornerFormFactor(x1 - p.x, p.y - z0, h) + cornerFormFactor(p.x - x0, p.y - z0, h);
     double exact = kPi * L * f;
     double got = t.tracer->irradiance({p.x, 0.0f, p.y}, {0, 1, 0}, 20000, {.bounces = 0}).x;
-    std::printf("[ pt direct ] floor (%.2f, %.2f): E %.5f, exact %.5f (%+.2f %%)\n", p.x, p.y, got, exact, 100 * (got - exact) / exact);
+    std::printf("[ pt direct ] floor (%.2f, %.2f): E %.5f, exact %.5f (%+.2f %%)\n", p.x, p.y, got, exact,
+                100 * (got - exact) / exact);
     EXPECT_NEAR(got, exact, 0.01 * exact);
   }
 }
@@ -110,7 +112,8 @@ TEST(PtDirectLight, CornellFloorCentre) {
   const double exact = test::cornellLightIrradiance(p, {0, 1, 0}, 400);
   Traced t(scenes::cornellBox({.cells = 4, .animated = false, .blocks = false}));
   double got = t.tracer->irradiance(glm::vec3(p) + glm::vec3(0, 1e-4f, 0), {0, 1, 0}, 20000, {.bounces = 0}).x;
-  std::printf("[ pt direct ] Cornell floor centre: E %.4f, exact %.4f (%+.2f %%)\n", got, exact, 100 * (got - exact) / exact);
+  std::printf("[ pt direct ] Cornell floor centre: E %.4f, exact %.4f (%+.2f %%)\n", got, exact,
+              100 * (got - exact) / exact);
   EXPECT_NEAR(got, exact, 0.01 * exact);
 }
 
@@ -119,9 +122,11 @@ TEST(PtDirectLight, CornellFloorCentre) {
 // irradiance averaged over an 8×8 grid of the receiver (midpoint rule) must both give it within 1 %.
 TEST(ConfigurationFactor, ParallelUnitSquares) {
   const double X = 1, Y = 1;
-  const double exact = 2 / (kPi * X * Y) *
-                       (std::log(std::sqrt((1 + X * X) * (1 + Y * Y) / (1 + X * X + Y * Y))) + X * std::sqrt(1 + Y * Y) * std::atan(X / std::sqrt(1 + Y * Y)) +
-                        Y * std::sqrt(1 + X * X) * std::atan(Y / std::sqrt(1 + X * X)) - X * std::atan(X) - Y * std::atan(Y));
+  const double exact =
+      2 / (kPi * X * Y) *
+      (std::log(std::sqrt((1 + X * X) * (1 + Y * Y) / (1 + X * X + Y * Y))) +
+       X * std::sqrt(1 + Y * Y) * std::atan(X / std::sqrt(1 + Y * Y)) +
+       Y * std::sqrt(1 + X * X) * std::atan(Y / std::sqrt(1 + X * X)) - X * std::atan(X) - Y * std::atan(Y));
   EXPECT_NEAR(exact, 0.1998, 1e-4);
 
   const int n = 32;
@@ -138,9 +143,10 @@ TEST(ConfigurationFactor, ParallelUnitSquares) {
   Traced t(squareOverFloor(0, 1, 0, 1, 1, 1.0f));
   double pt = 0;
   for (int i = 0; i < 8; ++i)
-    for (int j = 0; j < 8; ++j) pt += t.tracer->irradiance({(i + 0.5f) / 8, 0.0f, (j + 0.5f) / 8}, {0, 1, 0}, 4000, {.bounces = 0}).x / kPi / 64;
-  std::printf("[ configuration factor ] exact %.5f, iv form factors %.5f (%+.2f %%), pt %.5f (%+.2f %%)\n", exact, iv, 100 * (iv - exact) / exact, pt,
-              100 * (pt - exact) / exact);
+    for (int j = 0; j < 8; ++j)
+      pt += t.tracer->irradiance({(i + 0.5f) / 8, 0.0f, (j + 0.5f) / 8}, {0, 1, 0}, 4000, {.bounces = 0}).x / kPi / 64;
+  std::printf("[ configuration factor ] exact %.5f, iv form factors %.5f (%+.2f %%), pt %.5f (%+.2f %%)\n", exact, iv,
+              100 * (iv - exact) / exact, pt, 100 * (pt - exact) / exact);
   EXPECT_NEAR(iv, exact, 0.01 * exact);
   EXPECT_NEAR(pt, exact, 0.01 * exact);
 }
@@ -192,7 +198,9 @@ TEST(PtDirectLight, FloorRegionMeansOfTheRenderedImage) {
   auto frame = t.render(w, h, {.spp = 256, .bounces = 0});
   auto pose = scene::evaluatePose(t.scene, -1, 0.0f);
   const gpu::Camera cam = scene::gpuCamera(scene::cameraView(t.scene, pose, t.scene.cameraNodes().at(0)), 1.0f);
-  auto exactRadiance = [](glm::dvec3 p) { return 0.725 * test::cornellLightIrradiance(p, {0, 1, 0}, 48) / kPi; };  // white floor, red channel
+  auto exactRadiance = [](glm::dvec3 p) {
+    return 0.725 * test::cornellLightIrradiance(p, {0, 1, 0}, 48) / kPi;
+  };  // white floor, red channel
   double got[5] = {}, exact[5] = {};
   int count[5] = {};
   for (uint32_t y = 0; y < h; ++y)
@@ -208,8 +216,8 @@ TEST(PtDirectLight, FloorRegionMeansOfTheRenderedImage) {
   ASSERT_GT(count[0], 200);
   for (int k = 0; k < 5; ++k) {
     ASSERT_GT(count[k], 20) << "region " << k;
-    std::printf("[ pt direct ] floor region %d (%d px): mean %.5f, exact %.5f (%+.2f %%)\n", k, count[k], got[k] / count[k], exact[k] / count[k],
-                100 * (got[k] - exact[k]) / exact[k]);
+    std::printf("[ pt direct ] floor region %d (%d px): mean %.5f, exact %.5f (%+.2f %%)\n", k, count[k],
+                got[k] / count[k], exact[k] / count[k], 100 * (got[k] - exact[k]) / exact[k]);
     EXPECT_NEAR(got[k] / exact[k], 1.0, 0.015) << "region " << k;
   }
 }

@@ -42,8 +42,9 @@ TEST(Reference, StoredReferenceIsCurrent) {
   ASSERT_TRUE(fs::exists(kReference)) << kReference << " is missing; see the header of tests/reference_test.cpp";
   // pt at 64 spp against the 4096-spp reference: only Monte Carlo noise remains, about half the
   // gate; a change of the light transport moves it far beyond (iv's own error is twice the gate).
-  auto pt = image::measureError(image::readLinearRgb(renderExr("pt64", {"--method", "pt", "--spp", "64", "--size", "160x120"}).string()),
-                                image::readLinearRgb(kReference.string()));
+  auto pt = image::measureError(
+      image::readLinearRgb(renderExr("pt64", {"--method", "pt", "--spp", "64", "--size", "160x120"}).string()),
+      image::readLinearRgb(kReference.string()));
   std::printf("[ reference ] pt 64 spp: relMSE %.5f, FLIP %.4f\n", pt.relMse, pt.flip);
   EXPECT_LT(pt.relMse, 0.006);
 }
@@ -52,18 +53,22 @@ TEST(Reference, StoredReferenceIsCurrent) {
 // docs/performance.md reports, 30 % above it.
 TEST(Reference, IvAgainstPtOnTheCornellBox) {
   ASSERT_TRUE(fs::exists(kReference));
-  auto iv = image::measureError(image::readLinearRgb(renderExr("iv", {"--size", "160x120"}).string()), image::readLinearRgb(kReference.string()));
-  std::printf("[ reference ] iv N16 eps 0.02 2 bounces: relMSE %.5f, FLIP %.4f, PSNR %.2f dB\n", iv.relMse, iv.flip, iv.psnr);
+  auto iv = image::measureError(image::readLinearRgb(renderExr("iv", {"--size", "160x120"}).string()),
+                                image::readLinearRgb(kReference.string()));
+  std::printf("[ reference ] iv N16 eps 0.02 2 bounces: relMSE %.5f, FLIP %.4f, PSNR %.2f dB\n", iv.relMse, iv.flip,
+              iv.psnr);
   EXPECT_LT(iv.relMse, 0.0121);
   EXPECT_GT(iv.relMse, 0.0) << "iv cannot be exact";
 }
 
 TEST(PtCli, RendersEveryLayerWithCpuTimings) {
   auto dir = test::scratchDir("pt_cli");
-  auto r = test::runIvgi({"render", "--method", "pt", "--spp", "4", "--size", "32x24", "--frames", "0-1", "--out", (dir / "f_%04d").string()});
+  auto r = test::runIvgi({"render", "--method", "pt", "--spp", "4", "--size", "32x24", "--frames", "0-1", "--out",
+                          (dir / "f_%04d").string()});
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.err.find("row 48/48"), std::string::npos) << r.err;  // progress counts rows
-  for (const char* f : {"f_0000.exr", "f_0000.png", "f_0001.exr", "f_0001.png", "f.json"}) EXPECT_TRUE(fs::exists(dir / f)) << f;
+  for (const char* f : {"f_0000.exr", "f_0000.png", "f_0001.exr", "f_0001.png", "f.json"})
+    EXPECT_TRUE(fs::exists(dir / f)) << f;
   auto j = readJson(dir / "f.json");
   EXPECT_EQ(j["settings"]["method"], "pt");
   EXPECT_EQ(j["settings"]["spp"], 4);
@@ -85,10 +90,12 @@ TEST(PtCli, SameBytesForAnyThreadCount) {
 }
 
 TEST(PtCli, RefusesOptionsThatDoNotApply) {
-  auto r = test::runIvgi({"render", "--spp", "16", "--frames", "0", "--out", (test::scratchDir("pt_bad") / "f_%04d").string()});
+  auto r = test::runIvgi(
+      {"render", "--spp", "16", "--frames", "0", "--out", (test::scratchDir("pt_bad") / "f_%04d").string()});
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.err.find("--method pt only"), std::string::npos) << r.err;
-  r = test::runIvgi({"render", "--method", "pt", "--spp", "0", "--frames", "0", "--out", (test::scratchDir("pt_bad") / "f_%04d").string()});
+  r = test::runIvgi({"render", "--method", "pt", "--spp", "0", "--frames", "0", "--out",
+                     (test::scratchDir("pt_bad") / "f_%04d").string()});
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.err.find("--spp 0"), std::string::npos) << r.err;
   r = test::runIvgi({"bench", "--method", "pt"});
@@ -101,7 +108,8 @@ TEST(CompareCli, PrintsMetricsWritesJsonAndHeatmap) {
   ASSERT_TRUE(fs::exists(kReference));
   auto test = renderExr("cmp_iv", {"--size", "160x120", "--bins", "8"});
   auto dir = test::scratchDir("cmp_out");
-  auto r = test::runIvgi({"compare", test.string(), kReference.string(), "--json", (dir / "m.json").string(), "--heatmap", (dir / "h.png").string()});
+  auto r = test::runIvgi({"compare", test.string(), kReference.string(), "--json", (dir / "m.json").string(),
+                          "--heatmap", (dir / "h.png").string()});
   ASSERT_EQ(r.status, 0) << r.err;
   for (const char* k : {"relMSE", "RMSE", "PSNR", "FLIP"}) EXPECT_NE(r.out.find(k), std::string::npos) << r.out;
   auto j = readJson(dir / "m.json");
@@ -127,8 +135,8 @@ TEST(CompareCli, PrintsMetricsWritesJsonAndHeatmap) {
 TEST(SweepCli, WritesCsvJsonAndPlot) {
   auto ref = renderExr("sweep_ref", {"--method", "pt", "--spp", "32", "--size", "48x36", "--cells", "2"});
   auto dir = test::scratchDir("sweep_out");
-  auto r = test::runIvgi({"sweep", "--cells", "2", "--reference", ref.string(), "--bins", "2,4", "--bounces", "0,1", "--method", "iv,none",
-                          "--repeats", "1", "--warmup", "0", "--out", dir.string()});
+  auto r = test::runIvgi({"sweep", "--cells", "2", "--reference", ref.string(), "--bins", "2,4", "--bounces", "0,1",
+                          "--method", "iv,none", "--repeats", "1", "--warmup", "0", "--out", dir.string()});
   ASSERT_EQ(r.status, 0) << r.err;
   std::ifstream csv(dir / "sweep.csv");
   std::vector<std::string> lines;
@@ -150,8 +158,8 @@ TEST(SweepCli, WritesCsvJsonAndPlot) {
 
 TEST(BenchCli, EqualErrorReportsTheRatio) {
   auto dir = test::scratchDir("equal_error");
-  auto r = test::runIvgi({"bench", "--equal-error", "--cells", "2", "--size", "32x24", "--reference-spp", "256", "--max-spp", "64", "--frames", "2",
-                          "--warmup", "0", "--json", (dir / "e.json").string()});
+  auto r = test::runIvgi({"bench", "--equal-error", "--cells", "2", "--size", "32x24", "--reference-spp", "256",
+                          "--max-spp", "64", "--frames", "2", "--warmup", "0", "--json", (dir / "e.json").string()});
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("at equal error"), std::string::npos) << r.out;
   auto j = readJson(dir / "e.json");

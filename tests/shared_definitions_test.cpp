@@ -27,7 +27,8 @@ struct Case {
 
 std::vector<Case> cases() {
   std::vector<Case> out;
-  const float values[] = {0.0f, 1e-30f, 1e-6f, 0.25f, 0.5f, 0.999999f, 1.0f, 1.5f, 2.75f, -0.25f, -3.6f, 1e6f, 123.456f, 7.0f};
+  const float values[] = {0.0f, 1e-30f, 1e-6f,  0.25f, 0.5f, 0.999999f, 1.0f,
+                          1.5f, 2.75f,  -0.25f, -3.6f, 1e6f, 123.456f,  7.0f};
   const uint32_t modes[] = {10497u, 33071u, 33648u};
   const uint32_t sizes[] = {1u, 2u, 7u, 64u};
   uint32_t id = 0;
@@ -44,7 +45,8 @@ TEST(SharedDefinitions, GlslAndCppAgree) {
   auto cs = cases();
   vk::Program program(ctx, "common_cases", testShaderCode("common_cases"));
   vk::Buffer in = vk::makeBuffer(ctx, cs);
-  vk::Buffer keys(ctx, cs.size() * 8, vk::Memory::Host), pairs(ctx, cs.size() * 16, vk::Memory::Host), rays(ctx, cs.size() * 16, vk::Memory::Host);
+  vk::Buffer keys(ctx, cs.size() * 8, vk::Memory::Host), pairs(ctx, cs.size() * 16, vk::Memory::Host),
+      rays(ctx, cs.size() * 16, vk::Memory::Host);
   vk::Buffer staticBins(ctx, cs.size() * 16, vk::Memory::Host);
   scene::CameraView view;
   view.origin = {1, 2, 3};
@@ -53,7 +55,11 @@ TEST(SharedDefinitions, GlslAndCppAgree) {
   view.up = glm::cross(view.right, view.forward);
   view.yfov = 0.6f;
   const gpu::ImagePush push{scene::gpuCamera(view, 1.5f), {48, 32}, uint32_t(cs.size()), 0};
-  ctx.submitAndWait([&](VkCommandBuffer cmd) { program.dispatchItems(cmd, cs.size(), {{"cases", in}, {"keys", keys}, {"pairs", pairs}, {"rays", rays}, {"staticBins", staticBins}}, push); });
+  ctx.submitAndWait([&](VkCommandBuffer cmd) {
+    program.dispatchItems(cmd, cs.size(),
+                          {{"cases", in}, {"keys", keys}, {"pairs", pairs}, {"rays", rays}, {"staticBins", staticBins}},
+                          push);
+  });
   auto gotKeys = keys.read<uint64_t>(cs.size());
   auto gotPairs = pairs.read<glm::vec4>(cs.size());
   auto gotRays = rays.read<glm::vec4>(cs.size());
@@ -75,7 +81,8 @@ TEST(SharedDefinitions, GlslAndCppAgree) {
     EXPECT_LT(glm::length(glm::vec3(gotRays[i]) - ray), 1e-4f * std::max(1.0f, glm::length(ray))) << i;
     // A static leaf link's bin (any of 6·64² bins) and its coverage, capped at the whole bin.
     const uint32_t bin = c.id % 24576u, covered = c.id >> 13, packed = gpu::packStaticBin(bin, covered);
-    EXPECT_EQ(gotStaticBins[i], glm::uvec4(packed, bin, std::min(covered, gpu::kCoverageUnit), 0u)) << "covered " << covered;
+    EXPECT_EQ(gotStaticBins[i], glm::uvec4(packed, bin, std::min(covered, gpu::kCoverageUnit), 0u))
+        << "covered " << covered;
     EXPECT_EQ(gpu::staticBinOf(packed), bin);
     EXPECT_EQ(gpu::staticCoverageOf(packed), std::min(covered, gpu::kCoverageUnit));
   }
@@ -151,14 +158,16 @@ TEST(SharedDefinitions, BinsAndFormFactorsAgree) {
     for (int k = 0; k < 40; ++k) {
       glm::vec3 d(rnd(), rnd(), rnd());
       if (k < 6) d = glm::vec3(0.0f), d[k / 2] = (k % 2) ? -1.0f : 1.0f;  // the axes themselves
-      if (k == 6) d = glm::vec3(1.0f, 1.0f, 1.0f);                          // a cube corner: ties between axes
+      if (k == 6) d = glm::vec3(1.0f, 1.0f, 1.0f);                        // a cube corner: ties between axes
       cs.push_back({glm::vec4(d, rnd()), n, uint32_t(std::abs(rnd()) * 6 * n * n) % (6 * n * n), std::abs(rnd()) * 3.0f,
                     k == 7 ? 0.0f : std::abs(rnd()) * 10.0f});
     }
   vk::Program program(ctx, "bin_cases", testShaderCode("bin_cases"));
   vk::Buffer in = vk::makeBuffer(ctx, cs);
   vk::Buffer out(ctx, cs.size() * sizeof(BinResult), vk::Memory::Host);
-  ctx.submitAndWait([&](VkCommandBuffer cmd) { program.dispatchItems(cmd, cs.size(), {{"cases", in}, {"results", out}}, gpu::CountPush{uint32_t(cs.size())}); });
+  ctx.submitAndWait([&](VkCommandBuffer cmd) {
+    program.dispatchItems(cmd, cs.size(), {{"cases", in}, {"results", out}}, gpu::CountPush{uint32_t(cs.size())});
+  });
   auto got = out.read<BinResult>(cs.size());
   for (size_t i = 0; i < cs.size(); ++i) {
     const BinCase& c = cs[i];
@@ -175,7 +184,8 @@ TEST(SharedDefinitions, BinsAndFormFactorsAgree) {
     EXPECT_EQ(got[i].fringeKey, gpu::packLinkKey(c.distance2, c.bin, true)) << "case " << i;
     EXPECT_EQ(got[i].fringeDepth, c.distance2) << "a fringe key keeps its depth, case " << i;
     uint32_t r = c.bin % (c.n * c.n);
-    EXPECT_EQ(got[i].beyond, gpu::binOfCell(c.bin / (c.n * c.n), glm::ivec2(int(r % c.n), -1 - int(r / c.n)), c.n)) << "case " << i;
+    EXPECT_EQ(got[i].beyond, gpu::binOfCell(c.bin / (c.n * c.n), glm::ivec2(int(r % c.n), -1 - int(r / c.n)), c.n))
+        << "case " << i;
     if (glm::length(d) > 0.0f) {
       glm::vec3 t1, t2;
       gpu::tangentFrame(glm::normalize(d), t1, t2);
@@ -212,7 +222,8 @@ TEST(SharedDefinitions, CellsPastAFaceEdgeFallOnItsNeighbour) {
       for (int along = 0; along < int(n); ++along)
         for (glm::ivec2 step : {glm::ivec2(0, -1), glm::ivec2(0, 1), glm::ivec2(-1, 0), glm::ivec2(1, 0)}) {
           // The face's own edge bin, and the cell one step past it.
-          glm::ivec2 inside = step.x != 0 ? glm::ivec2(step.x < 0 ? 0 : int(n) - 1, along) : glm::ivec2(along, step.y < 0 ? 0 : int(n) - 1);
+          glm::ivec2 inside = step.x != 0 ? glm::ivec2(step.x < 0 ? 0 : int(n) - 1, along)
+                                          : glm::ivec2(along, step.y < 0 ? 0 : int(n) - 1);
           uint32_t own = gpu::binOfCell(face, inside, n), past = gpu::binOfCell(face, inside + step, n);
           ASSERT_EQ(own, face * n * n + uint32_t(inside.y) * n + uint32_t(inside.x));
           EXPECT_NE(past / (n * n), face) << "n " << n << " face " << face;
@@ -226,9 +237,12 @@ TEST(SharedDefinitions, CellsPastAFaceEdgeFallOnItsNeighbour) {
 TEST(SharedDefinitions, FormFactorIsBoundedAndFinite) {
   EXPECT_EQ(gpu::formFactor(1.0f, 1.0f, 1.0f, 0.0f), 1.0f) << "d → 0 gives 1, not infinity";
   EXPECT_EQ(gpu::formFactor(1.0f, -0.5f, 1.0f, 1.0f), 0.0f) << "back faces send nothing";
-  EXPECT_NEAR(gpu::formFactor(1e-4f, 1.0f, 1.0f, 1.0f), 1e-4f / 3.14159265f, 1e-4f * 1e-4f / 3.14159265f) << "far away: A cos cos / (π d²)";
+  EXPECT_NEAR(gpu::formFactor(1e-4f, 1.0f, 1.0f, 1.0f), 1e-4f / 3.14159265f, 1e-4f * 1e-4f / 3.14159265f)
+      << "far away: A cos cos / (π d²)";
   // Scale invariance: scaling areas by s² and distances by s leaves it unchanged.
-  for (float s : {1e-3f, 1.0f, 1e3f}) EXPECT_NEAR(gpu::formFactor(0.3f * s * s, 0.8f, 0.6f, 2.0f * s * s), gpu::formFactor(0.3f, 0.8f, 0.6f, 2.0f), 1e-6f);
+  for (float s : {1e-3f, 1.0f, 1e3f})
+    EXPECT_NEAR(gpu::formFactor(0.3f * s * s, 0.8f, 0.6f, 2.0f * s * s), gpu::formFactor(0.3f, 0.8f, 0.6f, 2.0f),
+                1e-6f);
 }
 
 // lightFalloff() on the GPU (prune_bins' punctual lights) against the host (the path tracer's), for
@@ -254,14 +268,20 @@ TEST(SharedDefinitions, LightFalloffMatchesOnTheGpu) {
   struct {
     uint32_t lightCount, pointCount;
   } push{uint32_t(lights.size()), uint32_t(points.size())};
-  ctx.submitAndWait([&](VkCommandBuffer cmd) { program.dispatchItems(cmd, n, {{"lights", lightBuffer}, {"points", pointBuffer}, {"results", results}, {"distances", distances}}, push); });
+  ctx.submitAndWait([&](VkCommandBuffer cmd) {
+    program.dispatchItems(
+        cmd, n, {{"lights", lightBuffer}, {"points", pointBuffer}, {"results", results}, {"distances", distances}},
+        push);
+  });
   auto got = results.read<glm::vec4>(n);
   auto gotDist = distances.read<float>(n);
   int lit = 0;
   for (uint32_t i = 0; i < n; ++i) {
     glm::vec3 toLight;
-    float dist2, falloff = gpu::lightFalloff(lights[i / points.size()], glm::vec3(points[i % points.size()]), toLight, dist2);
-    EXPECT_NEAR(got[i].w, falloff, 1e-4f * std::max(1.0f, falloff)) << "light " << i / points.size() << " point " << i % points.size();
+    float dist2,
+        falloff = gpu::lightFalloff(lights[i / points.size()], glm::vec3(points[i % points.size()]), toLight, dist2);
+    EXPECT_NEAR(got[i].w, falloff, 1e-4f * std::max(1.0f, falloff))
+        << "light " << i / points.size() << " point " << i % points.size();
     EXPECT_LT(glm::length(glm::vec3(got[i]) - toLight), 1e-5f) << i;
     EXPECT_NEAR(gotDist[i], dist2, 1e-5f * std::max(1.0f, dist2)) << i;
     lit += falloff > 0.0f;
@@ -276,11 +296,15 @@ TEST(SharedDefinitions, LightFalloffMatchesOnTheGpu) {
 // loops: two loops of 40,000 rounds each get cut, as does one of 70,000, but not one of 60,000.
 TEST(SharedDefinitions, LoopBudgetSpentTellsWhenLoopsWereCutShort) {
   auto& ctx = test::gpu();
-  const std::vector<glm::uvec2> cs = {{10, 0}, {60000, 0}, {40000, 20000}, {70000, 0}, {40000, 40000}, {200000, 5}, {0, 0}};
+  const std::vector<glm::uvec2> cs = {{10, 0},        {60000, 0},  {40000, 20000}, {70000, 0},
+                                      {40000, 40000}, {200000, 5}, {0, 0}};
   vk::Program program(ctx, "loop_budget_cases", testShaderCode("loop_budget_cases"));
   vk::Buffer in = vk::makeBuffer(ctx, cs);
   vk::Buffer out(ctx, cs.size() * sizeof(glm::uvec4), vk::Memory::Host);
-  ctx.submitAndWait([&](VkCommandBuffer cmd) { program.dispatch(cmd, program.groupsFor(cs.size(), 1), {{"cases", in}, {"results", out}}, gpu::CountPush{uint32_t(cs.size())}); });
+  ctx.submitAndWait([&](VkCommandBuffer cmd) {
+    program.dispatch(cmd, program.groupsFor(cs.size(), 1), {{"cases", in}, {"results", out}},
+                     gpu::CountPush{uint32_t(cs.size())});
+  });
   const auto got = out.read<glm::uvec4>(cs.size());
   const bool lavapipe = ctx.info().name.find("llvmpipe") != std::string::npos;
   for (size_t i = 0; i < cs.size(); ++i) {

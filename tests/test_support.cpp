@@ -59,7 +59,8 @@ std::vector<std::string> Run::errLines() const {
 
 Run runIvgi(const std::vector<std::string>& args, const std::map<std::string, std::string>& env) {
   static int counter = 0;
-  auto dir = std::filesystem::temp_directory_path() / ("ivgi-run-" + std::to_string(getpid()) + "-" + std::to_string(counter++));
+  auto dir = std::filesystem::temp_directory_path() /
+             ("ivgi-run-" + std::to_string(getpid()) + "-" + std::to_string(counter++));
   std::filesystem::create_directories(dir);
   std::string cmd = "env IVGI_VALIDATION=1";
   for (const auto& [k, v] : env) cmd += " " + k + "=" + quote(v);
@@ -87,7 +88,9 @@ gi::FrameRenderer ivRenderer(const scene::Geometry& geometry, gi::ImageSettings 
   return gi::FrameRenderer(gpu(), geometry, image, std::make_unique<gi::IvSolver>(gpu(), geometry, std::move(setup)));
 }
 
-const gi::IvSolver& ivSolver(const gi::FrameRenderer& renderer) { return dynamic_cast<const gi::IvSolver&>(*renderer.solver()); }
+const gi::IvSolver& ivSolver(const gi::FrameRenderer& renderer) {
+  return dynamic_cast<const gi::IvSolver&>(*renderer.solver());
+}
 
 double cornellLightIrradiance(glm::dvec3 p, glm::dvec3 n, int k) {
   const scenes::CornellLight& l = scenes::kCornellLight;
@@ -105,7 +108,8 @@ double cornellLightIrradiance(glm::dvec3 p, glm::dvec3 n, int k) {
 std::filesystem::path scratchDir(const std::string& name) {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
   std::string test = info ? std::string(info->test_suite_name()) + "." + info->name() : "none";
-  auto dir = std::filesystem::temp_directory_path() / "ivgi-tests" / (test + "-" + name + "-" + std::to_string(getpid()));
+  auto dir =
+      std::filesystem::temp_directory_path() / "ivgi-tests" / (test + "-" + name + "-" + std::to_string(getpid()));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;

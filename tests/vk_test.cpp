@@ -23,8 +23,9 @@ TEST(Program, ImageBuffersReadWhatTheHostWrote) {
   vk::Buffer input = vk::makeBuffer(ctx, data), output(ctx, count * 4 * 16, vk::Memory::Host);
   vk::Program program(ctx, "texel_cases", testShaderCode("texel_cases"));
   ctx.submitAndWait([&](VkCommandBuffer cmd) {
-    program.dispatchItems(cmd, count, {{"asVec4", input}, {"asUvec2", input}, {"asUint", input}, {"nodes", input}, {"results", output}},
-                          gpu::CountPush{count});
+    program.dispatchItems(
+        cmd, count, {{"asVec4", input}, {"asUvec2", input}, {"asUint", input}, {"nodes", input}, {"results", output}},
+        gpu::CountPush{count});
   });
   auto got = output.read<float>(count * 16);
   for (uint32_t i = 0; i < count; ++i) {
@@ -51,14 +52,25 @@ TEST(Program, BindsEveryBindingByItsNameOnce) {
     }
     return "";
   };
-  EXPECT_EQ(refusal({{"asVec4", buffer}, {"asUvec2", buffer}, {"asUint", buffer}, {"nodes", buffer}, {"results", buffer}}), "");
-  EXPECT_NE(refusal({{"asVec4", buffer}, {"asUvec2", buffer}, {"asUint", buffer}, {"nodes", buffer}}).find("'results'"), std::string::npos);
-  EXPECT_NE(refusal({{"asVec4", buffer}, {"asUvec2", buffer}, {"asUint", buffer}, {"nodes", buffer}, {"results", buffer}, {"output", buffer}})
+  EXPECT_EQ(
+      refusal({{"asVec4", buffer}, {"asUvec2", buffer}, {"asUint", buffer}, {"nodes", buffer}, {"results", buffer}}),
+      "");
+  EXPECT_NE(refusal({{"asVec4", buffer}, {"asUvec2", buffer}, {"asUint", buffer}, {"nodes", buffer}}).find("'results'"),
+            std::string::npos);
+  EXPECT_NE(refusal({{"asVec4", buffer},
+                     {"asUvec2", buffer},
+                     {"asUint", buffer},
+                     {"nodes", buffer},
+                     {"results", buffer},
+                     {"output", buffer}})
                 .find("no binding named 'output'"),
             std::string::npos);
-  EXPECT_NE(refusal({{"asVec4", buffer}, {"asVec4", buffer}, {"asUint", buffer}, {"nodes", buffer}, {"results", buffer}}).find("twice"),
-            std::string::npos);
-  EXPECT_THROW(vk::Program(ctx, "texel_cases", testShaderCode("texel_cases"), {.constants = {{"kMissing", 1}}}), vk::VulkanError);
+  EXPECT_NE(
+      refusal({{"asVec4", buffer}, {"asVec4", buffer}, {"asUint", buffer}, {"nodes", buffer}, {"results", buffer}})
+          .find("twice"),
+      std::string::npos);
+  EXPECT_THROW(vk::Program(ctx, "texel_cases", testShaderCode("texel_cases"), {.constants = {{"kMissing", 1}}}),
+               vk::VulkanError);
 }
 
 }  // namespace

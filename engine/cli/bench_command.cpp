@@ -22,14 +22,15 @@
 
 namespace ivgi::cli {
 
-FrameTimes timeFrames(gi::FrameRenderer& renderer, const scene::Scene& s, const scene::Geometry& g, const Timeline& tl, const FrameCamera& camera,
-                      double fps, int warmup, int count) {
+FrameTimes timeFrames(gi::FrameRenderer& renderer, const scene::Scene& s, const scene::Geometry& g, const Timeline& tl,
+                      const FrameCamera& camera, double fps, int warmup, int count) {
   const bool moving = scene::animationMovesGeometry(s, tl.animation);
   FrameTimes out;
   for (int i = 0; i < warmup + count; ++i) {
     int frame = i % (tl.lastFrame + 1);
     auto pose = scene::evaluatePose(s, tl.animation, float(tl.time(frame, fps)));
-    auto result = renderer.render(g.frameInputs(s, pose), camera.at(pose), scene::worldLights(s, pose), i == 0 || moving);
+    auto result =
+        renderer.render(g.frameInputs(s, pose), camera.at(pose), scene::worldLights(s, pose), i == 0 || moving);
     if (i < warmup) continue;
     double total = 0;
     nlohmann::json passes = nlohmann::json::object();
@@ -61,7 +62,8 @@ int runBench(const BenchOptions& o) {
   const int animation = tl.animation;
 
   vk::Context ctx({.device = o.device});
-  if (std::string why = gi::checkImageSettings(ctx, image); !why.empty()) throw SettingsError("--size " + o.size + ": " + why);
+  if (std::string why = gi::checkImageSettings(ctx, image); !why.empty())
+    throw SettingsError("--size " + o.size + ": " + why);
   gi::FrameRenderer renderer(ctx, g, image, makeSolver(o.solver, ctx, s, g, animation));
   const FrameCamera camera(s, g, tl, o.fps, "", {0}, float(image.width) / float(image.height));
 
@@ -73,45 +75,66 @@ int runBench(const BenchOptions& o) {
 
   std::printf("ivgi bench: %s, %ux%u, method %s", s.source.c_str(), image.width, image.height, o.solver.method.c_str());
   const gi::IvSettings& iv = o.solver.iv;
-  if (o.solver.method == "iv") std::printf(", bins 6x%ux%u, eps %g, bounces %u", iv.bins, iv.bins, iv.epsilon, iv.bounces);
+  if (o.solver.method == "iv")
+    std::printf(", bins 6x%ux%u, eps %g, bounces %u", iv.bins, iv.bins, iv.epsilon, iv.bounces);
   std::printf("\ndevice: %s\n", deviceLine(ctx).c_str());
-  std::printf("frames: %d measured after %d warm-up%s\n\n", o.frames, o.warmup,
-              moving ? "" : " (static geometry: refit, links and pruning ran once, in the first warm-up frame or the first frame)");
+  std::printf(
+      "frames: %d measured after %d warm-up%s\n\n", o.frames, o.warmup,
+      moving ? ""
+             : " (static geometry: refit, links and pruning ran once, in the first warm-up frame or the first frame)");
   std::printf("%-10s %10s %10s\n", "pass", "median ms", "p90 ms");
   nlohmann::json summary = nlohmann::json::object();
   order.push_back("total");
   for (const auto& p : order) {
     // Passes that did not run every frame (static geometry) are reported over the frames they ran.
     double med = percentile(perPass[p], 0.5), p90 = percentile(perPass[p], 0.9);
-    std::printf("%-10s %10.3f %10.3f%s\n", p.c_str(), med, p90,
-                perPass[p].size() < size_t(o.frames) ? ("  (" + std::to_string(perPass[p].size()) + " frames)").c_str() : "");
+    std::printf(
+        "%-10s %10.3f %10.3f%s\n", p.c_str(), med, p90,
+        perPass[p].size() < size_t(o.frames) ? ("  (" + std::to_string(perPass[p].size()) + " frames)").c_str() : "");
     summary[p] = {{"medianMs", med}, {"p90Ms", p90}, {"frames", perPass[p].size()}};
   }
   double totalMs = percentile(perPass["total"], 0.5);
   std::printf("\nframe: %.3f ms median GPU, %.2f fps\n", totalMs, totalMs > 0 ? 1000.0 / totalMs : 0.0);
   std::printf("surfels %zu, triangles %zu", g.surfels.size(), g.triangles.size());
-  nlohmann::json counts = {{"surfels", g.surfels.size()}, {"triangles", g.triangles.size()}, {"vertices", g.vertices.size()}};
+  nlohmann::json counts = {
+      {"surfels", g.surfels.size()}, {"triangles", g.triangles.size()}, {"vertices", g.vertices.size()}};
   const uint64_t bytes = renderer.bytesAllocated();
   if (const auto* solver = dynamic_cast<const gi::IvSolver*>(renderer.solver())) {
     const gi::IvStats st = solver->stats();
-    std::printf(", nodes %u, links %u created, %u leaf links after push-down and pruning", st.nodes, st.links, st.leafLinks);
-    if (st.staticLinks) std::printf(" (of which %u and %u between static objects, made once)", st.staticLinks, st.staticLeafLinks);
+    std::printf(", nodes %u, links %u created, %u leaf links after push-down and pruning", st.nodes, st.links,
+                st.leafLinks);
+    if (st.staticLinks)
+      std::printf(" (of which %u and %u between static objects, made once)", st.staticLinks, st.staticLeafLinks);
     // A redone frame's timings are its second run's: say so where it happened.
     if (st.framesRedone) std::printf("; %u frame(s) redone with more room for links or loop rounds", st.framesRedone);
     std::printf("; prune workgroups of %u invocations", st.pruneGroupSize);
     // The prune's work, and its rate where it ran in the measured frames.
     std::printf("\nprune work: %llu root-path senders walked in the last frame", (unsigned long long)st.sendersWalked);
     if (!perPass["prune"].empty() && percentile(perPass["prune"], 0.5) > 0)
-      std::printf(" (%.1f M/s at the median prune time)", double(st.sendersWalked) / percentile(perPass["prune"], 0.5) / 1e3);
-    if (st.staticSendersWalked) std::printf(", %llu in the static pass (once)", (unsigned long long)st.staticSendersWalked);
+      std::printf(" (%.1f M/s at the median prune time)",
+                  double(st.sendersWalked) / percentile(perPass["prune"], 0.5) / 1e3);
+    if (st.staticSendersWalked)
+      std::printf(", %llu in the static pass (once)", (unsigned long long)st.staticSendersWalked);
   }
   std::printf("\nbytes allocated: %llu (%.1f MiB)\n", (unsigned long long)bytes, double(bytes) / (1 << 20));
   if (!o.json.empty()) {
     nlohmann::json j = {{"scene", s.source},
-                        {"settings", {{"width", image.width}, {"height", image.height}, {"method", o.solver.method}, {"bins", iv.bins},
-                                      {"eps", iv.epsilon}, {"bounces", iv.bounces}, {"kappa", iv.kappa}, {"frames", o.frames}, {"warmup", o.warmup}}},
+                        {"settings",
+                         {{"width", image.width},
+                          {"height", image.height},
+                          {"method", o.solver.method},
+                          {"bins", iv.bins},
+                          {"eps", iv.epsilon},
+                          {"bounces", iv.bounces},
+                          {"kappa", iv.kappa},
+                          {"frames", o.frames},
+                          {"warmup", o.warmup}}},
                         {"device", deviceJson(ctx)},
-                        {"passes", summary}, {"fps", totalMs > 0 ? 1000.0 / totalMs : 0.0}, {"counts", counts}, {"solver", solverJson(renderer.solver())}, {"bytesAllocated", bytes},
+                        {"passes", summary},
+                        {"fps", totalMs > 0 ? 1000.0 / totalMs : 0.0},
+                        {"counts", counts},
+                        {"solver", solverJson(renderer.solver())},
+                        {"bytesAllocated", bytes},
                         {"frames", frames}};
     writeJson(o.json, j);
   }

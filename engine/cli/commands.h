@@ -36,7 +36,8 @@ struct SolverOptions {
 // The solver for `options`, or none for --method none; `animation` (-1: none) says which objects
 // can move. The hierarchy depends only on the scene: pass one already built to reuse it.
 std::unique_ptr<gi::Solver> makeSolver(const SolverOptions& options, const vk::Context& ctx, const scene::Scene& scene,
-                                       const scene::Geometry& geometry, int animation, const gi::Hierarchy* hierarchy = nullptr);
+                                       const scene::Geometry& geometry, int animation,
+                                       const gi::Hierarchy* hierarchy = nullptr);
 
 // The path tracer's own options (--method pt).
 struct PathOptions {
@@ -92,11 +93,11 @@ struct BenchOptions {
   // --equal-error: iv's time and relMSE against a converged pt reference of one frame, and the time
   // pt needs to reach that relMSE.
   bool equalError = false;
-  std::string reference;          // an existing reference EXR; empty: render one with referenceSpp
+  std::string reference;  // an existing reference EXR; empty: render one with referenceSpp
   uint32_t referenceSpp = 4096;
-  uint32_t maxSpp = 4096;         // pt stops doubling its spp here
-  int frame = 0;                  // the frame compared
-  unsigned threads = 0;           // pt threads (0: every core)
+  uint32_t maxSpp = 4096;  // pt stops doubling its spp here
+  int frame = 0;           // the frame compared
+  unsigned threads = 0;    // pt threads (0: every core)
 };
 // Renders warm-up + measured frames in memory and prints per-pass GPU times and the counts.
 int runBench(const BenchOptions& options);

@@ -25,13 +25,15 @@ struct PtRender {
   double ms = 0;
 };
 
-PtRender pathTrace(const scene::Scene& s, const scene::Geometry& g, const scene::Pose& pose, const scene::CameraView& view, uint32_t width,
-                   uint32_t height, uint32_t frame, const reference::PathSettings& settings) {
+PtRender pathTrace(const scene::Scene& s, const scene::Geometry& g, const scene::Pose& pose,
+                   const scene::CameraView& view, uint32_t width, uint32_t height, uint32_t frame,
+                   const reference::PathSettings& settings) {
   auto start = std::chrono::steady_clock::now();
   reference::PathTracer tracer(reference::PathScene::at(s, g, pose));
   auto channels = tracer.render(view, width, height, frame, settings);
   image::sanitize(channels);
-  return {image::radianceOf(channels), std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count()};
+  return {image::radianceOf(channels),
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count()};
 }
 
 }  // namespace
@@ -40,13 +42,15 @@ int runEqualError(const BenchOptions& o) {
   checkFrameCounts(o);
   if (o.referenceSpp < 1 || o.referenceSpp > 1u << 20) throw SettingsError("--reference-spp must be 1 to 1048576");
   if (o.maxSpp < 1 || o.maxSpp > 1u << 20) throw SettingsError("--max-spp must be 1 to 1048576");
-  if (!o.solver.environment.empty()) throw SettingsError("--equal-error compares the scene's own lights; leave out --env");
+  if (!o.solver.environment.empty())
+    throw SettingsError("--equal-error compares the scene's own lights; leave out --env");
   gi::ImageSettings image;
   parseSize(o.size, image.width, image.height);
   scene::Scene s = loadScene(o.source);
   scene::Geometry g = renderableGeometry(s);
   const Timeline tl = timeline(s, "", o.fps);
-  if (o.frame < 0 || o.frame > tl.lastFrame) throw SettingsError("--frame must be 0 to " + std::to_string(tl.lastFrame));
+  if (o.frame < 0 || o.frame > tl.lastFrame)
+    throw SettingsError("--frame must be 0 to " + std::to_string(tl.lastFrame));
   const FrameCamera camera(s, g, tl, o.fps, "", {0}, float(image.width) / float(image.height));
   const auto pose = scene::evaluatePose(s, tl.animation, float(tl.time(o.frame, o.fps)));
   const auto view = camera.at(pose);
@@ -56,17 +60,20 @@ int runEqualError(const BenchOptions& o) {
   double referenceMs = 0;
   if (!o.reference.empty()) {
     ref = image::readLinearRgb(o.reference);
-    if (ref.width != image.width || ref.height != image.height) throw SettingsError(o.reference + ": the reference is not " + o.size);
+    if (ref.width != image.width || ref.height != image.height)
+      throw SettingsError(o.reference + ": the reference is not " + o.size);
   } else {
     std::fprintf(stderr, "equal-error: rendering the reference, pt at %u spp...\n", o.referenceSpp);
-    auto r = pathTrace(s, g, pose, view, image.width, image.height, uint32_t(o.frame), {.spp = o.referenceSpp, .seed = 0, .threads = o.threads});
+    auto r = pathTrace(s, g, pose, view, image.width, image.height, uint32_t(o.frame),
+                       {.spp = o.referenceSpp, .seed = 0, .threads = o.threads});
     ref = std::move(r.radiance);
     referenceMs = r.ms;
   }
 
   // iv: the median GPU time over animated frames, and the error of the compared frame.
   vk::Context ctx({.device = o.device});
-  if (std::string why = gi::checkImageSettings(ctx, image); !why.empty()) throw SettingsError("--size " + o.size + ": " + why);
+  if (std::string why = gi::checkImageSettings(ctx, image); !why.empty())
+    throw SettingsError("--size " + o.size + ": " + why);
   gi::FrameRenderer renderer(ctx, g, image, makeSolver(o.solver, ctx, s, g, tl.animation));
   FrameTimes times = timeFrames(renderer, s, g, tl, camera, o.fps, o.warmup, o.frames);
   const double ivMs = percentile(times.perPass["total"], 0.5);
@@ -76,19 +83,23 @@ int runEqualError(const BenchOptions& o) {
 
   std::printf("ivgi bench --equal-error: %s, frame %d, %ux%u\n", s.source.c_str(), o.frame, image.width, image.height);
   const gi::IvSettings& iv = o.solver.iv;
-  std::printf("iv:  %s; bins 6x%ux%u, eps %g, bounces %u\n", deviceLine(ctx).c_str(), iv.bins, iv.bins, iv.epsilon, iv.bounces);
+  std::printf("iv:  %s; bins 6x%ux%u, eps %g, bounces %u\n", deviceLine(ctx).c_str(), iv.bins, iv.bins, iv.epsilon,
+              iv.bounces);
   std::printf("pt:  %s, unlimited bounces (roulette)\n", cpuLine(o.threads).c_str());
   std::printf("reference: %s\n\n", o.reference.empty() ? ("pt " + std::to_string(o.referenceSpp) + " spp, seed 0, " +
-                                                          std::to_string(int(std::lround(referenceMs / 1000))) + " s").c_str()
+                                                          std::to_string(int(std::lround(referenceMs / 1000))) + " s")
+                                                             .c_str()
                                                        : o.reference.c_str());
-  std::printf("iv   %8.2f ms per frame (median GPU over %d frames)   relMSE %.5g   FLIP %.4f\n\n", ivMs, o.frames, ivError.relMse, ivError.flip);
+  std::printf("iv   %8.2f ms per frame (median GPU over %d frames)   relMSE %.5g   FLIP %.4f\n\n", ivMs, o.frames,
+              ivError.relMse, ivError.flip);
   std::printf("%8s %12s %12s %10s\n", "pt spp", "ms", "relMSE", "FLIP");
 
   nlohmann::json ladder = nlohmann::json::array();
   double ptMs = -1, prevMs = 0, prevErr = 0;
   bool bracketed = false;
   for (uint32_t spp = 1; spp <= o.maxSpp; spp *= 2) {
-    auto r = pathTrace(s, g, pose, view, image.width, image.height, uint32_t(o.frame), {.spp = spp, .seed = 1, .threads = o.threads});
+    auto r = pathTrace(s, g, pose, view, image.width, image.height, uint32_t(o.frame),
+                       {.spp = spp, .seed = 1, .threads = o.threads});
     auto e = image::measureError(r.radiance, ref);
     std::printf("%8u %12.1f %12.5g %10.4f\n", spp, r.ms, e.relMse, e.flip);
     ladder.push_back({{"spp", spp}, {"ms", r.ms}, {"relMSE", e.relMse}, {"FLIP", e.flip}});
@@ -104,18 +115,31 @@ int runEqualError(const BenchOptions& o) {
     }
     prevMs = r.ms, prevErr = e.relMse;
   }
-  nlohmann::json result = {{"scene", s.source}, {"frame", o.frame}, {"width", image.width}, {"height", image.height},
-                           {"iv", {{"medianGpuMs", ivMs}, {"relMSE", ivError.relMse}, {"FLIP", ivError.flip}, {"bins", iv.bins},
-                                   {"eps", iv.epsilon}, {"bounces", iv.bounces}, {"device", deviceJson(ctx)}}},
-                           {"pt", {{"ladder", ladder}, {"device", cpuJson(o.threads)}}},
-                           {"reference", o.reference.empty() ? nlohmann::json({{"spp", o.referenceSpp}, {"ms", referenceMs}}) : nlohmann::json(o.reference)}};
+  nlohmann::json result = {
+      {"scene", s.source},
+      {"frame", o.frame},
+      {"width", image.width},
+      {"height", image.height},
+      {"iv",
+       {{"medianGpuMs", ivMs},
+        {"relMSE", ivError.relMse},
+        {"FLIP", ivError.flip},
+        {"bins", iv.bins},
+        {"eps", iv.epsilon},
+        {"bounces", iv.bounces},
+        {"device", deviceJson(ctx)}}},
+      {"pt", {{"ladder", ladder}, {"device", cpuJson(o.threads)}}},
+      {"reference", o.reference.empty() ? nlohmann::json({{"spp", o.referenceSpp}, {"ms", referenceMs}})
+                                        : nlohmann::json(o.reference)}};
   if (ptMs < 0) {
-    std::printf("\npt did not reach iv's relMSE within %u spp: iv is more than %.0fx faster at equal error\n", o.maxSpp, prevMs / ivMs);
+    std::printf("\npt did not reach iv's relMSE within %u spp: iv is more than %.0fx faster at equal error\n", o.maxSpp,
+                prevMs / ivMs);
     result["ratio"] = nullptr;
     result["ratioLowerBound"] = prevMs / ivMs;
   } else {
-    std::printf("\npt reaches iv's relMSE in %.1f ms%s: iv is %.2fx %s at equal error\n", ptMs, bracketed ? " (interpolated)" : " (at 1 spp)",
-                ptMs / ivMs, ptMs >= ivMs ? "faster" : "slower (ratio < 1)");
+    std::printf("\npt reaches iv's relMSE in %.1f ms%s: iv is %.2fx %s at equal error\n", ptMs,
+                bracketed ? " (interpolated)" : " (at 1 spp)", ptMs / ivMs,
+                ptMs >= ivMs ? "faster" : "slower (ratio < 1)");
     result["ptMsAtEqualError"] = ptMs;
     result["ratio"] = ptMs / ivMs;
   }

@@ -18,7 +18,7 @@ struct FrameTimes {
 
 // Renders `warmup` + `count` frames of the animation in memory (wrapping around its end) and keeps
 // the GPU times of the last `count`. Static geometry relinks only in the first frame.
-FrameTimes timeFrames(gi::FrameRenderer& renderer, const scene::Scene& scene, const scene::Geometry& geometry, const Timeline& timeline,
-                      const FrameCamera& camera, double fps, int warmup, int count);
+FrameTimes timeFrames(gi::FrameRenderer& renderer, const scene::Scene& scene, const scene::Geometry& geometry,
+                      const Timeline& timeline, const FrameCamera& camera, double fps, int warmup, int count);
 
 }  // namespace ivgi::cli

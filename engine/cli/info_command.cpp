@@ -1,10 +1,10 @@
 #include <cstdio>
 
 #include "engine/cli/commands.h"
-#include "engine/scene/animation.h"
-#include "engine/scene/geometry.h"
 #include "engine/gi/frame_renderer.h"
+#include "engine/scene/animation.h"
 #include "engine/scene/camera.h"
+#include "engine/scene/geometry.h"
 #include "engine/scene/lights.h"
 #include "engine/vk/context.h"
 
@@ -22,8 +22,8 @@ int runInfo(const InfoOptions& o) {
   scene::Bounds b = scene::worldBounds(world);
 
   std::printf("scene        %s\n", s.source.c_str());
-  std::printf("meshes       %zu (%zu primitives, %zu drawn instances, %zu morph targets)\n", s.meshes.size(), primitives,
-              g.instances.size(), morphTargets);
+  std::printf("meshes       %zu (%zu primitives, %zu drawn instances, %zu morph targets)\n", s.meshes.size(),
+              primitives, g.instances.size(), morphTargets);
   std::printf("vertices     %zu\n", g.vertices.size());
   std::printf("triangles    %zu (%u degenerate, excluded)\n", g.triangles.size(), g.degenerateTriangles);
   std::printf("surfels      %zu\n", g.surfels.size());
@@ -32,34 +32,43 @@ int runInfo(const InfoOptions& o) {
   std::printf("animations   %zu\n", s.animations.size());
   for (size_t i = 0; i < s.animations.size(); ++i) {
     const auto& a = s.animations[i];
-    std::printf("  [%zu] %-20s %.3f s (%.3f to %.3f), %zu channels\n", i, a.name.c_str(), a.end - a.start, a.start, a.end, a.channels.size());
+    std::printf("  [%zu] %-20s %.3f s (%.3f to %.3f), %zu channels\n", i, a.name.c_str(), a.end - a.start, a.start,
+                a.end, a.channels.size());
   }
   auto cams = s.cameraNodes();
   std::printf("cameras      %zu%s\n", cams.size(), cams.empty() ? " (a default camera frames the bounds)" : "");
   for (size_t i = 0; i < cams.size(); ++i) {
     const auto& c = s.cameras[s.nodes[cams[i]].camera];
-    std::printf("  [%zu] %-20s yfov %.2f deg, node '%s'\n", i, c.name.c_str(), c.yfov * 57.2957795f, s.nodes[cams[i]].name.c_str());
+    std::printf("  [%zu] %-20s yfov %.2f deg, node '%s'\n", i, c.name.c_str(), c.yfov * 57.2957795f,
+                s.nodes[cams[i]].name.c_str());
   }
   std::printf("lights       %zu\n", s.lights.size());
   const char* kinds[] = {"directional", "point", "spot"};
   for (size_t i = 0; i < s.lights.size(); ++i)
-    std::printf("  [%zu] %-20s %s, intensity %g\n", i, s.lights[i].name.c_str(), kinds[int(s.lights[i].type)], s.lights[i].intensity);
-  if (b.empty()) std::printf("bounds       empty\n");
+    std::printf("  [%zu] %-20s %s, intensity %g\n", i, s.lights[i].name.c_str(), kinds[int(s.lights[i].type)],
+                s.lights[i].intensity);
+  if (b.empty())
+    std::printf("bounds       empty\n");
   else
-    std::printf("bounds       (%.4g, %.4g, %.4g) to (%.4g, %.4g, %.4g), rest pose\n", b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z);
+    std::printf("bounds       (%.4g, %.4g, %.4g) to (%.4g, %.4g, %.4g), rest pose\n", b.min.x, b.min.y, b.min.z,
+                b.max.x, b.max.y, b.max.z);
   std::printf("warnings     %zu\n", s.warnings.size());
   for (const auto& w : s.warnings) std::printf("  %s\n", w.c_str());
   if (o.memory && o.solver.method == "iv") {
     // Link counts are known only once the GPU has refined them: solve frame 0 on a tiny image.
     vk::Context ctx;
     gi::FrameRenderer renderer(ctx, g, {16, 16, 1}, makeSolver(o.solver, ctx, s, g, s.animations.empty() ? -1 : 0));
-    auto pose = scene::evaluatePose(s, s.animations.empty() ? -1 : 0, s.animations.empty() ? 0.0f : s.animations[0].start);
-    renderer.render(g.frameInputs(s, pose), scene::framingCamera(scene::worldBounds(scene::animateOnHost(g, g.frameInputs(s, pose))), 1.0f),
+    auto pose =
+        scene::evaluatePose(s, s.animations.empty() ? -1 : 0, s.animations.empty() ? 0.0f : s.animations[0].start);
+    renderer.render(g.frameInputs(s, pose),
+                    scene::framingCamera(scene::worldBounds(scene::animateOnHost(g, g.frameInputs(s, pose))), 1.0f),
                     scene::worldLights(s, pose));
     const gi::IvStats st = dynamic_cast<const gi::IvSolver&>(*renderer.solver()).stats();
-    std::printf("iv solver    bins 6x%ux%u (%s memory), eps %g: %u nodes in %u levels, %u links, %u leaf links, %.1f MiB on %s\n",
-                o.solver.iv.bins, o.solver.iv.bins, st.sharedBins ? "shared" : "global", o.solver.iv.epsilon, st.nodes, st.levels, st.links,
-                st.leafLinks, double(st.bytes) / (1 << 20), ctx.info().name.c_str());
+    std::printf(
+        "iv solver    bins 6x%ux%u (%s memory), eps %g: %u nodes in %u levels, %u links, %u leaf links, %.1f MiB on "
+        "%s\n",
+        o.solver.iv.bins, o.solver.iv.bins, st.sharedBins ? "shared" : "global", o.solver.iv.epsilon, st.nodes,
+        st.levels, st.links, st.leafLinks, double(st.bytes) / (1 << 20), ctx.info().name.c_str());
   }
   return 0;
 }
@@ -67,8 +76,8 @@ int runInfo(const InfoOptions& o) {
 int runDevices() {
   auto devices = vk::Context::listDevices();
   for (const auto& d : devices)
-    std::printf("[%u] %s (%s), driver %s %s%s%s\n", d.index, d.name.c_str(), d.type.c_str(), d.driverName.c_str(), d.driverInfo.c_str(),
-                d.missing.empty() ? "" : ", unsuitable: lacks ", d.missing.c_str());
+    std::printf("[%u] %s (%s), driver %s %s%s%s\n", d.index, d.name.c_str(), d.type.c_str(), d.driverName.c_str(),
+                d.driverInfo.c_str(), d.missing.empty() ? "" : ", unsuitable: lacks ", d.missing.c_str());
   if (devices.empty()) std::printf("no Vulkan devices\n");
   return 0;
 }

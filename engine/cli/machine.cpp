@@ -28,20 +28,28 @@ std::string cpuModel() {
 
 nlohmann::json deviceJson(const vk::Context& ctx) {
   const char* t = std::getenv("LP_NUM_THREADS");
-  return {{"name", ctx.info().name}, {"type", ctx.info().type}, {"driver", ctx.info().driverName}, {"driverInfo", ctx.info().driverInfo},
+  return {{"name", ctx.info().name},
+          {"type", ctx.info().type},
+          {"driver", ctx.info().driverName},
+          {"driverInfo", ctx.info().driverInfo},
           {"LP_NUM_THREADS", t ? nlohmann::json(t) : nlohmann::json(nullptr)}};
 }
 
 std::string deviceLine(const vk::Context& ctx) {
-  return ctx.info().name + " (" + ctx.info().type + "), driver " + ctx.info().driverName + " " + ctx.info().driverInfo + ", LP_NUM_THREADS=" + lpThreads();
+  return ctx.info().name + " (" + ctx.info().type + "), driver " + ctx.info().driverName + " " + ctx.info().driverInfo +
+         ", LP_NUM_THREADS=" + lpThreads();
 }
 
-unsigned cpuThreads(unsigned requested) { return requested ? requested : std::max(1u, std::thread::hardware_concurrency()); }
+unsigned cpuThreads(unsigned requested) {
+  return requested ? requested : std::max(1u, std::thread::hardware_concurrency());
+}
 
 nlohmann::json cpuJson(unsigned requestedThreads) {
   return {{"name", cpuModel()}, {"type", "cpu"}, {"driver", "Embree 3"}, {"threads", cpuThreads(requestedThreads)}};
 }
 
-std::string cpuLine(unsigned requestedThreads) { return cpuModel() + ", " + std::to_string(cpuThreads(requestedThreads)) + " threads (Embree 3)"; }
+std::string cpuLine(unsigned requestedThreads) {
+  return cpuModel() + ", " + std::to_string(cpuThreads(requestedThreads)) + " threads (Embree 3)";
+}
 
 }  // namespace ivgi::cli

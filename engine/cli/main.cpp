@@ -11,14 +11,20 @@ using namespace ivgi::cli;
 namespace {
 
 void addSceneArgument(CLI::App* cmd, SceneChoice& choice) {
-  cmd->add_option("scene", choice.scene, "glTF file (.gltf/.glb) or built-in scene (cornell, furnace); default: the animated Cornell box");
-  cmd->add_option("--cells", choice.cells, "tessellation of a built-in scene: cells along the Cornell box's side")->capture_default_str();
+  cmd->add_option("scene", choice.scene,
+                  "glTF file (.gltf/.glb) or built-in scene (cornell, furnace); default: the animated Cornell box");
+  cmd->add_option("--cells", choice.cells, "tessellation of a built-in scene: cells along the Cornell box's side")
+      ->capture_default_str();
 }
 
 void addSolverOptions(CLI::App* cmd, SolverOptions& o) {
-  cmd->add_option("--method", o.method, "lighting: iv (implicit-visibility radiosity), none (emission only); render also: pt (Embree path-traced reference)")->capture_default_str();
+  cmd->add_option("--method", o.method,
+                  "lighting: iv (implicit-visibility radiosity), none (emission only); render also: pt (Embree "
+                  "path-traced reference)")
+      ->capture_default_str();
   cmd->add_option("--bins", o.iv.bins, "N: 6×N×N direction bins per receiver (1–64)")->capture_default_str();
-  cmd->add_option("--eps", o.iv.epsilon, "refine links while their form-factor estimate exceeds this")->capture_default_str();
+  cmd->add_option("--eps", o.iv.epsilon, "refine links while their form-factor estimate exceeds this")
+      ->capture_default_str();
   cmd->add_option("--bounces", o.iv.bounces, "indirect bounces (0: direct light only)")->capture_default_str();
   cmd->add_option("--kappa", o.iv.kappa, "split senders wider than this many average bins")->capture_default_str();
   cmd->add_option("--env", o.environment, "environment light: R,G,B radiance or an equirectangular .exr");
@@ -27,10 +33,12 @@ void addSolverOptions(CLI::App* cmd, SolverOptions& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"ivgi " IVGI_VERSION ": global illumination of animated glTF scenes with implicit visibility, on Vulkan compute"};
+  CLI::App app{"ivgi " IVGI_VERSION
+               ": global illumination of animated glTF scenes with implicit visibility, on Vulkan compute"};
   app.require_subcommand(1);
   // Usage errors in the same one-line form as every other error.
-  app.failure_message([](const CLI::App*, const CLI::Error& e) { return "ivgi: error: " + std::string(e.what()) + " (see --help)\n"; });
+  app.failure_message(
+      [](const CLI::App*, const CLI::Error& e) { return "ivgi: error: " + std::string(e.what()) + " (see --help)\n"; });
   app.set_version_flag("--version", "ivgi " IVGI_VERSION);
 
   RenderOptions render;
@@ -41,21 +49,27 @@ int main(int argc, char** argv) {
   r->add_option("--fps", render.fps, "frames per second: frame f shows time f / fps")->capture_default_str();
   r->add_option("--size", render.size, "image size WIDTHxHEIGHT")->capture_default_str();
   r->add_option("--supersample", render.supersample, "N: N×N samples per pixel")->capture_default_str();
-  r->add_option("--out", render.out, "output pattern with a printf frame number; extension from --format")->capture_default_str();
-  r->add_option("--format", render.formats, "comma-separated: exr (linear, all channels), png (tone mapped)")->capture_default_str();
+  r->add_option("--out", render.out, "output pattern with a printf frame number; extension from --format")
+      ->capture_default_str();
+  r->add_option("--format", render.formats, "comma-separated: exr (linear, all channels), png (tone mapped)")
+      ->capture_default_str();
   r->add_option("--tonemap", render.tonemap, "PNG tone mapping: aces or clamp")->capture_default_str();
   r->add_option("--exposure", render.exposure, "PNG exposure in stops")->capture_default_str();
   r->add_option("--camera", render.camera, "camera name or index (default: the first in the scene)");
   r->add_option("--animation", render.animation, "animation name or index, or none (default: the first)");
-  r->add_option("--device", render.device, "Vulkan device name substring or index (default: IVGI_DEVICE, else the best)");
+  r->add_option("--device", render.device,
+                "Vulkan device name substring or index (default: IVGI_DEVICE, else the best)");
   r->add_option("--json", render.json, "sidecar JSON path (default: beside the frames)");
   r->add_flag("--resume", render.resume, "skip frames whose files all exist");
   auto* spp = r->add_option("--spp", render.pt.spp, "pt: samples per pixel")->capture_default_str();
-  auto* seed = r->add_option("--seed", render.pt.seed, "pt: random seed (another seed, independent noise)")->capture_default_str();
-  auto* threads = r->add_option("--threads", render.pt.threads, "pt: CPU threads (0: every core)")->capture_default_str();
+  auto* seed = r->add_option("--seed", render.pt.seed, "pt: random seed (another seed, independent noise)")
+                   ->capture_default_str();
+  auto* threads =
+      r->add_option("--threads", render.pt.threads, "pt: CPU threads (0: every core)")->capture_default_str();
 
   InfoOptions info;
-  auto* i = app.add_subcommand("info", "describe a scene: meshes, triangles, surfels, animations, cameras, lights, bounds");
+  auto* i =
+      app.add_subcommand("info", "describe a scene: meshes, triangles, surfels, animations, cameras, lights, bounds");
   addSceneArgument(i, info.source);
   addSolverOptions(i, info.solver);
   i->get_option("--method")->description("with iv: also solve frame 0 and print the memory the solver allocates");
@@ -64,13 +78,15 @@ int main(int argc, char** argv) {
   auto* s = app.add_subcommand("scene", "write a built-in scene as glTF");
   s->add_option("name", scene.name, "cornell or furnace")->required();
   s->add_option("--out", scene.out, "output file (.gltf or .glb)")->required();
-  s->add_option("--cells", scene.cells, "tessellation: cells along the Cornell box's side, or per furnace face")->capture_default_str();
+  s->add_option("--cells", scene.cells, "tessellation: cells along the Cornell box's side, or per furnace face")
+      ->capture_default_str();
   s->add_option("--albedo", scene.albedo, "furnace albedo")->capture_default_str();
   s->add_option("--emission", scene.emission, "furnace emitted radiance")->capture_default_str();
   s->add_flag("--static", scene.still, "Cornell box without its animation");
 
   BenchOptions bench;
-  auto* b = app.add_subcommand("bench", "time each pass over frames of a scene (GPU timestamps), print medians and p90");
+  auto* b =
+      app.add_subcommand("bench", "time each pass over frames of a scene (GPU timestamps), print medians and p90");
   addSceneArgument(b, bench.source);
   addSolverOptions(b, bench.solver);
   b->add_option("--frames", bench.frames, "measured frames")->capture_default_str();
@@ -79,9 +95,12 @@ int main(int argc, char** argv) {
   b->add_option("--size", bench.size, "image size WIDTHxHEIGHT")->capture_default_str();
   b->add_option("--device", bench.device, "Vulkan device name substring or index");
   b->add_option("--json", bench.json, "write the figures and per-frame times as JSON");
-  b->add_flag("--equal-error", bench.equalError, "compare iv with pt at equal relMSE against a converged pt reference of one frame");
-  b->add_option("--reference", bench.reference, "equal-error: reference EXR of --frame at --size (default: render one with pt)");
-  b->add_option("--reference-spp", bench.referenceSpp, "equal-error: spp of the reference it renders")->capture_default_str();
+  b->add_flag("--equal-error", bench.equalError,
+              "compare iv with pt at equal relMSE against a converged pt reference of one frame");
+  b->add_option("--reference", bench.reference,
+                "equal-error: reference EXR of --frame at --size (default: render one with pt)");
+  b->add_option("--reference-spp", bench.referenceSpp, "equal-error: spp of the reference it renders")
+      ->capture_default_str();
   b->add_option("--max-spp", bench.maxSpp, "equal-error: pt doubles its spp up to this")->capture_default_str();
   b->add_option("--frame", bench.frame, "equal-error: the frame compared")->capture_default_str();
   b->add_option("--threads", bench.threads, "equal-error: pt threads (0: every core)")->capture_default_str();
@@ -93,12 +112,17 @@ int main(int argc, char** argv) {
   c->add_option("--json", compare.json, "write the figures as JSON");
   c->add_option("--heatmap", compare.heatmap, "write the per-pixel FLIP error as a PNG (magma colour map)");
   c->add_option("--mask", compare.mask, "image whose non-zero pixels (first channel) are left out of the figures");
-  c->add_option("--exposure", compare.exposure, "exposure in stops before the tone map FLIP sees")->capture_default_str();
+  c->add_option("--exposure", compare.exposure, "exposure in stops before the tone map FLIP sees")
+      ->capture_default_str();
 
   SweepOptions sweep;
-  auto* w = app.add_subcommand("sweep", "time and score a grid of settings against a reference; CSV, JSON and a plot of the speed/accuracy front");
+  auto* w = app.add_subcommand(
+      "sweep",
+      "time and score a grid of settings against a reference; CSV, JSON and a plot of the speed/accuracy front");
   addSceneArgument(w, sweep.source);
-  w->add_option("--reference", sweep.reference, "reference EXR of the same frame, camera and size (e.g. render --method pt)")->required();
+  w->add_option("--reference", sweep.reference,
+                "reference EXR of the same frame, camera and size (e.g. render --method pt)")
+      ->required();
   w->add_option("--method", sweep.methods, "methods, comma-separated: iv, none")->capture_default_str();
   w->add_option("--bins", sweep.bins, "N values, comma-separated")->capture_default_str();
   w->add_option("--eps", sweep.eps, "refinement thresholds, comma-separated")->capture_default_str();
@@ -109,9 +133,12 @@ int main(int argc, char** argv) {
   w->add_option("--fps", sweep.fps, "frames per second of the animation")->capture_default_str();
   w->add_option("--camera", sweep.camera, "camera name or index (default: the first in the scene)");
   w->add_option("--animation", sweep.animation, "animation name or index, or none (default: the first)");
-  w->add_option("--repeats", sweep.repeats, "timed renders per setting (the median is reported)")->capture_default_str();
+  w->add_option("--repeats", sweep.repeats, "timed renders per setting (the median is reported)")
+      ->capture_default_str();
   w->add_option("--warmup", sweep.warmup, "untimed renders per setting first")->capture_default_str();
-  w->add_option("--metric", sweep.metric, "error of the Pareto front and the plot: relMSE or FLIP")->capture_default_str()->check(CLI::IsMember({"relMSE", "FLIP"}));
+  w->add_option("--metric", sweep.metric, "error of the Pareto front and the plot: relMSE or FLIP")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"relMSE", "FLIP"}));
   w->add_option("--out", sweep.out, "output folder")->capture_default_str();
   w->add_option("--device", sweep.device, "Vulkan device name substring or index");
 

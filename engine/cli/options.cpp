@@ -1,8 +1,8 @@
 #include "engine/cli/options.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
-#include <algorithm>
 #include <regex>
 
 namespace ivgi::cli {
@@ -16,7 +16,8 @@ std::vector<int> FrameRange::frames() const {
 FrameRange parseFrameRange(const std::string& text) {
   static const std::regex re(R"(^\s*(\d+)(?:\s*-\s*(\d+))?(?::(\d+))?\s*$)");
   std::smatch m;
-  if (!std::regex_match(text, m, re)) throw SettingsError("--frames '" + text + "': expected A, A-B or A-B:STEP with frame numbers >= 0");
+  if (!std::regex_match(text, m, re))
+    throw SettingsError("--frames '" + text + "': expected A, A-B or A-B:STEP with frame numbers >= 0");
   FrameRange r;
   try {
     r.first = std::stoi(m[1]);
@@ -79,8 +80,10 @@ OutputPattern::OutputPattern(const std::string& pattern) {
 
 std::string OutputPattern::path(int frame, const std::string& format) const {
   char number[32];
-  if (zeroPad_) std::snprintf(number, sizeof number, "%0*d", width_, frame);
-  else std::snprintf(number, sizeof number, "%*d", width_, frame);
+  if (zeroPad_)
+    std::snprintf(number, sizeof number, "%0*d", width_, frame);
+  else
+    std::snprintf(number, sizeof number, "%*d", width_, frame);
   return prefix_ + number + suffix_ + "." + format;
 }
 

@@ -8,7 +8,11 @@
 namespace ivgi::cli {
 
 Progress::Progress(std::string label, size_t total, std::string unit)
-    : label_(std::move(label)), unit_(std::move(unit)), total_(total), terminal_(isatty(STDERR_FILENO)), start_(std::chrono::steady_clock::now()),
+    : label_(std::move(label)),
+      unit_(std::move(unit)),
+      total_(total),
+      terminal_(isatty(STDERR_FILENO)),
+      start_(std::chrono::steady_clock::now()),
       lastDraw_(start_) {}
 
 void Progress::advance(size_t count, bool skipped) {
@@ -19,8 +23,10 @@ void Progress::advance(size_t count, bool skipped) {
 }
 
 void Progress::finish() {
-  if (terminal_) std::fputc('\n', stderr);
-  else if (drawnDone_ != done_) draw();
+  if (terminal_)
+    std::fputc('\n', stderr);
+  else if (drawnDone_ != done_)
+    draw();
   std::fflush(stderr);
 }
 
@@ -36,8 +42,9 @@ void Progress::draw() {
     long s = std::lround(left / rate);
     std::snprintf(eta, sizeof eta, "%ld:%02ld", s / 60, s % 60);
   }
-  std::fprintf(stderr, "%s%s: %s %zu/%zu (%3.0f%%), %.2f %ss/s, ETA %s%s", terminal_ ? "\r\033[K" : "", label_.c_str(), unit_.c_str(), done_,
-               total_, total_ ? 100.0 * done_ / total_ : 100.0, rate, unit_.c_str(), eta, terminal_ ? "" : "\n");
+  std::fprintf(stderr, "%s%s: %s %zu/%zu (%3.0f%%), %.2f %ss/s, ETA %s%s", terminal_ ? "\r\033[K" : "", label_.c_str(),
+               unit_.c_str(), done_, total_, total_ ? 100.0 * done_ / total_ : 100.0, rate, unit_.c_str(), eta,
+               terminal_ ? "" : "\n");
   std::fflush(stderr);
 }
 

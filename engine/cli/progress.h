@@ -1,6 +1,6 @@
 #pragma once
-// The progress line on stderr: units (frames, or rows of a path-traced frame) done / total, rate, ETA. Redrawn in place on a
-// terminal; on a pipe or file, plain lines at most once a second and at the end.
+// The progress line on stderr: units (frames, or rows of a path-traced frame) done / total, rate, ETA. Redrawn in place
+// on a terminal; on a pipe or file, plain lines at most once a second and at the end.
 #include <chrono>
 #include <string>
 

@@ -1,12 +1,12 @@
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <map>
-#include <chrono>
 #include <future>
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 
@@ -19,9 +19,9 @@
 #include "engine/cli/statistics.h"
 #include "engine/cli/timeline.h"
 #include "engine/gi/frame_renderer.h"
-#include "engine/reference/path_tracer.h"
 #include "engine/image/atomic_file.h"
 #include "engine/image/frame_image.h"
+#include "engine/reference/path_tracer.h"
 #include "engine/scene/camera.h"
 #include "engine/scene/environment.h"
 #include "engine/scene/geometry.h"
@@ -37,13 +37,15 @@ using nlohmann::json;
 
 // One path-traced frame: the host poses the geometry, Embree traces it; the progress line advances
 // by rows while the threads work.
-gi::FrameResult pathTraceFrame(const scene::Geometry& g, const scene::Scene& s, const scene::Pose& pose, const std::optional<scene::Environment>& env,
-                               const scene::CameraView& view, const gi::ImageSettings& image, uint32_t frame, const reference::PathSettings& settings,
+gi::FrameResult pathTraceFrame(const scene::Geometry& g, const scene::Scene& s, const scene::Pose& pose,
+                               const std::optional<scene::Environment>& env, const scene::CameraView& view,
+                               const gi::ImageSettings& image, uint32_t frame, const reference::PathSettings& settings,
                                Progress& progress) {
   auto start = std::chrono::steady_clock::now();
   reference::PathTracer tracer(reference::PathScene::at(s, g, pose, env));
   std::atomic<uint32_t> rows{0};
-  auto job = std::async(std::launch::async, [&] { return tracer.render(view, image.width, image.height, frame, settings, &rows); });
+  auto job = std::async(std::launch::async,
+                        [&] { return tracer.render(view, image.width, image.height, frame, settings, &rows); });
   uint32_t shown = 0;
   while (job.wait_for(std::chrono::milliseconds(200)) != std::future_status::ready) {
     uint32_t now = rows.load();
@@ -51,7 +53,8 @@ gi::FrameResult pathTraceFrame(const scene::Geometry& g, const scene::Scene& s, 
   }
   gi::FrameResult result{job.get(), {}};
   for (; shown < image.height; ++shown) progress.advance();
-  result.passTimes.push_back({"pt", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count()});
+  result.passTimes.push_back(
+      {"pt", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count()});
   return result;
 }
 
@@ -59,7 +62,8 @@ gi::FrameResult pathTraceFrame(const scene::Geometry& g, const scene::Scene& s, 
 
 int runRender(const RenderOptions& o) {
   if (!(o.fps > 0.0 && o.fps <= 1000.0)) throw SettingsError("--fps must lie in (0, 1000]");
-  if (!std::isfinite(o.exposure) || std::abs(o.exposure) > 64) throw SettingsError("--exposure must lie in [-64, 64] stops");
+  if (!std::isfinite(o.exposure) || std::abs(o.exposure) > 64)
+    throw SettingsError("--exposure must lie in [-64, 64] stops");
   if (o.supersample < 1 || o.supersample > 16) throw SettingsError("--supersample must be 1 to 16");
   if (o.tonemap != "aces" && o.tonemap != "clamp") throw SettingsError("--tonemap must be aces or clamp");
   const bool pt = o.solver.method == "pt";
@@ -76,10 +80,11 @@ int runRender(const RenderOptions& o) {
   FrameRange range{0, tl.lastFrame, 1};
   if (!o.frames.empty()) range = parseFrameRange(o.frames);
   if (range.last > tl.lastFrame) {
-    std::string what = tl.animation >= 0 ? "the animation '" + s.animations[tl.animation].name + "' (frames 0-" + std::to_string(tl.lastFrame) +
-                                               " at " + json(o.fps).dump() + " fps)"
+    std::string what = tl.animation >= 0 ? "the animation '" + s.animations[tl.animation].name + "' (frames 0-" +
+                                               std::to_string(tl.lastFrame) + " at " + json(o.fps).dump() + " fps)"
                                          : "a scene without animation (frame 0 only)";
-    throw scene::LoadError(s.source + ": frames " + std::to_string(range.first) + "-" + std::to_string(range.last) + " lie outside " + what);
+    throw scene::LoadError(s.source + ": frames " + std::to_string(range.first) + "-" + std::to_string(range.last) +
+                           " lie outside " + what);
   }
   scene::Geometry g = renderableGeometry(s);
   for (const auto& w : s.warnings) std::fprintf(stderr, "ivgi: warning: %s: %s\n", s.source.c_str(), w.c_str());
@@ -90,11 +95,13 @@ int runRender(const RenderOptions& o) {
   std::optional<scene::Environment> environment;
   const reference::PathSettings ptSettings = pathSettings(o.pt, o.solver);
   if (pt) {
-    if (image.samples != 1) throw SettingsError("--supersample: pt spreads its --spp samples over each pixel; leave --supersample at 1");
+    if (image.samples != 1)
+      throw SettingsError("--supersample: pt spreads its --spp samples over each pixel; leave --supersample at 1");
     if (!o.solver.environment.empty()) environment = scene::Environment::parse(o.solver.environment);
   } else {
     ctx = std::make_unique<vk::Context>(vk::ContextOptions{.device = o.device});
-    if (std::string why = gi::checkImageSettings(*ctx, image); !why.empty()) throw SettingsError("--size " + o.size + ": " + why);
+    if (std::string why = gi::checkImageSettings(*ctx, image); !why.empty())
+      throw SettingsError("--size " + o.size + ": " + why);
     renderer = std::make_unique<gi::FrameRenderer>(*ctx, g, image, makeSolver(o.solver, *ctx, s, g, tl.animation));
   }
   const bool geometryAnimated = scene::animationMovesGeometry(s, tl.animation);
@@ -108,11 +115,24 @@ int runRender(const RenderOptions& o) {
       {"ivgi", IVGI_VERSION},
       {"scene", s.source},
       {"settings",
-       {{"frames", {range.first, range.last, range.step}}, {"fps", o.fps}, {"width", image.width}, {"height", image.height},
-        {"supersample", image.samples}, {"formats", formats}, {"tonemap", o.tonemap}, {"exposure", o.exposure},
+       {{"frames", {range.first, range.last, range.step}},
+        {"fps", o.fps},
+        {"width", image.width},
+        {"height", image.height},
+        {"supersample", image.samples},
+        {"formats", formats},
+        {"tonemap", o.tonemap},
+        {"exposure", o.exposure},
         {"animation", tl.animation >= 0 ? json(s.animations[tl.animation].name) : json(nullptr)},
-        {"method", o.solver.method}, {"bins", o.solver.iv.bins}, {"eps", o.solver.iv.epsilon}, {"bounces", o.solver.iv.bounces}, {"kappa", o.solver.iv.kappa},
-        {"environment", o.solver.environment}, {"spp", o.pt.spp}, {"seed", o.pt.seed}, {"unbounded", pt && !o.pt.bouncesGiven},
+        {"method", o.solver.method},
+        {"bins", o.solver.iv.bins},
+        {"eps", o.solver.iv.epsilon},
+        {"bounces", o.solver.iv.bounces},
+        {"kappa", o.solver.iv.kappa},
+        {"environment", o.solver.environment},
+        {"spp", o.pt.spp},
+        {"seed", o.pt.seed},
+        {"unbounded", pt && !o.pt.bouncesGiven},
         {"camera", camera.name()}}},
       {"device", ctx ? deviceJson(*ctx) : cpuJson(ptSettings.threads)},
       {"counts", {{"triangles", g.triangles.size()}, {"vertices", g.vertices.size()}, {"surfels", g.surfels.size()}}},
@@ -141,10 +161,13 @@ int runRender(const RenderOptions& o) {
       progress.advance();
     }
     if (size_t bad = image::sanitize(result.channels))
-      std::fprintf(stderr, "ivgi: warning: frame %d: %zu non-finite values replaced by 0 (a bug: please report it)\n", frame, bad);
+      std::fprintf(stderr, "ivgi: warning: frame %d: %zu non-finite values replaced by 0 (a bug: please report it)\n",
+                   frame, bad);
     for (size_t i = 0; i < formats.size(); ++i) {
-      if (formats[i] == "exr") image::writeExr(paths[i], result.channels);
-      else image::writePng(paths[i], result.channels, display);
+      if (formats[i] == "exr")
+        image::writeExr(paths[i], result.channels);
+      else
+        image::writePng(paths[i], result.channels, display);
     }
     json passes = json::object();
     double total = 0;
@@ -155,7 +178,11 @@ int runRender(const RenderOptions& o) {
     }
     perPass["total"].push_back(total);
     // GPU methods report GPU timestamps; pt the wall-clock time of its CPU threads.
-    sidecar["frames"].push_back({{"frame", frame}, {"time", t}, {pt ? "cpuMs" : "gpuMs", passes}, {pt ? "totalCpuMs" : "totalGpuMs", total}, {"files", paths}});
+    sidecar["frames"].push_back({{"frame", frame},
+                                 {"time", t},
+                                 {pt ? "cpuMs" : "gpuMs", passes},
+                                 {pt ? "totalCpuMs" : "totalGpuMs", total},
+                                 {"files", paths}});
   }
   progress.finish();
   if (renderer) {
@@ -167,8 +194,8 @@ int runRender(const RenderOptions& o) {
   sidecar[pt ? "medianCpuMs" : "medianGpuMs"] = medians;
   std::string sidecarPath = o.json.empty() ? pattern.sidecar() : o.json;
   writeJson(sidecarPath, sidecar);
-  std::fprintf(stderr, "ivgi: %zu frames to %s, timings in %s (median %s %.2f ms per frame)\n", frames.size(), pattern.directory().c_str(),
-               sidecarPath.c_str(), pt ? "CPU" : "GPU", medians.value("total", 0.0));
+  std::fprintf(stderr, "ivgi: %zu frames to %s, timings in %s (median %s %.2f ms per frame)\n", frames.size(),
+               pattern.directory().c_str(), sidecarPath.c_str(), pt ? "CPU" : "GPU", medians.value("total", 0.0));
   if (ctx && ctx->validationErrors()) {
     std::fprintf(stderr, "ivgi: %u Vulkan validation errors\n", ctx->validationErrors());
     return 3;

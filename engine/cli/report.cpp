@@ -5,8 +5,9 @@
 namespace ivgi::gi {
 
 // IvStats as JSON, its fields' names as the keys.
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(IvStats, nodes, levels, links, leafLinks, staticLinks, staticLeafLinks, bytes, sharedBins,
-                                   pruneBatches, pruneGroupSize, sendersWalked, staticSendersWalked, framesRedone, staticPasses)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(IvStats, nodes, levels, links, leafLinks, staticLinks, staticLeafLinks, bytes,
+                                   sharedBins, pruneBatches, pruneGroupSize, sendersWalked, staticSendersWalked,
+                                   framesRedone, staticPasses)
 
 }  // namespace ivgi::gi
 

@@ -16,9 +16,12 @@ int runScene(const SceneOptions& o) {
   auto ext = std::filesystem::path(o.out).extension();
   if (ext != ".gltf" && ext != ".glb") throw SettingsError("--out '" + o.out + "': the file must end in .gltf or .glb");
   tinygltf::Model model;
-  if (o.name == "cornell") model = scenes::cornellBox({.cells = o.cells, .animated = !o.still});
-  else if (o.name == "furnace") model = scenes::furnace({.cells = o.cells, .albedo = o.albedo, .emission = o.emission});
-  else throw SettingsError("unknown built-in scene '" + o.name + "' (built-in: cornell, furnace)");
+  if (o.name == "cornell")
+    model = scenes::cornellBox({.cells = o.cells, .animated = !o.still});
+  else if (o.name == "furnace")
+    model = scenes::furnace({.cells = o.cells, .albedo = o.albedo, .emission = o.emission});
+  else
+    throw SettingsError("unknown built-in scene '" + o.name + "' (built-in: cornell, furnace)");
   auto dir = std::filesystem::path(o.out).parent_path();
   if (!dir.empty()) std::filesystem::create_directories(dir);
   scenes::writeModel(model, o.out);

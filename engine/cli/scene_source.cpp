@@ -9,7 +9,8 @@
 namespace ivgi::cli {
 
 scene::Scene loadScene(const SceneChoice& choice) {
-  if (choice.cells < 1 || choice.cells > 512) throw SettingsError("--cells " + std::to_string(choice.cells) + ": must be 1 to 512");
+  if (choice.cells < 1 || choice.cells > 512)
+    throw SettingsError("--cells " + std::to_string(choice.cells) + ": must be 1 to 512");
   const std::string& name = choice.scene.empty() ? "cornell" : choice.scene;
   auto builtins = scenes::builtinSceneNames();
   bool builtin = std::find(builtins.begin(), builtins.end(), name) != builtins.end() && !std::filesystem::exists(name);
@@ -24,11 +25,13 @@ scene::Geometry renderableGeometry(const scene::Scene& s) {
   return g;
 }
 
-std::unique_ptr<gi::Solver> makeSolver(const SolverOptions& o, const vk::Context& ctx, const scene::Scene& s, const scene::Geometry& g,
-                                       int animation, const gi::Hierarchy* hierarchy) {
+std::unique_ptr<gi::Solver> makeSolver(const SolverOptions& o, const vk::Context& ctx, const scene::Scene& s,
+                                       const scene::Geometry& g, int animation, const gi::Hierarchy* hierarchy) {
   if (o.method == "none") return nullptr;
   if (o.method == "pt")
-    throw SettingsError("--method pt: the path tracer runs on the CPU; use `ivgi render --method pt` (bench and info measure iv and none)");
+    throw SettingsError(
+        "--method pt: the path tracer runs on the CPU; use `ivgi render --method pt` (bench and info measure iv and "
+        "none)");
   if (o.method != "iv") throw SettingsError("--method '" + o.method + "': methods are iv, pt and none");
   gi::IvSettings settings = o.iv;
   if (!o.environment.empty()) settings.environment = scene::Environment::parse(o.environment);
@@ -38,7 +41,8 @@ std::unique_ptr<gi::Solver> makeSolver(const SolverOptions& o, const vk::Context
 }
 
 reference::PathSettings pathSettings(const PathOptions& o, const SolverOptions& solver) {
-  reference::PathSettings settings{.spp = o.spp, .bounces = o.bouncesGiven ? int(solver.iv.bounces) : -1, .seed = o.seed, .threads = o.threads};
+  reference::PathSettings settings{
+      .spp = o.spp, .bounces = o.bouncesGiven ? int(solver.iv.bounces) : -1, .seed = o.seed, .threads = o.threads};
   reference::validate(settings);
   return settings;
 }

@@ -69,11 +69,15 @@ void plot(const std::string& csv, const std::string& png, const std::string& met
   }
   struct RemoveScript {  // on every path out, a failed plot included
     fs::path path;
-    ~RemoveScript() { std::error_code ec; fs::remove(path, ec); }
+    ~RemoveScript() {
+      std::error_code ec;
+      fs::remove(path, ec);
+    }
   } removeScript{script};
   image::writeAtomically(png, [&](const std::string& temp) {
     // The script writes the PNG under the temporary name, so a failed plot leaves no file.
-    std::string command = python() + " '" + script.string() + "' '" + csv + "' '" + temp + ".png' --metric " + metric + " 2>&1";
+    std::string command =
+        python() + " '" + script.string() + "' '" + csv + "' '" + temp + ".png' --metric " + metric + " 2>&1";
     std::string output;
     if (FILE* pipe = popen(command.c_str(), "r")) {
       char buf[512];
@@ -86,7 +90,8 @@ void plot(const std::string& csv, const std::string& png, const std::string& met
     }
     fs::remove(temp + ".png");
     std::string last = output.substr(output.find_last_of('\n', output.size() >= 2 ? output.size() - 2 : 0) + 1);
-    throw std::runtime_error(png + ": plotting failed (needs python3-matplotlib, which ci/install-deps.sh installs): " + last);
+    throw std::runtime_error(
+        png + ": plotting failed (needs python3-matplotlib, which ci/install-deps.sh installs): " + last);
   });
 }
 
@@ -103,7 +108,8 @@ int runSweep(const SweepOptions& o) {
   auto kappas = parseList<float>("--kappa", o.kappa);
   std::vector<SolverOptions> grid;
   for (const auto& m : methods) {
-    if (m != "iv" && m != "none") throw SettingsError("--method '" + m + "': the sweep measures iv and none (pt is the reference)");
+    if (m != "iv" && m != "none")
+      throw SettingsError("--method '" + m + "': the sweep measures iv and none (pt is the reference)");
     if (m == "none") {
       grid.push_back({.method = "none"});
       continue;
@@ -111,14 +117,18 @@ int runSweep(const SweepOptions& o) {
     for (uint32_t n : bins)
       for (float e : eps)
         for (uint32_t b : bounces)
-          for (float k : kappas) grid.push_back({.method = m, .iv = {.bins = n, .epsilon = e, .bounces = b, .kappa = k}, .environment = o.environment});
+          for (float k : kappas)
+            grid.push_back(
+                {.method = m, .iv = {.bins = n, .epsilon = e, .bounces = b, .kappa = k}, .environment = o.environment});
   }
 
   const image::RgbImage reference = image::readLinearRgb(o.reference);
   scene::Scene s = loadScene(o.source);
   scene::Geometry g = renderableGeometry(s);
   const Timeline tl = timeline(s, o.animation, o.fps);
-  if (o.frame > tl.lastFrame) throw SettingsError("--frame " + std::to_string(o.frame) + ": the animation ends at frame " + std::to_string(tl.lastFrame));
+  if (o.frame > tl.lastFrame)
+    throw SettingsError("--frame " + std::to_string(o.frame) + ": the animation ends at frame " +
+                        std::to_string(tl.lastFrame));
   gi::ImageSettings image{reference.width, reference.height, 1};
   const FrameCamera camera(s, g, tl, o.fps, o.camera, {o.frame}, float(image.width) / float(image.height));
   const auto pose = scene::evaluatePose(s, tl.animation, float(tl.time(o.frame, o.fps)));
@@ -145,7 +155,13 @@ int runSweep(const SweepOptions& o) {
       if (i >= o.warmup) ms.push_back(total);
     }
     image::sanitize(last.channels);
-    Row row{settings, percentile(ms, 0.5), percentile(ms, 0.9), renderer.bytesAllocated(), {}, solverJson(renderer.solver()), false};
+    Row row{settings,
+            percentile(ms, 0.5),
+            percentile(ms, 0.9),
+            renderer.bytesAllocated(),
+            {},
+            solverJson(renderer.solver()),
+            false};
     row.error = image::measureError(image::radianceOf(last.channels), reference);
     rows.push_back(row);
     progress.advance();
@@ -161,35 +177,46 @@ int runSweep(const SweepOptions& o) {
 
   namespace fs = std::filesystem;
   fs::create_directories(o.out);
-  const std::string csvPath = (fs::path(o.out) / "sweep.csv").string(), jsonPath = (fs::path(o.out) / "sweep.json").string(),
+  const std::string csvPath = (fs::path(o.out) / "sweep.csv").string(),
+                    jsonPath = (fs::path(o.out) / "sweep.json").string(),
                     pngPath = (fs::path(o.out) / "sweep.png").string();
   std::ostringstream csv;
   csv << "scene,method,bins,eps,bounces,kappa,ms,msP90,bytes,relMSE,RMSE,PSNR,maxError,FLIP,pareto,label\n";
   nlohmann::json settingsJson = nlohmann::json::array();
-  std::printf("%-22s %10s %10s %12s %10s %8s %s\n", "setting", "median ms", "MiB", "relMSE", "FLIP", "PSNR dB", "Pareto");
+  std::printf("%-22s %10s %10s %12s %10s %8s %s\n", "setting", "median ms", "MiB", "relMSE", "FLIP", "PSNR dB",
+              "Pareto");
   for (const auto& r : rows) {
     const auto& st = r.settings;
-    csv << '"' << s.source << "\"," << st.method << ',' << st.iv.bins << ',' << st.iv.epsilon << ',' << st.iv.bounces << ',' << st.iv.kappa << ','
-        << r.ms << ','
-        << r.msP90 << ',' << r.bytes << ',' << r.error.relMse << ',' << r.error.rmse << ',' << r.error.psnr << ',' << r.error.maxError << ','
-        << r.error.flip << ',' << (r.pareto ? 1 : 0) << ",\"" << label(st) << "\"\n";
-    nlohmann::json j = {{"method", st.method}, {"bins", st.iv.bins}, {"eps", st.iv.epsilon}, {"bounces", st.iv.bounces}, {"kappa", st.iv.kappa},
-                        {"medianMs", r.ms}, {"p90Ms", r.msP90}, {"bytes", r.bytes}, {"error", metricsJson(r.error)}, {"solver", r.solver},
-                        {"pareto", r.pareto}, {"label", label(st)}};
+    csv << '"' << s.source << "\"," << st.method << ',' << st.iv.bins << ',' << st.iv.epsilon << ',' << st.iv.bounces
+        << ',' << st.iv.kappa << ',' << r.ms << ',' << r.msP90 << ',' << r.bytes << ',' << r.error.relMse << ','
+        << r.error.rmse << ',' << r.error.psnr << ',' << r.error.maxError << ',' << r.error.flip << ','
+        << (r.pareto ? 1 : 0) << ",\"" << label(st) << "\"\n";
+    nlohmann::json j = {{"method", st.method},      {"bins", st.iv.bins},   {"eps", st.iv.epsilon},
+                        {"bounces", st.iv.bounces}, {"kappa", st.iv.kappa}, {"medianMs", r.ms},
+                        {"p90Ms", r.msP90},         {"bytes", r.bytes},     {"error", metricsJson(r.error)},
+                        {"solver", r.solver},       {"pareto", r.pareto},   {"label", label(st)}};
     settingsJson.push_back(j);
-    std::printf("%-22s %10.2f %10.1f %12.5g %10.4f %8.2f %s\n", label(st).c_str(), r.ms, double(r.bytes) / (1 << 20), r.error.relMse, r.error.flip,
-                r.error.psnr, r.pareto ? "*" : "");
+    std::printf("%-22s %10.2f %10.1f %12.5g %10.4f %8.2f %s\n", label(st).c_str(), r.ms, double(r.bytes) / (1 << 20),
+                r.error.relMse, r.error.flip, r.error.psnr, r.pareto ? "*" : "");
   }
   image::writeAtomically(csvPath, [&](const std::string& temp) {
     std::ofstream out(temp);
     out << csv.str();
     if (!out.flush()) throw std::runtime_error(csvPath + ": cannot write");
   });
-  writeJson(jsonPath, {{"scene", s.source}, {"reference", o.reference}, {"frame", o.frame}, {"width", image.width}, {"height", image.height},
-                       {"repeats", o.repeats}, {"warmup", o.warmup}, {"device", deviceJson(ctx)}, {"paretoMetric", o.metric},
+  writeJson(jsonPath, {{"scene", s.source},
+                       {"reference", o.reference},
+                       {"frame", o.frame},
+                       {"width", image.width},
+                       {"height", image.height},
+                       {"repeats", o.repeats},
+                       {"warmup", o.warmup},
+                       {"device", deviceJson(ctx)},
+                       {"paretoMetric", o.metric},
                        {"settings", settingsJson}});
   plot(csvPath, pngPath, o.metric);
-  std::printf("\ndevice: %s\nwrote %s, %s, %s\n", deviceLine(ctx).c_str(), csvPath.c_str(), jsonPath.c_str(), pngPath.c_str());
+  std::printf("\ndevice: %s\nwrote %s, %s, %s\n", deviceLine(ctx).c_str(), csvPath.c_str(), jsonPath.c_str(),
+              pngPath.c_str());
   return ctx.validationErrors() ? 3 : 0;
 }
 

@@ -12,7 +12,9 @@ Timeline timeline(const scene::Scene& s, const std::string& choice, double fps) 
   if (choice == "none") return t;
   if (!choice.empty()) {
     auto a = s.findAnimation(choice);
-    if (!a) throw scene::LoadError(s.source + ": no animation named '" + choice + "' (" + std::to_string(s.animations.size()) + " animations; see `ivgi info`)");
+    if (!a)
+      throw scene::LoadError(s.source + ": no animation named '" + choice + "' (" +
+                             std::to_string(s.animations.size()) + " animations; see `ivgi info`)");
     t.animation = *a;
   } else if (!s.animations.empty()) {
     t.animation = 0;
@@ -25,12 +27,14 @@ Timeline timeline(const scene::Scene& s, const std::string& choice, double fps) 
   return t;
 }
 
-FrameCamera::FrameCamera(const scene::Scene& s, const scene::Geometry& g, const Timeline& tl, double fps, const std::string& camera,
-                         const std::vector<int>& frames, float aspect)
+FrameCamera::FrameCamera(const scene::Scene& s, const scene::Geometry& g, const Timeline& tl, double fps,
+                         const std::string& camera, const std::vector<int>& frames, float aspect)
     : scene_(s) {
   if (!camera.empty()) {
     auto c = s.findCameraNode(camera);
-    if (!c) throw scene::LoadError(s.source + ": no camera named '" + camera + "' (" + std::to_string(s.cameraNodes().size()) + " cameras; see `ivgi info`)");
+    if (!c)
+      throw scene::LoadError(s.source + ": no camera named '" + camera + "' (" +
+                             std::to_string(s.cameraNodes().size()) + " cameras; see `ivgi info`)");
     node_ = *c;
   } else if (auto cams = s.cameraNodes(); !cams.empty()) {
     node_ = cams.front();
@@ -46,7 +50,9 @@ FrameCamera::FrameCamera(const scene::Scene& s, const scene::Geometry& g, const 
   framing_ = scene::framingCamera(all, aspect);
 }
 
-scene::CameraView FrameCamera::at(const scene::Pose& pose) const { return node_ >= 0 ? scene::cameraView(scene_, pose, node_) : framing_; }
+scene::CameraView FrameCamera::at(const scene::Pose& pose) const {
+  return node_ >= 0 ? scene::cameraView(scene_, pose, node_) : framing_;
+}
 
 std::string FrameCamera::name() const { return node_ >= 0 ? scene_.nodes[node_].name : "default framing"; }
 

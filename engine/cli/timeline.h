@@ -23,8 +23,8 @@ Timeline timeline(const scene::Scene& scene, const std::string& choice, double f
 // camera framing the union of the scene's bounds over (up to 16 of) `frames`.
 class FrameCamera {
  public:
-  FrameCamera(const scene::Scene& scene, const scene::Geometry& geometry, const Timeline& timeline, double fps, const std::string& camera,
-              const std::vector<int>& frames, float aspect);
+  FrameCamera(const scene::Scene& scene, const scene::Geometry& geometry, const Timeline& timeline, double fps,
+              const std::string& camera, const std::vector<int>& frames, float aspect);
   scene::CameraView at(const scene::Pose& pose) const;
   std::string name() const;
 

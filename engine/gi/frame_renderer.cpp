@@ -15,7 +15,8 @@ constexpr uint32_t kRasterTilesPerSlice = 32768;
 
 // Raster workgroups per triangle: the slices of tile rows that bounds as large as the image need.
 uint32_t rasterSlices(glm::uvec2 samples) {
-  const uint32_t columns = (samples.x + 7) / 8, rows = (samples.y + 7) / 8, rowsPerSlice = std::max(1u, kRasterTilesPerSlice / columns);
+  const uint32_t columns = (samples.x + 7) / 8, rows = (samples.y + 7) / 8,
+                 rowsPerSlice = std::max(1u, kRasterTilesPerSlice / columns);
   return (rows + rowsPerSlice - 1) / rowsPerSlice;
 }
 
@@ -23,7 +24,8 @@ uint32_t rasterSlices(glm::uvec2 samples) {
 std::vector<int32_t> vertexSurfels(const scene::Geometry& g) {
   std::vector<int32_t> out(g.vertices.size(), -1);
   for (size_t s = 0; s < g.surfels.size(); ++s)
-    for (uint32_t k = 0; k < g.surfels[s].vertexCount; ++k) out[g.surfelVertices[g.surfels[s].firstVertex + k]] = int32_t(s);
+    for (uint32_t k = 0; k < g.surfels[s].vertexCount; ++k)
+      out[g.surfelVertices[g.surfels[s].firstVertex + k]] = int32_t(s);
   return out;
 }
 
@@ -31,20 +33,23 @@ std::vector<int32_t> vertexSurfels(const scene::Geometry& g) {
 
 std::string checkImageSettings(const vk::Context& ctx, const ImageSettings& s) {
   const auto& lim = ctx.limits();
-  if (s.width == 0 || s.height == 0) return "image size " + std::to_string(s.width) + "x" + std::to_string(s.height) + " is empty";
+  if (s.width == 0 || s.height == 0)
+    return "image size " + std::to_string(s.width) + "x" + std::to_string(s.height) + " is empty";
   if (s.samples == 0 || s.samples > 16) return "supersampling must be 1 to 16 samples per axis";
   if (s.width > lim.maxImageDimension2D || s.height > lim.maxImageDimension2D)
     return "image size " + std::to_string(s.width) + "x" + std::to_string(s.height) + " exceeds the device limit of " +
            std::to_string(lim.maxImageDimension2D) + " pixels per side";
   uint64_t samples = uint64_t(s.width) * s.height * s.samples * s.samples;
   if (samples * 8 > lim.maxStorageBufferRange || uint64_t(s.width) * s.height * 16 > lim.maxStorageBufferRange)
-    return "image of " + std::to_string(s.width) + "x" + std::to_string(s.height) + " with " + std::to_string(s.samples) + "x" +
-           std::to_string(s.samples) + " samples needs buffers above the device's maxStorageBufferRange (" +
+    return "image of " + std::to_string(s.width) + "x" + std::to_string(s.height) + " with " +
+           std::to_string(s.samples) + "x" + std::to_string(s.samples) +
+           " samples needs buffers above the device's maxStorageBufferRange (" +
            std::to_string(lim.maxStorageBufferRange >> 20) + " MiB)";
   return {};
 }
 
-FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, const ImageSettings& image, std::unique_ptr<Solver> solver)
+FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, const ImageSettings& image,
+                             std::unique_ptr<Solver> solver)
     : ctx_(ctx),
       image_(image),
       vertexCount_(uint32_t(g.vertices.size())),
@@ -54,7 +59,8 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
       animate_(shaderProgram(ctx, "animate")),
       surfelUpdate_(shaderProgram(ctx, "surfels")),
       raster_(shaderProgram(ctx, "raster", {.constants = {{"kTilesPerSlice", kRasterTilesPerSlice}}})),
-      resolve_(shaderProgram(ctx, "resolve", {.constants = {{"kTextured", g.textures.empty() ? 0u : 1u}, {"kLit", solver_ ? 1u : 0u}}})),
+      resolve_(shaderProgram(
+          ctx, "resolve", {.constants = {{"kTextured", g.textures.empty() ? 0u : 1u}, {"kLit", solver_ ? 1u : 0u}}})),
       timer_(ctx) {
   if (std::string why = checkImageSettings(ctx, image); !why.empty()) throw SettingsError(why);
   using vk::Memory;
@@ -63,7 +69,8 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
   vertices_ = upload(g.vertices), instances_ = upload(g.instances), morphDeltas_ = upload(g.morphDeltas);
   triangles_ = upload(g.triangles), uvs_ = upload(g.uvs), materials_ = upload(g.materials);
   textures_ = upload(g.textures), texels_ = upload(g.texels);
-  surfelSources_ = upload(g.surfels), surfelVertices_ = upload(g.surfelVertices), surfelTriangles_ = upload(g.surfelTriangles);
+  surfelSources_ = upload(g.surfels), surfelVertices_ = upload(g.surfelVertices),
+  surfelTriangles_ = upload(g.surfelTriangles);
   vertexSurfel_ = upload(vertexSurfels(g));
 
   matrices_ = vk::Buffer(ctx, 0, Memory::Host, tally);  // sized on the first frame
@@ -77,7 +84,9 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
   unlitIrradiance_ = vk::Buffer(ctx, 16, Memory::Device, tally);
 }
 
-uint64_t FrameRenderer::bytesAllocated() const { return allocations_.bytes() + (solver_ ? solver_->allocatedBytes() : 0); }
+uint64_t FrameRenderer::bytesAllocated() const {
+  return allocations_.bytes() + (solver_ ? solver_->allocatedBytes() : 0);
+}
 
 vk::Bindings FrameRenderer::pool() const {
   return vk::Bindings::pool({{"vertices", vertices_},
@@ -121,7 +130,8 @@ void FrameRenderer::recordFrame(VkCommandBuffer cmd, const gpu::Camera& camera, 
     raster_.dispatch(cmd, groups, buffers, gpu::ImagePush{camera, fine, triangleCount_, 0});
   });
   timedPass(cmd, timer_, "resolve", [&] {
-    resolve_.dispatch(cmd, {(size.x + 7) / 8, (size.y + 7) / 8, 1}, buffers, gpu::ImagePush{camera, size, image_.samples, 0});
+    resolve_.dispatch(cmd, {(size.x + 7) / 8, (size.y + 7) / 8, 1}, buffers,
+                      gpu::ImagePush{camera, size, image_.samples, 0});
   });
 }
 
@@ -135,7 +145,8 @@ FrameResult FrameRenderer::render(const scene::FrameInputs& in, const scene::Cam
   const gpu::Camera camera = scene::gpuCamera(view, float(image_.width) / float(image_.height));
   // A frame the solver could not finish (it ran out of room) is redone, relinking.
   ctx_.submitAndWait([&](VkCommandBuffer cmd) { recordFrame(cmd, camera, geometryMoved); });
-  while (solver_ && solver_->frameMustBeRedone()) ctx_.submitAndWait([&](VkCommandBuffer cmd) { recordFrame(cmd, camera, true); });
+  while (solver_ && solver_->frameMustBeRedone())
+    ctx_.submitAndWait([&](VkCommandBuffer cmd) { recordFrame(cmd, camera, true); });
   if (solver_) solver_->frameStands();
 
   FrameResult result;
@@ -150,7 +161,9 @@ FrameResult FrameRenderer::render(const scene::FrameInputs& in, const scene::Cam
   return result;
 }
 
-std::vector<scene::WorldVertex> FrameRenderer::worldVertices() const { return world_.read<scene::WorldVertex>(vertexCount_); }
+std::vector<scene::WorldVertex> FrameRenderer::worldVertices() const {
+  return world_.read<scene::WorldVertex>(vertexCount_);
+}
 std::vector<scene::Surfel> FrameRenderer::surfels() const { return surfels_.read<scene::Surfel>(surfelCount_); }
 
 }  // namespace ivgi::gi

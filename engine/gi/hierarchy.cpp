@@ -62,7 +62,8 @@ class TreeBuilder {
       std::nth_element(items.begin(), items.begin() + long(half), items.end(), [&](uint32_t a, uint32_t b) {
         return pos_[a][axis] < pos_[b][axis] || (pos_[a][axis] == pos_[b][axis] && a < b);
       });
-      parts = {std::vector<uint32_t>(items.begin(), items.begin() + long(half)), std::vector<uint32_t>(items.begin() + long(half), items.end())};
+      parts = {std::vector<uint32_t>(items.begin(), items.begin() + long(half)),
+               std::vector<uint32_t>(items.begin() + long(half), items.end())};
       boxes.assign(2, {lo, hi});
     }
     for (size_t q = 0; q < parts.size(); ++q) {
@@ -88,7 +89,8 @@ bool usableUvAtlas(const std::vector<glm::vec2>& uvs, const std::vector<glm::uve
   for (const auto& t : triangles) {
     glm::vec2 a = uvs[t.x], b = uvs[t.y], c = uvs[t.z];
     for (glm::vec2 p : {a, b, c})
-      if (!std::isfinite(p.x) || !std::isfinite(p.y) || p.x < -1e-4f || p.y < -1e-4f || p.x > 1.0001f || p.y > 1.0001f) return false;
+      if (!std::isfinite(p.x) || !std::isfinite(p.y) || p.x < -1e-4f || p.y < -1e-4f || p.x > 1.0001f || p.y > 1.0001f)
+        return false;
     float area2 = (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
     if (area2 == 0.0f) return false;  // collapsed UVs: no atlas
     uvArea += 0.5 * std::abs(area2);

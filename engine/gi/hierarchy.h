@@ -14,11 +14,11 @@ namespace ivgi::gi {
 
 struct Hierarchy {
   std::vector<gpu::TreeNode> nodes;
-  std::vector<uint32_t> levelStart;  // level l holds nodes [levelStart[l], levelStart[l + 1])
-  std::vector<uint32_t> roots;       // one per object (drawn instance with surfels)
+  std::vector<uint32_t> levelStart;    // level l holds nodes [levelStart[l], levelStart[l + 1])
+  std::vector<uint32_t> roots;         // one per object (drawn instance with surfels)
   std::vector<uint32_t> rootInstance;  // per root: its instance
   std::vector<uint32_t> leafOfSurfel;
-  std::vector<uint8_t> uvTree;       // per root: 1 if built as a UV quadtree
+  std::vector<uint8_t> uvTree;  // per root: 1 if built as a UV quadtree
   uint32_t levels() const { return uint32_t(levelStart.size() - 1); }
   uint32_t maxDepth() const { return levels() ? levels() - 1 : 0; }
 };

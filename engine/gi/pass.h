@@ -11,7 +11,8 @@
 namespace ivgi::gi {
 
 // The program of shaders/NAME.comp.
-inline vk::Program shaderProgram(const vk::Context& ctx, const std::string& name, const vk::Specialization& specialization = {}) {
+inline vk::Program shaderProgram(const vk::Context& ctx, const std::string& name,
+                                 const vk::Specialization& specialization = {}) {
   return vk::Program(ctx, name, shaderCode(name), specialization);
 }
 

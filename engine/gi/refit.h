@@ -11,7 +11,8 @@ class Refit {
  public:
   explicit Refit(const vk::Context& ctx);
   // `tree`: the hierarchy's nodes (gpu::TreeNode); `nodes`: their gpu::NodeState, written.
-  void record(VkCommandBuffer cmd, const Hierarchy& h, const vk::Buffer& tree, const vk::Buffer& surfels, const vk::Buffer& nodes) const;
+  void record(VkCommandBuffer cmd, const Hierarchy& h, const vk::Buffer& tree, const vk::Buffer& surfels,
+              const vk::Buffer& nodes) const;
 
  private:
   vk::Program program_;

@@ -14,10 +14,14 @@ namespace {
 
 std::vector<int> layerChannels(const OIIO::ImageSpec& spec, const std::string& layer, const std::string& file) {
   std::vector<std::string> names;
-  if (layer.empty()) names = {"R", "G", "B"};
-  else if (layer == "A" || layer == "Z") names = {layer};
-  else if (layer == "N") names = {"N.X", "N.Y", "N.Z"};
-  else names = {layer + ".R", layer + ".G", layer + ".B"};
+  if (layer.empty())
+    names = {"R", "G", "B"};
+  else if (layer == "A" || layer == "Z")
+    names = {layer};
+  else if (layer == "N")
+    names = {"N.X", "N.Y", "N.Z"};
+  else
+    names = {layer + ".R", layer + ".G", layer + ".B"};
   std::vector<int> out;
   for (const auto& n : names) {
     int c = spec.channelindex(n);
@@ -40,8 +44,9 @@ std::vector<LayerDifference> compareLayers(const std::string& testFile, const st
   OIIO::ImageBuf test = readFloat(testFile), ref = readFloat(refFile);
   const auto &ts = test.spec(), &rs = ref.spec();
   if (ts.width != rs.width || ts.height != rs.height)
-    throw std::runtime_error(testFile + ": " + std::to_string(ts.width) + "x" + std::to_string(ts.height) + " differs from the reference's " +
-                             std::to_string(rs.width) + "x" + std::to_string(rs.height));
+    throw std::runtime_error(testFile + ": " + std::to_string(ts.width) + "x" + std::to_string(ts.height) +
+                             " differs from the reference's " + std::to_string(rs.width) + "x" +
+                             std::to_string(rs.height));
   const float* tp = static_cast<const float*>(test.localpixels());
   const float* rp = static_cast<const float*>(ref.localpixels());
   const size_t pixels = size_t(ts.width) * ts.height;
@@ -52,7 +57,8 @@ std::vector<LayerDifference> compareLayers(const std::string& testFile, const st
     for (size_t p = 0; p < pixels; ++p)
       for (int c : rc) magnitude[p] = std::max(magnitude[p], std::abs(rp[p * rs.nchannels + c]));
     float largest = pixels ? *std::max_element(magnitude.begin(), magnitude.end()) : 0.0f;
-    bool colour = tol.layer.empty() || tol.layer == "albedo" || tol.layer == "emission" || tol.layer == "N" || tol.layer == "A";
+    bool colour =
+        tol.layer.empty() || tol.layer == "albedo" || tol.layer == "emission" || tol.layer == "N" || tol.layer == "A";
     LayerDifference d;
     d.layer = tol.layer.empty() ? "RGB" : tol.layer;
     if (tol.perPixel && pixels > 0) {
@@ -85,8 +91,8 @@ std::vector<LayerTolerance> goldenTolerances() {
   // the radiance, of the pixel's own value; at most 0.2 % of the pixels beyond it: a moved object, a
   // shifted view or a 5 % change of a layer fails, while a handful of silhouette pixels may flip
   // between CPUs.
-  return {{"", 0.02f, 0.002f, true}, {"A", 0.02f, 0.002f}, {"albedo", 0.02f, 0.002f}, {"N", 0.02f, 0.002f}, {"Z", 0.01f, 0.002f},
-          {"emission", 0.02f, 0.002f}};
+  return {{"", 0.02f, 0.002f, true}, {"A", 0.02f, 0.002f}, {"albedo", 0.02f, 0.002f},
+          {"N", 0.02f, 0.002f},      {"Z", 0.01f, 0.002f}, {"emission", 0.02f, 0.002f}};
 }
 
 }  // namespace ivgi::image

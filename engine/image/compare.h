@@ -8,9 +8,10 @@
 namespace ivgi::image {
 
 struct LayerTolerance {
-  std::string layer;            // "" for R,G,B; "A"; "Z"; "albedo"; "N"; "emission"
-  float relativeThreshold;      // per-pixel threshold as a fraction of the reference's largest |value| (at least 1 for colours)
-  float maxFailingFraction;     // of all pixels
+  std::string layer;         // "" for R,G,B; "A"; "Z"; "albedo"; "N"; "emission"
+  float relativeThreshold;   // per-pixel threshold as a fraction of the reference's largest |value| (at least 1 for
+                             // colours)
+  float maxFailingFraction;  // of all pixels
   // HDR radiance: the threshold is a fraction of each reference pixel's own largest |value| plus 5 %
   // of the layer's 99th percentile (so that black is not held to zero), not of the layer's largest
   // value (a light 100 times brighter than the walls would hide any change of their light).
@@ -19,7 +20,7 @@ struct LayerTolerance {
 
 struct LayerDifference {
   std::string layer;
-  float threshold = 0;          // the absolute per-pixel threshold used (perPixel: at a black pixel)
+  float threshold = 0;  // the absolute per-pixel threshold used (perPixel: at a black pixel)
   float maxError = 0;
   double failingFraction = 0;
   bool passed = true;

@@ -12,8 +12,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "engine/image/metrics.h"
 #include "engine/image/colour.h"
+#include "engine/image/metrics.h"
 
 namespace ivgi::image {
 
@@ -22,8 +22,8 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 // sRGB primaries, D65 white.
-const glm::mat3 kLinearToXyz = glm::transpose(glm::mat3(0.4123908f, 0.3575843f, 0.1804808f,   //
-                                                        0.2126390f, 0.7151687f, 0.0721923f,   //
+const glm::mat3 kLinearToXyz = glm::transpose(glm::mat3(0.4123908f, 0.3575843f, 0.1804808f,  //
+                                                        0.2126390f, 0.7151687f, 0.0721923f,  //
                                                         0.0193308f, 0.1191948f, 0.9505322f));
 const glm::mat3 kXyzToLinear = glm::inverse(kLinearToXyz);
 const glm::vec3 kWhite = kLinearToXyz * glm::vec3(1.0f);
@@ -128,8 +128,8 @@ SeparableTerm featureKernel(double ppd, bool edge, bool transposed) {
 }
 
 struct Prepared {
-  std::vector<glm::vec3> lab;            // filtered, Hunt-adjusted CIELAB
-  std::vector<float> edges, points;      // feature magnitudes
+  std::vector<glm::vec3> lab;        // filtered, Hunt-adjusted CIELAB
+  std::vector<float> edges, points;  // feature magnitudes
 };
 
 Prepared prepare(const RgbImage& srgb, double ppd) {
@@ -144,11 +144,13 @@ Prepared prepare(const RgbImage& srgb, double ppd) {
     achromatic[i] = (o.x + 16.0f) / 116.0f;
   }
   // (a1, b1), (a2, b2) of the achromatic, red-green and blue-yellow contrast sensitivity functions.
-  const std::vector<std::pair<double, double>> csf[3] = {{{1.0, 0.0047}}, {{1.0, 0.0053}}, {{34.1, 0.04}, {13.5, 0.025}}};
+  const std::vector<std::pair<double, double>> csf[3] = {
+      {{1.0, 0.0047}}, {{1.0, 0.0053}}, {{34.1, 0.04}, {13.5, 0.025}}};
   for (int k = 0; k < 3; ++k) c[k] = filter(c[k], w, h, csfKernel(ppd, csf[k]));
   Prepared out;
   out.lab.resize(n);
-  for (size_t i = 0; i < n; ++i) out.lab[i] = linearToHuntLab(glm::clamp(ycxczToLinear({c[0][i], c[1][i], c[2][i]}), 0.0f, 1.0f));
+  for (size_t i = 0; i < n; ++i)
+    out.lab[i] = linearToHuntLab(glm::clamp(ycxczToLinear({c[0][i], c[1][i], c[2][i]}), 0.0f, 1.0f));
   for (bool edge : {true, false}) {
     auto gx = filter(achromatic, w, h, {featureKernel(ppd, edge, false)});
     auto gy = filter(achromatic, w, h, {featureKernel(ppd, edge, true)});
@@ -171,7 +173,8 @@ std::vector<float> flipErrorMap(const RgbImage& test, const RgbImage& reference,
   for (size_t i = 0; i < error.size(); ++i) {
     float e = std::pow(hyab(t.lab[i], r.lab[i]), qc);
     float colour = e < pc * cmax ? pt / (pc * cmax) * e : pt + (e - pc * cmax) / (cmax - pc * cmax) * (1.0f - pt);
-    float feature = std::pow(std::max(std::abs(t.edges[i] - r.edges[i]), std::abs(t.points[i] - r.points[i])) / std::sqrt(2.0f), qf);
+    float feature = std::pow(
+        std::max(std::abs(t.edges[i] - r.edges[i]), std::abs(t.points[i] - r.points[i])) / std::sqrt(2.0f), qf);
     error[i] = std::clamp(std::pow(colour, 1.0f - feature), 0.0f, 1.0f);
   }
   return error;

@@ -42,7 +42,8 @@ void writeWith(const std::string& path, const OIIO::ImageSpec& spec, OIIO::TypeD
 }  // namespace
 
 void writeExr(const std::string& path, const FrameChannels& f) {
-  const char* names[] = {"R", "G", "B", "A", "albedo.R", "albedo.G", "albedo.B", "N.X", "N.Y", "N.Z", "Z", "emission.R", "emission.G", "emission.B"};
+  const char* names[] = {"R",   "G",   "B",   "A", "albedo.R",   "albedo.G",   "albedo.B",
+                         "N.X", "N.Y", "N.Z", "Z", "emission.R", "emission.G", "emission.B"};
   const int channels = 14;
   OIIO::ImageSpec spec(int(f.width), int(f.height), channels, OIIO::TypeDesc::FLOAT);
   spec.channelnames.assign(names, names + channels);

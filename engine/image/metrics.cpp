@@ -26,7 +26,8 @@ RgbImage readLinearRgb(const std::string& path) {
   OIIO::ImageBuf buf(path);
   if (!buf.init_spec(path, 0, 0)) throw std::runtime_error(path + ": cannot read: " + buf.geterror());
   if (buf.spec().format != OIIO::TypeDesc::FLOAT && buf.spec().format != OIIO::TypeDesc::HALF)
-    throw std::runtime_error(path + ": not a floating-point image: compare reads linear OpenEXR radiance as ivgi writes it");
+    throw std::runtime_error(path +
+                             ": not a floating-point image: compare reads linear OpenEXR radiance as ivgi writes it");
   const auto& names = buf.spec().channelnames;
   int rgb[3] = {-1, -1, -1};
   for (int c = 0; c < int(names.size()); ++c)
@@ -42,7 +43,8 @@ RgbImage readLinearRgb(const std::string& path) {
     const float* p = &all[i * buf.spec().nchannels];
     out.pixels[i] = {p[rgb[0]], p[rgb[1]], p[rgb[2]]};
     if (!std::isfinite(p[rgb[0]]) || !std::isfinite(p[rgb[1]]) || !std::isfinite(p[rgb[2]]))
-      throw std::runtime_error(path + ": pixel (" + std::to_string(i % out.width) + ", " + std::to_string(i / out.width) + ") is NaN or infinite");
+      throw std::runtime_error(path + ": pixel (" + std::to_string(i % out.width) + ", " +
+                               std::to_string(i / out.width) + ") is NaN or infinite");
   }
   return out;
 }
@@ -62,12 +64,14 @@ RgbImage displayed(const RgbImage& linear, const DisplaySettings& d) {
   return out;
 }
 
-ErrorMetrics measureError(const RgbImage& test, const RgbImage& ref, const std::vector<uint8_t>& ignore, const DisplaySettings& display,
-                          std::vector<float>* flipMap) {
+ErrorMetrics measureError(const RgbImage& test, const RgbImage& ref, const std::vector<uint8_t>& ignore,
+                          const DisplaySettings& display, std::vector<float>* flipMap) {
   if (test.width != ref.width || test.height != ref.height)
-    throw std::invalid_argument("the images differ in size: " + std::to_string(test.width) + "x" + std::to_string(test.height) + " and " +
-                                std::to_string(ref.width) + "x" + std::to_string(ref.height));
-  if (!ignore.empty() && ignore.size() != ref.pixels.size()) throw std::invalid_argument("the mask differs in size from the images");
+    throw std::invalid_argument("the images differ in size: " + std::to_string(test.width) + "x" +
+                                std::to_string(test.height) + " and " + std::to_string(ref.width) + "x" +
+                                std::to_string(ref.height));
+  if (!ignore.empty() && ignore.size() != ref.pixels.size())
+    throw std::invalid_argument("the mask differs in size from the images");
   auto kept = [&](size_t i) { return ignore.empty() || !ignore[i]; };
   ErrorMetrics m;
   double rel = 0;

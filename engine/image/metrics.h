@@ -44,7 +44,8 @@ RgbImage displayed(const RgbImage& linear, const DisplaySettings& display);
 constexpr double kFlipPixelsPerDegree = 0.7 * 3840.0 / 0.7 * 3.14159265358979 / 180.0;
 
 // Per-pixel LDR-FLIP error in [0, 1] between two sRGB-encoded display images in [0, 1].
-std::vector<float> flipErrorMap(const RgbImage& testSrgb, const RgbImage& referenceSrgb, double pixelsPerDegree = kFlipPixelsPerDegree);
+std::vector<float> flipErrorMap(const RgbImage& testSrgb, const RgbImage& referenceSrgb,
+                                double pixelsPerDegree = kFlipPixelsPerDegree);
 
 // A per-pixel error in [0, 1] as an 8-bit PNG with the magma colour map (black: none, yellow-white: 1).
 void writeHeatmap(const std::string& path, const std::vector<float>& error, uint32_t width, uint32_t height);

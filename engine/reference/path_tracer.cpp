@@ -64,7 +64,7 @@ struct PathTracer::Impl {
   const scene::Geometry& g;
   RTCDevice device = nullptr;
   RTCScene rtc = nullptr;
-  std::vector<glm::vec3> front;  // per triangle: unit geometric normal on the side its vertex normals face
+  std::vector<glm::vec3> front;     // per triangle: unit geometric normal on the side its vertex normals face
   std::vector<float> lightPdfArea;  // per triangle: density per unit area of choosing a point on it (0: no emission)
   std::vector<uint32_t> emitters;
   std::vector<float> emitterCdf;
@@ -79,24 +79,30 @@ struct PathTracer::Impl {
 
   explicit Impl(PathScene scene) : s(std::move(scene)), g(*s.geometry) {
     device = rtcNewDevice(nullptr);
-    if (!device) throw std::runtime_error("Embree: cannot create a device (error " + std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
+    if (!device)
+      throw std::runtime_error("Embree: cannot create a device (error " +
+                               std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
     rtc = rtcNewScene(device);
     RTCGeometry mesh = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* positions = static_cast<float*>(rtcSetNewGeometryBuffer(mesh, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), s.world.size()));
+    auto* positions = static_cast<float*>(
+        rtcSetNewGeometryBuffer(mesh, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), s.world.size()));
     scene::Bounds bounds;
     for (size_t i = 0; i < s.world.size(); ++i) {
       glm::vec3 p(s.world[i].position);
       positions[3 * i] = p.x, positions[3 * i + 1] = p.y, positions[3 * i + 2] = p.z;
       bounds.add(p);
     }
-    auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(mesh, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), g.triangles.size()));
+    auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(mesh, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                   3 * sizeof(uint32_t), g.triangles.size()));
     for (size_t i = 0; i < g.triangles.size(); ++i)
-      indices[3 * i] = g.triangles[i].v0, indices[3 * i + 1] = g.triangles[i].v1, indices[3 * i + 2] = g.triangles[i].v2;
+      indices[3 * i] = g.triangles[i].v0, indices[3 * i + 1] = g.triangles[i].v1,
+                  indices[3 * i + 2] = g.triangles[i].v2;
     rtcCommitGeometry(mesh);
     rtcAttachGeometry(rtc, mesh);
     rtcReleaseGeometry(mesh);
     rtcCommitScene(rtc);
-    if (RTCError e = rtcGetDeviceError(device); e != RTC_ERROR_NONE) throw std::runtime_error("Embree: building the scene failed (error " + std::to_string(int(e)) + ")");
+    if (RTCError e = rtcGetDeviceError(device); e != RTC_ERROR_NONE)
+      throw std::runtime_error("Embree: building the scene failed (error " + std::to_string(int(e)) + ")");
     if (!bounds.empty()) epsilon = 1e-5f * std::max(glm::length(bounds.max - bounds.min), 1e-30f);
 
     // Emitters, chosen in proportion to their power (area × luminance of the emissive factor).
@@ -109,7 +115,8 @@ struct PathTracer::Impl {
       glm::vec3 a = pos(t.v0), b = pos(t.v1), c = pos(t.v2);
       glm::vec3 n = glm::cross(b - a, c - a);
       float area = 0.5f * glm::length(n);
-      glm::vec3 vertexNormals = glm::vec3(s.world[t.v0].normal) + glm::vec3(s.world[t.v1].normal) + glm::vec3(s.world[t.v2].normal);
+      glm::vec3 vertexNormals =
+          glm::vec3(s.world[t.v0].normal) + glm::vec3(s.world[t.v1].normal) + glm::vec3(s.world[t.v2].normal);
       if (!(t.material & gpu::kFlatShaded) && glm::dot(n, vertexNormals) < 0.0f) n = -n;
       front[i] = area > 0.0f ? n / (2.0f * area) : glm::vec3(0.0f);
       float p = area * luminance(glm::vec3(g.materials[t.material & ~gpu::kFlatShaded].emission));
@@ -168,7 +175,8 @@ struct PathTracer::Impl {
     x.geometricNormal = glm::length(ng) > 0.0f ? glm::normalize(ng) : glm::vec3(0, 0, 1);
     x.shadingNormal = x.geometricNormal;
     if (!(tr.material & gpu::kFlatShaded)) {
-      glm::vec3 ns = w.x * glm::vec3(s.world[tr.v0].normal) + w.y * glm::vec3(s.world[tr.v1].normal) + w.z * glm::vec3(s.world[tr.v2].normal);
+      glm::vec3 ns = w.x * glm::vec3(s.world[tr.v0].normal) + w.y * glm::vec3(s.world[tr.v1].normal) +
+                     w.z * glm::vec3(s.world[tr.v2].normal);
       if (glm::length(ns) > 0.0f) x.shadingNormal = glm::normalize(ns);
     }
     const gpu::Material& m = g.materials[tr.material & ~gpu::kFlatShaded];
@@ -179,7 +187,9 @@ struct PathTracer::Impl {
   }
 
   // Emitted radiance of x towards direction `out` (unit): emitters radiate from their front side.
-  glm::vec3 emitted(const Surface& x, glm::vec3 out) const { return glm::dot(front[x.triangle], out) > 0.0f ? x.emission : glm::vec3(0.0f); }
+  glm::vec3 emitted(const Surface& x, glm::vec3 out) const {
+    return glm::dot(front[x.triangle], out) > 0.0f ? x.emission : glm::vec3(0.0f);
+  }
 
   // Radiance reflected at x towards `out` (unit) with albedo `base`: the path from x on.
   glm::vec3 reflected(Surface x, glm::vec3 out, glm::vec3 base, Rng& rng, const PathSettings& settings) const {
@@ -195,7 +205,9 @@ struct PathTracer::Impl {
 
       // Next-event estimation: one point on the emitters, every punctual light.
       if (!emitters.empty()) {
-        size_t k = std::min(size_t(std::upper_bound(emitterCdf.begin(), emitterCdf.end(), rng.uniform()) - emitterCdf.begin()), emitters.size() - 1);
+        size_t k =
+            std::min(size_t(std::upper_bound(emitterCdf.begin(), emitterCdf.end(), rng.uniform()) - emitterCdf.begin()),
+                     emitters.size() - 1);
         uint32_t tri = emitters[k];
         float r1 = std::sqrt(rng.uniform()), r2 = rng.uniform();
         glm::vec3 w(1.0f - r1, r1 * (1.0f - r2), r1 * r2);
@@ -254,12 +266,15 @@ struct PathTracer::Impl {
 
 void validate(const PathSettings& s) {
   if (s.spp < 1 || s.spp > 1u << 20) throw SettingsError("--spp " + std::to_string(s.spp) + ": must be 1 to 1048576");
-  if (s.threads > 1024) throw SettingsError("--threads " + std::to_string(s.threads) + ": must be 0 (every core) to 1024");
+  if (s.threads > 1024)
+    throw SettingsError("--threads " + std::to_string(s.threads) + ": must be 0 (every core) to 1024");
   constexpr int kMaxBounces = 10000;  // a guard against typing errors
-  if (s.bounces < -1 || s.bounces > kMaxBounces) throw SettingsError("--bounces must be 0 to " + std::to_string(kMaxBounces));
+  if (s.bounces < -1 || s.bounces > kMaxBounces)
+    throw SettingsError("--bounces must be 0 to " + std::to_string(kMaxBounces));
 }
 
-PathScene PathScene::at(const scene::Scene& s, const scene::Geometry& g, const scene::Pose& pose, std::optional<scene::Environment> env) {
+PathScene PathScene::at(const scene::Scene& s, const scene::Geometry& g, const scene::Pose& pose,
+                        std::optional<scene::Environment> env) {
   return {&g, scene::animateOnHost(g, g.frameInputs(s, pose)), scene::worldLights(s, pose), std::move(env)};
 }
 
@@ -289,7 +304,8 @@ image::FrameChannels PathTracer::render(const scene::CameraView& view, uint32_t 
       float depth = 0.0f, hits = 0.0f;
       for (uint32_t i = 0; i < settings.spp; ++i) {
         glm::vec2 s = glm::vec2(float(x), float(y)) + glm::vec2(rng.uniform(), rng.uniform());
-        if (settings.spp == 1) s = glm::vec2(float(x), float(y)) + 0.5f;  // one sample: the pixel centre, as the rasteriser
+        if (settings.spp == 1)
+          s = glm::vec2(float(x), float(y)) + 0.5f;             // one sample: the pixel centre, as the rasteriser
         glm::vec3 d = gpu::cameraRay(cam, s, {width, height});  // t along d is the depth along the view axis
         auto hit = im.intersect(eye, d, cam.origin.w, zfar);
         if (!hit) continue;

@@ -23,10 +23,10 @@
 namespace ivgi::reference {
 
 struct PathSettings {
-  uint32_t spp = 64;      // samples per pixel, spread uniformly over the pixel (box filter)
-  int bounces = -1;       // indirect bounces, as iv counts them (0: direct light only); -1: until roulette ends the path
-  uint32_t seed = 0;      // a different seed gives independent noise
-  unsigned threads = 0;   // 0: every core
+  uint32_t spp = 64;     // samples per pixel, spread uniformly over the pixel (box filter)
+  int bounces = -1;      // indirect bounces, as iv counts them (0: direct light only); -1: until roulette ends the path
+  uint32_t seed = 0;     // a different seed gives independent noise
+  unsigned threads = 0;  // 0: every core
 };
 
 // Throws SettingsError naming the option when a setting is out of its range.
@@ -54,8 +54,8 @@ class PathTracer {
   // The frame as the rasteriser frames it (same camera, same pixel convention), every channel of
   // FrameChannels filled. `frame` enters the seeds. `rowsDone` (if given) counts finished rows for a
   // progress display.
-  image::FrameChannels render(const scene::CameraView& view, uint32_t width, uint32_t height, uint32_t frame, const PathSettings& settings,
-                              std::atomic<uint32_t>* rowsDone = nullptr) const;
+  image::FrameChannels render(const scene::CameraView& view, uint32_t width, uint32_t height, uint32_t frame,
+                              const PathSettings& settings, std::atomic<uint32_t>* rowsDone = nullptr) const;
 
   // Irradiance at point p with normal n (one-sided), estimated with `samples` paths: what the
   // analytic tests check the light transport against.

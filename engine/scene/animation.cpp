@@ -30,11 +30,11 @@ void sampleAt(const Sampler& sm, float t, bool isRotation, float* out) {
   size_t k = size_t(std::upper_bound(sm.input.begin(), sm.input.end(), t) - sm.input.begin()) - 1;
   float t0 = sm.input[k], t1 = sm.input[k + 1], dt = t1 - t0, u = (t - t0) / dt;
   switch (sm.interpolation) {
-    case Interpolation::Step:
-      return emit([&](int c) { return value(k, c); });
+    case Interpolation::Step: return emit([&](int c) { return value(k, c); });
     case Interpolation::Linear:
       if (isRotation) {
-        glm::quat a(value(k, 3), value(k, 0), value(k, 1), value(k, 2)), b(value(k + 1, 3), value(k + 1, 0), value(k + 1, 1), value(k + 1, 2));
+        glm::quat a(value(k, 3), value(k, 0), value(k, 1), value(k, 2)),
+            b(value(k + 1, 3), value(k + 1, 0), value(k + 1, 1), value(k + 1, 2));
         glm::quat q = slerp(a, b, u);
         out[0] = q.x, out[1] = q.y, out[2] = q.z, out[3] = q.w;
         return;
@@ -45,13 +45,14 @@ void sampleAt(const Sampler& sm, float t, bool isRotation, float* out) {
       float u2 = u * u, u3 = u2 * u;
       emit([&](int c) {
         float outTangent = sm.output[(3 * k + 2) * n + c], inTangent = sm.output[(3 * (k + 1)) * n + c];
-        return (2 * u3 - 3 * u2 + 1) * value(k, c) + (u3 - 2 * u2 + u) * dt * outTangent + (-2 * u3 + 3 * u2) * value(k + 1, c) +
-               (u3 - u2) * dt * inTangent;
+        return (2 * u3 - 3 * u2 + 1) * value(k, c) + (u3 - 2 * u2 + u) * dt * outTangent +
+               (-2 * u3 + 3 * u2) * value(k + 1, c) + (u3 - u2) * dt * inTangent;
       });
       if (isRotation) {
         glm::vec4 q(out[0], out[1], out[2], out[3]);
         float len = glm::length(q);
-        if (len > 0) for (int c = 0; c < 4; ++c) out[c] /= len;
+        if (len > 0)
+          for (int c = 0; c < 4; ++c) out[c] /= len;
       }
       return;
     }
@@ -84,7 +85,8 @@ bool animationMovesGeometry(const Scene& scene, int animation) {
 Pose evaluatePose(const Scene& scene, int animation, float t) {
   Pose pose;
   size_t n = scene.nodes.size();
-  pose.translation.resize(n), pose.rotation.resize(n), pose.scale.resize(n), pose.weights.resize(n), pose.world.resize(n);
+  pose.translation.resize(n), pose.rotation.resize(n), pose.scale.resize(n), pose.weights.resize(n),
+      pose.world.resize(n);
   for (size_t i = 0; i < n; ++i) {
     const Node& node = scene.nodes[i];
     pose.translation[i] = node.translation, pose.rotation[i] = node.rotation, pose.scale[i] = node.scale;

@@ -36,7 +36,8 @@ Environment Environment::parse(const std::string& spec) {
     return env;
   }
   OIIO_NAMESPACE::ImageBuf image(spec);
-  if (!image.read(0, 0, true, OIIO_NAMESPACE::TypeDesc::FLOAT)) throw LoadError(spec + ": cannot read the environment: " + image.geterror());
+  if (!image.read(0, 0, true, OIIO_NAMESPACE::TypeDesc::FLOAT))
+    throw LoadError(spec + ": cannot read the environment: " + image.geterror());
   const auto& is = image.spec();
   if (is.nchannels < 3 || is.width < 1 || is.height < 1) throw LoadError(spec + ": the environment needs RGB channels");
   const float* px = static_cast<const float*>(image.localpixels());
@@ -45,7 +46,8 @@ Environment Environment::parse(const std::string& spec) {
   for (size_t i = 0; i < env.texels_.size(); ++i) {
     const float* p = px + i * is.nchannels;
     glm::vec3 c(p[0], p[1], p[2]);
-    if (!glm::all(glm::lessThan(glm::abs(c), glm::vec3(1e30f)))) throw LoadError(spec + ": the environment holds NaN or infinite values");
+    if (!glm::all(glm::lessThan(glm::abs(c), glm::vec3(1e30f))))
+      throw LoadError(spec + ": the environment holds NaN or infinite values");
     env.texels_[i] = glm::max(c, glm::vec3(0.0f));
   }
   return env;
@@ -70,9 +72,12 @@ std::vector<glm::vec4> Environment::bins(uint32_t n) const {
       for (int i = 0; i < 4; ++i) {
         glm::vec3 d = c;
         float du = ((i + 0.5f) / 4.0f - 0.5f) * 2.0f * half, dv = ((j + 0.5f) / 4.0f - 0.5f) * 2.0f * half;
-        if (axis == 0) d.y += du, d.z += dv;
-        else if (axis == 1) d.z += du, d.x += dv;
-        else d.x += du, d.y += dv;
+        if (axis == 0)
+          d.y += du, d.z += dv;
+        else if (axis == 1)
+          d.z += du, d.x += dv;
+        else
+          d.x += du, d.y += dv;
         sum += radiance(d);
       }
     out[b] = glm::vec4(sum / 16.0f, 0.0f);

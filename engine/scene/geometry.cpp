@@ -18,7 +18,8 @@ namespace {
 uint64_t hashPoint(glm::vec3 p) {
   uint32_t b[3];
   std::memcpy(b, &p, 12);
-  return (uint64_t(b[0]) * 0x9E3779B97F4A7C15ull) ^ (uint64_t(b[1]) * 0xC2B2AE3D27D4EB4Full) ^ (uint64_t(b[2]) * 0x165667B19E3779F9ull);
+  return (uint64_t(b[0]) * 0x9E3779B97F4A7C15ull) ^ (uint64_t(b[1]) * 0xC2B2AE3D27D4EB4Full) ^
+         (uint64_t(b[2]) * 0x165667B19E3779F9ull);
 }
 
 // A triangle whose area is negligible against its longest edge (or that repeats a vertex) carries no
@@ -63,7 +64,8 @@ Geometry buildGeometry(const Scene& scene) {
     }
   }
   for (const auto& m : scene.materials)
-    g.materials.push_back({m.baseColor, glm::vec4(m.emissive * m.emissiveStrength, 0.0f), m.baseColorTexture, m.emissiveTexture, 0, 0});
+    g.materials.push_back(
+        {m.baseColor, glm::vec4(m.emissive * m.emissiveStrength, 0.0f), m.baseColorTexture, m.emissiveTexture, 0, 0});
   g.materials.push_back({glm::vec4(1.0f), glm::vec4(0.0f), -1, -1, 0, 0});  // glTF default material
   const uint32_t defaultMaterial = uint32_t(g.materials.size() - 1);
 
@@ -113,7 +115,8 @@ Geometry buildGeometry(const Scene& scene) {
           auto range = byPosition.equal_range(h);
           for (auto it = range.first; it != range.second && surfelOf[v] == ~0u; ++it) {
             const Vertex& o = g.vertices[base + it->second];
-            bool same = o.position == gv.position && glm::all(glm::lessThan(glm::abs(o.normal - gv.normal), glm::vec3(1e-4f))) &&
+            bool same = o.position == gv.position &&
+                        glm::all(glm::lessThan(glm::abs(o.normal - gv.normal), glm::vec3(1e-4f))) &&
                         o.joints == gv.joints && o.weights == gv.weights;
             if (same) surfelOf[v] = surfelOf[it->second];
           }
@@ -133,15 +136,16 @@ Geometry buildGeometry(const Scene& scene) {
             continue;
           }
           uint32_t tri = uint32_t(g.triangles.size());
-          uint32_t mat = (p.material >= 0 ? uint32_t(p.material) : defaultMaterial) | (p.normals.empty() ? gpu::kFlatShaded : 0u);
+          uint32_t mat =
+              (p.material >= 0 ? uint32_t(p.material) : defaultMaterial) | (p.normals.empty() ? gpu::kFlatShaded : 0u);
           g.triangles.push_back({base + a, base + b, base + c, mat});
           for (uint32_t v : {a, b, c}) adjacent[surfelOf[v]].push_back(tri);
         }
 
         for (size_t s = 0; s < welded.size(); ++s) {
           if (adjacent[s].empty()) continue;  // only on degenerate triangles, or unreferenced
-          SurfelSource src{uint32_t(g.surfelVertices.size()), uint32_t(welded[s].size()), uint32_t(g.surfelTriangles.size()),
-                              uint32_t(adjacent[s].size())};
+          SurfelSource src{uint32_t(g.surfelVertices.size()), uint32_t(welded[s].size()),
+                           uint32_t(g.surfelTriangles.size()), uint32_t(adjacent[s].size())};
           glm::vec4 albedo(0.0f), emission(0.0f);
           for (uint32_t v : welded[s]) {
             g.surfelVertices.push_back(base + v);
@@ -171,7 +175,8 @@ FrameInputs Geometry::frameInputs(const Scene& scene, const Pose& pose) const {
   in.morphWeights.assign(morphWeightCount, 0.0f);
   for (size_t i = 0; i < instances.size(); ++i) {
     const auto& w = pose.weights[instanceNode[i]];
-    for (uint32_t k = 0; k < instances[i].morphTargets && k < w.size(); ++k) in.morphWeights[instances[i].morphWeightBase + k] = w[k];
+    for (uint32_t k = 0; k < instances[i].morphTargets && k < w.size(); ++k)
+      in.morphWeights[instances[i].morphWeightBase + k] = w[k];
   }
   return in;
 }
@@ -187,8 +192,10 @@ std::vector<WorldVertex> animateOnHost(const Geometry& g, const FrameInputs& in)
       const MorphDelta& d = g.morphDeltas[inst.morphDeltaBase + k * inst.vertexCount + v.local];
       p += w * glm::vec3(d.position), n += w * glm::vec3(d.normal);
     }
-    glm::mat4 m = inst.skinned ? v.weights.x * in.matrices[inst.matrix + v.joints.x] + v.weights.y * in.matrices[inst.matrix + v.joints.y] +
-                                     v.weights.z * in.matrices[inst.matrix + v.joints.z] + v.weights.w * in.matrices[inst.matrix + v.joints.w]
+    glm::mat4 m = inst.skinned ? v.weights.x * in.matrices[inst.matrix + v.joints.x] +
+                                     v.weights.y * in.matrices[inst.matrix + v.joints.y] +
+                                     v.weights.z * in.matrices[inst.matrix + v.joints.z] +
+                                     v.weights.w * in.matrices[inst.matrix + v.joints.w]
                                : in.matrices[inst.matrix];
     out[i].position = glm::vec4(glm::vec3(m * glm::vec4(p, 1.0f)), 1.0f);
     out[i].normal = glm::vec4(transformNormal(m, n), 0.0f);
@@ -220,18 +227,24 @@ std::vector<Surfel> surfelsOnHost(const Geometry& g, const std::vector<WorldVert
       faceSum += n;
       moment += third * (22.0f * self + 7.0f * (a + b + c - self)) / 36.0f;  // centroid of the vertex's corner quad
       float da = glm::distance(a, self), db = glm::distance(b, self), dc = glm::distance(c, self);
-      glm::vec3 x = da <= db && da <= dc ? b : (db <= dc ? c : a), y = a + b + c - self - x, mid = (a + b + c) / 3.0f - self;
-      moments += cornerMoments(0.5f * (x - self), mid, 0.5f * third) + cornerMoments(mid, 0.5f * (y - self), 0.5f * third);
+      glm::vec3 x = da <= db && da <= dc ? b : (db <= dc ? c : a), y = a + b + c - self - x,
+                mid = (a + b + c) / 3.0f - self;
+      moments +=
+          cornerMoments(0.5f * (x - self), mid, 0.5f * third) + cornerMoments(mid, 0.5f * (y - self), 0.5f * third);
     }
-    for (uint32_t k = 0; k < src.vertexCount; ++k) vertexSum += glm::vec3(world[g.surfelVertices[src.firstVertex + k]].normal);
+    for (uint32_t k = 0; k < src.vertexCount; ++k)
+      vertexSum += glm::vec3(world[g.surfelVertices[src.firstVertex + k]].normal);
     glm::vec3 n = glm::length(vertexSum) > 1e-6f ? vertexSum : faceSum;
     float len = glm::length(n);
     glm::vec3 centre = area > 0.0f ? moment / area : self, normal = len > 0.0f ? n / len : glm::vec3(0.0f);
     glm::vec3 t1, t2, offset = centre - self;
     gpu::tangentFrame(len > 0.0f ? normal : glm::vec3(0, 0, 1), t1, t2);
     moments -= area * glm::outerProduct(offset, offset);
-    glm::vec2 extent = glm::sqrt(3.0f * glm::max(glm::vec2(glm::dot(t1, moments * t1), glm::dot(t2, moments * t2)), glm::vec2(0.0f)) / std::max(area, 1e-30f));
-    extent = extent.x * extent.y > 0.0f ? extent * std::sqrt(area / (4.0f * extent.x * extent.y)) : glm::vec2(0.5f * std::sqrt(area));
+    glm::vec2 extent =
+        glm::sqrt(3.0f * glm::max(glm::vec2(glm::dot(t1, moments * t1), glm::dot(t2, moments * t2)), glm::vec2(0.0f)) /
+                  std::max(area, 1e-30f));
+    extent = extent.x * extent.y > 0.0f ? extent * std::sqrt(area / (4.0f * extent.x * extent.y))
+                                        : glm::vec2(0.5f * std::sqrt(area));
     out[s].positionArea = glm::vec4(centre, len > 0.0f ? area : 0.0f);
     out[s].normal = glm::vec4(normal, 0.0f);
     out[s].shape = glm::vec4(std::sqrt(area / glm::pi<float>()), 0.0f, extent);
@@ -249,13 +262,17 @@ std::vector<bool> movingInstances(const Scene& scene, const Geometry& g, int ani
   std::vector<bool> moves(g.instances.size(), false);
   if (animation < 0) return moves;
   std::vector<char> transformed(scene.nodes.size(), 0), reweighted(scene.nodes.size(), 0);
-  for (const Channel& ch : scene.animations[animation].channels) (ch.path == Path::Weights ? reweighted : transformed)[ch.node] = 1;
+  for (const Channel& ch : scene.animations[animation].channels)
+    (ch.path == Path::Weights ? reweighted : transformed)[ch.node] = 1;
   // A node moves when it or any ancestor is transformed.
-  std::function<bool(int)> moved = [&](int n) { return transformed[n] || (scene.nodes[n].parent >= 0 && moved(scene.nodes[n].parent)); };
+  std::function<bool(int)> moved = [&](int n) {
+    return transformed[n] || (scene.nodes[n].parent >= 0 && moved(scene.nodes[n].parent));
+  };
   const bool anything = animationMovesGeometry(scene, animation);
   for (size_t i = 0; i < g.instances.size(); ++i) {
     const Instance& inst = g.instances[i];
-    moves[i] = inst.skinned ? anything : moved(g.instanceNode[i]) || (inst.morphTargets > 0 && reweighted[g.instanceNode[i]]);
+    moves[i] =
+        inst.skinned ? anything : moved(g.instanceNode[i]) || (inst.morphTargets > 0 && reweighted[g.instanceNode[i]]);
   }
   return moves;
 }

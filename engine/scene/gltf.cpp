@@ -28,7 +28,8 @@ std::vector<V> toVectors(const std::vector<float>& flat) {
   return out;
 }
 
-const tinygltf::Value* extensionValue(const tinygltf::ExtensionMap& ext, const std::string& name, const std::string& key) {
+const tinygltf::Value* extensionValue(const tinygltf::ExtensionMap& ext, const std::string& name,
+                                      const std::string& key) {
   auto it = ext.find(name);
   if (it == ext.end() || !it->second.IsObject() || !it->second.Has(key)) return nullptr;
   return &it->second.Get(key);
@@ -82,7 +83,8 @@ class Converter {
           for (int c = 0; c < 4; ++c) {
             int src = comps >= 3 ? c : (c < 3 ? 0 : 1);  // grey(+alpha) to RGBA
             uint8_t v = 255;
-            if (src < comps) v = img.image[(p * comps + src) * bytes + (bytes - 1)];  // 16-bit: high byte (little endian)
+            if (src < comps)
+              v = img.image[(p * comps + src) * bytes + (bytes - 1)];  // 16-bit: high byte (little endian)
             out.rgba[p * 4 + c] = v;
           }
       }
@@ -92,7 +94,8 @@ class Converter {
 
   int textureIndex(int index, int texCoord, const std::string& what) {
     if (index < 0) return -1;
-    if (size_t(index) >= scene_.textures.size()) read_.fail(what + ": texture index " + std::to_string(index) + " out of range");
+    if (size_t(index) >= scene_.textures.size())
+      read_.fail(what + ": texture index " + std::to_string(index) + " out of range");
     if (texCoord != 0) warn(what + " uses TEXCOORD_" + std::to_string(texCoord) + "; TEXCOORD_0 is used instead");
     return scene_.textures[index].rgba.empty() ? -1 : index;
   }
@@ -102,11 +105,16 @@ class Converter {
       Material out;
       out.name = m.name;
       const auto& pbr = m.pbrMetallicRoughness;
-      for (int c = 0; c < 4 && c < int(pbr.baseColorFactor.size()); ++c) out.baseColor[c] = float(pbr.baseColorFactor[c]);
+      for (int c = 0; c < 4 && c < int(pbr.baseColorFactor.size()); ++c)
+        out.baseColor[c] = float(pbr.baseColorFactor[c]);
       for (int c = 0; c < 3 && c < int(m.emissiveFactor.size()); ++c) out.emissive[c] = float(m.emissiveFactor[c]);
-      out.baseColorTexture = textureIndex(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, "material '" + m.name + "' base colour");
-      out.emissiveTexture = textureIndex(m.emissiveTexture.index, m.emissiveTexture.texCoord, "material '" + m.name + "' emission");
-      out.metallicRoughnessTexture = textureIndex(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord, "material '" + m.name + "' metallic-roughness");
+      out.baseColorTexture = textureIndex(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
+                                          "material '" + m.name + "' base colour");
+      out.emissiveTexture =
+          textureIndex(m.emissiveTexture.index, m.emissiveTexture.texCoord, "material '" + m.name + "' emission");
+      out.metallicRoughnessTexture =
+          textureIndex(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
+                       "material '" + m.name + "' metallic-roughness");
       out.metallic = float(pbr.metallicFactor);
       out.roughness = float(pbr.roughnessFactor);
       out.doubleSided = m.doubleSided;
@@ -130,7 +138,9 @@ class Converter {
     out.positions = toVectors<glm::vec3, 3>(read_.floats(pos, 3, what + " POSITION"));
     size_t n = out.positions.size();
     auto sized = [&](size_t count, const char* name) {
-      if (count != n) read_.fail(what + " " + name + " has " + std::to_string(count) + " elements, POSITION has " + std::to_string(n));
+      if (count != n)
+        read_.fail(what + " " + name + " has " + std::to_string(count) + " elements, POSITION has " +
+                   std::to_string(n));
     };
     if (int a = attr("NORMAL"); a >= 0) {
       out.normals = toVectors<glm::vec3, 3>(read_.floats(a, 3, what + " NORMAL"));
@@ -145,7 +155,8 @@ class Converter {
     if (joints >= 0) {
       auto j = read_.uints(joints, 4, what + " JOINTS_0");
       out.joints.resize(j.size() / 4);
-      for (size_t i = 0; i < out.joints.size(); ++i) out.joints[i] = {j[4 * i], j[4 * i + 1], j[4 * i + 2], j[4 * i + 3]};
+      for (size_t i = 0; i < out.joints.size(); ++i)
+        out.joints[i] = {j[4 * i], j[4 * i + 1], j[4 * i + 2], j[4 * i + 3]};
       out.weights = toVectors<glm::vec4, 4>(read_.floats(weights, 4, what + " WEIGHTS_0"));
       sized(out.joints.size(), "JOINTS_0");
       sized(out.weights.size(), "WEIGHTS_0");
@@ -169,7 +180,8 @@ class Converter {
     if (p.indices >= 0) {
       order = read_.uints(p.indices, 1, what + " indices");
       for (uint32_t i : order)
-        if (i >= n) read_.fail(what + ": index " + std::to_string(i) + " out of range (" + std::to_string(n) + " vertices)");
+        if (i >= n)
+          read_.fail(what + ": index " + std::to_string(i) + " out of range (" + std::to_string(n) + " vertices)");
     } else {
       order.resize(n);
       for (uint32_t i = 0; i < n; ++i) order[i] = i;
@@ -179,12 +191,16 @@ class Converter {
       out.indices = std::move(order);
     } else if (p.mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
       for (size_t i = 2; i < order.size(); ++i)
-        if (i % 2 == 0) out.indices.insert(out.indices.end(), {order[i - 2], order[i - 1], order[i]});
-        else out.indices.insert(out.indices.end(), {order[i - 1], order[i - 2], order[i]});
+        if (i % 2 == 0)
+          out.indices.insert(out.indices.end(), {order[i - 2], order[i - 1], order[i]});
+        else
+          out.indices.insert(out.indices.end(), {order[i - 1], order[i - 2], order[i]});
     } else if (p.mode == TINYGLTF_MODE_TRIANGLE_FAN) {
-      for (size_t i = 2; i < order.size(); ++i) out.indices.insert(out.indices.end(), {order[0], order[i - 1], order[i]});
+      for (size_t i = 2; i < order.size(); ++i)
+        out.indices.insert(out.indices.end(), {order[0], order[i - 1], order[i]});
     }
-    if (p.material >= int(scene_.materials.size())) read_.fail(what + ": material index " + std::to_string(p.material) + " out of range");
+    if (p.material >= int(scene_.materials.size()))
+      read_.fail(what + ": material index " + std::to_string(p.material) + " out of range");
     out.material = p.material;
     return out;
   }
@@ -198,7 +214,8 @@ class Converter {
       for (size_t pi = 0; pi < m.primitives.size(); ++pi) {
         const auto& p = m.primitives[pi];
         std::string what = "mesh '" + out.name + "' primitive " + std::to_string(pi);
-        if (p.mode != TINYGLTF_MODE_TRIANGLES && p.mode != TINYGLTF_MODE_TRIANGLE_STRIP && p.mode != TINYGLTF_MODE_TRIANGLE_FAN && p.mode != -1) {
+        if (p.mode != TINYGLTF_MODE_TRIANGLES && p.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+            p.mode != TINYGLTF_MODE_TRIANGLE_FAN && p.mode != -1) {
           warn(what + " draws points or lines and is skipped");
           continue;
         }
@@ -232,7 +249,9 @@ class Converter {
     for (const auto& l : m_.lights) {
       Light out;
       out.name = l.name;
-      out.type = l.type == "directional" ? Light::Type::Directional : l.type == "spot" ? Light::Type::Spot : Light::Type::Point;
+      out.type = l.type == "directional" ? Light::Type::Directional
+                 : l.type == "spot"      ? Light::Type::Spot
+                                         : Light::Type::Point;
       for (int c = 0; c < 3 && c < int(l.color.size()); ++c) out.color[c] = float(l.color[c]);
       out.intensity = float(l.intensity);
       out.range = float(l.range);
@@ -254,20 +273,25 @@ class Converter {
         out.matrix = m;
       }
       if (n.translation.size() == 3) out.translation = {n.translation[0], n.translation[1], n.translation[2]};
-      if (n.rotation.size() == 4) out.rotation = glm::quat(float(n.rotation[3]), float(n.rotation[0]), float(n.rotation[1]), float(n.rotation[2]));
+      if (n.rotation.size() == 4)
+        out.rotation =
+            glm::quat(float(n.rotation[3]), float(n.rotation[0]), float(n.rotation[1]), float(n.rotation[2]));
       if (n.scale.size() == 3) out.scale = {n.scale[0], n.scale[1], n.scale[2]};
       for (double w : n.weights) out.weights.push_back(float(w));
       auto checkIndex = [&](int v, size_t size, const char* kind) {
-        if (v >= int(size)) read_.fail("node '" + out.name + "': " + kind + " index " + std::to_string(v) + " out of range");
+        if (v >= int(size))
+          read_.fail("node '" + out.name + "': " + kind + " index " + std::to_string(v) + " out of range");
         return v;
       };
       out.mesh = checkIndex(n.mesh, scene_.meshes.size(), "mesh");
       out.skin = checkIndex(n.skin, m_.skins.size(), "skin");
       out.camera = checkIndex(n.camera, scene_.cameras.size(), "camera");
-      if (auto* v = extensionValue(n.extensions, "KHR_lights_punctual", "light")) out.light = checkIndex(v->GetNumberAsInt(), scene_.lights.size(), "light");
+      if (auto* v = extensionValue(n.extensions, "KHR_lights_punctual", "light"))
+        out.light = checkIndex(v->GetNumberAsInt(), scene_.lights.size(), "light");
       for (int c : n.children) {
         checkIndex(c, m_.nodes.size(), "child");
-        if (c < 0 || scene_.nodes[c].parent >= 0 || c == int(i)) read_.fail("node hierarchy is not a tree (node " + std::to_string(c) + ")");
+        if (c < 0 || scene_.nodes[c].parent >= 0 || c == int(i))
+          read_.fail("node hierarchy is not a tree (node " + std::to_string(c) + ")");
         scene_.nodes[c].parent = int(i);
         out.children.push_back(c);
       }
@@ -282,7 +306,8 @@ class Converter {
       int s = m_.defaultScene >= 0 ? m_.defaultScene : 0;
       if (s >= int(m_.scenes.size())) read_.fail("default scene index out of range");
       for (int r : m_.scenes[s].nodes) {
-        if (r < 0 || r >= int(scene_.nodes.size())) read_.fail("scene node index " + std::to_string(r) + " out of range");
+        if (r < 0 || r >= int(scene_.nodes.size()))
+          read_.fail("scene node index " + std::to_string(r) + " out of range");
         if (scene_.nodes[r].parent >= 0) read_.fail("scene root node " + std::to_string(r) + " has a parent");
         scene_.roots.push_back(r);
       }
@@ -299,7 +324,8 @@ class Converter {
       out.name = s.name;
       std::string what = "skin " + std::to_string(i);
       for (int j : s.joints) {
-        if (j < 0 || j >= int(scene_.nodes.size())) read_.fail(what + ": joint node " + std::to_string(j) + " out of range");
+        if (j < 0 || j >= int(scene_.nodes.size()))
+          read_.fail(what + ": joint node " + std::to_string(j) + " out of range");
         out.joints.push_back(j);
       }
       if (s.inverseBindMatrices >= 0) {
@@ -319,7 +345,10 @@ class Converter {
       if (node.mesh < 0) continue;
       for (const auto& p : scene_.meshes[node.mesh].primitives) {
         if (p.joints.empty()) continue;
-        if (node.skin < 0) { warn("node '" + node.name + "' has skinning attributes but no skin; drawn unskinned"); continue; }
+        if (node.skin < 0) {
+          warn("node '" + node.name + "' has skinning attributes but no skin; drawn unskinned");
+          continue;
+        }
         for (auto j : p.joints)
           if (glm::any(glm::greaterThanEqual(j, glm::uvec4(uint32_t(scene_.skins[node.skin].joints.size())))))
             read_.fail("node '" + node.name + "': a JOINTS_0 value exceeds the skin's joint count");
@@ -340,14 +369,17 @@ class Converter {
         if (smp.input.empty()) read_.fail(what + ": a sampler has no keys");
         for (size_t k = 1; k < smp.input.size(); ++k)
           if (!(smp.input[k] > smp.input[k - 1])) read_.fail(what + ": key times are not strictly increasing");
-        smp.interpolation = s.interpolation == "STEP" ? Interpolation::Step
-                            : s.interpolation == "CUBICSPLINE" ? Interpolation::CubicSpline : Interpolation::Linear;
-        if (s.output < 0 || size_t(s.output) >= m_.accessors.size()) read_.fail(what + ": sampler output accessor out of range");
+        smp.interpolation = s.interpolation == "STEP"          ? Interpolation::Step
+                            : s.interpolation == "CUBICSPLINE" ? Interpolation::CubicSpline
+                                                               : Interpolation::Linear;
+        if (s.output < 0 || size_t(s.output) >= m_.accessors.size())
+          read_.fail(what + ": sampler output accessor out of range");
         int comps = tinygltf::GetNumComponentsInType(m_.accessors[s.output].type);
         smp.output = read_.floats(s.output, comps, what + " sampler output");
         size_t perKey = smp.interpolation == Interpolation::CubicSpline ? 3 : 1;
         size_t values = smp.output.size() / comps;
-        if (values % (smp.input.size() * perKey) != 0) read_.fail(what + ": sampler output count does not match its keys");
+        if (values % (smp.input.size() * perKey) != 0)
+          read_.fail(what + ": sampler output count does not match its keys");
         smp.components = int(smp.output.size() / (smp.input.size() * perKey));
         out.start = std::min(out.start, smp.input.front());
         out.end = std::max(out.end, smp.input.back());
@@ -357,18 +389,31 @@ class Converter {
         Channel ch;
         ch.node = c.target_node;
         ch.sampler = c.sampler;
-        if (ch.sampler < 0 || ch.sampler >= int(out.samplers.size())) read_.fail(what + ": channel sampler out of range");
-        if (ch.node < 0) { warn(what + ": a channel without a target node is ignored"); continue; }
+        if (ch.sampler < 0 || ch.sampler >= int(out.samplers.size()))
+          read_.fail(what + ": channel sampler out of range");
+        if (ch.node < 0) {
+          warn(what + ": a channel without a target node is ignored");
+          continue;
+        }
         if (ch.node >= int(scene_.nodes.size())) read_.fail(what + ": channel target node out of range");
         int comps = out.samplers[ch.sampler].components;
-        if (c.target_path == "translation") ch.path = Path::Translation;
-        else if (c.target_path == "rotation") ch.path = Path::Rotation;
-        else if (c.target_path == "scale") ch.path = Path::Scale;
-        else if (c.target_path == "weights") ch.path = Path::Weights;
-        else { warn(what + ": channel path '" + c.target_path + "' is not supported and ignored"); continue; }
+        if (c.target_path == "translation")
+          ch.path = Path::Translation;
+        else if (c.target_path == "rotation")
+          ch.path = Path::Rotation;
+        else if (c.target_path == "scale")
+          ch.path = Path::Scale;
+        else if (c.target_path == "weights")
+          ch.path = Path::Weights;
+        else {
+          warn(what + ": channel path '" + c.target_path + "' is not supported and ignored");
+          continue;
+        }
         int expected = ch.path == Path::Rotation ? 4 : ch.path == Path::Weights ? comps : 3;
-        if (comps != expected) read_.fail(what + ": channel '" + c.target_path + "' has " + std::to_string(comps) + " components per key");
-        if (scene_.nodes[ch.node].matrix) warn(what + " animates node '" + scene_.nodes[ch.node].name + "', which is given by a matrix");
+        if (comps != expected)
+          read_.fail(what + ": channel '" + c.target_path + "' has " + std::to_string(comps) + " components per key");
+        if (scene_.nodes[ch.node].matrix)
+          warn(what + " animates node '" + scene_.nodes[ch.node].name + "', which is given by a matrix");
         out.channels.push_back(ch);
       }
       if (out.samplers.empty()) out.start = out.end = 0;
@@ -384,7 +429,9 @@ class Converter {
 
 }  // namespace
 
-Scene sceneFromModel(const tinygltf::Model& model, const std::string& source) { return Converter(model, source).convert(); }
+Scene sceneFromModel(const tinygltf::Model& model, const std::string& source) {
+  return Converter(model, source).convert();
+}
 
 Scene loadGltf(const std::string& path) {
   namespace fs = std::filesystem;
@@ -401,7 +448,8 @@ Scene loadGltf(const std::string& path) {
   tinygltf::TinyGLTF loader;
   tinygltf::Model model;
   std::string err, warn;
-  bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path) : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+  bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
+                   : loader.LoadASCIIFromFile(&model, &err, &warn, path);
   if (!ok || !err.empty()) {
     std::string why = err.empty() ? "not a valid glTF file" : err;
     std::replace(why.begin(), why.end(), '\n', ' ');

@@ -11,8 +11,9 @@ void AccessorReader::fail(const std::string& what) const { throw LoadError(sourc
 std::vector<float> AccessorReader::floats(int index, int components, const std::string& what) const {
   const auto& a = accessor(index, what);
   if (tinygltf::GetNumComponentsInType(a.type) != components)
-    fail(what + ": accessor " + std::to_string(index) + " has " + std::to_string(tinygltf::GetNumComponentsInType(a.type)) +
-         " components, expected " + std::to_string(components));
+    fail(what + ": accessor " + std::to_string(index) + " has " +
+         std::to_string(tinygltf::GetNumComponentsInType(a.type)) + " components, expected " +
+         std::to_string(components));
   std::vector<float> out(size_t(a.count) * components, 0.0f);
   forEachElement(a, index, what, [&](size_t element, const uint8_t* p) {
     for (int c = 0; c < components; ++c) out[element * components + c] = component(a, p, c);
@@ -26,7 +27,8 @@ std::vector<uint32_t> AccessorReader::uints(int index, int components, const std
   const auto& a = accessor(index, what);
   if (tinygltf::GetNumComponentsInType(a.type) != components)
     fail(what + ": accessor " + std::to_string(index) + " has the wrong type");
-  if (a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+  if (a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+      a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
       a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
     fail(what + ": accessor " + std::to_string(index) + " must hold unsigned integers");
   std::vector<uint32_t> out(size_t(a.count) * components, 0);
@@ -39,38 +41,70 @@ std::vector<uint32_t> AccessorReader::uints(int index, int components, const std
 size_t AccessorReader::count(int index, const std::string& what) const { return accessor(index, what).count; }
 
 const tinygltf::Accessor& AccessorReader::accessor(int index, const std::string& what) const {
-  if (index < 0 || size_t(index) >= m_.accessors.size()) fail(what + ": accessor index " + std::to_string(index) + " out of range");
+  if (index < 0 || size_t(index) >= m_.accessors.size())
+    fail(what + ": accessor index " + std::to_string(index) + " out of range");
   return m_.accessors[index];
 }
 
 uint32_t AccessorReader::rawUint(int type, const uint8_t* p, int c) {
   switch (type) {
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return p[c];
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { uint16_t v; std::memcpy(&v, p + 2 * c, 2); return v; }
-    default: { uint32_t v; std::memcpy(&v, p + 4 * c, 4); return v; }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+      uint16_t v;
+      std::memcpy(&v, p + 2 * c, 2);
+      return v;
+    }
+    default: {
+      uint32_t v;
+      std::memcpy(&v, p + 4 * c, 4);
+      return v;
+    }
   }
 }
 
 float AccessorReader::component(const tinygltf::Accessor& a, const uint8_t* p, int c) const {
   switch (a.componentType) {
-    case TINYGLTF_COMPONENT_TYPE_FLOAT: { float v; std::memcpy(&v, p + 4 * c, 4); return v; }
-    case TINYGLTF_COMPONENT_TYPE_BYTE: { float v = float(int8_t(p[c])); return a.normalized ? std::max(v / 127.0f, -1.0f) : v; }
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+      float v;
+      std::memcpy(&v, p + 4 * c, 4);
+      return v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_BYTE: {
+      float v = float(int8_t(p[c]));
+      return a.normalized ? std::max(v / 127.0f, -1.0f) : v;
+    }
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return a.normalized ? p[c] / 255.0f : float(p[c]);
-    case TINYGLTF_COMPONENT_TYPE_SHORT: { int16_t v; std::memcpy(&v, p + 2 * c, 2); return a.normalized ? std::max(v / 32767.0f, -1.0f) : float(v); }
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { uint16_t v; std::memcpy(&v, p + 2 * c, 2); return a.normalized ? v / 65535.0f : float(v); }
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { uint32_t v; std::memcpy(&v, p + 4 * c, 4); return float(v); }
+    case TINYGLTF_COMPONENT_TYPE_SHORT: {
+      int16_t v;
+      std::memcpy(&v, p + 2 * c, 2);
+      return a.normalized ? std::max(v / 32767.0f, -1.0f) : float(v);
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+      uint16_t v;
+      std::memcpy(&v, p + 2 * c, 2);
+      return a.normalized ? v / 65535.0f : float(v);
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
+      uint32_t v;
+      std::memcpy(&v, p + 4 * c, 4);
+      return float(v);
+    }
     default: fail("accessor has an unknown component type " + std::to_string(a.componentType));
   }
 }
 
-const uint8_t* AccessorReader::viewData(int view, size_t offset, size_t count, size_t elementSize, size_t* stride, const std::string& what) const {
-  if (view < 0 || size_t(view) >= m_.bufferViews.size()) fail(what + ": buffer view " + std::to_string(view) + " out of range");
+const uint8_t* AccessorReader::viewData(int view, size_t offset, size_t count, size_t elementSize, size_t* stride,
+                                        const std::string& what) const {
+  if (view < 0 || size_t(view) >= m_.bufferViews.size())
+    fail(what + ": buffer view " + std::to_string(view) + " out of range");
   const auto& bv = m_.bufferViews[view];
-  if (bv.buffer < 0 || size_t(bv.buffer) >= m_.buffers.size()) fail(what + ": buffer " + std::to_string(bv.buffer) + " out of range");
+  if (bv.buffer < 0 || size_t(bv.buffer) >= m_.buffers.size())
+    fail(what + ": buffer " + std::to_string(bv.buffer) + " out of range");
   const auto& buffer = m_.buffers[bv.buffer];
   if (bv.byteOffset + bv.byteLength > buffer.data.size())
-    fail(what + ": buffer view " + std::to_string(view) + " reaches past the end of buffer " + std::to_string(bv.buffer) + " (" +
-         std::to_string(bv.byteOffset + bv.byteLength) + " > " + std::to_string(buffer.data.size()) + " bytes)");
+    fail(what + ": buffer view " + std::to_string(view) + " reaches past the end of buffer " +
+         std::to_string(bv.buffer) + " (" + std::to_string(bv.byteOffset + bv.byteLength) + " > " +
+         std::to_string(buffer.data.size()) + " bytes)");
   *stride = bv.byteStride ? bv.byteStride : elementSize;
   if (count > 0 && offset + *stride * (count - 1) + elementSize > bv.byteLength)
     fail(what + ": accessor data reaches past the end of buffer view " + std::to_string(view));
@@ -81,7 +115,8 @@ void AccessorReader::forEachElement(const tinygltf::Accessor& a, int index, cons
                                     const std::function<void(size_t, const uint8_t*)>& visit) const {
   int componentSize = tinygltf::GetComponentSizeInBytes(a.componentType);
   int components = tinygltf::GetNumComponentsInType(a.type);
-  if (componentSize <= 0 || components <= 0) fail(what + ": accessor " + std::to_string(index) + " has an invalid type");
+  if (componentSize <= 0 || components <= 0)
+    fail(what + ": accessor " + std::to_string(index) + " has an invalid type");
   size_t elementSize = size_t(componentSize) * components;
   if (a.bufferView >= 0) {
     size_t stride = 0;

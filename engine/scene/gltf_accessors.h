@@ -35,7 +35,8 @@ class AccessorReader {
   float component(const tinygltf::Accessor& a, const uint8_t* p, int c) const;
 
   // Bytes of `count` elements of `elementSize` at `offset` (stride 0 = packed) in buffer view `view`.
-  const uint8_t* viewData(int view, size_t offset, size_t count, size_t elementSize, size_t* stride, const std::string& what) const;
+  const uint8_t* viewData(int view, size_t offset, size_t count, size_t elementSize, size_t* stride,
+                          const std::string& what) const;
 
   void forEachElement(const tinygltf::Accessor& a, int index, const std::string& what,
                       const std::function<void(size_t, const uint8_t*)>& visit) const;

@@ -9,7 +9,8 @@ namespace ivgi::scene {
 std::optional<int> Scene::findAnimation(const std::string& key) const {
   for (size_t i = 0; i < animations.size(); ++i)
     if (animations[i].name == key) return int(i);
-  if (!key.empty() && std::all_of(key.begin(), key.end(), ::isdigit) && std::stoul(key) < animations.size()) return int(std::stoul(key));
+  if (!key.empty() && std::all_of(key.begin(), key.end(), ::isdigit) && std::stoul(key) < animations.size())
+    return int(std::stoul(key));
   return std::nullopt;
 }
 
@@ -27,7 +28,8 @@ std::optional<int> Scene::findCameraNode(const std::string& key) const {
   auto list = cameraNodes();
   for (int n : list)
     if (cameras[nodes[n].camera].name == key || nodes[n].name == key) return n;
-  if (!key.empty() && std::all_of(key.begin(), key.end(), ::isdigit) && std::stoul(key) < list.size()) return list[std::stoul(key)];
+  if (!key.empty() && std::all_of(key.begin(), key.end(), ::isdigit) && std::stoul(key) < list.size())
+    return list[std::stoul(key)];
   return std::nullopt;
 }
 

@@ -19,7 +19,7 @@ struct LoadError : std::runtime_error {
 struct Texture {
   std::string name;
   int width = 0, height = 0;
-  std::vector<uint8_t> rgba;  // 8-bit RGBA texels as stored (sRGB-encoded for colour textures)
+  std::vector<uint8_t> rgba;         // 8-bit RGBA texels as stored (sRGB-encoded for colour textures)
   int wrapS = 10497, wrapT = 10497;  // glTF wrap enums: REPEAT, CLAMP_TO_EDGE 33071, MIRRORED_REPEAT 33648
 };
 
@@ -75,7 +75,7 @@ struct Skin {
 
 struct Camera {
   std::string name;
-  float yfov = 0.7f;      // radians
+  float yfov = 0.7f;  // radians
   float znear = 0.01f;
   float zfar = 0.0f;      // 0: infinite
   float aspectRatio = 0;  // 0: the image's

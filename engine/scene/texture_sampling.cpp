@@ -17,7 +17,8 @@ glm::vec4 sampleTexture(const Geometry& g, int index, glm::vec2 uv) {
     size_t at = 2 * (size_t(t.offset) + size_t(y) * t.width + size_t(x));
     return glm::vec4(glm::unpackHalf2x16(g.texels[at]), glm::unpackHalf2x16(g.texels[at + 1]));
   };
-  return glm::mix(glm::mix(texel(xs.x, ys.x), texel(xs.y, ys.x), ax), glm::mix(texel(xs.x, ys.y), texel(xs.y, ys.y), ax), ay);
+  return glm::mix(glm::mix(texel(xs.x, ys.x), texel(xs.y, ys.x), ax),
+                  glm::mix(texel(xs.x, ys.y), texel(xs.y, ys.y), ax), ay);
 }
 
 }  // namespace ivgi::scene

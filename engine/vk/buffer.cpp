@@ -18,8 +18,10 @@ Buffer::Buffer(const Context& ctx, VkDeviceSize bytes, Memory memory, Allocation
   ai.allocationSize = req.size;
   ai.memoryTypeIndex =
       memory == Memory::Host
-          ? ctx.findMemoryType(req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, 0)
-          : ctx.findMemoryType(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT);
+          ? ctx.findMemoryType(req.memoryTypeBits,
+                               VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, 0)
+          : ctx.findMemoryType(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT,
+                               VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT);
   check(vkAllocateMemory(ctx.device(), &ai, nullptr, &memory_), "vkAllocateMemory");
   check(vkBindBufferMemory(ctx.device(), buffer_, memory_, 0), "vkBindBufferMemory");
   VkMemoryPropertyFlags flags = 0;

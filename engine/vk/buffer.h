@@ -45,9 +45,13 @@ class Buffer {
   // Copies bytes in (mapped: memcpy; device: through a staging buffer and one submission).
   void upload(const void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
   template <class T>
-  void upload(std::span<const T> items) { upload(items.data(), items.size_bytes()); }
+  void upload(std::span<const T> items) {
+    upload(items.data(), items.size_bytes());
+  }
   template <class T>
-  void upload(const std::vector<T>& items) { upload(items.data(), items.size() * sizeof(T)); }
+  void upload(const std::vector<T>& items) {
+    upload(items.data(), items.size() * sizeof(T));
+  }
 
   void download(void* data, VkDeviceSize bytes, VkDeviceSize offset = 0) const;
   // A texel view of the whole buffer (made on first use, kept with the buffer): shaders read it as

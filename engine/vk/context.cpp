@@ -93,8 +93,10 @@ DeviceInfo describe(VkPhysicalDevice pd, uint32_t index) {
   if (!f12.shaderBufferInt64Atomics) missing.push_back("64-bit buffer atomics (shaderBufferInt64Atomics)");
   if (!feats.features.shaderInt64) missing.push_back("shaderInt64");
   if (!hasExtension(pd, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME)) missing.push_back("VK_KHR_push_descriptor");
-  if (!computeQueueFamily(pd, &tsBits)) missing.push_back("a compute queue");
-  else if (tsBits == 0 || props.properties.limits.timestampPeriod <= 0) missing.push_back("timestamps on the compute queue");
+  if (!computeQueueFamily(pd, &tsBits))
+    missing.push_back("a compute queue");
+  else if (tsBits == 0 || props.properties.limits.timestampPeriod <= 0)
+    missing.push_back("timestamps on the compute queue");
   for (size_t i = 0; i < missing.size(); ++i) d.missing += (i ? ", " : "") + missing[i];
   return d;
 }
@@ -117,7 +119,8 @@ VkInstance createInstance(bool validation) {
   VkInstance instance = VK_NULL_HANDLE;
   VkResult r = vkCreateInstance(&ci, nullptr, &instance);
   if (r == VK_ERROR_LAYER_NOT_PRESENT)
-    throw VulkanError("validation requested but VK_LAYER_KHRONOS_validation is not installed (package vulkan-validationlayers)");
+    throw VulkanError(
+        "validation requested but VK_LAYER_KHRONOS_validation is not installed (package vulkan-validationlayers)");
   check(r, "vkCreateInstance");
   return instance;
 }
@@ -143,7 +146,8 @@ uint32_t chooseDevice(const std::vector<VkPhysicalDevice>& pds, const std::vecto
     if (std::all_of(want.begin(), want.end(), ::isdigit)) {
       uint32_t i = uint32_t(std::stoul(want));
       if (i >= pds.size())
-        throw VulkanError("device index " + want + " out of range: " + std::to_string(pds.size()) + " device(s) (see `ivgi devices`)");
+        throw VulkanError("device index " + want + " out of range: " + std::to_string(pds.size()) +
+                          " device(s) (see `ivgi devices`)");
       pick = i;
     } else {
       for (uint32_t i = 0; i < infos.size() && !pick; ++i)
@@ -191,7 +195,8 @@ Context::Context(const ContextOptions& options) {
   instance_ = createInstance(validation);
   if (validation) {
     VkDebugUtilsMessengerCreateInfoEXT mi{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
-    mi.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT;
+    mi.messageSeverity =
+        VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT;
     mi.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
                      VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
     mi.pfnUserCallback = &Context::onMessage;
@@ -211,7 +216,8 @@ Context::Context(const ContextOptions& options) {
   physical_ = pds[chosen];
   info_ = infos[chosen];
   VkPhysicalDeviceSubgroupProperties subgroup{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
-  VkPhysicalDeviceMaintenance3Properties maintenance3{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES, &subgroup};
+  VkPhysicalDeviceMaintenance3Properties maintenance3{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES,
+                                                      &subgroup};
   VkPhysicalDeviceProperties2 properties2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &maintenance3};
   vkGetPhysicalDeviceProperties2(physical_, &properties2);
   properties_ = properties2.properties;

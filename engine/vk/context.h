@@ -29,8 +29,8 @@ struct DeviceInfo {
 };
 
 struct ContextOptions {
-  std::string device;        // name substring or index; empty = IVGI_DEVICE, then automatic choice
-  bool validation = false;   // also switched on by IVGI_VALIDATION=1
+  std::string device;       // name substring or index; empty = IVGI_DEVICE, then automatic choice
+  bool validation = false;  // also switched on by IVGI_VALIDATION=1
 };
 
 class Context {

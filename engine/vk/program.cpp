@@ -69,7 +69,8 @@ Reflection reflect(std::span<const uint32_t> code, const std::string& name) {
   spvc_compiler compiler = nullptr;
   spvc_resources resources = nullptr;
   if (spvc_context_parse_spirv(sc, code.data(), code.size(), &ir) != SPVC_SUCCESS) fail("parse");
-  if (spvc_context_create_compiler(sc, SPVC_BACKEND_NONE, ir, SPVC_CAPTURE_MODE_TAKE_OWNERSHIP, &compiler) != SPVC_SUCCESS)
+  if (spvc_context_create_compiler(sc, SPVC_BACKEND_NONE, ir, SPVC_CAPTURE_MODE_TAKE_OWNERSHIP, &compiler) !=
+      SPVC_SUCCESS)
     fail("reflect");
   if (spvc_compiler_create_shader_resources(compiler, &resources) != SPVC_SUCCESS) fail("resources");
 
@@ -80,7 +81,8 @@ Reflection reflect(std::span<const uint32_t> code, const std::string& name) {
     return spvc_compiler_get_decoration(compiler, res.id, SpvDecorationBinding);
   };
   spvc_resources_get_resource_list_for_type(resources, SPVC_RESOURCE_TYPE_STORAGE_BUFFER, &list, &count);
-  for (size_t i = 0; i < count; ++i) r.bindings.push_back({setZeroBinding(list[i]), blockBindingName(compiler, list[i])});
+  for (size_t i = 0; i < count; ++i)
+    r.bindings.push_back({setZeroBinding(list[i]), blockBindingName(compiler, list[i])});
   spvc_resources_get_resource_list_for_type(resources, SPVC_RESOURCE_TYPE_STORAGE_IMAGE, &list, &count);
   for (size_t i = 0; i < count; ++i) {
     spvc_type type = spvc_compiler_get_type_handle(compiler, list[i].type_id);
@@ -89,20 +91,23 @@ Reflection reflect(std::span<const uint32_t> code, const std::string& name) {
       fail("images must be imageBuffers of a 32-bit float or uint format");
     r.bindings.push_back({setZeroBinding(list[i]), list[i].name, VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER, texel});
   }
-  std::sort(r.bindings.begin(), r.bindings.end(), [](const ReflectedBinding& a, const ReflectedBinding& b) { return a.binding < b.binding; });
+  std::sort(r.bindings.begin(), r.bindings.end(),
+            [](const ReflectedBinding& a, const ReflectedBinding& b) { return a.binding < b.binding; });
   for (size_t i = 0; i < r.bindings.size(); ++i) {
     if (r.bindings[i].binding != i) fail("bindings must be numbered 0..n-1");
     for (size_t j = 0; j < i; ++j)
       if (r.bindings[j].name == r.bindings[i].name) fail("two bindings are named '" + r.bindings[i].name + "'");
   }
-  for (auto type : {SPVC_RESOURCE_TYPE_UNIFORM_BUFFER, SPVC_RESOURCE_TYPE_SAMPLED_IMAGE, SPVC_RESOURCE_TYPE_SEPARATE_IMAGE}) {
+  for (auto type :
+       {SPVC_RESOURCE_TYPE_UNIFORM_BUFFER, SPVC_RESOURCE_TYPE_SAMPLED_IMAGE, SPVC_RESOURCE_TYPE_SEPARATE_IMAGE}) {
     spvc_resources_get_resource_list_for_type(resources, type, &list, &count);
     if (count) fail("only storage buffers and imageBuffers are supported as resources");
   }
   spvc_resources_get_resource_list_for_type(resources, SPVC_RESOURCE_TYPE_PUSH_CONSTANT, &list, &count);
   if (count) {
     size_t bytes = 0;
-    spvc_compiler_get_declared_struct_size(compiler, spvc_compiler_get_type_handle(compiler, list[0].base_type_id), &bytes);
+    spvc_compiler_get_declared_struct_size(compiler, spvc_compiler_get_type_handle(compiler, list[0].base_type_id),
+                                           &bytes);
     r.pushBytes = uint32_t(bytes);
   }
   const spvc_specialization_constant* constants = nullptr;
@@ -111,15 +116,16 @@ Reflection reflect(std::span<const uint32_t> code, const std::string& name) {
     if (const char* constantName = spvc_compiler_get_name(compiler, constants[i].id); constantName && *constantName)
       r.constants.emplace_back(constantName, constants[i].constant_id);
   for (uint32_t d = 0; d < 3; ++d)
-    r.localSize[d] = std::max(1u, spvc_compiler_get_execution_mode_argument_by_index(compiler, SpvExecutionModeLocalSize, d));
+    r.localSize[d] =
+        std::max(1u, spvc_compiler_get_execution_mode_argument_by_index(compiler, SpvExecutionModeLocalSize, d));
   spvc_specialization_constant sizeConstants[3] = {};
   spvc_compiler_get_work_group_size_specialization_constants(compiler, &sizeConstants[0], &sizeConstants[1],
                                                              &sizeConstants[2]);
   for (uint32_t d = 0; d < 3; ++d)
     if (sizeConstants[d].id != 0) {
       r.localSizeConstant[d] = sizeConstants[d].constant_id;
-      r.localSize[d] =
-          std::max(1u, spvc_constant_get_scalar_u32(spvc_compiler_get_constant_handle(compiler, sizeConstants[d].id), 0, 0));
+      r.localSize[d] = std::max(
+          1u, spvc_constant_get_scalar_u32(spvc_compiler_get_constant_handle(compiler, sizeConstants[d].id), 0, 0));
     }
   spvc_context_destroy(sc);
   return r;
@@ -127,7 +133,8 @@ Reflection reflect(std::span<const uint32_t> code, const std::string& name) {
 
 }  // namespace
 
-Program::Program(const Context& ctx, std::string name, std::span<const uint32_t> code, const Specialization& specialization)
+Program::Program(const Context& ctx, std::string name, std::span<const uint32_t> code,
+                 const Specialization& specialization)
     : ctx_(ctx), name_(std::move(name)) {
   Reflection r = reflect(code, name_);
   for (const ReflectedBinding& b : r.bindings) slots_.push_back({b.name, b.texel.format, b.texel.bytes});
@@ -162,7 +169,8 @@ Program::Program(const Context& ctx, std::string name, std::span<const uint32_t>
   check(vkCreateShaderModule(ctx.device(), &mi, nullptr, &module_), "vkCreateShaderModule");
 
   std::vector<VkDescriptorSetLayoutBinding> bindings(slots_.size());
-  for (uint32_t i = 0; i < bindings.size(); ++i) bindings[i] = {i, r.bindings[i].type, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+  for (uint32_t i = 0; i < bindings.size(); ++i)
+    bindings[i] = {i, r.bindings[i].type, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
   VkDescriptorSetLayoutCreateInfo li{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
   li.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
   li.bindingCount = uint32_t(bindings.size());
@@ -185,7 +193,8 @@ Program::Program(const Context& ctx, std::string name, std::span<const uint32_t>
   VkSpecializationInfo info{uint32_t(entries.size()), entries.data(), values.size() * 4, values.data()};
   if (!entries.empty()) ci.stage.pSpecializationInfo = &info;
   ci.layout = layout_;
-  check(vkCreateComputePipelines(ctx.device(), VK_NULL_HANDLE, 1, &ci, nullptr, &pipeline_), "vkCreateComputePipelines");
+  check(vkCreateComputePipelines(ctx.device(), VK_NULL_HANDLE, 1, &ci, nullptr, &pipeline_),
+        "vkCreateComputePipelines");
 }
 
 Program::~Program() {

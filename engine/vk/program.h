@@ -72,7 +72,8 @@ struct Specialization {
 
 class Program {
  public:
-  Program(const Context& ctx, std::string name, std::span<const uint32_t> code, const Specialization& specialization = {});
+  Program(const Context& ctx, std::string name, std::span<const uint32_t> code,
+          const Specialization& specialization = {});
   ~Program();
   Program(const Program&) = delete;
   Program& operator=(const Program&) = delete;

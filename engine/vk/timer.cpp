@@ -30,8 +30,8 @@ std::vector<PassTime> PassTimer::results() const {
   std::vector<PassTime> out;
   if (names_.empty()) return out;
   std::vector<uint64_t> ticks(2 * names_.size());
-  check(vkGetQueryPoolResults(ctx_.device(), pool_, 0, uint32_t(ticks.size()), ticks.size() * sizeof(uint64_t), ticks.data(),
-                              sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
+  check(vkGetQueryPoolResults(ctx_.device(), pool_, 0, uint32_t(ticks.size()), ticks.size() * sizeof(uint64_t),
+                              ticks.data(), sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
         "vkGetQueryPoolResults");
   uint64_t mask = ctx_.timestampValidBits() >= 64 ? ~0ull : ((1ull << ctx_.timestampValidBits()) - 1);
   for (size_t i = 0; i < names_.size(); ++i) {

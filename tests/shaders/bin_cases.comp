@@ -5,8 +5,26 @@
 #include "common.glsl"
 layout(local_size_x = 64) in;
 
-struct BinCase { vec4 direction; uint n; uint bin; float area; float distance2; };
-struct BinResult { uint bin; float solidAngle; float formFactor; uint roundTrip; vec4 centre; uint64_t key; uint64_t fringeKey; float fringeDepth; uint beyond; uint pad[2]; vec4 tangent; };
+struct BinCase {
+  vec4 direction;
+  uint n;
+  uint bin;
+  float area;
+  float distance2;
+};
+struct BinResult {
+  uint bin;
+  float solidAngle;
+  float formFactor;
+  uint roundTrip;
+  vec4 centre;
+  uint64_t key;
+  uint64_t fringeKey;
+  float fringeDepth;
+  uint beyond;
+  uint pad[2];
+  vec4 tangent;
+};
 layout(std430, binding = 0) readonly buffer Cases { BinCase cases[]; };
 layout(std430, binding = 1) writeonly buffer Results { BinResult results[]; };
 layout(push_constant) uniform Push { uint count; };
@@ -24,7 +42,8 @@ void main() {
   results[i].fringeKey = packLinkKey(c.distance2, c.bin, true);
   results[i].fringeDepth = linkKeyDepth(results[i].fringeKey);
   uint r = c.bin % (c.n * c.n);
-  results[i].beyond = binOfCell(c.bin / (c.n * c.n), ivec2(int(r % c.n), -1 - int(r / c.n)), c.n);  // mirrored past the lower edge
+  results[i].beyond =
+      binOfCell(c.bin / (c.n * c.n), ivec2(int(r % c.n), -1 - int(r / c.n)), c.n);  // mirrored past the lower edge
   vec3 t1, t2;
   tangentFrame(normalize(c.direction.xyz), t1, t2);
   results[i].tangent = vec4(t1, 0.0);

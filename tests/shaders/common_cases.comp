@@ -4,7 +4,12 @@
 #include "common.glsl"
 layout(local_size_x = 64) in;
 
-struct Case { float value; uint id; uint size; uint mode; };
+struct Case {
+  float value;
+  uint id;
+  uint size;
+  uint mode;
+};
 layout(std430, binding = 0) readonly buffer Cases { Case cases[]; };
 layout(std430, binding = 1) writeonly buffer Keys { uint64_t keys[]; };
 layout(std430, binding = 2) writeonly buffer Pairs { vec4 pairs[]; };  // texel pair, weight, key round trip

@@ -8,7 +8,10 @@ layout(std430, binding = 0) readonly buffer Lights { PunctualLight lights[]; };
 layout(std430, binding = 1) readonly buffer Points { vec4 points[]; };
 layout(std430, binding = 2) writeonly buffer Results { vec4 results[]; };  // toLight, falloff
 layout(std430, binding = 3) writeonly buffer Distances { float distances[]; };
-layout(push_constant) uniform Push { uint lightCount; uint pointCount; };
+layout(push_constant) uniform Push {
+  uint lightCount;
+  uint pointCount;
+};
 
 void main() {
   uint i = itemIndex();

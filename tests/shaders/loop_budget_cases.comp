@@ -5,7 +5,7 @@
 #include "common.glsl"
 layout(local_size_x = 8) in;
 
-layout(std430, binding = 0) readonly buffer Cases { uvec2 cases[]; };  // rounds of a first and a second loop
+layout(std430, binding = 0) readonly buffer Cases { uvec2 cases[]; };       // rounds of a first and a second loop
 layout(std430, binding = 1) writeonly buffer Results { uvec4 results[]; };  // rounds each loop ran, spent
 layout(push_constant) uniform Push { uint count; };
 

@@ -5,7 +5,9 @@
 namespace ivgi::gi {
 
 Bounces::Bounces(const vk::Context& ctx)
-    : emit_(shaderProgram(ctx, "emit")), gather_(shaderProgram(ctx, "gather")), pullUp_(shaderProgram(ctx, "pull_up")) {}
+    : emit_(shaderProgram(ctx, "emit")),
+      gather_(shaderProgram(ctx, "gather")),
+      pullUp_(shaderProgram(ctx, "pull_up")) {}
 
 void Bounces::pullUp(VkCommandBuffer cmd, const IvBuffers& b, const Hierarchy& h, const vk::Buffer& radiosity) const {
   forEachLevelBottomUp(cmd, h, [&](gpu::LevelPush level) {
@@ -20,8 +22,8 @@ void Bounces::recordEmission(VkCommandBuffer cmd, const IvBuffers& b, const Hier
   pullUp(cmd, b, h, b.radiosityA);
 }
 
-uint32_t Bounces::record(VkCommandBuffer cmd, const IvBuffers& b, const Hierarchy& h, const LinkSet& staticSet, const LinkSet& frameSet,
-                         const IvSettings& settings) const {
+uint32_t Bounces::record(VkCommandBuffer cmd, const IvBuffers& b, const Hierarchy& h, const LinkSet& staticSet,
+                         const LinkSet& frameSet, const IvSettings& settings) const {
   const uint32_t surfels = uint32_t(h.leafOfSurfel.size());
   for (uint32_t k = 0; k <= settings.bounces; ++k) {
     const vk::Buffer& in = k % 2 ? b.radiosityB : b.radiosityA;

@@ -17,8 +17,8 @@ class Bounces {
   void recordEmission(VkCommandBuffer cmd, const IvBuffers& b, const Hierarchy& h) const;
   // K + 1 gathers for K bounces, alternating radiosityA and radiosityB; returns which holds the
   // result (0: A, 1: B).
-  uint32_t record(VkCommandBuffer cmd, const IvBuffers& b, const Hierarchy& h, const LinkSet& staticSet, const LinkSet& frameSet,
-                  const IvSettings& settings) const;
+  uint32_t record(VkCommandBuffer cmd, const IvBuffers& b, const Hierarchy& h, const LinkSet& staticSet,
+                  const LinkSet& frameSet, const IvSettings& settings) const;
 
  private:
   void pullUp(VkCommandBuffer cmd, const IvBuffers& b, const Hierarchy& h, const vk::Buffer& radiosity) const;

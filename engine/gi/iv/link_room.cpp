@@ -11,22 +11,27 @@ namespace {
 
 // The room an array that grows with a count gets: a quarter more, so that the next frames'
 // changes fit.
-uint32_t withMargin(uint32_t needed) { return uint32_t(std::min<uint64_t>(uint64_t(needed) * 5 / 4 + 1024, 0xFFFFFFF0u)); }
+uint32_t withMargin(uint32_t needed) {
+  return uint32_t(std::min<uint64_t>(uint64_t(needed) * 5 / 4 + 1024, 0xFFFFFFF0u));
+}
 
 }  // namespace
 
-LinkRoom::LinkRoom(const vk::Context& ctx, IvBuffers& buffers, LinkSet& staticSet, LinkSet& frameSet, vk::Allocations& allocations)
+LinkRoom::LinkRoom(const vk::Context& ctx, IvBuffers& buffers, LinkSet& staticSet, LinkSet& frameSet,
+                   vk::Allocations& allocations)
     : ctx_(ctx), b_(buffers), staticSet_(staticSet), frameSet_(frameSet), allocations_(allocations) {}
 
 // A first guess at a set's surviving links, so that the first frame is not pruned twice (once to
 // count them): a leaf the set prunes in full keeps about the bins of its hemisphere, 3N² (fewer in
 // an open scene, whose surplus the first frame gives back); a static leaf merging the frame's
 // senders re-emits only the bins they touch, about N²/2; plus the usual margin.
-uint32_t LinkRoom::firstLeafLinkGuess(const LinkSet& set, const IvSettings& settings, const std::vector<uint32_t>& leafMoves) const {
+uint32_t LinkRoom::firstLeafLinkGuess(const LinkSet& set, const IvSettings& settings,
+                                      const std::vector<uint32_t>& leafMoves) const {
   if (set.empty()) return 0;
   const uint64_t hemisphere = 3ull * settings.bins * settings.bins, merged = hemisphere / 6;
   uint64_t guess = 0;
-  for (uint32_t moves : leafMoves) guess += &set == &staticSet_ ? (moves ? 0 : hemisphere) : (moves ? hemisphere : merged);
+  for (uint32_t moves : leafMoves)
+    guess += &set == &staticSet_ ? (moves ? 0 : hemisphere) : (moves ? hemisphere : merged);
   return withMargin(uint32_t(std::min<uint64_t>(guess, 0xFFFFFFF0u)));
 }
 
@@ -38,8 +43,8 @@ void LinkRoom::guess(const IvSettings& settings, const std::vector<uint32_t>& le
     set->leafLinkCapacity = firstLeafLinkGuess(*set, settings, leafMoves);
   }
   // The refinement's widest level holds about ten pairs a node: 16 seldom needs a second try.
-  worklistCapacity_ = std::max<uint32_t>(uint32_t(std::max(staticSet_.rootPairs.size(), frameSet_.rootPairs.size()) / 2),
-                                         16 * nodeCount + 1024);
+  worklistCapacity_ = std::max<uint32_t>(
+      uint32_t(std::max(staticSet_.rootPairs.size(), frameSet_.rootPairs.size()) / 2), 16 * nodeCount + 1024);
   if (!refusal(arrays()).empty())  // the guess does not fit the device: start small, grow to what the frame counts
     for (LinkSet* set : {&staticSet_, &frameSet_})
       set->leafLinkCapacity = set->empty() ? 0 : surfelCount * std::min(6 * settings.bins * settings.bins, 128u) + 1024;
@@ -48,12 +53,13 @@ void LinkRoom::guess(const IvSettings& settings, const std::vector<uint32_t>& le
 
 std::vector<LinkRoom::Array> LinkRoom::arrays() {
   // The leaf links are texels in prune_bins.comp and gather.comp; the rest storage buffers.
-  std::vector<Array> arrays = {{&b_.worklistA, worklistCapacity_, 8, false, "refinement worklist", nullptr},
-                               {&b_.worklistB, worklistCapacity_, 8, false, "refinement worklist", nullptr},
-                               {&b_.leafLinks, frameSet_.leafLinkCapacity, 8, true, "leaf links", &frameSet_},
-                               {&b_.staticLinks, staticSet_.leafLinkCapacity, 8, true, "static leaf links", &staticSet_},
-                               {&b_.staticBins, staticSet_.leafLinkCapacity, 4, true, "static leaf links' bins", &staticSet_},
-                               {&b_.staticDepths, staticSet_.leafLinkCapacity, 4, true, "static leaf links' depths", &staticSet_}};
+  std::vector<Array> arrays = {
+      {&b_.worklistA, worklistCapacity_, 8, false, "refinement worklist", nullptr},
+      {&b_.worklistB, worklistCapacity_, 8, false, "refinement worklist", nullptr},
+      {&b_.leafLinks, frameSet_.leafLinkCapacity, 8, true, "leaf links", &frameSet_},
+      {&b_.staticLinks, staticSet_.leafLinkCapacity, 8, true, "static leaf links", &staticSet_},
+      {&b_.staticBins, staticSet_.leafLinkCapacity, 4, true, "static leaf links' bins", &staticSet_},
+      {&b_.staticDepths, staticSet_.leafLinkCapacity, 4, true, "static leaf links' depths", &staticSet_}};
   for (LinkSet* set : {&staticSet_, &frameSet_})
     arrays.insert(arrays.end(), {{&set->links, set->linkCapacity, 8, false, "links", nullptr},
                                  {&set->senders, set->linkCapacity, 4, false, "links", nullptr}});
@@ -62,8 +68,8 @@ std::vector<LinkRoom::Array> LinkRoom::arrays() {
 
 std::string LinkRoom::refusal(const std::vector<Array>& arrays) const {
   auto refused = [](uint64_t bytes, const std::string& what, const char* limit, uint64_t limitBytes) {
-    return "the iv solver needs " + std::to_string(bytes >> 20) + " MiB of " + what + ", above the device's " + limit + " of " +
-           std::to_string(limitBytes >> 20) + " MiB: raise --eps or lower --bins";
+    return "the iv solver needs " + std::to_string(bytes >> 20) + " MiB of " + what + ", above the device's " + limit +
+           " of " + std::to_string(limitBytes >> 20) + " MiB: raise --eps or lower --bins";
   };
   const VkPhysicalDeviceLimits& limits = ctx_.limits();
   uint64_t total = allocations_.bytes();  // once every array has its new size
@@ -71,11 +77,14 @@ std::string LinkRoom::refusal(const std::vector<Array>& arrays) const {
     if (!a.texels && a.bytes() > limits.maxStorageBufferRange)
       return refused(a.bytes(), a.what, "maxStorageBufferRange", limits.maxStorageBufferRange);
     if (a.texels && a.elements() > limits.maxTexelBufferElements)
-      return refused(a.bytes(), a.what, "maxTexelBufferElements", uint64_t(limits.maxTexelBufferElements) * a.elementBytes);
-    if (a.bytes() > ctx_.maxAllocationBytes()) return refused(a.bytes(), a.what, "maxMemoryAllocationSize", ctx_.maxAllocationBytes());
+      return refused(a.bytes(), a.what, "maxTexelBufferElements",
+                     uint64_t(limits.maxTexelBufferElements) * a.elementBytes);
+    if (a.bytes() > ctx_.maxAllocationBytes())
+      return refused(a.bytes(), a.what, "maxMemoryAllocationSize", ctx_.maxAllocationBytes());
     total = total - a.buffer->size() + std::max<uint64_t>(a.bytes(), a.buffer->size());  // grows what it had
   }
-  if (total > ctx_.deviceHeapBytes()) return refused(total, "device memory in all", "memory heap", ctx_.deviceHeapBytes());
+  if (total > ctx_.deviceHeapBytes())
+    return refused(total, "device memory in all", "memory heap", ctx_.deviceHeapBytes());
   return {};
 }
 
@@ -95,13 +104,15 @@ LinkRoom::Overflow LinkRoom::grow(uint32_t levels) {
     if (set->empty()) continue;
     const std::vector<uint32_t> c = set->readCounters();
     if (uint32_t left = c[levels % 2]; left != 0)  // pairs still unrefined after the last level: a bug
-      throw vk::VulkanError("iv link creation left " + std::to_string(left) + " pairs unrefined after " + std::to_string(levels) +
-                            " levels");
+      throw vk::VulkanError("iv link creation left " + std::to_string(left) + " pairs unrefined after " +
+                            std::to_string(levels) + " levels");
     const uint32_t bits = c[gpu::kCounterOverflow];
     if (bits == 0) continue;
-    if (bits & gpu::kOverflowWorklist) worklistCapacity_ = std::max(worklistCapacity_, withMargin(c[gpu::kCounterWorklistPeak]));
+    if (bits & gpu::kOverflowWorklist)
+      worklistCapacity_ = std::max(worklistCapacity_, withMargin(c[gpu::kCounterWorklistPeak]));
     if (bits & gpu::kOverflowLinks) set->linkCapacity = std::max(set->linkCapacity, withMargin(c[gpu::kCounterLinks]));
-    if (bits & gpu::kOverflowLeafLinks) set->leafLinkCapacity = std::max(set->leafLinkCapacity, withMargin(c[gpu::kCounterLeafLinks]));
+    if (bits & gpu::kOverflowLeafLinks)
+      set->leafLinkCapacity = std::max(set->leafLinkCapacity, withMargin(c[gpu::kCounterLeafLinks]));
     overflow.loopBudget |= (bits & gpu::kOverflowLoopBudget) != 0;
     overflow.any = true;
     overflow.staticSet |= set == &staticSet_;  // a frame set's overflow leaves the static links whole

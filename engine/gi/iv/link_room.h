@@ -16,7 +16,8 @@ namespace ivgi::gi {
 
 class LinkRoom {
  public:
-  LinkRoom(const vk::Context& ctx, IvBuffers& buffers, LinkSet& staticSet, LinkSet& frameSet, vk::Allocations& allocations);
+  LinkRoom(const vk::Context& ctx, IvBuffers& buffers, LinkSet& staticSet, LinkSet& frameSet,
+           vk::Allocations& allocations);
 
   // A first guess for every set (from the leaves each prunes in full or merges), allocated; where
   // it does not fit the device, a small start that grows to what the first frame counts.
@@ -52,7 +53,8 @@ class LinkRoom {
   // Why those arrays cannot be allocated on this device (empty: they can).
   std::string refusal(const std::vector<Array>& arrays) const;
   void allocate();
-  uint32_t firstLeafLinkGuess(const LinkSet& set, const IvSettings& settings, const std::vector<uint32_t>& leafMoves) const;
+  uint32_t firstLeafLinkGuess(const LinkSet& set, const IvSettings& settings,
+                              const std::vector<uint32_t>& leafMoves) const;
 
   const vk::Context& ctx_;
   IvBuffers& b_;

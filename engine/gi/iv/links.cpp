@@ -19,8 +19,8 @@ LinkCreation::LinkCreation(const vk::Context& ctx)
 
 uint32_t LinkCreation::levels(const Hierarchy& h) { return 2 * (h.maxDepth() + 1) + 1; }
 
-void LinkCreation::record(VkCommandBuffer cmd, LinkSet& set, const IvBuffers& b, const Hierarchy& h, const IvSettings& settings,
-                          uint32_t worklistCapacity) const {
+void LinkCreation::record(VkCommandBuffer cmd, LinkSet& set, const IvBuffers& b, const Hierarchy& h,
+                          const IvSettings& settings, uint32_t worklistCapacity) const {
   const uint32_t start[2] = {uint32_t(set.rootPairs.size() / 2), 0};
   vkCmdFillBuffer(cmd, set.counters.handle(), 0, VK_WHOLE_SIZE, 0);
   vkCmdFillBuffer(cmd, set.counts.handle(), 0, VK_WHOLE_SIZE, 0);
@@ -35,12 +35,13 @@ void LinkCreation::record(VkCommandBuffer cmd, LinkSet& set, const IvBuffers& b,
     const uint32_t in = level % 2, out = 1 - in;
     args_.dispatch(cmd, {}, {{"counters", set.counters}, {"args", b.args}}, gpu::LinkArgsPush{in, out, 0, 256});
     vk::barrier(cmd);
-    refine_.dispatchIndirect(cmd, b.args, 0,
-                             b.pool().with({{"pairs", in ? b.worklistB : b.worklistA},
-                              {"nextWorklist", in ? b.worklistA : b.worklistB},
-                                            {"links", set.links},
-                                            {"counters", set.counters}}),
-                             gpu::RefinePush{in, out, worklistCapacity, set.linkCapacity, settings.epsilon, largeSender});
+    refine_.dispatchIndirect(
+        cmd, b.args, 0,
+        b.pool().with({{"pairs", in ? b.worklistB : b.worklistA},
+                       {"nextWorklist", in ? b.worklistA : b.worklistB},
+                       {"links", set.links},
+                       {"counters", set.counters}}),
+        gpu::RefinePush{in, out, worklistCapacity, set.linkCapacity, settings.epsilon, largeSender});
     vk::barrier(cmd);
   }
   // Links sorted by receiver: count, scan, scatter.
@@ -48,17 +49,17 @@ void LinkCreation::record(VkCommandBuffer cmd, LinkSet& set, const IvBuffers& b,
                  gpu::LinkArgsPush{gpu::kCounterLinks, gpu::kNoCounter, 1, 256});
   vk::barrier(cmd);
   const VkDeviceSize sortArgs = sizeof(glm::uvec4);
-  count_.dispatchIndirect(cmd, b.args, sortArgs, {{"links", set.links}, {"counts", set.counts}, {"counters", set.counters}},
+  count_.dispatchIndirect(cmd, b.args, sortArgs,
+                          {{"links", set.links}, {"counts", set.counts}, {"counters", set.counters}},
                           gpu::CountPush{set.linkCapacity});
   vk::barrier(cmd);
   scan_.dispatch(cmd, {}, {{"counts", set.counts}, {"starts", set.starts}}, gpu::CountPush{uint32_t(h.nodes.size())});
   vk::barrier(cmd);
-  scatter_.dispatchIndirect(cmd, b.args, sortArgs,
-                            b.pool().with({{"links", set.links},
-                                           {"counts", set.counts},
-                                           {"senders", set.senders},
-                                           {"counters", set.counters}}),
-                            gpu::CountPush{set.linkCapacity});
+  scatter_.dispatchIndirect(
+      cmd, b.args, sortArgs,
+      b.pool().with(
+          {{"links", set.links}, {"counts", set.counts}, {"senders", set.senders}, {"counters", set.counters}}),
+      gpu::CountPush{set.linkCapacity});
   vk::barrier(cmd);
 }
 

@@ -31,8 +31,8 @@ class LinkCreation {
   explicit LinkCreation(const vk::Context& ctx);
   // Refinement levels: each splits one side of every pair, so at most the two trees' depths.
   static uint32_t levels(const Hierarchy& hierarchy);
-  void record(VkCommandBuffer cmd, LinkSet& set, const IvBuffers& b, const Hierarchy& hierarchy, const IvSettings& settings,
-              uint32_t worklistCapacity) const;
+  void record(VkCommandBuffer cmd, LinkSet& set, const IvBuffers& b, const Hierarchy& hierarchy,
+              const IvSettings& settings, uint32_t worklistCapacity) const;
 
  private:
   vk::Program args_, refine_, count_, scan_, scatter_;

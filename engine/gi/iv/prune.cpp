@@ -11,8 +11,8 @@ namespace ivgi::gi {
 
 namespace {
 
-constexpr uint32_t kMinGroups = 512;      // workgroups a dispatch runs at least, where there are leaves enough
-constexpr uint32_t kLeavesPerGroup = 8;   // leaves a workgroup walks in one dispatch, unless the settings say
+constexpr uint32_t kMinGroups = 512;     // workgroups a dispatch runs at least, where there are leaves enough
+constexpr uint32_t kLeavesPerGroup = 8;  // leaves a workgroup walks in one dispatch, unless the settings say
 
 // A workgroup starts with as few subgroups as lavapipe's loop budget allows. lavapipe runs a
 // workgroup's subgroups one after another on one thread, switching at every barrier, so fewer are
@@ -40,8 +40,8 @@ uint32_t groupSizeOf(const vk::Context& ctx, uint32_t subgroups) {
 bool Prune::binsFitShared(const vk::Context& ctx, uint32_t n) {
   // bins and coverage, mask and word starts, partial sums (of the largest workgroup), the chunk of
   // root-path senders and its wide ones, the emitter queue and its sorted copy (prune_bins.comp)
-  const uint64_t bytes = uint64_t(6) * n * n * (8 + 4) + uint64_t(gpu::maskWordsFor(n)) * 8 + maxGroupSize(ctx) * 16 + 16 +
-                         gpu::kPathChunk * 8 + 4 + gpu::kEmitterQueue * 8 + 4;
+  const uint64_t bytes = uint64_t(6) * n * n * (8 + 4) + uint64_t(gpu::maskWordsFor(n)) * 8 + maxGroupSize(ctx) * 16 +
+                         16 + gpu::kPathChunk * 8 + 4 + gpu::kEmitterQueue * 8 + 4;
   return ctx.sharedInt64Atomics() && bytes <= ctx.limits().maxComputeSharedMemorySize;
 }
 
@@ -97,8 +97,8 @@ void Prune::clearBins(VkCommandBuffer cmd, const IvBuffers& b) {
   vkCmdFillBuffer(cmd, b.globalCoverage.handle(), 0, VK_WHOLE_SIZE, 0u);
 }
 
-void Prune::record(VkCommandBuffer cmd, bool pruneStatic, const LinkSet& staticSet, const LinkSet& frameSet, const IvBuffers& b,
-                   uint32_t lightCount) {
+void Prune::record(VkCommandBuffer cmd, bool pruneStatic, const LinkSet& staticSet, const LinkSet& frameSet,
+                   const IvBuffers& b, uint32_t lightCount) {
   if (binsDirty_) {
     clearBins(cmd, b);
     vk::barrier(cmd);
@@ -110,8 +110,8 @@ void Prune::record(VkCommandBuffer cmd, bool pruneStatic, const LinkSet& staticS
 
 // Batches of at most leavesPerGroup() leaves a workgroup: one batch where the bins are shared
 // memory, several where each workgroup's global-memory slot limits how many there can be.
-void Prune::recordPass(VkCommandBuffer cmd, const vk::Program& pass, const LinkSet& set, const LinkSet& staticSet, const IvBuffers& b,
-                       uint32_t lightCount) const {
+void Prune::recordPass(VkCommandBuffer cmd, const vk::Program& pass, const LinkSet& set, const LinkSet& staticSet,
+                       const IvBuffers& b, uint32_t lightCount) const {
   const uint32_t groupCount = groups(), leaves = batch();
   for (uint32_t first = 0; first < surfelCount_; first += leaves) {
     pass.dispatch(cmd, pass.groupsFor(groupCount, 1),
@@ -128,7 +128,8 @@ void Prune::recordPass(VkCommandBuffer cmd, const vk::Program& pass, const LinkS
 void Prune::onLoopBudgetSpent() {
   if (groupSize() == maxGroupSize(ctx_))
     throw SettingsError("iv: pruning a leaf takes more loop rounds than this device allows a workgroup of " +
-                        std::to_string(maxGroupSize(ctx_)) + " invocations (lavapipe: 65,535 a subgroup); use fewer --bins or a larger --eps");
+                        std::to_string(maxGroupSize(ctx_)) +
+                        " invocations (lavapipe: 65,535 a subgroup); use fewer --bins or a larger --eps");
   subgroups_ *= 2;
   makePrograms();
   binsDirty_ = !sharedBins_;  // the leaves cut short may have left their bins

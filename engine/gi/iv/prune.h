@@ -31,16 +31,16 @@ class Prune {
   // Records the prune of every leaf: first, where `pruneStatic`, the static pass against the static
   // set's links; then the frame's against `frameSet` (static leaves merge with what the static pass
   // kept).
-  void record(VkCommandBuffer cmd, bool pruneStatic, const LinkSet& staticSet, const LinkSet& frameSet, const IvBuffers& b,
-              uint32_t lightCount);
+  void record(VkCommandBuffer cmd, bool pruneStatic, const LinkSet& staticSet, const LinkSet& frameSet,
+              const IvBuffers& b, uint32_t lightCount);
   // A workgroup ran out of lavapipe's loop budget: twice the subgroups share it from the next frame.
   // Throws SettingsError where the workgroup cannot grow.
   void onLoopBudgetSpent();
 
  private:
   void makePrograms();
-  void recordPass(VkCommandBuffer cmd, const vk::Program& pass, const LinkSet& set, const LinkSet& staticSet, const IvBuffers& b,
-                  uint32_t lightCount) const;
+  void recordPass(VkCommandBuffer cmd, const vk::Program& pass, const LinkSet& set, const LinkSet& staticSet,
+                  const IvBuffers& b, uint32_t lightCount) const;
   uint32_t groups() const;  // workgroups a dispatch runs
   uint32_t leavesPerGroup() const;
   uint32_t batch() const;  // leaves one dispatch walks
@@ -49,8 +49,8 @@ class Prune {
   const IvSettings& settings_;
   uint32_t surfelCount_;
   bool sharedBins_;
-  uint32_t subgroups_;        // subgroups a workgroup has
-  bool binsDirty_ = false;    // a prune was cut short: the global-memory bins may hold its leaves' keys
+  uint32_t subgroups_;      // subgroups a workgroup has
+  bool binsDirty_ = false;  // a prune was cut short: the global-memory bins may hold its leaves' keys
   std::optional<vk::Program> static_, frame_;
 };
 

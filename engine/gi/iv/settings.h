@@ -9,10 +9,10 @@
 namespace ivgi::gi {
 
 struct IvSettings {
-  uint32_t bins = 16;     // --bins N: 6×N×N direction bins
-  float epsilon = 0.02f;  // --eps: refine links while their form-factor estimate is above it
-  uint32_t bounces = 2;   // --bounces: indirect bounces; 0 = direct light only
-  float kappa = 1.0f;     // --kappa: refine while a sender covers more than κ average bins
+  uint32_t bins = 16;                             // --bins N: 6×N×N direction bins
+  float epsilon = 0.02f;                          // --eps: refine links while their form-factor estimate is above it
+  uint32_t bounces = 2;                           // --bounces: indirect bounces; 0 = direct light only
+  float kappa = 1.0f;                             // --kappa: refine while a sender covers more than κ average bins
   std::optional<scene::Environment> environment;  // --env; none: no environment light
   // The most workgroups one prune dispatch runs; 0: as many as the scene and the device allow. Fewer
   // prune in more dispatches (batches) with the same result; tests batch small scenes with it.

@@ -20,8 +20,10 @@ vk::Buffer deviceArray(const vk::Context& ctx, size_t count, vk::Allocations& al
 
 }  // namespace
 
-IvSetup makeIvSetup(const scene::Scene& scene, const scene::Geometry& g, const IvSettings& settings, std::optional<int> animation) {
-  auto rest = scene::surfelsOnHost(g, scene::animateOnHost(g, g.frameInputs(scene, scene::evaluatePose(scene, -1, 0.0f))));
+IvSetup makeIvSetup(const scene::Scene& scene, const scene::Geometry& g, const IvSettings& settings,
+                    std::optional<int> animation) {
+  auto rest =
+      scene::surfelsOnHost(g, scene::animateOnHost(g, g.frameInputs(scene, scene::evaluatePose(scene, -1, 0.0f))));
   IvSetup setup{buildHierarchy(g, rest), settings, {}};
   if (animation) markMovingObjects(setup, scene, g, *animation);
   return setup;
@@ -82,7 +84,8 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, IvSetup set
   room_.guess(settings_, leafMoves, nodeCount_);
 }
 
-void IvSolver::uploadScene(const scene::Geometry& g, const std::vector<uint32_t>& leafMoves, bool split, uint64_t maskWords) {
+void IvSolver::uploadScene(const scene::Geometry& g, const std::vector<uint32_t>& leafMoves, bool split,
+                           uint64_t maskWords) {
   const vk::Context& ctx = ctx_;
   vk::Allocations* tally = &allocations_;
   const Hierarchy& h = setup_.hierarchy;
@@ -93,13 +96,15 @@ void IvSolver::uploadScene(const scene::Geometry& g, const std::vector<uint32_t>
   b_.albedo = vk::makeBuffer(ctx, g.surfelAlbedo, vk::Memory::Device, tally);
   b_.emission = vk::makeBuffer(ctx, g.surfelEmission, vk::Memory::Device, tally);
   b_.binTable = vk::makeBuffer(ctx, binTable(n), vk::Memory::Device, tally);
-  b_.environment = vk::makeBuffer(ctx, settings_.environment ? settings_.environment->bins(n) : std::vector<glm::vec4>{glm::vec4(0)},
-                                  vk::Memory::Device, tally);
+  b_.environment =
+      vk::makeBuffer(ctx, settings_.environment ? settings_.environment->bins(n) : std::vector<glm::vec4>{glm::vec4(0)},
+                     vk::Memory::Device, tally);
   b_.lights = vk::Buffer(ctx, sizeof(gpu::PunctualLight), vk::Memory::Host, tally);
   b_.nodes = deviceArray<gpu::NodeState>(ctx, nodeCount_, allocations_);
   b_.args = vk::Buffer(ctx, 4 * sizeof(glm::uvec4), vk::Memory::Device, tally);
   for (LinkSet* set : {&staticSet_, &frameSet_}) {
-    set->roots = vk::makeBuffer(ctx, set->empty() ? std::vector<uint32_t>{0, 0} : set->rootPairs, vk::Memory::Device, tally);
+    set->roots =
+        vk::makeBuffer(ctx, set->empty() ? std::vector<uint32_t>{0, 0} : set->rootPairs, vk::Memory::Device, tally);
     set->counters = vk::makeBuffer(ctx, std::vector<uint32_t>(gpu::kCounterSlots, 0u), vk::Memory::Host, tally);
     set->counts = deviceArray<uint32_t>(ctx, set->empty() ? 0 : nodeCount_, allocations_);
     set->starts = deviceArray<uint32_t>(ctx, set->empty() ? 0 : nodeCount_ + 1, allocations_);
@@ -178,7 +183,8 @@ IvStats IvSolver::stats() const {
     s.leafLinks += c[gpu::kCounterLeafLinks];
     const uint64_t walked = uint64_t(c[gpu::kCounterSendersWalked + 1]) << 32 | c[gpu::kCounterSendersWalked];
     if (set == &staticSet_)
-      s.staticLinks = c[gpu::kCounterLinks], s.staticLeafLinks = c[gpu::kCounterLeafLinks], s.staticSendersWalked = walked;
+      s.staticLinks = c[gpu::kCounterLinks], s.staticLeafLinks = c[gpu::kCounterLeafLinks],
+      s.staticSendersWalked = walked;
     else
       s.sendersWalked = walked;
   }
@@ -191,7 +197,8 @@ std::vector<std::vector<IvSolver::LeafLink>> IvSolver::leafLinks() const {
   auto all = b_.leafLinks.read<LeafLink>(frameSet_.leafLinksHeld());
   std::vector<std::vector<LeafLink>> out(surfelCount_);
   for (uint32_t s = 0; s < surfelCount_; ++s)
-    for (uint32_t k = ranges[s].first; k < ranges[s].first + ranges[s].count && k < all.size(); ++k) out[s].push_back(all[k]);
+    for (uint32_t k = ranges[s].first; k < ranges[s].first + ranges[s].count && k < all.size(); ++k)
+      out[s].push_back(all[k]);
   if (!splitsStatic()) return out;
   const uint32_t maskWords = gpu::maskWordsFor(settings_.bins), held = staticSet_.leafLinksHeld();
   auto staticRanges = b_.staticRanges.read<gpu::LeafRange>(surfelCount_);
@@ -199,7 +206,8 @@ std::vector<std::vector<IvSolver::LeafLink>> IvSolver::leafLinks() const {
   auto staticBins = b_.staticBins.read<uint32_t>(held);
   auto overrides = b_.overrides.read<uint32_t>(size_t(surfelCount_) * maskWords);
   for (uint32_t s = 0; s < surfelCount_; ++s)
-    for (uint32_t k = staticRanges[s].first; k < staticRanges[s].first + staticRanges[s].count && k < staticLinks.size(); ++k) {
+    for (uint32_t k = staticRanges[s].first;
+         k < staticRanges[s].first + staticRanges[s].count && k < staticLinks.size(); ++k) {
       const uint32_t bin = gpu::staticBinOf(staticBins[k]);
       if (!(overrides[size_t(s) * maskWords + bin / 32] & (1u << (bin & 31)))) out[s].push_back(staticLinks[k]);
     }
