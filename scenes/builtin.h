@@ -36,4 +36,7 @@ tinygltf::Model furnace(const FurnaceOptions& options = {});
 
 std::vector<std::string> builtinSceneNames();
 
+// Throws SettingsError naming --cells unless 1 ≤ cells ≤ 512 (the scenes above check their own).
+void checkCells(int cells);
+
 }  // namespace ivgi::scenes

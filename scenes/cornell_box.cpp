@@ -3,6 +3,7 @@
 // a 35 mm focal length on a 25 mm film: a vertical field of view of 2·atan(12.5/35) = 39.31°.
 #include <cmath>
 
+#include "engine/core/errors.h"
 #include "scenes/builtin.h"
 #include "scenes/gltf_builder.h"
 
@@ -42,6 +43,7 @@ MeshData block(const Face& top, float height, glm::vec3 centre, float cellsPerMe
 }  // namespace
 
 tinygltf::Model cornellBox(const CornellOptions& o) {
+  checkCells(o.cells);
   const float cellsPerMetre = float(std::max(o.cells, 1)) / 0.5592f;
   GltfBuilder b;
   int white = b.material("white", {0.725f, 0.71f, 0.68f});
@@ -103,5 +105,9 @@ tinygltf::Model cornellBox(const CornellOptions& o) {
 }
 
 std::vector<std::string> builtinSceneNames() { return {"cornell", "furnace"}; }
+
+void checkCells(int cells) {
+  if (cells < 1 || cells > 512) throw SettingsError("--cells " + std::to_string(cells) + ": must be 1 to 512");
+}
 
 }  // namespace ivgi::scenes

@@ -1,11 +1,17 @@
 // The furnace: a closed enclosure whose faces all have the same albedo ρ and emission E, so that
 // the radiosity is E/(1-ρ) everywhere — the energy-conservation check of docs/design.md §6.
+#include <cmath>
+
+#include "engine/core/errors.h"
 #include "scenes/builtin.h"
 #include "scenes/gltf_builder.h"
 
 namespace ivgi::scenes {
 
 tinygltf::Model furnace(const FurnaceOptions& o) {
+  checkCells(o.cells);
+  if (!(o.albedo >= 0.0f && o.albedo <= 1.0f)) throw SettingsError("--albedo must lie in [0, 1]");
+  if (!(o.emission >= 0.0f && std::isfinite(o.emission))) throw SettingsError("--emission must be finite and >= 0");
   GltfBuilder b;
   int wall = b.material("furnace wall", glm::vec3(o.albedo), glm::vec3(o.emission));
   MeshData box;

@@ -62,8 +62,6 @@ int runBench(const BenchOptions& o) {
   const int animation = tl.animation;
 
   vk::Context ctx({.device = o.device});
-  if (std::string why = gi::checkImageSettings(ctx, image); !why.empty())
-    throw SettingsError("--size " + o.size + ": " + why);
   gi::FrameRenderer renderer(ctx, g, image, makeSolver(o.solver, ctx, s, g, animation));
   const FrameCamera camera(s, g, tl, o.fps, "", {0}, float(image.width) / float(image.height));
 

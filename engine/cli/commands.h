@@ -57,7 +57,7 @@ struct RenderOptions {
   std::string frames;  // empty: the whole animation
   double fps = 24.0;
   std::string size = "640x360";
-  int supersample = 1;
+  uint32_t supersample = 1;
   std::string out = "out/frame_%04d";
   std::string formats = "exr,png";
   std::string tonemap = "aces";

@@ -40,15 +40,14 @@ nlohmann::json metricsJson(const image::ErrorMetrics& m) {
 }
 
 int runCompare(const CompareOptions& o) {
-  if (!std::isfinite(o.exposure) || std::abs(o.exposure) > 64)
-    throw SettingsError("--exposure must lie in [-64, 64] stops");
+  const image::DisplaySettings display{image::ToneMap::Aces, o.exposure};
+  image::validate(display);
   image::RgbImage test = image::readLinearRgb(o.test), ref = image::readLinearRgb(o.reference);
   if (test.width != ref.width || test.height != ref.height)
     throw std::runtime_error(o.test + ": " + std::to_string(test.width) + "x" + std::to_string(test.height) +
                              ", but the reference " + o.reference + " is " + std::to_string(ref.width) + "x" +
                              std::to_string(ref.height));
   std::vector<uint8_t> ignore = o.mask.empty() ? std::vector<uint8_t>{} : readMask(o.mask, ref);
-  const image::DisplaySettings display{image::ToneMap::Aces, o.exposure};
   std::vector<float> flip;
   image::ErrorMetrics m = image::measureError(test, ref, ignore, display, &flip);
   std::printf("relMSE  %.6g\nRMSE    %.6g\nPSNR    %.2f dB\nmax     %.6g\nFLIP    %.6g\npixels  %zu (%zu ignored)\n",

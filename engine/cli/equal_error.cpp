@@ -54,6 +54,9 @@ int runEqualError(const BenchOptions& o) {
   const FrameCamera camera(s, g, tl, o.fps, "", {0}, float(image.width) / float(image.height));
   const auto pose = scene::evaluatePose(s, tl.animation, float(tl.time(o.frame, o.fps)));
   const auto view = camera.at(pose);
+  // The renderer first: its settings are checked before the reference takes its time.
+  vk::Context ctx({.device = o.device});
+  gi::FrameRenderer renderer(ctx, g, image, makeSolver(o.solver, ctx, s, g, tl.animation));
 
   // The reference: given, or rendered now with seed 0 (the measured pt runs use seed 1).
   image::RgbImage ref;
@@ -71,10 +74,6 @@ int runEqualError(const BenchOptions& o) {
   }
 
   // iv: the median GPU time over animated frames, and the error of the compared frame.
-  vk::Context ctx({.device = o.device});
-  if (std::string why = gi::checkImageSettings(ctx, image); !why.empty())
-    throw SettingsError("--size " + o.size + ": " + why);
-  gi::FrameRenderer renderer(ctx, g, image, makeSolver(o.solver, ctx, s, g, tl.animation));
   FrameTimes times = timeFrames(renderer, s, g, tl, camera, o.fps, o.warmup, o.frames);
   const double ivMs = percentile(times.perPass["total"], 0.5);
   auto ivFrame = renderer.render(g.frameInputs(s, pose), view, scene::worldLights(s, pose), true);

@@ -61,19 +61,16 @@ gi::FrameResult pathTraceFrame(const scene::Geometry& g, const scene::Scene& s, 
 }  // namespace
 
 int runRender(const RenderOptions& o) {
-  if (!(o.fps > 0.0 && o.fps <= 1000.0)) throw SettingsError("--fps must lie in (0, 1000]");
-  if (!std::isfinite(o.exposure) || std::abs(o.exposure) > 64)
-    throw SettingsError("--exposure must lie in [-64, 64] stops");
-  if (o.supersample < 1 || o.supersample > 16) throw SettingsError("--supersample must be 1 to 16");
   if (o.tonemap != "aces" && o.tonemap != "clamp") throw SettingsError("--tonemap must be aces or clamp");
   const bool pt = o.solver.method == "pt";
   if (!pt && o.pt.given) throw SettingsError("--spp, --seed and --threads apply to --method pt only");
   gi::ImageSettings image;
   parseSize(o.size, image.width, image.height);
-  image.samples = uint32_t(o.supersample);
+  image.samples = o.supersample;
   auto formats = parseFormats(o.formats);
   OutputPattern pattern(o.out);
-  image::DisplaySettings display{o.tonemap == "aces" ? image::ToneMap::Aces : image::ToneMap::Clamp, o.exposure};
+  const image::DisplaySettings display{o.tonemap == "aces" ? image::ToneMap::Aces : image::ToneMap::Clamp, o.exposure};
+  image::validate(display);
 
   scene::Scene s = loadScene(o.source);
   Timeline tl = timeline(s, o.animation, o.fps);
@@ -100,8 +97,6 @@ int runRender(const RenderOptions& o) {
     if (!o.solver.environment.empty()) environment = scene::Environment::parse(o.solver.environment);
   } else {
     ctx = std::make_unique<vk::Context>(vk::ContextOptions{.device = o.device});
-    if (std::string why = gi::checkImageSettings(*ctx, image); !why.empty())
-      throw SettingsError("--size " + o.size + ": " + why);
     renderer = std::make_unique<gi::FrameRenderer>(*ctx, g, image, makeSolver(o.solver, *ctx, s, g, tl.animation));
   }
   const bool geometryAnimated = scene::animationMovesGeometry(s, tl.animation);

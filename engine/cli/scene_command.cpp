@@ -10,9 +10,6 @@
 namespace ivgi::cli {
 
 int runScene(const SceneOptions& o) {
-  if (o.cells < 1 || o.cells > 512) throw SettingsError("--cells " + std::to_string(o.cells) + ": must be 1 to 512");
-  if (!(o.albedo >= 0.0f && o.albedo <= 1.0f)) throw SettingsError("--albedo must lie in [0, 1]");
-  if (!(o.emission >= 0.0f && std::isfinite(o.emission))) throw SettingsError("--emission must be finite and >= 0");
   auto ext = std::filesystem::path(o.out).extension();
   if (ext != ".gltf" && ext != ".glb") throw SettingsError("--out '" + o.out + "': the file must end in .gltf or .glb");
   tinygltf::Model model;

@@ -9,8 +9,6 @@
 namespace ivgi::cli {
 
 scene::Scene loadScene(const SceneChoice& choice) {
-  if (choice.cells < 1 || choice.cells > 512)
-    throw SettingsError("--cells " + std::to_string(choice.cells) + ": must be 1 to 512");
   const std::string& name = choice.scene.empty() ? "cornell" : choice.scene;
   auto builtins = scenes::builtinSceneNames();
   bool builtin = std::find(builtins.begin(), builtins.end(), name) != builtins.end() && !std::filesystem::exists(name);

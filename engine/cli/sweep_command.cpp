@@ -136,7 +136,6 @@ int runSweep(const SweepOptions& o) {
   const auto lights = scene::worldLights(s, pose);
 
   vk::Context ctx({.device = o.device});
-  if (std::string why = gi::checkImageSettings(ctx, image); !why.empty()) throw SettingsError(o.reference + ": " + why);
   // Every timed render solves the frame as a later frame of the animation does: refit, links and
   // pruning of what moves, bounces (what cannot move is linked by the warm-up render).
   std::vector<Row> rows;

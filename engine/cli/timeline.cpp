@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/core/errors.h"
 #include "engine/scene/animation.h"
 
 namespace ivgi::cli {
 
 Timeline timeline(const scene::Scene& s, const std::string& choice, double fps) {
+  if (!(fps > 0.0 && fps <= 1000.0)) throw SettingsError("--fps must lie in (0, 1000]");
   Timeline t;
   if (choice == "none") return t;
   if (!choice.empty()) {

@@ -16,7 +16,8 @@ struct Timeline {
   double time(int frame, double fps) const { return start + frame / fps; }
 };
 
-// The animation named by `choice` (name, index, "none"; empty: the first), at `fps`.
+// The animation named by `choice` (name, index, "none"; empty: the first), at `fps` (checked:
+// SettingsError).
 Timeline timeline(const scene::Scene& scene, const std::string& choice, double fps);
 
 // The view of each frame: the named camera (empty: the scene's first), or for a scene without one, a

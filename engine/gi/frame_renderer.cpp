@@ -31,21 +31,20 @@ std::vector<int32_t> vertexSurfels(const scene::Geometry& g) {
 
 }  // namespace
 
-std::string checkImageSettings(const vk::Context& ctx, const ImageSettings& s) {
+void validate(const ImageSettings& s, const vk::Context& ctx) {
   const auto& lim = ctx.limits();
-  if (s.width == 0 || s.height == 0)
-    return "image size " + std::to_string(s.width) + "x" + std::to_string(s.height) + " is empty";
-  if (s.samples == 0 || s.samples > 16) return "supersampling must be 1 to 16 samples per axis";
+  const std::string size = "--size " + std::to_string(s.width) + "x" + std::to_string(s.height);
+  if (s.width == 0 || s.height == 0) throw SettingsError(size + ": width and height must be at least 1");
+  if (s.samples == 0 || s.samples > 16)
+    throw SettingsError("--supersample " + std::to_string(s.samples) + ": must be 1 to 16");
   if (s.width > lim.maxImageDimension2D || s.height > lim.maxImageDimension2D)
-    return "image size " + std::to_string(s.width) + "x" + std::to_string(s.height) + " exceeds the device limit of " +
-           std::to_string(lim.maxImageDimension2D) + " pixels per side";
-  uint64_t samples = uint64_t(s.width) * s.height * s.samples * s.samples;
+    throw SettingsError(size + ": exceeds the device limit of " + std::to_string(lim.maxImageDimension2D) +
+                        " pixels per side");
+  const uint64_t samples = uint64_t(s.width) * s.height * s.samples * s.samples;
   if (samples * 8 > lim.maxStorageBufferRange || uint64_t(s.width) * s.height * 16 > lim.maxStorageBufferRange)
-    return "image of " + std::to_string(s.width) + "x" + std::to_string(s.height) + " with " +
-           std::to_string(s.samples) + "x" + std::to_string(s.samples) +
-           " samples needs buffers above the device's maxStorageBufferRange (" +
-           std::to_string(lim.maxStorageBufferRange >> 20) + " MiB)";
-  return {};
+    throw SettingsError(size + " with " + std::to_string(s.samples) + "x" + std::to_string(s.samples) +
+                        " samples needs buffers above the device's maxStorageBufferRange (" +
+                        std::to_string(lim.maxStorageBufferRange >> 20) + " MiB)");
 }
 
 FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, const ImageSettings& image,
@@ -62,7 +61,7 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
       resolve_(shaderProgram(
           ctx, "resolve", {.constants = {{"kTextured", g.textures.empty() ? 0u : 1u}, {"kLit", solver_ ? 1u : 0u}}})),
       timer_(ctx) {
-  if (std::string why = checkImageSettings(ctx, image); !why.empty()) throw SettingsError(why);
+  validate(image, ctx);
   using vk::Memory;
   vk::Allocations* tally = &allocations_;
   auto upload = [&](const auto& items) { return vk::makeBuffer(ctx, items, Memory::Device, tally); };

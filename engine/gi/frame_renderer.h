@@ -22,8 +22,9 @@ struct ImageSettings {
   uint32_t samples = 1;  // supersampling: samples × samples per pixel
 };
 
-// Why this image cannot be rendered on this device (empty when it can).
-std::string checkImageSettings(const vk::Context& ctx, const ImageSettings& s);
+// Throws SettingsError (naming --size or --supersample) when the image cannot be rendered on this
+// device.
+void validate(const ImageSettings& settings, const vk::Context& ctx);
 
 struct FrameResult {
   image::FrameChannels channels;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "engine/core/errors.h"
 #include "engine/image/atomic_file.h"
 #include "engine/image/colour.h"
 
@@ -20,6 +21,11 @@ size_t sanitize(FrameChannels& frame) {
       for (int c = 0; c < 4; ++c)
         if (!std::isfinite(v[c])) v[c] = 0.0f, ++replaced;
   return replaced;
+}
+
+void validate(const DisplaySettings& d) {
+  if (!std::isfinite(d.exposure) || std::abs(d.exposure) > 64)
+    throw SettingsError("--exposure must lie in [-64, 64] stops");
 }
 
 float toneMap(float x, ToneMap mode) {

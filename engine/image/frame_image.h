@@ -25,6 +25,8 @@ struct DisplaySettings {
   ToneMap tonemap = ToneMap::Aces;
   float exposure = 0.0f;  // stops
 };
+// Throws SettingsError naming --exposure when it is not a finite number of stops within ±64.
+void validate(const DisplaySettings& display);
 
 // Channels R G B A, albedo.R/G/B, N.X/Y/Z, Z, emission.R/G/B, 32-bit float, ZIP compression.
 void writeExr(const std::string& path, const FrameChannels& frame);
