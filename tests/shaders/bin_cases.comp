@@ -1,5 +1,5 @@
 #version 460
-// Runs the bin and form-factor definitions of shaders/common.glsl on the cases of
+// Runs the bin and form-factor definitions of shaders/interface.h on the cases of
 // tests/shared_definitions_test.cpp.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"

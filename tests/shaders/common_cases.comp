@@ -1,5 +1,5 @@
 #version 460
-// Runs the definitions of shaders/common.glsl on the cases of tests/shared_definitions_test.cpp.
+// Runs the definitions of shaders/interface.h on the cases of tests/shared_definitions_test.cpp.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 layout(local_size_x = 64) in;

@@ -1,5 +1,6 @@
 #version 460
-// Runs lightFalloff() of shaders/common.glsl for every (light, point) pair of the C++ twin's test.
+// Runs lightFalloff() of shaders/interface.h for every (light, point) pair of the host side of the
+// test (tests/shared_definitions_test.cpp).
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 layout(local_size_x = 64) in;
