@@ -1,13 +1,16 @@
 // Golden images on lavapipe: every channel of the built-in Cornell box at two frames and of
-// animated assets, against references in tests/golden/. To regenerate them after an intended change:
+// animated assets, against references in tests/golden/, through `ivgi compare --golden`, the gate
+// users get. To regenerate them after an intended change:
 //   IVGI_UPDATE_GOLDEN=1 ctest --test-dir build -R Golden
 #include <gtest/gtest.h>
 
 #include <OpenImageIO/imagebuf.h>
 
 #include <cstdlib>
+#include <fstream>
 
-#include "engine/image/compare.h"
+#include <nlohmann/json.hpp>
+
 #include "tests/test_support.h"
 
 using namespace ivgi;
@@ -31,6 +34,17 @@ fs::path render(const std::string& name, std::vector<std::string> args) {
   return {};
 }
 
+// `ivgi compare TEST REF ARGS…` and its JSON report.
+std::pair<test::Run, nlohmann::json> compare(const fs::path& test, const fs::path& reference,
+                                             std::vector<std::string> args) {
+  const fs::path report = test::scratchDir("compare") / "report.json";
+  args.insert(args.begin(), {"compare", test.string(), reference.string(), "--json", report.string()});
+  test::Run r = test::runIvgi(args);
+  nlohmann::json j;
+  if (fs::exists(report)) j = nlohmann::json::parse(std::ifstream(report));
+  return {r, j};
+}
+
 void expectMatchesGolden(const std::string& name, const std::vector<std::string>& args) {
   fs::path result = render(name, args);
   fs::path golden = goldenDir() / (name + ".exr");
@@ -39,9 +53,8 @@ void expectMatchesGolden(const std::string& name, const std::vector<std::string>
     GTEST_SKIP() << "updated " << golden;
   }
   ASSERT_TRUE(fs::exists(golden)) << golden << " is missing; see the header of tests/golden_test.cpp";
-  for (const auto& d : image::compareLayers(result.string(), golden.string(), image::goldenTolerances()))
-    EXPECT_TRUE(d.passed) << name << " layer " << d.layer << ": " << d.failingFraction * 100 << " % of pixels beyond "
-                          << d.threshold << " (max error " << d.maxError << ")";
+  auto [r, report] = compare(result, golden, {"--golden"});
+  EXPECT_EQ(r.status, 0) << name << ":\n" << r.out << r.err;
 }
 
 // The foundation's channels: emission-only radiance (--method none) and the geometry layers.
@@ -94,15 +107,13 @@ TEST(Golden, VisiblyDifferentImagesFail) {
   fs::path moved = render("moved", args);
   fs::path golden = goldenDir() / "cornell_f0000.exr";
   ASSERT_TRUE(fs::exists(golden));
-  bool anyFailed = false;
-  for (const auto& d : image::compareLayers(moved.string(), golden.string(), image::goldenTolerances()))
-    anyFailed |= !d.passed;
-  EXPECT_TRUE(anyFailed) << "frame 12 passed as frame 0";
+  EXPECT_EQ(compare(moved, golden, {"--golden"}).first.status, 1) << "frame 12 passed as frame 0";
 
   auto same = kCornell;
   same.insert(same.end(), {"--frames", "0"});
   fs::path f0 = render("f0", same);
-  for (auto d : image::compareLayers(f0.string(), golden.string(), {{"albedo", 0.02f, 0.002f}})) EXPECT_TRUE(d.passed);
+  const std::vector<std::string> albedoRule = {"--layers", "albedo", "--pixel-tol", "0.02", "--max-failing", "0.2%"};
+  EXPECT_EQ(compare(f0, golden, albedoRule).first.status, 0);
   // The same image with albedo brightened by 5 %: must fail.
   fs::path brighter = f0.parent_path() / "brighter.exr";
   {
@@ -114,8 +125,9 @@ TEST(Golden, VisiblyDifferentImagesFail) {
       for (int c : albedo) it[c] = it[c] * 1.05f;
     ASSERT_TRUE(buf.write(brighter.string()));
   }
-  auto d = image::compareLayers(brighter.string(), golden.string(), {{"albedo", 0.02f, 0.002f}});
-  EXPECT_FALSE(d[0].passed) << "a 5 % brighter albedo passed";
+  auto [r, report] = compare(brighter, golden, albedoRule);
+  EXPECT_EQ(r.status, 1) << "a 5 % brighter albedo passed";
+  EXPECT_NE(r.out.find("FAIL albedo: "), std::string::npos) << r.out;
 }
 
 // The radiance is held to each pixel's own value: the indirect light of the iv Cornell box dimmed by
@@ -133,11 +145,10 @@ TEST(Golden, DimmerIndirectLightFails) {
         for (int c = 0; c < 3; ++c) it[c] = it[c] * 0.95f;
     ASSERT_TRUE(buf.write(dimmer.string()));
   }
-  for (const auto& d : image::compareLayers(golden.string(), golden.string(), image::goldenTolerances()))
-    EXPECT_TRUE(d.passed) << d.layer;
-  auto d = image::compareLayers(dimmer.string(), golden.string(), image::goldenTolerances());
-  EXPECT_EQ(d[0].layer, "RGB");
-  EXPECT_FALSE(d[0].passed) << "5 % less indirect light passed: " << 100 * d[0].failingFraction
-                            << " % of pixels beyond";
-  EXPECT_GT(d[0].failingFraction, 0.5);
+  EXPECT_EQ(compare(golden, golden, {"--golden"}).first.status, 0);
+  auto [r, report] = compare(dimmer, golden, {"--golden"});
+  EXPECT_EQ(r.status, 1) << "5 % less indirect light passed";
+  const auto& rgb = report["frames"][0]["layers"][0];
+  EXPECT_EQ(rgb["layer"], "RGB");
+  EXPECT_GT(rgb["failingPercent"].get<double>(), 50.0);
 }

@@ -107,11 +107,20 @@ int runEqualError(const BenchOptions& options);
 int runDevices();
 
 struct CompareOptions {
-  std::string test, reference;
-  std::string json, heatmap, mask;
+  std::string test, reference;  // two .exr files, two folders, or two patterns with a frame number
+  std::string json, heatmap, ratio, mask;
   float exposure = 0.0f;  // stops, before the ACES tone map that FLIP sees
+  // Limits; each absent one is not checked.
+  std::optional<double> maxRelMse, maxFlip, maxPixelError;
+  std::optional<double> maxFailingPercent;  // with pixelTolerance on `layers`: the per-pixel rule
+  float pixelTolerance = 0.02f;
+  std::string layers = "rgb";  // comma-separated layer names, or all
+  bool golden = false;         // the rule of ivgi's own golden tests on every layer
 };
-// Prints relMSE, RMSE, PSNR, max error and FLIP of TEST against REF.
+// Scores TEST against REF (every pair of frames of two sequences): relMSE, RMSE, PSNR, max error
+// and FLIP, and the per-pixel rule where asked. Returns 0 when every limit holds for every frame, 1
+// when one fails or a frame is missing on either side; throws (status 2) when a comparison cannot
+// be made.
 int runCompare(const CompareOptions& options);
 nlohmann::json metricsJson(const image::ErrorMetrics& metrics);
 

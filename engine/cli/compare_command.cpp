@@ -1,16 +1,26 @@
+// ivgi compare: error figures of an image or a sequence against a reference, and a gate on them
+// for CI (exit status 0: every limit holds, 1: a limit fails or a frame is missing, 2: the
+// comparison cannot be made).
 #include <OpenImageIO/imagebuf.h>
 
+#include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "engine/cli/commands.h"
+#include "engine/cli/frame_pairs.h"
 #include "engine/cli/json_file.h"
 #include "engine/cli/options.h"
+#include "engine/image/compare.h"
 #include "engine/image/metrics.h"
 
 namespace ivgi::cli {
 
 namespace {
+
+namespace fs = std::filesystem;
 
 // One flag per pixel: non-zero where the mask image's first channel is non-zero.
 std::vector<uint8_t> readMask(const std::string& path, const image::RgbImage& like) {
@@ -28,6 +38,128 @@ std::vector<uint8_t> readMask(const std::string& path, const image::RgbImage& li
   return ignore;
 }
 
+std::string number(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+// "FIGURE VALUE above OPTION LIMIT (by P %)".
+std::string above(const std::string& figure, double value, const std::string& option, double limit) {
+  std::string by = limit > 0 ? " (by " + number(std::round(1000.0 * (value - limit) / limit) / 10.0) + " %)" : "";
+  return figure + " " + number(value) + " above " + option + " " + number(limit) + by;
+}
+
+// The per-pixel rule the options ask for, if any.
+std::vector<image::LayerTolerance> pixelRule(const CompareOptions& o) {
+  if (o.golden) return image::goldenTolerances();
+  if (!o.maxFailingPercent) return {};
+  std::vector<std::string> layers;
+  if (o.layers == "all")
+    return image::pixelRule(image::layerNames(), o.pixelTolerance, float(*o.maxFailingPercent / 100));
+  std::stringstream list(o.layers);
+  for (std::string layer; std::getline(list, layer, ',');) layers.push_back(layer);
+  return image::pixelRule(layers, o.pixelTolerance, float(*o.maxFailingPercent / 100));
+}
+
+void check(const CompareOptions& o) {
+  image::validate(image::DisplaySettings{image::ToneMap::Aces, o.exposure});
+  for (const auto& [option, value] :
+       {std::pair{"--max-relmse", o.maxRelMse}, {"--max-flip", o.maxFlip}, {"--max-pixel-error", o.maxPixelError}})
+    if (value && !(*value >= 0.0 && std::isfinite(*value)))
+      throw SettingsError(std::string(option) + " must be finite and >= 0");
+  if (o.maxFailingPercent && !(*o.maxFailingPercent >= 0.0 && *o.maxFailingPercent <= 100.0))
+    throw SettingsError("--max-failing must lie in [0, 100] %");
+  if (!(o.pixelTolerance >= 0.0f && std::isfinite(o.pixelTolerance)))
+    throw SettingsError("--pixel-tol must be finite and >= 0");
+  if (o.golden && o.maxFailingPercent)
+    throw SettingsError("--golden sets the per-pixel rule itself; leave out --max-failing");
+  if (o.layers != "all") {
+    std::stringstream list(o.layers);
+    for (std::string layer; std::getline(list, layer, ',');)
+      if (std::find(image::layerNames().begin(), image::layerNames().end(), layer) == image::layerNames().end())
+        throw SettingsError("--layers '" + o.layers + "': layers are rgb, A, albedo, N, Z, emission, or all");
+  }
+}
+
+struct FrameOutcome {
+  enum class Status { Pass, Fail, Missing } status = Status::Pass;
+  std::vector<std::string> failures;
+  nlohmann::json json;
+};
+
+// Compares one pair; writes the FLIP heatmap and the ratio image where their paths are given (with
+// `onlyWhenFailing`, for a failing frame only).
+FrameOutcome comparePair(const FramePair& pair, const CompareOptions& o, const std::string& heatmap,
+                         const std::string& ratio, bool onlyWhenFailing) {
+  FrameOutcome out;
+  out.json = {{"name", pair.name}, {"test", pair.test}, {"reference", pair.reference}};
+  if (pair.test.empty() || pair.reference.empty()) {
+    out.status = FrameOutcome::Status::Missing;
+    out.failures.push_back("missing from " + (pair.test.empty() ? o.test : o.reference));
+  } else {
+    const image::RgbImage test = image::readLinearRgb(pair.test), ref = image::readLinearRgb(pair.reference);
+    if (test.width != ref.width || test.height != ref.height)
+      throw std::runtime_error(pair.test + ": " + std::to_string(test.width) + "x" + std::to_string(test.height) +
+                               ", but the reference " + pair.reference + " is " + std::to_string(ref.width) + "x" +
+                               std::to_string(ref.height));
+    const std::vector<uint8_t> ignore = o.mask.empty() ? std::vector<uint8_t>{} : readMask(o.mask, ref);
+    std::vector<float> flip;
+    const image::ErrorMetrics m = image::measureError(test, ref, ignore, {image::ToneMap::Aces, o.exposure}, &flip);
+    out.json["metrics"] = metricsJson(m);
+    if (o.maxRelMse && m.relMse > *o.maxRelMse)
+      out.failures.push_back(above("relMSE", m.relMse, "--max-relmse", *o.maxRelMse));
+    if (o.maxFlip && m.flip > *o.maxFlip) out.failures.push_back(above("FLIP", m.flip, "--max-flip", *o.maxFlip));
+    if (o.maxPixelError && m.maxError > *o.maxPixelError)
+      out.failures.push_back(above("largest error", m.maxError, "--max-pixel-error", *o.maxPixelError));
+    nlohmann::json layers = nlohmann::json::array();
+    for (const image::LayerDifference& d : image::compareLayers(pair.test, pair.reference, pixelRule(o))) {
+      layers.push_back({{"layer", d.layer},
+                        {"threshold", d.threshold},
+                        {"maxError", d.maxError},
+                        {"failingPercent", 100 * d.failingFraction},
+                        {"passed", d.passed}});
+      if (!d.passed) {
+        const double failing = std::round(1e4 * d.failingFraction) / 100, allowed = 100.0 * d.allowedFraction;
+        out.failures.push_back(d.layer + ": " + number(failing) + " % of pixels beyond " +
+                               (o.golden ? "the golden rule" : "--pixel-tol " + number(o.pixelTolerance)) + ", above " +
+                               (o.golden ? "its" : "--max-failing") + " " + number(allowed) + " % (by " +
+                               number(std::round(100 * (failing - allowed)) / 100) + " points)");
+      }
+    }
+    if (!layers.empty()) out.json["layers"] = layers;
+    if (!out.failures.empty()) out.status = FrameOutcome::Status::Fail;
+    if (!onlyWhenFailing || out.status == FrameOutcome::Status::Fail) {
+      for (const std::string& file : {heatmap, ratio})
+        if (!file.empty() && fs::path(file).has_parent_path()) fs::create_directories(fs::path(file).parent_path());
+      if (!heatmap.empty()) {
+        image::writeHeatmap(heatmap, flip, ref.width, ref.height);
+        out.json["heatmap"] = heatmap;
+      }
+      if (!ratio.empty()) {
+        image::writeRatioMap(ratio, test, ref);
+        out.json["ratio"] = ratio;
+      }
+    }
+  }
+  const char* status[] = {"pass", "fail", "missing"};
+  out.json["status"] = status[int(out.status)];
+  out.json["failures"] = out.failures;
+  return out;
+}
+
+void printMetrics(const nlohmann::json& frame) {
+  const auto& m = frame["metrics"];
+  std::printf("relMSE  %.6g\nRMSE    %.6g\nPSNR    %.2f dB\nmax     %.6g\nFLIP    %.6g\npixels  %zu\n",
+              m["relMSE"].get<double>(), m["RMSE"].get<double>(),
+              m["PSNR"].is_null() ? INFINITY : m["PSNR"].get<double>(), m["maxError"].get<double>(),
+              m["FLIP"].get<double>(), m["pixels"].get<size_t>());
+  if (frame.contains("layers"))
+    for (const auto& l : frame["layers"])
+      std::printf("layer %-9s %.4g %% of pixels beyond %.4g (max error %.4g)\n", l["layer"].get<std::string>().c_str(),
+                  l["failingPercent"].get<double>(), l["threshold"].get<double>(), l["maxError"].get<double>());
+}
+
 }  // namespace
 
 nlohmann::json metricsJson(const image::ErrorMetrics& m) {
@@ -40,29 +172,43 @@ nlohmann::json metricsJson(const image::ErrorMetrics& m) {
 }
 
 int runCompare(const CompareOptions& o) {
-  const image::DisplaySettings display{image::ToneMap::Aces, o.exposure};
-  image::validate(display);
-  image::RgbImage test = image::readLinearRgb(o.test), ref = image::readLinearRgb(o.reference);
-  if (test.width != ref.width || test.height != ref.height)
-    throw std::runtime_error(o.test + ": " + std::to_string(test.width) + "x" + std::to_string(test.height) +
-                             ", but the reference " + o.reference + " is " + std::to_string(ref.width) + "x" +
-                             std::to_string(ref.height));
-  std::vector<uint8_t> ignore = o.mask.empty() ? std::vector<uint8_t>{} : readMask(o.mask, ref);
-  std::vector<float> flip;
-  image::ErrorMetrics m = image::measureError(test, ref, ignore, display, &flip);
-  std::printf("relMSE  %.6g\nRMSE    %.6g\nPSNR    %.2f dB\nmax     %.6g\nFLIP    %.6g\npixels  %zu (%zu ignored)\n",
-              m.relMse, m.rmse, m.psnr, m.maxError, m.flip, m.pixels, ref.pixels.size() - m.pixels);
-  if (!o.heatmap.empty()) image::writeHeatmap(o.heatmap, flip, ref.width, ref.height);
-  if (!o.json.empty()) {
-    nlohmann::json j = metricsJson(m);
-    j.update({{"test", o.test},
-              {"reference", o.reference},
-              {"mask", o.mask},
-              {"exposure", o.exposure},
-              {"tonemap", "aces"}});
-    writeJson(o.json, j);
+  check(o);
+  const std::vector<FramePair> pairs = pairFrames(o.test, o.reference);
+  const bool sequence = !(fs::is_regular_file(o.test) && fs::is_regular_file(o.reference));
+  // A sequence's images are of its failing frames only, in folders: --heatmap/--ratio, else beside the report.
+  std::string heatmaps = o.heatmap, ratios = o.ratio;
+  if (sequence && !o.json.empty()) {
+    const std::string stem = (fs::path(o.json).parent_path() / fs::path(o.json).stem()).string();
+    if (heatmaps.empty()) heatmaps = stem + "-heatmaps";
+    if (ratios.empty()) ratios = stem + "-ratios";
   }
-  return 0;
+  nlohmann::json frames = nlohmann::json::array();
+  int passed = 0, failed = 0, missing = 0;
+  for (const FramePair& pair : pairs) {
+    auto image = [&](const std::string& where) {
+      return where.empty() || !sequence ? where
+                                        : (fs::path(where) / (fs::path(pair.name).stem().string() + ".png")).string();
+    };
+    FrameOutcome f = comparePair(pair, o, image(heatmaps), image(ratios), sequence);
+    passed += f.status == FrameOutcome::Status::Pass;
+    failed += f.status == FrameOutcome::Status::Fail;
+    missing += f.status == FrameOutcome::Status::Missing;
+    if (!sequence) printMetrics(f.json);
+    for (const std::string& failure : f.failures)
+      std::printf("%s%s%s\n", sequence ? pair.name.c_str() : "", sequence ? ": FAIL " : "FAIL ", failure.c_str());
+    frames.push_back(std::move(f.json));
+  }
+  if (sequence)
+    std::printf("compare: %zu frames: %d pass, %d fail, %d missing\n", pairs.size(), passed, failed, missing);
+  const int status = failed + missing > 0 ? 1 : 0;
+  if (!o.json.empty())
+    writeJson(o.json,
+              {{"test", o.test},
+               {"reference", o.reference},
+               {"summary", {{"frames", pairs.size()}, {"pass", passed}, {"fail", failed}, {"missing", missing}}},
+               {"status", status},
+               {"frames", frames}});
+  return status;
 }
 
 }  // namespace ivgi::cli

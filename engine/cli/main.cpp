@@ -106,11 +106,32 @@ int main(int argc, char** argv) {
   b->add_option("--threads", bench.threads, "equal-error: pt threads (0: every core)")->capture_default_str();
 
   CompareOptions compare;
-  auto* c = app.add_subcommand("compare", "score an image against a reference: relMSE, RMSE, PSNR, max error, FLIP");
-  c->add_option("test", compare.test, "image to score (linear OpenEXR)")->required();
-  c->add_option("reference", compare.reference, "reference image (linear OpenEXR), e.g. from --method pt")->required();
-  c->add_option("--json", compare.json, "write the figures as JSON");
-  c->add_option("--heatmap", compare.heatmap, "write the per-pixel FLIP error as a PNG (magma colour map)");
+  auto* c = app.add_subcommand("compare",
+                               "score an image or a sequence against a reference (relMSE, RMSE, PSNR, max error, FLIP) "
+                               "and gate on limits: exit 0 pass, 1 a limit fails, 2 cannot compare");
+  c->add_option("test", compare.test, "linear OpenEXR, a folder of them, or a pattern such as out/f_%04d.exr")
+      ->required();
+  c->add_option("reference", compare.reference, "the same kind as test, e.g. from --method pt or committed goldens")
+      ->required();
+  c->add_option("--max-relmse", compare.maxRelMse, "fail where relMSE exceeds this");
+  c->add_option("--max-flip", compare.maxFlip, "fail where mean FLIP exceeds this");
+  c->add_option("--max-pixel-error", compare.maxPixelError, "fail where any channel of a pixel differs by more");
+  c->add_option(
+       "--pixel-tol", compare.pixelTolerance,
+       "per-pixel rule: a pixel fails beyond this fraction (rgb: of its own value; other layers: of their range)")
+      ->capture_default_str();
+  c->add_option("--max-failing", compare.maxFailingPercent,
+                "per-pixel rule: fail where more than this % of pixels fail")
+      ->transform([](std::string v) { return v.empty() || v.back() != '%' ? v : v.substr(0, v.size() - 1); });
+  c->add_option("--layers", compare.layers,
+                "per-pixel rule: layers rgb, A, albedo, N, Z, emission (comma-separated) or all")
+      ->capture_default_str();
+  c->add_flag("--golden", compare.golden,
+              "ivgi's own golden rule: every layer, 2 % a pixel (depth 1 %), at most 0.2 %");
+  c->add_option("--json", compare.json, "write the figures and the verdict of every frame as JSON");
+  c->add_option("--heatmap", compare.heatmap,
+                "the per-pixel FLIP error as a PNG (a sequence: a folder, failing frames)");
+  c->add_option("--ratio", compare.ratio, "test/reference per pixel as a PNG (a sequence: a folder, failing frames)");
   c->add_option("--mask", compare.mask, "image whose non-zero pixels (first channel) are left out of the figures");
   c->add_option("--exposure", compare.exposure, "exposure in stops before the tone map FLIP sees")
       ->capture_default_str();
@@ -147,7 +168,8 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    const int status = app.exit(e);
+    return status != 0 && c->parsed() ? 2 : status;  // compare: a comparison that cannot be made is 2
   }
   try {
     if (r->parsed()) {
@@ -166,7 +188,7 @@ int main(int argc, char** argv) {
     if (b->parsed()) return runBench(bench);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "ivgi: error: %s\n", e.what());
-    return 1;
+    return c->parsed() ? 2 : 1;
   }
   return 0;
 }

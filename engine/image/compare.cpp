@@ -74,15 +74,33 @@ std::vector<LayerDifference> compareLayers(const std::string& testFile, const st
       float worst = 0;
       for (size_t k = 0; k < tc.size(); ++k) {
         float a = tp[p * ts.nchannels + tc[k]], b = rp[p * rs.nchannels + rc[k]];
-        worst = std::max(worst, std::isfinite(a) ? std::abs(a - b) : INFINITY);
+        if (!std::isfinite(a) || !std::isfinite(b))
+          throw std::runtime_error((std::isfinite(a) ? refFile : testFile) + ": layer " + d.layer + " holds a NaN or " +
+                                   "infinite value at pixel (" + std::to_string(p % ts.width) + ", " +
+                                   std::to_string(p / ts.width) + ")");
+        worst = std::max(worst, std::abs(a - b));
       }
       d.maxError = std::max(d.maxError, worst);
       if (worst > d.threshold + (tol.perPixel ? tol.relativeThreshold * magnitude[p] : 0.0f)) ++failing;
     }
     d.failingFraction = double(failing) / double(pixels);
+    d.allowedFraction = tol.maxFailingFraction;
     d.passed = d.failingFraction <= tol.maxFailingFraction;
     out.push_back(d);
   }
+  return out;
+}
+
+const std::vector<std::string>& layerNames() {
+  static const std::vector<std::string> names = {"rgb", "A", "albedo", "N", "Z", "emission"};
+  return names;
+}
+
+std::vector<LayerTolerance> pixelRule(const std::vector<std::string>& layers, float tolerance,
+                                      float maxFailingFraction) {
+  std::vector<LayerTolerance> out;
+  for (const std::string& layer : layers)
+    out.push_back({layer == "rgb" ? "" : layer, tolerance, maxFailingFraction, layer == "rgb"});
   return out;
 }
 

@@ -23,14 +23,22 @@ struct LayerDifference {
   float threshold = 0;  // the absolute per-pixel threshold used (perPixel: at a black pixel)
   float maxError = 0;
   double failingFraction = 0;
+  double allowedFraction = 0;  // the tolerance's maxFailingFraction
   bool passed = true;
 };
 
-// Throws std::runtime_error if a file cannot be read, sizes differ, or a layer is missing.
+// Throws std::runtime_error if a file cannot be read, sizes differ, a layer is missing or holds a
+// NaN or infinite value.
 std::vector<LayerDifference> compareLayers(const std::string& test, const std::string& reference,
                                            const std::vector<LayerTolerance>& tolerances);
 
-// R G B and the layers ivgi writes, with the tolerances its golden tests use.
+// The layers ivgi writes, by their names in compare's --layers: rgb (""), A, albedo, N, Z, emission.
+const std::vector<std::string>& layerNames();
+// One rule on each of `layers`: radiance (rgb) held to each pixel's own value, the others to their
+// range, `tolerance` per pixel, at most `maxFailingFraction` of the pixels beyond it.
+std::vector<LayerTolerance> pixelRule(const std::vector<std::string>& layers, float tolerance,
+                                      float maxFailingFraction);
+// Every layer with the tolerances ivgi's own golden tests use (`ivgi compare --golden`).
 std::vector<LayerTolerance> goldenTolerances();
 
 }  // namespace ivgi::image

@@ -118,4 +118,22 @@ void writeHeatmap(const std::string& path, const std::vector<float>& error, uint
   writeRgb8Png(path, width, height, rgb);
 }
 
+void writeRatioMap(const std::string& path, const RgbImage& test, const RgbImage& reference) {
+  if (test.width != reference.width || test.height != reference.height)
+    throw std::invalid_argument("writeRatioMap: the images differ in size");
+  const glm::vec3 darker(0.230f, 0.299f, 0.754f), same(0.865f, 0.865f, 0.865f), brighter(0.706f, 0.016f, 0.150f);
+  auto luminance = [](glm::vec3 c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; };
+  std::vector<uint8_t> rgb(size_t(test.width) * test.height * 3, 0);
+  for (size_t i = 0; i < test.pixels.size(); ++i) {
+    const float t = luminance(test.pixels[i]), r = luminance(reference.pixels[i]);
+    if (!(t > 0.0f) && !(r > 0.0f)) continue;  // both black: black
+    // log-symmetric: a ratio of kRatioRange or more saturates, as does its inverse
+    const float x =
+        std::clamp(std::log(std::max(t, 1e-30f) / std::max(r, 1e-30f)) / std::log(kRatioRange), -1.0f, 1.0f);
+    const glm::vec3 c = x < 0.0f ? glm::mix(same, darker, -x) : glm::mix(same, brighter, x);
+    for (int j = 0; j < 3; ++j) rgb[i * 3 + j] = uint8_t(std::lround(c[j] * 255.0f));
+  }
+  writeRgb8Png(path, test.width, test.height, rgb);
+}
+
 }  // namespace ivgi::image

@@ -50,4 +50,10 @@ std::vector<float> flipErrorMap(const RgbImage& testSrgb, const RgbImage& refere
 // A per-pixel error in [0, 1] as an 8-bit PNG with the magma colour map (black: none, yellow-white: 1).
 void writeHeatmap(const std::string& path, const std::vector<float>& error, uint32_t width, uint32_t height);
 
+// Per pixel, the luminance of test over reference as an 8-bit PNG with a diverging colour map
+// (Moreland's cool-warm): blue where the test is darker, grey-white where they agree, red where it
+// is brighter, saturating at kRatioRange (or its inverse). Black where both are black.
+inline constexpr float kRatioRange = 1.25f;
+void writeRatioMap(const std::string& path, const RgbImage& test, const RgbImage& reference);
+
 }  // namespace ivgi::image
