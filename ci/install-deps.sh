@@ -11,6 +11,7 @@ packages=(
   libembree-dev python3 python3-matplotlib
   libgtest-dev libgmock-dev libbenchmark-dev
   assimp-testmodels
+  slurm-wlm munge
 )
 sudo=""
 if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi

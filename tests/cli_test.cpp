@@ -100,7 +100,12 @@ TEST(Render, ResumeSkipsFramesThatExist) {
   EXPECT_TRUE(fs::exists(dir / "f_0001.png"));
   EXPECT_TRUE(fs::exists(dir / "f_0002.exr"));
   std::ifstream in(dir / "f.json");
-  EXPECT_EQ(nlohmann::json::parse(in)["frames"].size(), 2u) << "only frames 1 and 2 were rendered";
+  // Frames 1 and 2 rendered now; frame 0's record kept from the run that rendered it.
+  const auto frames = nlohmann::json::parse(in)["frames"];
+  ASSERT_EQ(frames.size(), 3u);
+  EXPECT_EQ(frames[0]["frame"], 0);
+  EXPECT_EQ(frames[1]["frame"], 1);
+  EXPECT_EQ(frames[2]["frame"], 2);
 }
 
 TEST(Render, AnInterruptedRunLeavesNoPartialFile) {

@@ -115,7 +115,8 @@ TEST(CompareGate, AMissingFrameFailsOnEitherSide) {
   EXPECT_NE(c.run.out.find("f_0007.exr: FAIL missing from " + ref.string()), std::string::npos) << c.run.out;
   // Patterns pair by frame number whatever the names around it.
   const fs::path renamed = test::scratchDir("renamed");
-  for (int i = 0; i < 3; ++i) fs::copy_file(ref / ("f_000" + std::to_string(i) + ".exr"), renamed / ("shot." + std::to_string(i) + ".exr"));
+  for (int i = 0; i < 3; ++i)
+    fs::copy_file(ref / ("f_000" + std::to_string(i) + ".exr"), renamed / ("shot." + std::to_string(i) + ".exr"));
   c = compare(renamed / "shot.%d.exr", ref / "f_%04d.exr", {"--golden"});
   EXPECT_EQ(c.run.status, 0) << c.run.out << c.run.err;
   EXPECT_EQ(c.report["frames"][2]["name"], "frame 2");

@@ -127,6 +127,42 @@ def equal_error_table(r, runs):
     return "\n".join(lines), reference_s, ratios
 
 
+def farm_table(r, threads):
+    """Wall-clock time of the animated Cornell box's 48 frames in one process and as Slurm job arrays on a
+    one-node cluster of this machine (tools/farm/local-slurm.sh); None where that cannot start."""
+    cluster, tools = r.scratch / "cluster", ROOT / "tools/farm"
+    started = subprocess.run([tools / "local-slurm.sh", "start", cluster], capture_output=True, text=True)
+    if started.returncode != 0:
+        print(f"  farm figures skipped: {started.stderr.strip()}", file=sys.stderr)
+        return None
+    env = dict(os.environ, SLURM_CONF=str(cluster / "slurm.conf"), IVGI=str(pathlib.Path(r.ivgi).resolve()))
+    scene = ["cornell", "--cells", "26", "--frames", "0-47", "--size", "320x240", "--format", "exr"]
+    try:
+        def timed(command, cwd, extra_env):
+            work = r.scratch / cwd
+            work.mkdir()
+            begin = datetime.datetime.now()
+            subprocess.run(command, cwd=work, env=dict(env, **extra_env), check=True, capture_output=True)
+            return (datetime.datetime.now() - begin).total_seconds()
+        rows = []
+        one = timed([r.ivgi, "render", *scene, "--out", "frames/f_%04d"], "one", {"LP_NUM_THREADS": str(threads)})
+        rows.append(("one process", f"LP_NUM_THREADS={threads}", one))
+        for tasks in (1, 2):
+            cpus = max(1, threads // tasks)
+            seconds = timed(["sbatch", "--wait", f"--array=0-{tasks - 1}", f"--cpus-per-task={cpus}",
+                             tools / "render-array.sbatch", *scene[:1], "frames/f_%04d", *scene[1:]], f"array{tasks}", {})
+            rows.append((f"job array, {tasks} task{'s' if tasks > 1 else ''}", f"{cpus} CPU{'s' if cpus > 1 else ''} "
+                         f"and LP_NUM_THREADS={cpus} a task", seconds))
+    finally:
+        subprocess.run([tools / "local-slurm.sh", "stop", cluster], capture_output=True)
+    lines = ["| run | threads | wall clock s | frames a second | against one process | 1,000 frames take |",
+             "|---|---|---|---|---|---|"]
+    for name, how, seconds in rows:
+        lines.append(f"| {name} | {how} | {seconds:.1f} | {48 / seconds:.2f} | {one / seconds:.2f}× | "
+                     f"{1000 / (48 / seconds) / 60:.0f} min |")
+    return "\n".join(lines)
+
+
 def cpu_name():
     for line in pathlib.Path("/proc/cpuinfo").read_text().splitlines():
         if line.startswith("model name"):
@@ -157,6 +193,8 @@ def main():
         sweep, rows = sweep_table(r)
         print("equal error", file=sys.stderr)
         equal, reference_s, ratios = equal_error_table(r, args.runs)
+        print("render farm", file=sys.stderr)
+        farm = farm_table(r, args.threads)
 
     default = next(row for row in rows if row["bins"] == "16" and row["bounces"] == "2")
     machine = (f"Vulkan device {device['name']} ({device['type']}), driver {device['driver']} "
@@ -206,6 +244,16 @@ reaches iv's relMSE, and its wall-clock time at that error is interpolated log�
 lavapipe, a CPU emulating a GPU, on the same cores as pt.
 
 {equal}
+
+## Render farms: a Slurm job array on one node
+
+The animated Cornell box at `--cells 26`, its 48 frames at 320×240 with iv's defaults, written as
+EXR: wall-clock time (scheduling included) in one process, and as a job array of
+`tools/farm/render-array.sbatch` on a one-node Slurm cluster of this machine
+(`tools/farm/local-slurm.sh`), one shard a task. Each task starts its own process: it compiles the
+pipelines and makes the static links again.
+
+{farm if farm else "Not measured on this run: starting the local cluster needs root and Debian's slurm-wlm and munge."}
 """
     (DOCS / "performance.md").write_text(doc)
 

@@ -64,8 +64,17 @@ struct RenderOptions {
   float exposure = 0.0f;
   std::string camera, animation, device, json;
   bool resume = false;
+  std::string shard;  // "I/N" or "slurm"; empty: every frame
 };
 int runRender(const RenderOptions& options);
+
+// Gathers the sidecars of a (sharded) render with output `pattern` into one summary of the
+// sequence; returns 1 when frames are missing.
+struct ReportOptions {
+  std::string pattern;
+  std::string json;
+};
+int runReport(const ReportOptions& options);
 
 struct InfoOptions {
   SceneChoice source;

@@ -7,8 +7,8 @@
 namespace ivgi::cli {
 
 struct FramePair {
-  std::string name;  // the file name, or "frame N"
-  std::string test, reference;       // empty where that side lacks the frame
+  std::string name;             // the file name, or "frame N"
+  std::string test, reference;  // empty where that side lacks the frame
 };
 
 // Every frame either side holds, in order. Throws SettingsError when a side does not exist or the

@@ -76,8 +76,9 @@ int runInfo(const InfoOptions& o) {
 int runDevices() {
   auto devices = vk::Context::listDevices();
   for (const auto& d : devices)
-    std::printf("[%u] %s (%s), driver %s %s%s%s\n", d.index, d.name.c_str(), d.type.c_str(), d.driverName.c_str(),
-                d.driverInfo.c_str(), d.missing.empty() ? "" : ", unsuitable: lacks ", d.missing.c_str());
+    std::printf("[%u] %s (%s), driver %s %s, uuid %s%s%s\n", d.index, d.name.c_str(), d.type.c_str(),
+                d.driverName.c_str(), d.driverInfo.c_str(), d.uuid.c_str(),
+                d.missing.empty() ? "" : ", unsuitable: lacks ", d.missing.c_str());
   if (devices.empty()) std::printf("no Vulkan devices\n");
   return 0;
 }

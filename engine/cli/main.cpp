@@ -60,7 +60,11 @@ int main(int argc, char** argv) {
   r->add_option("--device", render.device,
                 "Vulkan device name substring or index (default: IVGI_DEVICE, else the best)");
   r->add_option("--json", render.json, "sidecar JSON path (default: beside the frames)");
-  r->add_flag("--resume", render.resume, "skip frames whose files all exist");
+  r->add_flag("--resume", render.resume,
+              "skip frames whose files all exist; remove the temporary files of runs that ended");
+  r->add_option("--shard", render.shard,
+                "render shard I of N (I/N, 0 <= I < N: every N-th requested frame from the I-th), or slurm: the job "
+                "array task's");
   auto* spp = r->add_option("--spp", render.pt.spp, "pt: samples per pixel")->capture_default_str();
   auto* seed = r->add_option("--seed", render.pt.seed, "pt: random seed (another seed, independent noise)")
                    ->capture_default_str();
@@ -163,6 +167,11 @@ int main(int argc, char** argv) {
   w->add_option("--out", sweep.out, "output folder")->capture_default_str();
   w->add_option("--device", sweep.device, "Vulkan device name substring or index");
 
+  ReportOptions report;
+  auto* p = app.add_subcommand("report", "gather the sidecars of a render's shards into the sequence's summary");
+  p->add_option("pattern", report.pattern, "the --out pattern the render (or its shards) wrote to")->required();
+  p->add_option("--json", report.json, "write the summary and every frame's record as JSON");
+
   auto* d = app.add_subcommand("devices", "list Vulkan devices and whether ivgi can use them");
 
   try {
@@ -183,6 +192,7 @@ int main(int argc, char** argv) {
     }
     if (s->parsed()) return runScene(scene);
     if (d->parsed()) return runDevices();
+    if (p->parsed()) return runReport(report);
     if (c->parsed()) return runCompare(compare);
     if (w->parsed()) return runSweep(sweep);
     if (b->parsed()) return runBench(bench);

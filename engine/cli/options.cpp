@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <regex>
 
@@ -51,6 +52,42 @@ std::vector<std::string> parseFormats(const std::string& text) {
     if (comma == std::string::npos) break;
     start = comma + 1;
   }
+  return out;
+}
+
+Shard parseShard(const std::string& text) {
+  Shard s;
+  if (text == "slurm") {
+    auto number = [](const char* name, long fallback) {
+      const char* v = std::getenv(name);
+      if (!v || !*v) {
+        if (fallback >= 0) return fallback;
+        throw SettingsError(std::string("--shard slurm: ") + name + " is not set (not a Slurm job array task?)");
+      }
+      char* end = nullptr;
+      const long n = std::strtol(v, &end, 10);
+      if (*end || n < 0) throw SettingsError(std::string("--shard slurm: ") + name + "='" + v + "' is not a number");
+      return n;
+    };
+    const long id = number("SLURM_ARRAY_TASK_ID", -1), count = number("SLURM_ARRAY_TASK_COUNT", -1);
+    const long min = number("SLURM_ARRAY_TASK_MIN", 0), step = std::max(number("SLURM_ARRAY_TASK_STEP", 1), 1L);
+    if (id < min || (id - min) % step != 0 || (id - min) / step >= count)
+      throw SettingsError("--shard slurm: task " + std::to_string(id) + " is not in its array of " +
+                          std::to_string(count));
+    s.index = uint32_t((id - min) / step), s.count = uint32_t(count);
+    return s;
+  }
+  static const std::regex re(R"(^\s*(\d{1,6})\s*/\s*(\d{1,6})\s*$)");
+  std::smatch m;
+  if (!std::regex_match(text, m, re)) throw SettingsError("--shard '" + text + "': expected I/N (0 <= I < N) or slurm");
+  s.index = uint32_t(std::stoul(m[1])), s.count = uint32_t(std::stoul(m[2]));
+  if (s.count < 1 || s.index >= s.count) throw SettingsError("--shard '" + text + "': expected I/N with 0 <= I < N");
+  return s;
+}
+
+std::vector<int> shardFrames(const std::vector<int>& frames, const Shard& shard) {
+  std::vector<int> out;
+  for (size_t i = shard.index; i < frames.size(); i += shard.count) out.push_back(frames[i]);
   return out;
 }
 

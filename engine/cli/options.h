@@ -20,6 +20,17 @@ void parseSize(const std::string& text, uint32_t& width, uint32_t& height);
 // "exr,png" → {"exr", "png"}; throws SettingsError on anything else.
 std::vector<std::string> parseFormats(const std::string& text);
 
+// One of `count` shards of a render's frames, 0 ≤ index < count.
+struct Shard {
+  uint32_t index = 0, count = 1;
+};
+// "I/N", or "slurm": the task's place in its Slurm job array (SLURM_ARRAY_TASK_ID less
+// SLURM_ARRAY_TASK_MIN, over SLURM_ARRAY_TASK_STEP) of SLURM_ARRAY_TASK_COUNT; throws SettingsError.
+Shard parseShard(const std::string& text);
+// The frames of `frames` that `shard` renders: every count-th from its index on, so that a costly
+// stretch of the animation is spread over all shards.
+std::vector<int> shardFrames(const std::vector<int>& frames, const Shard& shard);
+
 // Output pattern with a printf-style frame number (%d, %04d, …). The extension, if any, is
 // replaced by each format's.
 struct OutputPattern {

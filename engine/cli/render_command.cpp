@@ -16,6 +16,7 @@
 #include "engine/cli/options.h"
 #include "engine/cli/progress.h"
 #include "engine/cli/report.h"
+#include "engine/cli/sidecar.h"
 #include "engine/cli/statistics.h"
 #include "engine/cli/timeline.h"
 #include "engine/gi/frame_renderer.h"
@@ -101,58 +102,82 @@ int runRender(const RenderOptions& o) {
   }
   const bool geometryAnimated = scene::animationMovesGeometry(s, tl.animation);
 
-  const auto frames = range.frames();
-  const FrameCamera camera(s, g, tl, o.fps, o.camera, frames, float(image.width) / float(image.height));
+  const Shard shard = o.shard.empty() ? Shard{} : parseShard(o.shard);
+  const auto frames = shardFrames(range.frames(), shard);
+  const FrameCamera camera(s, g, tl, o.fps, o.camera, range.frames(), float(image.width) / float(image.height));
 
   fs::create_directories(pattern.directory());
   image::installInterruptCleanup();
-  json sidecar = {
-      {"ivgi", IVGI_VERSION},
-      {"scene", s.source},
-      {"settings",
-       {{"frames", {range.first, range.last, range.step}},
-        {"fps", o.fps},
-        {"width", image.width},
-        {"height", image.height},
-        {"supersample", image.samples},
-        {"formats", formats},
-        {"tonemap", o.tonemap},
-        {"exposure", o.exposure},
-        {"animation", tl.animation >= 0 ? json(s.animations[tl.animation].name) : json(nullptr)},
-        {"method", o.solver.method},
-        {"bins", o.solver.iv.bins},
-        {"eps", o.solver.iv.epsilon},
-        {"bounces", o.solver.iv.bounces},
-        {"kappa", o.solver.iv.kappa},
-        {"environment", o.solver.environment},
-        {"spp", o.pt.spp},
-        {"seed", o.pt.seed},
-        {"unbounded", pt && !o.pt.bouncesGiven},
-        {"camera", camera.name()}}},
-      {"device", ctx ? deviceJson(*ctx) : cpuJson(ptSettings.threads)},
-      {"counts", {{"triangles", g.triangles.size()}, {"vertices", g.vertices.size()}, {"surfels", g.surfels.size()}}},
-      {"bytesAllocated", renderer ? renderer->bytesAllocated() : 0},
-      {"frames", json::array()}};
+  // While this run lives, its temporaries are its own; with --resume, those of runs that ended are removed.
+  const image::RunLock lock(pattern.directory());
+  if (o.resume)
+    if (size_t removed = image::removeDeadTemporaries(pattern.directory()))
+      std::fprintf(stderr, "ivgi: removed %zu temporary files left by runs that ended\n", removed);
+  Sidecar sidecar(
+      Sidecar::forShard(o.json.empty() ? pattern.sidecar() : o.json, shard),
+      {{"ivgi", IVGI_VERSION},
+       {"scene", s.source},
+       {"settings",
+        {{"frames", {range.first, range.last, range.step}},
+         {"shard", {shard.index, shard.count}},
+         {"fps", o.fps},
+         {"width", image.width},
+         {"height", image.height},
+         {"supersample", image.samples},
+         {"formats", formats},
+         {"tonemap", o.tonemap},
+         {"exposure", o.exposure},
+         {"animation", tl.animation >= 0 ? json(s.animations[tl.animation].name) : json(nullptr)},
+         {"method", o.solver.method},
+         {"bins", o.solver.iv.bins},
+         {"eps", o.solver.iv.epsilon},
+         {"bounces", o.solver.iv.bounces},
+         {"kappa", o.solver.iv.kappa},
+         {"environment", o.solver.environment},
+         {"spp", o.pt.spp},
+         {"seed", o.pt.seed},
+         {"unbounded", pt && !o.pt.bouncesGiven},
+         {"camera", camera.name()}}},
+       {"device", ctx ? deviceJson(*ctx) : cpuJson(ptSettings.threads)},
+       {"counts", {{"triangles", g.triangles.size()}, {"vertices", g.vertices.size()}, {"surfels", g.surfels.size()}}},
+       {"bytesAllocated", renderer ? renderer->bytesAllocated() : 0}},
+      pt);
+  auto pathsOf = [&](int frame) {
+    std::vector<std::string> paths;
+    for (const auto& f : formats) paths.push_back(pattern.path(frame, f));
+    return paths;
+  };
+  auto done = [&](int frame) {
+    const auto paths = pathsOf(frame);
+    return std::all_of(paths.begin(), paths.end(), [](auto& p) { return fs::exists(p); });
+  };
+  if (o.resume) {
+    std::vector<int> skipped;
+    std::copy_if(frames.begin(), frames.end(), std::back_inserter(skipped), done);
+    sidecar.keepEarlierRecords(skipped);
+  }
 
   // pt frames take long: its progress counts rows.
   Progress progress("render", pt ? frames.size() * image.height : frames.size(), pt ? "row" : "frame");
-  std::map<std::string, std::vector<double>> perPass;
+  size_t rendered = 0;
   for (int frame : frames) {
-    std::vector<std::string> paths;
-    for (const auto& f : formats) paths.push_back(pattern.path(frame, f));
-    if (o.resume && std::all_of(paths.begin(), paths.end(), [](auto& p) { return fs::exists(p); })) {
+    if (o.resume && done(frame)) {
       progress.advance(pt ? image.height : 1, true);
       continue;
     }
-    double t = tl.time(frame, o.fps);
-    auto pose = scene::evaluatePose(s, tl.animation, float(t));
-    auto view = camera.at(pose);
-    bool first = sidecar["frames"].empty();
+    const auto started = std::chrono::steady_clock::now();
+    const std::vector<std::string> paths = pathsOf(frame);
+    const double t = tl.time(frame, o.fps);
+    const auto pose = scene::evaluatePose(s, tl.animation, float(t));
+    const auto view = camera.at(pose);
     gi::FrameResult result;
     if (pt) {
       result = pathTraceFrame(g, s, pose, environment, view, image, uint32_t(frame), ptSettings, progress);
     } else {
-      result = renderer->render(g.frameInputs(s, pose), view, scene::worldLights(s, pose), first || geometryAnimated);
+      // Relinked in the first frame this run renders, whatever frame that is: an image never
+      // depends on the frames rendered before it.
+      result = renderer->render(g.frameInputs(s, pose), view, scene::worldLights(s, pose),
+                                rendered == 0 || geometryAnimated);
       progress.advance();
     }
     if (size_t bad = image::sanitize(result.channels))
@@ -164,33 +189,19 @@ int runRender(const RenderOptions& o) {
       else
         image::writePng(paths[i], result.channels, display);
     }
-    json passes = json::object();
-    double total = 0;
-    for (const auto& p : result.passTimes) {
-      passes[p.pass] = p.ms;
-      perPass[p.pass].push_back(p.ms);
-      total += p.ms;
-    }
-    perPass["total"].push_back(total);
-    // GPU methods report GPU timestamps; pt the wall-clock time of its CPU threads.
-    sidecar["frames"].push_back({{"frame", frame},
-                                 {"time", t},
-                                 {pt ? "cpuMs" : "gpuMs", passes},
-                                 {pt ? "totalCpuMs" : "totalGpuMs", total},
-                                 {"files", paths}});
+    std::vector<std::pair<std::string, double>> passMs;
+    for (const auto& p : result.passTimes) passMs.emplace_back(p.pass, p.ms);
+    const double wallMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
+    sidecar.addFrame(frame, t, passMs, wallMs, paths);
+    if (renderer)
+      sidecar.set("solver", solverJson(renderer->solver())), sidecar.set("bytesAllocated", renderer->bytesAllocated());
+    sidecar.write();  // after every frame: a run killed later keeps this frame's record
+    ++rendered;
   }
   progress.finish();
-  if (renderer) {
-    sidecar["solver"] = solverJson(renderer->solver());
-    sidecar["bytesAllocated"] = renderer->bytesAllocated();
-  }
-  json medians = json::object();
-  for (const auto& [pass, ms] : perPass) medians[pass] = percentile(ms, 0.5);
-  sidecar[pt ? "medianCpuMs" : "medianGpuMs"] = medians;
-  std::string sidecarPath = o.json.empty() ? pattern.sidecar() : o.json;
-  writeJson(sidecarPath, sidecar);
+  sidecar.write();
   std::fprintf(stderr, "ivgi: %zu frames to %s, timings in %s (median %s %.2f ms per frame)\n", frames.size(),
-               pattern.directory().c_str(), sidecarPath.c_str(), pt ? "CPU" : "GPU", medians.value("total", 0.0));
+               pattern.directory().c_str(), sidecar.path().c_str(), pt ? "CPU" : "GPU", sidecar.medianTotalMs());
   if (ctx && ctx->validationErrors()) {
     std::fprintf(stderr, "ivgi: %u Vulkan validation errors\n", ctx->validationErrors());
     return 3;

@@ -73,7 +73,8 @@ std::optional<uint32_t> computeQueueFamily(VkPhysicalDevice pd, uint32_t* timest
 }
 
 DeviceInfo describe(VkPhysicalDevice pd, uint32_t index) {
-  VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+  VkPhysicalDeviceIDProperties id{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ID_PROPERTIES};
+  VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES, &id};
   VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &driver};
   vkGetPhysicalDeviceProperties2(pd, &props);
   VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
@@ -87,6 +88,12 @@ DeviceInfo describe(VkPhysicalDevice pd, uint32_t index) {
   d.driverName = driver.driverName;
   d.driverInfo = driver.driverInfo;
   d.apiVersion = props.properties.apiVersion;
+  // As nvidia-smi and CUDA print it: 8-4-4-4-12 hex digits.
+  for (uint32_t i = 0; i < VK_UUID_SIZE; ++i) {
+    char hex[3];
+    std::snprintf(hex, sizeof hex, "%02x", id.deviceUUID[i]);
+    d.uuid += (i == 4 || i == 6 || i == 8 || i == 10 ? "-" : "") + std::string(hex);
+  }
   std::vector<std::string> missing;
   uint32_t tsBits = 0;
   if (props.properties.apiVersion < VK_API_VERSION_1_2) missing.push_back("Vulkan 1.2");
@@ -133,7 +140,8 @@ std::vector<VkPhysicalDevice> physicalDevices(VkInstance instance) {
   return pds;
 }
 
-// Picks the device named by `want` (index or case-insensitive name substring), else the best suitable.
+// Picks the device named by `want` (index, UUID with or without nvidia-smi's "GPU-", or a
+// case-insensitive name substring), else the best suitable.
 uint32_t chooseDevice(const std::vector<VkPhysicalDevice>& pds, const std::vector<DeviceInfo>& infos,
                       const std::string& want) {
   if (pds.empty()) throw VulkanError("no Vulkan device found (install mesa-vulkan-drivers for lavapipe)");
@@ -150,6 +158,9 @@ uint32_t chooseDevice(const std::vector<VkPhysicalDevice>& pds, const std::vecto
                           " device(s) (see `ivgi devices`)");
       pick = i;
     } else {
+      const std::string uuid = lower(want).rfind("gpu-", 0) == 0 ? lower(want).substr(4) : lower(want);
+      for (uint32_t i = 0; i < infos.size() && !pick; ++i)
+        if (infos[i].uuid == uuid) pick = i;
       for (uint32_t i = 0; i < infos.size() && !pick; ++i)
         if (lower(infos[i].name).find(lower(want)) != std::string::npos) pick = i;
       if (!pick) throw VulkanError("no Vulkan device matches '" + want + "' (see `ivgi devices`)");

@@ -25,11 +25,12 @@ struct DeviceInfo {
   std::string driverName;
   std::string driverInfo;
   uint32_t apiVersion = 0;
+  std::string uuid;     // lower-case hex, 8-4-4-4-12 (on NVIDIA, nvidia-smi's GPU UUID without "GPU-")
   std::string missing;  // empty when the device has every feature ivgi needs
 };
 
 struct ContextOptions {
-  std::string device;       // name substring or index; empty = IVGI_DEVICE, then automatic choice
+  std::string device;       // name substring, index or UUID; empty = IVGI_DEVICE, then automatic choice
   bool validation = false;  // also switched on by IVGI_VALIDATION=1
 };
 
