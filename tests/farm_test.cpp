@@ -6,13 +6,13 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <fcntl.h>
 #include <chrono>
 #include <cstdlib>
-#include <fcntl.h>
 #include <fstream>
-#include <nlohmann/json.hpp>
 #include <functional>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <thread>
 
 #include "engine/cli/options.h"
@@ -79,7 +79,8 @@ bool running(pid_t pid) {
 }
 
 bool waitFor(const std::function<bool()>& condition, double seconds) {
-  for (auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds); std::chrono::steady_clock::now() < end;) {
+  for (auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+       std::chrono::steady_clock::now() < end;) {
     if (condition()) return true;
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
@@ -93,13 +94,15 @@ TEST(Shards, EveryRequestedFrameFallsInExactlyOneStridedShard) {
   std::vector<int> seen;
   for (uint32_t i = 0; i < 4; ++i) {
     const auto part = cli::shardFrames(frames, cli::parseShard(std::to_string(i) + "/4"));
-    for (size_t k = 1; k < part.size(); ++k) EXPECT_EQ(part[k] - part[k - 1], 8) << "strided: every 4th requested frame";
+    for (size_t k = 1; k < part.size(); ++k)
+      EXPECT_EQ(part[k] - part[k - 1], 8) << "strided: every 4th requested frame";
     seen.insert(seen.end(), part.begin(), part.end());
   }
   std::sort(seen.begin(), seen.end());
   EXPECT_EQ(seen, frames);
   EXPECT_EQ(cli::shardFrames({0, 1, 2}, cli::parseShard("5/8")), std::vector<int>{}) << "more shards than frames";
-  for (const char* bad : {"4/4", "1/0", "-1/3", "a/b", "3", ""}) EXPECT_THROW(cli::parseShard(bad), SettingsError) << bad;
+  for (const char* bad : {"4/4", "1/0", "-1/3", "a/b", "3", ""})
+    EXPECT_THROW(cli::parseShard(bad), SettingsError) << bad;
   // A Slurm array 10-16:2 (10, 12, 14, 16): task 14 is the third of four.
   setenv("SLURM_ARRAY_TASK_ID", "14", 1), setenv("SLURM_ARRAY_TASK_MIN", "10", 1);
   setenv("SLURM_ARRAY_TASK_STEP", "2", 1), setenv("SLURM_ARRAY_TASK_COUNT", "4", 1);
@@ -125,13 +128,15 @@ TEST(Shards, AssembleTheSequenceOneRunWritesBitForBit) {
   ASSERT_EQ(render("one", {}).status, 0);
   for (int i = 0; i < 3; ++i) ASSERT_EQ(render("shards", {"--shard", std::to_string(i) + "/3"}).status, 0);
   expectSameFrames(dir / "shards", dir / "one");
-  for (int i = 0; i < 3; ++i) EXPECT_TRUE(fs::exists(dir / "shards" / ("f.shard-" + std::to_string(i) + "-of-3.json"))) << i;
+  for (int i = 0; i < 3; ++i)
+    EXPECT_TRUE(fs::exists(dir / "shards" / ("f.shard-" + std::to_string(i) + "-of-3.json"))) << i;
   EXPECT_FALSE(fs::exists(dir / "shards" / "f.json")) << "no two shards write one sidecar";
 
   const fs::path summary = dir / "summary.json";
   test::Run report = test::runIvgi({"report", (dir / "shards" / "f_%04d").string(), "--json", summary.string()});
   EXPECT_EQ(report.status, 0) << report.out << report.err;
-  EXPECT_NE(report.out.find("9 frames requested, 9 rendered, 0 missing (from 3 sidecars)"), std::string::npos) << report.out;
+  EXPECT_NE(report.out.find("9 frames requested, 9 rendered, 0 missing (from 3 sidecars)"), std::string::npos)
+      << report.out;
   const auto j = nlohmann::json::parse(std::ifstream(summary));
   EXPECT_EQ(j["frames"].size(), 9u);
   EXPECT_GT(j["medianGpuMs"]["total"].get<double>(), 0.0);
@@ -147,13 +152,14 @@ TEST(Shards, AssembleTheSequenceOneRunWritesBitForBit) {
 // whose state it cannot know.
 TEST(Shards, ResumeRemovesOnlyTheTemporariesOfRunsThatEnded) {
   const fs::path dir = test::scratchDir("temporaries");
-  const std::string me = host(), dead = me + "~" + std::to_string(deadPid()), alive = me + "~" + std::to_string(deadPid());
+  const std::string me = host(), dead = me + "~" + std::to_string(deadPid()),
+                    alive = me + "~" + std::to_string(deadPid());
   auto touch = [&](const std::string& name) { std::ofstream(dir / name) << "x"; };
   touch(".ivgi-run~" + dead + ".lock");  // a run killed outright: its lock file, unlocked
   touch(".ivgi-tmp~" + dead + "~f_0003.exr");
   touch(".ivgi-tmp~" + me + "~" + std::to_string(deadPid()) + "~f_0004.png");  // no lock file, this host, gone
-  touch(".ivgi-tmp-" + std::to_string(deadPid()) + "-f_0005.exr");           // named as before run locks
-  touch(".ivgi-tmp~elsewhere~123~f_0006.exr");                                // another host, no lock: unknown
+  touch(".ivgi-tmp-" + std::to_string(deadPid()) + "-f_0005.exr");             // named as before run locks
+  touch(".ivgi-tmp~elsewhere~123~f_0006.exr");                                 // another host, no lock: unknown
   touch(".ivgi-run~" + alive + ".lock");                                       // a run still alive: its lock held
   touch(".ivgi-tmp~" + alive + "~f_0007.exr");
   const int held = open((dir / (".ivgi-run~" + alive + ".lock")).c_str(), O_RDWR);
@@ -164,13 +170,15 @@ TEST(Shards, ResumeRemovesOnlyTheTemporariesOfRunsThatEnded) {
     EXPECT_EQ(image::removeDeadTemporaries(dir.string()), 4u);
     std::vector<std::string> left = hiddenFiles(dir);
     std::sort(left.begin(), left.end());
-    std::vector<std::string> expected = {".ivgi-run~" + alive + ".lock", ".ivgi-run~" + me + "~" + std::to_string(getpid()) + ".lock",
+    std::vector<std::string> expected = {".ivgi-run~" + alive + ".lock",
+                                         ".ivgi-run~" + me + "~" + std::to_string(getpid()) + ".lock",
                                          ".ivgi-tmp~" + alive + "~f_0007.exr", ".ivgi-tmp~elsewhere~123~f_0006.exr",
                                          ".ivgi-tmp~" + me + "~" + std::to_string(getpid()) + "~f_0008.exr"};
     std::sort(expected.begin(), expected.end());
     EXPECT_EQ(left, expected);
   }
-  EXPECT_FALSE(fs::exists(dir / (".ivgi-run~" + me + "~" + std::to_string(getpid()) + ".lock"))) << "a run removes its lock";
+  EXPECT_FALSE(fs::exists(dir / (".ivgi-run~" + me + "~" + std::to_string(getpid()) + ".lock")))
+      << "a run removes its lock";
   close(held);  // the run ends: its files go at the next resume
   EXPECT_EQ(image::removeDeadTemporaries(dir.string()), 2u);
 }
@@ -191,8 +199,9 @@ TEST(Shards, AKilledRunIsResumedToTheSameFrames) {
   ASSERT_TRUE(waitFor([&] { return !running(pid); }, 10));
   EXPECT_FALSE(fs::exists(out / "f_0005.png")) << "killed before the end";
   EXPECT_FALSE(hiddenFiles(out).empty()) << "the killed run's lock (and maybe a temporary) stays behind";
-  test::Run resumed = test::runIvgi({"render", "cornell", "--method", "pt", "--spp", "512", "--size", "48x36", "--frames", "0-5",
-                                     "--threads", "1", "--out", (out / "f_%04d").string(), "--resume"});
+  test::Run resumed =
+      test::runIvgi({"render", "cornell", "--method", "pt", "--spp", "512", "--size", "48x36", "--frames", "0-5",
+                     "--threads", "1", "--out", (out / "f_%04d").string(), "--resume"});
   ASSERT_EQ(resumed.status, 0) << resumed.err;
   EXPECT_TRUE(hiddenFiles(out).empty()) << "left behind: " << (hiddenFiles(out).empty() ? "" : hiddenFiles(out)[0]);
   expectSameFrames(out, dir / "whole");
@@ -215,7 +224,8 @@ TEST(Shards, ASlurmJobArrayKilledAndResubmitted) {
     ~Stop() { shell(command); }
   } stop{"'" + tools + "local-slurm.sh' stop '" + cluster.string() + "'"};
   const std::string slurm = "SLURM_CONF='" + (cluster / "slurm.conf").string() + "' ";
-  const std::string submit = "cd '" + work.string() + "' && " + slurm + "IVGI='" IVGI_BINARY "' sbatch --parsable --export=ALL " +
+  const std::string submit = "cd '" + work.string() + "' && " + slurm +
+                             "IVGI='" IVGI_BINARY "' sbatch --parsable --export=ALL " +
                              "--array=0-3 --cpus-per-task=1 '" + tools + "render-array.sbatch' cornell frames/f_%04d " +
                              "--method pt --spp 512 --size 48x36 --frames 0-11 > '" + (dir / "job").string() + "'";
   auto idle = [&] { return shell(slurm + "squeue -h | grep -q .") != 0; };
@@ -233,17 +243,19 @@ TEST(Shards, ASlurmJobArrayKilledAndResubmitted) {
 
   ASSERT_EQ(shell(submit), 0);  // the same array again: --resume renders only what is missing
   ASSERT_TRUE(waitFor(idle, 120));
-  for (const auto& [name, time] : before) EXPECT_EQ(fs::last_write_time(work / "frames" / name), time) << name << " rendered twice";
+  for (const auto& [name, time] : before)
+    EXPECT_EQ(fs::last_write_time(work / "frames" / name), time) << name << " rendered twice";
   EXPECT_TRUE(hiddenFiles(work / "frames").empty()) << "left behind: " << hiddenFiles(work / "frames")[0];
 
-  ASSERT_EQ(test::runIvgi({"render", "cornell", "--method", "pt", "--spp", "512", "--size", "48x36", "--frames", "0-11", "--out",
-                           (dir / "one" / "f_%04d").string()})
+  ASSERT_EQ(test::runIvgi({"render", "cornell", "--method", "pt", "--spp", "512", "--size", "48x36", "--frames", "0-11",
+                           "--out", (dir / "one" / "f_%04d").string()})
                 .status,
             0);
   expectSameFrames(work / "frames", dir / "one");
   test::Run report = test::runIvgi({"report", (work / "frames" / "f_%04d").string()});
   EXPECT_EQ(report.status, 0) << report.out;
-  EXPECT_NE(report.out.find("12 frames requested, 12 rendered, 0 missing (from 4 sidecars)"), std::string::npos) << report.out;
+  EXPECT_NE(report.out.find("12 frames requested, 12 rendered, 0 missing (from 4 sidecars)"), std::string::npos)
+      << report.out;
 
   shell(stop.command);
   // "[/]…": a pattern that does not match the shell running pgrep.

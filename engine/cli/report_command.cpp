@@ -43,9 +43,11 @@ int runReport(const ReportOptions& o) {
   for (const std::string& path : sidecars) {
     std::ifstream in(path);
     const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
-    if (j.is_discarded() || !j.contains("settings") || !j.contains("frames")) throw SettingsError(path + ": not an ivgi sidecar");
+    if (j.is_discarded() || !j.contains("settings") || !j.contains("frames"))
+      throw SettingsError(path + ": not an ivgi sidecar");
     const auto& range = j["settings"]["frames"];
-    for (int f : FrameRange{range[0].get<int>(), range[1].get<int>(), range[2].get<int>()}.frames()) requested.push_back(f);
+    for (int f : FrameRange{range[0].get<int>(), range[1].get<int>(), range[2].get<int>()}.frames())
+      requested.push_back(f);
     for (const auto& f : j["settings"]["formats"]) formats.push_back(f.get<std::string>());
     if (j["settings"]["method"] == "pt") timeKey = "totalCpuMs", passKey = "cpuMs";
     for (const auto& record : j["frames"]) records[record["frame"].get<int>()] = record;
@@ -60,9 +62,8 @@ int runReport(const ReportOptions& o) {
   std::vector<double> wall;
   nlohmann::json frames = nlohmann::json::array();
   for (int f : requested) {
-    const bool files = std::all_of(formats.begin(), formats.end(), [&](const std::string& format) {
-      return fs::exists(pattern.path(f, format));
-    });
+    const bool files = std::all_of(formats.begin(), formats.end(),
+                                   [&](const std::string& format) { return fs::exists(pattern.path(f, format)); });
     const auto record = records.find(f);
     if (!files) {
       missing.push_back(f);
@@ -84,8 +85,8 @@ int runReport(const ReportOptions& o) {
   nlohmann::json medians = nlohmann::json::object();
   for (const auto& [pass, ms] : perPass) medians[pass] = percentile(ms, 0.5);
   if (!perPass.empty())
-    std::printf("median %s %.2f ms a frame over %zu frames", passKey == "cpuMs" ? "CPU" : "GPU", medians["total"].get<double>(),
-                perPass["total"].size());
+    std::printf("median %s %.2f ms a frame over %zu frames", passKey == "cpuMs" ? "CPU" : "GPU",
+                medians["total"].get<double>(), perPass["total"].size());
   if (!wall.empty()) {
     double sum = 0;
     for (double w : wall) sum += w;
