@@ -3,7 +3,7 @@
 # Debian 12); with --fix, formats them in place. CI runs the check: unformatted code fails it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-mapfile -t files < <(git ls-files '*.cpp' '*.h' '*.comp' '*.glsl')
+mapfile -t files < <(git ls-files --cached --others --exclude-standard '*.cpp' '*.h' '*.comp' '*.glsl')
 if [ "${1:-}" = "--fix" ]; then
   clang-format -i "${files[@]}"
 else
