@@ -3,6 +3,7 @@
 // radiosity B = π·Le + ρ·G. Reads last bounce's radiosity, writes the next (no race). A static leaf
 // also has the links pruned once against static senders, less those its frame links override.
 #extension GL_GOOGLE_include_directive : require
+#define NODE_TEXELS 15
 #include "common.glsl"
 layout(local_size_x = 64) in;
 
@@ -21,12 +22,31 @@ layout(binding = 11, r32ui) readonly uniform uimageBuffer staticBins;    // Stat
 layout(binding = 12, r32ui) readonly uniform uimageBuffer overrides;     // per leaf and mask word
 layout(std430, binding = 13) readonly buffer FrameCounters { uint frameCounters[]; };
 layout(std430, binding = 14) readonly buffer StaticCounters { uint staticCounters[]; };
+layout(std430, binding = 16) writeonly buffer BounceSums { BounceSum bounceSums[]; };  // per workgroup
 layout(push_constant) uniform Push { GatherPush push; };
 
-void main() {
-  uint s = itemIndex();
+shared BounceSum partial[64];
+
+float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
+
+// Leaves the workgroup's sum for bounce_check, added in a fixed order.
+void sumBounce(BounceSum mine) {
+  const uint lid = gl_LocalInvocationID.x;
+  partial[lid] = mine;
+  barrier();
+  if (lid == 0u) {
+    BounceSum sum = BounceSum(0.0, 0.0);
+    for (uint i = 0u; i < 64u; ++i) sum.total += partial[i].total, sum.change += partial[i].change;
+    bounceSums[groupIndex()] = sum;
+  }
+}
+
+// The leaf's new radiosity and irradiance; none (zeros for the sums) past the surfels or in a frame
+// that overflowed.
+BounceSum gatherLeaf(uint s) {
   // A frame that overflowed (links, leaf links, a prune's loop budget) is redone: its bounces would be wasted.
-  if (s >= push.surfelCount || (frameCounters[kCounterOverflow] | staticCounters[kCounterOverflow]) != 0u) return;
+  if (s >= push.surfelCount || (frameCounters[kCounterOverflow] | staticCounters[kCounterOverflow]) != 0u)
+    return BounceSum(0.0, 0.0);
   uvec2 range = imageLoad(ranges, int(s)).xy;
   vec3 g = imageLoad(externalLight, int(s)).rgb;
   for (uint k = range.x; k < range.x + range.y; ++k) {
@@ -40,7 +60,12 @@ void main() {
     uint overridden = imageLoad(overrides, int(s * push.maskWords + bin / 32u)).x & (1u << (bin & 31u));
     if (overridden == 0u) g += uintBitsToFloat(link.y) * imageLoad(radiosityIn, int(link.x)).rgb;
   }
-  radiosityOut[imageLoad(leafOfSurfel, int(s)).x] =
-      vec4(kPi * imageLoad(emission, int(s)).rgb + imageLoad(albedo, int(s)).rgb * g, 0.0);
+  const uint leaf = imageLoad(leafOfSurfel, int(s)).x;
+  const vec3 b = kPi * imageLoad(emission, int(s)).rgb + imageLoad(albedo, int(s)).rgb * g;
+  radiosityOut[leaf] = vec4(b, 0.0);
   irradiance[s] = vec4(g, 0.0);
+  const float area = nodePositionArea(leaf).w;
+  return BounceSum(area * luminance(b), area * abs(luminance(b) - luminance(imageLoad(radiosityIn, int(leaf)).rgb)));
 }
+
+void main() { sumBounce(gatherLeaf(itemIndex())); }

@@ -199,6 +199,28 @@ struct GatherPush {
   uint surfelCount;
   uint maskWords;
 };
+// The bounces stop where a bounce adds less than a tolerance of the light (or after a count): the
+// gather leaves per workgroup the area-weighted luminance of its leaves' radiosity and of its change,
+// and bounce_check sums them in a fixed order, decides, and writes the next bounce's dispatch sizes
+// (zero groups once it is done).
+struct BounceSum {
+  float total;   // Σ area · Y(B)
+  float change;  // Σ area · |Y(B) − Y(B before)|
+};
+struct BounceState {
+  uint gathers;     // run so far this frame (K bounces are K + 1 gathers)
+  uint done;        // 1: converged or at the count
+  float change;     // of the last gather
+  float total;      // after the last gather
+  float remaining;  // the change still to come, estimated from the last two (a geometric tail), over total
+  uint pad0, pad1, pad2;
+};
+struct BounceCheckPush {
+  uint groups;      // of the gather: BounceSums to add up
+  uint levels;      // the pull-up's dispatches, one a level
+  uint maxGathers;  // done after this many
+  float tolerance;  // done where remaining ≤ tolerance; negative: only at maxGathers
+};
 struct ImagePush {  // raster: count = triangles; resolve: count = samples per axis
   Camera camera;
   uvec2 size;

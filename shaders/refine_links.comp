@@ -8,8 +8,9 @@ layout(local_size_x = 256) in;
 
 layout(binding = 0, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode
 layout(binding = 2, rg32ui) readonly uniform uimageBuffer pairs;
-layout(std430, binding = 3) writeonly buffer NextWorklist { uvec2 nextPairs[]; };
-layout(std430, binding = 4) writeonly buffer Links { uvec2 links[]; };
+// Texels, as every array that grows with the link counts: their views reach past one storage binding.
+layout(binding = 3, rg32ui) writeonly uniform uimageBuffer nextWorklist;
+layout(binding = 4, rg32ui) writeonly uniform uimageBuffer links;
 layout(std430, binding = 5) buffer Counters { uint counters[]; };
 layout(push_constant) uniform Push {
   uint source, target;  // counter slots of this level's list and of the next
@@ -22,7 +23,7 @@ layout(push_constant) uniform Push {
 void emitPair(uint r, uint s) {
   uint slot = atomicAdd(counters[target], 1u);
   if (slot < capacity)
-    nextPairs[slot] = uvec2(r, s);
+    imageStore(nextWorklist, int(slot), uvec4(r, s, 0u, 0u));
   else
     atomicOr(counters[kCounterOverflow], kOverflowWorklist);
   atomicMax(counters[kCounterWorklistPeak], slot + 1u);
@@ -57,7 +58,7 @@ void main() {
       if (leafR && leafS) {
         uint slot = atomicAdd(counters[kCounterLinks], 1u);
         if (slot < linkCapacity)
-          links[slot] = uvec2(r, s);
+          imageStore(links, int(slot), uvec4(r, s, 0u, 0u));
         else
           atomicOr(counters[kCounterOverflow], kOverflowLinks);
         continue;
@@ -78,7 +79,7 @@ void main() {
       if (!refine) {
         uint slot = atomicAdd(counters[kCounterLinks], 1u);
         if (slot < linkCapacity)
-          links[slot] = uvec2(r, s);
+          imageStore(links, int(slot), uvec4(r, s, 0u, 0u));
         else
           atomicOr(counters[kCounterOverflow], kOverflowLinks);
         continue;

@@ -6,9 +6,9 @@
 #include "common.glsl"
 layout(local_size_x = 256) in;
 
-layout(binding = 0, rg32ui) readonly uniform uimageBuffer links;  // receiver, sender
-layout(std430, binding = 1) buffer Counts { uint cursors[]; };    // the scan made the counts cursors
-layout(std430, binding = 2) writeonly buffer Senders { uint senders[]; };
+layout(binding = 0, rg32ui) readonly uniform uimageBuffer links;    // receiver, sender
+layout(std430, binding = 1) buffer Counts { uint cursors[]; };      // the scan made the counts cursors
+layout(binding = 2, r32ui) writeonly uniform uimageBuffer senders;  // texels: past one storage binding
 layout(std430, binding = 3) readonly buffer Counters { uint counters[]; };
 layout(binding = 4, rgba32f) readonly uniform imageBuffer nodeEmission;  // π·Le per node, pulled up
 layout(push_constant) uniform Push { CountPush push; };                  // count: the link capacity
@@ -19,6 +19,6 @@ void main() {
   for (uint k = gl_GlobalInvocationID.x; k < total; k += stride) {
     uvec2 link = imageLoad(links, int(k)).xy;
     bool emits = any(greaterThan(imageLoad(nodeEmission, int(link.y)).rgb, vec3(0.0)));
-    senders[atomicAdd(cursors[link.x], 1u)] = link.y | (emits ? kEmitterBit : 0u);
+    imageStore(senders, int(atomicAdd(cursors[link.x], 1u)), uvec4(link.y | (emits ? kEmitterBit : 0u)));
   }
 }

@@ -175,8 +175,110 @@ TEST(IvExtremes, SingleTriangleAndNoEmitter) {
     b.node("dark", b.mesh("dark", {{m, b.material("grey", glm::vec3(0.5f))}}));
     std::string file = (dir / "dark.gltf").string();
     scenes::writeModel(b.finish(), file);
-    Stats st = radianceStats(renderExr("dark", {file, "--size", "32x32"}));
+    Stats st = radianceStats(renderExr("dark", {file, "--size", "32x32", "--env", "none"}));
     EXPECT_EQ(st.nonFinite, 0u);
-    EXPECT_EQ(st.max, 0.0) << "no emitter, no light";
+    EXPECT_EQ(st.max, 0.0) << "no emitter, no light, --env none";
   }
+}
+
+// A scene with no emitter, no punctual light and no --env is lit by a uniform white sky, and one
+// line on stderr says so; a scene with its own light gets no sky and no line.
+TEST(IvDefaults, UnlitSceneGetsAWhiteSky) {
+  auto path = test::assimpGltfDir() / "glTF-Sample-Models/AnimatedMorphCube-glTF/AnimatedMorphCube.gltf";
+  if (!fs::exists(path)) GTEST_SKIP() << path << " is not installed";
+  auto dir = test::scratchDir("sky");
+  auto r = test::runIvgi(
+      {"render", path.string(), "--size", "48x36", "--frames", "0", "--format", "exr", "--out", (dir / "f").string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto lines = r.errLines();
+  EXPECT_EQ(std::count_if(lines.begin(), lines.end(), [](const std::string& l) { return l.find("note:") != l.npos; }),
+            1)
+      << r.err;
+  EXPECT_NE(r.err.find("white sky"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--env none"), std::string::npos) << r.err;
+  Stats st = radianceStats(dir / "f_0000.exr");
+  EXPECT_EQ(st.nonFinite, 0u);
+  EXPECT_GT(st.mean, 0.05);
+  EXPECT_LE(st.max, 1.0 + 1e-4) << "a white sky of radiance 1 lights nothing brighter than itself";
+
+  r = test::runIvgi({"render", "cornell", "--cells", "2", "--size", "32x24", "--frames", "0", "--format", "exr",
+                     "--out", (dir / "c").string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.err.find("note:"), std::string::npos) << r.err;
+}
+
+namespace {
+
+// Renders one frame of `args` into `dir` with a sidecar and returns the frame's solver figures.
+nlohmann::json solverFigures(const fs::path& dir, std::vector<std::string> args) {
+  args.insert(args.begin(), {"render", "--format", "exr", "--out", (dir / "f").string(), "--json",
+                             (dir / "s.json").string(), "--frames", "0"});
+  auto r = test::runIvgi(args);
+  EXPECT_EQ(r.status, 0) << r.err;
+  if (r.status != 0) return {};
+  return nlohmann::json::parse(std::ifstream(dir / "s.json"))["frames"][0]["solver"];
+}
+
+std::vector<float> pixels(const fs::path& exr) {
+  OIIO_NAMESPACE::ImageBuf buf(exr.string());
+  std::vector<float> v;
+  if (!buf.read(0, 0, true, OIIO_NAMESPACE::TypeDesc::FLOAT)) return v;
+  const float* p = static_cast<const float*>(buf.localpixels());
+  v.assign(p, p + size_t(buf.spec().image_pixels()) * buf.spec().nchannels);
+  return v;
+}
+
+std::string furnaceFile(float albedo) {
+  auto path = test::scratchDir("furnace-file") / ("furnace_" + std::to_string(albedo) + ".gltf");
+  scenes::writeModel(scenes::furnace({.cells = 4, .albedo = albedo, .emission = 1.0f}), path.string());
+  return path.string();
+}
+
+}  // namespace
+
+// --bounces K runs exactly K bounces; by default bounces run until the next would add less than
+// --bounce-tol of the solution, and a tighter tolerance runs more of them.
+TEST(IvBounces, ForcedCountOrUntilTheTolerance) {
+  const std::vector<std::string> cornell = {"cornell", "--cells", "4", "--size", "48x36"};
+  auto forced = cornell;
+  forced.insert(forced.end(), {"--bounces", "3"});
+  auto f = solverFigures(test::scratchDir("forced"), forced);
+  EXPECT_EQ(f["bounces"].get<double>(), 3.0);
+
+  auto loose = solverFigures(test::scratchDir("auto"), cornell);
+  EXPECT_GE(loose["bounces"].get<double>(), 2.0);
+  EXPECT_LE(loose["bounceRemaining"].get<double>(), 1e-3);
+  auto tight = cornell;
+  tight.insert(tight.end(), {"--bounce-tol", "1e-5"});
+  auto t = solverFigures(test::scratchDir("tight"), tight);
+  EXPECT_GT(t["bounces"].get<double>(), loose["bounces"].get<double>());
+  EXPECT_LE(t["bounceRemaining"].get<double>(), 1e-5);
+}
+
+// Bounces past the first submission's (a furnace of albedo 0.9 takes dozens) give bit for bit
+// the image of the same count forced.
+TEST(IvBounces, AutomaticCountEqualsTheSameCountForced) {
+  const std::string file = furnaceFile(0.9f);
+  const auto autoDir = test::scratchDir("auto09"), forcedDir = test::scratchDir("forced09");
+  auto a = solverFigures(autoDir, {file, "--size", "32x32"});
+  const double bounces = a["bounces"].get<double>();
+  EXPECT_GT(bounces, 20.0);
+  auto f = solverFigures(forcedDir, {file, "--size", "32x32", "--bounces", std::to_string(int(bounces))});
+  EXPECT_EQ(f["bounces"].get<double>(), bounces);
+  const auto autoPixels = pixels(autoDir / "f_0000.exr");
+  ASSERT_FALSE(autoPixels.empty());
+  EXPECT_TRUE(autoPixels == pixels(forcedDir / "f_0000.exr"));
+}
+
+// A scene that cannot fit the memory it is allowed gets one line naming the setting that would,
+// and nothing is written.
+TEST(IvMemory, RefusalNamesTheSettingThatWouldFit) {
+  auto dir = test::scratchDir("refused");
+  auto r = test::runIvgi({"render", "cornell", "--cells", "8", "--size", "32x24", "--frames", "0", "--max-memory", "8",
+                          "--out", (dir / "f").string()});
+  EXPECT_NE(r.status, 0);
+  ASSERT_EQ(r.errLines().size(), 1u) << r.err;
+  EXPECT_NE(r.err.find("--max-memory"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--eps"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::is_empty(dir)) << "nothing written";
 }

@@ -142,7 +142,7 @@ TEST(SweepCli, WritesCsvJsonAndPlot) {
   std::vector<std::string> lines;
   for (std::string line; std::getline(csv, line);) lines.push_back(line);
   ASSERT_EQ(lines.size(), 6u);  // header + 2 bins × 2 bounces + none
-  EXPECT_EQ(lines[0].rfind("scene,method,bins,eps,bounces,kappa,ms,", 0), 0u);
+  EXPECT_EQ(lines[0].rfind("scene,method,bins,eps,bounces,bounceTol,bouncesRun,kappa,ms,", 0), 0u);
   auto j = readJson(dir / "sweep.json");
   ASSERT_EQ(j["settings"].size(), 5u);
   int front = 0;

@@ -41,7 +41,10 @@ FrameTimes timeFrames(gi::FrameRenderer& renderer, const scene::Scene& s, const 
       total += p.ms;
     }
     out.perPass["total"].push_back(total);
-    out.frames.push_back({{"frame", frame}, {"gpuMs", passes}, {"totalGpuMs", total}});
+    nlohmann::json figures = nlohmann::json::object();
+    for (const auto& [figure, value] : result.solverFigures)
+      out.solverFigures[figure].push_back(value), figures[figure] = value;
+    out.frames.push_back({{"frame", frame}, {"gpuMs", passes}, {"totalGpuMs", total}, {"solver", figures}});
   }
   return out;
 }
@@ -58,11 +61,12 @@ int runBench(const BenchOptions& o) {
   parseSize(o.size, image.width, image.height);
   scene::Scene s = loadScene(o.source);
   scene::Geometry g = renderableGeometry(s);
+  const SolverOptions solver = withSceneLight(o.solver, s, g);
   const Timeline tl = timeline(s, "", o.fps);
   const int animation = tl.animation;
 
   vk::Context ctx({.device = o.device});
-  gi::FrameRenderer renderer(ctx, g, image, makeSolver(o.solver, ctx, s, g, animation));
+  gi::FrameRenderer renderer(ctx, g, image, makeSolver(solver, ctx, s, g, animation));
   const FrameCamera camera(s, g, tl, o.fps, "", {0}, float(image.width) / float(image.height));
 
   const bool moving = scene::animationMovesGeometry(s, animation);
@@ -71,10 +75,10 @@ int runBench(const BenchOptions& o) {
   auto& order = times.order;
   auto& frames = times.frames;
 
-  std::printf("ivgi bench: %s, %ux%u, method %s", s.source.c_str(), image.width, image.height, o.solver.method.c_str());
-  const gi::IvSettings& iv = o.solver.iv;
-  if (o.solver.method == "iv")
-    std::printf(", bins 6x%ux%u, eps %g, bounces %u", iv.bins, iv.bins, iv.epsilon, iv.bounces);
+  std::printf("ivgi bench: %s, %ux%u, method %s", s.source.c_str(), image.width, image.height, solver.method.c_str());
+  const gi::IvSettings& iv = solver.iv;
+  if (solver.method == "iv")
+    std::printf(", bins 6x%ux%u, eps %g, bounces %s", iv.bins, iv.bins, iv.epsilon, bouncesText(iv).c_str());
   std::printf("\ndevice: %s\n", deviceLine(ctx).c_str());
   std::printf(
       "frames: %d measured after %d warm-up%s\n\n", o.frames, o.warmup,
@@ -113,6 +117,10 @@ int runBench(const BenchOptions& o) {
                   double(st.sendersWalked) / percentile(perPass["prune"], 0.5) / 1e3);
     if (st.staticSendersWalked)
       std::printf(", %llu in the static pass (once)", (unsigned long long)st.staticSendersWalked);
+    if (const auto& b = times.solverFigures["bounces"]; !b.empty())
+      std::printf("\nbounces: median %.0f a frame (%.0f to %.0f)%s", percentile(b, 0.5),
+                  *std::min_element(b.begin(), b.end()), *std::max_element(b.begin(), b.end()),
+                  solver->stats().bounceRemaining > 0 ? ", until the light still to come is below --bounce-tol" : "");
   }
   std::printf("\nbytes allocated: %llu (%.1f MiB)\n", (unsigned long long)bytes, double(bytes) / (1 << 20));
   if (!o.json.empty()) {
@@ -120,10 +128,11 @@ int runBench(const BenchOptions& o) {
                         {"settings",
                          {{"width", image.width},
                           {"height", image.height},
-                          {"method", o.solver.method},
+                          {"method", solver.method},
                           {"bins", iv.bins},
                           {"eps", iv.epsilon},
-                          {"bounces", iv.bounces},
+                          {"bounces", bouncesJson(iv)},
+                          {"bounceTolerance", iv.bounceTolerance},
                           {"kappa", iv.kappa},
                           {"frames", o.frames},
                           {"warmup", o.warmup}}},

@@ -30,8 +30,13 @@ scene::Geometry renderableGeometry(const scene::Scene& scene);
 struct SolverOptions {
   std::string method = "iv";  // iv, none (emission only) or pt (render only)
   gi::IvSettings iv;          // --bins, --eps, --bounces, --kappa
-  std::string environment;    // --env: "R,G,B" or an .exr; empty: none
+  std::string environment;    // --env: "R,G,B", an .exr, or none; empty: the scene's own light (see below)
+  uint64_t maxMemoryMiB = 0;  // --max-memory: iv's memory budget (0: the device's)
 };
+
+// The light a scene without any gets: --env as given ("none": no environment); for a scene with no
+// emitter and no punctual light, a uniform white sky, said once on stderr, as glTF viewers do.
+SolverOptions withSceneLight(SolverOptions options, const scene::Scene& scene, const scene::Geometry& geometry);
 
 // The solver for `options`, or none for --method none; `animation` (-1: none) says which objects
 // can move. The hierarchy depends only on the scene: pass one already built to reuse it.
@@ -43,9 +48,8 @@ std::unique_ptr<gi::Solver> makeSolver(const SolverOptions& options, const vk::C
 struct PathOptions {
   uint32_t spp = 64;
   uint32_t seed = 0;
-  unsigned threads = 0;       // 0: every core
-  bool given = false;         // any of them was given on the command line
-  bool bouncesGiven = false;  // --bounces was given: otherwise pt paths run until roulette ends them
+  unsigned threads = 0;  // 0: every core
+  bool given = false;    // any of them was given on the command line
 };
 // The tracer's settings (checked: SettingsError).
 reference::PathSettings pathSettings(const PathOptions& options, const SolverOptions& solver);
@@ -136,7 +140,8 @@ nlohmann::json metricsJson(const image::ErrorMetrics& metrics);
 struct SweepOptions {
   SceneChoice source;
   std::string reference;  // linear EXR of the same scene, frame and camera (e.g. render --method pt)
-  std::string methods = "iv", bins = "16", eps = "0.02", bounces = "2", kappa = "1";  // comma-separated lists
+  // Comma-separated lists; --bounces takes counts and auto (until converged, at each --bounce-tol).
+  std::string methods = "iv", bins = "16", eps = "0.02", bounces = "auto", bounceTolerances = "0.001", kappa = "1";
   std::string environment, camera, animation, device;
   int frame = 0;
   double fps = 24.0;

@@ -12,6 +12,7 @@
 #include "engine/cli/json_file.h"
 #include "engine/cli/machine.h"
 #include "engine/cli/options.h"
+#include "engine/cli/report.h"
 #include "engine/cli/statistics.h"
 #include "engine/reference/path_tracer.h"
 #include "engine/scene/lights.h"
@@ -26,10 +27,10 @@ struct PtRender {
 };
 
 PtRender pathTrace(const scene::Scene& s, const scene::Geometry& g, const scene::Pose& pose,
-                   const scene::CameraView& view, uint32_t width, uint32_t height, uint32_t frame,
-                   const reference::PathSettings& settings) {
+                   const std::optional<scene::Environment>& environment, const scene::CameraView& view, uint32_t width,
+                   uint32_t height, uint32_t frame, const reference::PathSettings& settings) {
   auto start = std::chrono::steady_clock::now();
-  reference::PathTracer tracer(reference::PathScene::at(s, g, pose));
+  reference::PathTracer tracer(reference::PathScene::at(s, g, pose, environment));
   auto channels = tracer.render(view, width, height, frame, settings);
   image::sanitize(channels);
   return {image::radianceOf(channels),
@@ -48,6 +49,10 @@ int runEqualError(const BenchOptions& o) {
   parseSize(o.size, image.width, image.height);
   scene::Scene s = loadScene(o.source);
   scene::Geometry g = renderableGeometry(s);
+  // The scene's own lights, or for a scene without any the default sky, for both methods.
+  const SolverOptions solver = withSceneLight(o.solver, s, g);
+  std::optional<scene::Environment> environment;
+  if (!solver.environment.empty()) environment = scene::Environment::parse(solver.environment);
   const Timeline tl = timeline(s, "", o.fps);
   if (o.frame < 0 || o.frame > tl.lastFrame)
     throw SettingsError("--frame must be 0 to " + std::to_string(tl.lastFrame));
@@ -56,7 +61,7 @@ int runEqualError(const BenchOptions& o) {
   const auto view = camera.at(pose);
   // The renderer first: its settings are checked before the reference takes its time.
   vk::Context ctx({.device = o.device});
-  gi::FrameRenderer renderer(ctx, g, image, makeSolver(o.solver, ctx, s, g, tl.animation));
+  gi::FrameRenderer renderer(ctx, g, image, makeSolver(solver, ctx, s, g, tl.animation));
 
   // The reference: given, or rendered now with seed 0 (the measured pt runs use seed 1).
   image::RgbImage ref;
@@ -67,7 +72,7 @@ int runEqualError(const BenchOptions& o) {
       throw SettingsError(o.reference + ": the reference is not " + o.size);
   } else {
     std::fprintf(stderr, "equal-error: rendering the reference, pt at %u spp...\n", o.referenceSpp);
-    auto r = pathTrace(s, g, pose, view, image.width, image.height, uint32_t(o.frame),
+    auto r = pathTrace(s, g, pose, environment, view, image.width, image.height, uint32_t(o.frame),
                        {.spp = o.referenceSpp, .seed = 0, .threads = o.threads});
     ref = std::move(r.radiance);
     referenceMs = r.ms;
@@ -81,9 +86,9 @@ int runEqualError(const BenchOptions& o) {
   const image::ErrorMetrics ivError = image::measureError(image::radianceOf(ivFrame.channels), ref);
 
   std::printf("ivgi bench --equal-error: %s, frame %d, %ux%u\n", s.source.c_str(), o.frame, image.width, image.height);
-  const gi::IvSettings& iv = o.solver.iv;
-  std::printf("iv:  %s; bins 6x%ux%u, eps %g, bounces %u\n", deviceLine(ctx).c_str(), iv.bins, iv.bins, iv.epsilon,
-              iv.bounces);
+  const gi::IvSettings& iv = solver.iv;
+  std::printf("iv:  %s; bins 6x%ux%u, eps %g, bounces %s\n", deviceLine(ctx).c_str(), iv.bins, iv.bins, iv.epsilon,
+              bouncesText(iv).c_str());
   std::printf("pt:  %s, unlimited bounces (roulette)\n", cpuLine(o.threads).c_str());
   std::printf("reference: %s\n\n", o.reference.empty() ? ("pt " + std::to_string(o.referenceSpp) + " spp, seed 0, " +
                                                           std::to_string(int(std::lround(referenceMs / 1000))) + " s")
@@ -97,7 +102,7 @@ int runEqualError(const BenchOptions& o) {
   double ptMs = -1, prevMs = 0, prevErr = 0;
   bool bracketed = false;
   for (uint32_t spp = 1; spp <= o.maxSpp; spp *= 2) {
-    auto r = pathTrace(s, g, pose, view, image.width, image.height, uint32_t(o.frame),
+    auto r = pathTrace(s, g, pose, environment, view, image.width, image.height, uint32_t(o.frame),
                        {.spp = spp, .seed = 1, .threads = o.threads});
     auto e = image::measureError(r.radiance, ref);
     std::printf("%8u %12.1f %12.5g %10.4f\n", spp, r.ms, e.relMse, e.flip);
@@ -125,7 +130,7 @@ int runEqualError(const BenchOptions& o) {
         {"FLIP", ivError.flip},
         {"bins", iv.bins},
         {"eps", iv.epsilon},
-        {"bounces", iv.bounces},
+        {"bounces", bouncesJson(iv)},
         {"device", deviceJson(ctx)}}},
       {"pt", {{"ladder", ladder}, {"device", cpuJson(o.threads)}}},
       {"reference", o.reference.empty() ? nlohmann::json({{"spp", o.referenceSpp}, {"ms", referenceMs}})

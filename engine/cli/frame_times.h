@@ -11,9 +11,10 @@
 namespace ivgi::cli {
 
 struct FrameTimes {
-  std::map<std::string, std::vector<double>> perPass;  // ms per measured frame, and "total"
-  std::vector<std::string> order;                      // passes in the order they ran
-  nlohmann::json frames = nlohmann::json::array();     // per frame: number, gpuMs per pass, totalGpuMs
+  std::map<std::string, std::vector<double>> perPass;        // ms per measured frame, and "total"
+  std::vector<std::string> order;                            // passes in the order they ran
+  nlohmann::json frames = nlohmann::json::array();           // per frame: number, gpuMs per pass, totalGpuMs, solver
+  std::map<std::string, std::vector<double>> solverFigures;  // per measured frame, by name (e.g. bounces)
 };
 
 // Renders `warmup` + `count` frames of the animation in memory (wrapping around its end) and keeps

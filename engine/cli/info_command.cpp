@@ -13,6 +13,7 @@ namespace ivgi::cli {
 int runInfo(const InfoOptions& o) {
   scene::Scene s = loadScene(o.source);
   scene::Geometry g = scene::buildGeometry(s);
+  const SolverOptions solver = withSceneLight(o.solver, s, g);
   size_t primitives = 0, morphTargets = 0;
   for (const auto& m : s.meshes) {
     primitives += m.primitives.size();
@@ -54,10 +55,10 @@ int runInfo(const InfoOptions& o) {
                 b.max.x, b.max.y, b.max.z);
   std::printf("warnings     %zu\n", s.warnings.size());
   for (const auto& w : s.warnings) std::printf("  %s\n", w.c_str());
-  if (o.memory && o.solver.method == "iv") {
+  if (o.memory && solver.method == "iv") {
     // Link counts are known only once the GPU has refined them: solve frame 0 on a tiny image.
     vk::Context ctx;
-    gi::FrameRenderer renderer(ctx, g, {16, 16, 1}, makeSolver(o.solver, ctx, s, g, s.animations.empty() ? -1 : 0));
+    gi::FrameRenderer renderer(ctx, g, {16, 16, 1}, makeSolver(solver, ctx, s, g, s.animations.empty() ? -1 : 0));
     auto pose =
         scene::evaluatePose(s, s.animations.empty() ? -1 : 0, s.animations.empty() ? 0.0f : s.animations[0].start);
     renderer.render(g.frameInputs(s, pose),
@@ -67,8 +68,8 @@ int runInfo(const InfoOptions& o) {
     std::printf(
         "iv solver    bins 6x%ux%u (%s memory), eps %g: %u nodes in %u levels, %u links, %u leaf links, %.1f MiB on "
         "%s\n",
-        o.solver.iv.bins, o.solver.iv.bins, st.sharedBins ? "shared" : "global", o.solver.iv.epsilon, st.nodes,
-        st.levels, st.links, st.leafLinks, double(st.bytes) / (1 << 20), ctx.info().name.c_str());
+        solver.iv.bins, solver.iv.bins, st.sharedBins ? "shared" : "global", solver.iv.epsilon, st.nodes, st.levels,
+        st.links, st.leafLinks, double(st.bytes) / (1 << 20), ctx.info().name.c_str());
   }
   return 0;
 }

@@ -25,8 +25,14 @@ void addSolverOptions(CLI::App* cmd, SolverOptions& o) {
   cmd->add_option("--bins", o.iv.bins, "N: 6×N×N direction bins per receiver (1–64)")->capture_default_str();
   cmd->add_option("--eps", o.iv.epsilon, "refine links while their form-factor estimate exceeds this")
       ->capture_default_str();
-  cmd->add_option("--bounces", o.iv.bounces, "indirect bounces (0: direct light only)")->capture_default_str();
+  cmd->add_option("--bounces", o.iv.bounces,
+                  "exactly this many indirect bounces (0: direct light only); default: until converged (--bounce-tol)");
+  cmd->add_option("--bounce-tol", o.iv.bounceTolerance,
+                  "bounces stop where the light still to come is estimated below this share of the light")
+      ->capture_default_str();
   cmd->add_option("--kappa", o.iv.kappa, "split senders wider than this many average bins")->capture_default_str();
+  cmd->add_option("--max-memory", o.maxMemoryMiB, "MiB the solver may allocate at most (0: what the device holds)")
+      ->capture_default_str();
   cmd->add_option("--env", o.environment, "environment light: R,G,B radiance or an equirectangular .exr");
 }
 
@@ -151,7 +157,10 @@ int main(int argc, char** argv) {
   w->add_option("--method", sweep.methods, "methods, comma-separated: iv, none")->capture_default_str();
   w->add_option("--bins", sweep.bins, "N values, comma-separated")->capture_default_str();
   w->add_option("--eps", sweep.eps, "refinement thresholds, comma-separated")->capture_default_str();
-  w->add_option("--bounces", sweep.bounces, "bounce counts, comma-separated")->capture_default_str();
+  w->add_option("--bounces", sweep.bounces, "bounce counts or auto (until converged), comma-separated")
+      ->capture_default_str();
+  w->add_option("--bounce-tol", sweep.bounceTolerances, "the tolerances of auto bounces, comma-separated")
+      ->capture_default_str();
   w->add_option("--kappa", sweep.kappa, "sender sizes in bins, comma-separated")->capture_default_str();
   w->add_option("--env", sweep.environment, "environment light: R,G,B radiance or an equirectangular .exr");
   w->add_option("--frame", sweep.frame, "the frame the reference shows")->capture_default_str();
@@ -183,7 +192,6 @@ int main(int argc, char** argv) {
   try {
     if (r->parsed()) {
       render.pt.given = spp->count() + seed->count() + threads->count() > 0;
-      render.pt.bouncesGiven = r->get_option("--bounces")->count() > 0;
       return runRender(render);
     }
     if (i->parsed()) {

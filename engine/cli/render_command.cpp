@@ -85,20 +85,21 @@ int runRender(const RenderOptions& o) {
                            " lie outside " + what);
   }
   scene::Geometry g = renderableGeometry(s);
+  const SolverOptions solver = withSceneLight(o.solver, s, g);
   for (const auto& w : s.warnings) std::fprintf(stderr, "ivgi: warning: %s: %s\n", s.source.c_str(), w.c_str());
 
   // The frame source: the GPU pipeline (iv, none) or the Embree path tracer (pt, no Vulkan).
   std::unique_ptr<vk::Context> ctx;
   std::unique_ptr<gi::FrameRenderer> renderer;
   std::optional<scene::Environment> environment;
-  const reference::PathSettings ptSettings = pathSettings(o.pt, o.solver);
+  const reference::PathSettings ptSettings = pathSettings(o.pt, solver);
   if (pt) {
     if (image.samples != 1)
       throw SettingsError("--supersample: pt spreads its --spp samples over each pixel; leave --supersample at 1");
-    if (!o.solver.environment.empty()) environment = scene::Environment::parse(o.solver.environment);
+    if (!solver.environment.empty()) environment = scene::Environment::parse(solver.environment);
   } else {
     ctx = std::make_unique<vk::Context>(vk::ContextOptions{.device = o.device});
-    renderer = std::make_unique<gi::FrameRenderer>(*ctx, g, image, makeSolver(o.solver, *ctx, s, g, tl.animation));
+    renderer = std::make_unique<gi::FrameRenderer>(*ctx, g, image, makeSolver(solver, *ctx, s, g, tl.animation));
   }
   const bool geometryAnimated = scene::animationMovesGeometry(s, tl.animation);
 
@@ -128,15 +129,16 @@ int runRender(const RenderOptions& o) {
          {"tonemap", o.tonemap},
          {"exposure", o.exposure},
          {"animation", tl.animation >= 0 ? json(s.animations[tl.animation].name) : json(nullptr)},
-         {"method", o.solver.method},
-         {"bins", o.solver.iv.bins},
-         {"eps", o.solver.iv.epsilon},
-         {"bounces", o.solver.iv.bounces},
-         {"kappa", o.solver.iv.kappa},
-         {"environment", o.solver.environment},
+         {"method", solver.method},
+         {"bins", solver.iv.bins},
+         {"eps", solver.iv.epsilon},
+         {"bounces", bouncesJson(solver.iv)},
+         {"bounceTolerance", solver.iv.bounceTolerance},
+         {"kappa", solver.iv.kappa},
+         {"environment", solver.environment},
          {"spp", o.pt.spp},
          {"seed", o.pt.seed},
-         {"unbounded", pt && !o.pt.bouncesGiven},
+         {"unbounded", pt && !solver.iv.bounces},
          {"camera", camera.name()}}},
        {"device", ctx ? deviceJson(*ctx) : cpuJson(ptSettings.threads)},
        {"counts", {{"triangles", g.triangles.size()}, {"vertices", g.vertices.size()}, {"surfels", g.surfels.size()}}},
@@ -192,7 +194,7 @@ int runRender(const RenderOptions& o) {
     std::vector<std::pair<std::string, double>> passMs;
     for (const auto& p : result.passTimes) passMs.emplace_back(p.pass, p.ms);
     const double wallMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
-    sidecar.addFrame(frame, t, passMs, wallMs, paths);
+    sidecar.addFrame(frame, t, passMs, wallMs, paths, result.solverFigures);
     if (renderer)
       sidecar.set("solver", solverJson(renderer->solver())), sidecar.set("bytesAllocated", renderer->bytesAllocated());
     sidecar.write();  // after every frame: a run killed later keeps this frame's record

@@ -7,11 +7,17 @@ namespace ivgi::gi {
 // IvStats as JSON, its fields' names as the keys.
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(IvStats, nodes, levels, links, leafLinks, staticLinks, staticLeafLinks, bytes,
                                    sharedBins, pruneBatches, pruneGroupSize, sendersWalked, staticSendersWalked,
-                                   framesRedone, staticPasses)
+                                   framesRedone, staticPasses, bounces, bounceRemaining)
 
 }  // namespace ivgi::gi
 
 namespace ivgi::cli {
+
+nlohmann::json bouncesJson(const gi::IvSettings& s) {
+  return s.bounces ? nlohmann::json(*s.bounces) : nlohmann::json("auto");
+}
+
+std::string bouncesText(const gi::IvSettings& s) { return s.bounces ? std::to_string(*s.bounces) : "auto"; }
 
 nlohmann::json solverJson(const gi::Solver* solver) {
   if (!solver) return nullptr;

@@ -2,9 +2,15 @@
 // The solver's figures as the sidecar, bench and sweep report them (one function for all three).
 #include <nlohmann/json.hpp>
 
+#include "engine/gi/iv/settings.h"
 #include "engine/gi/solver.h"
 
 namespace ivgi::cli {
+
+// The iv settings' bounces: the count given, or "auto" (until converged).
+nlohmann::json bouncesJson(const gi::IvSettings& settings);
+// "2", or "auto" (until converged).
+std::string bouncesText(const gi::IvSettings& settings);
 
 // The solver's counts, memory and work as JSON; null for no solver.
 nlohmann::json solverJson(const gi::Solver* solver);

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 
 #include "engine/cli/commands.h"
@@ -23,6 +24,23 @@ scene::Geometry renderableGeometry(const scene::Scene& s) {
   return g;
 }
 
+SolverOptions withSceneLight(SolverOptions o, const scene::Scene& s, const scene::Geometry& g) {
+  if (o.environment == "none") {
+    o.environment.clear();
+    return o;
+  }
+  if (!o.environment.empty()) return o;
+  const bool emits = std::any_of(g.surfelEmission.begin(), g.surfelEmission.end(),
+                                 [](const glm::vec4& e) { return e.r > 0.0f || e.g > 0.0f || e.b > 0.0f; });
+  const bool lit = std::any_of(s.nodes.begin(), s.nodes.end(), [](const scene::Node& n) { return n.light >= 0; });
+  if (emits || lit) return o;
+  o.environment = "1,1,1";
+  std::fprintf(stderr,
+               "ivgi: note: %s has no light: lit by a uniform white sky (--env 1,1,1); --env none keeps it dark\n",
+               s.source.c_str());
+  return o;
+}
+
 std::unique_ptr<gi::Solver> makeSolver(const SolverOptions& o, const vk::Context& ctx, const scene::Scene& s,
                                        const scene::Geometry& g, int animation, const gi::Hierarchy* hierarchy) {
   if (o.method == "none") return nullptr;
@@ -32,6 +50,7 @@ std::unique_ptr<gi::Solver> makeSolver(const SolverOptions& o, const vk::Context
         "none)");
   if (o.method != "iv") throw SettingsError("--method '" + o.method + "': methods are iv, pt and none");
   gi::IvSettings settings = o.iv;
+  settings.memoryBudget = o.maxMemoryMiB << 20;
   if (!o.environment.empty()) settings.environment = scene::Environment::parse(o.environment);
   gi::IvSetup setup = hierarchy ? gi::IvSetup{*hierarchy, settings, {}} : gi::makeIvSetup(s, g, settings);
   gi::markMovingObjects(setup, s, g, animation);
@@ -40,7 +59,7 @@ std::unique_ptr<gi::Solver> makeSolver(const SolverOptions& o, const vk::Context
 
 reference::PathSettings pathSettings(const PathOptions& o, const SolverOptions& solver) {
   reference::PathSettings settings{
-      .spp = o.spp, .bounces = o.bouncesGiven ? int(solver.iv.bounces) : -1, .seed = o.seed, .threads = o.threads};
+      .spp = o.spp, .bounces = solver.iv.bounces ? int(*solver.iv.bounces) : -1, .seed = o.seed, .threads = o.threads};
   reference::validate(settings);
   return settings;
 }

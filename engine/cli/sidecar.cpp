@@ -33,12 +33,15 @@ void Sidecar::keepEarlierRecords(const std::vector<int>& frames) {
 }
 
 void Sidecar::addFrame(int frame, double time, const std::vector<std::pair<std::string, double>>& passMs, double wallMs,
-                       const std::vector<std::string>& files) {
+                       const std::vector<std::string>& files,
+                       const std::vector<std::pair<std::string, double>>& solver) {
   nlohmann::json passes = nlohmann::json::object();
   double total = 0;
   for (const auto& [pass, ms] : passMs) passes[pass] = ms, total += ms;
-  json_["frames"].push_back(
-      {{"frame", frame}, {"time", time}, {passKey_, passes}, {totalKey_, total}, {"wallMs", wallMs}, {"files", files}});
+  nlohmann::json record = {{"frame", frame},   {"time", time},     {passKey_, passes},
+                           {totalKey_, total}, {"wallMs", wallMs}, {"files", files}};
+  for (const auto& [figure, value] : solver) record["solver"][figure] = value;
+  json_["frames"].push_back(std::move(record));
 }
 
 double Sidecar::medianTotalMs() const {

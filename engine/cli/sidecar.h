@@ -22,8 +22,9 @@ class Sidecar {
   // With --resume: the records the sidecar already at `path` holds of `frames` (those this run
   // skips because their files exist).
   void keepEarlierRecords(const std::vector<int>& frames);
+  // `solver`: the solver's figures of the frame (e.g. its bounces).
   void addFrame(int frame, double time, const std::vector<std::pair<std::string, double>>& passMs, double wallMs,
-                const std::vector<std::string>& files);
+                const std::vector<std::string>& files, const std::vector<std::pair<std::string, double>>& solver);
   void set(const std::string& key, nlohmann::json value) { json_[key] = std::move(value); }
   double medianTotalMs() const;
   void write();

@@ -40,7 +40,11 @@ std::vector<T> parseList(const std::string& option, const std::string& text) {
 std::string label(const SolverOptions& o) {
   if (o.method != "iv") return o.method;
   std::ostringstream s;
-  s << "N" << o.iv.bins << " e" << o.iv.epsilon << " b" << o.iv.bounces;
+  s << "N" << o.iv.bins << " e" << o.iv.epsilon;
+  if (o.iv.bounces)
+    s << " b" << *o.iv.bounces;
+  else
+    s << " tol" << o.iv.bounceTolerance;
   if (o.iv.kappa != 1.0f) s << " k" << o.iv.kappa;
   return s.str();
 }
@@ -104,7 +108,11 @@ int runSweep(const SweepOptions& o) {
   auto methods = parseList<std::string>("--method", o.methods);
   auto bins = parseList<uint32_t>("--bins", o.bins);
   auto eps = parseList<float>("--eps", o.eps);
-  auto bounces = parseList<uint32_t>("--bounces", o.bounces);
+  // Bounce counts, or auto (until converged) at each of the tolerances.
+  std::vector<std::optional<uint32_t>> bounces;
+  for (const std::string& b : parseList<std::string>("--bounces", o.bounces))
+    bounces.push_back(b == "auto" ? std::nullopt : std::optional<uint32_t>(parseList<uint32_t>("--bounces", b)[0]));
+  auto tolerances = parseList<float>("--bounce-tol", o.bounceTolerances);
   auto kappas = parseList<float>("--kappa", o.kappa);
   std::vector<SolverOptions> grid;
   for (const auto& m : methods) {
@@ -116,15 +124,19 @@ int runSweep(const SweepOptions& o) {
     }
     for (uint32_t n : bins)
       for (float e : eps)
-        for (uint32_t b : bounces)
-          for (float k : kappas)
-            grid.push_back(
-                {.method = m, .iv = {.bins = n, .epsilon = e, .bounces = b, .kappa = k}, .environment = o.environment});
+        for (const auto& b : bounces)
+          for (float t : b ? std::vector<float>{gi::IvSettings{}.bounceTolerance} : tolerances)
+            for (float k : kappas)
+              grid.push_back({.method = m,
+                              .iv = {.bins = n, .epsilon = e, .bounces = b, .bounceTolerance = t, .kappa = k},
+                              .environment = o.environment});
   }
 
   const image::RgbImage reference = image::readLinearRgb(o.reference);
   scene::Scene s = loadScene(o.source);
   scene::Geometry g = renderableGeometry(s);
+  const std::string environment = withSceneLight({.environment = o.environment}, s, g).environment;
+  for (SolverOptions& setting : grid) setting.environment = environment;
   const Timeline tl = timeline(s, o.animation, o.fps);
   if (o.frame > tl.lastFrame)
     throw SettingsError("--frame " + std::to_string(o.frame) + ": the animation ends at frame " +
@@ -180,20 +192,31 @@ int runSweep(const SweepOptions& o) {
                     jsonPath = (fs::path(o.out) / "sweep.json").string(),
                     pngPath = (fs::path(o.out) / "sweep.png").string();
   std::ostringstream csv;
-  csv << "scene,method,bins,eps,bounces,kappa,ms,msP90,bytes,relMSE,RMSE,PSNR,maxError,FLIP,pareto,label\n";
+  csv << "scene,method,bins,eps,bounces,bounceTol,bouncesRun,kappa,ms,msP90,bytes,relMSE,RMSE,PSNR,maxError,FLIP,"
+         "pareto,label\n";
   nlohmann::json settingsJson = nlohmann::json::array();
   std::printf("%-22s %10s %10s %12s %10s %8s %s\n", "setting", "median ms", "MiB", "relMSE", "FLIP", "PSNR dB",
               "Pareto");
   for (const auto& r : rows) {
     const auto& st = r.settings;
-    csv << '"' << s.source << "\"," << st.method << ',' << st.iv.bins << ',' << st.iv.epsilon << ',' << st.iv.bounces
-        << ',' << st.iv.kappa << ',' << r.ms << ',' << r.msP90 << ',' << r.bytes << ',' << r.error.relMse << ','
-        << r.error.rmse << ',' << r.error.psnr << ',' << r.error.maxError << ',' << r.error.flip << ','
-        << (r.pareto ? 1 : 0) << ",\"" << label(st) << "\"\n";
-    nlohmann::json j = {{"method", st.method},      {"bins", st.iv.bins},   {"eps", st.iv.epsilon},
-                        {"bounces", st.iv.bounces}, {"kappa", st.iv.kappa}, {"medianMs", r.ms},
-                        {"p90Ms", r.msP90},         {"bytes", r.bytes},     {"error", metricsJson(r.error)},
-                        {"solver", r.solver},       {"pareto", r.pareto},   {"label", label(st)}};
+    const auto run = r.solver.is_object() ? r.solver.value("bounces", 0u) : 0u;
+    csv << '"' << s.source << "\"," << st.method << ',' << st.iv.bins << ',' << st.iv.epsilon << ','
+        << bouncesText(st.iv) << ',' << st.iv.bounceTolerance << ',' << run << ',' << st.iv.kappa << ',' << r.ms << ','
+        << r.msP90 << ',' << r.bytes << ',' << r.error.relMse << ',' << r.error.rmse << ',' << r.error.psnr << ','
+        << r.error.maxError << ',' << r.error.flip << ',' << (r.pareto ? 1 : 0) << ",\"" << label(st) << "\"\n";
+    nlohmann::json j = {{"method", st.method},
+                        {"bins", st.iv.bins},
+                        {"eps", st.iv.epsilon},
+                        {"bounces", bouncesJson(st.iv)},
+                        {"bounceTolerance", st.iv.bounceTolerance},
+                        {"kappa", st.iv.kappa},
+                        {"medianMs", r.ms},
+                        {"p90Ms", r.msP90},
+                        {"bytes", r.bytes},
+                        {"error", metricsJson(r.error)},
+                        {"solver", r.solver},
+                        {"pareto", r.pareto},
+                        {"label", label(st)}};
     settingsJson.push_back(j);
     std::printf("%-22s %10.2f %10.1f %12.5g %10.4f %8.2f %s\n", label(st).c_str(), r.ms, double(r.bytes) / (1 << 20),
                 r.error.relMse, r.error.flip, r.error.psnr, r.pareto ? "*" : "");

@@ -113,7 +113,7 @@ vk::Bindings FrameRenderer::pool() const {
 }
 
 void FrameRenderer::recordFrame(VkCommandBuffer cmd, const gpu::Camera& camera, bool geometryMoved) {
-  const glm::uvec2 size(image_.width, image_.height), fine = size * image_.samples;
+  const glm::uvec2 fine = glm::uvec2(image_.width, image_.height) * image_.samples;
   const vk::Bindings buffers = pool();
   timer_.reset(cmd);
   timedPass(cmd, timer_, "animate",
@@ -128,8 +128,13 @@ void FrameRenderer::recordFrame(VkCommandBuffer cmd, const gpu::Camera& camera, 
     groups.z = rasterSlices(fine);
     raster_.dispatch(cmd, groups, buffers, gpu::ImagePush{camera, fine, triangleCount_, 0});
   });
+  recordResolve(cmd, camera);
+}
+
+void FrameRenderer::recordResolve(VkCommandBuffer cmd, const gpu::Camera& camera) {
+  const glm::uvec2 size(image_.width, image_.height);
   timedPass(cmd, timer_, "resolve", [&] {
-    resolve_.dispatch(cmd, {(size.x + 7) / 8, (size.y + 7) / 8, 1}, buffers,
+    resolve_.dispatch(cmd, {(size.x + 7) / 8, (size.y + 7) / 8, 1}, pool(),
                       gpu::ImagePush{camera, size, image_.samples, 0});
   });
 }
@@ -142,14 +147,21 @@ FrameResult FrameRenderer::render(const scene::FrameInputs& in, const scene::Cam
   morphWeights_.upload(in.morphWeights);
   if (solver_) solver_->setLights(lights);
   const gpu::Camera camera = scene::gpuCamera(view, float(image_.width) / float(image_.height));
-  // A frame the solver could not finish (it ran out of room) is redone, relinking.
+  // A frame the solver could not finish (it ran out of room) is redone, relinking; one whose solver
+  // has more to do (bounces not converged) gets it, and its image resolved again.
   ctx_.submitAndWait([&](VkCommandBuffer cmd) { recordFrame(cmd, camera, geometryMoved); });
   while (solver_ && solver_->frameMustBeRedone())
     ctx_.submitAndWait([&](VkCommandBuffer cmd) { recordFrame(cmd, camera, true); });
+  if (solver_ && solver_->wantsMorePasses()) {
+    do ctx_.submitAndWait([&](VkCommandBuffer cmd) { solver_->recordMorePasses(cmd, timer_); });
+    while (solver_->wantsMorePasses());
+    ctx_.submitAndWait([&](VkCommandBuffer cmd) { recordResolve(cmd, camera); });
+  }
   if (solver_) solver_->frameStands();
 
   FrameResult result;
   result.passTimes = timer_.results();
+  if (solver_) result.solverFigures = solver_->frameFigures();
   image::FrameChannels& c = result.channels;
   c.width = image_.width, c.height = image_.height;
   const size_t pixels = size_t(image_.width) * image_.height;

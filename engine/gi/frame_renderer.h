@@ -28,7 +28,8 @@ void validate(const ImageSettings& settings, const vk::Context& ctx);
 
 struct FrameResult {
   image::FrameChannels channels;
-  std::vector<vk::PassTime> passTimes;
+  std::vector<vk::PassTime> passTimes;                        // a pass recorded more than once: summed
+  std::vector<std::pair<std::string, double>> solverFigures;  // the solver's frameFigures()
 };
 
 class FrameRenderer {
@@ -51,6 +52,7 @@ class FrameRenderer {
 
  private:
   void recordFrame(VkCommandBuffer cmd, const gpu::Camera& camera, bool geometryMoved);
+  void recordResolve(VkCommandBuffer cmd, const gpu::Camera& camera);
   vk::Bindings pool() const;  // every buffer by the name the shaders bind it under
 
   const vk::Context& ctx_;

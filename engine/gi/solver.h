@@ -24,6 +24,13 @@ class Solver {
   // and, when it stands, a chance to give back what it left unused.
   virtual bool frameMustBeRedone() = 0;
   virtual void frameStands() {}
+  // After the frame completed: whether the solver has more to record before the irradiance is final
+  // (bounces that have not converged yet), and the recording of it; the frame renderer submits it
+  // and resolves the image again.
+  virtual bool wantsMorePasses() const { return false; }
+  virtual void recordMorePasses(VkCommandBuffer, vk::PassTimer&) {}
+  // What the sidecar records of the solver per frame (e.g. its bounces).
+  virtual std::vector<std::pair<std::string, double>> frameFigures() const { return {}; }
   // Irradiance per surfel (rgba32f, w unused), read by the resolve pass.
   virtual const vk::Buffer& irradiance() const = 0;
   // Device memory the solver holds.

@@ -1,5 +1,7 @@
 #include "engine/vk/timer.h"
 
+#include <algorithm>
+
 namespace ivgi::vk {
 
 PassTimer::PassTimer(const Context& ctx, uint32_t maxPasses) : ctx_(ctx), maxPasses_(maxPasses) {
@@ -35,8 +37,12 @@ std::vector<PassTime> PassTimer::results() const {
         "vkGetQueryPoolResults");
   uint64_t mask = ctx_.timestampValidBits() >= 64 ? ~0ull : ((1ull << ctx_.timestampValidBits()) - 1);
   for (size_t i = 0; i < names_.size(); ++i) {
-    uint64_t delta = (ticks[2 * i + 1] - ticks[2 * i]) & mask;
-    out.push_back({names_[i], double(delta) * ctx_.timestampPeriodNs() * 1e-6});
+    const double ms = double((ticks[2 * i + 1] - ticks[2 * i]) & mask) * ctx_.timestampPeriodNs() * 1e-6;
+    auto same = std::find_if(out.begin(), out.end(), [&](const PassTime& p) { return p.pass == names_[i]; });
+    if (same == out.end())
+      out.push_back({names_[i], ms});
+    else
+      same->ms += ms;  // a pass recorded again (in a later submission of the frame)
   }
   return out;
 }

@@ -1,7 +1,10 @@
 #pragma once
 // Pass 6, bounces: emitted radiosity at the leaves, pulled up the trees (the prune credits emitters
 // through it, and the bounces start from it); then per bounce a gather at the leaves over their
-// surviving links and a pull-up to the parents, so that coarse senders send the new value.
+// surviving links, a pull-up to the parents, so that coarse senders send the new value, and a check
+// (bounce_check.comp) of whether the bounces are done: until a bounce adds less than a tolerance of
+// the light, or a given count. Bounces are recorded in steps that run zero workgroups once the
+// check says done; where a frame's steps ran out first, the solver records more.
 #include "engine/gi/hierarchy.h"
 #include "engine/gi/iv/buffers.h"
 #include "engine/gi/iv/links.h"
@@ -12,17 +15,26 @@ namespace ivgi::gi {
 
 class Bounces {
  public:
-  explicit Bounces(const vk::Context& ctx);
+  Bounces(const vk::Context& ctx, const Hierarchy& h, vk::Allocations& allocations);
   // π·Le into radiosityA at the leaves, pulled up.
   void recordEmission(VkCommandBuffer cmd, const IvBuffers& b, const Hierarchy& h) const;
-  // K + 1 gathers for K bounces, alternating radiosityA and radiosityB; returns which holds the
-  // result (0: A, 1: B).
-  uint32_t record(VkCommandBuffer cmd, const IvBuffers& b, const Hierarchy& h, const LinkSet& staticSet,
-                  const LinkSet& frameSet, const IvSettings& settings) const;
+  // The frame's first gather comes next.
+  void recordStart(VkCommandBuffer cmd) const;
+  // `steps` more gathers (each with its pull-up and check), from the frame's gather `first` on;
+  // radiosityA and radiosityB take turns.
+  void recordSteps(VkCommandBuffer cmd, const IvBuffers& b, const Hierarchy& h, const LinkSet& staticSet,
+                   const LinkSet& frameSet, const IvSettings& settings, uint32_t first, uint32_t steps) const;
+  // The gathers a frame runs at most.
+  static uint32_t maxGathers(const IvSettings& settings);
+  // After the frame's steps ran: how far the bounces got.
+  gpu::BounceState state() const { return state_.read<gpu::BounceState>(1)[0]; }
 
  private:
-  void pullUp(VkCommandBuffer cmd, const IvBuffers& b, const Hierarchy& h, const vk::Buffer& radiosity) const;
-  vk::Program emit_, gather_, pullUp_;
+  void pullUp(VkCommandBuffer cmd, const IvBuffers& b, const Hierarchy& h, const vk::Buffer& radiosity,
+              bool indirect) const;
+  vk::Program emit_, gather_, pullUp_, check_;
+  uint32_t gatherGroups_;
+  vk::Buffer sums_, state_, fullArgs_, args_;  // per gather workgroup; the state; dispatch sizes, full and next
 };
 
 }  // namespace ivgi::gi

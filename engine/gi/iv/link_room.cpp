@@ -1,6 +1,8 @@
 #include "engine/gi/iv/link_room.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 
 #include "engine/core/errors.h"
 #include "engine/vk/program.h"
@@ -17,74 +19,84 @@ uint32_t withMargin(uint32_t needed) {
 
 }  // namespace
 
-LinkRoom::LinkRoom(const vk::Context& ctx, IvBuffers& buffers, LinkSet& staticSet, LinkSet& frameSet,
-                   vk::Allocations& allocations)
-    : ctx_(ctx), b_(buffers), staticSet_(staticSet), frameSet_(frameSet), allocations_(allocations) {}
+LinkRoom::LinkRoom(const vk::Context& ctx, const IvSettings& settings, IvBuffers& buffers, LinkSet& staticSet,
+                   LinkSet& frameSet, vk::Allocations& allocations)
+    : ctx_(ctx),
+      settings_(settings),
+      b_(buffers),
+      staticSet_(staticSet),
+      frameSet_(frameSet),
+      allocations_(allocations) {}
 
 // A first guess at a set's surviving links, so that the first frame is not pruned twice (once to
 // count them): a leaf the set prunes in full keeps about the bins of its hemisphere, 3N² (fewer in
 // an open scene, whose surplus the first frame gives back); a static leaf merging the frame's
 // senders re-emits only the bins they touch, about N²/2; plus the usual margin.
-uint32_t LinkRoom::firstLeafLinkGuess(const LinkSet& set, const IvSettings& settings,
-                                      const std::vector<uint32_t>& leafMoves) const {
+uint32_t LinkRoom::firstLeafLinkGuess(const LinkSet& set, const std::vector<uint32_t>& leafMoves) const {
   if (set.empty()) return 0;
-  const uint64_t hemisphere = 3ull * settings.bins * settings.bins, merged = hemisphere / 6;
+  const uint64_t hemisphere = 3ull * settings_.bins * settings_.bins, merged = hemisphere / 6;
   uint64_t guess = 0;
   for (uint32_t moves : leafMoves)
     guess += &set == &staticSet_ ? (moves ? 0 : hemisphere) : (moves ? hemisphere : merged);
   return withMargin(uint32_t(std::min<uint64_t>(guess, 0xFFFFFFF0u)));
 }
 
-void LinkRoom::guess(const IvSettings& settings, const std::vector<uint32_t>& leafMoves, uint32_t nodeCount) {
+void LinkRoom::guess(const std::vector<uint32_t>& leafMoves, uint32_t nodeCount) {
   const uint32_t surfelCount = uint32_t(leafMoves.size());
   for (LinkSet* set : {&staticSet_, &frameSet_}) {
     // Refinement makes a few tens of links a node (more bins refine further).
     set->linkCapacity = set->empty() ? 0 : 48 * nodeCount + 1024;
-    set->leafLinkCapacity = firstLeafLinkGuess(*set, settings, leafMoves);
+    set->leafLinkCapacity = firstLeafLinkGuess(*set, leafMoves);
   }
   // The refinement's widest level holds about ten pairs a node: 16 seldom needs a second try.
   worklistCapacity_ = std::max<uint32_t>(
       uint32_t(std::max(staticSet_.rootPairs.size(), frameSet_.rootPairs.size()) / 2), 16 * nodeCount + 1024);
   if (!refusal(arrays()).empty())  // the guess does not fit the device: start small, grow to what the frame counts
     for (LinkSet* set : {&staticSet_, &frameSet_})
-      set->leafLinkCapacity = set->empty() ? 0 : surfelCount * std::min(6 * settings.bins * settings.bins, 128u) + 1024;
+      set->leafLinkCapacity =
+          set->empty() ? 0 : surfelCount * std::min(6 * settings_.bins * settings_.bins, 128u) + 1024;
   allocate();
 }
 
 std::vector<LinkRoom::Array> LinkRoom::arrays() {
-  // The leaf links are texels in prune_bins.comp and gather.comp; the rest storage buffers.
+  // All are texels (imageBuffers), whose views reach past one storage binding.
   std::vector<Array> arrays = {
-      {&b_.worklistA, worklistCapacity_, 8, false, "refinement worklist", nullptr},
-      {&b_.worklistB, worklistCapacity_, 8, false, "refinement worklist", nullptr},
-      {&b_.leafLinks, frameSet_.leafLinkCapacity, 8, true, "leaf links", &frameSet_},
-      {&b_.staticLinks, staticSet_.leafLinkCapacity, 8, true, "static leaf links", &staticSet_},
-      {&b_.staticBins, staticSet_.leafLinkCapacity, 4, true, "static leaf links' bins", &staticSet_},
-      {&b_.staticDepths, staticSet_.leafLinkCapacity, 4, true, "static leaf links' depths", &staticSet_}};
+      {&b_.worklistA, worklistCapacity_, 8, "refinement worklist", nullptr},
+      {&b_.worklistB, worklistCapacity_, 8, "refinement worklist", nullptr},
+      {&b_.leafLinks, frameSet_.leafLinkCapacity, 8, "leaf links", &frameSet_},
+      {&b_.staticLinks, staticSet_.leafLinkCapacity, 8, "static leaf links", &staticSet_},
+      {&b_.staticBins, staticSet_.leafLinkCapacity, 4, "static leaf links' bins", &staticSet_},
+      {&b_.staticDepths, staticSet_.leafLinkCapacity, 4, "static leaf links' depths", &staticSet_}};
   for (LinkSet* set : {&staticSet_, &frameSet_})
-    arrays.insert(arrays.end(), {{&set->links, set->linkCapacity, 8, false, "links", nullptr},
-                                 {&set->senders, set->linkCapacity, 4, false, "links", nullptr}});
+    arrays.insert(arrays.end(), {{&set->links, set->linkCapacity, 8, "links", nullptr},
+                                 {&set->senders, set->linkCapacity, 4, "links", nullptr}});
   return arrays;
 }
 
 std::string LinkRoom::refusal(const std::vector<Array>& arrays) const {
-  auto refused = [](uint64_t bytes, const std::string& what, const char* limit, uint64_t limitBytes) {
-    return "the iv solver needs " + std::to_string(bytes >> 20) + " MiB of " + what + ", above the device's " + limit +
-           " of " + std::to_string(limitBytes >> 20) + " MiB: raise --eps or lower --bins";
+  // Links grow about as 1/ε, leaf links as N²: the settings that would fit, were `over` the excess.
+  auto refused = [&](uint64_t bytes, const std::string& what, const char* limit, uint64_t limitBytes) {
+    const double over = double(bytes) / double(std::max<uint64_t>(limitBytes, 1)) * 1.25;
+    char fit[160];
+    std::snprintf(fit, sizeof fit, "--eps %.3g or --bins %u would fit (links grow about as 1/eps, leaf links as N^2)",
+                  settings_.epsilon * over, std::max(1u, uint32_t(double(settings_.bins) / std::sqrt(over))));
+    return "the iv solver needs " + std::to_string(bytes >> 20) + " MiB of " + what + ", above " + limit + " of " +
+           std::to_string(limitBytes >> 20) + " MiB: about " + fit;
   };
   const VkPhysicalDeviceLimits& limits = ctx_.limits();
   uint64_t total = allocations_.bytes();  // once every array has its new size
   for (const Array& a : arrays) {
-    if (!a.texels && a.bytes() > limits.maxStorageBufferRange)
-      return refused(a.bytes(), a.what, "maxStorageBufferRange", limits.maxStorageBufferRange);
-    if (a.texels && a.elements() > limits.maxTexelBufferElements)
-      return refused(a.bytes(), a.what, "maxTexelBufferElements",
+    if (a.elements() > limits.maxTexelBufferElements)
+      return refused(a.bytes(), a.what, "the device's maxTexelBufferElements",
                      uint64_t(limits.maxTexelBufferElements) * a.elementBytes);
     if (a.bytes() > ctx_.maxAllocationBytes())
-      return refused(a.bytes(), a.what, "maxMemoryAllocationSize", ctx_.maxAllocationBytes());
+      return refused(a.bytes(), a.what, "the device's maxMemoryAllocationSize", ctx_.maxAllocationBytes());
     total = total - a.buffer->size() + std::max<uint64_t>(a.bytes(), a.buffer->size());  // grows what it had
   }
+  if (settings_.memoryBudget && total > settings_.memoryBudget)
+    return refused(total, "device memory in all", "--max-memory", settings_.memoryBudget);
   if (total > ctx_.deviceHeapBytes())
-    return refused(total, "device memory in all", "memory heap", ctx_.deviceHeapBytes());
+    return refused(total, "device memory in all", "the device's memory heap", ctx_.deviceHeapBytes());
   return {};
 }
 

@@ -16,12 +16,12 @@ namespace ivgi::gi {
 
 class LinkRoom {
  public:
-  LinkRoom(const vk::Context& ctx, IvBuffers& buffers, LinkSet& staticSet, LinkSet& frameSet,
-           vk::Allocations& allocations);
+  LinkRoom(const vk::Context& ctx, const IvSettings& settings, IvBuffers& buffers, LinkSet& staticSet,
+           LinkSet& frameSet, vk::Allocations& allocations);
 
   // A first guess for every set (from the leaves each prunes in full or merges), allocated; where
   // it does not fit the device, a small start that grows to what the first frame counts.
-  void guess(const IvSettings& settings, const std::vector<uint32_t>& leafMoves, uint32_t nodeCount);
+  void guess(const std::vector<uint32_t>& leafMoves, uint32_t nodeCount);
   uint32_t worklistCapacity() const { return worklistCapacity_; }
 
   // What a frame ran out of, from the link sets' counters.
@@ -38,12 +38,11 @@ class LinkRoom {
   void releaseUnused(bool staticLinked);
 
  private:
-  // An array that grows with a count, and how it is bound (limits: a storage buffer
-  // maxStorageBufferRange; texels, read as imageBuffers, maxTexelBufferElements).
+  // An array that grows with a count; bound as texels (imageBuffers), so that maxTexelBufferElements
+  // limits it rather than maxStorageBufferRange.
   struct Array {
     vk::Buffer* buffer;
     uint64_t count, elementBytes;
-    bool texels;
     const char* what;
     const LinkSet* leafLinksOf;  // the set whose surviving links it holds (kept when it shrinks), or null
     uint64_t elements() const { return std::max<uint64_t>(count, 1); }
@@ -53,10 +52,10 @@ class LinkRoom {
   // Why those arrays cannot be allocated on this device (empty: they can).
   std::string refusal(const std::vector<Array>& arrays) const;
   void allocate();
-  uint32_t firstLeafLinkGuess(const LinkSet& set, const IvSettings& settings,
-                              const std::vector<uint32_t>& leafMoves) const;
+  uint32_t firstLeafLinkGuess(const LinkSet& set, const std::vector<uint32_t>& leafMoves) const;
 
   const vk::Context& ctx_;
+  const IvSettings& settings_;
   IvBuffers& b_;
   LinkSet& staticSet_;
   LinkSet& frameSet_;

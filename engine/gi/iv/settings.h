@@ -9,11 +9,15 @@
 namespace ivgi::gi {
 
 struct IvSettings {
-  uint32_t bins = 16;                             // --bins N: 6×N×N direction bins
-  float epsilon = 0.02f;                          // --eps: refine links while their form-factor estimate is above it
-  uint32_t bounces = 2;                           // --bounces: indirect bounces; 0 = direct light only
+  uint32_t bins = 16;     // --bins N: 6×N×N direction bins
+  float epsilon = 0.02f;  // --eps: refine links while their form-factor estimate is above it
+  // --bounces K: exactly K indirect bounces (0: direct light only); none: until a bounce adds less
+  // than --bounce-tol of the light still to come (estimated from the last two bounces).
+  std::optional<uint32_t> bounces;
+  float bounceTolerance = 1e-3f;                  // --bounce-tol
   float kappa = 1.0f;                             // --kappa: refine while a sender covers more than κ average bins
   std::optional<scene::Environment> environment;  // --env; none: no environment light
+  uint64_t memoryBudget = 0;  // --max-memory, in bytes: the most the solver may allocate; 0: the device's heap
   // The most workgroups one prune dispatch runs; 0: as many as the scene and the device allow. Fewer
   // prune in more dispatches (batches) with the same result; tests batch small scenes with it.
   uint32_t pruneGroups = 0;
@@ -22,7 +26,8 @@ struct IvSettings {
   uint32_t pruneLeaves = 0;
 };
 
-// Bounces beyond any use (a bounce is one gather over the links), a guard against typing errors.
+// The most bounces a frame runs, given or until converged: a guard against typing errors and
+// against light that does not converge (an albedo of 1).
 inline constexpr uint32_t kMaxBounces = 10000;
 
 // Throws SettingsError naming the option when a setting is out of its range.
@@ -42,6 +47,10 @@ struct IvStats {
   // prune workgroup its loop budget (the timings are the redone frame's), and static passes run (1
   // once the static links are whole).
   uint32_t framesRedone = 0, staticPasses = 0;
+  // The last frame's bounces (gathers − 1), and the light its bounces were estimated to leave out,
+  // as a share of the light (0 where they stopped at a count: not estimated then).
+  uint32_t bounces = 0;
+  float bounceRemaining = 0;
 };
 
 }  // namespace ivgi::gi

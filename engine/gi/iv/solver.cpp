@@ -6,6 +6,10 @@ namespace ivgi::gi {
 
 namespace {
 
+// Bounces recorded in a frame's first submission, and in each more where they have not converged:
+// steps past convergence run zero workgroups, so the first covers most scenes in one submission.
+constexpr uint32_t kFirstBounceSteps = 16, kMoreBounceSteps = 32;
+
 IvSetup validated(IvSetup setup) {
   validate(setup.settings);
   if (!setup.objectMoves.empty() && setup.objectMoves.size() != setup.hierarchy.roots.size())
@@ -51,8 +55,8 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, IvSetup set
       refit_(ctx),
       links_(ctx),
       prune_(ctx, settings_, surfelCount_),
-      bounces_(ctx),
-      room_(ctx, b_, staticSet_, frameSet_, allocations_) {
+      bounces_(ctx, setup_.hierarchy, allocations_),
+      room_(ctx, settings_, b_, staticSet_, frameSet_, allocations_) {
   const Hierarchy& h = setup_.hierarchy;
   // Pairs of two static objects are linked and pruned once, but only when something else moves.
   auto moves = [&](size_t root) { return setup_.objectMoves.empty() || setup_.objectMoves[root]; };
@@ -81,7 +85,7 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, IvSetup set
     vkCmdFillBuffer(cmd, b_.staticRanges.handle(), 0, VK_WHOLE_SIZE, 0u);
     Prune::clearBins(cmd, b_);
   });
-  room_.guess(settings_, leafMoves, nodeCount_);
+  room_.guess(leafMoves, nodeCount_);
 }
 
 void IvSolver::uploadScene(const scene::Geometry& g, const std::vector<uint32_t>& leafMoves, bool split,
@@ -152,8 +156,28 @@ void IvSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
   }
   timedPass(cmd, timer, "bounces", [&] {
     if (!relinking) bounces_.recordEmission(cmd, b_, h);
-    finalRadiosity_ = bounces_.record(cmd, b_, h, staticSet_, frameSet_, settings_);
+    bounces_.recordStart(cmd);
+    gathersRecorded_ = std::min(kFirstBounceSteps, Bounces::maxGathers(settings_));
+    bounces_.recordSteps(cmd, b_, h, staticSet_, frameSet_, settings_, 0, gathersRecorded_);
   });
+}
+
+bool IvSolver::wantsMorePasses() const {
+  const gpu::BounceState s = bounces_.state();
+  return s.done == 0 && s.gathers == gathersRecorded_;
+}
+
+void IvSolver::recordMorePasses(VkCommandBuffer cmd, vk::PassTimer& timer) {
+  timedPass(cmd, timer, "bounces", [&] {
+    const uint32_t steps = std::min(kMoreBounceSteps, Bounces::maxGathers(settings_) - gathersRecorded_);
+    bounces_.recordSteps(cmd, b_, setup_.hierarchy, staticSet_, frameSet_, settings_, gathersRecorded_, steps);
+    gathersRecorded_ += steps;
+  });
+}
+
+std::vector<std::pair<std::string, double>> IvSolver::frameFigures() const {
+  const gpu::BounceState s = bounces_.state();
+  return {{"bounces", double(s.gathers) - 1.0}, {"bounceRemaining", settings_.bounces ? 0.0 : double(s.remaining)}};
 }
 
 bool IvSolver::frameMustBeRedone() {
@@ -189,6 +213,9 @@ IvStats IvSolver::stats() const {
       s.sendersWalked = walked;
   }
   s.bytes = allocatedBytes();
+  const gpu::BounceState bounces = bounces_.state();
+  s.bounces = bounces.gathers - 1;
+  s.bounceRemaining = settings_.bounces ? 0.0f : bounces.remaining;
   return s;
 }
 
@@ -217,7 +244,8 @@ std::vector<std::vector<IvSolver::LeafLink>> IvSolver::leafLinks() const {
 std::vector<gpu::NodeState> IvSolver::nodeStates() const { return b_.nodes.read<gpu::NodeState>(nodeCount_); }
 
 std::vector<glm::vec4> IvSolver::leafRadiosity() const {
-  auto nodes = (finalRadiosity_ ? b_.radiosityB : b_.radiosityA).read<glm::vec4>(nodeCount_);
+  // Gather g writes radiosityB where g is even.
+  auto nodes = ((bounces_.state().gathers - 1) % 2 == 0 ? b_.radiosityB : b_.radiosityA).read<glm::vec4>(nodeCount_);
   std::vector<glm::vec4> out(surfelCount_);
   for (uint32_t s = 0; s < surfelCount_; ++s) out[s] = nodes[setup_.hierarchy.leafOfSurfel[s]];
   return out;

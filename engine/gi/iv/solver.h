@@ -46,6 +46,9 @@ class IvSolver final : public Solver {
   void record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffer& surfels, bool geometryMoved) override;
   // Grows what overflowed; a frame that overflowed is redone.
   bool frameMustBeRedone() override;
+  bool wantsMorePasses() const override;
+  void recordMorePasses(VkCommandBuffer cmd, vk::PassTimer& timer) override;
+  std::vector<std::pair<std::string, double>> frameFigures() const override;
   // Gives back the leaf-link room the frame left unused and the static pairs' links once made.
   void frameStands() override;
   const vk::Buffer& irradiance() const override { return b_.irradiance; }
@@ -86,7 +89,7 @@ class IvSolver final : public Solver {
   bool linked_ = false, staticLinked_ = false;
   uint32_t framesRedone_ = 0, staticPasses_ = 0;
   uint32_t lightCount_ = 0;
-  uint32_t finalRadiosity_ = 0;  // 0: radiosityA, 1: radiosityB
+  uint32_t gathersRecorded_ = 0;  // this frame's, so far
 };
 
 }  // namespace ivgi::gi
