@@ -10,7 +10,9 @@ layout(local_size_x = 1) in;
 
 layout(std430, binding = 0) readonly buffer BounceSums { BounceSum sums[]; };
 layout(std430, binding = 1) buffer BounceStates { BounceState state; };
-layout(std430, binding = 2) readonly buffer FullArgs { uvec4 fullArgs[]; };  // gather, then each pull-up level
+layout(std430, binding = 2) readonly buffer FullArgs {
+  uvec4 fullArgs[];
+};  // gather, interpolation, then each pull-up level
 layout(std430, binding = 3) writeonly buffer BounceArgs { uvec4 bounceArgs[]; };
 layout(push_constant) uniform Push { BounceCheckPush push; };
 
@@ -32,5 +34,5 @@ void main() {
   state.change = change;
   state.total = total;
   state.remaining = remaining;
-  for (uint i = 0u; i <= push.levels; ++i) bounceArgs[i] = done ? uvec4(0u, 1u, 1u, 0u) : fullArgs[i];
+  for (uint i = 0u; i < push.dispatches; ++i) bounceArgs[i] = done ? uvec4(0u, 1u, 1u, 0u) : fullArgs[i];
 }

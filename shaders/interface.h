@@ -164,12 +164,64 @@ IVGI_CONST uint kManyEmitters = 0xFFFFFFFFu;  // a static leaf's emitters that d
 // Mask words of a leaf's 6·N² bins, one bit a bin.
 IVGI_FN uint maskWordsFor(uint n) { return (6u * n * n + 31u) / 32u; }
 
+// ---- iv: receivers (engine/gi/iv/receivers.h) ----
+
+// Irradiance is solved at receivers, surfels chosen each frame where the lighting needs them, and
+// interpolated to every other surfel. Slots of the receivers' counter buffer:
+IVGI_CONST uint kReceiverCandidatesA = 0u;  // the two candidate lists of the refinement rounds
+IVGI_CONST uint kReceiverCandidatesB = 1u;
+IVGI_CONST uint kReceiverCount = 2u;  // receivers listed so far this frame
+IVGI_CONST uint kReceiverRound = 3u;  // the first receiver listed in this round
+IVGI_CONST uint kReceiverFills = 4u;  // surfels that no receiver's support reached, made receivers
+IVGI_CONST uint kReceiverScale = 5u;  // the largest irradiance gathered (luminance bits)
+IVGI_CONST uint kReceiverSlots = 8u;
+// A surfel's support radius as float bits: +inf while it is not a receiver (atomicMin lists it once).
+IVGI_CONST uint kNotReceiver = 0x7F800000u;
+// The most receivers a surfel's irradiance is interpolated from (those of largest weight), and the
+// most nodes whose receivers may weigh for some surfel of a group of neighbours (listed per group; a
+// group with more has its surfels search on their own).
+IVGI_CONST uint kInterpolationTaps = 16u;
+IVGI_CONST uint kGroupNeighbours = 128u;
+// Dispatch arguments of receiver_args.comp, in order: the round's candidates, the round's new
+// receivers, every receiver, then one per prune batch over the new receivers.
+IVGI_CONST uint kArgsCandidates = 0u;
+IVGI_CONST uint kArgsNewReceivers = 1u;
+IVGI_CONST uint kArgsReceivers = 2u;
+IVGI_CONST uint kArgsPruneBatches = 3u;
+// What receiver_args.comp does, as bits of its mode.
+IVGI_CONST uint kArgsStartRound = 1u;  // the candidates' dispatch; the round's receivers start here
+IVGI_CONST uint kArgsListed = 2u;      // the dispatches over the new and over every receiver
+
+// A sampled node's receiver (its representative) stands for it in the interpolation: its support
+// reaches kReceiverReach times the node's radius, and its weight at a surfel falls from a peak to 0
+// over it (distances across the surfel's tangent plane count kReceiverPlaneStretch times) and with
+// the angle between their normals, to 0 at kReceiverNormalCos.
+IVGI_CONST float kReceiverReach = 2.5f;
+IVGI_CONST float kReceiverNormalCos = 0.7f;
+IVGI_CONST float kReceiverPlaneStretch = 4.0f;
+
+// Refinement is continuous in what it judges by, so that a small change (a frame later, a scaled
+// scene) changes the image a little: each sampled node has a need, the largest of its tests'
+// statistics over their thresholds; its children are sampled once the need passes kRefineFrom, and
+// they take over its place in the interpolation gradually, fully at 1. A node's presence is the
+// product of refinementShare over its ancestors' needs (0: not sampled); its own share of that,
+// its role, is what its children have not taken.
+IVGI_CONST float kRefineFrom = 0.75f;
+IVGI_FN float refinementShare(float need) { return clamp((need - kRefineFrom) / (1.0f - kRefineFrom), 0.0f, 1.0f); }
+
+struct InterpolationTap {  // one rg32ui texel: the receiver, the bits of its coefficient
+  uint receiver;
+  uint weightBits;
+};
+
 // ---- Push constants, one struct a pass ----
 
 struct CountPush {  // animate, surfels, emit: the items; count_links, scatter_links: the link capacity
   uint count;
 };
-struct LevelPush {  // refit, pull_up: the nodes of one level
+// Levels a pull-up dispatch takes (pull_up.comp sums descendants up to this many levels down).
+IVGI_CONST uint kPullUpLevels = 3u;
+struct LevelPush {  // refit, pull_up: the nodes of one level (pull_up: of up to kPullUpLevels levels)
   uint first;
   uint count;
 };
@@ -188,16 +240,43 @@ struct RefinePush {
   float largeSender;  // κ·Ω of an average bin: a sender subtending more is split
 };
 struct PrunePush {
-  uint firstSurfel;  // the leaves [firstSurfel, endSurfel) of this dispatch's batch
-  uint endSurfel;
+  uint firstSurfel;  // the leaves [firstSurfel, endSurfel) of this dispatch's batch; listed: of the
+  uint endSurfel;    // round's new receivers
+  uint listed;
   uint linkCapacity;
   uint lightCount;
   uint environmentOn;
   uint staticCapacity;
 };
 struct GatherPush {
-  uint surfelCount;
   uint maskWords;
+  uint newOnly;  // 1: the round's new receivers; 0: every receiver listed
+  uint pad;
+};
+struct ReceiverArgsPush {
+  uint mode;    // kArgsStartRound | kArgsListed
+  uint source;  // the round's candidate list (counter slot)
+  uint target;  // the next round's, emptied
+  uint batch;   // receivers a prune batch takes
+  uint leavesPerGroup;
+  uint maxGroups;  // of a prune batch
+  uint batches;    // prune batches recorded a round
+  uint pad;
+};
+struct ReceiverPush {
+  uint source;      // candidate list (counter slot) read
+  uint target;      // candidate list written
+  float tolerance;  // --receiver-tol: how far a sample may miss its prediction from its neighbours
+  float proximity;  // a node's support may reach this share of the mean distance to what its receiver sees
+  uint nodeCount;
+  uint surfelCount;
+  float floorShare;  // a sample darker than this share of the largest is judged against that
+  uint groupCount;   // of neighbour lists
+  float largest;     // the largest radius a cell may have
+  uint pad0, pad1, pad2;
+};
+struct InterpolatePush {
+  uint surfelCount;
 };
 // The bounces stop where a bounce adds less than a tolerance of the light (or after a count): the
 // gather leaves per workgroup the area-weighted luminance of its leaves' radiosity and of its change,
@@ -216,8 +295,8 @@ struct BounceState {
   uint pad0, pad1, pad2;
 };
 struct BounceCheckPush {
-  uint groups;      // of the gather: BounceSums to add up
-  uint levels;      // the pull-up's dispatches, one a level
+  uint groups;      // of the interpolation: BounceSums to add up
+  uint dispatches;  // of a bounce: the gather, the interpolation, then one pull-up a level
   uint maxGathers;  // done after this many
   float tolerance;  // done where remaining ≤ tolerance; negative: only at maxGathers
 };

@@ -69,6 +69,13 @@ layout(std430, binding = 24) buffer StaticEmitterCounts { uint staticEmitterCoun
 layout(std430, binding = 25) buffer StaticCorrection { vec4 staticCorrection[]; };
 // the static set's (the frame pass merges its bins)
 layout(std430, binding = 26) readonly buffer StaticCounters { uint staticCounters[]; };
+// Listed: the round's new receivers (receivers from the round's start in the receivers' counters).
+layout(binding = 27, r32ui) readonly uniform uimageBuffer receivers;
+layout(std430, binding = 28) readonly buffer ReceiverCounts { uint receiverCounts[]; };
+// Per leaf: how near what it sees is, Σ cos θ·ω / (π·d) over its survivors, the inverse of the
+// harmonic mean distance (the receivers' refinement reads it); per static leaf, its static bins'.
+layout(std430, binding = 29) writeonly buffer Proximity { float proximity[]; };
+layout(std430, binding = 30) buffer StaticProximity { float staticProximity[]; };
 layout(push_constant) uniform Push { PrunePush push; };
 
 shared uint64_t sharedBins[kSharedSlots];
@@ -114,17 +121,20 @@ struct Bin {
   uint covered;
   uint staticCovered;
   int staticEntry;
+  float staticDistance2;
 };
 
 Bin binAt(uint slot, uint b) {
-  Bin bin = Bin(loadBin(slot, b), loadCoverage(slot, b), 0u, -1);
+  Bin bin = Bin(loadBin(slot, b), loadCoverage(slot, b), 0u, -1, 0.0);
   if (!merging) return bin;
   uvec2 word = staticMasks[maskBase + b / 32u];
   uint bit = 1u << (b & 31u);
   if ((word.x & bit) == 0u) return bin;
   uint e = staticFirst + word.y + bitCount(word.x & (bit - 1u));
   if (e >= push.staticCapacity) return bin;  // the static pass overflowed: this frame is redone
-  bin.key = min(bin.key, uint64_t(imageLoad(staticDepths, int(e)).x) << 32 | imageLoad(staticLinks, int(e)).x);
+  uint staticDepth = imageLoad(staticDepths, int(e)).x;
+  bin.key = min(bin.key, uint64_t(staticDepth) << 32 | imageLoad(staticLinks, int(e)).x);
+  bin.staticDistance2 = uintBitsToFloat(staticDepth & 0x7FFFFFFFu);  // less the fringe bit
   bin.staticCovered = staticCoverageOf(imageLoad(staticBins, int(e)).x);
   bin.staticEntry = int(e);
   bin.covered += bin.staticCovered;
@@ -303,6 +313,14 @@ vec3 punctualLight(uint slot, vec3 p, vec3 n) {
 // Fraction of bin b that its senders cover, at most 1.
 float coveredFraction(uint covered) { return min(float(covered) / float(kCoverageUnit), 1.0); }
 
+// The part of bin b's surface at squared distance d² in the receiver's proximity: cos θ·ω/(π·d),
+// a distance below the receiver's own radius counting as that radius.
+float proximityOf(vec3 n, uint b, uint covered, float distance2, float radius) {
+  vec4 bin = imageLoad(binTable, int(b));
+  return max(dot(n, bin.xyz), 0.0) * coveredFraction(covered) * bin.w /
+         (kPi * max(max(sqrt(distance2), radius), 1e-20));
+}
+
 // Form factor of the survivor of bin b, standing for the covered part of the bin. Front or back is
 // judged along the bin: the sender may sit at the receiver (hard edges).
 float survivorFormFactor(vec3 n, uint sender, uint b, uint covered) {
@@ -379,8 +397,13 @@ void main() {
   if (lid == 0u) wideCount = 0u, emitterCount = 0u;
   barrier();
 
-  uint groups = gl_NumWorkGroups.x * gl_NumWorkGroups.y;
-  for (uint surfel = push.firstSurfel + groupIndex(); surfel < push.endSurfel; surfel += groups) {
+  uint groups = gl_NumWorkGroups.x * gl_NumWorkGroups.y, end = push.endSurfel, listStart = 0u;
+  if (push.listed != 0u) {
+    listStart = receiverCounts[kReceiverRound];
+    end = min(end, receiverCounts[kReceiverCount] - listStart);
+  }
+  for (uint item = push.firstSurfel + groupIndex(); item < end; item += groups) {
+    const uint surfel = push.listed != 0u ? imageLoad(receivers, int(listStart + item)).x : item;
     bool moves = imageLoad(leafMoves, int(surfel)).x != 0u;
     if (kStaticPass && moves) {  // pruned every frame instead
       if (lid == 0u) staticRanges[surfel] = LeafRange(0u, 0u);
@@ -478,6 +501,8 @@ void main() {
     // A merging leaf's environment changes only in the bins it touched: this frame's minus its static
     // share; so does the emission taken back from emissive survivors.
     vec3 environmentChange = vec3(0.0);
+    float near = 0.0;  // the proximity of what the leaf sees, or for a merging leaf its change
+    const float radius = sqrt(area / kPi);
     for (uint w = lid; w < kMaskWords; w += kGroupSize) {
       uint bits = mask[w], outIndex = leafBase + wordStart[w];
       if (kStaticPass) staticMasks[maskBase + w] = uvec2(bits, wordStart[w]);
@@ -488,6 +513,8 @@ void main() {
         Bin bin = binAt(slot, b);
         uint s = keyId(bin.key);
         float f = survivorFormFactor(n, s, b, bin.covered);
+        near += proximityOf(n, b, bin.covered, linkKeyDepth(bin.key), radius);
+        if (bin.staticEntry >= 0) near -= proximityOf(n, b, bin.staticCovered, bin.staticDistance2, radius);
         if (outIndex < push.linkCapacity) {
           if (kStaticPass) {
             imageStore(staticLinks, int(outIndex), uvec4(s, floatBitsToUint(f), 0u, 0u));
@@ -518,14 +545,18 @@ void main() {
       barrier();
       if (lid == 0u) staticCorrection[surfel] = vec4(correction, 0.0);
     }
+    near = sumPartials(lid, vec3(near, 0.0, 0.0)).x;
+    barrier();
     vec3 sum = sumPartials(lid, kStaticPass ? env : env + emitterLight);
     if (lid == 0u) {
       if (kStaticPass) {
         staticEnvironment[surfel] = vec4(sum, 0.0);
+        staticProximity[surfel] = near;
       } else {
         if (merging) sum += staticEnvironment[surfel].rgb + (direct ? staticCorrection[surfel].rgb : vec3(0.0));
         if (area > 0.0) sum += punctualLight(slot, p, n);
         externalLight[surfel] = vec4(sum, 0.0);
+        proximity[surfel] = merging ? staticProximity[surfel] + near : near;
       }
     }
     barrier();  // the lights read the bins

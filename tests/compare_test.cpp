@@ -92,7 +92,9 @@ TEST(CompareGate, AMatchingSequencePassesAndADimmedFrameIsNamed) {
   Compared fail = compare(dim, ref, {"--golden"});
   EXPECT_EQ(fail.run.status, 1);
   EXPECT_NE(fail.run.out.find("f_0002.exr: FAIL RGB: "), std::string::npos) << fail.run.out;
-  EXPECT_EQ(std::count(fail.run.out.begin(), fail.run.out.end(), '\n'), 2) << "one line a failing frame, one summary";
+  EXPECT_EQ(std::count(fail.run.out.begin(), fail.run.out.end(), '\n'), 3)
+      << "one line a failing frame, one summary, one of the temporal measure";
+  EXPECT_NE(fail.run.out.find("temporal: relMSE of the frame-to-frame change"), std::string::npos) << fail.run.out;
   const auto& frames = fail.report["frames"];
   for (int i = 0; i < 4; ++i) {
     EXPECT_EQ(frames[i]["status"], i == 2 ? "fail" : "pass") << i;

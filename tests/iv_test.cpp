@@ -26,7 +26,15 @@ struct Solved {
   gi::IvStats stats;
 };
 
+// The prune's per-receiver results are checked at every surfel (--receiver-tol 0); the choice of
+// receivers and the interpolation have tests of their own (receivers_test.cpp).
+gi::IvSettings atEverySurfel(gi::IvSettings settings) {
+  settings.receiverTolerance = 0.0f;
+  return settings;
+}
+
 Solved solve(const tinygltf::Model& model, gi::IvSettings settings) {
+  settings = atEverySurfel(settings);
   scene::Scene s = scene::sceneFromModel(model, "test");
   scene::Geometry g = scene::buildGeometry(s);
   gi::FrameRenderer r = test::ivRenderer(g, {16, 16, 1}, gi::makeIvSetup(s, g, settings));
@@ -297,7 +305,7 @@ std::pair<double, gi::IvStats> splitAgainstFullRelink(const tinygltf::Model& mod
   scene::Geometry g = scene::buildGeometry(s);
   const std::vector<bool> moving = scene::movingInstances(s, g, 0);
   EXPECT_EQ(std::count(moving.begin(), moving.end(), true), 1) << "only the short block moves";
-  gi::IvSettings settings;
+  gi::IvSettings settings = atEverySurfel({});
   settings.bins = 8;
   settings.environment = scene::Environment::parse("0.5,0.6,0.7");  // through the open front
   gi::FrameRenderer split = test::ivRenderer(g, {16, 16, 1}, gi::makeIvSetup(s, g, settings, 0));
@@ -370,7 +378,7 @@ struct SmallRoom {
   template <class Tweak, class Check>
   void compareSolvers(bool environment, Tweak tweak, Check check) const {
     for (uint32_t bins : {8u, 24u}) {
-      gi::IvSettings settings;
+      gi::IvSettings settings = atEverySurfel({});
       settings.bins = bins;
       if (environment) settings.environment = scene::Environment::parse("0.5,0.6,0.7");
       gi::FrameRenderer usual = renderer(settings);
@@ -483,7 +491,7 @@ TEST(IvStaticObjects, AFrameThatOutgrowsItsRoomIsRedoneKeepingTheStaticLinks) {
   scene::Geometry g = scene::buildGeometry(s);
   const auto view = scene::framingCamera(
       scene::worldBounds(scene::animateOnHost(g, g.frameInputs(s, scene::evaluatePose(s, 0, 1.0f)))), 1.0f);
-  gi::IvSettings settings;
+  gi::IvSettings settings = atEverySurfel({});
   settings.bins = 16;
   const gi::IvSetup setup = gi::makeIvSetup(s, g, settings, 0);
   gi::FrameRenderer animated = test::ivRenderer(g, {16, 16, 1}, setup), fresh = test::ivRenderer(g, {16, 16, 1}, setup);

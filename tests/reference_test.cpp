@@ -136,15 +136,17 @@ TEST(SweepCli, WritesCsvJsonAndPlot) {
   auto ref = renderExr("sweep_ref", {"--method", "pt", "--spp", "32", "--size", "48x36", "--cells", "2"});
   auto dir = test::scratchDir("sweep_out");
   auto r = test::runIvgi({"sweep", "--cells", "2", "--reference", ref.string(), "--bins", "2,4", "--bounces", "0,1",
-                          "--method", "iv,none", "--repeats", "1", "--warmup", "0", "--out", dir.string()});
+                          "--receiver-tol", "0,0.4", "--method", "iv,none", "--repeats", "1", "--warmup", "0", "--out",
+                          dir.string()});
   ASSERT_EQ(r.status, 0) << r.err;
   std::ifstream csv(dir / "sweep.csv");
   std::vector<std::string> lines;
   for (std::string line; std::getline(csv, line);) lines.push_back(line);
-  ASSERT_EQ(lines.size(), 6u);  // header + 2 bins × 2 bounces + none
-  EXPECT_EQ(lines[0].rfind("scene,method,bins,eps,bounces,bounceTol,bouncesRun,kappa,ms,", 0), 0u);
+  ASSERT_EQ(lines.size(), 10u);  // header + 2 bins × 2 bounces × 2 receivers' tolerances + none
+  EXPECT_EQ(lines[0].rfind("scene,method,bins,eps,bounces,bounceTol,bouncesRun,kappa,receiverTol,receivers,ms,", 0),
+            0u);
   auto j = readJson(dir / "sweep.json");
-  ASSERT_EQ(j["settings"].size(), 5u);
+  ASSERT_EQ(j["settings"].size(), 9u);
   int front = 0;
   for (const auto& s : j["settings"]) {
     EXPECT_GT(s["medianMs"].get<double>(), 0.0);

@@ -60,7 +60,7 @@ int runBench(const BenchOptions& o) {
   gi::ImageSettings image;
   parseSize(o.size, image.width, image.height);
   scene::Scene s = loadScene(o.source);
-  scene::Geometry g = renderableGeometry(s);
+  scene::Geometry g = renderableGeometry(s, o.solver);
   const SolverOptions solver = withSceneLight(o.solver, s, g);
   const Timeline tl = timeline(s, "", o.fps);
   const int animation = tl.animation;
@@ -124,18 +124,10 @@ int runBench(const BenchOptions& o) {
   }
   std::printf("\nbytes allocated: %llu (%.1f MiB)\n", (unsigned long long)bytes, double(bytes) / (1 << 20));
   if (!o.json.empty()) {
+    nlohmann::json settings = settingsJson(solver.method, iv, solver.tessellation);
+    settings.update({{"width", image.width}, {"height", image.height}, {"frames", o.frames}, {"warmup", o.warmup}});
     nlohmann::json j = {{"scene", s.source},
-                        {"settings",
-                         {{"width", image.width},
-                          {"height", image.height},
-                          {"method", solver.method},
-                          {"bins", iv.bins},
-                          {"eps", iv.epsilon},
-                          {"bounces", bouncesJson(iv)},
-                          {"bounceTolerance", iv.bounceTolerance},
-                          {"kappa", iv.kappa},
-                          {"frames", o.frames},
-                          {"warmup", o.warmup}}},
+                        {"settings", settings},
                         {"device", deviceJson(ctx)},
                         {"passes", summary},
                         {"fps", totalMs > 0 ? 1000.0 / totalMs : 0.0},

@@ -22,17 +22,19 @@ struct SceneChoice {
 };
 // The scene named by `choice`, loaded and checked.
 scene::Scene loadScene(const SceneChoice& choice);
-// Its flattened geometry; throws LoadError when there is no triangle to render.
-scene::Geometry renderableGeometry(const scene::Scene& scene);
-
 // The lighting method and its settings, shared by render, bench, sweep and info. The defaults are
 // the settings structs' own.
 struct SolverOptions {
-  std::string method = "iv";  // iv, none (emission only) or pt (render only)
-  gi::IvSettings iv;          // --bins, --eps, --bounces, --kappa
-  std::string environment;    // --env: "R,G,B", an .exr, or none; empty: the scene's own light (see below)
-  uint64_t maxMemoryMiB = 0;  // --max-memory: iv's memory budget (0: the device's)
+  std::string method = "iv";   // iv, none (emission only) or pt (render only)
+  gi::IvSettings iv;           // --bins, --eps, --bounces, --kappa, --receiver-tol
+  std::string environment;     // --env: "R,G,B", an .exr, or none; empty: the scene's own light (see below)
+  uint64_t maxMemoryMiB = 0;   // --max-memory: iv's memory budget (0: the device's)
+  uint32_t tessellation = 16;  // --tessellate: iv's surfaces sampled at least this finely (scene::buildGeometry)
 };
+
+// The scene's flattened geometry, as `solver`'s method samples it; throws LoadError when there is
+// no triangle to render.
+scene::Geometry renderableGeometry(const scene::Scene& scene, const SolverOptions& solver);
 
 // The light a scene without any gets: --env as given ("none": no environment); for a scene with no
 // emitter and no punctual light, a uniform white sky, said once on stderr, as glTF viewers do.
@@ -125,6 +127,7 @@ struct CompareOptions {
   float exposure = 0.0f;  // stops, before the ACES tone map that FLIP sees
   // Limits; each absent one is not checked.
   std::optional<double> maxRelMse, maxFlip, maxPixelError;
+  std::optional<double> maxTemporal;        // a sequence's temporal relMSE (its flicker against the reference's)
   std::optional<double> maxFailingPercent;  // with pixelTolerance on `layers`: the per-pixel rule
   float pixelTolerance = 0.02f;
   std::string layers = "rgb";  // comma-separated layer names, or all
@@ -141,7 +144,9 @@ struct SweepOptions {
   SceneChoice source;
   std::string reference;  // linear EXR of the same scene, frame and camera (e.g. render --method pt)
   // Comma-separated lists; --bounces takes counts and auto (until converged, at each --bounce-tol).
-  std::string methods = "iv", bins = "16", eps = "0.02", bounces = "auto", bounceTolerances = "0.001", kappa = "1";
+  std::string methods = "iv", bins = "16", eps = "0.02", bounces = "auto", bounceTolerances = "0.001", kappa = "1",
+              receiverTolerances = "0.2";
+  uint32_t tessellation = SolverOptions{}.tessellation;
   std::string environment, camera, animation, device;
   int frame = 0;
   double fps = 24.0;

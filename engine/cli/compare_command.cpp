@@ -15,6 +15,7 @@
 #include "engine/cli/options.h"
 #include "engine/image/compare.h"
 #include "engine/image/metrics.h"
+#include "engine/image/temporal.h"
 
 namespace ivgi::cli {
 
@@ -64,8 +65,10 @@ std::vector<image::LayerTolerance> pixelRule(const CompareOptions& o) {
 
 void check(const CompareOptions& o) {
   image::validate(image::DisplaySettings{image::ToneMap::Aces, o.exposure});
-  for (const auto& [option, value] :
-       {std::pair{"--max-relmse", o.maxRelMse}, {"--max-flip", o.maxFlip}, {"--max-pixel-error", o.maxPixelError}})
+  for (const auto& [option, value] : {std::pair{"--max-relmse", o.maxRelMse},
+                                      {"--max-flip", o.maxFlip},
+                                      {"--max-pixel-error", o.maxPixelError},
+                                      {"--max-temporal", o.maxTemporal}})
     if (value && !(*value >= 0.0 && std::isfinite(*value)))
       throw SettingsError(std::string(option) + " must be finite and >= 0");
   if (o.maxFailingPercent && !(*o.maxFailingPercent >= 0.0 && *o.maxFailingPercent <= 100.0))
@@ -148,6 +151,20 @@ FrameOutcome comparePair(const FramePair& pair, const CompareOptions& o, const s
   return out;
 }
 
+// The sequences' flicker: over each pair of consecutive frames both sides hold, the test's change
+// against the reference's, where the reference's surfaces stay put.
+image::TemporalError temporalError(const std::vector<FramePair>& pairs) {
+  image::TemporalError sum;
+  for (size_t k = 1; k < pairs.size(); ++k) {
+    const FramePair &a = pairs[k - 1], &b = pairs[k];
+    if (a.test.empty() || a.reference.empty() || b.test.empty() || b.reference.empty()) continue;
+    sum += image::temporalError(image::readLinearRgb(a.test), image::readLinearRgb(b.test),
+                                image::readLinearRgb(a.reference), image::readLinearRgb(b.reference),
+                                image::surfacesMoved(a.reference, b.reference));
+  }
+  return sum;
+}
+
 void printMetrics(const nlohmann::json& frame) {
   const auto& m = frame["metrics"];
   std::printf("relMSE  %.6g\nRMSE    %.6g\nPSNR    %.2f dB\nmax     %.6g\nFLIP    %.6g\npixels  %zu\n",
@@ -198,16 +215,29 @@ int runCompare(const CompareOptions& o) {
       std::printf("%s%s%s\n", sequence ? pair.name.c_str() : "", sequence ? ": FAIL " : "FAIL ", failure.c_str());
     frames.push_back(std::move(f.json));
   }
-  if (sequence)
+  nlohmann::json summary = {{"frames", pairs.size()}, {"pass", passed}, {"fail", failed}, {"missing", missing}};
+  bool temporalFails = false;
+  if (sequence) {
     std::printf("compare: %zu frames: %d pass, %d fail, %d missing\n", pairs.size(), passed, failed, missing);
-  const int status = failed + missing > 0 ? 1 : 0;
+    const image::TemporalError t = temporalError(pairs);
+    if (t.pixels > 0) {
+      const double share = double(t.count) / 3.0 / double(t.pixels);
+      std::printf(
+          "temporal: relMSE of the frame-to-frame change %.6g (%.1f %% of the pixels, where the reference's "
+          "surfaces stay put)\n",
+          t.relMse(), 100.0 * share);
+      summary["temporal"] = {{"relMSE", t.relMse()}, {"share", share}};
+      if (o.maxTemporal && t.relMse() > *o.maxTemporal) {
+        temporalFails = true;
+        std::printf("FAIL %s\n", above("temporal relMSE", t.relMse(), "--max-temporal", *o.maxTemporal).c_str());
+      }
+    }
+  }
+  const int status = failed + missing > 0 || temporalFails ? 1 : 0;
   if (!o.json.empty())
-    writeJson(o.json,
-              {{"test", o.test},
-               {"reference", o.reference},
-               {"summary", {{"frames", pairs.size()}, {"pass", passed}, {"fail", failed}, {"missing", missing}}},
-               {"status", status},
-               {"frames", frames}});
+    writeJson(
+        o.json,
+        {{"test", o.test}, {"reference", o.reference}, {"summary", summary}, {"status", status}, {"frames", frames}});
   return status;
 }
 

@@ -48,7 +48,8 @@ int runEqualError(const BenchOptions& o) {
   gi::ImageSettings image;
   parseSize(o.size, image.width, image.height);
   scene::Scene s = loadScene(o.source);
-  scene::Geometry g = renderableGeometry(s);
+  scene::Geometry g = renderableGeometry(s, o.solver);
+  const scene::Geometry modelled = renderableGeometry(s, {.method = "pt"});  // pt traces the mesh as modelled
   // The scene's own lights, or for a scene without any the default sky, for both methods.
   const SolverOptions solver = withSceneLight(o.solver, s, g);
   std::optional<scene::Environment> environment;
@@ -72,7 +73,7 @@ int runEqualError(const BenchOptions& o) {
       throw SettingsError(o.reference + ": the reference is not " + o.size);
   } else {
     std::fprintf(stderr, "equal-error: rendering the reference, pt at %u spp...\n", o.referenceSpp);
-    auto r = pathTrace(s, g, pose, environment, view, image.width, image.height, uint32_t(o.frame),
+    auto r = pathTrace(s, modelled, pose, environment, view, image.width, image.height, uint32_t(o.frame),
                        {.spp = o.referenceSpp, .seed = 0, .threads = o.threads});
     ref = std::move(r.radiance);
     referenceMs = r.ms;
@@ -102,7 +103,7 @@ int runEqualError(const BenchOptions& o) {
   double ptMs = -1, prevMs = 0, prevErr = 0;
   bool bracketed = false;
   for (uint32_t spp = 1; spp <= o.maxSpp; spp *= 2) {
-    auto r = pathTrace(s, g, pose, environment, view, image.width, image.height, uint32_t(o.frame),
+    auto r = pathTrace(s, modelled, pose, environment, view, image.width, image.height, uint32_t(o.frame),
                        {.spp = spp, .seed = 1, .threads = o.threads});
     auto e = image::measureError(r.radiance, ref);
     std::printf("%8u %12.1f %12.5g %10.4f\n", spp, r.ms, e.relMse, e.flip);

@@ -28,6 +28,11 @@ int runInfo(const InfoOptions& o) {
   std::printf("vertices     %zu\n", g.vertices.size());
   std::printf("triangles    %zu (%u degenerate, excluded)\n", g.triangles.size(), g.degenerateTriangles);
   std::printf("surfels      %zu\n", g.surfels.size());
+  if (solver.method == "iv" && solver.tessellation > 0) {
+    const scene::Geometry sampled = renderableGeometry(s, solver);
+    std::printf("tessellated  %zu triangles, %zu surfels (iv, --tessellate %u)\n", sampled.triangles.size(),
+                sampled.surfels.size(), solver.tessellation);
+  }
   std::printf("materials    %zu, textures %zu\n", s.materials.size(), s.textures.size());
   std::printf("nodes        %zu, skins %zu\n", s.nodes.size(), s.skins.size());
   std::printf("animations   %zu\n", s.animations.size());
@@ -58,6 +63,7 @@ int runInfo(const InfoOptions& o) {
   if (o.memory && solver.method == "iv") {
     // Link counts are known only once the GPU has refined them: solve frame 0 on a tiny image.
     vk::Context ctx;
+    g = renderableGeometry(s, solver);
     gi::FrameRenderer renderer(ctx, g, {16, 16, 1}, makeSolver(solver, ctx, s, g, s.animations.empty() ? -1 : 0));
     auto pose =
         scene::evaluatePose(s, s.animations.empty() ? -1 : 0, s.animations.empty() ? 0.0f : s.animations[0].start);
@@ -66,10 +72,10 @@ int runInfo(const InfoOptions& o) {
                     scene::worldLights(s, pose));
     const gi::IvStats st = dynamic_cast<const gi::IvSolver&>(*renderer.solver()).stats();
     std::printf(
-        "iv solver    bins 6x%ux%u (%s memory), eps %g: %u nodes in %u levels, %u links, %u leaf links, %.1f MiB on "
-        "%s\n",
+        "iv solver    bins 6x%ux%u (%s memory), eps %g: %u nodes in %u levels, %u receivers, %u links, %u leaf "
+        "links, %.1f MiB on %s\n",
         solver.iv.bins, solver.iv.bins, st.sharedBins ? "shared" : "global", solver.iv.epsilon, st.nodes, st.levels,
-        st.links, st.leafLinks, double(st.bytes) / (1 << 20), ctx.info().name.c_str());
+        st.receivers, st.links, st.leafLinks, double(st.bytes) / (1 << 20), ctx.info().name.c_str());
   }
   return 0;
 }

@@ -31,6 +31,14 @@ void addSolverOptions(CLI::App* cmd, SolverOptions& o) {
                   "bounces stop where the light still to come is estimated below this share of the light")
       ->capture_default_str();
   cmd->add_option("--kappa", o.iv.kappa, "split senders wider than this many average bins")->capture_default_str();
+  cmd->add_option("--receiver-tol", o.iv.receiverTolerance,
+                  "iv solves irradiance at receivers chosen where the lighting needs them and interpolates the rest, "
+                  "within this tolerance (smaller: more receivers, slower); 0: at every surfel")
+      ->capture_default_str();
+  cmd->add_option("--tessellate", o.tessellation,
+                  "iv samples surfaces at least this finely: triangle edges longer than 1/N of the scene's size are "
+                  "split (0: the mesh as modelled)")
+      ->capture_default_str();
   cmd->add_option("--max-memory", o.maxMemoryMiB, "MiB the solver may allocate at most (0: what the device holds)")
       ->capture_default_str();
   cmd->add_option("--env", o.environment, "environment light: R,G,B radiance or an equirectangular .exr");
@@ -126,6 +134,8 @@ int main(int argc, char** argv) {
   c->add_option("--max-relmse", compare.maxRelMse, "fail where relMSE exceeds this");
   c->add_option("--max-flip", compare.maxFlip, "fail where mean FLIP exceeds this");
   c->add_option("--max-pixel-error", compare.maxPixelError, "fail where any channel of a pixel differs by more");
+  c->add_option("--max-temporal", compare.maxTemporal,
+                "sequences: fail where the relMSE of the frame-to-frame change against the reference's exceeds this");
   c->add_option(
        "--pixel-tol", compare.pixelTolerance,
        "per-pixel rule: a pixel fails beyond this fraction (rgb: of its own value; other layers: of their range)")
@@ -162,6 +172,11 @@ int main(int argc, char** argv) {
   w->add_option("--bounce-tol", sweep.bounceTolerances, "the tolerances of auto bounces, comma-separated")
       ->capture_default_str();
   w->add_option("--kappa", sweep.kappa, "sender sizes in bins, comma-separated")->capture_default_str();
+  w->add_option("--receiver-tol", sweep.receiverTolerances,
+                "receivers' tolerances, comma-separated (0: every surfel a receiver)")
+      ->capture_default_str();
+  w->add_option("--tessellate", sweep.tessellation, "surfaces sampled at least this finely (see render)")
+      ->capture_default_str();
   w->add_option("--env", sweep.environment, "environment light: R,G,B radiance or an equirectangular .exr");
   w->add_option("--frame", sweep.frame, "the frame the reference shows")->capture_default_str();
   w->add_option("--fps", sweep.fps, "frames per second of the animation")->capture_default_str();

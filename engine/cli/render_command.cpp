@@ -84,7 +84,7 @@ int runRender(const RenderOptions& o) {
     throw scene::LoadError(s.source + ": frames " + std::to_string(range.first) + "-" + std::to_string(range.last) +
                            " lie outside " + what);
   }
-  scene::Geometry g = renderableGeometry(s);
+  scene::Geometry g = renderableGeometry(s, o.solver);
   const SolverOptions solver = withSceneLight(o.solver, s, g);
   for (const auto& w : s.warnings) std::fprintf(stderr, "ivgi: warning: %s: %s\n", s.source.c_str(), w.c_str());
 
@@ -114,32 +114,27 @@ int runRender(const RenderOptions& o) {
   if (o.resume)
     if (size_t removed = image::removeDeadTemporaries(pattern.directory()))
       std::fprintf(stderr, "ivgi: removed %zu temporary files left by runs that ended\n", removed);
+  json settings = settingsJson(solver.method, solver.iv, solver.method == "iv" ? solver.tessellation : 0);
+  settings.update({{"frames", {range.first, range.last, range.step}},
+                   {"shard", {shard.index, shard.count}},
+                   {"fps", o.fps},
+                   {"width", image.width},
+                   {"height", image.height},
+                   {"supersample", image.samples},
+                   {"formats", formats},
+                   {"tonemap", o.tonemap},
+                   {"exposure", o.exposure},
+                   {"animation", tl.animation >= 0 ? json(s.animations[tl.animation].name) : json(nullptr)},
+                   {"environment", solver.environment},
+                   {"spp", o.pt.spp},
+                   {"seed", o.pt.seed},
+                   {"unbounded", pt && !solver.iv.bounces},
+                   {"camera", camera.name()}});
   Sidecar sidecar(
       Sidecar::forShard(o.json.empty() ? pattern.sidecar() : o.json, shard),
       {{"ivgi", IVGI_VERSION},
        {"scene", s.source},
-       {"settings",
-        {{"frames", {range.first, range.last, range.step}},
-         {"shard", {shard.index, shard.count}},
-         {"fps", o.fps},
-         {"width", image.width},
-         {"height", image.height},
-         {"supersample", image.samples},
-         {"formats", formats},
-         {"tonemap", o.tonemap},
-         {"exposure", o.exposure},
-         {"animation", tl.animation >= 0 ? json(s.animations[tl.animation].name) : json(nullptr)},
-         {"method", solver.method},
-         {"bins", solver.iv.bins},
-         {"eps", solver.iv.epsilon},
-         {"bounces", bouncesJson(solver.iv)},
-         {"bounceTolerance", solver.iv.bounceTolerance},
-         {"kappa", solver.iv.kappa},
-         {"environment", solver.environment},
-         {"spp", o.pt.spp},
-         {"seed", o.pt.seed},
-         {"unbounded", pt && !solver.iv.bounces},
-         {"camera", camera.name()}}},
+       {"settings", settings},
        {"device", ctx ? deviceJson(*ctx) : cpuJson(ptSettings.threads)},
        {"counts", {{"triangles", g.triangles.size()}, {"vertices", g.vertices.size()}, {"surfels", g.surfels.size()}}},
        {"bytesAllocated", renderer ? renderer->bytesAllocated() : 0}},

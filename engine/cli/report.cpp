@@ -7,7 +7,7 @@ namespace ivgi::gi {
 // IvStats as JSON, its fields' names as the keys.
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(IvStats, nodes, levels, links, leafLinks, staticLinks, staticLeafLinks, bytes,
                                    sharedBins, pruneBatches, pruneGroupSize, sendersWalked, staticSendersWalked,
-                                   framesRedone, staticPasses, bounces, bounceRemaining)
+                                   framesRedone, staticPasses, bounces, bounceRemaining, receivers, receiverFills)
 
 }  // namespace ivgi::gi
 
@@ -18,6 +18,17 @@ nlohmann::json bouncesJson(const gi::IvSettings& s) {
 }
 
 std::string bouncesText(const gi::IvSettings& s) { return s.bounces ? std::to_string(*s.bounces) : "auto"; }
+
+nlohmann::json settingsJson(const std::string& method, const gi::IvSettings& iv, uint32_t tessellation) {
+  return {{"method", method},
+          {"bins", iv.bins},
+          {"eps", iv.epsilon},
+          {"bounces", bouncesJson(iv)},
+          {"bounceTolerance", iv.bounceTolerance},
+          {"kappa", iv.kappa},
+          {"receiverTolerance", iv.receiverTolerance},
+          {"tessellation", tessellation}};
+}
 
 nlohmann::json solverJson(const gi::Solver* solver) {
   if (!solver) return nullptr;

@@ -12,6 +12,10 @@ nlohmann::json bouncesJson(const gi::IvSettings& settings);
 // "2", or "auto" (until converged).
 std::string bouncesText(const gi::IvSettings& settings);
 
+// A method's settings as render, bench and sweep record them: the method, and iv's (bins, ε,
+// bounces and their tolerance, κ, the receivers' tolerance, the tessellation).
+nlohmann::json settingsJson(const std::string& method, const gi::IvSettings& iv, uint32_t tessellation);
+
 // The solver's counts, memory and work as JSON; null for no solver.
 nlohmann::json solverJson(const gi::Solver* solver);
 

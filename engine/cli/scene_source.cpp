@@ -18,8 +18,9 @@ scene::Scene loadScene(const SceneChoice& choice) {
   return scene::sceneFromModel(scenes::furnace({.cells = choice.cells}), "built-in furnace");
 }
 
-scene::Geometry renderableGeometry(const scene::Scene& s) {
-  scene::Geometry g = scene::buildGeometry(s);
+scene::Geometry renderableGeometry(const scene::Scene& s, const SolverOptions& solver) {
+  if (solver.tessellation > 100000) throw SettingsError("--tessellate must be 0 to 100000");
+  scene::Geometry g = scene::buildGeometry(s, solver.method == "iv" ? solver.tessellation : 0);
   if (g.triangles.empty()) throw scene::LoadError(s.source + ": the scene has no triangles to render");
   return g;
 }

@@ -46,6 +46,7 @@ std::string label(const SolverOptions& o) {
   else
     s << " tol" << o.iv.bounceTolerance;
   if (o.iv.kappa != 1.0f) s << " k" << o.iv.kappa;
+  s << " r" << o.iv.receiverTolerance;
   return s.str();
 }
 
@@ -114,6 +115,7 @@ int runSweep(const SweepOptions& o) {
     bounces.push_back(b == "auto" ? std::nullopt : std::optional<uint32_t>(parseList<uint32_t>("--bounces", b)[0]));
   auto tolerances = parseList<float>("--bounce-tol", o.bounceTolerances);
   auto kappas = parseList<float>("--kappa", o.kappa);
+  auto receiverTolerances = parseList<float>("--receiver-tol", o.receiverTolerances);
   std::vector<SolverOptions> grid;
   for (const auto& m : methods) {
     if (m != "iv" && m != "none")
@@ -127,14 +129,21 @@ int runSweep(const SweepOptions& o) {
         for (const auto& b : bounces)
           for (float t : b ? std::vector<float>{gi::IvSettings{}.bounceTolerance} : tolerances)
             for (float k : kappas)
-              grid.push_back({.method = m,
-                              .iv = {.bins = n, .epsilon = e, .bounces = b, .bounceTolerance = t, .kappa = k},
-                              .environment = o.environment});
+              for (float r : receiverTolerances)
+                grid.push_back({.method = m,
+                                .iv = {.bins = n,
+                                       .epsilon = e,
+                                       .bounces = b,
+                                       .bounceTolerance = t,
+                                       .kappa = k,
+                                       .receiverTolerance = r},
+                                .environment = o.environment,
+                                .tessellation = o.tessellation});
   }
 
   const image::RgbImage reference = image::readLinearRgb(o.reference);
   scene::Scene s = loadScene(o.source);
-  scene::Geometry g = renderableGeometry(s);
+  scene::Geometry g = renderableGeometry(s, {.tessellation = o.tessellation});
   const std::string environment = withSceneLight({.environment = o.environment}, s, g).environment;
   for (SolverOptions& setting : grid) setting.environment = environment;
   const Timeline tl = timeline(s, o.animation, o.fps);
@@ -192,32 +201,29 @@ int runSweep(const SweepOptions& o) {
                     jsonPath = (fs::path(o.out) / "sweep.json").string(),
                     pngPath = (fs::path(o.out) / "sweep.png").string();
   std::ostringstream csv;
-  csv << "scene,method,bins,eps,bounces,bounceTol,bouncesRun,kappa,ms,msP90,bytes,relMSE,RMSE,PSNR,maxError,FLIP,"
-         "pareto,label\n";
-  nlohmann::json settingsJson = nlohmann::json::array();
+  csv << "scene,method,bins,eps,bounces,bounceTol,bouncesRun,kappa,receiverTol,receivers,ms,msP90,bytes,relMSE,RMSE,"
+         "PSNR,maxError,FLIP,pareto,label\n";
+  nlohmann::json rowsJson = nlohmann::json::array();
   std::printf("%-22s %10s %10s %12s %10s %8s %s\n", "setting", "median ms", "MiB", "relMSE", "FLIP", "PSNR dB",
               "Pareto");
   for (const auto& r : rows) {
     const auto& st = r.settings;
     const auto run = r.solver.is_object() ? r.solver.value("bounces", 0u) : 0u;
+    const auto receivers = r.solver.is_object() ? r.solver.value("receivers", 0u) : 0u;
     csv << '"' << s.source << "\"," << st.method << ',' << st.iv.bins << ',' << st.iv.epsilon << ','
-        << bouncesText(st.iv) << ',' << st.iv.bounceTolerance << ',' << run << ',' << st.iv.kappa << ',' << r.ms << ','
-        << r.msP90 << ',' << r.bytes << ',' << r.error.relMse << ',' << r.error.rmse << ',' << r.error.psnr << ','
-        << r.error.maxError << ',' << r.error.flip << ',' << (r.pareto ? 1 : 0) << ",\"" << label(st) << "\"\n";
-    nlohmann::json j = {{"method", st.method},
-                        {"bins", st.iv.bins},
-                        {"eps", st.iv.epsilon},
-                        {"bounces", bouncesJson(st.iv)},
-                        {"bounceTolerance", st.iv.bounceTolerance},
-                        {"kappa", st.iv.kappa},
-                        {"medianMs", r.ms},
-                        {"p90Ms", r.msP90},
-                        {"bytes", r.bytes},
-                        {"error", metricsJson(r.error)},
-                        {"solver", r.solver},
-                        {"pareto", r.pareto},
-                        {"label", label(st)}};
-    settingsJson.push_back(j);
+        << bouncesText(st.iv) << ',' << st.iv.bounceTolerance << ',' << run << ',' << st.iv.kappa << ','
+        << st.iv.receiverTolerance << ',' << receivers << ',' << r.ms << ',' << r.msP90 << ',' << r.bytes << ','
+        << r.error.relMse << ',' << r.error.rmse << ',' << r.error.psnr << ',' << r.error.maxError << ','
+        << r.error.flip << ',' << (r.pareto ? 1 : 0) << ",\"" << label(st) << "\"\n";
+    nlohmann::json j = settingsJson(st.method, st.iv, st.tessellation);
+    j.update({{"medianMs", r.ms},
+              {"p90Ms", r.msP90},
+              {"bytes", r.bytes},
+              {"error", metricsJson(r.error)},
+              {"solver", r.solver},
+              {"pareto", r.pareto},
+              {"label", label(st)}});
+    rowsJson.push_back(j);
     std::printf("%-22s %10.2f %10.1f %12.5g %10.4f %8.2f %s\n", label(st).c_str(), r.ms, double(r.bytes) / (1 << 20),
                 r.error.relMse, r.error.flip, r.error.psnr, r.pareto ? "*" : "");
   }
@@ -235,7 +241,7 @@ int runSweep(const SweepOptions& o) {
                        {"warmup", o.warmup},
                        {"device", deviceJson(ctx)},
                        {"paretoMetric", o.metric},
-                       {"settings", settingsJson}});
+                       {"settings", rowsJson}});
   plot(csvPath, pngPath, o.metric);
   std::printf("\ndevice: %s\nwrote %s, %s, %s\n", deviceLine(ctx).c_str(), csvPath.c_str(), jsonPath.c_str(),
               pngPath.c_str());

@@ -149,14 +149,16 @@ FrameResult FrameRenderer::render(const scene::FrameInputs& in, const scene::Cam
   const gpu::Camera camera = scene::gpuCamera(view, float(image_.width) / float(image_.height));
   // A frame the solver could not finish (it ran out of room) is redone, relinking; one whose solver
   // has more to do (bounces not converged) gets it, and its image resolved again.
-  ctx_.submitAndWait([&](VkCommandBuffer cmd) { recordFrame(cmd, camera, geometryMoved); });
-  while (solver_ && solver_->frameMustBeRedone())
-    ctx_.submitAndWait([&](VkCommandBuffer cmd) { recordFrame(cmd, camera, true); });
-  if (solver_ && solver_->wantsMorePasses()) {
-    do ctx_.submitAndWait([&](VkCommandBuffer cmd) { solver_->recordMorePasses(cmd, timer_); });
-    while (solver_->wantsMorePasses());
-    ctx_.submitAndWait([&](VkCommandBuffer cmd) { recordResolve(cmd, camera); });
-  }
+  auto solve = [&](bool moved) {
+    ctx_.submitAndWait([&](VkCommandBuffer cmd) { recordFrame(cmd, camera, moved); });
+    bool more = false;
+    for (; solver_ && solver_->wantsMorePasses(); more = true)
+      ctx_.submitAndWait([&](VkCommandBuffer cmd) { solver_->recordMorePasses(cmd, timer_); });
+    return more;
+  };
+  bool resolveAgain = solve(geometryMoved);
+  while (solver_ && solver_->frameMustBeRedone()) resolveAgain = solve(true);
+  if (resolveAgain) ctx_.submitAndWait([&](VkCommandBuffer cmd) { recordResolve(cmd, camera); });
   if (solver_) solver_->frameStands();
 
   FrameResult result;

@@ -15,10 +15,30 @@ struct BuildNode {
   uint32_t depth = 0;
 };
 
+// Per surfel of `items` and axis, the rank of its coordinate among theirs, coordinates within a
+// part in 10⁶ of their extent counting as equal: grid points that lie on one line at one scale may
+// be a rounding apart at another, and the trees must not depend on the scene's scale.
+void rankCoordinates(const std::vector<glm::vec3>& positions, const std::vector<uint32_t>& items,
+                     std::vector<glm::uvec3>& ranks) {
+  for (int axis = 0; axis < 3; ++axis) {
+    std::vector<uint32_t> order = items;
+    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+      return positions[a][axis] < positions[b][axis] || (positions[a][axis] == positions[b][axis] && a < b);
+    });
+    const float extent = positions[order.back()][axis] - positions[order.front()][axis];
+    uint32_t rank = 0;
+    for (size_t k = 0; k < order.size(); ++k) {
+      if (k > 0 && positions[order[k]][axis] - positions[order[k - 1]][axis] > 1e-6f * extent) ++rank;
+      ranks[order[k]][axis] = rank;
+    }
+  }
+}
+
 class TreeBuilder {
  public:
-  TreeBuilder(const std::vector<glm::vec3>& positions, const std::vector<glm::vec2>& uvs, bool uv)
-      : pos_(positions), uv_(uvs), useUv_(uv) {}
+  TreeBuilder(const std::vector<glm::vec3>& positions, const std::vector<glm::uvec3>& ranks,
+              const std::vector<glm::vec2>& uvs, bool uv)
+      : pos_(positions), rank_(ranks), uv_(uvs), useUv_(uv) {}
 
   std::vector<BuildNode> build(std::vector<uint32_t> surfels) {
     nodes_.clear();
@@ -53,14 +73,15 @@ class TreeBuilder {
         for (size_t q = 0; q < 4; ++q)
           if (!parts[q].empty()) return split(node, parts[q], boxes[q].first, boxes[q].second, uvDepth + 1);
       }
-    } else {  // median split along the longest axis of the positions' bounds
+    } else {  // median split along the longest axis of the positions' bounds (the first of equal ones)
       glm::vec3 mn(1e30f), mx(-1e30f);
       for (uint32_t s : items) mn = glm::min(mn, pos_[s]), mx = glm::max(mx, pos_[s]);
-      glm::vec3 ext = mx - mn;
-      int axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
+      const glm::vec3 ext = mx - mn;
+      const float longest = std::max({ext.x, ext.y, ext.z});
+      const int axis = ext.x >= longest * (1 - 1e-4f) ? 0 : (ext.y >= longest * (1 - 1e-4f) ? 1 : 2);
       size_t half = items.size() / 2;
       std::nth_element(items.begin(), items.begin() + long(half), items.end(), [&](uint32_t a, uint32_t b) {
-        return pos_[a][axis] < pos_[b][axis] || (pos_[a][axis] == pos_[b][axis] && a < b);
+        return rank_[a][axis] < rank_[b][axis] || (rank_[a][axis] == rank_[b][axis] && a < b);
       });
       parts = {std::vector<uint32_t>(items.begin(), items.begin() + long(half)),
                std::vector<uint32_t>(items.begin() + long(half), items.end())};
@@ -74,10 +95,45 @@ class TreeBuilder {
   }
 
   const std::vector<glm::vec3>& pos_;
+  const std::vector<glm::uvec3>& rank_;
   const std::vector<glm::vec2>& uv_;
   bool useUv_;
   std::vector<BuildNode> nodes_;
 };
+
+// Children are numbered after their parents: from the last node back, every node's children are done.
+void chooseRepresentatives(Hierarchy& h, const std::vector<scene::Surfel>& rest) {
+  const size_t n = h.nodes.size();
+  std::vector<glm::dvec3> weighted(n, glm::dvec3(0.0));
+  std::vector<double> area(n, 0.0);
+  h.representatives.assign(n, 0u);
+  for (size_t i = n; i-- > 0;) {
+    const gpu::TreeNode& t = h.nodes[i];
+    if (t.childCount == 0) {
+      const glm::vec4 pa = rest[size_t(t.surfel)].positionArea;
+      // A surfel of no area still has a position: weigh it a little.
+      area[i] = std::max(double(pa.w), 1e-30);
+      weighted[i] = area[i] * glm::dvec3(pa);
+      h.representatives[i] = uint32_t(t.surfel);
+      continue;
+    }
+    for (uint32_t c = t.firstChild; c < t.firstChild + t.childCount; ++c)
+      weighted[i] += weighted[c], area[i] += area[c];
+    const glm::dvec3 centroid = weighted[i] / area[i];
+    // The nearest, distances within a part in 10⁴ of the node's extent counting as equal (the lower
+    // surfel then): on a regular grid several children are equally near, and which one rounding
+    // would pick must not depend on the scene's scale.
+    double nearest = 1e300, extent = 0.0;
+    for (uint32_t c = t.firstChild; c < t.firstChild + t.childCount; ++c)
+      extent = std::max(extent, glm::length(glm::dvec3(glm::vec3(rest[h.representatives[c]].positionArea)) - centroid));
+    for (uint32_t c = t.firstChild; c < t.firstChild + t.childCount; ++c) {
+      const uint32_t s = h.representatives[c];
+      const double d = glm::length(glm::dvec3(glm::vec3(rest[s].positionArea)) - centroid);
+      if (d < nearest - 1e-4 * extent || (d <= nearest + 1e-4 * extent && s < h.representatives[i]))
+        nearest = std::min(nearest, d), h.representatives[i] = s;
+    }
+  }
+}
 
 }  // namespace
 
@@ -128,13 +184,18 @@ Hierarchy buildHierarchy(const scene::Geometry& g, const std::vector<scene::Surf
   for (const auto& t : g.triangles) instanceTriangles[g.vertices[t.v0].instance].push_back({t.v0, t.v1, t.v2});
 
   std::vector<std::vector<BuildNode>> trees;
+  std::vector<glm::uvec3> ranks(surfelCount);
   Hierarchy h;
+  glm::vec3 lo(1e30f), hi(-1e30f);
+  for (const glm::vec3& p : positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  h.size = surfelCount ? glm::length(hi - lo) : 0.0f;
   for (size_t i = 0; i < g.instances.size(); ++i) {
     if (byInstance[i].empty()) continue;
     bool uv = usableUvAtlas(g.uvs, instanceTriangles[i]);
     h.uvTree.push_back(uv);
     h.rootInstance.push_back(uint32_t(i));
-    trees.push_back(TreeBuilder(positions, uvs, uv).build(byInstance[i]));
+    rankCoordinates(positions, byInstance[i], ranks);
+    trees.push_back(TreeBuilder(positions, ranks, uvs, uv).build(byInstance[i]));
   }
   // Number level by level over all trees: a node's children, in order, are contiguous.
   struct Pending {
@@ -161,6 +222,27 @@ Hierarchy buildHierarchy(const scene::Geometry& g, const std::vector<scene::Surf
     level = std::move(next);
   }
   h.levelStart.push_back(uint32_t(h.nodes.size()));
+  chooseRepresentatives(h, rest);
+  const uint32_t end = uint32_t(h.nodes.size());
+  h.skip.assign(end, end);
+  for (uint32_t i = 0; i < end; ++i) {  // parents come before their children
+    const int32_t parent = h.nodes[i].parent;
+    const uint32_t last =
+        parent < 0 ? uint32_t(h.roots.size()) : h.nodes[parent].firstChild + h.nodes[parent].childCount;
+    h.skip[i] = i + 1 < last ? i + 1 : (parent < 0 ? end : h.skip[uint32_t(parent)]);
+  }
+  std::vector<uint32_t> groupNode(surfelCount);
+  for (size_t s = 0; s < surfelCount; ++s) {
+    uint32_t node = h.leafOfSurfel[s];
+    for (int up = 0; up < 2 && h.nodes[node].parent >= 0; ++up) node = uint32_t(h.nodes[node].parent);
+    groupNode[s] = node;
+  }
+  h.groups = groupNode;
+  std::sort(h.groups.begin(), h.groups.end());
+  h.groups.erase(std::unique(h.groups.begin(), h.groups.end()), h.groups.end());
+  h.groupOfSurfel.resize(surfelCount);
+  for (size_t s = 0; s < surfelCount; ++s)
+    h.groupOfSurfel[s] = uint32_t(std::lower_bound(h.groups.begin(), h.groups.end(), groupNode[s]) - h.groups.begin());
   return h;
 }
 

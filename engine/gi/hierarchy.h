@@ -18,7 +18,18 @@ struct Hierarchy {
   std::vector<uint32_t> roots;         // one per object (drawn instance with surfels)
   std::vector<uint32_t> rootInstance;  // per root: its instance
   std::vector<uint32_t> leafOfSurfel;
+  // Per node: the surfel that stands for it as a receiver (docs/design.md §2.4), one of its
+  // children's, the one nearest its rest-pose centroid; so a node's receiver is also one of each
+  // ancestor's it stands for.
+  std::vector<uint32_t> representatives;
+  // Per node: the node a depth-first walk goes on to when it skips this node's subtree (its next
+  // sibling, else its parent's), nodes.size() past the last; so a walk needs no stack.
+  std::vector<uint32_t> skip;
+  // Groups of neighbouring surfels, each a node two levels above their leaves (or a root), and per
+  // surfel its group: the interpolation lists candidates once per group (docs/design.md §2.4).
+  std::vector<uint32_t> groups, groupOfSurfel;
   std::vector<uint8_t> uvTree;  // per root: 1 if built as a UV quadtree
+  float size = 0;               // the diagonal of the surfels' bounds at rest
   uint32_t levels() const { return uint32_t(levelStart.size() - 1); }
   uint32_t maxDepth() const { return levels() ? levels() - 1 : 0; }
 };

@@ -25,12 +25,24 @@ void timedPass(VkCommandBuffer cmd, vk::PassTimer& timer, const char* name, Body
   vk::barrier(cmd);
 }
 
-// `body(level)` for each level of the trees, deepest first, with a barrier after each.
-template <class Body>
-void forEachLevelBottomUp(VkCommandBuffer cmd, const Hierarchy& h, Body&& body) {
+// The nodes of the trees' levels in batches of `perBatch` levels, deepest first.
+inline std::vector<gpu::LevelPush> levelBatchesBottomUp(const Hierarchy& h, uint32_t perBatch = 1) {
+  std::vector<gpu::LevelPush> batches;
   const auto& levels = h.levelStart;
-  for (size_t l = levels.size() - 1; l-- > 0;) {
-    body(gpu::LevelPush{levels[l], levels[l + 1] - levels[l]});
+  for (size_t end = levels.size() - 1; end > 0;) {
+    const size_t first = end > perBatch ? end - perBatch : 0;
+    batches.push_back({levels[first], levels[end] - levels[first]});
+    end = first;
+  }
+  return batches;
+}
+
+// `body(level)` for each level of the trees (or batch of `perBatch` levels), deepest first, with a
+// barrier after each.
+template <class Body>
+void forEachLevelBottomUp(VkCommandBuffer cmd, const Hierarchy& h, Body&& body, uint32_t perBatch = 1) {
+  for (const gpu::LevelPush& level : levelBatchesBottomUp(h, perBatch)) {
+    body(level);
     vk::barrier(cmd);
   }
 }

@@ -9,6 +9,7 @@
 #include <unordered_map>
 
 #include "engine/image/colour.h"
+#include "engine/scene/tessellation.h"
 #include "engine/scene/texture_sampling.h"
 
 namespace ivgi::scene {
@@ -40,9 +41,29 @@ glm::vec3 transformNormal(const glm::mat4& m, glm::vec3 n) {
   return len > 0.0f ? r / len : glm::vec3(0.0f);
 }
 
+// The world matrix a primitive's positions go through at rest (a skinned mesh's are its bind pose's).
+glm::mat4 restMatrix(const Scene& scene, const Pose& rest, int nodeIndex) {
+  return scene.nodes[nodeIndex].skin >= 0 ? glm::mat4(1.0f) : rest.world[nodeIndex];
+}
+
+// The longest edge a tessellation of 1/N of the scene's size allows; 0 for none.
+float maxEdgeOf(const Scene& scene, const Pose& rest, uint32_t tessellation) {
+  if (tessellation == 0) return 0.0f;
+  Bounds b;
+  for (size_t n = 0; n < scene.nodes.size(); ++n) {
+    if (scene.nodes[n].mesh < 0) continue;
+    const glm::mat4 m = restMatrix(scene, rest, int(n));
+    for (const Primitive& p : scene.meshes[scene.nodes[n].mesh].primitives)
+      for (const glm::vec3& v : p.positions) b.add(glm::vec3(m * glm::vec4(v, 1.0f)));
+  }
+  return b.empty() ? 0.0f : glm::length(b.max - b.min) / float(tessellation);
+}
+
 }  // namespace
 
-Geometry buildGeometry(const Scene& scene) {
+Geometry buildGeometry(const Scene& scene, uint32_t tessellation) {
+  const Pose rest = evaluatePose(scene, -1, 0.0f);
+  const float maxEdge = maxEdgeOf(scene, rest, tessellation);
   Geometry g;
   g.nodeCount = uint32_t(scene.nodes.size());
   uint32_t matrices = g.nodeCount;
@@ -72,7 +93,11 @@ Geometry buildGeometry(const Scene& scene) {
   std::function<void(int)> visit = [&](int nodeIndex) {
     const Node& node = scene.nodes[nodeIndex];
     if (node.mesh >= 0) {
-      for (const Primitive& p : scene.meshes[node.mesh].primitives) {
+      for (const Primitive& given : scene.meshes[node.mesh].primitives) {
+        // At most eight times the vertices the primitive came with (and a few thousand more).
+        const Primitive p = maxEdge > 0.0f ? tessellated(given, restMatrix(scene, rest, nodeIndex), maxEdge,
+                                                         8 * given.positions.size() + 4096)
+                                           : given;
         const uint32_t instance = uint32_t(g.instances.size());
         const uint32_t base = uint32_t(g.vertices.size());
         const uint32_t n = uint32_t(p.positions.size());

@@ -56,7 +56,9 @@ struct Geometry {
   FrameInputs frameInputs(const Scene& scene, const Pose& pose) const;
 };
 
-Geometry buildGeometry(const Scene& scene);
+// `tessellation` N > 0: triangle edges longer than 1/N of the scene's size (the diagonal of its
+// bounds at rest) are split (tessellation.h), so that no surface is sampled coarser than that.
+Geometry buildGeometry(const Scene& scene, uint32_t tessellation = 0);
 
 // The animate pass evaluated on the host: the reference the GPU is tested against.
 std::vector<WorldVertex> animateOnHost(const Geometry& geometry, const FrameInputs& inputs);

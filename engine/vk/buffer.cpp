@@ -98,4 +98,9 @@ void Buffer::download(void* data, VkDeviceSize bytes, VkDeviceSize offset) const
   staging.download(data, bytes);
 }
 
+void copyBuffer(VkCommandBuffer cmd, const Buffer& from, const Buffer& to) {
+  const VkBufferCopy all{0, 0, from.size()};
+  vkCmdCopyBuffer(cmd, from.handle(), to.handle(), 1, &all);
+}
+
 }  // namespace ivgi::vk

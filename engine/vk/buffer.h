@@ -84,4 +84,7 @@ Buffer makeBuffer(const Context& ctx, const std::vector<T>& items, Memory memory
   return b;
 }
 
+// Records a copy of the whole of `from` to the start of `to` (a barrier must follow before it is read).
+void copyBuffer(VkCommandBuffer cmd, const Buffer& from, const Buffer& to);
+
 }  // namespace ivgi::vk

@@ -18,7 +18,7 @@ struct PassTime {
 
 class PassTimer {
  public:
-  PassTimer(const Context& ctx, uint32_t maxPasses = 64);
+  PassTimer(const Context& ctx, uint32_t maxPasses = 1024);
   ~PassTimer();
   PassTimer(const PassTimer&) = delete;
   PassTimer& operator=(const PassTimer&) = delete;

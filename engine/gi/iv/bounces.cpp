@@ -6,7 +6,7 @@ namespace ivgi::gi {
 
 namespace {
 
-constexpr uint32_t kGroupSize = 64;  // of gather.comp and pull_up.comp
+constexpr uint32_t kGroupSize = 64;  // of gather.comp, interpolate.comp and pull_up.comp
 
 glm::uvec4 argsOf(vk::Groups g) { return {g.x, g.y, g.z, 0u}; }
 
@@ -15,17 +15,20 @@ glm::uvec4 argsOf(vk::Groups g) { return {g.x, g.y, g.z, 0u}; }
 Bounces::Bounces(const vk::Context& ctx, const Hierarchy& h, vk::Allocations& allocations)
     : emit_(shaderProgram(ctx, "emit")),
       gather_(shaderProgram(ctx, "gather")),
+      interpolate_(shaderProgram(ctx, "interpolate")),
       pullUp_(shaderProgram(ctx, "pull_up")),
       check_(shaderProgram(ctx, "bounce_check")) {
-  // The dispatch sizes of a whole bounce: the gather over the surfels, then one pull-up a level.
-  const vk::Groups gather = gather_.groupsFor(h.leafOfSurfel.size(), kGroupSize);
-  gatherGroups_ = gather.x * gather.y;
-  std::vector<glm::uvec4> full = {argsOf(gather)};
-  for (uint32_t l = 0; l < h.levels(); ++l)
-    full.push_back(argsOf(pullUp_.groupsFor(h.levelStart[l + 1] - h.levelStart[l], kGroupSize)));
+  // The dispatch sizes of a whole bounce: the gather over the receivers (set each frame from how
+  // many there are), the interpolation at every surfel, then one pull-up a level.
+  const vk::Groups interpolate = interpolate_.groupsFor(h.leafOfSurfel.size(), kGroupSize);
+  interpolateGroups_ = interpolate.x * interpolate.y;
+  std::vector<glm::uvec4> full = {glm::uvec4(0u, 1u, 1u, 0u), argsOf(interpolate)};
+  const std::vector<gpu::LevelPush> batches = levelBatchesBottomUp(h, gpu::kPullUpLevels);
+  for (const gpu::LevelPush& batch : batches) full.push_back(argsOf(pullUp_.groupsFor(batch.count, kGroupSize)));
+  pullUpDispatches_ = uint32_t(batches.size());
   fullArgs_ = vk::makeBuffer(ctx, full, vk::Memory::Device, &allocations);
   args_ = vk::Buffer(ctx, full.size() * sizeof(glm::uvec4), vk::Memory::Device, &allocations);
-  sums_ = vk::Buffer(ctx, gatherGroups_ * sizeof(gpu::BounceSum), vk::Memory::Device, &allocations);
+  sums_ = vk::Buffer(ctx, interpolateGroups_ * sizeof(gpu::BounceSum), vk::Memory::Device, &allocations);
   state_ = vk::Buffer(ctx, sizeof(gpu::BounceState), vk::Memory::Host, &allocations);
 }
 
@@ -35,44 +38,66 @@ uint32_t Bounces::maxGathers(const IvSettings& settings) {
 
 void Bounces::pullUp(VkCommandBuffer cmd, const IvBuffers& b, const Hierarchy& h, const vk::Buffer& radiosity,
                      bool indirect) const {
-  forEachLevelBottomUp(cmd, h, [&](gpu::LevelPush level) {
-    const vk::Bindings bindings = b.pool().with({{"radiosity", radiosity}});
-    if (!indirect) return pullUp_.dispatchItems(cmd, level.count, bindings, level);
-    const uint32_t index =
-        uint32_t(std::find(h.levelStart.begin(), h.levelStart.end(), level.first) - h.levelStart.begin());
-    pullUp_.dispatchIndirect(cmd, args_, (1 + index) * sizeof(glm::uvec4), bindings, level);
-  });
+  const vk::Bindings bindings = b.pool().with({{"radiosity", radiosity}});
+  uint32_t index = 0;
+  forEachLevelBottomUp(
+      cmd, h,
+      [&](gpu::LevelPush batch) {
+        if (!indirect) return pullUp_.dispatchItems(cmd, batch.count, bindings, batch);
+        pullUp_.dispatchIndirect(cmd, args_, (2 + index++) * sizeof(glm::uvec4), bindings, batch);
+      },
+      gpu::kPullUpLevels);
 }
 
 void Bounces::recordEmission(VkCommandBuffer cmd, const IvBuffers& b, const Hierarchy& h) const {
   const uint32_t surfels = uint32_t(h.leafOfSurfel.size());
-  emit_.dispatchItems(cmd, surfels, b.pool().with({{"radiosity", b.radiosityA}}), gpu::CountPush{surfels});
+  emit_.dispatchItems(cmd, surfels, b.pool().with({{"radiosity", b.nodeEmission}}), gpu::CountPush{surfels});
   vk::barrier(cmd);
-  pullUp(cmd, b, h, b.radiosityA, false);
+  pullUp(cmd, b, h, b.nodeEmission, false);
+  vk::copyBuffer(cmd, b.nodeEmission, b.radiosityA);
+  vk::barrier(cmd);
 }
 
-void Bounces::recordStart(VkCommandBuffer cmd) const {
+void Bounces::recordStart(VkCommandBuffer cmd, const IvBuffers& b) const {
   vkCmdFillBuffer(cmd, state_.handle(), 0, VK_WHOLE_SIZE, 0u);
-  const VkBufferCopy all{0, 0, fullArgs_.size()};
-  vkCmdCopyBuffer(cmd, fullArgs_.handle(), args_.handle(), 1, &all);
+  const VkBufferCopy gather{gpu::kArgsReceivers * sizeof(glm::uvec4), 0, sizeof(glm::uvec4)};
+  vkCmdCopyBuffer(cmd, b.receiverArgs.handle(), fullArgs_.handle(), 1, &gather);
+  vk::barrier(cmd);
+  vk::copyBuffer(cmd, fullArgs_, args_);
+  vk::barrier(cmd);
+}
+
+void Bounces::recordEstimate(VkCommandBuffer cmd, const IvBuffers& b, const LinkSet& staticSet, const LinkSet& frameSet,
+                             const IvSettings& settings) const {
+  gather_.dispatchIndirect(cmd, b.receiverArgs, gpu::kArgsNewReceivers * sizeof(glm::uvec4),
+                           b.pool().with({{"radiosityIn", b.nodeEmission},
+                                          {"frameCounters", frameSet.counters},
+                                          {"staticCounters", staticSet.counters}}),
+                           gpu::GatherPush{gpu::maskWordsFor(settings.bins), 1u, 0u});
   vk::barrier(cmd);
 }
 
 void Bounces::recordSteps(VkCommandBuffer cmd, const IvBuffers& b, const Hierarchy& h, const LinkSet& staticSet,
                           const LinkSet& frameSet, const IvSettings& settings, uint32_t first, uint32_t steps) const {
   const uint32_t surfels = uint32_t(h.leafOfSurfel.size());
-  const gpu::BounceCheckPush check{gatherGroups_, h.levels(), maxGathers(settings),
+  const gpu::BounceCheckPush check{interpolateGroups_, pullUpDispatches_ + 2, maxGathers(settings),
                                    settings.bounces ? -1.0f : settings.bounceTolerance};
   for (uint32_t k = first; k < first + steps; ++k) {
     const vk::Buffer& in = k % 2 ? b.radiosityB : b.radiosityA;
     const vk::Buffer& out = k % 2 ? b.radiosityA : b.radiosityB;
-    gather_.dispatchIndirect(cmd, args_, 0,
-                             b.pool().with({{"radiosityIn", in},
-                                            {"radiosityOut", out},
-                                            {"frameCounters", frameSet.counters},
-                                            {"staticCounters", staticSet.counters},
-                                            {"bounceSums", sums_}}),
-                             gpu::GatherPush{surfels, gpu::maskWordsFor(settings.bins)});
+    gather_.dispatchIndirect(
+        cmd, args_, 0,
+        b.pool().with(
+            {{"radiosityIn", in}, {"frameCounters", frameSet.counters}, {"staticCounters", staticSet.counters}}),
+        gpu::GatherPush{gpu::maskWordsFor(settings.bins), 0u, 0u});
+    vk::barrier(cmd);
+    interpolate_.dispatchIndirect(cmd, args_, sizeof(glm::uvec4),
+                                  b.pool().with({{"radiosityIn", in},
+                                                 {"radiosityOut", out},
+                                                 {"frameCounters", frameSet.counters},
+                                                 {"staticCounters", staticSet.counters},
+                                                 {"bounceSums", sums_}}),
+                                  gpu::InterpolatePush{surfels});
     vk::barrier(cmd);
     pullUp(cmd, b, h, out, true);
     check_.dispatch(cmd, {},

@@ -1,7 +1,8 @@
 #pragma once
 // Pass 6, bounces: emitted radiosity at the leaves, pulled up the trees (the prune credits emitters
-// through it, and the bounces start from it); then per bounce a gather at the leaves over their
-// surviving links, a pull-up to the parents, so that coarse senders send the new value, and a check
+// through it, and the bounces start from it); then per bounce a gather at the receivers over their
+// surviving links, the interpolation to every surfel (receivers.h), a pull-up to the parents, so
+// that coarse senders send the new value, and a check
 // (bounce_check.comp) of whether the bounces are done: until a bounce adds less than a tolerance of
 // the light, or a given count. Bounces are recorded in steps that run zero workgroups once the
 // check says done; where a frame's steps ran out first, the solver records more.
@@ -16,12 +17,20 @@ namespace ivgi::gi {
 class Bounces {
  public:
   Bounces(const vk::Context& ctx, const Hierarchy& h, vk::Allocations& allocations);
-  // π·Le into radiosityA at the leaves, pulled up.
+  // π·Le into nodeEmission at the leaves, pulled up, and copied to radiosityA (where bounces start).
   void recordEmission(VkCommandBuffer cmd, const IvBuffers& b, const Hierarchy& h) const;
-  // The frame's first gather comes next.
-  void recordStart(VkCommandBuffer cmd) const;
-  // `steps` more gathers (each with its pull-up and check), from the frame's gather `first` on;
-  // radiosityA and radiosityB take turns.
+  // The frame's first gather comes next, over the receivers listed.
+  void recordStart(VkCommandBuffer cmd, const IvBuffers& b) const;
+  // The irradiance the receivers' refinement judges by: the direct light of the round's new
+  // receivers, gathered from the emission.
+  void recordEstimate(VkCommandBuffer cmd, const IvBuffers& b, const LinkSet& staticSet, const LinkSet& frameSet,
+                      const IvSettings& settings) const;
+  // The buffer holding the radiosity of the last gather recorded so far (state().gathers of them).
+  static const vk::Buffer& solution(const IvBuffers& b, uint32_t gathers) {
+    return gathers % 2 ? b.radiosityB : b.radiosityA;
+  }
+  // `steps` more gathers (each with its interpolation, pull-up and check), from the frame's gather
+  // `first` on; radiosityA and radiosityB take turns.
   void recordSteps(VkCommandBuffer cmd, const IvBuffers& b, const Hierarchy& h, const LinkSet& staticSet,
                    const LinkSet& frameSet, const IvSettings& settings, uint32_t first, uint32_t steps) const;
   // The gathers a frame runs at most.
@@ -32,8 +41,8 @@ class Bounces {
  private:
   void pullUp(VkCommandBuffer cmd, const IvBuffers& b, const Hierarchy& h, const vk::Buffer& radiosity,
               bool indirect) const;
-  vk::Program emit_, gather_, pullUp_, check_;
-  uint32_t gatherGroups_;
+  vk::Program emit_, gather_, interpolate_, pullUp_, check_;
+  uint32_t interpolateGroups_, pullUpDispatches_;
   vk::Buffer sums_, state_, fullArgs_, args_;  // per gather workgroup; the state; dispatch sizes, full and next
 };
 

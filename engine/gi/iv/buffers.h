@@ -12,9 +12,10 @@ struct IvBuffers {
   // emission, the table of bins (unit centre direction, solid angle), the environment per bin, the
   // frame's punctual lights.
   vk::Buffer tree, leafOfSurfel, leafMoves, albedo, emission, binTable, environment, lights;
-  // Per frame: node attributes (refit), radiosity per node (bounces read one and write the other),
+  // Per frame: node attributes (refit), emitted radiosity π·Le per node (pulled up), radiosity per
+  // node (bounces read one and write the other),
   // irradiance per surfel, and per surfel the irradiance from lights and the environment.
-  vk::Buffer nodes, radiosityA, radiosityB, irradiance, externalLight;
+  vk::Buffer nodes, nodeEmission, radiosityA, radiosityB, irradiance, externalLight;
   // Link creation's two worklists and the indirect dispatch arguments between its levels.
   vk::Buffer args, worklistA, worklistB;
   // Each leaf's surviving links (texels, past one storage binding), and per static leaf and mask
@@ -22,14 +23,23 @@ struct IvBuffers {
   vk::Buffer ranges, leafLinks, overrides;
   // What a static leaf keeps between frames: its survivors among static senders (links, packed bin
   // and coverage, key depths), its bins as mask words, the environment through them, the emitters it
-  // lists and the emission its static bins credited.
+  // lists, the emission its static bins credited and the proximity of its static survivors.
   vk::Buffer staticRanges, staticLinks, staticBins, staticDepths, staticMasks, staticEnvironment;
-  vk::Buffer staticEmitters, staticEmitterCounts, staticCorrection;
+  vk::Buffer staticEmitters, staticEmitterCounts, staticCorrection, staticProximity;
   // The prune's bins where they do not fit in shared memory: a slot of 6·N² per workgroup.
   vk::Buffer globalBins, globalCoverage;
+  // Receivers (receivers.h). Per node: its representative surfel, where a walk that skips it goes
+  // on, its need, presence and role, and the reach of the supports at and below it; where each
+  // level starts. The receivers listed this frame, their counters and the dispatch sizes they need,
+  // the refinement's two candidate lists. Per surfel: its support radius (kNotReceiver: not a
+  // receiver), how near what it sees is, the irradiance gathered (at receivers) and the
+  // interpolation's taps. The groups of neighbouring surfels, each surfel's group, and per group the
+  // sampled nodes whose receivers may weigh for its surfels.
+  vk::Buffer representatives, skip, levelStarts, receivers, receiverCounts, receiverArgs, receiverRadius;
+  vk::Buffer candidatesA, candidatesB, reach, gathered, tapCounts, taps, proximity;
+  vk::Buffer needs, presences, roles, groups, groupOfSurfel, neighbourCounts, neighbours;
 
-  // Every buffer above by the name the shaders bind it under. nodeEmission is radiosityA while it
-  // holds the emission pulled up (before the bounces).
+  // Every buffer above by the name the shaders bind it under.
   vk::Bindings pool() const {
     return vk::Bindings::pool({{"tree", tree},
                                {"leafOfSurfel", leafOfSurfel},
@@ -40,7 +50,7 @@ struct IvBuffers {
                                {"environment", environment},
                                {"lights", lights},
                                {"nodes", nodes},
-                               {"nodeEmission", radiosityA},
+                               {"nodeEmission", nodeEmission},
                                {"irradiance", irradiance},
                                {"externalLight", externalLight},
                                {"args", args},
@@ -56,8 +66,28 @@ struct IvBuffers {
                                {"staticEmitters", staticEmitters},
                                {"staticEmitterCounts", staticEmitterCounts},
                                {"staticCorrection", staticCorrection},
+                               {"staticProximity", staticProximity},
                                {"globalBins", globalBins},
-                               {"globalCoverage", globalCoverage}});
+                               {"globalCoverage", globalCoverage},
+                               {"representatives", representatives},
+                               {"skip", skip},
+                               {"levelStarts", levelStarts},
+                               {"needs", needs},
+                               {"presences", presences},
+                               {"roles", roles},
+                               {"groups", groups},
+                               {"groupOfSurfel", groupOfSurfel},
+                               {"neighbourCounts", neighbourCounts},
+                               {"neighbours", neighbours},
+                               {"receivers", receivers},
+                               {"receiverCounts", receiverCounts},
+                               {"receiverArgs", receiverArgs},
+                               {"receiverRadius", receiverRadius},
+                               {"reach", reach},
+                               {"gathered", gathered},
+                               {"tapCounts", tapCounts},
+                               {"taps", taps},
+                               {"proximity", proximity}});
   }
 };
 

@@ -97,14 +97,21 @@ void Prune::clearBins(VkCommandBuffer cmd, const IvBuffers& b) {
   vkCmdFillBuffer(cmd, b.globalCoverage.handle(), 0, VK_WHOLE_SIZE, 0u);
 }
 
-void Prune::record(VkCommandBuffer cmd, bool pruneStatic, const LinkSet& staticSet, const LinkSet& frameSet,
-                   const IvBuffers& b, uint32_t lightCount) {
-  if (binsDirty_) {
-    clearBins(cmd, b);
-    vk::barrier(cmd);
-    binsDirty_ = false;
-  }
-  if (pruneStatic) recordPass(cmd, *static_, staticSet, staticSet, b, lightCount);
+void Prune::clearIfDirty(VkCommandBuffer cmd, const IvBuffers& b) {
+  if (!binsDirty_) return;
+  clearBins(cmd, b);
+  vk::barrier(cmd);
+  binsDirty_ = false;
+}
+
+void Prune::recordStatic(VkCommandBuffer cmd, const LinkSet& staticSet, const IvBuffers& b, uint32_t lightCount) {
+  clearIfDirty(cmd, b);
+  recordPass(cmd, *static_, staticSet, staticSet, b, lightCount);
+}
+
+void Prune::recordFrame(VkCommandBuffer cmd, const LinkSet& staticSet, const LinkSet& frameSet, const IvBuffers& b,
+                        uint32_t lightCount) {
+  clearIfDirty(cmd, b);
   recordPass(cmd, *frame_, frameSet, staticSet, b, lightCount);
 }
 
@@ -119,8 +126,24 @@ void Prune::recordPass(VkCommandBuffer cmd, const vk::Program& pass, const LinkS
                                  {"senders", set.senders},
                                  {"counters", set.counters},
                                  {"staticCounters", staticSet.counters}}),
-                  gpu::PrunePush{first, std::min(surfelCount_, first + leaves), set.leafLinkCapacity, lightCount,
+                  gpu::PrunePush{first, std::min(surfelCount_, first + leaves), 0u, set.leafLinkCapacity, lightCount,
                                  settings_.environment ? 1u : 0u, staticSet.leafLinkCapacity});
+    vk::barrier(cmd);
+  }
+}
+
+void Prune::recordReceivers(VkCommandBuffer cmd, const LinkSet& staticSet, const LinkSet& frameSet, const IvBuffers& b,
+                            uint32_t lightCount) {
+  clearIfDirty(cmd, b);
+  const uint32_t leaves = batch();
+  for (uint32_t k = 0; k < batches(); ++k) {
+    frame_->dispatchIndirect(cmd, b.receiverArgs, (gpu::kArgsPruneBatches + k) * sizeof(glm::uvec4),
+                             b.pool().with({{"starts", frameSet.starts},
+                                            {"senders", frameSet.senders},
+                                            {"counters", frameSet.counters},
+                                            {"staticCounters", staticSet.counters}}),
+                             gpu::PrunePush{k * leaves, (k + 1) * leaves, 1u, frameSet.leafLinkCapacity, lightCount,
+                                            settings_.environment ? 1u : 0u, staticSet.leafLinkCapacity});
     vk::barrier(cmd);
   }
 }

@@ -28,11 +28,21 @@ class Prune {
   // (lavapipe's loop budget) may not have, so a redo starts from this.
   static void clearBins(VkCommandBuffer cmd, const IvBuffers& b);
 
-  // Records the prune of every leaf: first, where `pruneStatic`, the static pass against the static
-  // set's links; then the frame's against `frameSet` (static leaves merge with what the static pass
-  // kept).
-  void record(VkCommandBuffer cmd, bool pruneStatic, const LinkSet& staticSet, const LinkSet& frameSet,
-              const IvBuffers& b, uint32_t lightCount);
+  // Records the static pass: the static leaves against the static set's links.
+  void recordStatic(VkCommandBuffer cmd, const LinkSet& staticSet, const IvBuffers& b, uint32_t lightCount);
+  // Records the frame's prune of every leaf against `frameSet` (static leaves merge with what the
+  // static pass kept).
+  void recordFrame(VkCommandBuffer cmd, const LinkSet& staticSet, const LinkSet& frameSet, const IvBuffers& b,
+                   uint32_t lightCount);
+  // Records the frame's prune of the receivers a refinement round listed, one batch after another
+  // with the dispatch sizes receiver_args.comp wrote from how many there are.
+  void recordReceivers(VkCommandBuffer cmd, const LinkSet& staticSet, const LinkSet& frameSet, const IvBuffers& b,
+                       uint32_t lightCount);
+  // How the prune of listed receivers is batched: what receiver_args.comp sizes it by.
+  struct Batching {
+    uint32_t batch, leavesPerGroup, maxGroups, batches;
+  };
+  Batching batching() const { return {batch(), leavesPerGroup(), groups(), batches()}; }
   // A workgroup ran out of lavapipe's loop budget: twice the subgroups share it from the next frame.
   // Throws SettingsError where the workgroup cannot grow.
   void onLoopBudgetSpent();
@@ -41,6 +51,7 @@ class Prune {
   void makePrograms();
   void recordPass(VkCommandBuffer cmd, const vk::Program& pass, const LinkSet& set, const LinkSet& staticSet,
                   const IvBuffers& b, uint32_t lightCount) const;
+  void clearIfDirty(VkCommandBuffer cmd, const IvBuffers& b);
   uint32_t groups() const;  // workgroups a dispatch runs
   uint32_t leavesPerGroup() const;
   uint32_t batch() const;  // leaves one dispatch walks

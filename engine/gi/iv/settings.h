@@ -14,8 +14,11 @@ struct IvSettings {
   // --bounces K: exactly K indirect bounces (0: direct light only); none: until a bounce adds less
   // than --bounce-tol of the light still to come (estimated from the last two bounces).
   std::optional<uint32_t> bounces;
-  float bounceTolerance = 1e-3f;                  // --bounce-tol
-  float kappa = 1.0f;                             // --kappa: refine while a sender covers more than κ average bins
+  float bounceTolerance = 1e-3f;  // --bounce-tol
+  float kappa = 1.0f;             // --kappa: refine while a sender covers more than κ average bins
+  // --receiver-tol: irradiance is solved at receivers chosen where a receiver's irradiance,
+  // predicted from its neighbours, misses by more than this share of it; 0: at every surfel.
+  float receiverTolerance = 0.4f;
   std::optional<scene::Environment> environment;  // --env; none: no environment light
   uint64_t memoryBudget = 0;  // --max-memory, in bytes: the most the solver may allocate; 0: the device's heap
   // The most workgroups one prune dispatch runs; 0: as many as the scene and the device allow. Fewer
@@ -51,6 +54,9 @@ struct IvStats {
   // as a share of the light (0 where they stopped at a count: not estimated then).
   uint32_t bounces = 0;
   float bounceRemaining = 0;
+  // The last relinked frame's receivers (surfels whose irradiance is solved; the rest interpolate),
+  // and of those the surfels no receiver reached, made receivers.
+  uint32_t receivers = 0, receiverFills = 0;
 };
 
 }  // namespace ivgi::gi

@@ -1,5 +1,8 @@
 #include "engine/gi/iv/solver.h"
 
+#include <algorithm>
+#include <bit>
+
 #include "engine/gi/pass.h"
 
 namespace ivgi::gi {
@@ -56,6 +59,7 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, IvSetup set
       links_(ctx),
       prune_(ctx, settings_, surfelCount_),
       bounces_(ctx, setup_.hierarchy, allocations_),
+      receivers_(ctx, setup_.hierarchy, settings_, b_, allocations_),
       room_(ctx, settings_, b_, staticSet_, frameSet_, allocations_) {
   const Hierarchy& h = setup_.hierarchy;
   // Pairs of two static objects are linked and pruned once, but only when something else moves.
@@ -115,6 +119,7 @@ void IvSolver::uploadScene(const scene::Geometry& g, const std::vector<uint32_t>
   }
   b_.ranges = deviceArray<gpu::LeafRange>(ctx, surfelCount_, allocations_);
   b_.externalLight = deviceArray<glm::vec4>(ctx, surfelCount_, allocations_);
+  b_.nodeEmission = deviceArray<glm::vec4>(ctx, nodeCount_, allocations_);
   b_.radiosityA = deviceArray<glm::vec4>(ctx, nodeCount_, allocations_);
   b_.radiosityB = deviceArray<glm::vec4>(ctx, nodeCount_, allocations_);
   b_.irradiance = deviceArray<glm::vec4>(ctx, surfelCount_, allocations_);
@@ -127,6 +132,7 @@ void IvSolver::uploadScene(const scene::Geometry& g, const std::vector<uint32_t>
   b_.staticEmitters = deviceArray<uint32_t>(ctx, statics * gpu::kStaticEmitters, allocations_);
   b_.staticEmitterCounts = deviceArray<uint32_t>(ctx, statics, allocations_);
   b_.staticCorrection = deviceArray<glm::vec4>(ctx, statics, allocations_);
+  b_.staticProximity = deviceArray<float>(ctx, statics, allocations_);
 }
 
 void IvSolver::setLights(const std::vector<gpu::PunctualLight>& lights) {
@@ -151,18 +157,49 @@ void IvSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
       if (linkStatic) links_.record(cmd, staticSet_, b_, h, settings_, room_.worklistCapacity());
       links_.record(cmd, frameSet_, b_, h, settings_, room_.worklistCapacity());
     });
-    timedPass(cmd, timer, "prune", [&] { prune_.record(cmd, linkStatic, staticSet_, frameSet_, b_, lightCount_); });
+    timedPass(cmd, timer, "prune", [&] {
+      if (linkStatic) prune_.recordStatic(cmd, staticSet_, b_, lightCount_);
+      if (receivers_.everySurfel()) prune_.recordFrame(cmd, staticSet_, frameSet_, b_, lightCount_);
+    });
+    if (!receivers_.everySurfel()) recordReceivers(cmd, timer);
     linked_ = staticLinked_ = true;
   }
+  if (!relinking) timedPass(cmd, timer, "bounces", [&] { bounces_.recordEmission(cmd, b_, h); });
+  recordFirstBounces(cmd, timer);
+}
+
+void IvSolver::recordFirstBounces(VkCommandBuffer cmd, vk::PassTimer& timer) {
   timedPass(cmd, timer, "bounces", [&] {
-    if (!relinking) bounces_.recordEmission(cmd, b_, h);
-    bounces_.recordStart(cmd);
+    bounces_.recordStart(cmd, b_);
     gathersRecorded_ = std::min(kFirstBounceSteps, Bounces::maxGathers(settings_));
-    bounces_.recordSteps(cmd, b_, h, staticSet_, frameSet_, settings_, 0, gathersRecorded_);
+    bounces_.recordSteps(cmd, b_, setup_.hierarchy, staticSet_, frameSet_, settings_, 0, gathersRecorded_);
   });
 }
 
+void IvSolver::recordReceivers(VkCommandBuffer cmd, vk::PassTimer& timer) {
+  const Prune::Batching batching = prune_.batching();
+  timedPass(cmd, timer, "receivers", [&] { receivers_.recordStart(cmd, b_); });
+  for (uint32_t round = 0; round < receivers_.rounds(); ++round) {
+    timedPass(cmd, timer, "receivers", [&] { receivers_.recordSelect(cmd, b_, round, batching); });
+    timedPass(cmd, timer, "prune", [&] { prune_.recordReceivers(cmd, staticSet_, frameSet_, b_, lightCount_); });
+    timedPass(cmd, timer, "receivers", [&] {
+      bounces_.recordEstimate(cmd, b_, staticSet_, frameSet_, settings_);
+      receivers_.recordRefine(cmd, b_, round);
+    });
+  }
+  // Surfels that no receiver's support holds become receivers too.
+  timedPass(cmd, timer, "interpolation", [&] { receivers_.recordWeights(cmd, b_, setup_.hierarchy, batching); });
+  timedPass(cmd, timer, "prune", [&] { prune_.recordReceivers(cmd, staticSet_, frameSet_, b_, lightCount_); });
+}
+
+bool IvSolver::overflowed() const {
+  for (const LinkSet* set : {&staticSet_, &frameSet_})
+    if (!set->empty() && set->readCounters()[gpu::kCounterOverflow] != 0) return true;
+  return false;
+}
+
 bool IvSolver::wantsMorePasses() const {
+  if (overflowed()) return false;  // the frame is redone
   const gpu::BounceState s = bounces_.state();
   return s.done == 0 && s.gathers == gathersRecorded_;
 }
@@ -177,7 +214,9 @@ void IvSolver::recordMorePasses(VkCommandBuffer cmd, vk::PassTimer& timer) {
 
 std::vector<std::pair<std::string, double>> IvSolver::frameFigures() const {
   const gpu::BounceState s = bounces_.state();
-  return {{"bounces", double(s.gathers) - 1.0}, {"bounceRemaining", settings_.bounces ? 0.0 : double(s.remaining)}};
+  return {{"bounces", double(s.gathers) - 1.0},
+          {"bounceRemaining", settings_.bounces ? 0.0 : double(s.remaining)},
+          {"receivers", double(receivers_.counts(b_).receivers)}};
 }
 
 bool IvSolver::frameMustBeRedone() {
@@ -216,6 +255,8 @@ IvStats IvSolver::stats() const {
   const gpu::BounceState bounces = bounces_.state();
   s.bounces = bounces.gathers - 1;
   s.bounceRemaining = settings_.bounces ? 0.0f : bounces.remaining;
+  const Receivers::Counts receivers = receivers_.counts(b_);
+  s.receivers = receivers.receivers, s.receiverFills = receivers.fills;
   return s;
 }
 
@@ -241,11 +282,28 @@ std::vector<std::vector<IvSolver::LeafLink>> IvSolver::leafLinks() const {
   return out;
 }
 
+std::vector<uint32_t> IvSolver::receiverSurfels() const {
+  auto list = b_.receivers.read<uint32_t>(receivers_.counts(b_).receivers);
+  std::sort(list.begin(), list.end());
+  return list;
+}
+
+std::vector<std::vector<std::pair<uint32_t, float>>> IvSolver::interpolationTaps() const {
+  const auto counts = b_.tapCounts.read<uint32_t>(surfelCount_);
+  const auto taps = b_.taps.read<gpu::InterpolationTap>(size_t(surfelCount_) * gpu::kInterpolationTaps);
+  std::vector<std::vector<std::pair<uint32_t, float>>> out(surfelCount_);
+  for (uint32_t s = 0; s < surfelCount_; ++s)
+    for (uint32_t t = 0; t < counts[s]; ++t) {
+      const gpu::InterpolationTap& tap = taps[size_t(s) * gpu::kInterpolationTaps + t];
+      out[s].push_back({tap.receiver, std::bit_cast<float>(tap.weightBits)});
+    }
+  return out;
+}
+
 std::vector<gpu::NodeState> IvSolver::nodeStates() const { return b_.nodes.read<gpu::NodeState>(nodeCount_); }
 
 std::vector<glm::vec4> IvSolver::leafRadiosity() const {
-  // Gather g writes radiosityB where g is even.
-  auto nodes = ((bounces_.state().gathers - 1) % 2 == 0 ? b_.radiosityB : b_.radiosityA).read<glm::vec4>(nodeCount_);
+  auto nodes = Bounces::solution(b_, bounces_.state().gathers).read<glm::vec4>(nodeCount_);
   std::vector<glm::vec4> out(surfelCount_);
   for (uint32_t s = 0; s < surfelCount_; ++s) out[s] = nodes[setup_.hierarchy.leafOfSurfel[s]];
   return out;

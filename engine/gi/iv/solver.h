@@ -1,8 +1,8 @@
 #pragma once
 // The iv solver (Dong et al. 2007; docs/design.md §2.1): hierarchical radiosity whose visibility is the
-// nearest link per direction bin. Per frame, as passes: refit, link creation, bin pruning and
-// push-down, bounces. Objects that cannot move are linked and pruned once. The host only sizes
-// buffers (LinkRoom), from a guess and then from the counts the GPU reports.
+// nearest link per direction bin. Per frame, as passes: refit, link creation, the receivers chosen
+// where the lighting needs them (each pruned: bin pruning and push-down), bounces. Objects that cannot move are linked
+// and pruned once. The host only sizes buffers (LinkRoom), from a guess and then from the counts the GPU reports.
 #include <glm/glm.hpp>
 
 #include <optional>
@@ -14,6 +14,7 @@
 #include "engine/gi/iv/link_room.h"
 #include "engine/gi/iv/links.h"
 #include "engine/gi/iv/prune.h"
+#include "engine/gi/iv/receivers.h"
 #include "engine/gi/iv/settings.h"
 #include "engine/gi/refit.h"
 #include "engine/gi/solver.h"
@@ -65,6 +66,12 @@ class IvSolver final : public Solver {
   };
   std::vector<std::vector<LeafLink>> leafLinks() const;
   std::vector<gpu::NodeState> nodeStates() const;
+  // The last relinked frame's receivers, and per surfel its irradiance (as the resolve reads it).
+  std::vector<uint32_t> receiverSurfels() const;
+  std::vector<float> nodeNeeds() const { return b_.needs.read<float>(nodeCount_); }
+  std::vector<glm::vec4> surfelIrradiance() const { return b_.irradiance.read<glm::vec4>(surfelCount_); }
+  // Per surfel, the receivers its irradiance is interpolated from and their coefficients.
+  std::vector<std::vector<std::pair<uint32_t, float>>> interpolationTaps() const;
 
   // The bins' unit centre directions and solid angles, computed on the host (GLSL's atan is not
   // exact enough for the solid angles).
@@ -73,6 +80,11 @@ class IvSolver final : public Solver {
  private:
   bool splitsStatic() const { return !staticSet_.empty(); }
   void uploadScene(const scene::Geometry& g, const std::vector<uint32_t>& leafMoves, bool split, uint64_t maskWords);
+  // The frame's receivers, pruned as they are chosen (by their direct light and where their
+  // surroundings are near), and the interpolation to every surfel.
+  void recordReceivers(VkCommandBuffer cmd, vk::PassTimer& timer);
+  void recordFirstBounces(VkCommandBuffer cmd, vk::PassTimer& timer);
+  bool overflowed() const;
 
   const vk::Context& ctx_;
   const IvSetup setup_;
@@ -85,6 +97,7 @@ class IvSolver final : public Solver {
   LinkCreation links_;
   Prune prune_;
   Bounces bounces_;
+  Receivers receivers_;
   LinkRoom room_;
   bool linked_ = false, staticLinked_ = false;
   uint32_t framesRedone_ = 0, staticPasses_ = 0;

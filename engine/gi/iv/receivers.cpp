@@ -1,0 +1,170 @@
+#include "engine/gi/iv/receivers.h"
+
+#include <cmath>
+#include <numeric>
+
+#include "engine/gi/pass.h"
+
+namespace ivgi::gi {
+
+namespace {
+
+// --receiver-tol t bounds the interpolation's error: a sample may miss its prediction from the
+// samples around it by t of its irradiance, and a node's support may reach kProximity·√t times the
+// harmonic mean distance of what its receiver sees (irradiance changes over that distance, after
+// Ward's irradiance cache; a linear interpolation's error grows with the square of the support).
+constexpr float kProximity = 3.2f;
+// No cell is larger than 1/kCellsAcross of the scene: the tests judge by samples, and a shadow's edge
+// between samples spaced wider than that might go unseen.
+constexpr float kCellsAcross = 8.0f;
+// A sample darker than this share of the largest is judged against it (the tests judge by the direct
+// light, to which the bounces add most where it is dark).
+constexpr float kDirectFloor = 0.1f;
+
+template <class T>
+vk::Buffer deviceArray(const vk::Context& ctx, size_t count, vk::Allocations& allocations) {
+  return vk::Buffer(ctx, std::max<size_t>(count, 1) * sizeof(T), vk::Memory::Device, &allocations);
+}
+
+}  // namespace
+
+Receivers::Receivers(const vk::Context& ctx, const Hierarchy& h, const IvSettings& settings, IvBuffers& b,
+                     vk::Allocations& allocations)
+    : settings_(settings),
+      surfelCount_(uint32_t(h.leafOfSurfel.size())),
+      nodeCount_(uint32_t(h.nodes.size())),
+      levels_(h.levels()),
+      groupCount_(uint32_t(h.groups.size())),
+      largestCell_(h.size / kCellsAcross),
+      args_(shaderProgram(ctx, "receiver_args")),
+      select_(shaderProgram(ctx, "select_receivers")),
+      reach_(shaderProgram(ctx, "receiver_reach")),
+      refine_(shaderProgram(ctx, "refine_receivers")),
+      roles_(shaderProgram(ctx, "receiver_roles")),
+      neighbours_(shaderProgram(ctx, "neighbour_lists")),
+      weights_(shaderProgram(ctx, "interpolation_weights")) {
+  const size_t nodes = h.nodes.size(), surfels = surfelCount_;
+  vk::Allocations* tally = &allocations;
+  b.representatives = vk::makeBuffer(ctx, h.representatives, vk::Memory::Device, tally);
+  b.skip = vk::makeBuffer(ctx, h.skip, vk::Memory::Device, tally);
+  b.levelStarts = vk::makeBuffer(ctx, h.levelStart, vk::Memory::Device, tally);
+  b.receiverCounts = vk::Buffer(ctx, gpu::kReceiverSlots * sizeof(uint32_t), vk::Memory::Host, tally);
+  b.receiverArgs = deviceArray<glm::uvec4>(ctx, gpu::kArgsPruneBatches + std::max<size_t>(surfels, 1), allocations);
+  b.receivers = deviceArray<uint32_t>(ctx, surfels, allocations);
+  b.receiverRadius = deviceArray<uint32_t>(ctx, surfels, allocations);
+  b.tapCounts = deviceArray<uint32_t>(ctx, surfels, allocations);
+  b.taps = deviceArray<gpu::InterpolationTap>(ctx, surfels * gpu::kInterpolationTaps, allocations);
+  b.gathered = deviceArray<glm::vec4>(ctx, surfels, allocations);
+  b.proximity = deviceArray<float>(ctx, surfels, allocations);
+  const bool refines = !everySurfel();
+  b.candidatesA = deviceArray<uint32_t>(ctx, refines ? nodes : 0, allocations);
+  b.candidatesB = deviceArray<uint32_t>(ctx, refines ? nodes : 0, allocations);
+  b.reach = deviceArray<glm::vec2>(ctx, refines ? nodes : 0, allocations);
+  b.needs = deviceArray<float>(ctx, refines ? nodes : 0, allocations);
+  b.presences = deviceArray<float>(ctx, refines ? nodes : 0, allocations);
+  b.roles = deviceArray<float>(ctx, refines ? nodes : 0, allocations);
+  b.groups = vk::makeBuffer(ctx, refines ? h.groups : std::vector<uint32_t>{}, vk::Memory::Device, tally);
+  b.groupOfSurfel = vk::makeBuffer(ctx, refines ? h.groupOfSurfel : std::vector<uint32_t>{}, vk::Memory::Device, tally);
+  b.neighbourCounts = deviceArray<uint32_t>(ctx, refines ? h.groups.size() : 0, allocations);
+  b.neighbours = deviceArray<uint32_t>(ctx, refines ? h.groups.size() * gpu::kGroupNeighbours : 0, allocations);
+  roots_ = vk::makeBuffer(ctx, h.roots, vk::Memory::Device, tally);
+  if (!refines) makeEverySurfelReceiver(ctx, b);
+}
+
+Receivers::Lists Receivers::listsOf(uint32_t round) {
+  return round % 2 ? Lists{gpu::kReceiverCandidatesB, gpu::kReceiverCandidatesA}
+                   : Lists{gpu::kReceiverCandidatesA, gpu::kReceiverCandidatesB};
+}
+
+const vk::Buffer& Receivers::listBuffer(const IvBuffers& b, uint32_t slot) {
+  return slot == gpu::kReceiverCandidatesA ? b.candidatesA : b.candidatesB;
+}
+
+gpu::ReceiverPush Receivers::push(Lists lists) const {
+  return {lists.in,
+          lists.out,
+          settings_.receiverTolerance,
+          kProximity * std::sqrt(settings_.receiverTolerance),
+          nodeCount_,
+          surfelCount_,
+          kDirectFloor,
+          groupCount_,
+          largestCell_,
+          0u,
+          0u,
+          0u};
+}
+
+void Receivers::recordArgs(VkCommandBuffer cmd, const IvBuffers& b, uint32_t mode, Lists lists,
+                           const Prune::Batching& batching) const {
+  args_.dispatch(cmd, {}, {{"receiverCounts", b.receiverCounts}, {"receiverArgs", b.receiverArgs}},
+                 gpu::ReceiverArgsPush{mode, lists.in, lists.out, batching.batch, batching.leavesPerGroup,
+                                       batching.maxGroups, batching.batches, 0});
+  vk::barrier(cmd);
+}
+
+void Receivers::makeEverySurfelReceiver(const vk::Context& ctx, IvBuffers& b) const {
+  std::vector<uint32_t> all(surfelCount_);
+  std::iota(all.begin(), all.end(), 0u);
+  std::vector<gpu::InterpolationTap> own(size_t(surfelCount_) * gpu::kInterpolationTaps, {0u, 0u});
+  const uint32_t one = 0x3F800000u;  // 1.0f
+  for (uint32_t s = 0; s < surfelCount_; ++s) own[size_t(s) * gpu::kInterpolationTaps] = {s, one};
+  b.receivers.upload(all);
+  b.taps.upload(own);
+  b.tapCounts.upload(std::vector<uint32_t>(surfelCount_, 1u));
+  std::vector<uint32_t> counts(gpu::kReceiverSlots, 0u);
+  counts[gpu::kReceiverCount] = surfelCount_;
+  b.receiverCounts.upload(counts);
+  ctx.submitAndWait([&](VkCommandBuffer cmd) { recordArgs(cmd, b, gpu::kArgsListed, listsOf(0), {1, 1, 1, 0}); });
+}
+
+void Receivers::recordStart(VkCommandBuffer cmd, const IvBuffers& b) const {
+  std::vector<uint32_t> counts(gpu::kReceiverSlots, 0u);
+  counts[gpu::kReceiverCandidatesA] = uint32_t(roots_.size() / sizeof(uint32_t));
+  vkCmdUpdateBuffer(cmd, b.receiverCounts.handle(), 0, counts.size() * sizeof(uint32_t), counts.data());
+  vkCmdFillBuffer(cmd, b.receiverRadius.handle(), 0, VK_WHOLE_SIZE, gpu::kNotReceiver);
+  vkCmdFillBuffer(cmd, b.needs.handle(), 0, VK_WHOLE_SIZE, 0u);
+  vkCmdFillBuffer(cmd, b.presences.handle(), 0, VK_WHOLE_SIZE, 0u);
+  vk::copyBuffer(cmd, roots_, b.candidatesA);
+  vk::barrier(cmd);
+}
+
+void Receivers::recordSelect(VkCommandBuffer cmd, const IvBuffers& b, uint32_t round,
+                             const Prune::Batching& batching) const {
+  const Lists lists = listsOf(round);
+  recordArgs(cmd, b, gpu::kArgsStartRound, lists, batching);
+  select_.dispatchIndirect(cmd, b.receiverArgs, gpu::kArgsCandidates * sizeof(glm::uvec4),
+                           b.pool().with({{"candidatesIn", listBuffer(b, lists.in)}}), push(lists));
+  vk::barrier(cmd);
+  recordArgs(cmd, b, gpu::kArgsListed, lists, batching);
+}
+
+void Receivers::recordRefine(VkCommandBuffer cmd, const IvBuffers& b, uint32_t round) const {
+  const Lists lists = listsOf(round);
+  refine_.dispatchIndirect(
+      cmd, b.receiverArgs, gpu::kArgsCandidates * sizeof(glm::uvec4),
+      b.pool().with({{"candidatesIn", listBuffer(b, lists.in)}, {"candidatesOut", listBuffer(b, lists.out)}}),
+      push(lists));
+  vk::barrier(cmd);
+}
+
+void Receivers::recordWeights(VkCommandBuffer cmd, const IvBuffers& b, const Hierarchy& h,
+                              const Prune::Batching& batching) const {
+  roles_.dispatchItems(cmd, nodeCount_, b.pool(), push(listsOf(0)));
+  vk::barrier(cmd);
+  forEachLevelBottomUp(cmd, h, [&](gpu::LevelPush level) { reach_.dispatchItems(cmd, level.count, b.pool(), level); });
+  const Lists none{gpu::kReceiverCandidatesA, gpu::kReceiverCandidatesB};
+  neighbours_.dispatchItems(cmd, groupCount_, b.pool(), push(none));
+  vk::barrier(cmd);
+  recordArgs(cmd, b, gpu::kArgsStartRound, none, batching);  // fills are listed from here
+  weights_.dispatchItems(cmd, surfelCount_, b.pool(), push(none));
+  vk::barrier(cmd);
+  recordArgs(cmd, b, gpu::kArgsListed, none, batching);
+}
+
+Receivers::Counts Receivers::counts(const IvBuffers& b) const {
+  const auto c = b.receiverCounts.read<uint32_t>(gpu::kReceiverSlots);
+  return {c[gpu::kReceiverCount], c[gpu::kReceiverFills]};
+}
+
+}  // namespace ivgi::gi

@@ -1,0 +1,117 @@
+#include "engine/scene/tessellation.h"
+
+#include <algorithm>
+#include <array>
+#include <unordered_map>
+
+namespace ivgi::scene {
+
+namespace {
+
+uint64_t edgeKey(uint32_t a, uint32_t b) { return uint64_t(std::min(a, b)) << 32 | std::max(a, b); }
+
+// Joints and weights of a vertex between a and b: the four heaviest of both, halved, renormalised.
+void blendSkin(Primitive& p, uint32_t a, uint32_t b) {
+  std::array<std::pair<float, uint32_t>, 8> all;
+  for (int k = 0; k < 4; ++k)
+    all[k] = {0.5f * p.weights[a][k], p.joints[a][k]}, all[4 + k] = {0.5f * p.weights[b][k], p.joints[b][k]};
+  std::array<std::pair<float, uint32_t>, 8> merged{};
+  size_t count = 0;
+  for (const auto& [w, j] : all) {
+    auto it = std::find_if(merged.begin(), merged.begin() + long(count), [&](const auto& m) { return m.second == j; });
+    if (it != merged.begin() + long(count))
+      it->first += w;
+    else
+      merged[count++] = {w, j};
+  }
+  std::stable_sort(merged.begin(), merged.begin() + long(count),
+                   [](const auto& x, const auto& y) { return x.first > y.first; });
+  glm::vec4 weights(0.0f);
+  glm::uvec4 joints(0u);
+  float sum = 0.0f;
+  for (size_t k = 0; k < std::min<size_t>(count, 4); ++k)
+    weights[int(k)] = merged[k].first, joints[int(k)] = merged[k].second, sum += merged[k].first;
+  p.weights.push_back(sum > 0.0f ? weights / sum : weights);
+  p.joints.push_back(joints);
+}
+
+// Appends the vertex halfway between a and b, its attributes interpolated; returns its index.
+uint32_t addMidpoint(Primitive& p, uint32_t a, uint32_t b) {
+  const uint32_t m = uint32_t(p.positions.size());
+  p.positions.push_back(0.5f * (p.positions[a] + p.positions[b]));
+  if (!p.normals.empty()) {
+    const glm::vec3 n = p.normals[a] + p.normals[b];
+    p.normals.push_back(glm::length(n) > 0.0f ? glm::normalize(n) : p.normals[a]);
+  }
+  if (!p.uvs.empty()) p.uvs.push_back(0.5f * (p.uvs[a] + p.uvs[b]));
+  if (!p.joints.empty()) blendSkin(p, a, b);
+  for (MorphTarget& t : p.targets) {
+    if (!t.positions.empty()) t.positions.push_back(0.5f * (t.positions[a] + t.positions[b]));
+    if (!t.normals.empty()) t.normals.push_back(0.5f * (t.normals[a] + t.normals[b]));
+  }
+  return m;
+}
+
+}  // namespace
+
+Primitive tessellated(const Primitive& input, const glm::mat4& toWorld, float maxEdge, size_t maxVertices) {
+  Primitive p = input;
+  if (!(maxEdge > 0.0f)) return p;
+  const float limit2 = maxEdge * maxEdge;
+  auto longEdge = [&](uint32_t a, uint32_t b) {
+    const glm::vec3 d =
+        glm::vec3(toWorld * glm::vec4(p.positions[a], 1.0f)) - glm::vec3(toWorld * glm::vec4(p.positions[b], 1.0f));
+    return glm::dot(d, d) > limit2;
+  };
+  for (;;) {
+    const size_t triangles = p.indices.size() / 3;
+    std::unordered_map<uint64_t, uint32_t> split;  // marked edges, then their midpoints
+    for (size_t t = 0; t < triangles; ++t)
+      for (int e = 0; e < 3; ++e) {
+        const uint32_t a = p.indices[3 * t + e], b = p.indices[3 * t + (e + 1) % 3];
+        if (a != b && longEdge(a, b)) split.emplace(edgeKey(a, b), 0u);
+      }
+    if (split.empty()) break;
+    // A triangle with two marked edges has its third marked too (it splits into four, not three).
+    for (bool changed = true; changed;) {
+      changed = false;
+      for (size_t t = 0; t < triangles; ++t) {
+        const uint32_t* v = &p.indices[3 * t];
+        int marked = 0;
+        for (int e = 0; e < 3; ++e) marked += split.count(edgeKey(v[e], v[(e + 1) % 3])) ? 1 : 0;
+        if (marked == 2)
+          for (int e = 0; e < 3; ++e) changed |= split.emplace(edgeKey(v[e], v[(e + 1) % 3]), 0u).second;
+      }
+    }
+    if (p.positions.size() + split.size() > maxVertices) break;
+    // Midpoints in the triangles' order, so that the result does not depend on the map's.
+    std::vector<uint32_t> out;
+    out.reserve(p.indices.size() * 2);
+    auto midpoint = [&](uint32_t a, uint32_t b) -> uint32_t {
+      auto it = split.find(edgeKey(a, b));
+      if (it == split.end()) return ~0u;
+      if (it->second == 0u) it->second = addMidpoint(p, a, b) + 1;
+      return it->second - 1;
+    };
+    for (size_t t = 0; t < triangles; ++t) {
+      const uint32_t v0 = p.indices[3 * t], v1 = p.indices[3 * t + 1], v2 = p.indices[3 * t + 2];
+      const uint32_t m01 = midpoint(v0, v1), m12 = midpoint(v1, v2), m20 = midpoint(v2, v0);
+      const int marked = (m01 != ~0u) + (m12 != ~0u) + (m20 != ~0u);
+      if (marked == 0) {
+        out.insert(out.end(), {v0, v1, v2});
+      } else if (marked == 3) {
+        out.insert(out.end(), {v0, m01, m20, m01, v1, m12, m20, m12, v2, m01, m12, m20});
+      } else if (m01 != ~0u) {
+        out.insert(out.end(), {v0, m01, v2, m01, v1, v2});
+      } else if (m12 != ~0u) {
+        out.insert(out.end(), {v1, m12, v0, m12, v2, v0});
+      } else {
+        out.insert(out.end(), {v2, m20, v1, m20, v0, v1});
+      }
+    }
+    p.indices = std::move(out);
+  }
+  return p;
+}
+
+}  // namespace ivgi::scene

@@ -1,0 +1,71 @@
+// Interpolation of irradiance from receivers (docs/design.md §2.4), shared by the receivers'
+// refinement (a sample predicted from its neighbours) and the interpolation weights. The including
+// shader declares the node texels (NODE_TEXELS).
+
+// The taps found so far: receiver surfel, weight (then coefficient), offset in the query's tangent plane.
+uint tapCount = 0u;
+uint tapReceiver[kInterpolationTaps];
+float tapWeight[kInterpolationTaps];
+vec2 tapOffset[kInterpolationTaps];
+
+// Weight of a receiver at p (normal ns, support radius `radius`) for the surfel at x (normal n):
+// (1 − t²)³ over the support, peaked where t → 0 (1/(t² + 0.01)), so that the fit all but passes
+// through a receiver at its own place.
+float receiverWeight(vec3 x, vec3 n, vec3 p, vec3 ns, float radius) {
+  const float c = dot(n, ns);
+  if (c <= kReceiverNormalCos) return 0.0;
+  const vec3 d = p - x;
+  const float across = dot(d, n), stretch = kReceiverPlaneStretch * kReceiverPlaneStretch - 1.0;
+  const float t2 = (dot(d, d) + stretch * across * across) / (radius * radius);
+  if (t2 >= 1.0) return 0.0;
+  const float w = (1.0 - t2) * (1.0 - t2) * (1.0 - t2), a = (c - kReceiverNormalCos) / (1.0 - kReceiverNormalCos);
+  return w * a * a;
+}
+
+// Keeps a tap (a receiver met again, standing for another node, adds its weight), or where all
+// kInterpolationTaps are taken, replaces the lightest if it is heavier (the first found of equal
+// weights stays: a fixed order).
+void keepTap(uint receiver, float weight, vec2 offset) {
+  for (uint t = 0u; t < tapCount; ++t)
+    if (tapReceiver[t] == receiver) {
+      tapWeight[t] += weight;
+      return;
+    }
+  uint slot = tapCount;
+  if (tapCount == kInterpolationTaps) {
+    slot = 0u;
+    for (uint t = 1u; t < kInterpolationTaps; ++t)
+      if (tapWeight[t] < tapWeight[slot]) slot = t;
+    if (tapWeight[slot] >= weight) return;
+  } else {
+    ++tapCount;
+  }
+  tapReceiver[slot] = receiver, tapWeight[slot] = weight, tapOffset[slot] = offset;
+}
+
+// Considers receiver surfel s (at leaf node `leaf`) standing for a node of support radius `radius`
+// and the given presence, for the surfel at x (normal n; t1, t2 its tangents).
+void considerReceiver(uint s, uint leaf, float radius, float presence, vec3 x, vec3 n, vec3 t1, vec3 t2) {
+  const vec3 p = nodePositionArea(leaf).xyz;
+  const float w = receiverWeight(x, n, p, nodeNormalCone(leaf).xyz, radius) * presence;
+  if (w > 0.0) keepTap(s, w, vec2(dot(p - x, t1), dot(p - x, t2)));
+}
+
+// Turns the taps' weights into the coefficients of a weighted linear fit evaluated at the query:
+// c_k = w_k·(A⁻¹q_k)₀ with q_k = (1, offset_k) and A = Σ w q qᵀ, so that irradiance changing
+// linearly along the surface is interpolated exactly. The slopes are regularised: one or two taps,
+// or taps in a line, give the weighted mean along what they leave undetermined. Σ c_k = 1.
+void fitCoefficients() {
+  mat3 a = mat3(0.0);
+  for (uint t = 0u; t < tapCount; ++t) {
+    const vec3 q = vec3(1.0, tapOffset[t]);
+    a += tapWeight[t] * outerProduct(q, q);
+  }
+  const float spread = (a[1][1] + a[2][2]) / a[0][0];  // mean squared offset
+  const float lambda = 0.01 * a[0][0] * spread + 1e-30;
+  a[1][1] += lambda;
+  a[2][2] += lambda;
+  const mat3 inv = inverse(a);
+  const vec3 row = vec3(inv[0][0], inv[1][0], inv[2][0]);
+  for (uint t = 0u; t < tapCount; ++t) tapWeight[t] *= dot(row, vec3(1.0, tapOffset[t]));
+}
