@@ -7,7 +7,9 @@ Usage: tools/perf_tables.py [--ivgi build/ivgi] [--runs 3] [--threads 2]
 Every timing is the median over --runs runs of `ivgi bench` (each itself a median over frames),
 with LP_NUM_THREADS set to --threads for lavapipe and pt on as many threads. The equal-error runs
 need a converged pt reference of the animated Cornell box's frame 0 at 320×240 (4096 spp, a few
-minutes): it is rendered once into the scratch folder.
+minutes), the flicker table a pt sequence and the real-file table pt references of its scenes: all
+are rendered into the scratch folder. The Blender room is made with Debian's blender where it is
+installed (tools/scenes/blender_room.py), else left out.
 """
 import argparse
 import csv
@@ -67,43 +69,52 @@ def fmt(ms):
 
 
 def per_pass_table(r, runs):
-    order = ["animate", "surfels", "refit", "links", "prune", "bounces", "raster", "resolve", "total"]
-    columns, last = {}, None
+    order = ["animate", "surfels", "refit", "links", "prune", "receivers", "interpolation", "bounces", "raster",
+             "resolve", "total"]
+    columns, results = {}, {}
     for cells in (8, 26):
-        columns[cells], last = bench(r, runs, cells, 20, 3)
-    lines = ["| pass | `--cells 8` (539 surfels) | `--cells 26` (4,756 surfels) |", "|---|---|---|"]
+        columns[cells], results[cells] = bench(r, runs, cells, 20, 3)
+    head = " | ".join(f"`--cells {c}` ({results[c]['counts']['surfels']:,} surfels, "
+                      f"{results[c]['solver']['receivers']:,} receivers)" for c in columns)
+    lines = [f"| pass | {head} |", "|---|---|---|"]
     for p in order:
         lines.append(f"| {p} | {fmt(columns[8][p])} | {fmt(columns[26][p])} |")
     fps = {c: 1000.0 / columns[c]["total"] for c in columns}
     lines.append(f"| frames per second | {fps[8]:.1f} | {fps[26]:.1f} |")
-    return "\n".join(lines), last["device"], columns
+    return "\n".join(lines), results[26]["device"], columns
 
 
 def scaling_table(r, runs):
-    lines = ["| `--cells` | surfels | nodes | links | leaf links | MiB | frame ms | fps |", "|---|---|---|---|---|---|---|---|"]
-    for cells, frames in ((8, 20), (11, 20), (26, 10), (52, 5)):
+    """The animated Cornell box at more cells a side: adaptive receivers (the default) against every
+    surfel a receiver (--receiver-tol 0, up to 52 cells: beyond, a frame takes many seconds)."""
+    lines = ["| `--cells` | surfels | receivers | links | MiB | frame ms | fps | every surfel: frame ms |",
+             "|---|---|---|---|---|---|---|---|"]
+    for cells, frames in ((8, 10), (26, 10), (52, 5), (100, 3)):
         passes, j = bench(r, runs, cells, frames, 2)
         c, s = j["counts"], j["solver"]
         total = passes["total"]
-        lines.append(f"| {cells} | {c['surfels']:,} | {s['nodes']:,} | {s['links']:,} | {s['leafLinks']:,} | "
-                     f"{j['bytesAllocated'] / 2**20:.1f} | {fmt(total)} | {1000.0 / total:.1f} |")
+        every = "—"
+        if cells <= 52:
+            full, _ = bench(r, runs, cells, frames, 2, ("--receiver-tol", 0))
+            every = fmt(full["total"])
+        lines.append(f"| {cells} | {c['surfels']:,} | {s['receivers']:,} | {s['links']:,} | "
+                     f"{j['bytesAllocated'] / 2**20:.1f} | {fmt(total)} | {1000.0 / total:.1f} | {every} |")
     return "\n".join(lines)
 
 
 def sweep_table(r):
     out = r.scratch / "sweep"
-    r.run("sweep", "--reference", ROOT / "tests/golden/pt_cornell_f0000.exr", "--bins", "4,8,12,16,24,32",
-          "--bounces", "0,1,2,3", "--repeats", 3, "--out", out)
+    r.run("sweep", "--reference", ROOT / "tests/golden/pt_cornell_f0000.exr", "--bins", "8,16,24",
+          "--receiver-tol", "0,0.1,0.2,0.4,0.8", "--repeats", 3, "--out", out)
     shutil.copy(out / "sweep.csv", DOCS / "sweep_cornell.csv")
     shutil.copy(out / "sweep.png", DOCS / "sweep_cornell.png")
     with open(out / "sweep.csv", newline="") as f:
         rows = list(csv.DictReader(f))
-    lines = ["| setting | GPU ms | MiB | relMSE | FLIP | on the front |", "|---|---|---|---|---|---|"]
+    lines = ["| bins | `--receiver-tol` | receivers | GPU ms | MiB | relMSE | FLIP | on the front |",
+             "|---|---|---|---|---|---|---|---|"]
     for row in rows:
-        if int(row["bounces"]) < 2 and row["pareto"] != "1":
-            continue
-        bounces = f"{row['bounces']} bounce" + ("" if row["bounces"] == "1" else "s")
-        lines.append(f"| N{row['bins']}, {bounces} | {fmt(float(row['ms']))} | "
+        tol = "0 (every surfel)" if float(row["receiverTol"]) == 0 else row["receiverTol"]
+        lines.append(f"| 6×{row['bins']}×{row['bins']} | {tol} | {int(row['receivers']):,} | {fmt(float(row['ms']))} | "
                      f"{int(row['bytes']) / 2**20:.1f} | {float(row['relMSE']):.4f} | {float(row['FLIP']):.3f} | "
                      f"{'yes' if row['pareto'] == '1' else ''} |")
     return "\n".join(lines), rows
@@ -116,16 +127,68 @@ def equal_error_table(r, runs):
     reference_s = json.loads((r.scratch / "pt_reference.json").read_text())["frames"][0]["totalCpuMs"] / 1000
     lines = ["| iv setting | iv ms per frame | iv relMSE | pt ms at that relMSE | iv faster by |", "|---|---|---|---|---|"]
     ratios = {}
-    for bounces in (2, 3):
-        results = [r.json("bench", "--equal-error", "--size", "320x240", "--reference", reference, "--bounces", bounces,
-                          "--threads", r.threads) for _ in range(runs)]
+    for name, extra in (("defaults", ()), ("every surfel a receiver", ("--receiver-tol", 0))):
+        results = [r.json("bench", "--equal-error", "--size", "320x240", "--reference", reference, "--threads",
+                          r.threads, *extra) for _ in range(runs)]
         iv_ms = median([j["iv"]["medianGpuMs"] for j in results])
         rel = median([j["iv"]["relMSE"] for j in results])
         pt_ms = median([j["ptMsAtEqualError"] for j in results if j.get("ratio")])
         ratio = median([j["ratio"] for j in results if j.get("ratio")])
-        ratios[bounces] = ratio
-        lines.append(f"| defaults, {bounces} bounces | {fmt(iv_ms)} | {rel:.5f} | {pt_ms:,.0f} | {ratio:.1f}× |")
-    return "\n".join(lines), reference_s, ratios
+        ratios[name] = ratio
+        lines.append(f"| {name} | {fmt(iv_ms)} | {rel:.5f} | {pt_ms:,.0f} | {ratio:.1f}× |")
+    return "\n".join(lines), reference_s, ratios, reference
+
+
+def flicker_table(r):
+    """The animated Cornell box's first 12 frames at 160×120: each iv setting against a pt sequence, per
+    frame and as the frame-to-frame change (ivgi compare's temporal relMSE)."""
+    scene = ["cornell", "--cells", "26", "--frames", "0-11", "--size", "160x120", "--format", "exr"]
+    pt = r.scratch / "flicker_pt"
+    r.run("render", *scene, "--method", "pt", "--spp", 1024, "--threads", r.threads, "--out", pt / "f_%04d")
+    lines = ["| iv setting | mean relMSE of the frames | temporal relMSE |", "|---|---|---|"]
+    for name, extra in (("defaults (adaptive receivers)", ()), ("every surfel a receiver", ("--receiver-tol", 0))):
+        out = r.scratch / f"flicker_{len(lines)}"
+        r.run("render", *scene, *extra, "--out", out / "f_%04d")
+        j = r.json("compare", out, pt)
+        frames = median([f["metrics"]["relMSE"] for f in j["frames"]])
+        lines.append(f"| {name} | {frames:.5f} | {j['summary']['temporal']['relMSE']:.2e} |")
+    return "\n".join(lines)
+
+
+def real_files_table(r):
+    """Files nobody here wrote, one frame at 480×270 at defaults: wall clock (start-up included) and the
+    error against pt at 1024 spp with the same light."""
+    scenes = [("2CylinderEngine.glb (assimp-testmodels)",
+               pathlib.Path("/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb"))]
+    room = r.scratch / "room.glb"
+    blender = shutil.which("blender")
+    if blender:
+        # Blender's Python takes its modules from the python3 first on PATH: a pyenv or conda one
+        # lacks the numpy its glTF exporter needs, so it runs with the system's PATH.
+        export = subprocess.run([blender, "--background", "--factory-startup", "--python-exit-code", "1", "--python",
+                                 ROOT / "tools/scenes/blender_room.py", "--", room],
+                                capture_output=True, text=True, env={**os.environ, "PATH": "/usr/bin:/bin"})
+        if export.returncode == 0 and room.exists():
+            scenes.append(("a room written by Blender 3.4's glTF exporter (tools/scenes/blender_room.py)", room))
+        else:
+            print(f"perf_tables: Blender's export failed, the room is left out:\n{export.stderr[-2000:]}", file=sys.stderr)
+    else:
+        print("perf_tables: no blender on PATH, the Blender room is left out", file=sys.stderr)
+    lines = ["| scene | surfels | receivers | wall clock s | relMSE against pt |", "|---|---|---|---|---|"]
+    for name, path in scenes:
+        if not path.exists():
+            continue
+        base = r.scratch / path.stem
+        begin = time.monotonic()
+        r.run("render", path, "--frames", 0, "--size", "480x270", "--format", "exr", "--out", base / "iv_%04d")
+        seconds = time.monotonic() - begin
+        sidecar = json.loads((base / "iv.json").read_text())
+        r.run("render", path, "--method", "pt", "--spp", 1024, "--frames", 0, "--size", "480x270", "--format", "exr",
+              "--threads", r.threads, "--out", base / "pt_%04d")
+        error = r.json("compare", base / "iv_0000.exr", base / "pt_0000.exr")["frames"][0]["metrics"]["relMSE"]
+        lines.append(f"| {name} | {sidecar['counts']['surfels']:,} | {int(sidecar['solver']['receivers']):,} | "
+                     f"{seconds:.1f} | {error:.4f} |")
+    return "\n".join(lines)
 
 
 def farm_table(r, threads):
@@ -208,11 +271,15 @@ def main():
         print("sweep", file=sys.stderr)
         sweep, rows = sweep_table(r)
         print("equal error", file=sys.stderr)
-        equal, reference_s, ratios = equal_error_table(r, args.runs)
+        equal, reference_s, ratios, _ = equal_error_table(r, args.runs)
+        print("flicker", file=sys.stderr)
+        flicker = flicker_table(r)
+        print("real files", file=sys.stderr)
+        real = real_files_table(r)
         print("render farm", file=sys.stderr)
         farm = farm_table(r, args.threads)
 
-    default = next(row for row in rows if row["bins"] == "16" and row["bounces"] == "2")
+    default = next(row for row in rows if row["bins"] == "16" and float(row["receiverTol"]) == 0.4)
     machine = (f"Vulkan device {device['name']} ({device['type']}), driver {device['driver']} "
                f"{device.get('driverInfo', '')}, LP_NUM_THREADS={args.threads}; pt on {args.threads} threads; "
                f"CPU {cpu_name()}, {os.cpu_count()} cores")
@@ -228,38 +295,58 @@ Machine: {machine}.
 
 ## Per pass: the animated Cornell box
 
-`ivgi bench cornell --cells N --size 320x240 --frames 20 --warmup 3`, default settings (6×16×16
-bins, ε 0.02, 2 bounces). What cannot move (the room, the tall block) is linked and pruned in the
-first frame; every frame after it links and prunes what the moving block's links reach.
+`ivgi bench cornell --cells N --size 320x240 --frames 20 --warmup 3` at the defaults (6×16×16
+bins, ε 0.02, bounces until converged, receivers at `--receiver-tol 0.4`, surfaces tessellated to
+1/16 of the scene: `--cells 8` is sampled as about 16). What cannot move (the room, the tall block)
+is linked and pruned in the first frame; every frame after it links the moving block, chooses its
+receivers, prunes them and solves.
 
 {passes}
 
-## Scaling with the scene's tessellation
+## Cost against the scene's tessellation
 
-The same scene at more cells a side (frames after 2 warm-up frames: 20, 20, 10, 5).
+The same scene at more cells a side (frames after 2 warm-up frames: 10, 10, 5, 3), at the
+defaults, and with every surfel a receiver (`--receiver-tol 0`).
 
 {scaling}
 
 ## Speed against accuracy
 
-`ivgi sweep --reference tests/golden/pt_cornell_f0000.exr --bins 4,8,12,16,24,32 --bounces 0,1,2,3
---repeats 3`: frame 0 at 160×120 against a 4096-spp pt reference, each setting solving the frame as
-a later frame of the animation does. Rows with 2 or more bounces, and any other row on the Pareto
-front of relMSE against time; every row is in [sweep_cornell.csv](sweep_cornell.csv).
+`ivgi sweep --reference tests/golden/pt_cornell_f0000.exr --bins 8,16,24 --receiver-tol
+0,0.1,0.2,0.4,0.8 --repeats 3`: frame 0 at 160×120 against a 4096-spp pt reference, each setting
+solving the frame as a later frame of the animation does, bounces until converged; every row is in
+[sweep_cornell.csv](sweep_cornell.csv). The plot joins each series' front: every surfel a receiver
+(the solver before adaptive receivers), and adaptive receivers.
 
-![error against GPU time per frame, the Pareto front joined](sweep_cornell.png)
+![error against GPU time per frame, each series' Pareto front joined](sweep_cornell.png)
 
 {sweep}
 
 ## iv against the path tracer at equal error
 
-`ivgi bench --equal-error --size 320x240 --reference REF --bounces K`: iv's median GPU time over 20
-animated frames and its relMSE on frame 0 against a 4096-spp pt reference (which took
-{reference_s:,.0f} s to render); pt renders the frame at 1, 2, 4, … spp on {args.threads} threads until it
-reaches iv's relMSE, and its wall-clock time at that error is interpolated log–log. iv runs on
-lavapipe, a CPU emulating a GPU, on the same cores as pt.
+`ivgi bench --equal-error --size 320x240 --reference REF`: iv's median GPU time over 20 animated
+frames and its relMSE on frame 0 against a 4096-spp pt reference (which took {reference_s:,.0f} s to
+render); pt renders the frame at 1, 2, 4, … spp on {args.threads} threads until it reaches iv's relMSE,
+and its wall-clock time at that error is interpolated log–log. iv runs on lavapipe, a CPU emulating
+a GPU, on the same cores as pt.
 
 {equal}
+
+## Flicker
+
+The animated Cornell box's frames 0–11 at `--cells 26`, 160×120, against pt at 1024 spp:
+`ivgi compare` gives each frame's relMSE and the sequence's temporal relMSE (the error of the
+frame-to-frame change, where the surfaces stay put; pt's own noise is in both figures).
+
+{flicker}
+
+## Real files
+
+One frame at 480×270 at the defaults, wall clock from the command's start (pipelines compiled,
+links made, every receiver pruned), and its relMSE against pt at 1024 spp with the same light (the
+engine has none: both are lit by the default white sky).
+
+{real}
 
 ## Render farms: a Slurm job array on one node
 
@@ -276,12 +363,14 @@ pipelines and makes the static links again.
     headline = "\n".join([
         "| figure | value |",
         "|---|---|",
-        f"| animated Cornell box, 4,756 surfels, 320×240, defaults | {columns[26]['total']:,.0f} ms a frame "
-        f"({1000.0 / columns[26]['total']:.1f} fps) |",
-        f"| the same at 539 surfels | {columns[8]['total']:.0f} ms a frame ({1000.0 / columns[8]['total']:.0f} fps) |",
+        f"| animated Cornell box, `--cells 26` (4,756 surfels), 320×240, defaults | {columns[26]['total']:,.0f} ms "
+        f"a frame ({1000.0 / columns[26]['total']:.1f} fps) |",
+        f"| the same at `--cells 8` (the default scene) | {columns[8]['total']:.0f} ms a frame "
+        f"({1000.0 / columns[8]['total']:.0f} fps) |",
         f"| iv's error against converged pt, defaults (160×120) | relMSE {float(default['relMSE']):.4f}, "
         f"FLIP {float(default['FLIP']):.3f} |",
-        f"| iv faster than pt at equal relMSE, 2 / 3 bounces | {ratios[2]:.1f}× / {ratios[3]:.1f}× |",
+        f"| iv faster than pt at equal relMSE, defaults / every surfel a receiver | "
+        f"{ratios['defaults']:.1f}× / {ratios['every surfel a receiver']:.1f}× |",
     ])
     readme = ROOT / "README.md"
     readme.write_text(replace_between(readme.read_text(), "perf:headline", headline))

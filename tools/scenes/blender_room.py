@@ -1,0 +1,80 @@
+"""Builds a room in Blender and writes it with Blender's own glTF exporter: white walls (albedo 0.7),
+a subdivided Suzanne, a sphere, a torus and an emissive panel in the ceiling, and a camera. It is
+the kind of file ivgi's users export themselves (about 36,000 vertices); benchmarks and
+tools/perf_tables.py render it.
+
+Usage: blender --background --factory-startup --python tools/scenes/blender_room.py -- OUT.glb
+Needs Debian's blender (not installed by ci/install-deps.sh: the tests do not use it).
+"""
+import math
+import sys
+
+import bpy
+
+
+def material(name, colour, emission=None, strength=0.0):
+    m = bpy.data.materials.new(name)
+    m.use_nodes = True
+    bsdf = m.node_tree.nodes["Principled BSDF"]
+    bsdf.inputs["Base Color"].default_value = (*colour, 1.0)
+    bsdf.inputs["Roughness"].default_value = 1.0
+    bsdf.inputs["Specular"].default_value = 0.0
+    if emission:
+        bsdf.inputs["Emission"].default_value = (*emission, 1.0)
+        bsdf.inputs["Emission Strength"].default_value = strength
+    return m
+
+
+def plane(name, location, rotation, size, cuts, mat, scale=(1.0, 1.0, 1.0)):
+    bpy.ops.mesh.primitive_grid_add(x_subdivisions=cuts, y_subdivisions=cuts, size=size, location=location,
+                                    rotation=rotation)
+    obj = bpy.context.active_object
+    obj.scale = scale
+    obj.name = name
+    obj.data.materials.append(mat)
+    return obj
+
+
+def main(out):
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    white = material("walls", (0.7, 0.7, 0.7))
+    # A 4 m × 4 m room, 3 m high, floor at z = 0 (Blender's up is +z; the exporter turns it to +y).
+    w, h = 4.0, 3.0
+    plane("floor", (0, 0, 0), (0, 0, 0), w, 12, white)
+    plane("ceiling", (0, 0, h), (math.pi, 0, 0), w, 12, white)
+    plane("back", (0, w / 2, h / 2), (math.pi / 2, 0, 0), w, 12, white, (1, h / w, 1))
+    plane("front", (0, -w / 2, h / 2), (-math.pi / 2, 0, 0), w, 12, white, (1, h / w, 1))
+    plane("left", (-w / 2, 0, h / 2), (0, math.pi / 2, 0), w, 12, white, (h / w, 1, 1))
+    plane("right", (w / 2, 0, h / 2), (0, -math.pi / 2, 0), w, 12, white, (h / w, 1, 1))
+    panel = plane("panel", (0, 0, h - 0.01), (math.pi, 0, 0), 1.0, 1,
+                  material("panel", (0.0, 0.0, 0.0), (1.0, 0.95, 0.85), 12.0))
+    panel.scale = (1.0, 0.6, 1.0)
+
+    bpy.ops.mesh.primitive_monkey_add(size=1.2, location=(-0.6, 0.4, 0.9), rotation=(0, 0, math.radians(20)))
+    monkey = bpy.context.active_object
+    monkey.name = "suzanne"
+    bpy.ops.object.shade_smooth()
+    sub = monkey.modifiers.new("subdivision", "SUBSURF")
+    sub.levels = sub.render_levels = 3
+    monkey.data.materials.append(material("suzanne", (0.8, 0.45, 0.2)))
+
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=64, ring_count=32, radius=0.45, location=(0.9, -0.3, 0.45))
+    bpy.ops.object.shade_smooth()
+    bpy.context.active_object.data.materials.append(material("sphere", (0.2, 0.4, 0.8)))
+
+    bpy.ops.mesh.primitive_torus_add(major_radius=0.45, minor_radius=0.15, major_segments=64, minor_segments=24,
+                                     location=(0.6, 1.1, 0.15))
+    bpy.ops.object.shade_smooth()
+    bpy.context.active_object.data.materials.append(material("torus", (0.3, 0.7, 0.3)))
+
+    bpy.ops.object.camera_add(location=(0.0, -1.85, 1.5), rotation=(math.radians(80), 0, 0))
+    camera = bpy.context.active_object
+    camera.data.angle = math.radians(75)
+    bpy.context.scene.camera = camera
+
+    bpy.ops.export_scene.gltf(filepath=out, export_format="GLB", export_apply=True, export_cameras=True,
+                              export_lights=False)
+
+
+if __name__ == "__main__":
+    main(sys.argv[sys.argv.index("--") + 1])
