@@ -52,20 +52,28 @@ void considerReceiver(uint s, uint leaf, float radius, float presence, vec3 x, v
 }
 
 // Turns the taps' weights into the coefficients of a weighted linear fit evaluated at the query:
-// c_k = w_k·(A⁻¹q_k)₀ with q_k = (1, offset_k) and A = Σ w q qᵀ, so that irradiance changing
-// linearly along the surface is interpolated exactly. The slopes are regularised: one or two taps,
-// or taps in a line, give the weighted mean along what they leave undetermined. Σ c_k = 1.
+// c_k = w_k·(A⁻¹q_k)₀ with q_k = (1, offset_k/σ) and A = Σ w q qᵀ, so that irradiance changing
+// linearly along the surface is interpolated exactly. Offsets are measured in σ, the taps' RMS
+// offset, so that the solve does not depend on the scene's scale. The slopes are regularised: one
+// or two taps, or taps in a line, give the weighted mean along what they leave undetermined; taps
+// all at the query's place give their weighted mean. Σ c_k = 1.
 void fitCoefficients() {
+  float total = 0.0, spread = 0.0;
+  for (uint t = 0u; t < tapCount; ++t) total += tapWeight[t], spread += tapWeight[t] * dot(tapOffset[t], tapOffset[t]);
+  spread /= total;
+  if (!(spread > 0.0)) {
+    for (uint t = 0u; t < tapCount; ++t) tapWeight[t] /= total;
+    return;
+  }
+  const float unit = inversesqrt(spread);
   mat3 a = mat3(0.0);
   for (uint t = 0u; t < tapCount; ++t) {
-    const vec3 q = vec3(1.0, tapOffset[t]);
+    const vec3 q = vec3(1.0, tapOffset[t] * unit);
     a += tapWeight[t] * outerProduct(q, q);
   }
-  const float spread = (a[1][1] + a[2][2]) / a[0][0];  // mean squared offset
-  const float lambda = 0.01 * a[0][0] * spread + 1e-30;
-  a[1][1] += lambda;
-  a[2][2] += lambda;
+  a[1][1] += 0.01 * a[0][0];
+  a[2][2] += 0.01 * a[0][0];
   const mat3 inv = inverse(a);
   const vec3 row = vec3(inv[0][0], inv[1][0], inv[2][0]);
-  for (uint t = 0u; t < tapCount; ++t) tapWeight[t] *= dot(row, vec3(1.0, tapOffset[t]));
+  for (uint t = 0u; t < tapCount; ++t) tapWeight[t] *= dot(row, vec3(1.0, tapOffset[t] * unit));
 }

@@ -175,3 +175,23 @@ TEST(BadInput, EarlierFramesSurviveAFailedRun) {
   EXPECT_EQ(fs::file_size(out / "f_0000.exr"), before);
   EXPECT_TRUE(fs::exists(out / "f_0001.png"));
 }
+
+// A camera whose transform collapses its view (scaled to zero, or turned so that it looks along no
+// direction) cannot frame an image: one line names the file, the camera and the problem.
+TEST(BadInput, DegenerateCamera) {
+  for (const auto& scale : {std::vector<double>{0, 0, 0}, std::vector<double>{1, 1, 0}}) {
+    tinygltf::Model m = triangleModel();
+    scenes::GltfBuilder b;
+    b.model() = m;
+    int cam = b.camera("flat", 0.8f, 0.01f, {0.3f, 0.3f, 2.0f}, glm::quat(1, 0, 0, 0));
+    b.model().nodes[cam].scale = scale;
+    std::string path = writeModel(b.finish(), "flat-camera.gltf");
+    expectRenderRefused(path, {"--env", "none"}, {path, "camera 'flat'", "degenerate"});
+  }
+}
+
+// Triangles of zero area only: nothing to render, said as such.
+TEST(BadInput, ZeroAreaTrianglesOnly) {
+  std::string path = writeModel(triangleModel(glm::vec3(2, 0, 0)), "flat-triangle.gltf");
+  expectRenderRefused(path, {}, {path, "no triangles"});
+}

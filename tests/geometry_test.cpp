@@ -1,5 +1,5 @@
 // The animate and surfel passes on the GPU against their host evaluations, and the surfel rules of
-// docs/design.md §2.1: areas, welded seams, degenerate triangles.
+// docs/design.md §2.1: areas, welded seams, degenerate triangles, tessellation.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -203,6 +203,52 @@ TEST(Surfels, DegenerateTrianglesAreCountedAndExcluded) {
   auto surfels = surfelsOnHost(g, animateOnHost(g, g.frameInputs(s, evaluatePose(s, -1, 0))));
   EXPECT_NEAR(totalArea(surfels), 0.5f, 1e-6f);
   for (const auto& sf : surfels) EXPECT_NEAR(sf.normal.z, 1.0f, 1e-6f) << "no normals given: from the face";
+}
+
+// Tessellation (docs/design.md §2.1): a 10 m floor with a 1 cm cube on it, at --tessellate 16. The
+// floor is sampled no coarser than 1/16 of the scene anywhere, and near the cube about as finely as
+// the cube's own faces: its surfels within 2 cm of the cube are at most a few cube faces in area,
+// while those beyond 2 m keep the uniform size, so that the floor grows by a few hundred surfels,
+// not by the 10⁶ a uniform 1 cm sampling would take.
+TEST(Tessellation, NearASmallObjectAsFineAsIt) {
+  scenes::MeshData floor, cube;
+  scenes::addQuad(floor, {-5, 0, -5}, {5, 0, -5}, {5, 0, 5}, {-5, 0, 5}, 1, 1, {0, 1, 0});
+  const float h = 0.005f;  // the cube's half side, standing on the floor at (1.3, 0, 0.7)
+  const glm::vec3 c(1.3f, h, 0.7f);
+  for (int axis = 0; axis < 3; ++axis)
+    for (float side : {-1.0f, 1.0f}) {
+      glm::vec3 n(0), u(0), v(0);
+      n[axis] = side * h, u[(axis + 1) % 3] = h, v[(axis + 2) % 3] = h;
+      scenes::addQuad(cube, c + n - u - v, c + n + u - v, c + n + u + v, c + n - u + v, 1, 1, c + 2.0f * n);
+    }
+  scenes::GltfBuilder b;
+  b.node("world", b.mesh("world", {{floor, b.material("grey", glm::vec3(0.5f))},
+                                   {cube, b.material("red", glm::vec3(0.8f, 0.2f, 0.2f))}}));
+  Scene s = sceneFromModel(b.finish(), "pebble");
+  Geometry g = buildGeometry(s, 16);
+  auto surfels = surfelsOnHost(g, animateOnHost(g, g.frameInputs(s, evaluatePose(s, -1, 0))));
+  const float uniform = glm::length(glm::vec3(10, 2 * h, 10)) / 16, face = 4 * h * h;
+  size_t floorSurfels = 0;
+  float nearest = 1e30f;
+  for (const auto& sf : surfels) {
+    const glm::vec3 p(sf.positionArea);
+    if (p.y > 1e-6f) continue;  // the cube's
+    ++floorSurfels;
+    const float d =
+        glm::length(glm::vec2(std::max(std::abs(p.x - c.x) - h, 0.0f), std::max(std::abs(p.z - c.z) - h, 0.0f)));
+    nearest = std::min(nearest, d);
+    if (d < 0.02f) {
+      EXPECT_LE(sf.positionArea.w, 16 * face) << "a floor surfel " << d << " m from the cube";
+    }
+    if (d > 2.0f) {
+      EXPECT_GE(sf.positionArea.w, 0.05f * uniform * uniform) << "a floor surfel " << d << " m away";
+    }
+    EXPECT_LE(sf.positionArea.w, 2 * uniform * uniform);
+  }
+  EXPECT_LT(nearest, 0.01f) << "the floor is sampled beside the cube";
+  EXPECT_LT(floorSurfels, 2000u);
+  std::printf("[ tessellation ] %zu floor surfels\n", floorSurfels);
+  EXPECT_NEAR(totalArea(surfels), 100.0f + 6 * face, 1e-3f) << "the surfaces do not change";
 }
 
 // What the solver may link once: instances whose world-space geometry no animation channel reaches.

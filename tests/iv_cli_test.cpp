@@ -20,16 +20,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path renderExr(const std::string& name, const std::vector<std::string>& extra) {
-  auto dir = test::scratchDir(name);
-  std::vector<std::string> args = {"render", "--format", "exr", "--out", (dir / "f").string()};
-  if (std::find(extra.begin(), extra.end(), "--frames") == extra.end()) args.insert(args.end(), {"--frames", "0"});
-  args.insert(args.end(), extra.begin(), extra.end());
-  auto r = test::runIvgi(args);
-  EXPECT_EQ(r.status, 0) << r.err;
-  return dir / "f_0000.exr";
-}
-
 struct Stats {
   double mean = 0, max = 0;
   size_t nonFinite = 0;
@@ -76,10 +66,10 @@ std::string scaledCornell(float s) {
 // block's top differ by up to 3 % between the scales (docs/notes/receivers.md), so that 0.5 % of the
 // pixels fail this rule.
 TEST(IvScale, ImageIsTheSameFromMillimetresToKilometres) {
-  fs::path unit = renderExr("unit", {scaledCornell(1.0f), "--size", "96x72", "--tessellate", "0"});
+  fs::path unit = test::renderExr("unit", {scaledCornell(1.0f), "--size", "96x72", "--tessellate", "0"});
   for (float s : {1e-3f, 1e3f}) {
     fs::path scaled =
-        renderExr("render-" + std::to_string(s), {scaledCornell(s), "--size", "96x72", "--tessellate", "0"});
+        test::renderExr("render-" + std::to_string(s), {scaledCornell(s), "--size", "96x72", "--tessellate", "0"});
     // Per pixel within 0.5 % of its own value (radiance) or of the range (normals), on all but 0.1 % of the pixels.
     for (const auto& d :
          image::compareLayers(scaled.string(), unit.string(), {{"", 0.005f, 0.001f, true}, {"N", 0.005f, 0.001f}}))
@@ -89,8 +79,8 @@ TEST(IvScale, ImageIsTheSameFromMillimetresToKilometres) {
 }
 
 TEST(IvDeterminism, TwoRunsGiveIdenticalFiles) {
-  fs::path a = renderExr("a", {"cornell", "--cells", "6", "--size", "96x72", "--frames", "12"});
-  fs::path b = renderExr("b", {"cornell", "--cells", "6", "--size", "96x72", "--frames", "12"});
+  fs::path a = test::renderExr("a", {"cornell", "--cells", "6", "--size", "96x72", "--frames", "12"});
+  fs::path b = test::renderExr("b", {"cornell", "--cells", "6", "--size", "96x72", "--frames", "12"});
   a.replace_filename("f_0012.exr"), b.replace_filename("f_0012.exr");
   std::ifstream fa(a, std::ios::binary), fb(b, std::ios::binary);
   std::string da((std::istreambuf_iterator<char>(fa)), {}), db((std::istreambuf_iterator<char>(fb)), {});
@@ -126,7 +116,7 @@ TEST(IvBench, PrintsEveryPassAndTheSolversFigures) {
 TEST(IvExtremes, BinsFromOneToSixtyFour) {
   for (const char* bins : {"1", "64"}) {
     Stats st = radianceStats(
-        renderExr(std::string("bins") + bins, {"cornell", "--cells", "3", "--size", "48x36", "--bins", bins}));
+        test::renderExr(std::string("bins") + bins, {"cornell", "--cells", "3", "--size", "48x36", "--bins", bins}));
     EXPECT_EQ(st.nonFinite, 0u) << bins;
     EXPECT_GT(st.mean, 0.01) << "the box is lit, bins " << bins;
   }
@@ -134,8 +124,8 @@ TEST(IvExtremes, BinsFromOneToSixtyFour) {
 
 TEST(IvExtremes, EpsilonFromOneToOneMillionth) {
   for (const char* eps : {"1", "1e-6"}) {
-    Stats st = radianceStats(
-        renderExr(std::string("eps"), {"cornell", "--cells", "2", "--size", "48x36", "--bins", "8", "--eps", eps}));
+    Stats st = radianceStats(test::renderExr(
+        std::string("eps"), {"cornell", "--cells", "2", "--size", "48x36", "--bins", "8", "--eps", eps}));
     EXPECT_EQ(st.nonFinite, 0u) << eps;
     EXPECT_GT(st.mean, 0.01) << "eps " << eps;
   }
@@ -148,7 +138,8 @@ TEST(IvExtremes, AlbedoZeroAndNearlyOne) {
   for (float rho : {0.0f, 0.99f}) {
     std::string file = (dir / ("furnace_" + std::to_string(rho) + ".gltf")).string();
     scenes::writeModel(scenes::furnace({.cells = 4, .albedo = rho, .emission = 1.0f}), file);
-    Stats st = radianceStats(renderExr("furnace-" + std::to_string(rho), {file, "--size", "32x32", "--bounces", "40"}));
+    Stats st =
+        radianceStats(test::renderExr("furnace-" + std::to_string(rho), {file, "--size", "32x32", "--bounces", "40"}));
     EXPECT_EQ(st.nonFinite, 0u);
     if (rho == 0.0f) {
       EXPECT_NEAR(st.mean, 1.0, 1e-5);
@@ -170,7 +161,7 @@ TEST(IvExtremes, SingleTriangleAndNoEmitter) {
     b.node("one", b.mesh("one", {{m, b.material("lamp", glm::vec3(0.5f), glm::vec3(2.0f))}}));
     std::string file = (dir / "one.gltf").string();
     scenes::writeModel(b.finish(), file);
-    Stats st = radianceStats(renderExr("one", {file, "--size", "32x32"}));
+    Stats st = radianceStats(test::renderExr("one", {file, "--size", "32x32"}));
     EXPECT_EQ(st.nonFinite, 0u);
     EXPECT_NEAR(st.max, 2.0, 1e-5) << "a lone emitter shows its emission and nothing else";
   }
@@ -179,7 +170,7 @@ TEST(IvExtremes, SingleTriangleAndNoEmitter) {
     b.node("dark", b.mesh("dark", {{m, b.material("grey", glm::vec3(0.5f))}}));
     std::string file = (dir / "dark.gltf").string();
     scenes::writeModel(b.finish(), file);
-    Stats st = radianceStats(renderExr("dark", {file, "--size", "32x32", "--env", "none"}));
+    Stats st = radianceStats(test::renderExr("dark", {file, "--size", "32x32", "--env", "none"}));
     EXPECT_EQ(st.nonFinite, 0u);
     EXPECT_EQ(st.max, 0.0) << "no emitter, no light, --env none";
   }

@@ -18,14 +18,6 @@ namespace {
 
 const fs::path kReference = fs::path(IVGI_SOURCE_DIR) / "tests" / "golden" / "pt_cornell_f0000.exr";
 
-fs::path renderExr(const std::string& name, std::vector<std::string> args) {
-  auto dir = test::scratchDir(name);
-  args.insert(args.begin(), {"render", "--frames", "0", "--format", "exr", "--out", (dir / "f_%04d").string()});
-  auto r = test::runIvgi(args);
-  EXPECT_EQ(r.status, 0) << r.err;
-  return dir / "f_0000.exr";
-}
-
 nlohmann::json readJson(const fs::path& p) {
   std::ifstream in(p);
   return nlohmann::json::parse(in);
@@ -35,7 +27,7 @@ nlohmann::json readJson(const fs::path& p) {
 
 TEST(Reference, StoredReferenceIsCurrent) {
   if (const char* update = std::getenv("IVGI_UPDATE_GOLDEN"); update && std::string(update) == "1") {
-    auto fresh = renderExr("pt_reference", {"--method", "pt", "--spp", "4096", "--size", "160x120"});
+    auto fresh = test::renderExr("pt_reference", {"--method", "pt", "--spp", "4096", "--size", "160x120"});
     fs::copy_file(fresh, kReference, fs::copy_options::overwrite_existing);
     GTEST_SKIP() << "updated " << kReference;
   }
@@ -43,7 +35,7 @@ TEST(Reference, StoredReferenceIsCurrent) {
   // pt at 64 spp against the 4096-spp reference: only Monte Carlo noise remains, about half the
   // gate; a change of the light transport moves it far beyond (iv's own error is twice the gate).
   auto pt = image::measureError(
-      image::readLinearRgb(renderExr("pt64", {"--method", "pt", "--spp", "64", "--size", "160x120"}).string()),
+      image::readLinearRgb(test::renderExr("pt64", {"--method", "pt", "--spp", "64", "--size", "160x120"}).string()),
       image::readLinearRgb(kReference.string()));
   std::printf("[ reference ] pt 64 spp: relMSE %.5f, FLIP %.4f\n", pt.relMse, pt.flip);
   EXPECT_LT(pt.relMse, 0.006);
@@ -53,7 +45,7 @@ TEST(Reference, StoredReferenceIsCurrent) {
 // docs/performance.md reports, 30 % above it.
 TEST(Reference, IvAgainstPtOnTheCornellBox) {
   ASSERT_TRUE(fs::exists(kReference));
-  auto iv = image::measureError(image::readLinearRgb(renderExr("iv", {"--size", "160x120"}).string()),
+  auto iv = image::measureError(image::readLinearRgb(test::renderExr("iv", {"--size", "160x120"}).string()),
                                 image::readLinearRgb(kReference.string()));
   std::printf("[ reference ] iv N16 eps 0.02 2 bounces: relMSE %.5f, FLIP %.4f, PSNR %.2f dB\n", iv.relMse, iv.flip,
               iv.psnr);
@@ -81,8 +73,8 @@ TEST(PtCli, RendersEveryLayerWithCpuTimings) {
 }
 
 TEST(PtCli, SameBytesForAnyThreadCount) {
-  auto a = renderExr("pt_t1", {"--method", "pt", "--spp", "3", "--size", "24x16", "--threads", "1"});
-  auto b = renderExr("pt_t2", {"--method", "pt", "--spp", "3", "--size", "24x16", "--threads", "2"});
+  auto a = test::renderExr("pt_t1", {"--method", "pt", "--spp", "3", "--size", "24x16", "--threads", "1"});
+  auto b = test::renderExr("pt_t2", {"--method", "pt", "--spp", "3", "--size", "24x16", "--threads", "2"});
   std::ifstream fa(a, std::ios::binary), fb(b, std::ios::binary);
   std::string sa((std::istreambuf_iterator<char>(fa)), {}), sb((std::istreambuf_iterator<char>(fb)), {});
   EXPECT_FALSE(sa.empty());
@@ -106,7 +98,7 @@ TEST(PtCli, RefusesOptionsThatDoNotApply) {
 
 TEST(CompareCli, PrintsMetricsWritesJsonAndHeatmap) {
   ASSERT_TRUE(fs::exists(kReference));
-  auto test = renderExr("cmp_iv", {"--size", "160x120", "--bins", "8"});
+  auto test = test::renderExr("cmp_iv", {"--size", "160x120", "--bins", "8"});
   auto dir = test::scratchDir("cmp_out");
   auto r = test::runIvgi({"compare", test.string(), kReference.string(), "--json", (dir / "m.json").string(),
                           "--heatmap", (dir / "h.png").string()});
@@ -121,7 +113,7 @@ TEST(CompareCli, PrintsMetricsWritesJsonAndHeatmap) {
   r = test::runIvgi({"compare", kReference.string(), kReference.string()});
   EXPECT_NE(r.out.find("FLIP    0\n"), std::string::npos) << r.out;
   // Sizes that differ, a missing file: one line naming the file.
-  auto small = renderExr("cmp_small", {"--size", "32x24", "--method", "none"});
+  auto small = test::renderExr("cmp_small", {"--size", "32x24", "--method", "none"});
   r = test::runIvgi({"compare", small.string(), kReference.string()});
   EXPECT_NE(r.status, 0);
   ASSERT_EQ(r.errLines().size(), 1u) << r.err;
@@ -133,7 +125,7 @@ TEST(CompareCli, PrintsMetricsWritesJsonAndHeatmap) {
 
 // The sweep end to end on a small scene: CSV, JSON and the plot, with a Pareto front.
 TEST(SweepCli, WritesCsvJsonAndPlot) {
-  auto ref = renderExr("sweep_ref", {"--method", "pt", "--spp", "32", "--size", "48x36", "--cells", "2"});
+  auto ref = test::renderExr("sweep_ref", {"--method", "pt", "--spp", "32", "--size", "48x36", "--cells", "2"});
   auto dir = test::scratchDir("sweep_out");
   auto r = test::runIvgi({"sweep", "--cells", "2", "--reference", ref.string(), "--bins", "2,4", "--bounces", "0,1",
                           "--receiver-tol", "0,0.4", "--method", "iv,none", "--repeats", "1", "--warmup", "0", "--out",

@@ -2,6 +2,7 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <memory>
@@ -113,6 +114,16 @@ std::filesystem::path scratchDir(const std::string& name) {
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
+}
+
+std::filesystem::path renderExr(const std::string& name, const std::vector<std::string>& args) {
+  auto dir = scratchDir(name);
+  std::vector<std::string> all = {"render", "--format", "exr", "--out", (dir / "f").string()};
+  if (std::find(args.begin(), args.end(), "--frames") == args.end()) all.insert(all.end(), {"--frames", "0"});
+  all.insert(all.end(), args.begin(), args.end());
+  auto r = runIvgi(all);
+  EXPECT_EQ(r.status, 0) << r.err;
+  return dir / "f_0000.exr";
 }
 
 }  // namespace ivgi::test

@@ -43,4 +43,8 @@ double cornellLightIrradiance(glm::dvec3 p, glm::dvec3 n, int k);
 // A fresh, empty folder for one test.
 std::filesystem::path scratchDir(const std::string& name);
 
+// Renders `args` (frame 0 unless they name --frames) as EXR into scratchDir(name) and returns the
+// path of frame 0's file; a failed run fails the test.
+std::filesystem::path renderExr(const std::string& name, const std::vector<std::string>& args);
+
 }  // namespace ivgi::test

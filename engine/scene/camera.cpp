@@ -10,12 +10,17 @@ CameraView cameraView(const Scene& scene, const Pose& pose, int cameraNode) {
   const glm::mat4& m = pose.world[cameraNode];
   CameraView v;
   v.origin = glm::vec3(m[3]);
-  auto axis = [](glm::vec3 a, glm::vec3 fallback) {
-    float len = glm::length(a);
-    return len > 0.0f ? a / len : fallback;
-  };
-  v.forward = axis(-glm::vec3(m[2]), {0, 0, -1});
-  v.up = axis(glm::vec3(m[1]) - glm::dot(glm::vec3(m[1]), v.forward) * v.forward, {0, 1, 0});
+  // The node's transform may scale the camera uniformly (its axes are normalised) but must leave it
+  // a view direction and an up direction apart from it.
+  const glm::vec3 back = glm::vec3(m[2]), up = glm::vec3(m[1]);
+  const float backLength = glm::length(back);
+  const glm::vec3 upAcross = backLength > 0.0f ? up - glm::dot(up, back) / (backLength * backLength) * back : up;
+  if (!(backLength > 0.0f) || !(glm::length(upAcross) > 1e-6f * glm::length(up)) || !std::isfinite(backLength) ||
+      !std::isfinite(glm::length(v.origin)))
+    throw LoadError(scene.source + ": camera '" + (cam.name.empty() ? scene.nodes[cameraNode].name : cam.name) +
+                    "' is degenerate: its node's transform leaves it no view or no up direction (a zero scale?)");
+  v.forward = -back / backLength;
+  v.up = upAcross / glm::length(upAcross);
   v.right = glm::cross(v.forward, v.up);
   v.yfov = cam.yfov;
   v.znear = cam.znear;

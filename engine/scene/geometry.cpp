@@ -46,24 +46,42 @@ glm::mat4 restMatrix(const Scene& scene, const Pose& rest, int nodeIndex) {
   return scene.nodes[nodeIndex].skin >= 0 ? glm::mat4(1.0f) : rest.world[nodeIndex];
 }
 
-// The longest edge a tessellation of 1/N of the scene's size allows; 0 for none.
-float maxEdgeOf(const Scene& scene, const Pose& rest, uint32_t tessellation) {
-  if (tessellation == 0) return 0.0f;
+// What a tessellation of 1/N of the scene's size allows: edges at most that long, and near a smaller
+// primitive no longer than their distance to it, down to its size (tessellation.h); owner ids are
+// ownerBase[node] + the primitive's index.
+EdgeLimits edgeLimitsOf(const Scene& scene, const Pose& rest, uint32_t tessellation, std::vector<uint32_t>& ownerBase) {
+  ownerBase.assign(scene.nodes.size(), 0u);
   Bounds b;
+  uint32_t owners = 0;
   for (size_t n = 0; n < scene.nodes.size(); ++n) {
+    ownerBase[n] = owners;
     if (scene.nodes[n].mesh < 0) continue;
     const glm::mat4 m = restMatrix(scene, rest, int(n));
-    for (const Primitive& p : scene.meshes[scene.nodes[n].mesh].primitives)
+    for (const Primitive& p : scene.meshes[scene.nodes[n].mesh].primitives) {
       for (const glm::vec3& v : p.positions) b.add(glm::vec3(m * glm::vec4(v, 1.0f)));
+      ++owners;
+    }
   }
-  return b.empty() ? 0.0f : glm::length(b.max - b.min) / float(tessellation);
+  EdgeLimits limits(tessellation == 0 || b.empty() ? 0.0f : glm::length(b.max - b.min) / float(tessellation));
+  for (size_t n = 0; n < scene.nodes.size() && limits.uniform() > 0.0f; ++n) {
+    if (scene.nodes[n].mesh < 0) continue;
+    const glm::mat4 m = restMatrix(scene, rest, int(n));
+    const auto& primitives = scene.meshes[scene.nodes[n].mesh].primitives;
+    for (size_t k = 0; k < primitives.size(); ++k) {
+      std::vector<glm::vec3> world;
+      for (const glm::vec3& v : primitives[k].positions) world.push_back(glm::vec3(m * glm::vec4(v, 1.0f)));
+      limits.addSurface(ownerBase[n] + uint32_t(k), world, primitives[k].indices);
+    }
+  }
+  return limits;
 }
 
 }  // namespace
 
 Geometry buildGeometry(const Scene& scene, uint32_t tessellation) {
   const Pose rest = evaluatePose(scene, -1, 0.0f);
-  const float maxEdge = maxEdgeOf(scene, rest, tessellation);
+  std::vector<uint32_t> ownerBase;
+  const EdgeLimits limits = edgeLimitsOf(scene, rest, tessellation, ownerBase);
   Geometry g;
   g.nodeCount = uint32_t(scene.nodes.size());
   uint32_t matrices = g.nodeCount;
@@ -93,11 +111,14 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation) {
   std::function<void(int)> visit = [&](int nodeIndex) {
     const Node& node = scene.nodes[nodeIndex];
     if (node.mesh >= 0) {
-      for (const Primitive& given : scene.meshes[node.mesh].primitives) {
+      const auto& primitives = scene.meshes[node.mesh].primitives;
+      for (size_t k = 0; k < primitives.size(); ++k) {
+        const Primitive& given = primitives[k];
         // At most eight times the vertices the primitive came with (and a few thousand more).
-        const Primitive p = maxEdge > 0.0f ? tessellated(given, restMatrix(scene, rest, nodeIndex), maxEdge,
-                                                         8 * given.positions.size() + 4096)
-                                           : given;
+        const Primitive p = limits.uniform() > 0.0f
+                                ? tessellated(given, restMatrix(scene, rest, nodeIndex), limits,
+                                              ownerBase[nodeIndex] + uint32_t(k), 8 * given.positions.size() + 4096)
+                                : given;
         const uint32_t instance = uint32_t(g.instances.size());
         const uint32_t base = uint32_t(g.vertices.size());
         const uint32_t n = uint32_t(p.positions.size());

@@ -57,7 +57,8 @@ struct Geometry {
 };
 
 // `tessellation` N > 0: triangle edges longer than 1/N of the scene's size (the diagonal of its
-// bounds at rest) are split (tessellation.h), so that no surface is sampled coarser than that.
+// bounds at rest), or near a smaller primitive longer than their distance to it, are split
+// (tessellation.h), so that no surface is sampled coarser than that.
 Geometry buildGeometry(const Scene& scene, uint32_t tessellation = 0);
 
 // The animate pass evaluated on the host: the reference the GPU is tested against.

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 #include <array>
-#include <unordered_map>
+#include <cmath>
 
 namespace ivgi::scene {
 
@@ -52,16 +52,58 @@ uint32_t addMidpoint(Primitive& p, uint32_t a, uint32_t b) {
   return m;
 }
 
+uint64_t cellKey(glm::ivec3 c) {
+  return (uint64_t(uint32_t(c.x)) * 0x9E3779B97F4A7C15ull) ^ (uint64_t(uint32_t(c.y)) * 0xC2B2AE3D27D4EB4Full) ^
+         (uint64_t(uint32_t(c.z)) * 0x165667B19E3779F9ull);
+}
+
 }  // namespace
 
-Primitive tessellated(const Primitive& input, const glm::mat4& toWorld, float maxEdge, size_t maxVertices) {
+glm::ivec3 EdgeLimits::cellOf(glm::vec3 p) const { return glm::ivec3(glm::floor(p / uniform_)); }
+
+void EdgeLimits::addSurface(uint32_t owner, const std::vector<glm::vec3>& positions,
+                            const std::vector<uint32_t>& indices) {
+  if (!(uniform_ > 0.0f) || indices.empty()) return;
+  Box box{positions[indices[0]], positions[indices[0]], 0.0f, owner};
+  for (uint32_t i : indices) box.lo = glm::min(box.lo, positions[i]), box.hi = glm::max(box.hi, positions[i]);
+  box.extent = glm::length(box.hi - box.lo);
+  // A surface at least as large as the uniform limit asks nothing finer of its neighbours.
+  if (!(box.extent < uniform_)) return;
+  const glm::ivec3 lo = cellOf(box.lo), hi = cellOf(box.hi);
+  for (int z = lo.z; z <= hi.z; ++z)
+    for (int y = lo.y; y <= hi.y; ++y)
+      for (int x = lo.x; x <= hi.x; ++x) cells_[cellKey({x, y, z})].push_back(uint32_t(boxes_.size()));
+  boxes_.push_back(box);
+}
+
+bool EdgeLimits::tooLong(glm::vec3 p, float length, uint32_t owner) const {
+  if (!(uniform_ > 0.0f)) return false;
+  if (length > uniform_) return true;
+  // A small surface asks for edges no longer than the larger of their distance to its bounds and
+  // its extent: only those nearer than `length` can, and they reach the cells next to p's (cells
+  // are `uniform_` wide).
+  const glm::ivec3 c = cellOf(p);
+  for (int z = -1; z <= 1; ++z)
+    for (int y = -1; y <= 1; ++y)
+      for (int x = -1; x <= 1; ++x) {
+        auto it = cells_.find(cellKey(c + glm::ivec3(x, y, z)));
+        if (it == cells_.end()) continue;
+        for (uint32_t i : it->second) {
+          const Box& b = boxes_[i];
+          if (b.owner != owner && b.extent < length && glm::length(glm::clamp(p, b.lo, b.hi) - p) < length) return true;
+        }
+      }
+  return false;
+}
+
+Primitive tessellated(const Primitive& input, const glm::mat4& toWorld, const EdgeLimits& limits, uint32_t owner,
+                      size_t maxVertices) {
   Primitive p = input;
-  if (!(maxEdge > 0.0f)) return p;
-  const float limit2 = maxEdge * maxEdge;
+  if (!(limits.uniform() > 0.0f)) return p;
   auto longEdge = [&](uint32_t a, uint32_t b) {
-    const glm::vec3 d =
-        glm::vec3(toWorld * glm::vec4(p.positions[a], 1.0f)) - glm::vec3(toWorld * glm::vec4(p.positions[b], 1.0f));
-    return glm::dot(d, d) > limit2;
+    const glm::vec3 pa = glm::vec3(toWorld * glm::vec4(p.positions[a], 1.0f)),
+                    pb = glm::vec3(toWorld * glm::vec4(p.positions[b], 1.0f));
+    return limits.tooLong(0.5f * (pa + pb), glm::length(pa - pb), owner);
   };
   for (;;) {
     const size_t triangles = p.indices.size() / 3;

@@ -51,10 +51,17 @@ void LinkRoom::guess(const std::vector<uint32_t>& leafMoves, uint32_t nodeCount)
   // The refinement's widest level holds about ten pairs a node: 16 seldom needs a second try.
   worklistCapacity_ = std::max<uint32_t>(
       uint32_t(std::max(staticSet_.rootPairs.size(), frameSet_.rootPairs.size()) / 2), 16 * nodeCount + 1024);
-  if (!refusal(arrays()).empty())  // the guess does not fit the device: start small, grow to what the frame counts
+  // A guess that does not fit the device shrinks to what does, down to a small start that grows to
+  // what the first frame counts: a leaf-link overflow costs the whole frame again.
+  const uint64_t small = uint64_t(surfelCount) * std::min(6 * settings_.bins * settings_.bins, 128u) + 1024;
+  while (!refusal(arrays()).empty()) {
+    bool shrunk = false;
     for (LinkSet* set : {&staticSet_, &frameSet_})
-      set->leafLinkCapacity =
-          set->empty() ? 0 : surfelCount * std::min(6 * settings_.bins * settings_.bins, 128u) + 1024;
+      if (set->leafLinkCapacity > small)
+        set->leafLinkCapacity = uint32_t(std::max<uint64_t>(uint64_t(set->leafLinkCapacity) * 3 / 4, small)),
+        shrunk = true;
+    if (!shrunk) break;  // allocate() names what does not fit
+  }
   allocate();
 }
 

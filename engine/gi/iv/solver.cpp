@@ -144,27 +144,37 @@ void IvSolver::setLights(const std::vector<gpu::PunctualLight>& lights) {
 
 void IvSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffer& surfels, bool geometryMoved) {
   const Hierarchy& h = setup_.hierarchy;
-  const bool relinking = geometryMoved || !linked_;
-  if (relinking) {
-    // The static set's links and bins once; the frame's every time the geometry moved.
-    const bool linkStatic = splitsStatic() && !staticLinked_;
-    timedPass(cmd, timer, "refit", [&] {
-      refit_.record(cmd, h, b_.tree, surfels, b_.nodes);
-      bounces_.recordEmission(cmd, b_, h);
-    });
-    staticPasses_ += linkStatic ? 1 : 0;
-    timedPass(cmd, timer, "links", [&] {
-      if (linkStatic) links_.record(cmd, staticSet_, b_, h, settings_, room_.worklistCapacity());
-      links_.record(cmd, frameSet_, b_, h, settings_, room_.worklistCapacity());
-    });
-    timedPass(cmd, timer, "prune", [&] {
-      if (linkStatic) prune_.recordStatic(cmd, staticSet_, b_, lightCount_);
-      if (receivers_.everySurfel()) prune_.recordFrame(cmd, staticSet_, frameSet_, b_, lightCount_);
-    });
-    if (!receivers_.everySurfel()) recordReceivers(cmd, timer);
-    linked_ = staticLinked_ = true;
+  linkStatic_ = false;
+  solvePending_ = geometryMoved || !linked_;
+  if (!solvePending_) {
+    timedPass(cmd, timer, "bounces", [&] { bounces_.recordEmission(cmd, b_, h); });
+    recordFirstBounces(cmd, timer);
+    return;
   }
-  if (!relinking) timedPass(cmd, timer, "bounces", [&] { bounces_.recordEmission(cmd, b_, h); });
+  // The links first, in a submission of their own: a frame whose links overflow their room is redone
+  // before it prunes (recordMorePasses() goes on once they fit).
+  linkStatic_ = splitsStatic() && !staticLinked_;
+  timedPass(cmd, timer, "refit", [&] {
+    refit_.record(cmd, h, b_.tree, surfels, b_.nodes);
+    bounces_.recordEmission(cmd, b_, h);
+  });
+  staticPasses_ += linkStatic_ ? 1 : 0;
+  timedPass(cmd, timer, "links", [&] {
+    if (linkStatic_) links_.record(cmd, staticSet_, b_, h, settings_, room_.worklistCapacity());
+    links_.record(cmd, frameSet_, b_, h, settings_, room_.worklistCapacity());
+  });
+}
+
+// The frame's solve once its links fit: the prune (the static set's once), the receivers and the
+// first bounces.
+void IvSolver::recordSolve(VkCommandBuffer cmd, vk::PassTimer& timer) {
+  timedPass(cmd, timer, "prune", [&] {
+    if (linkStatic_) prune_.recordStatic(cmd, staticSet_, b_, lightCount_);
+    if (receivers_.everySurfel()) prune_.recordFrame(cmd, staticSet_, frameSet_, b_, lightCount_);
+  });
+  if (!receivers_.everySurfel()) recordReceivers(cmd, timer);
+  linked_ = staticLinked_ = true;
+  solvePending_ = false;
   recordFirstBounces(cmd, timer);
 }
 
@@ -200,11 +210,13 @@ bool IvSolver::overflowed() const {
 
 bool IvSolver::wantsMorePasses() const {
   if (overflowed()) return false;  // the frame is redone
+  if (solvePending_) return true;
   const gpu::BounceState s = bounces_.state();
   return s.done == 0 && s.gathers == gathersRecorded_;
 }
 
 void IvSolver::recordMorePasses(VkCommandBuffer cmd, vk::PassTimer& timer) {
+  if (solvePending_) return recordSolve(cmd, timer);
   timedPass(cmd, timer, "bounces", [&] {
     const uint32_t steps = std::min(kMoreBounceSteps, Bounces::maxGathers(settings_) - gathersRecorded_);
     bounces_.recordSteps(cmd, b_, setup_.hierarchy, staticSet_, frameSet_, settings_, gathersRecorded_, steps);

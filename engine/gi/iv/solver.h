@@ -83,6 +83,7 @@ class IvSolver final : public Solver {
   // The frame's receivers, pruned as they are chosen (by their direct light and where their
   // surroundings are near), and the interpolation to every surfel.
   void recordReceivers(VkCommandBuffer cmd, vk::PassTimer& timer);
+  void recordSolve(VkCommandBuffer cmd, vk::PassTimer& timer);
   void recordFirstBounces(VkCommandBuffer cmd, vk::PassTimer& timer);
   bool overflowed() const;
 
@@ -100,6 +101,8 @@ class IvSolver final : public Solver {
   Receivers receivers_;
   LinkRoom room_;
   bool linked_ = false, staticLinked_ = false;
+  bool solvePending_ = false;  // the frame's links are recorded, its prune and bounces not yet
+  bool linkStatic_ = false;    // the frame makes the static set's links
   uint32_t framesRedone_ = 0, staticPasses_ = 0;
   uint32_t lightCount_ = 0;
   uint32_t gathersRecorded_ = 0;  // this frame's, so far
