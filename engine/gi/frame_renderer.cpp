@@ -128,7 +128,6 @@ void FrameRenderer::recordFrame(VkCommandBuffer cmd, const gpu::Camera& camera, 
     groups.z = rasterSlices(fine);
     raster_.dispatch(cmd, groups, buffers, gpu::ImagePush{camera, fine, triangleCount_, 0});
   });
-  recordResolve(cmd, camera);
 }
 
 void FrameRenderer::recordResolve(VkCommandBuffer cmd, const gpu::Camera& camera) {
@@ -148,17 +147,16 @@ FrameResult FrameRenderer::render(const scene::FrameInputs& in, const scene::Cam
   if (solver_) solver_->setLights(lights);
   const gpu::Camera camera = scene::gpuCamera(view, float(image_.width) / float(image_.height));
   // A frame the solver could not finish (it ran out of room) is redone, relinking; one whose solver
-  // has more to do (bounces not converged) gets it, and its image resolved again.
+  // has more to do (the solve after its links, bounces not converged) gets it. The image is resolved
+  // once the irradiance is final.
   auto solve = [&](bool moved) {
     ctx_.submitAndWait([&](VkCommandBuffer cmd) { recordFrame(cmd, camera, moved); });
-    bool more = false;
-    for (; solver_ && solver_->wantsMorePasses(); more = true)
+    while (solver_ && solver_->wantsMorePasses())
       ctx_.submitAndWait([&](VkCommandBuffer cmd) { solver_->recordMorePasses(cmd, timer_); });
-    return more;
   };
-  bool resolveAgain = solve(geometryMoved);
-  while (solver_ && solver_->frameMustBeRedone()) resolveAgain = solve(true);
-  if (resolveAgain) ctx_.submitAndWait([&](VkCommandBuffer cmd) { recordResolve(cmd, camera); });
+  solve(geometryMoved);
+  while (solver_ && solver_->frameMustBeRedone()) solve(true);
+  ctx_.submitAndWait([&](VkCommandBuffer cmd) { recordResolve(cmd, camera); });
   if (solver_) solver_->frameStands();
 
   FrameResult result;

@@ -1,6 +1,6 @@
 #pragma once
 // One frame on the GPU as its list of passes (docs/design.md §4): animate → surfels →
-// the solver's passes (iv: refit → links → prune → bounces) → raster → resolve. Scene data is
+// the solver's passes (iv: refit → links → receivers and prune → bounces) → raster → resolve. Scene data is
 // uploaded once; per frame only the matrices, morph weights and lights go up and the image channels
 // come down.
 #include <memory>
@@ -51,6 +51,7 @@ class FrameRenderer {
   uint64_t bytesAllocated() const;
 
  private:
+  // The passes up to the raster (the solver's first submission); the resolve once the solver is done.
   void recordFrame(VkCommandBuffer cmd, const gpu::Camera& camera, bool geometryMoved);
   void recordResolve(VkCommandBuffer cmd, const gpu::Camera& camera);
   vk::Bindings pool() const;  // every buffer by the name the shaders bind it under

@@ -38,9 +38,9 @@ Receivers::Receivers(const vk::Context& ctx, const Hierarchy& h, const IvSetting
       largestCell_(h.size / kCellsAcross),
       args_(shaderProgram(ctx, "receiver_args")),
       select_(shaderProgram(ctx, "select_receivers")),
-      reach_(shaderProgram(ctx, "receiver_reach")),
       refine_(shaderProgram(ctx, "refine_receivers")),
       roles_(shaderProgram(ctx, "receiver_roles")),
+      reach_(shaderProgram(ctx, "receiver_reach")),
       neighbours_(shaderProgram(ctx, "neighbour_lists")),
       weights_(shaderProgram(ctx, "interpolation_weights")) {
   const size_t nodes = h.nodes.size(), surfels = surfelCount_;
