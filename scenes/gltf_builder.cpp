@@ -32,6 +32,18 @@ void addQuad(MeshData& m, glm::vec3 p0, glm::vec3 p1, glm::vec3 p2, glm::vec3 p3
     }
 }
 
+void addBox(MeshData& m, glm::vec3 centre, glm::vec3 half, int cells) {
+  for (int axis = 0; axis < 3; ++axis)
+    for (float side : {-1.0f, 1.0f}) {
+      glm::vec3 n(0.0f), u(0.0f), v(0.0f);
+      n[axis] = side * half[axis];
+      u[(axis + 1) % 3] = half[(axis + 1) % 3];
+      v[(axis + 2) % 3] = half[(axis + 2) % 3];
+      addQuad(m, centre + n - u - v, centre + n + u - v, centre + n + u + v, centre + n - u + v, cells, cells,
+              centre + 2.0f * n);
+    }
+}
+
 int cellsFor(float length, float cellsPerMetre) { return std::max(1, int(std::lround(length * cellsPerMetre))); }
 
 GltfBuilder::GltfBuilder() {

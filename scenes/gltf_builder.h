@@ -19,6 +19,8 @@ struct MeshData {
 // Appends a bilinear patch p0 p1 p2 p3 (in order around it) split into nu × nv cells, with the flat
 // normal turned toward `facing` (a point on the side the surface faces), winding to match.
 void addQuad(MeshData& mesh, glm::vec3 p0, glm::vec3 p1, glm::vec3 p2, glm::vec3 p3, int nu, int nv, glm::vec3 facing);
+// Appends the six faces of the box centre ± half, facing out, each split into cells × cells.
+void addBox(MeshData& mesh, glm::vec3 centre, glm::vec3 half, int cells);
 // Cells along an edge of `length` for `cellsPerMetre`, at least one.
 int cellsFor(float length, float cellsPerMetre);
 

@@ -155,15 +155,7 @@ std::string thinBlocker() {
   scenes::addQuad(floor, {-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}, 16, 16, {0, 1, 0});
   scenes::addQuad(lamp, {-0.1f, 1, -0.1f}, {0.1f, 1, -0.1f}, {0.1f, 1, 0.1f}, {-0.1f, 1, 0.1f}, 1, 1, {0, 0, 0});
   const float h = 0.0005f, s = 0.3f;  // half thickness, half side
-  const glm::vec3 c(0, 0.5f, 0);
-  for (int axis = 0; axis < 3; ++axis)
-    for (float side : {-1.0f, 1.0f}) {
-      glm::vec3 half(s, h, s), n(0), u(0), v(0);
-      n[axis] = side * half[axis];
-      u[(axis + 1) % 3] = half[(axis + 1) % 3];
-      v[(axis + 2) % 3] = half[(axis + 2) % 3];
-      scenes::addQuad(slab, c + n - u - v, c + n + u - v, c + n + u + v, c + n - u + v, 8, 8, c + 2.0f * n);
-    }
+  scenes::addBox(slab, {0, 0.5f, 0}, {s, h, s}, 8);
   const int grey = b.material("grey", glm::vec3(0.5f)), light = b.material("light", glm::vec3(0), glm::vec3(50));
   b.node("room", b.mesh("room", {{floor, grey}, {slab, grey}, {lamp, light}}));
   lookingCamera(b, "umbra", 0.4f, 0.01f, {0, 0.3f, 0}, {0, -1, 0});
@@ -199,13 +191,7 @@ std::string groundAndPebble() {
   scenes::MeshData ground, cube;
   const float g = 500.0f, s = 0.005f;
   scenes::addQuad(ground, {-g, 0, -g}, {g, 0, -g}, {g, 0, g}, {-g, 0, g}, 1, 1, {0, 1, 0});
-  const glm::vec3 c(0, s, 0);
-  for (int axis = 0; axis < 3; ++axis)
-    for (float side : {-1.0f, 1.0f}) {
-      glm::vec3 n(0), u(0), v(0);
-      n[axis] = side * s, u[(axis + 1) % 3] = s, v[(axis + 2) % 3] = s;
-      scenes::addQuad(cube, c + n - u - v, c + n + u - v, c + n + u + v, c + n - u + v, 1, 1, c + 2.0f * n);
-    }
+  scenes::addBox(cube, {0, s, 0}, glm::vec3(s), 1);
   b.node("world", b.mesh("world", {{ground, b.material("ground", glm::vec3(0.5f))},
                                    {cube, b.material("pebble", glm::vec3(0.8f, 0.2f, 0.2f))}}));
   lookingCamera(b, "close", 0.8f, 0.001f, {0, 0.03f, 0.04f}, {0, -0.03f + s, -0.04f});

@@ -215,12 +215,7 @@ TEST(Tessellation, NearASmallObjectAsFineAsIt) {
   scenes::addQuad(floor, {-5, 0, -5}, {5, 0, -5}, {5, 0, 5}, {-5, 0, 5}, 1, 1, {0, 1, 0});
   const float h = 0.005f;  // the cube's half side, standing on the floor at (1.3, 0, 0.7)
   const glm::vec3 c(1.3f, h, 0.7f);
-  for (int axis = 0; axis < 3; ++axis)
-    for (float side : {-1.0f, 1.0f}) {
-      glm::vec3 n(0), u(0), v(0);
-      n[axis] = side * h, u[(axis + 1) % 3] = h, v[(axis + 2) % 3] = h;
-      scenes::addQuad(cube, c + n - u - v, c + n + u - v, c + n + u + v, c + n - u + v, 1, 1, c + 2.0f * n);
-    }
+  scenes::addBox(cube, c, glm::vec3(h), 1);
   scenes::GltfBuilder b;
   b.node("world", b.mesh("world", {{floor, b.material("grey", glm::vec3(0.5f))},
                                    {cube, b.material("red", glm::vec3(0.8f, 0.2f, 0.2f))}}));

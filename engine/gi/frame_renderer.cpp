@@ -112,7 +112,7 @@ vk::Bindings FrameRenderer::pool() const {
                              {"emission", emission_}});
 }
 
-void FrameRenderer::recordFrame(VkCommandBuffer cmd, const gpu::Camera& camera, bool geometryMoved) {
+bool FrameRenderer::recordFrame(VkCommandBuffer cmd, const gpu::Camera& camera, bool geometryMoved) {
   const glm::uvec2 fine = glm::uvec2(image_.width, image_.height) * image_.samples;
   const vk::Bindings buffers = pool();
   timer_.reset(cmd);
@@ -128,6 +128,9 @@ void FrameRenderer::recordFrame(VkCommandBuffer cmd, const gpu::Camera& camera, 
     groups.z = rasterSlices(fine);
     raster_.dispatch(cmd, groups, buffers, gpu::ImagePush{camera, fine, triangleCount_, 0});
   });
+  if (solver_ && solver_->solvePending()) return false;
+  recordResolve(cmd, camera);
+  return true;
 }
 
 void FrameRenderer::recordResolve(VkCommandBuffer cmd, const gpu::Camera& camera) {
@@ -147,16 +150,19 @@ FrameResult FrameRenderer::render(const scene::FrameInputs& in, const scene::Cam
   if (solver_) solver_->setLights(lights);
   const gpu::Camera camera = scene::gpuCamera(view, float(image_.width) / float(image_.height));
   // A frame the solver could not finish (it ran out of room) is redone, relinking; one whose solver
-  // has more to do (the solve after its links, bounces not converged) gets it. The image is resolved
-  // once the irradiance is final.
+  // has more to do (its solve after its links, bounces not converged) gets it, and the image is
+  // resolved again.
   auto solve = [&](bool moved) {
-    ctx_.submitAndWait([&](VkCommandBuffer cmd) { recordFrame(cmd, camera, moved); });
-    while (solver_ && solver_->wantsMorePasses())
+    bool resolved = false;
+    ctx_.submitAndWait([&](VkCommandBuffer cmd) { resolved = recordFrame(cmd, camera, moved); });
+    bool more = false;
+    for (; solver_ && solver_->wantsMorePasses(); more = true)
       ctx_.submitAndWait([&](VkCommandBuffer cmd) { solver_->recordMorePasses(cmd, timer_); });
+    return more || !resolved;
   };
-  solve(geometryMoved);
-  while (solver_ && solver_->frameMustBeRedone()) solve(true);
-  ctx_.submitAndWait([&](VkCommandBuffer cmd) { recordResolve(cmd, camera); });
+  bool resolveAgain = solve(geometryMoved);
+  while (solver_ && solver_->frameMustBeRedone()) resolveAgain = solve(true);
+  if (resolveAgain) ctx_.submitAndWait([&](VkCommandBuffer cmd) { recordResolve(cmd, camera); });
   if (solver_) solver_->frameStands();
 
   FrameResult result;

@@ -51,8 +51,8 @@ class FrameRenderer {
   uint64_t bytesAllocated() const;
 
  private:
-  // The passes up to the raster (the solver's first submission); the resolve once the solver is done.
-  void recordFrame(VkCommandBuffer cmd, const gpu::Camera& camera, bool geometryMoved);
+  // The frame's passes; false where the solver left its solve for later and the resolve with it.
+  bool recordFrame(VkCommandBuffer cmd, const gpu::Camera& camera, bool geometryMoved);
   void recordResolve(VkCommandBuffer cmd, const gpu::Camera& camera);
   vk::Bindings pool() const;  // every buffer by the name the shaders bind it under
 

@@ -20,6 +20,8 @@ class Solver {
   // Records the solver's passes, each timed. `geometryMoved`: the surfels changed since the last
   // frame (or this is the first), so whatever depends on the geometry must be made again.
   virtual void record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffer& surfels, bool geometryMoved) = 0;
+  // Whether record() left the solve to recordMorePasses() (the image is resolved after it).
+  virtual bool solvePending() const { return false; }
   // After the frame completed: whether it must be recorded again (the solver has made more room),
   // and, when it stands, a chance to give back what it left unused.
   virtual bool frameMustBeRedone() = 0;

@@ -151,8 +151,6 @@ void IvSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
     recordFirstBounces(cmd, timer);
     return;
   }
-  // The links first, in a submission of their own: a frame whose links overflow their room is redone
-  // before it prunes (recordMorePasses() goes on once they fit).
   linkStatic_ = splitsStatic() && !staticLinked_;
   timedPass(cmd, timer, "refit", [&] {
     refit_.record(cmd, h, b_.tree, surfels, b_.nodes);
@@ -163,6 +161,9 @@ void IvSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
     if (linkStatic_) links_.record(cmd, staticSet_, b_, h, settings_, room_.worklistCapacity());
     links_.record(cmd, frameSet_, b_, h, settings_, room_.worklistCapacity());
   });
+  // Until a frame has stood in the link room, the links go in a submission of their own: a frame
+  // whose links overflow is redone before it prunes (recordMorePasses() goes on once they fit).
+  if (roomProven_) recordSolve(cmd, timer);
 }
 
 // The frame's solve once its links fit: the prune (the static set's once), the receivers and the
@@ -234,6 +235,7 @@ std::vector<std::pair<std::string, double>> IvSolver::frameFigures() const {
 bool IvSolver::frameMustBeRedone() {
   const LinkRoom::Overflow overflow = room_.grow(LinkCreation::levels(setup_.hierarchy));
   if (!overflow.any) return false;
+  roomProven_ = false;
   if (overflow.loopBudget) prune_.onLoopBudgetSpent();
   if (overflow.staticSet) staticLinked_ = false;
   linked_ = false;
@@ -241,7 +243,10 @@ bool IvSolver::frameMustBeRedone() {
   return true;
 }
 
-void IvSolver::frameStands() { room_.releaseUnused(staticLinked_); }
+void IvSolver::frameStands() {
+  room_.releaseUnused(staticLinked_);
+  roomProven_ = true;
+}
 
 IvStats IvSolver::stats() const {
   IvStats s;

@@ -45,6 +45,7 @@ class IvSolver final : public Solver {
 
   void setLights(const std::vector<gpu::PunctualLight>& lights) override;
   void record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffer& surfels, bool geometryMoved) override;
+  bool solvePending() const override { return solvePending_; }
   // Grows what overflowed; a frame that overflowed is redone.
   bool frameMustBeRedone() override;
   bool wantsMorePasses() const override;
@@ -102,6 +103,7 @@ class IvSolver final : public Solver {
   LinkRoom room_;
   bool linked_ = false, staticLinked_ = false;
   bool solvePending_ = false;  // the frame's links are recorded, its prune and bounces not yet
+  bool roomProven_ = false;    // a frame stood since the link room last grew
   bool linkStatic_ = false;    // the frame makes the static set's links
   uint32_t framesRedone_ = 0, staticPasses_ = 0;
   uint32_t lightCount_ = 0;
