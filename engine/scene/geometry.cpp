@@ -51,28 +51,24 @@ glm::mat4 restMatrix(const Scene& scene, const Pose& rest, int nodeIndex) {
 // ownerBase[node] + the primitive's index.
 EdgeLimits edgeLimitsOf(const Scene& scene, const Pose& rest, uint32_t tessellation, std::vector<uint32_t>& ownerBase) {
   ownerBase.assign(scene.nodes.size(), 0u);
+  struct Surface {
+    std::vector<glm::vec3> world;
+    const std::vector<uint32_t>* indices;
+  };
+  std::vector<Surface> surfaces;  // by owner
   Bounds b;
-  uint32_t owners = 0;
   for (size_t n = 0; n < scene.nodes.size(); ++n) {
-    ownerBase[n] = owners;
+    ownerBase[n] = uint32_t(surfaces.size());
     if (scene.nodes[n].mesh < 0) continue;
     const glm::mat4 m = restMatrix(scene, rest, int(n));
     for (const Primitive& p : scene.meshes[scene.nodes[n].mesh].primitives) {
-      for (const glm::vec3& v : p.positions) b.add(glm::vec3(m * glm::vec4(v, 1.0f)));
-      ++owners;
+      Surface& s = surfaces.emplace_back(Surface{{}, &p.indices});
+      for (const glm::vec3& v : p.positions) b.add(s.world.emplace_back(m * glm::vec4(v, 1.0f)));
     }
   }
   EdgeLimits limits(tessellation == 0 || b.empty() ? 0.0f : glm::length(b.max - b.min) / float(tessellation));
-  for (size_t n = 0; n < scene.nodes.size() && limits.uniform() > 0.0f; ++n) {
-    if (scene.nodes[n].mesh < 0) continue;
-    const glm::mat4 m = restMatrix(scene, rest, int(n));
-    const auto& primitives = scene.meshes[scene.nodes[n].mesh].primitives;
-    for (size_t k = 0; k < primitives.size(); ++k) {
-      std::vector<glm::vec3> world;
-      for (const glm::vec3& v : primitives[k].positions) world.push_back(glm::vec3(m * glm::vec4(v, 1.0f)));
-      limits.addSurface(ownerBase[n] + uint32_t(k), world, primitives[k].indices);
-    }
-  }
+  for (size_t owner = 0; owner < surfaces.size(); ++owner)
+    limits.addSurface(uint32_t(owner), surfaces[owner].world, *surfaces[owner].indices);
   return limits;
 }
 

@@ -1,7 +1,6 @@
 #include "engine/gi/iv/solver.h"
 
 #include <algorithm>
-#include <bit>
 
 #include "engine/gi/pass.h"
 
@@ -303,18 +302,6 @@ std::vector<uint32_t> IvSolver::receiverSurfels() const {
   auto list = b_.receivers.read<uint32_t>(receivers_.counts(b_).receivers);
   std::sort(list.begin(), list.end());
   return list;
-}
-
-std::vector<std::vector<std::pair<uint32_t, float>>> IvSolver::interpolationTaps() const {
-  const auto counts = b_.tapCounts.read<uint32_t>(surfelCount_);
-  const auto taps = b_.taps.read<gpu::InterpolationTap>(size_t(surfelCount_) * gpu::kInterpolationTaps);
-  std::vector<std::vector<std::pair<uint32_t, float>>> out(surfelCount_);
-  for (uint32_t s = 0; s < surfelCount_; ++s)
-    for (uint32_t t = 0; t < counts[s]; ++t) {
-      const gpu::InterpolationTap& tap = taps[size_t(s) * gpu::kInterpolationTaps + t];
-      out[s].push_back({tap.receiver, std::bit_cast<float>(tap.weightBits)});
-    }
-  return out;
 }
 
 std::vector<gpu::NodeState> IvSolver::nodeStates() const { return b_.nodes.read<gpu::NodeState>(nodeCount_); }

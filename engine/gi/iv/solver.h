@@ -1,8 +1,9 @@
 #pragma once
 // The iv solver (Dong et al. 2007; docs/design.md §2.1): hierarchical radiosity whose visibility is the
 // nearest link per direction bin. Per frame, as passes: refit, link creation, the receivers chosen
-// where the lighting needs them (each pruned: bin pruning and push-down), bounces. Objects that cannot move are linked
-// and pruned once. The host only sizes buffers (LinkRoom), from a guess and then from the counts the GPU reports.
+// where the lighting needs them (each pruned: bin pruning and push-down), bounces. Objects that
+// cannot move are linked and pruned once. The host only sizes buffers (LinkRoom), from a guess and
+// then from the counts the GPU reports.
 #include <glm/glm.hpp>
 
 #include <optional>
@@ -67,12 +68,8 @@ class IvSolver final : public Solver {
   };
   std::vector<std::vector<LeafLink>> leafLinks() const;
   std::vector<gpu::NodeState> nodeStates() const;
-  // The last relinked frame's receivers, and per surfel its irradiance (as the resolve reads it).
+  // The last relinked frame's receivers.
   std::vector<uint32_t> receiverSurfels() const;
-  std::vector<float> nodeNeeds() const { return b_.needs.read<float>(nodeCount_); }
-  std::vector<glm::vec4> surfelIrradiance() const { return b_.irradiance.read<glm::vec4>(surfelCount_); }
-  // Per surfel, the receivers its irradiance is interpolated from and their coefficients.
-  std::vector<std::vector<std::pair<uint32_t, float>>> interpolationTaps() const;
 
   // The bins' unit centre directions and solid angles, computed on the host (GLSL's atan is not
   // exact enough for the solid angles).
