@@ -64,4 +64,31 @@ vec4 nodeNormalCone(uint i) { return imageLoad(nodes, int(3u * i + 1u)); }
 vec4 nodeShape(uint i) { return imageLoad(nodes, int(3u * i + 2u)); }
 float nodeRadius(uint i) { return nodeShape(i).x; }
 NodeState nodeState(uint i) { return NodeState(nodePositionArea(i), nodeNormalCone(i), nodeShape(i)); }
+
+// The half-sides of a sender's rectangle (refit.comp) in the world; zero for a curved sender (a cone
+// past 90°), which is filed as a square facing the receiver.
+void senderSides(uint s, vec4 normalCone, out vec3 sideA, out vec3 sideB) {
+  sideA = sideB = vec3(0.0);
+  if (length(normalCone.xyz) == 0.0 || normalCone.w >= 0.5 * kPi) return;
+  vec4 shape = nodeShape(s);
+  vec3 t1, t2;
+  tangentFrame(normalCone.xyz, t1, t2);
+  float c = cos(shape.y), sn = sin(shape.y);
+  sideA = shape.z * (c * t1 + sn * t2);
+  sideB = shape.w * (c * t2 - sn * t1);
+}
 #endif
+
+// The four bins around a direction, with bilinear weights between their centres (over a cube
+// face's edge, cells of the neighbouring face): ar deposits and reads its tables through them, so
+// that a sender seen near a bin's edge does not alias into one bin. Vectors, not arrays: lavapipe
+// keeps a small array in memory, a vector in registers.
+void binTaps(vec3 d, uint n, out uvec4 bins, out vec4 weights) {
+  vec2 position;
+  uint face = binFace(d, n, position);
+  vec2 x = position - 0.5, cell = floor(x), f = x - cell;
+  ivec2 c = ivec2(cell);
+  bins = uvec4(binOfCell(face, c, n), binOfCell(face, c + ivec2(1, 0), n), binOfCell(face, c + ivec2(0, 1), n),
+               binOfCell(face, c + ivec2(1, 1), n));
+  weights = vec4((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y);
+}

@@ -236,8 +236,10 @@ struct RefinePush {
   uint target;
   uint capacity;  // of each worklist
   uint linkCapacity;
-  float epsilon;      // form-factor threshold
-  float largeSender;  // κ·Ω of an average bin: a sender subtending more is split
+  float epsilon;        // form-factor threshold
+  float largeSender;    // κ·Ω of a bin: a sender subtending more is split
+  float largeReceiver;  // and a receiver subtending more from its sender (3.4e38: never)
+  uint bothSides;       // 1: senders behind the receiver's horizon are linked too (|cos| estimates)
 };
 struct PrunePush {
   uint firstSurfel;  // the leaves [firstSurfel, endSurfel) of this dispatch's batch; listed: of the
@@ -300,6 +302,32 @@ struct BounceCheckPush {
   uint maxGathers;  // done after this many
   float tolerance;  // done where remaining ≤ tolerance; negative: only at maxGathers
 };
+// ---- ar (engine/gi/ar/): directional tables of 6·N² world bins per node or surfel ----
+
+// Pieces per side a near or wide surfel sender is cut into at most (the gather's loops stay far
+// below lavapipe's budget: common.glsl).
+IVGI_CONST uint kArPieces = 2u;
+// A node whose normals spread less than this (radians) counts as flat: one plane, a front and a back.
+IVGI_CONST float kArFlatCone = 0.05f;
+// The asymmetric scheme's antiradiance steps after each radiance step.
+IVGI_CONST uint kAntiradianceSteps = 3u;
+// Per workgroup of ar_incident, what the host judges an iteration by (area-weighted luminances).
+struct IterationSum {
+  float total;     // Σ area · Y(E), E ≥ 0 the irradiance shown
+  float change;    // Σ area · |Y(E) − Y(E before)|
+  float negative;  // Σ area · Y(max(−E, 0)): light cancelled past zero
+  float pad;
+};
+struct ArPush {
+  uint count;           // the items: surfels (local, incident), nodes (gather) or a level's node bins (pull-up)
+  uint bins;            // N: 6·N² bins
+  uint first;           // pull-up: the level's first node; incident: the sums' slot (iteration in its chunk)
+  uint updateRadiance;  // local: 1 to reflect the incident light (a radiance step), 0 to keep the radiance
+  uint lightCount;
+  uint environmentOn;
+  uint pad0, pad1;
+};
+
 struct ImagePush {  // raster: count = triangles; resolve: count = samples per axis
   Camera camera;
   uvec2 size;

@@ -191,19 +191,6 @@ void insertFootprint(uint slot, vec3 d, uint64_t key, float omega, vec3 sideA, v
     }
 }
 
-// The half-sides of a sender's rectangle (refit.comp) in the world; zero for a curved sender (a cone
-// past 90°), which is filed as a square facing the receiver.
-void senderSides(uint s, vec4 normalCone, out vec3 sideA, out vec3 sideB) {
-  sideA = sideB = vec3(0.0);
-  if (length(normalCone.xyz) == 0.0 || normalCone.w >= 0.5 * kPi) return;
-  vec4 shape = nodeShape(s);
-  vec3 t1, t2;
-  tangentFrame(normalCone.xyz, t1, t2);
-  float c = cos(shape.y), sn = sin(shape.y);
-  sideA = shape.z * (c * t1 + sn * t2);
-  sideB = shape.w * (c * t2 - sn * t1);
-}
-
 // Solid angle of a disk of radius r facing a point at squared distance d²: 2π(1 − d/√(d² + r²)),
 // exact, and 2π (not infinity) as d → 0.
 float diskSolidAngle(float r, float dist2) { return 2.0 * kPi * (1.0 - sqrt(dist2 / (dist2 + r * r))); }

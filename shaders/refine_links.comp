@@ -16,8 +16,10 @@ layout(push_constant) uniform Push {
   uint source, target;  // counter slots of this level's list and of the next
   uint capacity;        // of each worklist
   uint linkCapacity;
-  float epsilon;      // form-factor threshold
-  float largeSender;  // κ·Ω of an average bin: a sender subtending more is split
+  float epsilon;        // form-factor threshold
+  float largeSender;    // κ·Ω of a bin: a sender subtending more is split
+  float largeReceiver;  // and a receiver subtending more from its sender
+  uint bothSides;       // 1: senders behind the receiver's horizon are linked too
 };
 
 void emitPair(uint r, uint s) {
@@ -66,16 +68,23 @@ void main() {
     } else {
       vec3 dir = d / dist;
       float spreadS = asin(min(ns.shape.x / dist, 1.0)), spreadR = asin(min(nr.shape.x / dist, 1.0));
+      float cosS = cosUpper(ns.normalCone.xyz, ns.normalCone.w, -dir, spreadR);
+      float cosR = cosUpper(nr.normalCone.xyz, nr.normalCone.w, dir, spreadS);
+      if (bothSides != 0u) {  // |cos|: the back of either side carries antiradiance
+        cosS = max(cosS, cosUpper(-ns.normalCone.xyz, ns.normalCone.w, -dir, spreadR));
+        cosR = max(cosR, cosUpper(-nr.normalCone.xyz, nr.normalCone.w, dir, spreadS));
+      }
       // Senders wholly below the receiver's horizon matter neither for light nor for visibility.
-      if (nr.positionArea.w > 0.0 && cosUpper(nr.normalCone.xyz, nr.normalCone.w, dir, spreadS) <= 0.0) continue;
+      if (nr.positionArea.w > 0.0 && cosR <= 0.0) continue;
       bool overlapping = dist <= nr.shape.x + ns.shape.x;
       bool large = ns.positionArea.w > largeSender * dist2;
-      float estimate = formFactor(ns.positionArea.w, cosUpper(ns.normalCone.xyz, ns.normalCone.w, -dir, spreadR),
-                                  cosUpper(nr.normalCone.xyz, nr.normalCone.w, dir, spreadS), dist2);
-      // A sender wider than a bin must be split itself (leaves re-bin from their own position, so a
-      // coarse receiver is fine); overlap or a large form factor splits the larger node.
+      float estimate = formFactor(ns.positionArea.w, cosS, cosR, dist2);
+      // A sender wider than a bin must be split itself (iv's leaves re-bin from their own position,
+      // so a coarse receiver is fine there; ar splits a wide receiver too); overlap or a large form
+      // factor splits the larger node.
       bool refineSender = large && !leafS;
-      bool refine = refineSender || (!(leafR && leafS) && (overlapping || estimate > epsilon));
+      bool refineReceiver = !refineSender && !leafR && nr.positionArea.w > largeReceiver * dist2;
+      bool refine = refineSender || refineReceiver || (!(leafR && leafS) && (overlapping || estimate > epsilon));
       if (!refine) {
         uint slot = atomicAdd(counters[kCounterLinks], 1u);
         if (slot < linkCapacity)
@@ -86,6 +95,10 @@ void main() {
       }
       if (refineSender) {
         for (uint c = 0; c < ts.z; ++c) emitPair(r, ts.y + c);
+        continue;
+      }
+      if (refineReceiver) {
+        for (uint c = 0; c < tr.z; ++c) emitPair(tr.y + c, s);
         continue;
       }
     }

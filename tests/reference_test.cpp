@@ -127,18 +127,21 @@ TEST(CompareCli, PrintsMetricsWritesJsonAndHeatmap) {
 TEST(SweepCli, WritesCsvJsonAndPlot) {
   auto ref = test::renderExr("sweep_ref", {"--method", "pt", "--spp", "32", "--size", "48x36", "--cells", "2"});
   auto dir = test::scratchDir("sweep_out");
-  auto r = test::runIvgi({"sweep", "--cells", "2", "--reference", ref.string(), "--bins", "2,4", "--bounces", "0,1",
-                          "--receiver-tol", "0,0.4", "--method", "iv,none", "--repeats", "1", "--warmup", "0", "--out",
-                          dir.string()});
+  auto r = test::runIvgi({"sweep", "--cells",        "2",     "--reference", ref.string(), "--bins", "2,4", "--bounces",
+                          "0,1",   "--receiver-tol", "0,0.4", "--method",    "iv,ar,none", "--dirs", "2",   "--repeats",
+                          "1",     "--warmup",       "0",     "--out",       dir.string()});
   ASSERT_EQ(r.status, 0) << r.err;
   std::ifstream csv(dir / "sweep.csv");
   std::vector<std::string> lines;
   for (std::string line; std::getline(csv, line);) lines.push_back(line);
-  ASSERT_EQ(lines.size(), 10u);  // header + 2 bins × 2 bounces × 2 receivers' tolerances + none
-  EXPECT_EQ(lines[0].rfind("scene,method,bins,eps,bounces,bounceTol,bouncesRun,kappa,receiverTol,receivers,ms,", 0),
+  ASSERT_EQ(lines.size(), 11u);  // header + 2 bins × 2 bounces × 2 receivers' tolerances + ar + none
+  EXPECT_EQ(lines[0].rfind("scene,method,bins,eps,bounces,bounceTol,bouncesRun,kappa,receiverTol,receivers,dirs,"
+                           "iterationsRun,ms,",
+                           0),
             0u);
+  EXPECT_NE(lines[9].find(",ar,"), std::string::npos) << lines[9];
   auto j = readJson(dir / "sweep.json");
-  ASSERT_EQ(j["settings"].size(), 9u);
+  ASSERT_EQ(j["settings"].size(), 10u);
   int front = 0;
   for (const auto& s : j["settings"]) {
     EXPECT_GT(s["medianMs"].get<double>(), 0.0);

@@ -79,6 +79,9 @@ int runBench(const BenchOptions& o) {
   const gi::IvSettings& iv = solver.iv;
   if (solver.method == "iv")
     std::printf(", bins 6x%ux%u, eps %g, bounces %s", iv.bins, iv.bins, iv.epsilon, bouncesText(iv).c_str());
+  if (solver.method == "ar")
+    std::printf(", dirs 6x%ux%u, eps %g, iterations %s, %s", solver.ar.dirs, solver.ar.dirs, iv.epsilon,
+                solver.ar.iterations ? std::to_string(*solver.ar.iterations).c_str() : "auto", solver.arScheme.c_str());
   std::printf("\ndevice: %s\n", deviceLine(ctx).c_str());
   std::printf(
       "frames: %d measured after %d warm-up%s\n\n", o.frames, o.warmup,
@@ -122,9 +125,19 @@ int runBench(const BenchOptions& o) {
                   *std::min_element(b.begin(), b.end()), *std::max_element(b.begin(), b.end()),
                   solver->stats().bounceRemaining > 0 ? ", until the light still to come is below --bounce-tol" : "");
   }
+  if (const auto* ar = dynamic_cast<const gi::ArSolver*>(renderer.solver())) {
+    const gi::ArStats st = ar->stats();
+    std::printf(", nodes %u, links %u (both sides, unpruned); directional tables %.1f MiB", st.nodes, st.links,
+                double(st.tableBytes) / (1 << 20));
+    if (st.framesRedone) std::printf("; %u frame(s) redone (link room, or a diverging iteration)", st.framesRedone);
+    if (const auto& it = times.solverFigures["iterations"]; !it.empty())
+      std::printf("\niterations: median %.0f a frame (%.0f to %.0f); the last frame's residuals:", percentile(it, 0.5),
+                  *std::min_element(it.begin(), it.end()), *std::max_element(it.begin(), it.end()));
+    for (float r : st.residuals) std::printf(" %.2g", double(r));
+  }
   std::printf("\nbytes allocated: %llu (%.1f MiB)\n", (unsigned long long)bytes, double(bytes) / (1 << 20));
   if (!o.json.empty()) {
-    nlohmann::json settings = settingsJson(solver.method, iv, solver.tessellation);
+    nlohmann::json settings = settingsJson(solver.method, iv, solver.tessellation, arSettings(solver));
     settings.update({{"width", image.width}, {"height", image.height}, {"frames", o.frames}, {"warmup", o.warmup}});
     nlohmann::json j = {{"scene", s.source},
                         {"settings", settings},

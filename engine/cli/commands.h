@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/gi/ar/solver.h"
 #include "engine/gi/frame_renderer.h"
 #include "engine/gi/iv/solver.h"
 #include "engine/image/metrics.h"
@@ -25,11 +26,14 @@ scene::Scene loadScene(const SceneChoice& choice);
 // The lighting method and its settings, shared by render, bench, sweep and info. The defaults are
 // the settings structs' own.
 struct SolverOptions {
-  std::string method = "iv";   // iv, none (emission only) or pt (render only)
-  gi::IvSettings iv;           // --bins, --eps, --bounces, --kappa, --receiver-tol
-  std::string environment;     // --env: "R,G,B", an .exr, or none; empty: the scene's own light (see below)
-  uint64_t maxMemoryMiB = 0;   // --max-memory: iv's memory budget (0: the device's)
-  uint32_t tessellation = 16;  // --tessellate: iv's surfaces sampled at least this finely (scene::buildGeometry)
+  std::string method = "iv";  // iv, ar, none (emission only) or pt (render only)
+  gi::IvSettings iv;          // --bins, --eps, --bounces, --kappa, --receiver-tol (--eps and --kappa: ar's too)
+  gi::ArSettings ar;          // --dirs, --iterations, --iteration-tol
+  std::string arScheme = "symmetric";  // --scheme
+  std::string environment;             // --env: "R,G,B", an .exr, or none; empty: the scene's own light (see below)
+  uint64_t maxMemoryMiB = 0;           // --max-memory: iv's memory budget (0: the device's)
+  uint32_t tessellation =
+      16;  // --tessellate: iv's and ar's surfaces sampled at least this finely (scene::buildGeometry)
 };
 
 // The scene's flattened geometry, as `solver`'s method samples it; throws LoadError when there is
@@ -40,6 +44,8 @@ scene::Geometry renderableGeometry(const scene::Scene& scene, const SolverOption
 // emitter and no punctual light, a uniform white sky, said once on stderr, as glTF viewers do.
 SolverOptions withSceneLight(SolverOptions options, const scene::Scene& scene, const scene::Geometry& geometry);
 
+// ar's settings from the options (--eps and --kappa are shared with iv; checked by the solver).
+gi::ArSettings arSettings(const SolverOptions& options);
 // The solver for `options`, or none for --method none; `animation` (-1: none) says which objects
 // can move. The hierarchy depends only on the scene: pass one already built to reuse it.
 std::unique_ptr<gi::Solver> makeSolver(const SolverOptions& options, const vk::Context& ctx, const scene::Scene& scene,
@@ -146,6 +152,7 @@ struct SweepOptions {
   // Comma-separated lists; --bounces takes counts and auto (until converged, at each --bounce-tol).
   std::string methods = "iv", bins = "16", eps = "0.02", bounces = "auto", bounceTolerances = "0.001", kappa = "1",
               receiverTolerances = "0.2";
+  std::string dirs = "4";  // ar's direction resolutions
   uint32_t tessellation = SolverOptions{}.tessellation;
   std::string environment, camera, animation, device;
   int frame = 0;

@@ -10,6 +10,19 @@
 
 namespace ivgi::cli {
 
+namespace {
+
+// Link counts are known only once the GPU has refined them: frame 0 solved on a tiny image.
+void solveFrameZero(gi::FrameRenderer& renderer, const scene::Scene& s, const scene::Geometry& g) {
+  const int animation = s.animations.empty() ? -1 : 0;
+  auto pose = scene::evaluatePose(s, animation, s.animations.empty() ? 0.0f : s.animations[0].start);
+  renderer.render(g.frameInputs(s, pose),
+                  scene::framingCamera(scene::worldBounds(scene::animateOnHost(g, g.frameInputs(s, pose))), 1.0f),
+                  scene::worldLights(s, pose));
+}
+
+}  // namespace
+
 int runInfo(const InfoOptions& o) {
   scene::Scene s = loadScene(o.source);
   scene::Geometry g = scene::buildGeometry(s);
@@ -28,10 +41,10 @@ int runInfo(const InfoOptions& o) {
   std::printf("vertices     %zu\n", g.vertices.size());
   std::printf("triangles    %zu (%u degenerate, excluded)\n", g.triangles.size(), g.degenerateTriangles);
   std::printf("surfels      %zu\n", g.surfels.size());
-  if (solver.method == "iv" && solver.tessellation > 0) {
+  if ((solver.method == "iv" || solver.method == "ar") && solver.tessellation > 0) {
     const scene::Geometry sampled = renderableGeometry(s, solver);
-    std::printf("tessellated  %zu triangles, %zu surfels (iv, --tessellate %u)\n", sampled.triangles.size(),
-                sampled.surfels.size(), solver.tessellation);
+    std::printf("tessellated  %zu triangles, %zu surfels (%s, --tessellate %u)\n", sampled.triangles.size(),
+                sampled.surfels.size(), solver.method.c_str(), solver.tessellation);
   }
   std::printf("materials    %zu, textures %zu\n", s.materials.size(), s.textures.size());
   std::printf("nodes        %zu, skins %zu\n", s.nodes.size(), s.skins.size());
@@ -60,16 +73,29 @@ int runInfo(const InfoOptions& o) {
                 b.max.x, b.max.y, b.max.z);
   std::printf("warnings     %zu\n", s.warnings.size());
   for (const auto& w : s.warnings) std::printf("  %s\n", w.c_str());
+  if (o.memory && solver.method == "ar") {
+    // The tables follow from the counts alone; the links are known once the GPU made them.
+    const scene::Geometry sampled = renderableGeometry(s, solver);
+    const gi::Hierarchy h = gi::restPoseHierarchy(s, sampled);
+    const gi::ArSettings ar = arSettings(solver);
+    const uint64_t tables = gi::ArSolver::tableBytes(h.nodes.size(), sampled.surfels.size(), ar.dirs);
+    std::printf(
+        "ar tables    dirs 6x%ux%u: %zu nodes and %zu surfels x %u bins x (gathered, intensity; incident) "
+        "x RGBA32F = %.1f MiB\n",
+        ar.dirs, ar.dirs, h.nodes.size(), sampled.surfels.size(), 6 * ar.dirs * ar.dirs, double(tables) / (1 << 20));
+    vk::Context ctx;
+    gi::FrameRenderer renderer(ctx, sampled, {16, 16, 1},
+                               makeSolver(solver, ctx, s, sampled, s.animations.empty() ? -1 : 0, &h));
+    solveFrameZero(renderer, s, sampled);
+    const gi::ArStats st = dynamic_cast<const gi::ArSolver&>(*renderer.solver()).stats();
+    std::printf("ar solver    %u nodes in %u levels, %u links, %u iterations, %.1f MiB on %s\n", st.nodes, st.levels,
+                st.links, st.iterations, double(st.bytes) / (1 << 20), ctx.info().name.c_str());
+  }
   if (o.memory && solver.method == "iv") {
-    // Link counts are known only once the GPU has refined them: solve frame 0 on a tiny image.
     vk::Context ctx;
     g = renderableGeometry(s, solver);
     gi::FrameRenderer renderer(ctx, g, {16, 16, 1}, makeSolver(solver, ctx, s, g, s.animations.empty() ? -1 : 0));
-    auto pose =
-        scene::evaluatePose(s, s.animations.empty() ? -1 : 0, s.animations.empty() ? 0.0f : s.animations[0].start);
-    renderer.render(g.frameInputs(s, pose),
-                    scene::framingCamera(scene::worldBounds(scene::animateOnHost(g, g.frameInputs(s, pose))), 1.0f),
-                    scene::worldLights(s, pose));
+    solveFrameZero(renderer, s, g);
     const gi::IvStats st = dynamic_cast<const gi::IvSolver&>(*renderer.solver()).stats();
     std::printf(
         "iv solver    bins 6x%ux%u (%s memory), eps %g: %u nodes in %u levels, %u receivers, %u links, %u leaf "

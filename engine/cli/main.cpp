@@ -19,8 +19,8 @@ void addSceneArgument(CLI::App* cmd, SceneChoice& choice) {
 
 void addSolverOptions(CLI::App* cmd, SolverOptions& o) {
   cmd->add_option("--method", o.method,
-                  "lighting: iv (implicit-visibility radiosity), none (emission only); render also: pt (Embree "
-                  "path-traced reference)")
+                  "lighting: iv (implicit-visibility radiosity), ar (antiradiance), none (emission only); render "
+                  "also: pt (Embree path-traced reference)")
       ->capture_default_str();
   cmd->add_option("--bins", o.iv.bins, "N: 6×N×N direction bins per receiver (1–64)")->capture_default_str();
   cmd->add_option("--eps", o.iv.epsilon, "refine links while their form-factor estimate exceeds this")
@@ -35,9 +35,20 @@ void addSolverOptions(CLI::App* cmd, SolverOptions& o) {
                   "iv solves irradiance at receivers chosen where the lighting needs them and interpolates the rest, "
                   "within this tolerance (smaller: more receivers, slower); 0: at every surfel")
       ->capture_default_str();
-  cmd->add_option("--tessellate", o.tessellation,
-                  "iv samples surfaces at least this finely: triangle edges longer than 1/N of the scene's size are "
-                  "split (0: the mesh as modelled)")
+  cmd->add_option(
+         "--tessellate", o.tessellation,
+         "iv and ar sample surfaces at least this finely: triangle edges longer than 1/N of the scene's size are "
+         "split (0: the mesh as modelled)")
+      ->capture_default_str();
+  cmd->add_option("--dirs", o.ar.dirs, "ar: N: 6×N×N direction bins per element (1–32)")->capture_default_str();
+  cmd->add_option("--iterations", o.ar.iterations,
+                  "ar: exactly this many iterations; default: until one changes the irradiance by less than "
+                  "--iteration-tol");
+  cmd->add_option("--iteration-tol", o.ar.tolerance, "ar: iterations stop once one changes the irradiance by less")
+      ->capture_default_str();
+  cmd->add_option("--scheme", o.arScheme,
+                  "ar: symmetric (radiance and antiradiance together) or asymmetric (a radiance step, then 3 "
+                  "antiradiance steps)")
       ->capture_default_str();
   cmd->add_option("--max-memory", o.maxMemoryMiB, "MiB the solver may allocate at most (0: what the device holds)")
       ->capture_default_str();
@@ -164,7 +175,8 @@ int main(int argc, char** argv) {
   w->add_option("--reference", sweep.reference,
                 "reference EXR of the same frame, camera and size (e.g. render --method pt)")
       ->required();
-  w->add_option("--method", sweep.methods, "methods, comma-separated: iv, none")->capture_default_str();
+  w->add_option("--method", sweep.methods, "methods, comma-separated: iv, ar, none")->capture_default_str();
+  w->add_option("--dirs", sweep.dirs, "ar's N values (6xNxN directions), comma-separated")->capture_default_str();
   w->add_option("--bins", sweep.bins, "N values, comma-separated")->capture_default_str();
   w->add_option("--eps", sweep.eps, "refinement thresholds, comma-separated")->capture_default_str();
   w->add_option("--bounces", sweep.bounces, "bounce counts or auto (until converged), comma-separated")

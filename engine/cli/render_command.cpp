@@ -114,7 +114,9 @@ int runRender(const RenderOptions& o) {
   if (o.resume)
     if (size_t removed = image::removeDeadTemporaries(pattern.directory()))
       std::fprintf(stderr, "ivgi: removed %zu temporary files left by runs that ended\n", removed);
-  json settings = settingsJson(solver.method, solver.iv, solver.method == "iv" ? solver.tessellation : 0);
+  json settings =
+      settingsJson(solver.method, solver.iv, solver.method == "iv" || solver.method == "ar" ? solver.tessellation : 0,
+                   arSettings(solver));
   settings.update({{"frames", {range.first, range.last, range.step}},
                    {"shard", {shard.index, shard.count}},
                    {"fps", o.fps},

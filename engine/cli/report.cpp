@@ -1,5 +1,6 @@
 #include "engine/cli/report.h"
 
+#include "engine/gi/ar/solver.h"
 #include "engine/gi/iv/solver.h"
 
 namespace ivgi::gi {
@@ -8,6 +9,9 @@ namespace ivgi::gi {
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(IvStats, nodes, levels, links, leafLinks, staticLinks, staticLeafLinks, bytes,
                                    sharedBins, pruneBatches, pruneGroupSize, sendersWalked, staticSendersWalked,
                                    framesRedone, staticPasses, bounces, bounceRemaining, receivers, receiverFills)
+
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ArStats, nodes, levels, links, longestList, bytes, tableBytes, iterations, residual,
+                                   negative, diverged, framesRedone, residuals)
 
 }  // namespace ivgi::gi
 
@@ -19,7 +23,17 @@ nlohmann::json bouncesJson(const gi::IvSettings& s) {
 
 std::string bouncesText(const gi::IvSettings& s) { return s.bounces ? std::to_string(*s.bounces) : "auto"; }
 
-nlohmann::json settingsJson(const std::string& method, const gi::IvSettings& iv, uint32_t tessellation) {
+nlohmann::json settingsJson(const std::string& method, const gi::IvSettings& iv, uint32_t tessellation,
+                            const gi::ArSettings& ar) {
+  if (method == "ar")
+    return {{"method", method},
+            {"dirs", ar.dirs},
+            {"eps", ar.epsilon},
+            {"kappa", ar.kappa},
+            {"iterations", ar.iterations ? nlohmann::json(*ar.iterations) : nlohmann::json("auto")},
+            {"iterationTolerance", ar.tolerance},
+            {"scheme", gi::schemeName(ar.scheme)},
+            {"tessellation", tessellation}};
   return {{"method", method},
           {"bins", iv.bins},
           {"eps", iv.epsilon},
@@ -35,6 +49,11 @@ nlohmann::json solverJson(const gi::Solver* solver) {
   if (const auto* iv = dynamic_cast<const gi::IvSolver*>(solver)) {
     nlohmann::json j = iv->stats();
     j["method"] = "iv";
+    return j;
+  }
+  if (const auto* ar = dynamic_cast<const gi::ArSolver*>(solver)) {
+    nlohmann::json j = ar->stats();
+    j["method"] = "ar";
     return j;
   }
   return {{"bytes", solver->allocatedBytes()}};

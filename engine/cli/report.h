@@ -2,6 +2,7 @@
 // The solver's figures as the sidecar, bench and sweep report them (one function for all three).
 #include <nlohmann/json.hpp>
 
+#include "engine/gi/ar/settings.h"
 #include "engine/gi/iv/settings.h"
 #include "engine/gi/solver.h"
 
@@ -13,8 +14,10 @@ nlohmann::json bouncesJson(const gi::IvSettings& settings);
 std::string bouncesText(const gi::IvSettings& settings);
 
 // A method's settings as render, bench and sweep record them: the method, and iv's (bins, ε,
-// bounces and their tolerance, κ, the receivers' tolerance, the tessellation).
-nlohmann::json settingsJson(const std::string& method, const gi::IvSettings& iv, uint32_t tessellation);
+// bounces and their tolerance, κ, the receivers' tolerance, the tessellation), or ar's (directions,
+// ε, κ, iterations and their tolerance, scheme, the tessellation).
+nlohmann::json settingsJson(const std::string& method, const gi::IvSettings& iv, uint32_t tessellation,
+                            const gi::ArSettings& ar = {});
 
 // The solver's counts, memory and work as JSON; null for no solver.
 nlohmann::json solverJson(const gi::Solver* solver);

@@ -20,7 +20,7 @@ scene::Scene loadScene(const SceneChoice& choice) {
 
 scene::Geometry renderableGeometry(const scene::Scene& s, const SolverOptions& solver) {
   if (solver.tessellation > 100000) throw SettingsError("--tessellate must be 0 to 100000");
-  scene::Geometry g = scene::buildGeometry(s, solver.method == "iv" ? solver.tessellation : 0);
+  scene::Geometry g = scene::buildGeometry(s, solver.method == "iv" || solver.method == "ar" ? solver.tessellation : 0);
   if (g.triangles.empty()) throw scene::LoadError(s.source + ": the scene has no triangles to render");
   return g;
 }
@@ -42,6 +42,15 @@ SolverOptions withSceneLight(SolverOptions o, const scene::Scene& s, const scene
   return o;
 }
 
+gi::ArSettings arSettings(const SolverOptions& o) {
+  gi::ArSettings settings = o.ar;
+  settings.epsilon = o.iv.epsilon, settings.kappa = o.iv.kappa;
+  settings.scheme = gi::parseScheme(o.arScheme);
+  settings.memoryBudget = o.maxMemoryMiB << 20;
+  if (!o.environment.empty()) settings.environment = scene::Environment::parse(o.environment);
+  return settings;
+}
+
 std::unique_ptr<gi::Solver> makeSolver(const SolverOptions& o, const vk::Context& ctx, const scene::Scene& s,
                                        const scene::Geometry& g, int animation, const gi::Hierarchy* hierarchy) {
   if (o.method == "none") return nullptr;
@@ -49,7 +58,9 @@ std::unique_ptr<gi::Solver> makeSolver(const SolverOptions& o, const vk::Context
     throw SettingsError(
         "--method pt: the path tracer runs on the CPU; use `ivgi render --method pt` (bench and info measure iv and "
         "none)");
-  if (o.method != "iv") throw SettingsError("--method '" + o.method + "': methods are iv, pt and none");
+  if (o.method == "ar")
+    return std::make_unique<gi::ArSolver>(ctx, g, hierarchy ? *hierarchy : gi::restPoseHierarchy(s, g), arSettings(o));
+  if (o.method != "iv") throw SettingsError("--method '" + o.method + "': methods are iv, ar, pt and none");
   gi::IvSettings settings = o.iv;
   settings.memoryBudget = o.maxMemoryMiB << 20;
   if (!o.environment.empty()) settings.environment = scene::Environment::parse(o.environment);

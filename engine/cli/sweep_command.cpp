@@ -38,8 +38,13 @@ std::vector<T> parseList(const std::string& option, const std::string& text) {
 }
 
 std::string label(const SolverOptions& o) {
-  if (o.method != "iv") return o.method;
   std::ostringstream s;
+  if (o.method == "ar") {
+    s << "ar D" << o.ar.dirs << " e" << o.iv.epsilon;
+    if (o.iv.kappa != 1.0f) s << " k" << o.iv.kappa;
+    return s.str();
+  }
+  if (o.method != "iv") return o.method;
   s << "N" << o.iv.bins << " e" << o.iv.epsilon;
   if (o.iv.bounces)
     s << " b" << *o.iv.bounces;
@@ -118,10 +123,18 @@ int runSweep(const SweepOptions& o) {
   auto receiverTolerances = parseList<float>("--receiver-tol", o.receiverTolerances);
   std::vector<SolverOptions> grid;
   for (const auto& m : methods) {
-    if (m != "iv" && m != "none")
-      throw SettingsError("--method '" + m + "': the sweep measures iv and none (pt is the reference)");
+    if (m != "iv" && m != "ar" && m != "none")
+      throw SettingsError("--method '" + m + "': the sweep measures iv, ar and none (pt is the reference)");
     if (m == "none") {
       grid.push_back({.method = "none"});
+      continue;
+    }
+    if (m == "ar") {
+      for (uint32_t d : parseList<uint32_t>("--dirs", o.dirs))
+        for (float e : eps)
+          for (float k : kappas)
+            grid.push_back(
+                {.method = m, .iv = {.epsilon = e, .kappa = k}, .ar = {.dirs = d}, .tessellation = o.tessellation});
       continue;
     }
     for (uint32_t n : bins)
@@ -160,12 +173,11 @@ int runSweep(const SweepOptions& o) {
   // Every timed render solves the frame as a later frame of the animation does: refit, links and
   // pruning of what moves, bounces (what cannot move is linked by the warm-up render).
   std::vector<Row> rows;
-  std::optional<gi::Hierarchy> hierarchy;  // built by the first iv setting, shared by the others
+  // The hierarchy depends on the scene alone: built once, shared by every setting.
+  const gi::Hierarchy hierarchy = gi::restPoseHierarchy(s, g);
   Progress progress("sweep", grid.size(), "setting");
   for (const auto& settings : grid) {
-    auto solver = makeSolver(settings, ctx, s, g, tl.animation, hierarchy ? &*hierarchy : nullptr);
-    if (const auto* iv = dynamic_cast<const gi::IvSolver*>(solver.get()); iv && !hierarchy) hierarchy = iv->hierarchy();
-    gi::FrameRenderer renderer(ctx, g, image, std::move(solver));
+    gi::FrameRenderer renderer(ctx, g, image, makeSolver(settings, ctx, s, g, tl.animation, &hierarchy));
     std::vector<double> ms;
     gi::FrameResult last;
     for (int i = 0; i < o.warmup + o.repeats; ++i) {
@@ -201,8 +213,8 @@ int runSweep(const SweepOptions& o) {
                     jsonPath = (fs::path(o.out) / "sweep.json").string(),
                     pngPath = (fs::path(o.out) / "sweep.png").string();
   std::ostringstream csv;
-  csv << "scene,method,bins,eps,bounces,bounceTol,bouncesRun,kappa,receiverTol,receivers,ms,msP90,bytes,relMSE,RMSE,"
-         "PSNR,maxError,FLIP,pareto,label\n";
+  csv << "scene,method,bins,eps,bounces,bounceTol,bouncesRun,kappa,receiverTol,receivers,dirs,iterationsRun,ms,msP90,"
+         "bytes,relMSE,RMSE,PSNR,maxError,FLIP,pareto,label\n";
   nlohmann::json rowsJson = nlohmann::json::array();
   std::printf("%-22s %10s %10s %12s %10s %8s %s\n", "setting", "median ms", "MiB", "relMSE", "FLIP", "PSNR dB",
               "Pareto");
@@ -210,12 +222,15 @@ int runSweep(const SweepOptions& o) {
     const auto& st = r.settings;
     const auto run = r.solver.is_object() ? r.solver.value("bounces", 0u) : 0u;
     const auto receivers = r.solver.is_object() ? r.solver.value("receivers", 0u) : 0u;
+    const auto iterations = r.solver.is_object() ? r.solver.value("iterations", 0u) : 0u;
+    const bool ar = st.method == "ar";
     csv << '"' << s.source << "\"," << st.method << ',' << st.iv.bins << ',' << st.iv.epsilon << ','
         << bouncesText(st.iv) << ',' << st.iv.bounceTolerance << ',' << run << ',' << st.iv.kappa << ','
-        << st.iv.receiverTolerance << ',' << receivers << ',' << r.ms << ',' << r.msP90 << ',' << r.bytes << ','
-        << r.error.relMse << ',' << r.error.rmse << ',' << r.error.psnr << ',' << r.error.maxError << ','
-        << r.error.flip << ',' << (r.pareto ? 1 : 0) << ",\"" << label(st) << "\"\n";
-    nlohmann::json j = settingsJson(st.method, st.iv, st.tessellation);
+        << st.iv.receiverTolerance << ',' << receivers << ',' << (ar ? st.ar.dirs : 0u) << ',' << iterations << ','
+        << r.ms << ',' << r.msP90 << ',' << r.bytes << ',' << r.error.relMse << ',' << r.error.rmse << ','
+        << r.error.psnr << ',' << r.error.maxError << ',' << r.error.flip << ',' << (r.pareto ? 1 : 0) << ",\""
+        << label(st) << "\"\n";
+    nlohmann::json j = settingsJson(st.method, st.iv, st.tessellation, arSettings(st));
     j.update({{"medianMs", r.ms},
               {"p90Ms", r.msP90},
               {"bytes", r.bytes},

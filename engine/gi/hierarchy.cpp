@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numeric>
 
+#include "engine/scene/animation.h"
+
 namespace ivgi::gi {
 
 namespace {
@@ -244,6 +246,16 @@ Hierarchy buildHierarchy(const scene::Geometry& g, const std::vector<scene::Surf
   for (size_t s = 0; s < surfelCount; ++s)
     h.groupOfSurfel[s] = uint32_t(std::lower_bound(h.groups.begin(), h.groups.end(), groupNode[s]) - h.groups.begin());
   return h;
+}
+
+}  // namespace ivgi::gi
+
+namespace ivgi::gi {
+
+Hierarchy restPoseHierarchy(const scene::Scene& scene, const scene::Geometry& g) {
+  auto rest =
+      scene::surfelsOnHost(g, scene::animateOnHost(g, g.frameInputs(scene, scene::evaluatePose(scene, -1, 0.0f))));
+  return buildHierarchy(g, rest);
 }
 
 }  // namespace ivgi::gi

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "engine/scene/geometry.h"
+#include "engine/scene/scene.h"
 #include "shaders/interface.h"
 
 namespace ivgi::gi {
@@ -39,5 +40,7 @@ struct Hierarchy {
 bool usableUvAtlas(const std::vector<glm::vec2>& uvs, const std::vector<glm::uvec3>& triangles);
 
 Hierarchy buildHierarchy(const scene::Geometry& geometry, const std::vector<scene::Surfel>& restSurfels);
+// The hierarchy over the scene's surfels at its rest pose.
+Hierarchy restPoseHierarchy(const scene::Scene& scene, const scene::Geometry& geometry);
 
 }  // namespace ivgi::gi

@@ -26,6 +26,8 @@ class PassTimer {
   void reset(VkCommandBuffer cmd);  // start of a frame's command buffer
   void begin(VkCommandBuffer cmd, std::string pass);
   void end(VkCommandBuffer cmd);
+  // How many more passes this frame can time.
+  uint32_t room() const { return maxPasses_ - uint32_t(names_.size()); }
   // After the command buffers completed: the time of each pass, in recording order; a pass recorded
   // more than once since reset() (in later command buffers of the frame) is summed.
   std::vector<PassTime> results() const;

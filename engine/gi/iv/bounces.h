@@ -8,8 +8,8 @@
 // check says done; where a frame's steps ran out first, the solver records more.
 #include "engine/gi/hierarchy.h"
 #include "engine/gi/iv/buffers.h"
-#include "engine/gi/iv/links.h"
 #include "engine/gi/iv/settings.h"
+#include "engine/gi/links.h"
 #include "engine/vk/program.h"
 
 namespace ivgi::gi {

@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "engine/gi/iv/buffers.h"
-#include "engine/gi/iv/links.h"
 #include "engine/gi/iv/settings.h"
+#include "engine/gi/links.h"
 
 namespace ivgi::gi {
 

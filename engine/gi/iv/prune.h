@@ -7,8 +7,8 @@
 #include <optional>
 
 #include "engine/gi/iv/buffers.h"
-#include "engine/gi/iv/links.h"
 #include "engine/gi/iv/settings.h"
+#include "engine/gi/links.h"
 #include "engine/vk/program.h"
 
 namespace ivgi::gi {

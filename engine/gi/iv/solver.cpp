@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "engine/gi/bins.h"
 #include "engine/gi/pass.h"
 
 namespace ivgi::gi {
@@ -28,9 +29,7 @@ vk::Buffer deviceArray(const vk::Context& ctx, size_t count, vk::Allocations& al
 
 IvSetup makeIvSetup(const scene::Scene& scene, const scene::Geometry& g, const IvSettings& settings,
                     std::optional<int> animation) {
-  auto rest =
-      scene::surfelsOnHost(g, scene::animateOnHost(g, g.frameInputs(scene, scene::evaluatePose(scene, -1, 0.0f))));
-  IvSetup setup{buildHierarchy(g, rest), settings, {}};
+  IvSetup setup{restPoseHierarchy(scene, g), settings, {}};
   if (animation) markMovingObjects(setup, scene, g, *animation);
   return setup;
 }
@@ -39,13 +38,6 @@ void markMovingObjects(IvSetup& setup, const scene::Scene& scene, const scene::G
   std::vector<bool> moving = scene::movingInstances(scene, g, animation);
   setup.objectMoves.clear();
   for (uint32_t instance : setup.hierarchy.rootInstance) setup.objectMoves.push_back(moving[instance]);
-}
-
-std::vector<glm::vec4> IvSolver::binTable(uint32_t n) {
-  std::vector<glm::vec4> table(6 * n * n);
-  for (uint32_t b = 0; b < table.size(); ++b)
-    table[b] = glm::vec4(glm::normalize(gpu::binDirection(b, n)), gpu::binSolidAngle(b, n));
-  return table;
 }
 
 IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, IvSetup setup)
@@ -103,9 +95,7 @@ void IvSolver::uploadScene(const scene::Geometry& g, const std::vector<uint32_t>
   b_.albedo = vk::makeBuffer(ctx, g.surfelAlbedo, vk::Memory::Device, tally);
   b_.emission = vk::makeBuffer(ctx, g.surfelEmission, vk::Memory::Device, tally);
   b_.binTable = vk::makeBuffer(ctx, binTable(n), vk::Memory::Device, tally);
-  b_.environment =
-      vk::makeBuffer(ctx, settings_.environment ? settings_.environment->bins(n) : std::vector<glm::vec4>{glm::vec4(0)},
-                     vk::Memory::Device, tally);
+  b_.environment = vk::makeBuffer(ctx, environmentTable(settings_.environment, n), vk::Memory::Device, tally);
   b_.lights = vk::Buffer(ctx, sizeof(gpu::PunctualLight), vk::Memory::Host, tally);
   b_.nodes = deviceArray<gpu::NodeState>(ctx, nodeCount_, allocations_);
   b_.args = vk::Buffer(ctx, 4 * sizeof(glm::uvec4), vk::Memory::Device, tally);
@@ -157,8 +147,11 @@ void IvSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
   });
   staticPasses_ += linkStatic_ ? 1 : 0;
   timedPass(cmd, timer, "links", [&] {
-    if (linkStatic_) links_.record(cmd, staticSet_, b_, h, settings_, room_.worklistCapacity());
-    links_.record(cmd, frameSet_, b_, h, settings_, room_.worklistCapacity());
+    const LinkWork work{b_.args, b_.worklistA, b_.worklistB, b_.pool()};
+    const float bin = 4.0f * gpu::kPi / float(6 * settings_.bins * settings_.bins);
+    const LinkCriteria criteria{settings_.epsilon, settings_.kappa * bin, 3.4e38f, false};
+    if (linkStatic_) links_.record(cmd, staticSet_, work, h, criteria, room_.worklistCapacity());
+    links_.record(cmd, frameSet_, work, h, criteria, room_.worklistCapacity());
   });
   // Until a frame has stood in the link room, the links go in a submission of their own: a frame
   // whose links overflow is redone before it prunes (recordMorePasses() goes on once they fit).

@@ -13,10 +13,10 @@
 #include "engine/gi/iv/bounces.h"
 #include "engine/gi/iv/buffers.h"
 #include "engine/gi/iv/link_room.h"
-#include "engine/gi/iv/links.h"
 #include "engine/gi/iv/prune.h"
 #include "engine/gi/iv/receivers.h"
 #include "engine/gi/iv/settings.h"
+#include "engine/gi/links.h"
 #include "engine/gi/refit.h"
 #include "engine/gi/solver.h"
 #include "engine/scene/animation.h"
@@ -70,10 +70,6 @@ class IvSolver final : public Solver {
   std::vector<gpu::NodeState> nodeStates() const;
   // The last relinked frame's receivers.
   std::vector<uint32_t> receiverSurfels() const;
-
-  // The bins' unit centre directions and solid angles, computed on the host (GLSL's atan is not
-  // exact enough for the solid angles).
-  static std::vector<glm::vec4> binTable(uint32_t n);
 
  private:
   bool splitsStatic() const { return !staticSet_.empty(); }

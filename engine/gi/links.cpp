@@ -1,4 +1,4 @@
-#include "engine/gi/iv/links.h"
+#include "engine/gi/links.h"
 
 #include <algorithm>
 
@@ -19,8 +19,8 @@ LinkCreation::LinkCreation(const vk::Context& ctx)
 
 uint32_t LinkCreation::levels(const Hierarchy& h) { return 2 * (h.maxDepth() + 1) + 1; }
 
-void LinkCreation::record(VkCommandBuffer cmd, LinkSet& set, const IvBuffers& b, const Hierarchy& h,
-                          const IvSettings& settings, uint32_t worklistCapacity) const {
+void LinkCreation::record(VkCommandBuffer cmd, LinkSet& set, const LinkWork& b, const Hierarchy& h,
+                          const LinkCriteria& criteria, uint32_t worklistCapacity) const {
   const uint32_t start[2] = {uint32_t(set.rootPairs.size() / 2), 0};
   vkCmdFillBuffer(cmd, set.counters.handle(), 0, VK_WHOLE_SIZE, 0);
   vkCmdFillBuffer(cmd, set.counts.handle(), 0, VK_WHOLE_SIZE, 0);
@@ -29,7 +29,6 @@ void LinkCreation::record(VkCommandBuffer cmd, LinkSet& set, const IvBuffers& b,
   const VkBufferCopy copy{0, 0, set.rootPairs.size() * sizeof(uint32_t)};
   vkCmdCopyBuffer(cmd, set.roots.handle(), b.worklistA.handle(), 1, &copy);
   vk::barrier(cmd);
-  const float largeSender = settings.kappa * 4.0f * gpu::kPi / float(6 * settings.bins * settings.bins);
   const uint32_t levelCount = levels(h);
   for (uint32_t level = 0; level < levelCount; ++level) {
     const uint32_t in = level % 2, out = 1 - in;
@@ -37,11 +36,12 @@ void LinkCreation::record(VkCommandBuffer cmd, LinkSet& set, const IvBuffers& b,
     vk::barrier(cmd);
     refine_.dispatchIndirect(
         cmd, b.args, 0,
-        b.pool().with({{"pairs", in ? b.worklistB : b.worklistA},
-                       {"nextWorklist", in ? b.worklistA : b.worklistB},
-                       {"links", set.links},
-                       {"counters", set.counters}}),
-        gpu::RefinePush{in, out, worklistCapacity, set.linkCapacity, settings.epsilon, largeSender});
+        b.pool.with({{"pairs", in ? b.worklistB : b.worklistA},
+                     {"nextWorklist", in ? b.worklistA : b.worklistB},
+                     {"links", set.links},
+                     {"counters", set.counters}}),
+        gpu::RefinePush{in, out, worklistCapacity, set.linkCapacity, criteria.epsilon, criteria.largeSender,
+                        criteria.largeReceiver, criteria.bothSides ? 1u : 0u});
     vk::barrier(cmd);
   }
   // Links sorted by receiver: count, scan, scatter.
@@ -57,8 +57,7 @@ void LinkCreation::record(VkCommandBuffer cmd, LinkSet& set, const IvBuffers& b,
   vk::barrier(cmd);
   scatter_.dispatchIndirect(
       cmd, b.args, sortArgs,
-      b.pool().with(
-          {{"links", set.links}, {"counts", set.counts}, {"senders", set.senders}, {"counters", set.counters}}),
+      b.pool.with({{"links", set.links}, {"counts", set.counts}, {"senders", set.senders}, {"counters", set.counters}}),
       gpu::CountPush{set.linkCapacity});
   vk::barrier(cmd);
 }

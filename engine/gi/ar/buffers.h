@@ -1,0 +1,48 @@
+#pragma once
+// The ar solver's device memory, by what it holds; the passes bind these by the names their shaders
+// give them (pool()). The directional tables hold 6·N² bins per node or surfel, as rgba32f texels
+// (their views reach past one storage binding).
+#include "engine/vk/buffer.h"
+#include "engine/vk/program.h"
+
+namespace ivgi::gi {
+
+struct ArBuffers {
+  // The scene, uploaded once: the trees, each surfel's leaf, albedo and emission (Le), per bin
+  // ∫ω dω and Ω, the environment per bin, the frame's punctual lights.
+  vk::Buffer tree, leafOfSurfel, albedo, emission, binVectors, environment, lights;
+  // Per frame: node attributes (refit); per node its emission, which link creation marks emitting
+  // senders by (zero: ar reads the radiance itself); link creation's worklists and dispatch sizes.
+  vk::Buffer nodes, nodeEmission, args, worklistA, worklistB;
+  // The directional tables: per node the radiance less antiradiance it gathered over its links
+  // (looking directions) and the intensity it sends (travel directions); per surfel its incident
+  // light (its own and its ancestors' gathered, the environment, the lights).
+  vk::Buffer gathered, intensity, incident;
+  // Per node: the vector sum of what it gathered (radiance × solid angle × direction; x, y, z texels
+  // of RGB), from which each surfel's irradiance takes every sender's own direction.
+  vk::Buffer gatheredVector;
+  // Per surfel: radiance (Le + ρE/π, from the last radiance step) and irradiance; per iteration and
+  // workgroup of the incident pass, what the host judges the iteration by.
+  vk::Buffer radiance, irradiance, sums;
+
+  vk::Bindings pool() const {
+    return vk::Bindings::pool({{"tree", tree},
+                               {"leafOfSurfel", leafOfSurfel},
+                               {"albedo", albedo},
+                               {"emission", emission},
+                               {"binVectors", binVectors},
+                               {"environment", environment},
+                               {"lights", lights},
+                               {"nodes", nodes},
+                               {"nodeEmission", nodeEmission},
+                               {"gathered", gathered},
+                               {"gatheredVector", gatheredVector},
+                               {"intensity", intensity},
+                               {"incident", incident},
+                               {"radiance", radiance},
+                               {"irradiance", irradiance},
+                               {"sums", sums}});
+  }
+};
+
+}  // namespace ivgi::gi

@@ -1,0 +1,48 @@
+#include "engine/gi/ar/iteration.h"
+
+#include "engine/gi/pass.h"
+
+namespace ivgi::gi {
+
+ArIteration::ArIteration(const vk::Context& ctx)
+    : local_(shaderProgram(ctx, "ar_local")),
+      pullUp_(shaderProgram(ctx, "ar_pull_up")),
+      gather_(shaderProgram(ctx, "ar_gather")),
+      incident_(shaderProgram(ctx, "ar_incident")) {}
+
+uint32_t ArIteration::sumGroups(uint32_t surfelCount) const {
+  const vk::Groups g = incident_.groupsFor(surfelCount, incident_.localSizeX());
+  return g.x * g.y;
+}
+
+void ArIteration::record(VkCommandBuffer cmd, vk::PassTimer& timer, bool timed, const ArBuffers& b, const Hierarchy& h,
+                         const LinkSet& links, gpu::ArPush push, bool radianceStep, uint32_t slot) const {
+  const uint32_t surfels = uint32_t(h.leafOfSurfel.size()), nodes = uint32_t(h.nodes.size());
+  const uint32_t bins = 6 * push.bins * push.bins;
+  auto pass = [&](const char* name, auto&& body) {
+    if (timed)
+      timedPass(cmd, timer, name, body);
+    else
+      body(), vk::barrier(cmd);
+  };
+  pass("local", [&] {
+    local_.dispatchItems(cmd, surfels, b.pool(), gpu::ArPush{surfels, push.bins, 0, radianceStep ? 1u : 0u});
+    vk::barrier(cmd);
+    forEachLevelBottomUp(cmd, h, [&](const gpu::LevelPush& level) {
+      pullUp_.dispatchItems(cmd, uint64_t(level.count) * bins, b.pool(),
+                            gpu::ArPush{level.count * bins, push.bins, level.first});
+    });
+  });
+  pass("global", [&] {
+    vkCmdFillBuffer(cmd, b.gathered.handle(), 0, VK_WHOLE_SIZE, 0u);
+    vk::barrier(cmd);
+    gather_.dispatchItems(cmd, nodes, b.pool().with({{"starts", links.starts}, {"senders", links.senders}}),
+                          gpu::ArPush{nodes, push.bins});
+  });
+  pass("incident", [&] {
+    push.count = surfels, push.first = slot;
+    incident_.dispatchItems(cmd, surfels, b.pool(), push);
+  });
+}
+
+}  // namespace ivgi::gi

@@ -1,0 +1,28 @@
+#pragma once
+// One ar iteration as its passes (docs/design.md §2.2): the local pass (K and J at every surfel,
+// its intensity per bin), the intensities pulled up the trees, the global pass (U over the links
+// into each node's gathered table), and each surfel's incident light and irradiance.
+#include "engine/gi/ar/buffers.h"
+#include "engine/gi/hierarchy.h"
+#include "engine/gi/links.h"
+#include "engine/vk/program.h"
+#include "engine/vk/timer.h"
+
+namespace ivgi::gi {
+
+class ArIteration {
+ public:
+  explicit ArIteration(const vk::Context& ctx);
+  // Records one iteration; `radianceStep`: the local pass reflects the incident light (else it keeps
+  // the radiance: an antiradiance step); `slot`: where its incident pass leaves its sums. Each pass
+  // is timed where `timed`.
+  void record(VkCommandBuffer cmd, vk::PassTimer& timer, bool timed, const ArBuffers& b, const Hierarchy& h,
+              const LinkSet& links, gpu::ArPush push, bool radianceStep, uint32_t slot) const;
+  // Workgroups of the incident pass, each leaving one gpu::IterationSum an iteration.
+  uint32_t sumGroups(uint32_t surfelCount) const;
+
+ private:
+  vk::Program local_, pullUp_, gather_, incident_;
+};
+
+}  // namespace ivgi::gi

@@ -1,0 +1,51 @@
+#pragma once
+// What a user chooses for the ar solver, with its defaults (defined here only), and the figures it
+// reports.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/scene/environment.h"
+
+namespace ivgi::gi {
+
+enum class ArScheme {
+  Symmetric,   // radiance and antiradiance updated together each iteration (shadows a step behind)
+  Asymmetric,  // a radiance step, then gpu::kAntiradianceSteps antiradiance steps
+};
+
+struct ArSettings {
+  uint32_t dirs = 4;      // --dirs N: 6×N×N direction bins per node and surfel
+  float epsilon = 0.02f;  // --eps: refine links while their form-factor estimate is above it
+  float kappa = 1.0f;     // --kappa: refine while either side covers more than κ bins from the other
+  // --iterations K: exactly K iterations; none: until an iteration changes the irradiance by less than
+  // --iteration-tol of it.
+  std::optional<uint32_t> iterations;
+  float tolerance = 1e-3f;  // --iteration-tol
+  ArScheme scheme = ArScheme::Symmetric;
+  std::optional<scene::Environment> environment;  // --env; none: no environment light
+  uint64_t memoryBudget = 0;                      // --max-memory, in bytes; 0: the device's heap
+};
+
+// The most iterations a frame runs: a guard against typing errors and light that does not converge.
+inline constexpr uint32_t kMaxIterations = 2000;
+
+// Throws SettingsError naming the option when a setting is out of its range.
+void validate(const ArSettings& settings);
+ArScheme parseScheme(const std::string& text);  // throws SettingsError
+const char* schemeName(ArScheme scheme);
+
+struct ArStats {
+  uint32_t nodes = 0, levels = 0, links = 0;
+  uint32_t longestList = 0;            // the most links one receiver node has
+  uint64_t bytes = 0, tableBytes = 0;  // in all; of those, the directional tables
+  uint32_t iterations = 0;             // the last frame's
+  float residual = 0;                  // its last iteration's change of the irradiance, over the irradiance
+  float negative = 0;                  // light cancelled past zero, over the irradiance
+  bool diverged = false;               // the iteration was stopped where it diverged
+  uint32_t framesRedone = 0;
+  std::vector<float> residuals;  // per iteration of the last frame
+};
+
+}  // namespace ivgi::gi

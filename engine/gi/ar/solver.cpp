@@ -1,0 +1,272 @@
+#include "engine/gi/ar/solver.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "engine/core/errors.h"
+#include "engine/gi/bins.h"
+#include "engine/gi/pass.h"
+
+namespace ivgi::gi {
+
+namespace {
+
+// Iterations recorded in a frame's first submission and in each more: the host judges them after
+// each submission, so the frame runs up to a submission's worth past its tolerance.
+constexpr uint32_t kIterationSteps = 4;
+// Where the iteration counts as diverging: light cancelled past zero beyond this share of the
+// light, or a change of the irradiance above the irradiance and this many times its smallest.
+constexpr float kNegativeBound = 0.5f, kGrowthBound = 10.0f;
+
+// The room an array that grows with a count gets: a quarter more, so that the next frames fit.
+uint32_t withMargin(uint32_t needed) {
+  return uint32_t(std::min<uint64_t>(uint64_t(needed) * 5 / 4 + 1024, 0xFFFFFFF0u));
+}
+
+std::string mib(uint64_t bytes) { return std::to_string((bytes + (1 << 20) - 1) >> 20) + " MiB"; }
+
+}  // namespace
+
+uint64_t ArSolver::tableBytes(uint64_t nodes, uint64_t surfels, uint32_t dirs) {
+  return (2 * nodes + surfels) * 6ull * dirs * dirs * sizeof(glm::vec4);
+}
+
+ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy hierarchy, const ArSettings& settings)
+    : ctx_(ctx),
+      hierarchy_(std::move(hierarchy)),
+      settings_((validate(settings), settings)),
+      surfelCount_(uint32_t(g.surfels.size())),
+      nodeCount_(uint32_t(hierarchy_.nodes.size())),
+      refit_(ctx),
+      linkCreation_(ctx),
+      iteration_(ctx),
+      sortSenders_(shaderProgram(ctx, "ar_sort_senders")) {
+  const uint32_t n = settings_.dirs, bins = 6 * n * n;
+  // The tables first: they are what limits ar (as the paper says), so a refusal names --dirs.
+  const VkPhysicalDeviceLimits& limits = ctx.limits();
+  const uint64_t tables = tableBytes(nodeCount_, surfelCount_, n);
+  const uint64_t largest = uint64_t(std::max(nodeCount_, surfelCount_)) * bins;
+  const uint64_t heap = settings_.memoryBudget ? settings_.memoryBudget : ctx.deviceHeapBytes();
+  double over = std::max({double(largest) / limits.maxTexelBufferElements,
+                          double(largest * sizeof(glm::vec4)) / double(ctx.maxAllocationBytes()),
+                          double(tables) / double(heap) * 1.25});
+  if (over > 1.0)
+    throw SettingsError(
+        "the ar solver needs " + mib(tables) + " of directional tables (" + std::to_string(bins) +
+        " bins for each of " + std::to_string(nodeCount_) + " nodes and " + std::to_string(surfelCount_) +
+        " surfels), more than " + (settings_.memoryBudget ? "--max-memory" : "the device") + " allows: --dirs " +
+        std::to_string(std::max(1u, uint32_t(n / std::sqrt(over)))) + " would fit (the tables grow as N^2)");
+  vk::Allocations* tally = &allocations_;
+  b_.tree = vk::makeBuffer(ctx, hierarchy_.nodes, vk::Memory::Device, tally);
+  b_.leafOfSurfel = vk::makeBuffer(ctx, hierarchy_.leafOfSurfel, vk::Memory::Device, tally);
+  b_.albedo = vk::makeBuffer(ctx, g.surfelAlbedo, vk::Memory::Device, tally);
+  b_.emission = vk::makeBuffer(ctx, g.surfelEmission, vk::Memory::Device, tally);
+  b_.binVectors = vk::makeBuffer(ctx, binVectorTable(n), vk::Memory::Device, tally);
+  b_.environment = vk::makeBuffer(ctx, environmentTable(settings_.environment, n), vk::Memory::Device, tally);
+  b_.lights = vk::Buffer(ctx, sizeof(gpu::PunctualLight), vk::Memory::Host, tally);
+  b_.nodes = vk::Buffer(ctx, nodeCount_ * sizeof(gpu::NodeState), vk::Memory::Device, tally);
+  b_.nodeEmission = vk::Buffer(ctx, nodeCount_ * sizeof(glm::vec4), vk::Memory::Device, tally);
+  b_.args = vk::Buffer(ctx, 4 * sizeof(glm::uvec4), vk::Memory::Device, tally);
+  b_.gathered = vk::Buffer(ctx, uint64_t(nodeCount_) * bins * sizeof(glm::vec4), vk::Memory::Device, tally);
+  b_.gatheredVector = vk::Buffer(ctx, uint64_t(nodeCount_) * 3 * sizeof(glm::vec4), vk::Memory::Device, tally);
+  b_.intensity = vk::Buffer(ctx, uint64_t(nodeCount_) * bins * sizeof(glm::vec4), vk::Memory::Device, tally);
+  b_.incident = vk::Buffer(ctx, uint64_t(surfelCount_) * bins * sizeof(glm::vec4), vk::Memory::Device, tally);
+  b_.radiance = vk::Buffer(ctx, surfelCount_ * sizeof(glm::vec4), vk::Memory::Device, tally);
+  b_.irradiance = vk::Buffer(ctx, surfelCount_ * sizeof(glm::vec4), vk::Memory::Device, tally);
+  sumGroups_ = iteration_.sumGroups(surfelCount_);
+  b_.sums =
+      vk::Buffer(ctx, uint64_t(kIterationSteps) * sumGroups_ * sizeof(gpu::IterationSum), vk::Memory::Host, tally);
+  ctx.submitAndWait([&](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, b_.nodeEmission.handle(), 0, VK_WHOLE_SIZE, 0); });
+
+  // Every object with every other and with itself: ar cannot leave out a pair that moves less.
+  for (uint32_t a : hierarchy_.roots)
+    for (uint32_t c : hierarchy_.roots) links_.rootPairs.insert(links_.rootPairs.end(), {a, c});
+  links_.roots = vk::makeBuffer(ctx, links_.rootPairs, vk::Memory::Device, tally);
+  links_.counters = vk::makeBuffer(ctx, std::vector<uint32_t>(gpu::kCounterSlots, 0u), vk::Memory::Host, tally);
+  links_.counts = vk::Buffer(ctx, nodeCount_ * sizeof(uint32_t), vk::Memory::Device, tally);
+  links_.starts = vk::Buffer(ctx, (nodeCount_ + 1) * sizeof(uint32_t), vk::Memory::Device, tally);
+  // Both sides link, and wide receivers split too: a few times iv's links a node.
+  links_.linkCapacity = 96 * nodeCount_ + 1024;
+  worklistCapacity_ = std::max<uint32_t>(uint32_t(links_.rootPairs.size() / 2), 24 * nodeCount_ + 1024);
+  allocateLinks();
+}
+
+void ArSolver::allocateLinks() {
+  const VkPhysicalDeviceLimits& limits = ctx_.limits();
+  const uint32_t most = std::max(links_.linkCapacity, worklistCapacity_);
+  if (most > limits.maxTexelBufferElements || uint64_t(most) * 8 > ctx_.maxAllocationBytes())
+    throw SettingsError("the ar solver needs " + std::to_string(most) + " links, more than the device holds: --eps " +
+                        std::to_string(settings_.epsilon * 2.0f * float(most) / limits.maxTexelBufferElements) +
+                        " would fit (links grow about as 1/eps)");
+  vk::Allocations* tally = &allocations_;
+  auto grow = [&](vk::Buffer& buffer, uint64_t bytes) {
+    if (buffer.size() >= bytes) return;
+    buffer = vk::Buffer();  // before its successor: the two need not fit at once
+    buffer = vk::Buffer(ctx_, bytes, vk::Memory::Device, tally);
+  };
+  grow(links_.links, uint64_t(links_.linkCapacity) * 8);
+  grow(links_.senders, uint64_t(links_.linkCapacity) * 4);
+  grow(b_.worklistA, uint64_t(worklistCapacity_) * 8);
+  grow(b_.worklistB, uint64_t(worklistCapacity_) * 8);
+  if (settings_.memoryBudget && allocations_.bytes() > settings_.memoryBudget)
+    throw SettingsError("the ar solver needs " + mib(allocations_.bytes()) +
+                        " of device memory, above --max-memory: a larger --eps or a smaller --dirs would fit");
+}
+
+void ArSolver::setLights(const std::vector<gpu::PunctualLight>& lights) {
+  if (b_.lights.size() < lights.size() * sizeof(gpu::PunctualLight))
+    b_.lights = vk::Buffer(ctx_, lights.size() * sizeof(gpu::PunctualLight), vk::Memory::Host, &allocations_);
+  b_.lights.upload(lights);
+  lightCount_ = uint32_t(lights.size());
+}
+
+uint32_t ArSolver::iterationLimit() const {
+  if (cap_) return cap_;
+  return settings_.iterations ? *settings_.iterations : kMaxIterations;
+}
+
+void ArSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffer& surfels, bool geometryMoved) {
+  if (geometryMoved || !linked_) {
+    timedPass(cmd, timer, "refit", [&] { refit_.record(cmd, hierarchy_, b_.tree, surfels, b_.nodes); });
+    timedPass(cmd, timer, "links", [&] {
+      const float bin = 4.0f * gpu::kPi / float(6 * settings_.dirs * settings_.dirs);
+      linkCreation_.record(cmd, links_, LinkWork{b_.args, b_.worklistA, b_.worklistB, b_.pool()}, hierarchy_,
+                           LinkCriteria{settings_.epsilon, settings_.kappa * bin, settings_.kappa * bin, true},
+                           worklistCapacity_);
+      sortSenders_.dispatch(cmd, sortSenders_.groupsFor(nodeCount_, 1),
+                            {{"starts", links_.starts}, {"senders", links_.senders}}, gpu::ArPush{nodeCount_});
+    });
+    linked_ = true;
+  }
+  // Every frame starts cold, from the emission alone: an image never depends on the frames before
+  // it (shards of a farm render the same frames bit for bit).
+  timedPass(cmd, timer, "local", [&] {
+    vkCmdFillBuffer(cmd, b_.incident.handle(), 0, VK_WHOLE_SIZE, 0u);
+    vkCmdFillBuffer(cmd, b_.irradiance.handle(), 0, VK_WHOLE_SIZE, 0u);
+    const VkBufferCopy copy{0, 0, b_.radiance.size()};
+    vkCmdCopyBuffer(cmd, b_.emission.handle(), b_.radiance.handle(), 1, &copy);
+  });
+  if (!cap_) diverged_ = false;
+  recorded_ = judged_ = 0;
+  done_ = false;
+  residuals_.clear(), negatives_.clear();
+  recordIterations(cmd, timer, std::min(kIterationSteps, iterationLimit()));
+}
+
+void ArSolver::recordIterations(VkCommandBuffer cmd, vk::PassTimer& timer, uint32_t steps) {
+  const bool timedEach = timer.room() > 3 * steps + 16;  // else the whole submission is one pass
+  auto body = [&] {
+    for (uint32_t k = 0; k < steps; ++k) {
+      const uint32_t i = recorded_ + k;
+      const bool radianceStep = settings_.scheme == ArScheme::Symmetric || i % (gpu::kAntiradianceSteps + 1) == 0;
+      iteration_.record(cmd, timer, timedEach, b_, hierarchy_, links_,
+                        gpu::ArPush{0, settings_.dirs, 0, 0, lightCount_, settings_.environment ? 1u : 0u},
+                        radianceStep, k);
+    }
+  };
+  if (timedEach)
+    body();
+  else if (timer.room() > 0)
+    timedPass(cmd, timer, "iterations", body);
+  else
+    body();
+  recorded_ += steps;
+}
+
+void ArSolver::judge() const {
+  if (judged_ == recorded_) return;
+  const auto sums = b_.sums.read<gpu::IterationSum>(size_t(recorded_ - judged_) * sumGroups_);
+  for (uint32_t k = 0; judged_ + k < recorded_; ++k) {
+    double total = 0, change = 0, negative = 0;
+    for (uint32_t g = 0; g < sumGroups_; ++g) {
+      const gpu::IterationSum& s = sums[size_t(k) * sumGroups_ + g];
+      total += s.total, change += s.change, negative += s.negative;
+    }
+    residuals_.push_back(total > 0 ? float(change / total) : (change > 0 ? 1.0f : 0.0f));
+    negatives_.push_back(total > 0 ? float(negative / total) : 0.0f);
+  }
+  judged_ = recorded_;
+  if (recorded_ >= iterationLimit()) return void(done_ = true);
+  if (!cap_) {  // divergence: light cancelled far past zero, or changes that grow past the light
+    const auto best = std::min_element(residuals_.begin(), residuals_.end());
+    const float last = residuals_.back();
+    const bool finite = std::isfinite(last) && std::isfinite(negatives_.back());
+    if (!finite || (recorded_ >= 3 && negatives_.back() > kNegativeBound) ||
+        (recorded_ >= 8 && last > 1.0f && last > kGrowthBound * *best)) {
+      cap_ = uint32_t(best - residuals_.begin()) + 1;
+      diverged_ = redo_ = done_ = true;
+      std::fprintf(stderr,
+                   "ivgi: ar: the iteration diverges (the irradiance changed by %.3g of itself at iteration %u, "
+                   "%.3g at iteration %u); the frame shows iteration %u, its best\n",
+                   double(last), recorded_, double(*best), cap_, cap_);
+      return;
+    }
+  }
+  if (settings_.iterations || cap_) return;
+  // Converged once a whole cycle (an iteration; asymmetric: a radiance step and its antiradiance
+  // steps) changed the irradiance by less than the tolerance.
+  const size_t cycle = settings_.scheme == ArScheme::Symmetric ? 1 : gpu::kAntiradianceSteps + 1;
+  if (residuals_.size() < cycle + 1) return;
+  done_ = *std::max_element(residuals_.end() - cycle, residuals_.end()) < settings_.tolerance;
+}
+
+bool ArSolver::wantsMorePasses() const {
+  if (links_.readCounters()[gpu::kCounterOverflow] != 0) return false;  // the frame is redone
+  judge();
+  return !done_;
+}
+
+void ArSolver::recordMorePasses(VkCommandBuffer cmd, vk::PassTimer& timer) {
+  recordIterations(cmd, timer, std::min(kIterationSteps, iterationLimit() - recorded_));
+}
+
+bool ArSolver::frameMustBeRedone() {
+  const std::vector<uint32_t> c = links_.readCounters();
+  const uint32_t levels = LinkCreation::levels(hierarchy_);
+  if (uint32_t left = c[levels % 2]; left != 0)
+    throw vk::VulkanError("ar link creation left " + std::to_string(left) + " pairs unrefined after " +
+                          std::to_string(levels) + " levels");
+  if (const uint32_t bits = c[gpu::kCounterOverflow]; bits != 0) {
+    if (bits & gpu::kOverflowWorklist)
+      worklistCapacity_ = std::max(worklistCapacity_, withMargin(c[gpu::kCounterWorklistPeak]));
+    if (bits & gpu::kOverflowLinks)
+      links_.linkCapacity = std::max(links_.linkCapacity, withMargin(c[gpu::kCounterLinks]));
+    allocateLinks();
+    linked_ = false;
+    ++framesRedone_;
+    return true;
+  }
+  if (!redo_) return false;
+  redo_ = false;
+  ++framesRedone_;
+  return true;
+}
+
+void ArSolver::frameStands() { cap_ = 0; }
+
+std::vector<std::pair<std::string, double>> ArSolver::frameFigures() const {
+  return {{"iterations", double(recorded_)},
+          {"residual", residuals_.empty() ? 0.0 : double(residuals_.back())},
+          {"diverged", diverged_ ? 1.0 : 0.0}};
+}
+
+ArStats ArSolver::stats() const {
+  ArStats s;
+  s.nodes = nodeCount_, s.levels = hierarchy_.levels();
+  s.links = links_.readCounters()[gpu::kCounterLinks];
+  const std::vector<uint32_t> starts = links_.starts.read<uint32_t>(nodeCount_ + 1);
+  for (uint32_t node = 0; node < nodeCount_; ++node)
+    s.longestList = std::max(s.longestList, starts[node + 1] - starts[node]);
+  s.bytes = allocatedBytes();
+  s.tableBytes = tableBytes(nodeCount_, surfelCount_, settings_.dirs);
+  s.iterations = recorded_;
+  s.residual = residuals_.empty() ? 0.0f : residuals_.back();
+  s.negative = negatives_.empty() ? 0.0f : negatives_.back();
+  s.diverged = diverged_;
+  s.framesRedone = framesRedone_;
+  s.residuals = residuals_;
+  return s;
+}
+
+}  // namespace ivgi::gi

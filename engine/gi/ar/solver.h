@@ -1,0 +1,77 @@
+#pragma once
+// The ar solver (Dachsbacher et al. 2007; docs/design.md §2.2): unoccluded hierarchical transport
+// of radiance less antiradiance, whose go-through operator J cancels, behind every surface, the
+// light that U carries past it, so that no pass ever decides visibility. Per frame, as passes:
+// refit and link creation (both sides of every node, split while either side spans more than κ
+// bins from the other) where the geometry moved, then iterations of the local pass, the pull-up,
+// the global pass and the incident light, until the irradiance settles (or a given count), with
+// divergence watched.
+#include <vector>
+
+#include "engine/gi/ar/buffers.h"
+#include "engine/gi/ar/iteration.h"
+#include "engine/gi/ar/settings.h"
+#include "engine/gi/hierarchy.h"
+#include "engine/gi/links.h"
+#include "engine/gi/refit.h"
+#include "engine/gi/solver.h"
+#include "engine/scene/geometry.h"
+
+namespace ivgi::gi {
+
+class ArSolver final : public Solver {
+ public:
+  // Validates the settings (SettingsError) and allocates, refusing in one line what does not fit.
+  ArSolver(const vk::Context& ctx, const scene::Geometry& geometry, Hierarchy hierarchy, const ArSettings& settings);
+
+  void setLights(const std::vector<gpu::PunctualLight>& lights) override;
+  void record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffer& surfels, bool geometryMoved) override;
+  bool frameMustBeRedone() override;
+  bool wantsMorePasses() const override;
+  void recordMorePasses(VkCommandBuffer cmd, vk::PassTimer& timer) override;
+  void frameStands() override;
+  std::vector<std::pair<std::string, double>> frameFigures() const override;
+  const vk::Buffer& irradiance() const override { return b_.irradiance; }
+  uint64_t allocatedBytes() const override { return allocations_.bytes(); }
+
+  ArStats stats() const;
+  // Readback for tests: per surfel, the irradiance of the last iteration.
+  std::vector<glm::vec4> surfelIrradiance() const { return b_.irradiance.read<glm::vec4>(surfelCount_); }
+  // The bytes of the directional tables for a scene of these counts (each node: gathered and
+  // intensity; each surfel: incident), before anything is allocated (ivgi info).
+  static uint64_t tableBytes(uint64_t nodes, uint64_t surfels, uint32_t dirs);
+
+ private:
+  void allocateLinks();
+  void recordIterations(VkCommandBuffer cmd, vk::PassTimer& timer, uint32_t steps);
+  // Reads the sums of the iterations recorded since the last look and decides whether to go on
+  // (wantsMorePasses() asks, so what it decides is mutable).
+  void judge() const;
+  uint32_t iterationLimit() const;
+
+  const vk::Context& ctx_;
+  const Hierarchy hierarchy_;
+  const ArSettings settings_;
+  const uint32_t surfelCount_, nodeCount_;
+  vk::Allocations allocations_;  // before the buffers, which count themselves into it
+  ArBuffers b_;
+  LinkSet links_;
+  uint32_t worklistCapacity_ = 0;
+  Refit refit_;
+  LinkCreation linkCreation_;
+  ArIteration iteration_;
+  vk::Program sortSenders_;
+  uint32_t lightCount_ = 0, sumGroups_ = 0;
+  bool linked_ = false;
+  // The frame's iterations: recorded, judged (their sums read), and whether they are done.
+  uint32_t recorded_ = 0;
+  mutable uint32_t judged_ = 0;
+  mutable bool done_ = false;
+  mutable std::vector<float> residuals_, negatives_;
+  // Where the iteration diverged: the frame is redone up to its best iteration, once.
+  mutable uint32_t cap_ = 0;
+  mutable bool diverged_ = false, redo_ = false;
+  uint32_t framesRedone_ = 0;
+};
+
+}  // namespace ivgi::gi

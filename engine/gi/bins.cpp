@@ -1,0 +1,43 @@
+#include "engine/gi/bins.h"
+
+#include <cmath>
+
+#include "shaders/interface.h"
+
+namespace ivgi::gi {
+
+std::vector<glm::vec4> binTable(uint32_t n) {
+  std::vector<glm::vec4> table(6 * n * n);
+  for (uint32_t b = 0; b < table.size(); ++b)
+    table[b] = glm::vec4(glm::normalize(gpu::binDirection(b, n)), gpu::binSolidAngle(b, n));
+  return table;
+}
+
+std::vector<glm::vec4> binVectorTable(uint32_t n) {
+  // Each bin cut into k×k cells of exact solid angle, each at its centre direction: the error falls
+  // as 1/k², far below float precision at k = 32.
+  constexpr int k = 32;
+  auto phi = [](double u, double v) { return std::atan2(u * v, std::sqrt(u * u + v * v + 1.0)); };  // in double
+  std::vector<glm::vec4> table(6 * n * n);
+  const double step = 2.0 / n, cell = step / k;
+  for (uint32_t b = 0; b < table.size(); ++b) {
+    const uint32_t face = b / (n * n), r = b % (n * n);
+    const double u0 = -1.0 + (r % n) * step, v0 = -1.0 + (r / n) * step;
+    glm::dvec3 sum(0.0);
+    for (int j = 0; j < k; ++j)
+      for (int i = 0; i < k; ++i) {
+        const double a0 = u0 + i * cell, b0 = v0 + j * cell, a1 = a0 + cell, b1 = b0 + cell;
+        const double omega = phi(a1, b1) - phi(a0, b1) - phi(a1, b0) + phi(a0, b0);
+        const glm::vec3 centre = gpu::faceDirection(face, glm::vec2(float(a0 + 0.5 * cell), float(b0 + 0.5 * cell)));
+        sum += glm::dvec3(glm::normalize(centre)) * omega;
+      }
+    table[b] = glm::vec4(glm::vec3(sum), gpu::binSolidAngle(b, n));
+  }
+  return table;
+}
+
+std::vector<glm::vec4> environmentTable(const std::optional<scene::Environment>& environment, uint32_t n) {
+  return environment ? environment->bins(n) : std::vector<glm::vec4>{glm::vec4(0)};
+}
+
+}  // namespace ivgi::gi

@@ -1,0 +1,24 @@
+#pragma once
+// Host tables of the cube-map direction bins (docs/design.md §5), computed here because GLSL's atan
+// is not exact enough for solid angles.
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include <optional>
+
+#include "engine/scene/environment.h"
+
+namespace ivgi::gi {
+
+// Per bin of 6·n²: its unit centre direction and its solid angle Ω.
+std::vector<glm::vec4> binTable(uint32_t n);
+// Per bin: ∫ ω dω over the bin (so that n·∫ω dω is the bin's cosine-weighted solid angle for any
+// normal n that sees the whole bin), and Ω.
+std::vector<glm::vec4> binVectorTable(uint32_t n);
+
+// The environment's radiance per bin, or one zero for none (a buffer is never empty).
+std::vector<glm::vec4> environmentTable(const std::optional<scene::Environment>& environment, uint32_t n);
+
+}  // namespace ivgi::gi

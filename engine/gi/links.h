@@ -1,0 +1,59 @@
+#pragma once
+// Pass 4, link creation (docs/design.md §2.1, §5): from a list of root pairs, level-synchronous refinement on
+// two worklists with indirect dispatch (a pair is stored as a link or split into the pairs of its
+// larger node's children), then the links sorted by receiver: counted, scanned, scattered. iv and
+// ar make their links with it, each by its own criteria.
+#include <cstdint>
+#include <vector>
+
+#include "engine/gi/hierarchy.h"
+#include "engine/vk/program.h"
+
+namespace ivgi::gi {
+
+// The links made from a list of root pairs, sorted by receiver, with the counters of their making
+// (gpu::kCounter… slots). iv has one set for the pairs of static objects (made once) and one for
+// the pairs with a moving side (made whenever the geometry moved).
+struct LinkSet {
+  std::vector<uint32_t> rootPairs;  // receiver root, sender root
+  vk::Buffer roots, counters, links, counts, starts, senders;
+  uint32_t linkCapacity = 0, leafLinkCapacity = 0;
+
+  bool empty() const { return rootPairs.empty(); }
+  std::vector<uint32_t> readCounters() const;
+  // The surviving links the last prune of this set wrote (those that fit).
+  uint32_t leafLinksHeld() const;
+};
+
+// When a pair is split rather than stored.
+struct LinkCriteria {
+  float epsilon;  // the form-factor estimate above which the larger node is split
+  // Solid angles above which a sender, or a receiver seen from its sender, is split (κ·Ω of a bin);
+  // 3.4e38: never.
+  float largeSender, largeReceiver;
+  // Whether senders behind the receiver's horizon are linked too (ar: antiradiance reaches a
+  // surface's back); and then the form-factor estimate takes |cos| on both sides.
+  bool bothSides;
+};
+
+// What the refinement works in: its two worklists, the dispatch arguments between its levels, and
+// a pool that holds the trees ("tree"), their node states ("nodes") and per node its emission
+// ("nodeEmission", which marks emitting senders).
+struct LinkWork {
+  const vk::Buffer &args, &worklistA, &worklistB;
+  vk::Bindings pool;
+};
+
+class LinkCreation {
+ public:
+  explicit LinkCreation(const vk::Context& ctx);
+  // Refinement levels: each splits one side of every pair, so at most the two trees' depths.
+  static uint32_t levels(const Hierarchy& hierarchy);
+  void record(VkCommandBuffer cmd, LinkSet& set, const LinkWork& work, const Hierarchy& hierarchy,
+              const LinkCriteria& criteria, uint32_t worklistCapacity) const;
+
+ private:
+  vk::Program args_, refine_, count_, scan_, scatter_;
+};
+
+}  // namespace ivgi::gi

@@ -1,0 +1,135 @@
+#version 460
+// ar, the global pass: unoccluded transport U of radiance less antiradiance over the links. Each
+// receiver node adds, per link, its sender's intensity toward it over the distance squared (the
+// disk-to-point regularisation keeps near senders finite) into the bins around the direction it
+// sees the sender in (binTaps), as radiance averaged over each bin. A surfel sender's intensity is
+// exact in direction; a cluster's comes from its table, read between bins.
+#extension GL_GOOGLE_include_directive : require
+#define NODE_TEXELS 0
+#include "common.glsl"
+layout(local_size_x = 64) in;
+
+layout(binding = 1, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode
+layout(std430, binding = 2) readonly buffer Starts { uint starts[]; };
+layout(binding = 3, r32ui) readonly uniform uimageBuffer senders;
+layout(std430, binding = 4) readonly buffer BinVectors { vec4 binVectors[]; };
+layout(std430, binding = 5) readonly buffer Radiance { vec4 radiance[]; };
+layout(binding = 6, rgba32f) readonly uniform imageBuffer incident;   // per surfel and bin
+layout(binding = 7, rgba32f) readonly uniform imageBuffer intensity;  // per node and bin
+layout(binding = 8, rgba32f) uniform imageBuffer gathered;            // per node and bin, zeroed
+// Per node, Σ over its links of radiance × solid angle × direction, as three texels (x, y, z, each
+// RGB): a surfel's irradiance is its normal against its own and its ancestors' (ar_incident), with
+// each sender's own direction rather than its bins'.
+layout(binding = 9, rgba32f) writeonly uniform imageBuffer gatheredVector;
+layout(push_constant) uniform Push { ArPush push; };  // count: nodes
+
+// A flat node keeps a direction's taps on the side of its plane the direction lies on (their
+// weights renormalised): light arriving at its front must not spill into bins behind it, nor the
+// light that reached it from beyond into bins in front.
+vec4 keepSide(vec4 normalCone, vec3 dir, uvec4 taps, vec4 weights) {
+  if (normalCone.w > kArFlatCone) return weights;  // curved: no one plane
+  vec4 cosines = vec4(dot(normalCone.xyz, binVectors[taps.x].xyz), dot(normalCone.xyz, binVectors[taps.y].xyz),
+                      dot(normalCone.xyz, binVectors[taps.z].xyz), dot(normalCone.xyz, binVectors[taps.w].xyz));
+  vec4 kept = dot(normalCone.xyz, dir) >= 0.0 ? step(0.0, cosines) : vec4(1.0) - step(0.0, cosines);
+  vec4 w = weights * kept;
+  float sum = w.x + w.y + w.z + w.w;
+  return sum > 0.0 ? w / sum : weights;
+}
+
+// Solid angle per unit area of a sender of area `area` at squared distance `dist2`: that of a disk
+// of its area seen on its axis, 2π(1 − 1/√(1 + a/(π d²)))/a, finite as d → 0 and 1/d² far away.
+float solidAnglePerArea(float area, float dist2) {
+  float x = area / (kPi * dist2);
+  if (x < 1e-4) return 1.0 / dist2 * (1.0 - 0.75 * x);  // the series: no cancellation
+  return 2.0 * kPi * (1.0 - inversesqrt(1.0 + x)) / area;
+}
+
+// Adds to receiver r's texel of bin `bin` radiance × solid angle `sent` over the bin's solid angle.
+void add(uint r, uint bins, uint bin, vec3 sent) {
+  int texel = int(r * bins + bin);
+  imageStore(gathered, texel, vec4(imageLoad(gathered, texel).rgb + sent / binVectors[bin].w, 0.0));
+}
+
+vec3 vectorX, vectorY, vectorZ;  // the receiver's Σ sent · dir
+
+// Deposits radiance × solid angle `sent`, seen along unit `dir`, into the receiver's bins around it
+// and, where it arrives at the receiver's front (a curved receiver: anywhere), its vector sum.
+void deposit(uint r, uint bins, vec4 nr, vec3 dir, vec3 sent) {
+  if (nr.w > kArFlatCone || dot(nr.xyz, dir) >= 0.0)
+    vectorX += sent * dir.x, vectorY += sent * dir.y, vectorZ += sent * dir.z;
+  uvec4 taps;
+  vec4 weights;
+  binTaps(dir, push.bins, taps, weights);
+  weights = keepSide(nr, dir, taps, weights);
+  add(r, bins, taps.x, weights.x * sent);
+  add(r, bins, taps.y, weights.y * sent);
+  add(r, bins, taps.z, weights.z * sent);
+  add(r, bins, taps.w, weights.w * sent);
+}
+
+// A table's value at a direction (`base`: the node's or surfel's first texel), read between the
+// bins around it with their weights (a macro: GLSL passes no image to a function).
+#define READ_TAPS(table, base, taps, weights)                   \
+  ((weights).x * imageLoad(table, int((base) + (taps).x)).rgb + \
+   (weights).y * imageLoad(table, int((base) + (taps).y)).rgb + \
+   (weights).z * imageLoad(table, int((base) + (taps).z)).rgb + \
+   (weights).w * imageLoad(table, int((base) + (taps).w)).rgb)
+
+// What surfel sender s (its surfel, normal) sends along unit `dir` (from the receiver to it), as
+// intensity over its area: radiance from its front, and from either side the antiradiance, the
+// light that reached it from beyond, read between the bins on its far side.
+vec3 surfelSends(uint surfel, uint bins, vec4 ns, vec3 dir) {
+  uvec4 taps;
+  vec4 weights;
+  binTaps(dir, push.bins, taps, weights);
+  vec3 through = READ_TAPS(incident, surfel * bins, taps, keepSide(ns, dir, taps, weights));
+  float cosine = dot(ns.xyz, -dir);
+  return radiance[surfel].rgb * max(cosine, 0.0) - through * abs(cosine);
+}
+
+void main() {
+  uint r = itemIndex();
+  if (r >= push.count) return;
+  uint first = starts[r], end = starts[r + 1u], n = push.bins, bins = 6u * n * n;
+  vec3 pr = nodePositionArea(r).xyz;
+  vec4 nr = nodeNormalCone(r);
+  vectorX = vectorY = vectorZ = vec3(0.0);
+  float binWidth = 2.0 / float(n);  // of a bin at a face's centre, in the face's plane
+  for (uint k = first; k < end; ++k) {
+    uint s = imageLoad(senders, int(k)).x & ~kEmitterBit;
+    vec4 ps = nodePositionArea(s);
+    vec3 d = ps.xyz - pr;
+    float dist2 = dot(d, d);
+    if (dist2 <= 1e-6 * ps.w) continue;  // coincident: no direction to bin it in
+    uvec4 t = imageLoad(tree, int(s));
+    if (t.z != 0u) {  // a cluster: its intensity toward the receiver, read between the bins of its table
+      vec3 dir = d * inversesqrt(dist2);
+      uvec4 back;
+      vec4 weights;
+      binTaps(-dir, n, back, weights);
+      deposit(r, bins, nr, dir, READ_TAPS(intensity, s * bins, back, weights) * solidAnglePerArea(ps.w, dist2));
+      continue;
+    }
+    // A surfel wider than a bin, or near, goes as k×k pieces of its rectangle, each along its own
+    // direction: one direction would stand for a spread of them, and the disk for a nearby square.
+    vec4 ns = nodeNormalCone(s);
+    if (abs(dot(ns.xyz, d)) <= 1e-4 * sqrt(dist2)) continue;  // the receiver lies in its plane: it sends nothing there
+    float radius2 = ps.w / kPi;
+    float width = sqrt(solidAnglePerArea(ps.w, dist2) * ps.w) / binWidth;
+    uint pieces = dist2 <= 4.0 * radius2 ? kArPieces : uint(clamp(ceil(width), 1.0, float(kArPieces)));
+    vec3 sideA, sideB;
+    senderSides(s, ns, sideA, sideB);
+    float pieceArea = ps.w / float(pieces * pieces);
+    for (uint j = 0u; j < pieces * pieces; ++j) {
+      vec2 at = (vec2(j % pieces, j / pieces) + 0.5) / float(pieces) * 2.0 - 1.0;
+      vec3 q = d + at.x * sideA + at.y * sideB;
+      float q2 = dot(q, q);
+      if (q2 <= 1e-6 * ps.w) continue;
+      vec3 dir = q * inversesqrt(q2);
+      deposit(r, bins, nr, dir, pieceArea * solidAnglePerArea(pieceArea, q2) * surfelSends(t.w, bins, ns, dir));
+    }
+  }
+  imageStore(gatheredVector, int(3u * r), vec4(vectorX, 0.0));
+  imageStore(gatheredVector, int(3u * r + 1u), vec4(vectorY, 0.0));
+  imageStore(gatheredVector, int(3u * r + 2u), vec4(vectorZ, 0.0));
+}

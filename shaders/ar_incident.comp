@@ -1,0 +1,80 @@
+#version 460
+// ar: each surfel's incident light per bin, what its node and its ancestors gathered plus the
+// environment and the punctual lights (unoccluded: antiradiance cancels them where they are
+// blocked); and its irradiance: its normal against the vector sums of what its node and ancestors
+// gathered (each sender along its own direction), the environment's bins of its front
+// (Σ L·max(n·∫ω dω, 0)) and the lights' exact cosines. The workgroup sums what the host judges the
+// iteration by.
+#extension GL_GOOGLE_include_directive : require
+#define NODE_TEXELS 0
+#include "common.glsl"
+layout(local_size_x = 64) in;
+
+layout(binding = 1, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode
+layout(std430, binding = 2) readonly buffer LeafOfSurfel { uint leafOfSurfel[]; };
+layout(std430, binding = 3) readonly buffer BinVectors { vec4 binVectors[]; };
+layout(std430, binding = 4) readonly buffer Environment { vec4 environment[]; };  // radiance per bin
+layout(std430, binding = 5) readonly buffer Lights { PunctualLight lights[]; };
+layout(binding = 6, rgba32f) readonly uniform imageBuffer gathered;  // per node and bin
+layout(binding = 7, rgba32f) uniform imageBuffer incident;           // per surfel and bin
+layout(std430, binding = 8) buffer Irradiance { vec4 irradiance[]; };
+layout(std430, binding = 9) writeonly buffer Sums { IterationSum sums[]; };
+layout(binding = 10, rgba32f) readonly uniform imageBuffer gatheredVector;  // per node: x, y, z texels
+layout(push_constant) uniform Push { ArPush push; };                        // first: the sums' slot
+
+shared vec3 partial[64];
+
+float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
+
+void main() {
+  uint s = itemIndex(), lid = gl_LocalInvocationID.x;
+  vec3 mine = vec3(0.0);
+  if (s < push.count) {
+    uint leaf = leafOfSurfel[s], n = push.bins, bins = 6u * n * n;
+    vec4 pa = nodePositionArea(leaf);
+    vec3 normal = nodeNormalCone(leaf).xyz;
+    vec3 E = vec3(0.0);
+    for (uint b = 0u; b < bins; ++b) {
+      vec3 I = push.environmentOn != 0u ? environment[b].rgb : vec3(0.0);
+      for (int node = int(leaf); node >= 0; node = int(imageLoad(tree, node).x))
+        I += imageLoad(gathered, int(uint(node) * bins + b)).rgb;
+      imageStore(incident, int(s * bins + b), vec4(I, 0.0));
+      if (push.environmentOn != 0u) E += environment[b].rgb * max(dot(normal, binVectors[b].xyz), 0.0);
+    }
+    for (int node = int(leaf); node >= 0; node = int(imageLoad(tree, node).x)) {
+      uint v = 3u * uint(node);
+      E += normal.x * imageLoad(gatheredVector, int(v)).rgb + normal.y * imageLoad(gatheredVector, int(v + 1u)).rgb +
+           normal.z * imageLoad(gatheredVector, int(v + 2u)).rgb;
+    }
+    for (uint k = 0u; k < push.lightCount; ++k) {  // radiance over the bins around the light
+      vec3 toLight;
+      float dist2;
+      float falloff = lightFalloff(lights[k], pa.xyz, toLight, dist2);
+      if (falloff <= 0.0) continue;
+      uvec4 taps;
+      vec4 weights;
+      binTaps(normalize(toLight), n, taps, weights);
+      vec3 added = lights[k].intensity.rgb * falloff;  // irradiance, as radiance over the bins around the light
+      E += added * max(dot(normal, normalize(toLight)), 0.0);
+      for (uint j = 0u; j < 4u; ++j) {
+        uint bin = taps[j];
+        vec3 radiance = weights[j] * added / binVectors[bin].w;
+        int texel = int(s * bins + bin);
+        imageStore(incident, texel, vec4(imageLoad(incident, texel).rgb + radiance, 0.0));
+      }
+    }
+    vec3 shown = max(E, vec3(0.0));
+    mine = pa.w *
+           vec3(luminance(shown), abs(luminance(shown) - luminance(irradiance[s].rgb)), luminance(max(-E, vec3(0.0))));
+    irradiance[s] = vec4(shown, 0.0);
+  }
+  partial[lid] = mine;
+  barrier();
+  for (uint width = 32u; width > 0u; width >>= 1u) {  // a fixed order: the sums do not vary run to run
+    if (lid < width) partial[lid] += partial[lid + width];
+    barrier();
+  }
+  if (lid == 0u)
+    sums[push.first * gl_NumWorkGroups.x * gl_NumWorkGroups.y + groupIndex()] =
+        IterationSum(partial[0].x, partial[0].y, partial[0].z, 0.0);
+}

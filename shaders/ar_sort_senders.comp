@@ -1,0 +1,37 @@
+#version 460
+// ar: each receiver node's senders in ascending order, one workgroup a node. Link creation lists
+// them in whatever order its atomics ran; the global pass sums in list order, so a canonical order
+// makes its sums, and the image, the same run to run. A bitonic network of all-ascending
+// compare-exchanges (each merge first compares mirrored pairs) over the list padded to a power of
+// two, in place; pairs reaching into the padding need no exchange.
+#extension GL_GOOGLE_include_directive : require
+#include "common.glsl"
+layout(local_size_x = 256) in;
+
+layout(std430, binding = 0) readonly buffer Starts { uint starts[]; };
+layout(binding = 1, r32ui) coherent uniform uimageBuffer senders;
+layout(push_constant) uniform Push { ArPush push; };  // count: nodes
+
+void main() {
+  uint node = groupIndex();
+  if (node >= push.count) return;
+  uint first = starts[node], count = starts[node + 1u] - first;
+  if (count < 2u) return;
+  uint padded = 1u << uint(findMSB(count - 1u) + 1);
+  for (uint size = 2u; size <= padded; size <<= 1u)
+    for (uint stride = size >> 1u; stride > 0u; stride >>= 1u) {
+      uint shift = uint(findLSB(stride));
+      for (uint t = gl_LocalInvocationID.x; t < padded >> 1u; t += gl_WorkGroupSize.x) {
+        uint i = ((t >> shift) << (shift + 1u)) + (t & (stride - 1u));
+        uint j = stride == size >> 1u ? i ^ (size - 1u) : i + stride;
+        if (j >= count) continue;
+        uint a = imageLoad(senders, int(first + i)).x, b = imageLoad(senders, int(first + j)).x;
+        if (a > b) {
+          imageStore(senders, int(first + i), uvec4(b));
+          imageStore(senders, int(first + j), uvec4(a));
+        }
+      }
+      memoryBarrierImage();
+      barrier();
+    }
+}
