@@ -31,10 +31,13 @@ struct SolverOptions {
   gi::ArSettings ar;          // --dirs, --iterations, --iteration-tol
   std::string arScheme = "symmetric";  // --scheme
   std::string environment;             // --env: "R,G,B", an .exr, or none; empty: the scene's own light (see below)
-  uint64_t maxMemoryMiB = 0;           // --max-memory: iv's memory budget (0: the device's)
-  uint32_t tessellation =
-      16;  // --tessellate: iv's and ar's surfaces sampled at least this finely (scene::buildGeometry)
+  uint64_t maxMemoryMiB = 0;           // --max-memory: the solver's memory budget (0: the device's)
+  uint32_t tessellation = 16;          // --tessellate: iv and ar sample surfaces at least this finely
 };
+
+// The tessellation `solver`'s method samples surfaces with (scene::buildGeometry): --tessellate for
+// iv and ar, 0 (the mesh as modelled) for pt and none.
+uint32_t sampledTessellation(const SolverOptions& solver);
 
 // The scene's flattened geometry, as `solver`'s method samples it; throws LoadError when there is
 // no triangle to render.

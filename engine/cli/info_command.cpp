@@ -41,7 +41,7 @@ int runInfo(const InfoOptions& o) {
   std::printf("vertices     %zu\n", g.vertices.size());
   std::printf("triangles    %zu (%u degenerate, excluded)\n", g.triangles.size(), g.degenerateTriangles);
   std::printf("surfels      %zu\n", g.surfels.size());
-  if ((solver.method == "iv" || solver.method == "ar") && solver.tessellation > 0) {
+  if (sampledTessellation(solver) > 0) {
     const scene::Geometry sampled = renderableGeometry(s, solver);
     std::printf("tessellated  %zu triangles, %zu surfels (%s, --tessellate %u)\n", sampled.triangles.size(),
                 sampled.surfels.size(), solver.method.c_str(), solver.tessellation);

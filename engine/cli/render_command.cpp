@@ -114,9 +114,7 @@ int runRender(const RenderOptions& o) {
   if (o.resume)
     if (size_t removed = image::removeDeadTemporaries(pattern.directory()))
       std::fprintf(stderr, "ivgi: removed %zu temporary files left by runs that ended\n", removed);
-  json settings =
-      settingsJson(solver.method, solver.iv, solver.method == "iv" || solver.method == "ar" ? solver.tessellation : 0,
-                   arSettings(solver));
+  json settings = settingsJson(solver.method, solver.iv, sampledTessellation(solver), arSettings(solver));
   settings.update({{"frames", {range.first, range.last, range.step}},
                    {"shard", {shard.index, shard.count}},
                    {"fps", o.fps},

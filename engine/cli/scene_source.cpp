@@ -18,9 +18,13 @@ scene::Scene loadScene(const SceneChoice& choice) {
   return scene::sceneFromModel(scenes::furnace({.cells = choice.cells}), "built-in furnace");
 }
 
+uint32_t sampledTessellation(const SolverOptions& solver) {
+  return solver.method == "iv" || solver.method == "ar" ? solver.tessellation : 0;
+}
+
 scene::Geometry renderableGeometry(const scene::Scene& s, const SolverOptions& solver) {
   if (solver.tessellation > 100000) throw SettingsError("--tessellate must be 0 to 100000");
-  scene::Geometry g = scene::buildGeometry(s, solver.method == "iv" || solver.method == "ar" ? solver.tessellation : 0);
+  scene::Geometry g = scene::buildGeometry(s, sampledTessellation(solver));
   if (g.triangles.empty()) throw scene::LoadError(s.source + ": the scene has no triangles to render");
   return g;
 }

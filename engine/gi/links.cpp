@@ -8,6 +8,26 @@ namespace ivgi::gi {
 
 std::vector<uint32_t> LinkSet::readCounters() const { return counters.read<uint32_t>(gpu::kCounterSlots); }
 
+std::vector<uint32_t> LinkSet::refinedCounters(uint32_t levels) const {
+  std::vector<uint32_t> c = readCounters();
+  if (uint32_t left = c[levels % 2]; left != 0)
+    throw vk::VulkanError("link creation left " + std::to_string(left) + " pairs unrefined after " +
+                          std::to_string(levels) + " levels");
+  return c;
+}
+
+bool LinkSet::growLinks(const std::vector<uint32_t>& c, uint32_t& worklistCapacity) {
+  const uint32_t bits = c[gpu::kCounterOverflow];
+  if (bits & gpu::kOverflowWorklist)
+    worklistCapacity = std::max(worklistCapacity, withMargin(c[gpu::kCounterWorklistPeak]));
+  if (bits & gpu::kOverflowLinks) linkCapacity = std::max(linkCapacity, withMargin(c[gpu::kCounterLinks]));
+  return (bits & (gpu::kOverflowWorklist | gpu::kOverflowLinks)) != 0;
+}
+
+uint32_t withMargin(uint32_t needed) {
+  return uint32_t(std::min<uint64_t>(uint64_t(needed) * 5 / 4 + 1024, 0xFFFFFFF0u));
+}
+
 uint32_t LinkSet::leafLinksHeld() const { return std::min(leafLinkCapacity, readCounters()[gpu::kCounterLeafLinks]); }
 
 LinkCreation::LinkCreation(const vk::Context& ctx)

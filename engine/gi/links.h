@@ -21,9 +21,18 @@ struct LinkSet {
 
   bool empty() const { return rootPairs.empty(); }
   std::vector<uint32_t> readCounters() const;
+  // The counters after a refinement of `levels` levels; throws where pairs were left unrefined (a bug).
+  std::vector<uint32_t> refinedCounters(uint32_t levels) const;
+  // Grows the link capacity, and `worklistCapacity`, to what the counters `c` say overflowed, with
+  // a margin; whether either grew.
+  bool growLinks(const std::vector<uint32_t>& c, uint32_t& worklistCapacity);
   // The surviving links the last prune of this set wrote (those that fit).
   uint32_t leafLinksHeld() const;
 };
+
+// The room an array that grows with a count gets: a quarter more, so that the next frames' changes
+// fit.
+uint32_t withMargin(uint32_t needed);
 
 // When a pair is split rather than stored.
 struct LinkCriteria {

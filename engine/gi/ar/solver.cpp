@@ -19,11 +19,6 @@ constexpr uint32_t kIterationSteps = 4;
 // light, or a change of the irradiance above the irradiance and this many times its smallest.
 constexpr float kNegativeBound = 0.5f, kGrowthBound = 10.0f;
 
-// The room an array that grows with a count gets: a quarter more, so that the next frames fit.
-uint32_t withMargin(uint32_t needed) {
-  return uint32_t(std::min<uint64_t>(uint64_t(needed) * 5 / 4 + 1024, 0xFFFFFFF0u));
-}
-
 std::string mib(uint64_t bytes) { return std::to_string((bytes + (1 << 20) - 1) >> 20) + " MiB"; }
 
 }  // namespace
@@ -222,16 +217,7 @@ void ArSolver::recordMorePasses(VkCommandBuffer cmd, vk::PassTimer& timer) {
 }
 
 bool ArSolver::frameMustBeRedone() {
-  const std::vector<uint32_t> c = links_.readCounters();
-  const uint32_t levels = LinkCreation::levels(hierarchy_);
-  if (uint32_t left = c[levels % 2]; left != 0)
-    throw vk::VulkanError("ar link creation left " + std::to_string(left) + " pairs unrefined after " +
-                          std::to_string(levels) + " levels");
-  if (const uint32_t bits = c[gpu::kCounterOverflow]; bits != 0) {
-    if (bits & gpu::kOverflowWorklist)
-      worklistCapacity_ = std::max(worklistCapacity_, withMargin(c[gpu::kCounterWorklistPeak]));
-    if (bits & gpu::kOverflowLinks)
-      links_.linkCapacity = std::max(links_.linkCapacity, withMargin(c[gpu::kCounterLinks]));
+  if (links_.growLinks(links_.refinedCounters(LinkCreation::levels(hierarchy_)), worklistCapacity_)) {
     allocateLinks();
     linked_ = false;
     ++framesRedone_;

@@ -9,16 +9,6 @@
 
 namespace ivgi::gi {
 
-namespace {
-
-// The room an array that grows with a count gets: a quarter more, so that the next frames'
-// changes fit.
-uint32_t withMargin(uint32_t needed) {
-  return uint32_t(std::min<uint64_t>(uint64_t(needed) * 5 / 4 + 1024, 0xFFFFFFF0u));
-}
-
-}  // namespace
-
 LinkRoom::LinkRoom(const vk::Context& ctx, const IvSettings& settings, IvBuffers& buffers, LinkSet& staticSet,
                    LinkSet& frameSet, vk::Allocations& allocations)
     : ctx_(ctx),
@@ -121,15 +111,10 @@ LinkRoom::Overflow LinkRoom::grow(uint32_t levels) {
   Overflow overflow;
   for (LinkSet* set : {&staticSet_, &frameSet_}) {
     if (set->empty()) continue;
-    const std::vector<uint32_t> c = set->readCounters();
-    if (uint32_t left = c[levels % 2]; left != 0)  // pairs still unrefined after the last level: a bug
-      throw vk::VulkanError("iv link creation left " + std::to_string(left) + " pairs unrefined after " +
-                            std::to_string(levels) + " levels");
+    const std::vector<uint32_t> c = set->refinedCounters(levels);
     const uint32_t bits = c[gpu::kCounterOverflow];
     if (bits == 0) continue;
-    if (bits & gpu::kOverflowWorklist)
-      worklistCapacity_ = std::max(worklistCapacity_, withMargin(c[gpu::kCounterWorklistPeak]));
-    if (bits & gpu::kOverflowLinks) set->linkCapacity = std::max(set->linkCapacity, withMargin(c[gpu::kCounterLinks]));
+    set->growLinks(c, worklistCapacity_);
     if (bits & gpu::kOverflowLeafLinks)
       set->leafLinkCapacity = std::max(set->leafLinkCapacity, withMargin(c[gpu::kCounterLeafLinks]));
     overflow.loopBudget |= (bits & gpu::kOverflowLoopBudget) != 0;
