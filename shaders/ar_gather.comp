@@ -15,13 +15,14 @@ layout(binding = 3, r32ui) readonly uniform uimageBuffer senders;
 layout(std430, binding = 4) readonly buffer BinVectors { vec4 binVectors[]; };
 layout(std430, binding = 5) readonly buffer Radiance { vec4 radiance[]; };
 layout(binding = 6, rgba32f) readonly uniform imageBuffer incident;   // per surfel and bin
-layout(binding = 7, rgba32f) readonly uniform imageBuffer intensity;  // per node and bin
+layout(binding = 7, rgba32f) readonly uniform imageBuffer intensity;  // per node and bin (ar_pull_up)
 layout(binding = 8, rgba32f) uniform imageBuffer gathered;            // per node and bin, zeroed
-// Per node, Σ over its links of radiance × solid angle × direction, as three texels (x, y, z, each
-// RGB): a surfel's irradiance is its normal against its own and its ancestors' (ar_incident), with
-// each sender's own direction rather than its bins'.
+// Per flat node, Σ over its links of radiance × solid angle × direction, as three texels (x, y, z,
+// each RGB): a surfel's irradiance is its normal against its own and its flat ancestors'
+// (ar_incident), with each sender's own direction rather than its bins'.
 layout(binding = 9, rgba32f) writeonly uniform imageBuffer gatheredVector;
-layout(push_constant) uniform Push { ArPush push; };  // count: nodes
+layout(std430, binding = 10) readonly buffer Exitance { vec4 exitance[]; };  // per flat node, area · L
+layout(push_constant) uniform Push { ArPush push; };                         // count: nodes
 
 // A flat node keeps a direction's taps on the side of its plane the direction lies on (their
 // weights renormalised): light arriving at its front must not spill into bins behind it, nor the
@@ -53,9 +54,10 @@ void add(uint r, uint bins, uint bin, vec3 sent) {
 vec3 vectorX, vectorY, vectorZ;  // the receiver's Σ sent · dir
 
 // Deposits radiance × solid angle `sent`, seen along unit `dir`, into the receiver's bins around it
-// and, where it arrives at the receiver's front (a curved receiver: anywhere), its vector sum.
+// and, where it arrives at the front of a flat receiver, its vector sum (a curved receiver's
+// surfaces face many ways: their irradiance comes from its bins).
 void deposit(uint r, uint bins, vec4 nr, vec3 dir, vec3 sent) {
-  if (nr.w > kArFlatCone || dot(nr.xyz, dir) >= 0.0)
+  if (nr.w <= kArFlatCone && dot(nr.xyz, dir) >= 0.0)
     vectorX += sent * dir.x, vectorY += sent * dir.y, vectorZ += sent * dir.z;
   uvec4 taps;
   vec4 weights;
@@ -102,12 +104,18 @@ void main() {
     float dist2 = dot(d, d);
     if (dist2 <= 1e-6 * ps.w) continue;  // coincident: no direction to bin it in
     uvec4 t = imageLoad(tree, int(s));
-    if (t.z != 0u) {  // a cluster: its intensity toward the receiver, read between the bins of its table
+    if (t.z != 0u) {  // a cluster: what it sends toward the receiver, read between the bins of its table
       vec3 dir = d * inversesqrt(dist2);
       uvec4 back;
       vec4 weights;
       binTaps(-dir, n, back, weights);
-      deposit(r, bins, nr, dir, READ_TAPS(intensity, s * bins, back, weights) * solidAnglePerArea(ps.w, dist2));
+      vec3 sent = READ_TAPS(intensity, s * bins, back, weights);
+      vec4 cone = nodeNormalCone(s);
+      if (cone.w <= kArFlatCone) {  // flat: its exitance and antiradiance with its own cosine
+        float cosine = dot(cone.xyz, -dir);
+        sent = exitance[s].rgb * max(cosine, 0.0) - sent * abs(cosine);
+      }
+      deposit(r, bins, nr, dir, sent * solidAnglePerArea(ps.w, dist2));
       continue;
     }
     // A surfel wider than a bin, or near, goes as k×k pieces of its rectangle, each along its own

@@ -1,9 +1,10 @@
 #version 460
 // ar: each surfel's incident light per bin, what its node and its ancestors gathered plus the
 // environment and the punctual lights (unoccluded: antiradiance cancels them where they are
-// blocked); and its irradiance: its normal against the vector sums of what its node and ancestors
-// gathered (each sender along its own direction), the environment's bins of its front
-// (Σ L·max(n·∫ω dω, 0)) and the lights' exact cosines. The workgroup sums what the host judges the
+// blocked); and its irradiance: its normal against the vector sums of what its flat node and
+// ancestors gathered (each sender along its own direction), the bins of its front for what its
+// curved ancestors gathered and the environment (Σ L·max(n·∫ω dω, 0)), and the lights' exact
+// cosines. The workgroup sums what the host judges the
 // iteration by.
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 0
@@ -34,12 +35,21 @@ void main() {
     vec4 pa = nodePositionArea(leaf);
     vec3 normal = nodeNormalCone(leaf).xyz;
     vec3 E = vec3(0.0);
+    uint curved = 0u;  // bit k: the k-th node up from the leaf is curved (its irradiance from its bins)
+    uint depth = 0u;
+    for (int node = int(leaf); node >= 0; node = int(imageLoad(tree, node).x), ++depth)
+      if (nodeNormalCone(uint(node)).w > kArFlatCone) curved |= 1u << depth;
     for (uint b = 0u; b < bins; ++b) {
-      vec3 I = push.environmentOn != 0u ? environment[b].rgb : vec3(0.0);
-      for (int node = int(leaf); node >= 0; node = int(imageLoad(tree, node).x))
-        I += imageLoad(gathered, int(uint(node) * bins + b)).rgb;
-      imageStore(incident, int(s * bins + b), vec4(I, 0.0));
-      if (push.environmentOn != 0u) E += environment[b].rgb * max(dot(normal, binVectors[b].xyz), 0.0);
+      vec3 I = vec3(0.0), fromBins = push.environmentOn != 0u ? environment[b].rgb : vec3(0.0);
+      uint k = 0u;
+      for (int node = int(leaf); node >= 0; node = int(imageLoad(tree, node).x), ++k) {
+        vec3 g = imageLoad(gathered, int(uint(node) * bins + b)).rgb;
+        I += g;
+        if ((curved & (1u << k)) != 0u) fromBins += g;
+      }
+      imageStore(incident, int(s * bins + b),
+                 vec4(I + (push.environmentOn != 0u ? environment[b].rgb : vec3(0.0)), 0.0));
+      E += fromBins * max(dot(normal, binVectors[b].xyz), 0.0);
     }
     for (int node = int(leaf); node >= 0; node = int(imageLoad(tree, node).x)) {
       uint v = 3u * uint(node);

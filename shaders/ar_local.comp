@@ -1,8 +1,9 @@
 #version 460
 // ar, the local pass (docs/design.md §2.2): per surfel, K reflects the incident light into radiance
-// (on a radiance step; an antiradiance step keeps it) and J lets the incident light go through; the
-// surfel's intensity toward each bin is then its radiance leaving its front less the antiradiance
-// leaving either side, area · (L·cos⁺ − A·|cos|), with the cosines averaged over the bin.
+// (on a radiance step; an antiradiance step keeps it) and J lets the incident light go through. A
+// surfel is flat: what it sends toward ω is exitance · cos⁺ − antiradiance · |cos| with its own
+// normal, so it keeps its exitance (area · L) and, per bin, its antiradiance times its area, and the
+// cosines are applied exactly where they are read.
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 0
 #include "common.glsl"
@@ -10,30 +11,28 @@ layout(local_size_x = 64) in;
 
 layout(std430, binding = 1) readonly buffer LeafOfSurfel { uint leafOfSurfel[]; };
 layout(std430, binding = 2) readonly buffer Albedo { vec4 albedo[]; };
-layout(std430, binding = 3) readonly buffer Emission { vec4 emission[]; };      // Le
-layout(std430, binding = 4) readonly buffer BinVectors { vec4 binVectors[]; };  // ∫ω dω over the bin, Ω
-layout(std430, binding = 5) readonly buffer Irradiance { vec4 irradiance[]; };
-layout(std430, binding = 6) buffer Radiance { vec4 radiance[]; };
-layout(binding = 7, rgba32f) readonly uniform imageBuffer incident;    // per surfel and bin (looking)
-layout(binding = 8, rgba32f) writeonly uniform imageBuffer intensity;  // per node and bin (travel)
+layout(std430, binding = 3) readonly buffer Emission { vec4 emission[]; };  // Le
+layout(std430, binding = 4) readonly buffer Irradiance { vec4 irradiance[]; };
+layout(std430, binding = 5) buffer Radiance { vec4 radiance[]; };
+layout(binding = 6, rgba32f) readonly uniform imageBuffer incident;          // per surfel and bin (looking)
+layout(binding = 7, rgba32f) writeonly uniform imageBuffer intensity;        // per node and bin (travel)
+layout(std430, binding = 8) writeonly buffer Exitance { vec4 exitance[]; };  // per node, area · L
 layout(push_constant) uniform Push { ArPush push; };
 
 void main() {
   uint s = itemIndex();
   if (s >= push.count) return;
   uint leaf = leafOfSurfel[s], bins = 6u * push.bins * push.bins;
-  vec4 pa = nodePositionArea(leaf);
-  vec3 n = nodeNormalCone(leaf).xyz;
+  float area = nodePositionArea(leaf).w;
   vec3 L = radiance[s].rgb;
   if (push.updateRadiance != 0u) {
     L = emission[s].rgb + albedo[s].rgb * irradiance[s].rgb / kPi;
     radiance[s] = vec4(L, 0.0);
   }
+  exitance[leaf] = vec4(area * L, 0.0);
   for (uint c = 0u; c < bins; ++c) {
-    vec4 v = binVectors[c];
-    float cosine = dot(n, v.xyz) / v.w;  // mean cosine over the bin
     // Antiradiance toward c: the light that arrived travelling along c, from the opposite bin.
     vec3 through = imageLoad(incident, int(s * bins + binOf(-binDirection(c, push.bins), push.bins))).rgb;
-    imageStore(intensity, int(leaf * bins + c), vec4(pa.w * (L * max(cosine, 0.0) - through * abs(cosine)), 0.0));
+    imageStore(intensity, int(leaf * bins + c), vec4(area * through, 0.0));
   }
 }

@@ -15,9 +15,13 @@ struct ArBuffers {
   // senders by (zero: ar reads the radiance itself); link creation's worklists and dispatch sizes.
   vk::Buffer nodes, nodeEmission, args, worklistA, worklistB;
   // The directional tables: per node the radiance less antiradiance it gathered over its links
-  // (looking directions) and the intensity it sends (travel directions); per surfel its incident
+  // (looking directions) and what it sends (travel directions; a flat node: its antiradiance times
+  // its area, the rest: its intensity); per surfel its incident
   // light (its own and its ancestors' gathered, the environment, the lights).
   vk::Buffer gathered, intensity, incident;
+  // Per node: the exitance (area · L) of a flat node, whose intensity table holds its antiradiance
+  // alone (the cosines applied where it is read).
+  vk::Buffer exitance;
   // Per node: the vector sum of what it gathered (radiance × solid angle × direction; x, y, z texels
   // of RGB), from which each surfel's irradiance takes every sender's own direction.
   vk::Buffer gatheredVector;
@@ -38,6 +42,7 @@ struct ArBuffers {
                                {"gathered", gathered},
                                {"gatheredVector", gatheredVector},
                                {"intensity", intensity},
+                               {"exitance", exitance},
                                {"incident", incident},
                                {"radiance", radiance},
                                {"irradiance", irradiance},
