@@ -160,8 +160,9 @@ TEST(BenchCli, EqualErrorReportsTheRatio) {
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("at equal error"), std::string::npos) << r.out;
   auto j = readJson(dir / "e.json");
-  EXPECT_GT(j["iv"]["relMSE"].get<double>(), 0.0);
-  EXPECT_GT(j["iv"]["medianGpuMs"].get<double>(), 0.0);
+  EXPECT_GT(j["solver"]["relMSE"].get<double>(), 0.0);
+  EXPECT_GT(j["solver"]["medianGpuMs"].get<double>(), 0.0);
+  EXPECT_EQ(j["solver"]["settings"]["method"], "iv");
   EXPECT_GE(j["pt"]["ladder"].size(), 1u);
   EXPECT_TRUE(j["ratio"].is_number() || j["ratioLowerBound"].is_number()) << j.dump();
 }

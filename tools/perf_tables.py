@@ -104,8 +104,8 @@ def scaling_table(r, runs):
 
 def sweep_table(r):
     out = r.scratch / "sweep"
-    r.run("sweep", "--reference", ROOT / "tests/golden/pt_cornell_f0000.exr", "--bins", "8,16,24",
-          "--receiver-tol", "0,0.1,0.2,0.4,0.8", "--repeats", 3, "--out", out)
+    r.run("sweep", "--reference", ROOT / "tests/golden/pt_cornell_f0000.exr", "--method", "iv,ar", "--bins", "8,16,24",
+          "--receiver-tol", "0,0.1,0.2,0.4,0.8", "--dirs", "2,4,6,8", "--repeats", 3, "--out", out)
     shutil.copy(out / "sweep.csv", DOCS / "sweep_cornell.csv")
     shutil.copy(out / "sweep.png", DOCS / "sweep_cornell.png")
     with open(out / "sweep.csv", newline="") as f:
@@ -113,11 +113,44 @@ def sweep_table(r):
     lines = ["| bins | `--receiver-tol` | receivers | GPU ms | MiB | relMSE | FLIP | on the front |",
              "|---|---|---|---|---|---|---|---|"]
     for row in rows:
+        if row["method"] != "iv":
+            continue
         tol = "0 (every surfel)" if float(row["receiverTol"]) == 0 else row["receiverTol"]
         lines.append(f"| 6×{row['bins']}×{row['bins']} | {tol} | {int(row['receivers']):,} | {fmt(float(row['ms']))} | "
                      f"{int(row['bytes']) / 2**20:.1f} | {float(row['relMSE']):.4f} | {float(row['FLIP']):.3f} | "
                      f"{'yes' if row['pareto'] == '1' else ''} |")
+    lines += ["", "| ar, `--dirs` | iterations | GPU ms | MiB | relMSE | FLIP | on the front |",
+              "|---|---|---|---|---|---|---|"]
+    for row in rows:
+        if row["method"] == "ar":
+            lines.append(f"| 6×{row['dirs']}×{row['dirs']} | {row['iterationsRun']} | {fmt(float(row['ms']))} | "
+                         f"{int(row['bytes']) / 2**20:.1f} | {float(row['relMSE']):.4f} | {float(row['FLIP']):.3f} | "
+                         f"{'yes' if row['pareto'] == '1' else ''} |")
     return "\n".join(lines), rows
+
+
+def ar_table(r):
+    """ar on the animated Cornell box at --cells 26 and 320×240 (issue 22's target case): per --dirs the
+    median GPU ms over 3 frames after a warm-up frame (one bench run: a frame takes seconds), and frame
+    0's relMSE against a 4096-spp pt reference of that scene."""
+    reference = r.scratch / "pt_cells26_0000.exr"
+    r.run("render", "cornell", "--cells", 26, "--method", "pt", "--spp", 4096, "--size", "320x240", "--frames", 0,
+          "--format", "exr", "--threads", r.threads, "--out", r.scratch / "pt_cells26_%04d")
+    lines = ["| `--dirs` | links | tables MiB | iterations | global ms | frame ms | fps | relMSE |",
+             "|---|---|---|---|---|---|---|---|"]
+    figures = {}
+    for dirs in (2, 4, 6, 8):
+        j = r.json("bench", "cornell", "--cells", 26, "--size", "320x240", "--frames", 3, "--warmup", 1, "--method",
+                   "ar", "--dirs", dirs)
+        out = r.scratch / f"ar_cells26_d{dirs}"
+        r.run("render", "cornell", "--cells", 26, "--method", "ar", "--dirs", dirs, "--size", "320x240", "--frames", 0,
+              "--format", "exr", "--out", out / "f_%04d")
+        rel = r.json("compare", out / "f_0000.exr", reference)["frames"][0]["metrics"]["relMSE"]
+        total, s = j["passes"]["total"]["medianMs"], j["solver"]
+        figures[dirs] = (total, rel)
+        lines.append(f"| {dirs} | {s['links']:,} | {s['tableBytes'] / 2**20:.1f} | {s['iterations']} | "
+                     f"{fmt(j['passes']['global']['medianMs'])} | {fmt(total)} | {1000.0 / total:.2f} | {rel:.4f} |")
+    return "\n".join(lines), figures
 
 
 def equal_error_table(r, runs):
@@ -125,13 +158,14 @@ def equal_error_table(r, runs):
     r.run("render", "--method", "pt", "--spp", 4096, "--size", "320x240", "--frames", 0, "--format", "exr",
           "--threads", r.threads, "--out", r.scratch / "pt_reference_%04d", "--json", r.scratch / "pt_reference.json")
     reference_s = json.loads((r.scratch / "pt_reference.json").read_text())["frames"][0]["totalCpuMs"] / 1000
-    lines = ["| iv setting | iv ms per frame | iv relMSE | pt ms at that relMSE | iv faster by |", "|---|---|---|---|---|"]
+    lines = ["| setting | ms per frame | relMSE | pt ms at that relMSE | faster than pt by |", "|---|---|---|---|---|"]
     ratios = {}
-    for name, extra in (("defaults", ()), ("every surfel a receiver", ("--receiver-tol", 0))):
+    for name, extra in (("defaults", ()), ("every surfel a receiver", ("--receiver-tol", 0)),
+                        ("ar, defaults", ("--method", "ar"))):
         results = [r.json("bench", "--equal-error", "--size", "320x240", "--reference", reference, "--threads",
                           r.threads, *extra) for _ in range(runs)]
-        iv_ms = median([j["iv"]["medianGpuMs"] for j in results])
-        rel = median([j["iv"]["relMSE"] for j in results])
+        iv_ms = median([j["solver"]["medianGpuMs"] for j in results])
+        rel = median([j["solver"]["relMSE"] for j in results])
         pt_ms = median([j["ptMsAtEqualError"] for j in results if j.get("ratio")])
         ratio = median([j["ratio"] for j in results if j.get("ratio")])
         ratios[name] = ratio
@@ -272,6 +306,8 @@ def main():
         sweep, rows = sweep_table(r)
         print("equal error", file=sys.stderr)
         equal, reference_s, ratios, _ = equal_error_table(r, args.runs)
+        print("ar", file=sys.stderr)
+        ar, ar_figures = ar_table(r)
         print("flicker", file=sys.stderr)
         flicker = flicker_table(r)
         print("real files", file=sys.stderr)
@@ -279,7 +315,8 @@ def main():
         print("render farm", file=sys.stderr)
         farm = farm_table(r, args.threads)
 
-    default = next(row for row in rows if row["bins"] == "16" and float(row["receiverTol"]) == 0.4)
+    default = next(row for row in rows
+                   if row["method"] == "iv" and row["bins"] == "16" and float(row["receiverTol"]) == 0.4)
     machine = (f"Vulkan device {device['name']} ({device['type']}), driver {device['driver']} "
                f"{device.get('driverInfo', '')}, LP_NUM_THREADS={args.threads}; pt on {args.threads} threads; "
                f"CPU {cpu_name()}, {os.cpu_count()} cores")
@@ -312,23 +349,33 @@ defaults, and with every surfel a receiver (`--receiver-tol 0`).
 
 ## Speed against accuracy
 
-`ivgi sweep --reference tests/golden/pt_cornell_f0000.exr --bins 8,16,24 --receiver-tol
-0,0.1,0.2,0.4,0.8 --repeats 3`: frame 0 at 160×120 against a 4096-spp pt reference, each setting
-solving the frame as a later frame of the animation does, bounces until converged; every row is in
-[sweep_cornell.csv](sweep_cornell.csv). The plot joins each series' front: every surfel a receiver
-(the solver before adaptive receivers), and adaptive receivers.
+`ivgi sweep --reference tests/golden/pt_cornell_f0000.exr --method iv,ar --bins 8,16,24
+--receiver-tol 0,0.1,0.2,0.4,0.8 --dirs 2,4,6,8 --repeats 3`: frame 0 at 160×120 against a
+4096-spp pt reference, each setting solving the frame as a later frame of the animation does,
+bounces (iterations) until converged; every row is in [sweep_cornell.csv](sweep_cornell.csv). The
+plot joins each series' front: iv with every surfel a receiver (the solver before adaptive
+receivers), iv with adaptive receivers, and ar (antiradiance) at each `--dirs`.
 
 ![error against GPU time per frame, each series' Pareto front joined](sweep_cornell.png)
 
 {sweep}
 
-## iv against the path tracer at equal error
+## ar on the animated Cornell box
 
-`ivgi bench --equal-error --size 320x240 --reference REF`: iv's median GPU time over 20 animated
-frames and its relMSE on frame 0 against a 4096-spp pt reference (which took {reference_s:,.0f} s to
-render); pt renders the frame at 1, 2, 4, … spp on {args.threads} threads until it reaches iv's relMSE,
-and its wall-clock time at that error is interpolated log–log. iv runs on lavapipe, a CPU emulating
-a GPU, on the same cores as pt.
+`ivgi bench cornell --cells 26 --size 320x240 --frames 3 --warmup 1 --method ar --dirs N`, and
+frame 0 rendered the same way against pt at 4096 spp (defaults: `--dirs 4`, iterations until an
+iteration changes the irradiance by less than 0.001). Every frame starts from the emission alone
+and relinks the moving block.
+
+{ar}
+
+## iv and ar against the path tracer at equal error
+
+`ivgi bench --equal-error --size 320x240 --reference REF [--method ar]`: the solver's median GPU
+time over 20 animated frames and its relMSE on frame 0 against a 4096-spp pt reference (which took
+{reference_s:,.0f} s to render); pt renders the frame at 1, 2, 4, … spp on {args.threads} threads until it
+reaches the solver's relMSE, and its wall-clock time at that error is interpolated log–log. iv and
+ar run on lavapipe, a CPU emulating a GPU, on the same cores as pt.
 
 {equal}
 
@@ -371,6 +418,11 @@ pipelines and makes the static links again.
         f"FLIP {float(default['FLIP']):.3f} |",
         f"| iv faster than pt at equal relMSE, defaults / every surfel a receiver | "
         f"{ratios['defaults']:.1f}× / {ratios['every surfel a receiver']:.1f}× |",
+        f"| ar against pt at equal relMSE, defaults | {ratios['ar, defaults']:.2f}× "
+        f"({'faster' if ratios['ar, defaults'] >= 1 else 'slower'}) |",
+        f"| ar (antiradiance) at `--cells 26`, 320×240, defaults (`--dirs 4`) / `--dirs 8` | "
+        f"{ar_figures[4][0]:,.0f} ms a frame, relMSE {ar_figures[4][1]:.4f} / {ar_figures[8][0]:,.0f} ms, relMSE "
+        f"{ar_figures[8][1]:.4f} |",
     ])
     readme = ROOT / "README.md"
     readme.write_text(replace_between(readme.read_text(), "perf:headline", headline))

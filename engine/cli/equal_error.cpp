@@ -1,4 +1,4 @@
-// ivgi bench --equal-error: how much faster iv is than the path tracer at the same error. iv's time
+// ivgi bench --equal-error: how much faster iv (or ar) is than the path tracer at the same error. Its time
 // is the median GPU time of an animated frame; its error the relMSE of one frame against a converged
 // pt reference; pt's time the wall-clock time, on this machine's cores, of the spp that reaches the
 // same relMSE (doubling spp with an independent seed, interpolated log-log between the two spp
@@ -79,24 +79,25 @@ int runEqualError(const BenchOptions& o) {
     referenceMs = r.ms;
   }
 
-  // iv: the median GPU time over animated frames, and the error of the compared frame.
+  // The solver (iv or ar): the median GPU time over animated frames, and the error of the compared frame.
   FrameTimes times = timeFrames(renderer, s, g, tl, camera, o.fps, o.warmup, o.frames);
   const double ivMs = percentile(times.perPass["total"], 0.5);
+  const char* method = solver.method.c_str();
   auto ivFrame = renderer.render(g.frameInputs(s, pose), view, scene::worldLights(s, pose), true);
   image::sanitize(ivFrame.channels);
   const image::ErrorMetrics ivError = image::measureError(image::radianceOf(ivFrame.channels), ref);
 
   std::printf("ivgi bench --equal-error: %s, frame %d, %ux%u\n", s.source.c_str(), o.frame, image.width, image.height);
-  const gi::IvSettings& iv = solver.iv;
-  std::printf("iv:  %s; bins 6x%ux%u, eps %g, bounces %s\n", deviceLine(ctx).c_str(), iv.bins, iv.bins, iv.epsilon,
-              bouncesText(iv).c_str());
+  const nlohmann::json settings =
+      settingsJson(solver.method, solver.iv, sampledTessellation(solver), arSettings(solver));
+  std::printf("%s:  %s; %s\n", method, deviceLine(ctx).c_str(), settings.dump().c_str());
   std::printf("pt:  %s, unlimited bounces (roulette)\n", cpuLine(o.threads).c_str());
   std::printf("reference: %s\n\n", o.reference.empty() ? ("pt " + std::to_string(o.referenceSpp) + " spp, seed 0, " +
                                                           std::to_string(int(std::lround(referenceMs / 1000))) + " s")
                                                              .c_str()
                                                        : o.reference.c_str());
-  std::printf("iv   %8.2f ms per frame (median GPU over %d frames)   relMSE %.5g   FLIP %.4f\n\n", ivMs, o.frames,
-              ivError.relMse, ivError.flip);
+  std::printf("%s   %8.2f ms per frame (median GPU over %d frames)   relMSE %.5g   FLIP %.4f\n\n", method, ivMs,
+              o.frames, ivError.relMse, ivError.flip);
   std::printf("%8s %12s %12s %10s\n", "pt spp", "ms", "relMSE", "FLIP");
 
   nlohmann::json ladder = nlohmann::json::array();
@@ -125,25 +126,23 @@ int runEqualError(const BenchOptions& o) {
       {"frame", o.frame},
       {"width", image.width},
       {"height", image.height},
-      {"iv",
+      {"solver",
        {{"medianGpuMs", ivMs},
         {"relMSE", ivError.relMse},
         {"FLIP", ivError.flip},
-        {"bins", iv.bins},
-        {"eps", iv.epsilon},
-        {"bounces", bouncesJson(iv)},
+        {"settings", settings},
         {"device", deviceJson(ctx)}}},
       {"pt", {{"ladder", ladder}, {"device", cpuJson(o.threads)}}},
       {"reference", o.reference.empty() ? nlohmann::json({{"spp", o.referenceSpp}, {"ms", referenceMs}})
                                         : nlohmann::json(o.reference)}};
   if (ptMs < 0) {
-    std::printf("\npt did not reach iv's relMSE within %u spp: iv is more than %.0fx faster at equal error\n", o.maxSpp,
-                prevMs / ivMs);
+    std::printf("\npt did not reach %s's relMSE within %u spp: %s is more than %.0fx faster at equal error\n", method,
+                o.maxSpp, method, prevMs / ivMs);
     result["ratio"] = nullptr;
     result["ratioLowerBound"] = prevMs / ivMs;
   } else {
-    std::printf("\npt reaches iv's relMSE in %.1f ms%s: iv is %.2fx %s at equal error\n", ptMs,
-                bracketed ? " (interpolated)" : " (at 1 spp)", ptMs / ivMs,
+    std::printf("\npt reaches %s's relMSE in %.1f ms%s: %s is %.2fx %s at equal error\n", method, ptMs,
+                bracketed ? " (interpolated)" : " (at 1 spp)", method, ptMs / ivMs,
                 ptMs >= ivMs ? "faster" : "slower (ratio < 1)");
     result["ptMsAtEqualError"] = ptMs;
     result["ratio"] = ptMs / ivMs;
