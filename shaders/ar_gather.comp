@@ -1,9 +1,9 @@
 #version 460
 // ar, the global pass: unoccluded transport U of radiance less antiradiance over the links. Each
-// receiver node adds, per link, its sender's intensity toward it over the distance squared (the
-// disk-to-point regularisation keeps near senders finite) into the bins around the direction it
-// sees the sender in (binTaps), as radiance averaged over each bin. A surfel sender's intensity is
-// exact in direction; a cluster's comes from its table, read between bins.
+// receiver node adds, per link, what its sender sends toward it times the sender's solid angle per
+// area (a disk's on its axis: finite when near) into the bins around the direction it sees the
+// sender in (binTaps), as radiance averaged over each bin. A surfel sender is exact in direction; a
+// cluster's antiradiance (a curved one's intensity) comes from its table, read between bins.
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 0
 #include "common.glsl"

@@ -35,20 +35,20 @@ void main() {
     vec4 pa = nodePositionArea(leaf);
     vec3 normal = nodeNormalCone(leaf).xyz;
     vec3 E = vec3(0.0);
-    uint curved = 0u;  // bit k: the k-th node up from the leaf is curved (its irradiance from its bins)
-    uint depth = 0u;
-    for (int node = int(leaf); node >= 0; node = int(imageLoad(tree, node).x), ++depth)
+    // Bit k: the k-th node up from the leaf is curved, its light reaching the irradiance through the
+    // bins (trees are far less than 32 levels deep: deeper nodes would count as flat).
+    uint curved = 0u, depth = 0u;
+    for (int node = int(leaf); node >= 0 && depth < 32u; node = int(imageLoad(tree, node).x), ++depth)
       if (nodeNormalCone(uint(node)).w > kArFlatCone) curved |= 1u << depth;
     for (uint b = 0u; b < bins; ++b) {
-      vec3 I = vec3(0.0), fromBins = push.environmentOn != 0u ? environment[b].rgb : vec3(0.0);
+      vec3 sky = push.environmentOn != 0u ? environment[b].rgb : vec3(0.0), I = sky, fromBins = sky;
       uint k = 0u;
       for (int node = int(leaf); node >= 0; node = int(imageLoad(tree, node).x), ++k) {
         vec3 g = imageLoad(gathered, int(uint(node) * bins + b)).rgb;
         I += g;
-        if ((curved & (1u << k)) != 0u) fromBins += g;
+        if (k < 32u && (curved & (1u << k)) != 0u) fromBins += g;
       }
-      imageStore(incident, int(s * bins + b),
-                 vec4(I + (push.environmentOn != 0u ? environment[b].rgb : vec3(0.0)), 0.0));
+      imageStore(incident, int(s * bins + b), vec4(I, 0.0));
       E += fromBins * max(dot(normal, binVectors[b].xyz), 0.0);
     }
     for (int node = int(leaf); node >= 0; node = int(imageLoad(tree, node).x)) {
