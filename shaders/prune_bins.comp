@@ -36,7 +36,9 @@ layout(binding = 0, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode
 layout(binding = 2, r32ui) readonly uniform uimageBuffer starts;
 layout(binding = 3, r32ui) readonly uniform uimageBuffer senders;  // kEmitterBit marks emitters
 layout(binding = 4, r32ui) readonly uniform uimageBuffer leafOfSurfel;
-layout(binding = 5, rgba32f) readonly uniform imageBuffer binTable;  // centre direction (unit), solid angle
+// ∫ω dω over the bin (its cosine-weighted solid angle is n·∫ω dω, exact wherever the bin lies wholly
+// above the horizon, so that a hemisphere's bins never sum above π), solid angle
+layout(binding = 5, rgba32f) readonly uniform imageBuffer binTable;
 layout(std430, binding = 6) buffer GlobalBins { uint64_t globalBins[]; };
 layout(std430, binding = 7) writeonly buffer Ranges { LeafRange ranges[]; };
 // The leaf links are texel buffers: a texel view reaches maxTexelBufferElements (2^27 on lavapipe,
@@ -80,7 +82,7 @@ layout(push_constant) uniform Push { PrunePush push; };
 
 shared uint64_t sharedBins[kSharedSlots];
 shared uint sharedCoverage[kSharedSlots];  // covered solid angle in 1/kCoverageUnit of the bin's
-shared uint mask[kMaskWords];
+shared uint mask[kMaskWords], grown[kMaskWords];
 shared uint wordStart[kMaskWords];
 shared vec3 partial[kGroupSize];
 shared uint leafBase;
@@ -124,21 +126,54 @@ struct Bin {
   float staticDistance2;
 };
 
-Bin binAt(uint slot, uint b) {
-  Bin bin = Bin(loadBin(slot, b), loadCoverage(slot, b), 0u, -1, 0.0);
-  if (!merging) return bin;
+// The leaf's static entry for bin b, or −1: none, not merging, or past a static pass that overflowed
+// (the frame is then redone).
+int staticEntryOf(uint b) {
+  if (!merging) return -1;
   uvec2 word = staticMasks[maskBase + b / 32u];
   uint bit = 1u << (b & 31u);
-  if ((word.x & bit) == 0u) return bin;
+  if ((word.x & bit) == 0u) return -1;
   uint e = staticFirst + word.y + bitCount(word.x & (bit - 1u));
-  if (e >= push.staticCapacity) return bin;  // the static pass overflowed: this frame is redone
-  uint staticDepth = imageLoad(staticDepths, int(e)).x;
-  bin.key = min(bin.key, uint64_t(staticDepth) << 32 | imageLoad(staticLinks, int(e)).x);
+  return e < push.staticCapacity ? int(e) : -1;
+}
+
+Bin binAt(uint slot, uint b) {
+  Bin bin = Bin(loadBin(slot, b), loadCoverage(slot, b), 0u, -1, 0.0);
+  int e = staticEntryOf(b);
+  if (e < 0) return bin;
+  uint staticDepth = imageLoad(staticDepths, e).x;
+  bin.key = min(bin.key, uint64_t(staticDepth) << 32 | imageLoad(staticLinks, e).x);
   bin.staticDistance2 = uintBitsToFloat(staticDepth & 0x7FFFFFFFu);  // less the fringe bit
-  bin.staticCovered = staticCoverageOf(imageLoad(staticBins, int(e)).x);
-  bin.staticEntry = int(e);
+  bin.staticCovered = staticCoverageOf(imageLoad(staticBins, e).x);
+  bin.staticEntry = e;
   bin.covered += bin.staticCovered;
   return bin;
+}
+
+// Covered solid angle of bin b: the frame's senders and the leaf's static entry, or that entry alone.
+uint coverageAt(uint slot, uint b, bool staticOnly) {
+  int e = staticEntryOf(b);
+  return (staticOnly ? 0u : loadCoverage(slot, b)) + (e >= 0 ? staticCoverageOf(imageLoad(staticBins, e).x) : 0u);
+}
+
+// Bin `step` cells from bin b on its face, or past the face's edge the neighbouring face's.
+uint neighbourBin(uint b, ivec2 step) {
+  uint r = b % (kN * kN);
+  return binOfCell(b / (kN * kN), ivec2(r % kN, r / kN) + step, kN);
+}
+const ivec2 kNeighbourSteps[4] = ivec2[](ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1), ivec2(0, -1));
+
+// A bin whose four neighbours are each at least half covered is wholly covered. Footprints
+// approximate their senders' outlines, so the elements of one surface leave gaps and overlaps of a
+// few per cent of a bin between them, and the per-bin cap would turn the overlaps into lost light
+// (a closed room a few per cent dark at every bounce); a surface has no hole narrower than a bin at
+// the bins' resolution. A silhouette against what lies beyond has a neighbour mostly uncovered and
+// keeps its partial coverage. An empty bin stays empty: nothing stands for it.
+uint closedCoverage(uint slot, uint b, uint covered, bool staticOnly) {
+  if (covered == 0u || covered >= kCoverageUnit) return covered;
+  for (uint i = 0u; i < 4u; ++i)
+    if (coverageAt(slot, neighbourBin(b, kNeighbourSteps[i]), staticOnly) < kCoverageUnit / 2u) return covered;
+  return kCoverageUnit;
 }
 
 void insert(uint slot, uint b, uint64_t key, float omega) {
@@ -304,8 +339,7 @@ float coveredFraction(uint covered) { return min(float(covered) / float(kCoverag
 // a distance below the receiver's own radius counting as that radius.
 float proximityOf(vec3 n, uint b, uint covered, float distance2, float radius) {
   vec4 bin = imageLoad(binTable, int(b));
-  return max(dot(n, bin.xyz), 0.0) * coveredFraction(covered) * bin.w /
-         (kPi * max(max(sqrt(distance2), radius), 1e-20));
+  return max(dot(n, bin.xyz), 0.0) * coveredFraction(covered) / (kPi * max(max(sqrt(distance2), radius), 1e-20));
 }
 
 // Form factor of the survivor of bin b, standing for the covered part of the bin. Front or back is
@@ -313,14 +347,14 @@ float proximityOf(vec3 n, uint b, uint covered, float distance2, float radius) {
 float survivorFormFactor(vec3 n, uint sender, uint b, uint covered) {
   vec4 normalCone = nodeNormalCone(sender), bin = imageLoad(binTable, int(b));
   bool facing = dot(normalCone.xyz, -bin.xyz) > 0.0 || normalCone.w >= 0.5 * kPi;
-  return facing ? max(dot(n, bin.xyz), 0.0) * coveredFraction(covered) * bin.w / kPi : 0.0;
+  return facing ? max(dot(n, bin.xyz), 0.0) * coveredFraction(covered) / kPi : 0.0;
 }
 
 // Environment radiance through the uncovered part of bin b, cosine-weighted (0 below the horizon).
 vec3 environmentThrough(vec3 n, uint b, uint covered) {
   vec4 bin = imageLoad(binTable, int(b));
   float c = dot(n, bin.xyz);
-  return c > 0.0 ? imageLoad(environment, int(b)).rgb * c * bin.w * (1.0 - coveredFraction(covered)) : vec3(0.0);
+  return c > 0.0 ? imageLoad(environment, int(b)).rgb * c * (1.0 - coveredFraction(covered)) : vec3(0.0);
 }
 
 // Emitted radiosity π·Le of node s (pulled up); zero for a node that emits nothing.
@@ -440,6 +474,21 @@ void main() {
       if (lid == 0u) wideCount = 0u;  // before the next chunk's filing, past its gathering barrier
     }
     barrier();
+    // A merging leaf also re-emits the static bins beside those its frame senders touched: whether a
+    // bin's gaps are closed depends on its neighbours' coverage.
+    if (merging) {
+      for (uint w = lid; w < kMaskWords; w += kGroupSize) grown[w] = 0u;
+      barrier();
+      for (uint w = lid; w < kMaskWords; w += kGroupSize)
+        for (uint bits = mask[w]; bits != 0u; bits &= bits - 1u)
+          for (uint i = 0u; i < 4u; ++i) {
+            uint nb = neighbourBin(w * 32u + uint(findLSB(bits)), kNeighbourSteps[i]), bit = 1u << (nb & 31u);
+            if ((mask[nb >> 5] & bit) == 0u && staticEntryOf(nb) >= 0) atomicOr(grown[nb >> 5], bit);
+          }
+      barrier();
+      for (uint w = lid; w < kMaskWords; w += kGroupSize) mask[w] |= grown[w];
+      barrier();
+    }
     // Emitters' light: direct where they are few enough to list (the static pass keeps the list for
     // the frames, whose moving senders may hide them), the bins then carrying only their reflected
     // light; through the bins like any sender where they are many (a wholly emissive room). In a
@@ -498,10 +547,11 @@ void main() {
         uint b = w * 32u + uint(findLSB(bits));
         bits &= bits - 1u;
         Bin bin = binAt(slot, b);
-        uint s = keyId(bin.key);
-        float f = survivorFormFactor(n, s, b, bin.covered);
-        near += proximityOf(n, b, bin.covered, linkKeyDepth(bin.key), radius);
-        if (bin.staticEntry >= 0) near -= proximityOf(n, b, bin.staticCovered, bin.staticDistance2, radius);
+        uint s = keyId(bin.key), covered = closedCoverage(slot, b, bin.covered, false),
+             staticCovered = bin.staticEntry >= 0 ? closedCoverage(slot, b, bin.staticCovered, true) : 0u;
+        float f = survivorFormFactor(n, s, b, covered);
+        near += proximityOf(n, b, covered, linkKeyDepth(bin.key), radius);
+        if (bin.staticEntry >= 0) near -= proximityOf(n, b, staticCovered, bin.staticDistance2, radius);
         if (outIndex < push.linkCapacity) {
           if (kStaticPass) {
             imageStore(staticLinks, int(outIndex), uvec4(s, floatBitsToUint(f), 0u, 0u));
@@ -520,13 +570,14 @@ void main() {
           }
         }
         if (merging && push.environmentOn != 0u)
-          environmentChange += environmentThrough(n, b, bin.covered) - environmentThrough(n, b, bin.staticCovered);
+          environmentChange += environmentThrough(n, b, covered) - environmentThrough(n, b, staticCovered);
       }
     }
     // Environment through the empty bins above the horizon, summed in a fixed order.
     vec3 env = environmentChange;
     if (push.environmentOn != 0u && area > 0.0 && !merging)
-      for (uint b = lid; b < kBinCount; b += kGroupSize) env += environmentThrough(n, b, loadCoverage(slot, b));
+      for (uint b = lid; b < kBinCount; b += kGroupSize)
+        env += environmentThrough(n, b, closedCoverage(slot, b, loadCoverage(slot, b), false));
     if (kStaticPass) {
       vec3 correction = sumPartials(lid, emitterLight);
       barrier();

@@ -246,6 +246,28 @@ TEST(Tessellation, NearASmallObjectAsFineAsIt) {
   EXPECT_NEAR(totalArea(surfels), 100.0f + 6 * face, 1e-3f) << "the surfaces do not change";
 }
 
+// A grid of right triangles whose diagonals alone are too long (1/12 m cells, limit √2/16 m) halves
+// its spacing: 25×25 surfels of equal area inside, not the grid's vertices plus one at each cell's
+// centre (a lattice turned 45°, whose square surfels overlap and leave gaps in the bins).
+TEST(Tessellation, AGridWhoseDiagonalsAreTooLongHalvesItsSpacing) {
+  scenes::MeshData square;
+  scenes::addQuad(square, {0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}, 12, 12, {0, 1, 0});
+  scenes::GltfBuilder b;
+  b.node("square", b.mesh("square", {{square, b.material("grey", glm::vec3(0.5f))}}));
+  Scene s = sceneFromModel(b.finish(), "grid");
+  Geometry g = buildGeometry(s, 16);
+  auto surfels = surfelsOnHost(g, animateOnHost(g, g.frameInputs(s, evaluatePose(s, -1, 0))));
+  EXPECT_EQ(surfels.size(), 25u * 25u);
+  const float cell = 1.0f / 24.0f;
+  for (const auto& sf : surfels) {
+    const glm::vec3 p(sf.positionArea);
+    if (p.x > cell && p.x < 1 - cell && p.z > cell && p.z < 1 - cell) {
+      EXPECT_NEAR(sf.positionArea.w, cell * cell, 1e-6f) << "an inner surfel at " << p.x << ", " << p.z;
+    }
+  }
+  EXPECT_NEAR(totalArea(surfels), 1.0f, 1e-5f);
+}
+
 // What the solver may link once: instances whose world-space geometry no animation channel reaches.
 TEST(MovingInstances, OnlyWhatTheAnimationReaches) {
   Scene cornell = sceneFromModel(scenes::cornellBox({.cells = 2}), "cornell");

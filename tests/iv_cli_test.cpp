@@ -151,6 +151,23 @@ TEST(IvExtremes, AlbedoZeroAndNearlyOne) {
   }
 }
 
+// The furnace as a user renders it (defaults: 6×16×16 bins, tessellated, bounces until converged):
+// the mean radiance within 0.5 % of the exact 1/(1−ρ) at ρ = 0.5 and within 2 % at ρ = 0.9, and no
+// pixel above it (a receiver's form factors never sum above one).
+TEST(IvFurnace, AtDefaultsWithinHalfAPerCentAtHalfAlbedoAndTwoAtNineTenths) {
+  auto dir = test::scratchDir("furnace-defaults");
+  for (auto [rho, tolerance] : {std::pair{0.5f, 0.005}, std::pair{0.9f, 0.02}}) {
+    std::string file = (dir / ("furnace_" + std::to_string(rho) + ".gltf")).string();
+    scenes::writeModel(scenes::furnace({.cells = 12, .albedo = rho, .emission = 1.0f}), file);
+    Stats st = radianceStats(test::renderExr("furnace-defaults-" + std::to_string(rho), {file, "--size", "64x48"}));
+    const double exact = 1.0 / (1.0 - rho);
+    std::printf("[ furnace ] rho %.1f at defaults: mean radiance %.4f, exact %.4f (%+.2f %%)\n", rho, st.mean, exact,
+                100.0 * (st.mean / exact - 1.0));
+    EXPECT_NEAR(st.mean, exact, tolerance * exact) << "rho " << rho;
+    EXPECT_LE(st.max, exact * (1 + 1e-4)) << "rho " << rho;
+  }
+}
+
 TEST(IvExtremes, SingleTriangleAndNoEmitter) {
   scenes::MeshData m;
   m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};

@@ -97,11 +97,12 @@ FurnaceCoverage checkFurnace(int cells, float rho, uint32_t bins) {
 
 }  // namespace
 
-// At 12 cells per face and 6×16×16 bins the bins cover at least 0.975 of the receivers'
-// hemispheres, area-weighted: footprints that piled into a cube-map face's border bins instead of
-// going on over the neighbouring face, or square surfels, fall below it.
+// At 12 cells per face and 6×16×16 bins the bins cover at least 0.99 of the receivers' hemispheres,
+// area-weighted: the per-bin cap without the closing of gaps between neighbouring footprints (0.979),
+// footprints that piled into a cube-map face's border bins instead of going on over the neighbouring
+// face, or square surfels, fall below it.
 TEST(IvFurnace, EnergyIsConservedUpToTheBinCoverage) {
-  for (float rho : {0.3f, 0.5f, 0.9f}) EXPECT_GE(checkFurnace(12, rho, 16).mean, 0.975) << "rho " << rho;
+  for (float rho : {0.3f, 0.5f, 0.9f}) EXPECT_GE(checkFurnace(12, rho, 16).mean, 0.99) << "rho " << rho;
 }
 
 // More leaf links than one 128 MiB storage binding holds (2^24 of 8 bytes; lavapipe's

@@ -6,13 +6,6 @@
 
 namespace ivgi::gi {
 
-std::vector<glm::vec4> binTable(uint32_t n) {
-  std::vector<glm::vec4> table(6 * n * n);
-  for (uint32_t b = 0; b < table.size(); ++b)
-    table[b] = glm::vec4(glm::normalize(gpu::binDirection(b, n)), gpu::binSolidAngle(b, n));
-  return table;
-}
-
 std::vector<glm::vec4> binVectorTable(uint32_t n) {
   // Each bin cut into k×k cells of exact solid angle, each at its centre direction: the error falls
   // as 1/k², far below float precision at k = 32.

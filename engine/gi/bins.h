@@ -12,9 +12,7 @@
 
 namespace ivgi::gi {
 
-// Per bin of 6·n²: its unit centre direction and its solid angle Ω.
-std::vector<glm::vec4> binTable(uint32_t n);
-// Per bin: ∫ ω dω over the bin (so that n·∫ω dω is the bin's cosine-weighted solid angle for any
+// Per bin of 6·n²: ∫ ω dω over the bin (so that n·∫ω dω is the bin's cosine-weighted solid angle for any
 // normal n that sees the whole bin), and Ω.
 std::vector<glm::vec4> binVectorTable(uint32_t n);
 

@@ -100,10 +100,11 @@ Primitive tessellated(const Primitive& input, const glm::mat4& toWorld, const Ed
                       size_t maxVertices) {
   Primitive p = input;
   if (!(limits.uniform() > 0.0f)) return p;
-  auto longEdge = [&](uint32_t a, uint32_t b) {
+  // Whether edge ab, stretched by `scale`, is longer than its limit.
+  auto longEdge = [&](uint32_t a, uint32_t b, float scale = 1.0f) {
     const glm::vec3 pa = glm::vec3(toWorld * glm::vec4(p.positions[a], 1.0f)),
                     pb = glm::vec3(toWorld * glm::vec4(p.positions[b], 1.0f));
-    return limits.tooLong(0.5f * (pa + pb), glm::length(pa - pb), owner);
+    return limits.tooLong(0.5f * (pa + pb), scale * glm::length(pa - pb), owner);
   };
   for (;;) {
     const size_t triangles = p.indices.size() / 3;
@@ -114,6 +115,24 @@ Primitive tessellated(const Primitive& input, const glm::mat4& toWorld, const Ed
         if (a != b && longEdge(a, b)) split.emplace(edgeKey(a, b), 0u);
       }
     if (split.empty()) break;
+    // A triangle with one long edge whose others are longer than half their limit splits into four,
+    // not two: a grid of right triangles whose diagonals alone are too long then halves its spacing,
+    // where bisecting the diagonals would leave a lattice turned 45° from the surfels' tangent frame,
+    // whose rectangles overlap and leave gaps (light lost to the bins' cap). Only long edges decide
+    // this, so that it does not spread to the neighbours.
+    std::vector<size_t> quartered;
+    for (size_t t = 0; t < triangles; ++t) {
+      const uint32_t* v = &p.indices[3 * t];
+      int marked = 0, halfLong = 0;
+      for (int e = 0; e < 3; ++e) {
+        const bool m = split.count(edgeKey(v[e], v[(e + 1) % 3])) != 0;
+        marked += m ? 1 : 0;
+        halfLong += !m && longEdge(v[e], v[(e + 1) % 3], 2.0f) ? 1 : 0;
+      }
+      if (marked == 1 && halfLong == 2) quartered.push_back(t);
+    }
+    for (size_t t : quartered)
+      for (int e = 0; e < 3; ++e) split.emplace(edgeKey(p.indices[3 * t + e], p.indices[3 * t + (e + 1) % 3]), 0u);
     // A triangle with two marked edges has its third marked too (it splits into four, not three).
     for (bool changed = true; changed;) {
       changed = false;

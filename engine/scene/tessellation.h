@@ -44,8 +44,9 @@ class EdgeLimits {
 
 // `p` (placed by `toWorld`) with every edge that `limits` finds too long split at its middle: a
 // triangle with one long edge into two, one with more into four (a second long edge splits its
-// third too, so that neighbours share every new vertex), repeated until none is too long or the
-// primitive holds `maxVertices` (it is then left as far as it got).
+// third too, so that neighbours share every new vertex), as is one with one long edge and two longer
+// than half their limit (a grid whose diagonals alone are too long halves its spacing), repeated until none is too long
+// or the primitive holds `maxVertices` (it is then left as far as it got).
 Primitive tessellated(const Primitive& p, const glm::mat4& toWorld, const EdgeLimits& limits, uint32_t owner,
                       size_t maxVertices);
 

@@ -94,7 +94,7 @@ void IvSolver::uploadScene(const scene::Geometry& g, const std::vector<uint32_t>
   b_.leafMoves = vk::makeBuffer(ctx, leafMoves, vk::Memory::Device, tally);
   b_.albedo = vk::makeBuffer(ctx, g.surfelAlbedo, vk::Memory::Device, tally);
   b_.emission = vk::makeBuffer(ctx, g.surfelEmission, vk::Memory::Device, tally);
-  b_.binTable = vk::makeBuffer(ctx, binTable(n), vk::Memory::Device, tally);
+  b_.binTable = vk::makeBuffer(ctx, binVectorTable(n), vk::Memory::Device, tally);
   b_.environment = vk::makeBuffer(ctx, environmentTable(settings_.environment, n), vk::Memory::Device, tally);
   b_.lights = vk::Buffer(ctx, sizeof(gpu::PunctualLight), vk::Memory::Host, tally);
   b_.nodes = deviceArray<gpu::NodeState>(ctx, nodeCount_, allocations_);
