@@ -161,7 +161,6 @@ uint neighbourBin(uint b, ivec2 step) {
   uint r = b % (kN * kN);
   return binOfCell(b / (kN * kN), ivec2(r % kN, r / kN) + step, kN);
 }
-const ivec2 kNeighbourSteps[4] = ivec2[](ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1), ivec2(0, -1));
 
 // A bin whose four neighbours are each at least half covered is wholly covered. Footprints
 // approximate their senders' outlines, so the elements of one surface leave gaps and overlaps of a
@@ -169,11 +168,23 @@ const ivec2 kNeighbourSteps[4] = ivec2[](ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1),
 // (a closed room a few per cent dark at every bounce); a surface has no hole narrower than a bin at
 // the bins' resolution. A silhouette against what lies beyond has a neighbour mostly uncovered and
 // keeps its partial coverage. An empty bin stays empty: nothing stands for it.
+// The four neighbours are tested one after another, not in a loop: lavapipe bounds the loop rounds
+// a subgroup may run over all the leaves of its workgroup.
+bool halfCovered(uint slot, uint b, ivec2 step, bool staticOnly) {
+  return coverageAt(slot, neighbourBin(b, step), staticOnly) >= kCoverageUnit / 2u;
+}
 uint closedCoverage(uint slot, uint b, uint covered, bool staticOnly) {
   if (covered == 0u || covered >= kCoverageUnit) return covered;
-  for (uint i = 0u; i < 4u; ++i)
-    if (coverageAt(slot, neighbourBin(b, kNeighbourSteps[i]), staticOnly) < kCoverageUnit / 2u) return covered;
-  return kCoverageUnit;
+  return halfCovered(slot, b, ivec2(1, 0), staticOnly) && halfCovered(slot, b, ivec2(-1, 0), staticOnly) &&
+                 halfCovered(slot, b, ivec2(0, 1), staticOnly) && halfCovered(slot, b, ivec2(0, -1), staticOnly)
+             ? kCoverageUnit
+             : covered;
+}
+
+// Marks bin b for re-emission by a merging leaf: not touched by its frame senders, but a static one.
+void growInto(uint b) {
+  uint bit = 1u << (b & 31u);
+  if ((mask[b >> 5] & bit) == 0u && staticEntryOf(b) >= 0) atomicOr(grown[b >> 5], bit);
 }
 
 void insert(uint slot, uint b, uint64_t key, float omega) {
@@ -480,11 +491,13 @@ void main() {
       for (uint w = lid; w < kMaskWords; w += kGroupSize) grown[w] = 0u;
       barrier();
       for (uint w = lid; w < kMaskWords; w += kGroupSize)
-        for (uint bits = mask[w]; bits != 0u; bits &= bits - 1u)
-          for (uint i = 0u; i < 4u; ++i) {
-            uint nb = neighbourBin(w * 32u + uint(findLSB(bits)), kNeighbourSteps[i]), bit = 1u << (nb & 31u);
-            if ((mask[nb >> 5] & bit) == 0u && staticEntryOf(nb) >= 0) atomicOr(grown[nb >> 5], bit);
-          }
+        for (uint bits = mask[w]; bits != 0u; bits &= bits - 1u) {
+          uint b = w * 32u + uint(findLSB(bits));
+          growInto(neighbourBin(b, ivec2(1, 0)));
+          growInto(neighbourBin(b, ivec2(-1, 0)));
+          growInto(neighbourBin(b, ivec2(0, 1)));
+          growInto(neighbourBin(b, ivec2(0, -1)));
+        }
       barrier();
       for (uint w = lid; w < kMaskWords; w += kGroupSize) mask[w] |= grown[w];
       barrier();
