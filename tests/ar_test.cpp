@@ -192,8 +192,8 @@ TEST(ArConvergence, ResidualDecreasesOnTheCornellBox) {
 
 // The image depends on the scene's shape, not its size: the Cornell box scaled by 2⁻¹⁰ and 2¹⁰
 // (powers of two, which floats scale exactly, so that any difference is a length ar compares with
-// a constant) gives the same irradiance at every surfel (of the mesh as modelled: the tessellation
-// of a scaled node is not yet the same, docs/notes/ar.md). Scales that round differently move a few
+// a constant) gives the same irradiance at every surfel of the tessellated box (the tessellation is
+// scale-invariant too: geometry_test.cpp). Scales that round differently move a few
 // link refinements across their thresholds: 10³ changes the brightest surfel's value by 0.4 %.
 TEST(ArScale, IrradianceDoesNotDependOnTheScenesSize) {
   auto scaled = [](float factor) {
@@ -203,7 +203,7 @@ TEST(ArScale, IrradianceDoesNotDependOnTheScenesSize) {
     parent.children = model.scenes[0].nodes;
     model.nodes.push_back(parent);
     model.scenes[0].nodes = {int(model.nodes.size() - 1)};
-    return solveAr(model, {.iterations = 8}, 0);
+    return solveAr(model, {.iterations = 8});
   };
   ArSolved unit = scaled(1.0f);
   double largest = 0;

@@ -268,6 +268,23 @@ TEST(Tessellation, AGridWhoseDiagonalsAreTooLongHalvesItsSpacing) {
   EXPECT_NEAR(totalArea(surfels), 1.0f, 1e-5f);
 }
 
+// The tessellation follows the scene's shape, not its size: the Cornell box under a node that scales
+// it by 10⁻³, 10³, 2⁻¹⁰ or 2¹⁰ is sampled by as many surfels as at scale 1.
+TEST(Tessellation, TheSameAtEveryScale) {
+  auto surfelsAt = [](float factor) {
+    tinygltf::Model model = scenes::cornellBox({.cells = 8, .animated = false});
+    tinygltf::Node parent;  // a new root that scales the old ones
+    parent.scale = {factor, factor, factor};
+    parent.children = model.scenes[0].nodes;
+    model.nodes.push_back(parent);
+    model.scenes[0].nodes = {int(model.nodes.size() - 1)};
+    return buildGeometry(sceneFromModel(model, "scaled"), 16).surfels.size();
+  };
+  const size_t unit = surfelsAt(1.0f);
+  EXPECT_GT(unit, 539u) << "the 8-cell box is tessellated";
+  for (float factor : {1e-3f, 1e3f, 1.0f / 1024.0f, 1024.0f}) EXPECT_EQ(surfelsAt(factor), unit) << "scale " << factor;
+}
+
 // What the solver may link once: instances whose world-space geometry no animation channel reaches.
 TEST(MovingInstances, OnlyWhatTheAnimationReaches) {
   Scene cornell = sceneFromModel(scenes::cornellBox({.cells = 2}), "cornell");
