@@ -197,13 +197,7 @@ TEST(ArConvergence, ResidualDecreasesOnTheCornellBox) {
 // link refinements across their thresholds: 10³ changes the brightest surfel's value by 0.4 %.
 TEST(ArScale, IrradianceDoesNotDependOnTheScenesSize) {
   auto scaled = [](float factor) {
-    tinygltf::Model model = scenes::cornellBox({.cells = 8, .animated = false});
-    tinygltf::Node parent;  // a new root that scales the old ones
-    parent.scale = {factor, factor, factor};
-    parent.children = model.scenes[0].nodes;
-    model.nodes.push_back(parent);
-    model.scenes[0].nodes = {int(model.nodes.size() - 1)};
-    return solveAr(model, {.iterations = 8});
+    return solveAr(test::scaled(scenes::cornellBox({.cells = 8, .animated = false}), factor), {.iterations = 8});
   };
   ArSolved unit = scaled(1.0f);
   double largest = 0;

@@ -272,12 +272,7 @@ TEST(Tessellation, AGridWhoseDiagonalsAreTooLongHalvesItsSpacing) {
 // it by 10⁻³, 10³, 2⁻¹⁰ or 2¹⁰ is sampled by as many surfels as at scale 1.
 TEST(Tessellation, TheSameAtEveryScale) {
   auto surfelsAt = [](float factor) {
-    tinygltf::Model model = scenes::cornellBox({.cells = 8, .animated = false});
-    tinygltf::Node parent;  // a new root that scales the old ones
-    parent.scale = {factor, factor, factor};
-    parent.children = model.scenes[0].nodes;
-    model.nodes.push_back(parent);
-    model.scenes[0].nodes = {int(model.nodes.size() - 1)};
+    tinygltf::Model model = test::scaled(scenes::cornellBox({.cells = 8, .animated = false}), factor);
     return buildGeometry(sceneFromModel(model, "scaled"), 16).surfels.size();
   };
   const size_t unit = surfelsAt(1.0f);

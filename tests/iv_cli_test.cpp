@@ -47,13 +47,7 @@ Stats radianceStats(const fs::path& exr) {
 
 // The Cornell box with everything (camera and its near plane too) scaled by `s`.
 std::string scaledCornell(float s) {
-  tinygltf::Model m = scenes::cornellBox({.cells = 6, .animated = false});
-  tinygltf::Node root;
-  root.name = "scale";
-  root.scale = {s, s, s};
-  root.children = m.scenes[0].nodes;
-  m.nodes.push_back(root);
-  m.scenes[0].nodes = {int(m.nodes.size() - 1)};
+  tinygltf::Model m = test::scaled(scenes::cornellBox({.cells = 6, .animated = false}), s);
   for (auto& c : m.cameras) c.perspective.znear *= s;
   auto path = test::scratchDir("model-" + std::to_string(s)) / "cornell.gltf";
   scenes::writeModel(m, path.string());

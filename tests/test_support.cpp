@@ -106,6 +106,16 @@ double cornellLightIrradiance(glm::dvec3 p, glm::dvec3 n, int k) {
   return e;
 }
 
+tinygltf::Model scaled(tinygltf::Model model, float factor) {
+  tinygltf::Node root;
+  root.name = "scale";
+  root.scale = {factor, factor, factor};
+  root.children = model.scenes[0].nodes;
+  model.nodes.push_back(root);
+  model.scenes[0].nodes = {int(model.nodes.size() - 1)};
+  return model;
+}
+
 std::filesystem::path scratchDir(const std::string& name) {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
   std::string test = info ? std::string(info->test_suite_name()) + "." + info->name() : "none";

@@ -13,6 +13,10 @@
 #include "engine/gi/iv/solver.h"
 #include "engine/vk/context.h"
 
+namespace tinygltf {
+class Model;
+}
+
 namespace ivgi::test {
 
 // The process's Vulkan context, with validation layers on; the test environment fails any test
@@ -39,6 +43,9 @@ const gi::IvSolver& ivSolver(const gi::FrameRenderer& renderer);
 // Direct irradiance (red) from the built-in Cornell box's light at p with unit normal n, by k×k
 // midpoint quadrature of L·cos θ·cos θ'/d² over its rectangle.
 double cornellLightIrradiance(glm::dvec3 p, glm::dvec3 n, int k);
+
+// `model` under a new root node that scales its scenes' roots by `factor`.
+tinygltf::Model scaled(tinygltf::Model model, float factor);
 
 // A fresh, empty folder for one test.
 std::filesystem::path scratchDir(const std::string& name);
