@@ -19,7 +19,7 @@ float receiverWeight(vec3 x, vec3 n, vec3 p, vec3 ns, float radius) {
   const float t2 = (dot(d, d) + stretch * across * across) / (radius * radius);
   if (t2 >= 1.0) return 0.0;
   const float w = (1.0 - t2) * (1.0 - t2) * (1.0 - t2), a = (c - kReceiverNormalCos) / (1.0 - kReceiverNormalCos);
-  return w * a * a;
+  return w * a * a / (t2 + 0.01);
 }
 
 // Keeps a tap (a receiver met again, standing for another node, adds its weight), or where all
