@@ -124,12 +124,11 @@ Primitive tessellated(const Primitive& input, const glm::mat4& toWorld, const Ed
     for (size_t t = 0; t < triangles; ++t) {
       const uint32_t* v = &p.indices[3 * t];
       int marked = 0, halfLong = 0;
-      for (int e = 0; e < 3; ++e) {
-        const bool m = split.count(edgeKey(v[e], v[(e + 1) % 3])) != 0;
-        marked += m ? 1 : 0;
-        halfLong += !m && longEdge(v[e], v[(e + 1) % 3], 2.0f) ? 1 : 0;
-      }
-      if (marked == 1 && halfLong == 2) quartered.push_back(t);
+      for (int e = 0; e < 3; ++e) marked += split.count(edgeKey(v[e], v[(e + 1) % 3])) ? 1 : 0;
+      if (marked != 1) continue;
+      for (int e = 0; e < 3; ++e)
+        halfLong += !split.count(edgeKey(v[e], v[(e + 1) % 3])) && longEdge(v[e], v[(e + 1) % 3], 2.0f) ? 1 : 0;
+      if (halfLong == 2) quartered.push_back(t);
     }
     for (size_t t : quartered)
       for (int e = 0; e < 3; ++e) split.emplace(edgeKey(p.indices[3 * t + e], p.indices[3 * t + (e + 1) % 3]), 0u);
