@@ -3,9 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "engine/gi/frame_renderer.h"
+#include "engine/gi/hierarchy.h"
 #include "engine/scene/gltf.h"
 #include "scenes/builtin.h"
 #include "scenes/gltf_builder.h"
@@ -278,6 +280,46 @@ TEST(Tessellation, TheSameAtEveryScale) {
   const size_t unit = surfelsAt(1.0f);
   EXPECT_GT(unit, 539u) << "the 8-cell box is tessellated";
   for (float factor : {1e-3f, 1e3f, 1.0f / 1024.0f, 1024.0f}) EXPECT_EQ(surfelsAt(factor), unit) << "scale " << factor;
+}
+
+// A cluster that stands for two faces of a box sits at a point off both, and sees what neither
+// face sees (ar read the closed cube's light there, 7 % short). So in the furnace's tree every node
+// with more than one normal under it holds each of those faces whole.
+TEST(Hierarchy, ABoxsFacesAreSubtreesOfTheirOwn) {
+  tinygltf::Model model = scenes::furnace({.cells = 8, .albedo = 0.5f, .emission = 1.0f});
+  const Scene s = sceneFromModel(model, "furnace");
+  const Geometry g = buildGeometry(s, 16);
+  const gi::Hierarchy h = gi::restPoseHierarchy(s, g);
+  const auto rest = surfelsOnHost(g, animateOnHost(g, g.frameInputs(s, evaluatePose(s, -1, 0.0f))));
+  auto faceOf = [&](int32_t surfel) {
+    const glm::vec3 n(rest[size_t(surfel)].normal);
+    const int axis = std::abs(n.x) > 0.9f ? 0 : (std::abs(n.y) > 0.9f ? 1 : 2);
+    return 2 * axis + (n[axis] > 0.0f ? 1 : 0);
+  };
+  std::array<size_t, 6> faceSize{};
+  for (size_t i = 0; i < rest.size(); ++i) ++faceSize[size_t(faceOf(int32_t(i)))];
+  // Per node, its surfels per face; children are numbered after their parents.
+  std::vector<std::array<size_t, 6>> under(h.nodes.size(), std::array<size_t, 6>{});
+  size_t mixed = 0;
+  for (size_t i = h.nodes.size(); i-- > 0;) {
+    const gpu::TreeNode& t = h.nodes[i];
+    if (t.childCount == 0) ++under[i][size_t(faceOf(t.surfel))];
+    int faces = 0;
+    for (size_t f = 0; f < 6; ++f) faces += under[i][f] > 0;
+    if (faces > 1) {
+      ++mixed;
+      for (size_t f = 0; f < 6; ++f)
+        if (under[i][f]) {
+          EXPECT_EQ(under[i][f], faceSize[f]) << "node " << i << " holds part of face " << f;
+        }
+    }
+    if (t.parent >= 0)
+      for (size_t f = 0; f < 6; ++f) under[size_t(t.parent)][f] += under[i][f];
+  }
+  EXPECT_GE(mixed, 5u) << "six faces under one root take five nodes above them";
+  EXPECT_EQ(under[h.roots[0]][0] + under[h.roots[0]][1] + under[h.roots[0]][2] + under[h.roots[0]][3] +
+                under[h.roots[0]][4] + under[h.roots[0]][5],
+            rest.size());
 }
 
 // What the solver may link once: instances whose world-space geometry no animation channel reaches.

@@ -10,6 +10,10 @@ namespace ivgi::gi {
 
 namespace {
 
+// The least difference of a normal's component between two groups of surfels that a node splits
+// apart before it splits in space (about 17° between normals at the least): faces meeting at an edge.
+constexpr float kFacetGap = 0.3f;
+
 // A tree under construction: nodes with their depth, children by index.
 struct BuildNode {
   std::vector<uint32_t> children;
@@ -38,9 +42,9 @@ void rankCoordinates(const std::vector<glm::vec3>& positions, const std::vector<
 
 class TreeBuilder {
  public:
-  TreeBuilder(const std::vector<glm::vec3>& positions, const std::vector<glm::uvec3>& ranks,
-              const std::vector<glm::vec2>& uvs, bool uv)
-      : pos_(positions), rank_(ranks), uv_(uvs), useUv_(uv) {}
+  TreeBuilder(const std::vector<glm::vec3>& positions, const std::vector<glm::vec3>& normals,
+              const std::vector<glm::uvec3>& ranks, const std::vector<glm::vec2>& uvs, bool uv)
+      : pos_(positions), normal_(normals), rank_(ranks), uv_(uvs), useUv_(uv) {}
 
   std::vector<BuildNode> build(std::vector<uint32_t> surfels) {
     nodes_.clear();
@@ -64,6 +68,28 @@ class TreeBuilder {
     }
     std::vector<std::vector<uint32_t>> parts;
     std::vector<std::pair<glm::vec2, glm::vec2>> boxes;
+    // Faces that meet at an edge first: where the normals fall into groups apart by more than
+    // kFacetGap along an axis, the node splits at the widest gap, so that a box's faces make flat
+    // subtrees, while a smoothly curved surface (no gap) is split in space.
+    float widest = 0.0f, cut = 0.0f;
+    int cutAxis = -1;
+    std::vector<float> values(items.size());
+    for (int axis = 0; axis < 3; ++axis) {
+      for (size_t k = 0; k < items.size(); ++k) values[k] = normal_[items[k]][axis];
+      std::sort(values.begin(), values.end());
+      for (size_t k = 1; k < values.size(); ++k)
+        if (values[k] - values[k - 1] > widest)
+          widest = values[k] - values[k - 1], cut = 0.5f * (values[k] + values[k - 1]), cutAxis = axis;
+    }
+    if (widest > kFacetGap) {
+      parts.resize(2);
+      for (uint32_t s : items) parts[normal_[s][cutAxis] >= cut ? 1 : 0].push_back(s);
+      for (size_t q = 0; q < 2; ++q) {
+        uint32_t child = add(node, nodes_[node].depth + 1);
+        split(child, parts[q], lo, hi, uvDepth);
+      }
+      return;
+    }
     if (useUv_ && uvDepth < 40) {  // quadrants of the UV square; past float resolution: spatial
       glm::vec2 mid = 0.5f * (lo + hi);
       parts.resize(4);
@@ -97,6 +123,7 @@ class TreeBuilder {
   }
 
   const std::vector<glm::vec3>& pos_;
+  const std::vector<glm::vec3>& normal_;
   const std::vector<glm::uvec3>& rank_;
   const std::vector<glm::vec2>& uv_;
   bool useUv_;
@@ -172,12 +199,13 @@ bool usableUvAtlas(const std::vector<glm::vec2>& uvs, const std::vector<glm::uve
 
 Hierarchy buildHierarchy(const scene::Geometry& g, const std::vector<scene::Surfel>& rest) {
   const size_t surfelCount = g.surfels.size();
-  std::vector<glm::vec3> positions(surfelCount);
+  std::vector<glm::vec3> positions(surfelCount), normals(surfelCount);
   std::vector<glm::vec2> uvs(surfelCount);
   std::vector<std::vector<uint32_t>> byInstance(g.instances.size());
   for (size_t s = 0; s < surfelCount; ++s) {
     uint32_t v = g.surfelVertices[g.surfels[s].firstVertex];
     positions[s] = glm::vec3(rest[s].positionArea);
+    normals[s] = glm::vec3(rest[s].normal);
     uvs[s] = g.uvs[v];
     byInstance[g.vertices[v].instance].push_back(uint32_t(s));
   }
@@ -197,7 +225,7 @@ Hierarchy buildHierarchy(const scene::Geometry& g, const std::vector<scene::Surf
     h.uvTree.push_back(uv);
     h.rootInstance.push_back(uint32_t(i));
     rankCoordinates(positions, byInstance[i], ranks);
-    trees.push_back(TreeBuilder(positions, ranks, uvs, uv).build(byInstance[i]));
+    trees.push_back(TreeBuilder(positions, normals, ranks, uvs, uv).build(byInstance[i]));
   }
   // Number level by level over all trees: a node's children, in order, are contiguous.
   struct Pending {
