@@ -240,6 +240,9 @@ struct RefinePush {
   float largeSender;    // κ·Ω of a bin: a sender subtending more is split
   float largeReceiver;  // and a receiver subtending more from its sender (3.4e38: never)
   uint bothSides;       // 1: senders behind the receiver's horizon are linked too (|cos| estimates)
+  // A receiver subtending more than this from an emitting sender (nodeEmission nonzero) is split
+  // (0: down to its surfels).
+  float emitterReceiver;
 };
 struct PrunePush {
   uint firstSurfel;  // the leaves [firstSurfel, endSurfel) of this dispatch's batch; listed: of the

@@ -12,19 +12,12 @@ layout(binding = 2, rg32ui) readonly uniform uimageBuffer pairs;
 layout(binding = 3, rg32ui) writeonly uniform uimageBuffer nextWorklist;
 layout(binding = 4, rg32ui) writeonly uniform uimageBuffer links;
 layout(std430, binding = 5) buffer Counters { uint counters[]; };
-layout(push_constant) uniform Push {
-  uint source, target;  // counter slots of this level's list and of the next
-  uint capacity;        // of each worklist
-  uint linkCapacity;
-  float epsilon;        // form-factor threshold
-  float largeSender;    // κ·Ω of a bin: a sender subtending more is split
-  float largeReceiver;  // and a receiver subtending more from its sender
-  uint bothSides;       // 1: senders behind the receiver's horizon are linked too
-};
+layout(std430, binding = 6) readonly buffer NodeEmission { vec4 nodeEmission[]; };  // nonzero: the node emits
+layout(push_constant) uniform Push { RefinePush push; };
 
 void emitPair(uint r, uint s) {
-  uint slot = atomicAdd(counters[target], 1u);
-  if (slot < capacity)
+  uint slot = atomicAdd(counters[push.target], 1u);
+  if (slot < push.capacity)
     imageStore(nextWorklist, int(slot), uvec4(r, s, 0u, 0u));
   else
     atomicOr(counters[kCounterOverflow], kOverflowWorklist);
@@ -40,9 +33,9 @@ float cosUpper(vec3 n, float cone, vec3 dir, float spread) {
 }
 
 void main() {
-  uint total = counters[source];
+  uint total = counters[push.source];
   uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
-  for (uint k = gl_GlobalInvocationID.x; k < total && k < capacity; k += stride) {
+  for (uint k = gl_GlobalInvocationID.x; k < total && k < push.capacity; k += stride) {
     uvec2 pair = imageLoad(pairs, int(k)).xy;
     uint r = pair.x, s = pair.y;
     uvec4 tr = imageLoad(tree, int(r)), ts = imageLoad(tree, int(s));  // parent, firstChild, childCount, surfel
@@ -59,7 +52,7 @@ void main() {
     if (dist2 <= 1e-6 * scale) {  // coincident (hard edges): the pruning bins it by points on its disk
       if (leafR && leafS) {
         uint slot = atomicAdd(counters[kCounterLinks], 1u);
-        if (slot < linkCapacity)
+        if (slot < push.linkCapacity)
           imageStore(links, int(slot), uvec4(r, s, 0u, 0u));
         else
           atomicOr(counters[kCounterOverflow], kOverflowLinks);
@@ -70,24 +63,27 @@ void main() {
       float spreadS = asin(min(ns.shape.x / dist, 1.0)), spreadR = asin(min(nr.shape.x / dist, 1.0));
       float cosS = cosUpper(ns.normalCone.xyz, ns.normalCone.w, -dir, spreadR);
       float cosR = cosUpper(nr.normalCone.xyz, nr.normalCone.w, dir, spreadS);
-      if (bothSides != 0u) {  // |cos|: the back of either side carries antiradiance
+      if (push.bothSides != 0u) {  // |cos|: the back of either side carries antiradiance
         cosS = max(cosS, cosUpper(-ns.normalCone.xyz, ns.normalCone.w, -dir, spreadR));
         cosR = max(cosR, cosUpper(-nr.normalCone.xyz, nr.normalCone.w, dir, spreadS));
       }
       // Senders wholly below the receiver's horizon matter neither for light nor for visibility.
       if (nr.positionArea.w > 0.0 && cosR <= 0.0) continue;
       bool overlapping = dist <= nr.shape.x + ns.shape.x;
-      bool large = ns.positionArea.w > largeSender * dist2;
+      bool large = ns.positionArea.w > push.largeSender * dist2;
       float estimate = formFactor(ns.positionArea.w, cosS, cosR, dist2);
       // A sender wider than a bin must be split itself (iv's leaves re-bin from their own position,
       // so a coarse receiver is fine there; ar splits a wide receiver too); overlap or a large form
       // factor splits the larger node.
       bool refineSender = large && !leafS;
-      bool refineReceiver = !refineSender && !leafR && nr.positionArea.w > largeReceiver * dist2;
-      bool refine = refineSender || refineReceiver || (!(leafR && leafS) && (overlapping || estimate > epsilon));
+      // An emitter's light is what changes fastest across a receiver: it may get its own limit.
+      bool emits = any(greaterThan(nodeEmission[s].rgb, vec3(0.0)));
+      float receiverLimit = emits ? push.emitterReceiver : push.largeReceiver;
+      bool refineReceiver = !refineSender && !leafR && nr.positionArea.w > receiverLimit * dist2;
+      bool refine = refineSender || refineReceiver || (!(leafR && leafS) && (overlapping || estimate > push.epsilon));
       if (!refine) {
         uint slot = atomicAdd(counters[kCounterLinks], 1u);
-        if (slot < linkCapacity)
+        if (slot < push.linkCapacity)
           imageStore(links, int(slot), uvec4(r, s, 0u, 0u));
         else
           atomicOr(counters[kCounterOverflow], kOverflowLinks);

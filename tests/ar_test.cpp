@@ -146,9 +146,9 @@ TEST(ArOcclusion, ThinBlockerStopsTheLight) {
 }
 
 // The first iteration is the unoccluded direct light: at the centre of the empty Cornell room's
-// floor, against the light's rectangle integrated numerically. The light reaches the floor as one
-// cluster, whose intensity toward the floor is read between the bins of its table: the cosine
-// lobe's peak, sampled at bin centres, comes out low, less so as the bins get finer.
+// floor, against the light's rectangle integrated numerically. The light's clusters reach the floor's
+// surfels with their own cosine and each piece's own direction; what remains is the bins' (the
+// light deposited between bin centres), less as the bins get finer.
 TEST(ArDirectLight, FloorCentreUnderTheCornellLight) {
   const glm::dvec3 p(0.278, 0.0, 0.2795);
   const double exact = test::cornellLightIrradiance(p, {0, 1, 0}, 400);  // red
@@ -169,6 +169,36 @@ TEST(ArDirectLight, FloorCentreUnderTheCornellLight) {
   }
   EXPECT_LT(errors[1], errors[0]);
   EXPECT_LT(errors[1], 0.03) << "dirs 8";
+}
+
+// The same for every surfel of the empty room that sees the light well (walls and floor; the ceiling
+// is level with it): a link from the light ends at each surfel, so that none takes the light at the
+// centre of a cluster it belongs to (blotches a cluster wide, ±25 %).
+TEST(ArDirectLight, EverySurfelOfTheEmptyRoomGetsItsOwn) {
+  auto model = scenes::cornellBox({.cells = 16, .animated = false, .blocks = false});
+  ArSolved solved = solveAr(model, {.dirs = 8, .iterations = 1});
+  scene::Scene s = scene::sceneFromModel(model, "cornell");
+  scene::Geometry g = scene::buildGeometry(s, 16);
+  std::vector<double> exact(solved.surfels.size(), 0.0);
+  double brightest = 0;
+  for (size_t i = 0; i < solved.surfels.size(); ++i) {
+    if (g.surfelEmission[i].x > 0.0f || solved.surfels[i].normal.y < -0.9f) continue;  // the light, the ceiling
+    exact[i] = test::cornellLightIrradiance(glm::dvec3(solved.surfels[i].positionArea),
+                                            glm::dvec3(solved.surfels[i].normal), 48);
+    brightest = std::max(brightest, exact[i]);
+  }
+  double sum = 0, worst = 0;
+  int counted = 0;
+  for (size_t i = 0; i < solved.surfels.size(); ++i) {
+    if (exact[i] < 0.05 * brightest) continue;  // grazing: a few bins' worth of light
+    double error = std::abs(solved.irradiance[i].x - exact[i]) / exact[i];
+    sum += error, worst = std::max(worst, error), ++counted;
+  }
+  std::printf("[ ar direct ] empty room, dirs 8: %d surfels, mean error %.2f %%, worst %.2f %%\n", counted,
+              100 * sum / counted, 100 * worst);
+  EXPECT_GT(counted, 500);
+  EXPECT_LT(sum / counted, 0.02);
+  EXPECT_LT(worst, 0.06);
 }
 
 // The Cornell box converges: the irradiance changes less each iteration (a symmetric iteration

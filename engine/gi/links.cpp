@@ -61,7 +61,7 @@ void LinkCreation::record(VkCommandBuffer cmd, LinkSet& set, const LinkWork& b, 
                      {"links", set.links},
                      {"counters", set.counters}}),
         gpu::RefinePush{in, out, worklistCapacity, set.linkCapacity, criteria.epsilon, criteria.largeSender,
-                        criteria.largeReceiver, criteria.bothSides ? 1u : 0u});
+                        criteria.largeReceiver, criteria.bothSides ? 1u : 0u, criteria.emitterReceiver});
     vk::barrier(cmd);
   }
   // Links sorted by receiver: count, scan, scatter.

@@ -43,6 +43,9 @@ struct LinkCriteria {
   // Whether senders behind the receiver's horizon are linked too (ar: antiradiance reaches a
   // surface's back); and then the form-factor estimate takes |cos| on both sides.
   bool bothSides;
+  // The solid angle above which a receiver seen from an emitting sender (nodeEmission nonzero) is
+  // split (0: down to its surfels).
+  float emitterReceiver;
 };
 
 // What the refinement works in: its two worklists, the dispatch arguments between its levels, and

@@ -11,8 +11,9 @@ struct ArBuffers {
   // The scene, uploaded once: the trees, each surfel's leaf, albedo and emission (Le), per bin
   // ∫ω dω and Ω, the environment per bin, the frame's punctual lights.
   vk::Buffer tree, leafOfSurfel, albedo, emission, binVectors, environment, lights;
-  // Per frame: node attributes (refit); per node its emission, which link creation marks emitting
-  // senders by (zero: ar reads the radiance itself); link creation's worklists and dispatch sizes.
+  // Per frame: node attributes (refit); link creation's worklists and dispatch sizes. Per node, the
+  // emission of its bright emitters (static), whose links link creation takes down to the
+  // receivers' surfels (ar reads the radiance itself).
   vk::Buffer nodes, nodeEmission, args, worklistA, worklistB;
   // The directional tables: per node the radiance less antiradiance it gathered over its links
   // (looking directions) and what it sends (travel directions; a flat node: its antiradiance times

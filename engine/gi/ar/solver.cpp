@@ -21,6 +21,24 @@ constexpr float kNegativeBound = 0.5f, kGrowthBound = 10.0f;
 
 std::string mib(uint64_t bytes) { return std::to_string((bytes + (1 << 20) - 1) >> 20) + " MiB"; }
 
+// Per node, the emission of the surfels under it that outshine the scene's mean emission (zero
+// where none does). Link creation gathers their light at each surfel, since the light of a
+// concentrated source is what changes fastest across a receiver; a scene that glows evenly (the
+// furnace) has none.
+std::vector<glm::vec4> brightEmitters(const Hierarchy& h, const std::vector<glm::vec4>& emission) {
+  const auto luminance = [](glm::vec4 c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; };
+  double mean = 0;
+  for (const glm::vec4& e : emission) mean += luminance(e);
+  mean /= double(std::max<size_t>(emission.size(), 1));
+  std::vector<glm::vec4> bright(h.nodes.size(), glm::vec4(0.0f));
+  for (size_t i = h.nodes.size(); i-- > 0;) {  // children are numbered after their parents
+    const gpu::TreeNode& t = h.nodes[i];
+    if (t.childCount == 0 && luminance(emission[size_t(t.surfel)]) > mean) bright[i] = emission[size_t(t.surfel)];
+    if (t.parent >= 0) bright[size_t(t.parent)] = glm::max(bright[size_t(t.parent)], bright[i]);
+  }
+  return bright;
+}
+
 }  // namespace
 
 uint64_t ArSolver::tableBytes(uint64_t nodes, uint64_t surfels, uint32_t dirs) {
@@ -61,7 +79,7 @@ ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy h
   b_.environment = vk::makeBuffer(ctx, environmentTable(settings_.environment, n), vk::Memory::Device, tally);
   b_.lights = vk::Buffer(ctx, sizeof(gpu::PunctualLight), vk::Memory::Host, tally);
   b_.nodes = vk::Buffer(ctx, nodeCount_ * sizeof(gpu::NodeState), vk::Memory::Device, tally);
-  b_.nodeEmission = vk::Buffer(ctx, nodeCount_ * sizeof(glm::vec4), vk::Memory::Device, tally);
+  b_.nodeEmission = vk::makeBuffer(ctx, brightEmitters(hierarchy_, g.surfelEmission), vk::Memory::Device, tally);
   b_.args = vk::Buffer(ctx, 4 * sizeof(glm::uvec4), vk::Memory::Device, tally);
   b_.gathered = vk::Buffer(ctx, uint64_t(nodeCount_) * bins * sizeof(glm::vec4), vk::Memory::Device, tally);
   b_.gatheredVector = vk::Buffer(ctx, uint64_t(nodeCount_) * 3 * sizeof(glm::vec4), vk::Memory::Device, tally);
@@ -73,7 +91,6 @@ ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy h
   sumGroups_ = iteration_.sumGroups(surfelCount_);
   b_.sums =
       vk::Buffer(ctx, uint64_t(kIterationSteps) * sumGroups_ * sizeof(gpu::IterationSum), vk::Memory::Host, tally);
-  ctx.submitAndWait([&](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, b_.nodeEmission.handle(), 0, VK_WHOLE_SIZE, 0); });
 
   // Every object with every other and with itself: ar cannot leave out a pair that moves less.
   for (uint32_t a : hierarchy_.roots)
@@ -128,7 +145,7 @@ void ArSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
     timedPass(cmd, timer, "links", [&] {
       const float bin = 4.0f * gpu::kPi / float(6 * settings_.dirs * settings_.dirs);
       linkCreation_.record(cmd, links_, LinkWork{b_.args, b_.worklistA, b_.worklistB, b_.pool()}, hierarchy_,
-                           LinkCriteria{settings_.epsilon, settings_.kappa * bin, settings_.kappa * bin, true},
+                           LinkCriteria{settings_.epsilon, settings_.kappa * bin, settings_.kappa * bin, true, 0.0f},
                            worklistCapacity_);
       sortSenders_.dispatch(cmd, sortSenders_.groupsFor(nodeCount_, 1),
                             {{"starts", links_.starts}, {"senders", links_.senders}}, gpu::ArPush{nodeCount_});
