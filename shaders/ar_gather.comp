@@ -53,12 +53,8 @@ void add(uint r, uint bins, uint bin, vec3 sent) {
 
 vec3 vectorX, vectorY, vectorZ;  // the receiver's Σ sent · dir
 
-// Deposits radiance × solid angle `sent`, seen along unit `dir`, into the receiver's bins around it
-// and, where it arrives at the front of a flat receiver, its vector sum (a curved receiver's
-// surfaces face many ways: their irradiance comes from its bins).
-void deposit(uint r, uint bins, vec4 nr, vec3 dir, vec3 sent) {
-  if (nr.w <= kArFlatCone && dot(nr.xyz, dir) >= 0.0)
-    vectorX += sent * dir.x, vectorY += sent * dir.y, vectorZ += sent * dir.z;
+// Adds radiance × solid angle `sent`, seen along unit `dir`, to the receiver's bins around it.
+void depositBins(uint r, uint bins, vec4 nr, vec3 dir, vec3 sent) {
   uvec4 taps;
   vec4 weights;
   binTaps(dir, push.bins, taps, weights);
@@ -69,6 +65,14 @@ void deposit(uint r, uint bins, vec4 nr, vec3 dir, vec3 sent) {
   add(r, bins, taps.w, weights.w * sent);
 }
 
+// The same and, where it arrives at the front of a flat receiver, its vector sum (a curved
+// receiver's surfaces face many ways: their irradiance comes from its bins).
+void deposit(uint r, uint bins, vec4 nr, vec3 dir, vec3 sent) {
+  if (nr.w <= kArFlatCone && dot(nr.xyz, dir) >= 0.0)
+    vectorX += sent * dir.x, vectorY += sent * dir.y, vectorZ += sent * dir.z;
+  depositBins(r, bins, nr, dir, sent);
+}
+
 // A table's value at a direction (`base`: the node's or surfel's first texel), read between the
 // bins around it with their weights (a macro: GLSL passes no image to a function).
 #define READ_TAPS(table, base, taps, weights)                   \
@@ -77,16 +81,15 @@ void deposit(uint r, uint bins, vec4 nr, vec3 dir, vec3 sent) {
    (weights).z * imageLoad(table, int((base) + (taps).z)).rgb + \
    (weights).w * imageLoad(table, int((base) + (taps).w)).rgb)
 
-// What surfel sender s (its surfel, normal) sends along unit `dir` (from the receiver to it), as
-// intensity over its area: radiance from its front, and from either side the antiradiance, the
-// light that reached it from beyond, read between the bins on its far side.
-vec3 surfelSends(uint surfel, uint bins, vec4 ns, vec3 dir) {
+// The radiance surfel sender s (its surfel, normal) sends along unit `dir` (from the receiver to
+// it): from its front its own, and from either side less the antiradiance, the light that reached
+// it from beyond, read between the bins on its far side.
+vec3 surfelRadiance(uint surfel, uint bins, vec4 ns, vec3 dir) {
   uvec4 taps;
   vec4 weights;
   binTaps(dir, push.bins, taps, weights);
   vec3 through = READ_TAPS(incident, surfel * bins, taps, keepSide(ns, dir, taps, weights));
-  float cosine = dot(ns.xyz, -dir);
-  return radiance[surfel].rgb * max(cosine, 0.0) - through * abs(cosine);
+  return (dot(ns.xyz, -dir) > 0.0 ? radiance[surfel].rgb : vec3(0.0)) - through;
 }
 
 void main() {
@@ -134,7 +137,14 @@ void main() {
       float q2 = dot(q, q);
       if (q2 <= 1e-6 * ps.w) continue;
       vec3 dir = q * inversesqrt(q2);
-      deposit(r, bins, nr, dir, pieceArea * solidAnglePerArea(pieceArea, q2) * surfelSends(t.w, bins, ns, dir));
+      vec3 L = surfelRadiance(t.w, bins, ns, dir);
+      float omega = pieceArea * solidAnglePerArea(pieceArea, q2) * abs(dot(ns.xyz, dir));
+      if (nr.w <= kArFlatCone && dot(nr.xyz, dir) >= 0.0)
+        vectorX += L * omega * dir.x, vectorY += L * omega * dir.y, vectorZ += L * omega * dir.z;
+      // In the bins, a piece wider than a bin is credited one bin's worth: they hold radiance, which J
+      // passes on, and a near piece's light taken along one direction would pass on more than it
+      // has (its neighbours on a curved surface, each in the others' near field, fed it back).
+      depositBins(r, bins, nr, dir, L * min(omega, binVectors[binOf(dir, push.bins)].w));
     }
   }
   imageStore(gatheredVector, int(3u * r), vec4(vectorX, 0.0));

@@ -199,23 +199,27 @@ void ArSolver::judge() const {
     residuals_.push_back(total > 0 ? float(change / total) : (change > 0 ? 1.0f : 0.0f));
     negatives_.push_back(total > 0 ? float(negative / total) : 0.0f);
   }
+  const auto fresh = residuals_.end() - std::ptrdiff_t(recorded_ - judged_);  // the iterations just judged
   judged_ = recorded_;
-  if (recorded_ >= iterationLimit()) return void(done_ = true);
   if (!cap_) {  // divergence: light cancelled far past zero, or changes that grow past the light
+    // Over every iteration just judged: a growing change may alternate with smaller ones.
     const auto best = std::min_element(residuals_.begin(), residuals_.end());
-    const float last = residuals_.back();
-    const bool finite = std::isfinite(last) && std::isfinite(negatives_.back());
-    if (!finite || (recorded_ >= 3 && negatives_.back() > kNegativeBound) ||
-        (recorded_ >= 8 && last > 1.0f && last > kGrowthBound * *best)) {
+    const auto worst = std::max_element(fresh, residuals_.end());
+    const float negative = *std::max_element(negatives_.end() - (residuals_.end() - fresh), negatives_.end());
+    const bool finite =
+        std::all_of(fresh, residuals_.end(), [](float x) { return std::isfinite(x); }) && std::isfinite(negative);
+    if (!finite || (recorded_ >= 3 && negative > kNegativeBound) ||
+        (recorded_ >= 8 && *worst > 1.0f && *worst > kGrowthBound * *best)) {
       cap_ = uint32_t(best - residuals_.begin()) + 1;
       diverged_ = redo_ = done_ = true;
       std::fprintf(stderr,
                    "ivgi: ar: the iteration diverges (the irradiance changed by %.3g of itself at iteration %u, "
                    "%.3g at iteration %u); the frame shows iteration %u, its best\n",
-                   double(last), recorded_, double(*best), cap_, cap_);
+                   double(*worst), uint32_t(worst - residuals_.begin()) + 1, double(*best), cap_, cap_);
       return;
     }
   }
+  if (recorded_ >= iterationLimit()) return void(done_ = true);
   if (settings_.iterations || cap_) return;
   // Converged once a whole cycle (an iteration; asymmetric: a radiance step and its antiradiance
   // steps) changed the irradiance by less than the tolerance.
