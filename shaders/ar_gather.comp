@@ -53,24 +53,20 @@ void add(uint r, uint bins, uint bin, vec3 sent) {
 
 vec3 vectorX, vectorY, vectorZ;  // the receiver's Σ sent · dir
 
-// Adds radiance × solid angle `sent`, seen along unit `dir`, to the receiver's bins around it.
-void depositBins(uint r, uint bins, vec4 nr, vec3 dir, vec3 sent) {
+// Deposits radiance × solid angle `sent`, seen along unit `dir`: `binShare` of it into the
+// receiver's bins around it and, where it arrives at the front of a flat receiver, all of it into
+// its vector sum (a curved receiver's surfaces face many ways: their irradiance comes from its bins).
+void deposit(uint r, uint bins, vec4 nr, vec3 dir, vec3 sent, float binShare) {
+  if (nr.w <= kArFlatCone && dot(nr.xyz, dir) >= 0.0)
+    vectorX += sent * dir.x, vectorY += sent * dir.y, vectorZ += sent * dir.z;
   uvec4 taps;
   vec4 weights;
   binTaps(dir, push.bins, taps, weights);
-  weights = keepSide(nr, dir, taps, weights);
+  weights = keepSide(nr, dir, taps, weights) * binShare;
   add(r, bins, taps.x, weights.x * sent);
   add(r, bins, taps.y, weights.y * sent);
   add(r, bins, taps.z, weights.z * sent);
   add(r, bins, taps.w, weights.w * sent);
-}
-
-// The same and, where it arrives at the front of a flat receiver, its vector sum (a curved
-// receiver's surfaces face many ways: their irradiance comes from its bins).
-void deposit(uint r, uint bins, vec4 nr, vec3 dir, vec3 sent) {
-  if (nr.w <= kArFlatCone && dot(nr.xyz, dir) >= 0.0)
-    vectorX += sent * dir.x, vectorY += sent * dir.y, vectorZ += sent * dir.z;
-  depositBins(r, bins, nr, dir, sent);
 }
 
 // A table's value at a direction (`base`: the node's or surfel's first texel), read between the
@@ -118,7 +114,7 @@ void main() {
         float cosine = dot(cone.xyz, -dir);
         sent = exitance[s].rgb * max(cosine, 0.0) - sent * abs(cosine);
       }
-      deposit(r, bins, nr, dir, sent * solidAnglePerArea(ps.w, dist2));
+      deposit(r, bins, nr, dir, sent * solidAnglePerArea(ps.w, dist2), 1.0);
       continue;
     }
     // A surfel wider than a bin, or near, goes as k×k pieces of its rectangle, each along its own
@@ -137,14 +133,13 @@ void main() {
       float q2 = dot(q, q);
       if (q2 <= 1e-6 * ps.w) continue;
       vec3 dir = q * inversesqrt(q2);
-      vec3 L = surfelRadiance(t.w, bins, ns, dir);
       float omega = pieceArea * solidAnglePerArea(pieceArea, q2) * abs(dot(ns.xyz, dir));
-      if (nr.w <= kArFlatCone && dot(nr.xyz, dir) >= 0.0)
-        vectorX += L * omega * dir.x, vectorY += L * omega * dir.y, vectorZ += L * omega * dir.z;
-      // In the bins, a piece wider than a bin is credited one bin's worth: they hold radiance, which J
-      // passes on, and a near piece's light taken along one direction would pass on more than it
+      // In the bins, a piece wider than a bin is credited one bin's worth: they hold radiance, which
+      // J passes on, and a near piece's light taken along one direction would pass on more than it
       // has (its neighbours on a curved surface, each in the others' near field, fed it back).
-      depositBins(r, bins, nr, dir, L * min(omega, binVectors[binOf(dir, push.bins)].w));
+      float binOmega = binVectors[binOf(dir, push.bins)].w;
+      float binShare = omega > binOmega ? binOmega / omega : 1.0;
+      deposit(r, bins, nr, dir, surfelRadiance(t.w, bins, ns, dir) * omega, binShare);
     }
   }
   imageStore(gatheredVector, int(3u * r), vec4(vectorX, 0.0));

@@ -177,28 +177,14 @@ TEST(ArDirectLight, FloorCentreUnderTheCornellLight) {
 TEST(ArDirectLight, EverySurfelOfTheEmptyRoomGetsItsOwn) {
   auto model = scenes::cornellBox({.cells = 16, .animated = false, .blocks = false});
   ArSolved solved = solveAr(model, {.dirs = 8, .iterations = 1});
-  scene::Scene s = scene::sceneFromModel(model, "cornell");
-  scene::Geometry g = scene::buildGeometry(s, 16);
-  std::vector<double> exact(solved.surfels.size(), 0.0);
-  double brightest = 0;
-  for (size_t i = 0; i < solved.surfels.size(); ++i) {
-    if (g.surfelEmission[i].x > 0.0f || solved.surfels[i].normal.y < -0.9f) continue;  // the light, the ceiling
-    exact[i] = test::cornellLightIrradiance(glm::dvec3(solved.surfels[i].positionArea),
-                                            glm::dvec3(solved.surfels[i].normal), 48);
-    brightest = std::max(brightest, exact[i]);
-  }
-  double sum = 0, worst = 0;
-  int counted = 0;
-  for (size_t i = 0; i < solved.surfels.size(); ++i) {
-    if (exact[i] < 0.05 * brightest) continue;  // grazing: a few bins' worth of light
-    double error = std::abs(solved.irradiance[i].x - exact[i]) / exact[i];
-    sum += error, worst = std::max(worst, error), ++counted;
-  }
-  std::printf("[ ar direct ] empty room, dirs 8: %d surfels, mean error %.2f %%, worst %.2f %%\n", counted,
-              100 * sum / counted, 100 * worst);
-  EXPECT_GT(counted, 500);
-  EXPECT_LT(sum / counted, 0.02);
-  EXPECT_LT(worst, 0.06);
+  const scene::Geometry g = scene::buildGeometry(scene::sceneFromModel(model, "cornell"), 16);
+  const test::DirectLightErrors e =
+      test::emptyRoomDirectLight(solved.surfels, g.surfelEmission, [&](size_t i) { return solved.irradiance[i].x; });
+  std::printf("[ ar direct ] empty room, dirs 8: %d surfels, mean error %.2f %%, worst %.2f %%\n", e.counted,
+              100 * e.mean, 100 * e.worst);
+  EXPECT_GT(e.counted, 500);
+  EXPECT_LT(e.mean, 0.02);
+  EXPECT_LT(e.worst, 0.06);
 }
 
 // The Cornell box converges: the irradiance changes less each iteration (a symmetric iteration

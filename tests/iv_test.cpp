@@ -266,32 +266,19 @@ TEST(IvDirectLight, FloorCentreUnderTheCornellLight) {
 // credit would make it jump from one receiver to the next): at N = 16 the mean error within 1 %, the
 // worst within 3 %.
 TEST(IvDirectLight, EveryReceiverOfTheEmptyRoom) {
-  const double pi = 3.14159265358979;
   auto model = scenes::cornellBox({.cells = 16, .animated = false, .blocks = false});
   Solved solved = solve(model, {.bins = 16, .bounces = 0});
   scene::Scene s = scene::sceneFromModel(model, "cornell");
   scene::Geometry g = scene::buildGeometry(s);
   auto surfels = scene::surfelsOnHost(g, scene::animateOnHost(g, g.frameInputs(s, scene::evaluatePose(s, -1, 0))));
-  std::vector<double> exact(surfels.size(), 0.0);
-  double brightest = 0;
-  for (size_t r = 0; r < surfels.size(); ++r) {
-    if (g.surfelEmission[r].x > 0.0f || surfels[r].normal.y < -0.9f) continue;  // the light, the ceiling
-    exact[r] = test::cornellLightIrradiance(glm::dvec3(surfels[r].positionArea), glm::dvec3(surfels[r].normal), 48) *
-               g.surfelAlbedo[r].x / pi;
-    brightest = std::max(brightest, exact[r]);
-  }
-  double sum = 0, worst = 0;
-  int counted = 0;
-  for (size_t r = 0; r < surfels.size(); ++r) {
-    if (exact[r] < 0.05 * brightest) continue;  // grazing: a few bins' worth of light
-    double error = std::abs(solved.radiosity[r].x / pi - exact[r]) / exact[r];
-    sum += error, worst = std::max(worst, error), ++counted;
-  }
-  std::printf("[ direct ] empty room, N = 16: %d receivers, mean error %.2f %%, worst %.2f %%\n", counted,
-              100 * sum / counted, 100 * worst);
-  EXPECT_GT(counted, 500);
-  EXPECT_LT(sum / counted, 0.01);
-  EXPECT_LT(worst, 0.03);
+  // No bounce: radiosity is albedo × irradiance (every albedo here is above 0.05).
+  const test::DirectLightErrors e = test::emptyRoomDirectLight(
+      surfels, g.surfelEmission, [&](size_t r) { return solved.radiosity[r].x / g.surfelAlbedo[r].x; });
+  std::printf("[ direct ] empty room, N = 16: %d receivers, mean error %.2f %%, worst %.2f %%\n", e.counted,
+              100 * e.mean, 100 * e.worst);
+  EXPECT_GT(e.counted, 500);
+  EXPECT_LT(e.mean, 0.01);
+  EXPECT_LT(e.worst, 0.03);
 }
 
 // Objects that cannot move are linked and pruned once; each later frame merges the moving senders

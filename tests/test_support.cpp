@@ -106,6 +106,26 @@ double cornellLightIrradiance(glm::dvec3 p, glm::dvec3 n, int k) {
   return e;
 }
 
+DirectLightErrors emptyRoomDirectLight(const std::vector<scene::Surfel>& surfels,
+                                       const std::vector<glm::vec4>& emission,
+                                       const std::function<double(size_t)>& irradianceOf) {
+  std::vector<double> exact(surfels.size(), 0.0);
+  double brightest = 0;
+  for (size_t i = 0; i < surfels.size(); ++i) {
+    if (emission[i].x > 0.0f || surfels[i].normal.y < -0.9f) continue;  // the lamp, the ceiling
+    exact[i] = cornellLightIrradiance(glm::dvec3(surfels[i].positionArea), glm::dvec3(surfels[i].normal), 48);
+    brightest = std::max(brightest, exact[i]);
+  }
+  DirectLightErrors e;
+  for (size_t i = 0; i < surfels.size(); ++i) {
+    if (exact[i] < 0.05 * brightest) continue;  // grazing: a few bins' worth of light
+    const double error = std::abs(irradianceOf(i) - exact[i]) / exact[i];
+    e.mean += error, e.worst = std::max(e.worst, error), ++e.counted;
+  }
+  e.mean /= std::max(e.counted, 1);
+  return e;
+}
+
 tinygltf::Model scaled(tinygltf::Model model, float factor) {
   tinygltf::Node root;
   root.name = "scale";

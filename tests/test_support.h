@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -43,6 +44,18 @@ const gi::IvSolver& ivSolver(const gi::FrameRenderer& renderer);
 // Direct irradiance (red) from the built-in Cornell box's light at p with unit normal n, by k×k
 // midpoint quadrature of L·cos θ·cos θ'/d² over its rectangle.
 double cornellLightIrradiance(glm::dvec3 p, glm::dvec3 n, int k);
+
+// The direct light of the empty Cornell room's lamp at each surfel that sees it well (walls and floor;
+// not the lamp, nor the ceiling level with it, nor where it comes grazing, under 5 % of the
+// brightest) against cornellLightIrradiance(): how many, and the mean and worst relative error of
+// irradianceOf(i), a solver's irradiance (red) at surfel i.
+struct DirectLightErrors {
+  int counted = 0;
+  double mean = 0, worst = 0;
+};
+DirectLightErrors emptyRoomDirectLight(const std::vector<scene::Surfel>& surfels,
+                                       const std::vector<glm::vec4>& emission,
+                                       const std::function<double(size_t)>& irradianceOf);
 
 // `model` under a new root node that scales its scenes' roots by `factor`.
 tinygltf::Model scaled(tinygltf::Model model, float factor);

@@ -1,9 +1,10 @@
 #pragma once
-// The surfel hierarchy of docs/design.md §2.1: one tree per drawn instance, built once on the rest pose.
-// A node whose surfels' normals fall into groups apart (faces meeting at an edge) splits between
-// them first; otherwise a UV quadtree where the mesh has a usable UV atlas (as in Dong et al.), a
-// median split of the rest-pose positions where it has not. Leaves are surfels. Nodes are numbered level by level over
-// all trees, so that the refit runs one dispatch per level, deepest first.
+// The surfel hierarchy of docs/design.md §2.1: one tree per drawn instance, built once on the rest
+// pose. A node whose surfels' normals fall into groups apart (faces meeting at an edge) splits
+// between them first; otherwise a UV quadtree where the mesh has a usable UV atlas (as in Dong et
+// al.), a median split of the rest-pose positions where it has not. Leaves are surfels. Nodes are
+// numbered level by level over all trees, so that the refit runs one dispatch per level, deepest
+// first.
 #include <cstdint>
 #include <string>
 #include <vector>
