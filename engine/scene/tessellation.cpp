@@ -123,11 +123,11 @@ Primitive tessellated(const Primitive& input, const glm::mat4& toWorld, const Ed
     std::vector<size_t> quartered;
     for (size_t t = 0; t < triangles; ++t) {
       const uint32_t* v = &p.indices[3 * t];
-      int marked = 0, halfLong = 0;
-      for (int e = 0; e < 3; ++e) marked += split.count(edgeKey(v[e], v[(e + 1) % 3])) ? 1 : 0;
-      if (marked != 1) continue;
-      for (int e = 0; e < 3; ++e)
-        halfLong += !split.count(edgeKey(v[e], v[(e + 1) % 3])) && longEdge(v[e], v[(e + 1) % 3], 2.0f) ? 1 : 0;
+      bool marked[3];
+      for (int e = 0; e < 3; ++e) marked[e] = split.count(edgeKey(v[e], v[(e + 1) % 3])) != 0;
+      if (int(marked[0]) + int(marked[1]) + int(marked[2]) != 1) continue;
+      int halfLong = 0;
+      for (int e = 0; e < 3; ++e) halfLong += !marked[e] && longEdge(v[e], v[(e + 1) % 3], 2.0f) ? 1 : 0;
       if (halfLong == 2) quartered.push_back(t);
     }
     for (size_t t : quartered)

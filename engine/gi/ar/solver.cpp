@@ -199,15 +199,16 @@ void ArSolver::judge() const {
     residuals_.push_back(total > 0 ? float(change / total) : (change > 0 ? 1.0f : 0.0f));
     negatives_.push_back(total > 0 ? float(negative / total) : 0.0f);
   }
-  const auto fresh = residuals_.end() - std::ptrdiff_t(recorded_ - judged_);  // the iterations just judged
+  const std::ptrdiff_t fresh = recorded_ - judged_;  // the iterations just judged
   judged_ = recorded_;
   if (!cap_) {  // divergence: light cancelled far past zero, or changes that grow past the light
     // Over every iteration just judged: a growing change may alternate with smaller ones.
     const auto best = std::min_element(residuals_.begin(), residuals_.end());
-    const auto worst = std::max_element(fresh, residuals_.end());
-    const float negative = *std::max_element(negatives_.end() - (residuals_.end() - fresh), negatives_.end());
+    const auto worst = std::max_element(residuals_.end() - fresh, residuals_.end());
+    const float negative = *std::max_element(negatives_.end() - fresh, negatives_.end());
     const bool finite =
-        std::all_of(fresh, residuals_.end(), [](float x) { return std::isfinite(x); }) && std::isfinite(negative);
+        std::all_of(residuals_.end() - fresh, residuals_.end(), [](float x) { return std::isfinite(x); }) &&
+        std::isfinite(negative);
     if (!finite || (recorded_ >= 3 && negative > kNegativeBound) ||
         (recorded_ >= 8 && *worst > 1.0f && *worst > kGrowthBound * *best)) {
       cap_ = uint32_t(best - residuals_.begin()) + 1;
