@@ -160,6 +160,18 @@ IVGI_CONST uint kPathChunk = 512u;
 IVGI_CONST uint kEmitterQueue = 256u;
 IVGI_CONST uint kStaticEmitters = 64u;
 IVGI_CONST uint kManyEmitters = 0xFFFFFFFFu;  // a static leaf's emitters that did not fit its list
+// What a static leaf keeps of its static survivors between frames (prune_bins.comp): the
+// environment through its static bins, the emission those bins credited (taken back where its
+// emitters' direct light stands for it), the proximity of what they show, and how many emitters it
+// lists (kManyEmitters: too many to list).
+struct StaticLeaf {
+  vec4 environment;
+  vec4 correction;
+  float proximity;
+  uint emitterCount;
+  uint pad0;
+  uint pad1;
+};
 
 // Mask words of a leaf's 6·N² bins, one bit a bin.
 IVGI_FN uint maskWordsFor(uint n) { return (6u * n * n + 31u) / 32u; }

@@ -59,25 +59,20 @@ layout(binding = 17, r32ui) uniform uimageBuffer staticBins;    // StaticBin: bi
 layout(binding = 18, r32ui) uniform uimageBuffer staticDepths;
 // per leaf and mask word: bins held, entries before
 layout(std430, binding = 19) buffer StaticMasks { uvec2 staticMasks[]; };
-layout(std430, binding = 20) buffer StaticEnvironment { vec4 staticEnvironment[]; };
+layout(std430, binding = 20) buffer StaticLeaves { StaticLeaf staticLeaves[]; };
 // per static leaf and mask word: bins re-emitted
 layout(std430, binding = 21) writeonly buffer Overrides { uint overrides[]; };
 layout(binding = 22, rgba32f) readonly uniform imageBuffer nodeEmission;  // π·Le per node, pulled up
 // per static leaf: the emitters of its static links
 layout(std430, binding = 23) buffer StaticEmitters { uint staticEmitters[]; };
-// kManyEmitters: too many, credited by the bins
-layout(std430, binding = 24) buffer StaticEmitterCounts { uint staticEmitterCounts[]; };
-// the static bins' emission, taken back
-layout(std430, binding = 25) buffer StaticCorrection { vec4 staticCorrection[]; };
 // the static set's (the frame pass merges its bins)
-layout(std430, binding = 26) readonly buffer StaticCounters { uint staticCounters[]; };
+layout(std430, binding = 24) readonly buffer StaticCounters { uint staticCounters[]; };
 // Listed: the round's new receivers (receivers from the round's start in the receivers' counters).
-layout(binding = 27, r32ui) readonly uniform uimageBuffer receivers;
-layout(std430, binding = 28) readonly buffer ReceiverCounts { uint receiverCounts[]; };
+layout(binding = 25, r32ui) readonly uniform uimageBuffer receivers;
+layout(std430, binding = 26) readonly buffer ReceiverCounts { uint receiverCounts[]; };
 // Per leaf: how near what it sees is, Σ cos θ·ω / (π·d) over its survivors, the inverse of the
-// harmonic mean distance (the receivers' refinement reads it); per static leaf, its static bins'.
-layout(std430, binding = 29) writeonly buffer Proximity { float proximity[]; };
-layout(std430, binding = 30) buffer StaticProximity { float staticProximity[]; };
+// harmonic mean distance (the receivers' refinement reads it).
+layout(std430, binding = 27) writeonly buffer Proximity { float proximity[]; };
 layout(push_constant) uniform Push { PrunePush push; };
 
 shared uint64_t sharedBins[kSharedSlots];
@@ -450,7 +445,7 @@ void main() {
     float area = receiver.w;
     // The emitters whose direct light this leaf takes: a merging leaf's static ones (listed by the
     // static pass) and those the walk queues. Past the queue, the bins credit them as any sender.
-    uint staticEmitterCount = merging ? staticEmitterCounts[surfel] : 0u;
+    uint staticEmitterCount = merging ? staticLeaves[surfel].emitterCount : 0u;
     // The root path's senders, a chunk at a time, are first gathered into shared memory and then
     // filed in one pass: a CPU device runs the filing code, lanes masked, on every round of a
     // subgroup however few of its lanes have a sender, and ancestor by ancestor the ranges are short
@@ -525,7 +520,7 @@ void main() {
       if (direct)
         for (uint e = lid; e < emitters; e += kGroupSize)
           staticEmitters[surfel * kStaticEmitters + e] = sortedEmitters[e];
-      if (lid == 0u) staticEmitterCounts[surfel] = direct ? emitters : kManyEmitters;
+      if (lid == 0u) staticLeaves[surfel].emitterCount = direct ? emitters : kManyEmitters;
     } else if (direct) {
       for (uint e = lid; e < emitters; e += kGroupSize) emitterLight += directLight(slot, p, n, sortedEmitters[e]);
     }
@@ -594,20 +589,21 @@ void main() {
     if (kStaticPass) {
       vec3 correction = sumPartials(lid, emitterLight);
       barrier();
-      if (lid == 0u) staticCorrection[surfel] = vec4(correction, 0.0);
+      if (lid == 0u) staticLeaves[surfel].correction = vec4(correction, 0.0);
     }
     near = sumPartials(lid, vec3(near, 0.0, 0.0)).x;
     barrier();
     vec3 sum = sumPartials(lid, kStaticPass ? env : env + emitterLight);
     if (lid == 0u) {
       if (kStaticPass) {
-        staticEnvironment[surfel] = vec4(sum, 0.0);
-        staticProximity[surfel] = near;
+        staticLeaves[surfel].environment = vec4(sum, 0.0);
+        staticLeaves[surfel].proximity = near;
       } else {
-        if (merging) sum += staticEnvironment[surfel].rgb + (direct ? staticCorrection[surfel].rgb : vec3(0.0));
+        if (merging)
+          sum += staticLeaves[surfel].environment.rgb + (direct ? staticLeaves[surfel].correction.rgb : vec3(0.0));
         if (area > 0.0) sum += punctualLight(slot, p, n);
         externalLight[surfel] = vec4(sum, 0.0);
-        proximity[surfel] = merging ? staticProximity[surfel] + near : near;
+        proximity[surfel] = merging ? staticLeaves[surfel].proximity + near : near;
       }
     }
     barrier();  // the lights read the bins

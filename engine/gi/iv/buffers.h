@@ -22,10 +22,9 @@ struct IvBuffers {
   // word the bins the frame's senders override.
   vk::Buffer ranges, leafLinks, overrides;
   // What a static leaf keeps between frames: its survivors among static senders (links, packed bin
-  // and coverage, key depths), its bins as mask words, the environment through them, the emitters it
-  // lists, the emission its static bins credited and the proximity of its static survivors.
-  vk::Buffer staticRanges, staticLinks, staticBins, staticDepths, staticMasks, staticEnvironment;
-  vk::Buffer staticEmitters, staticEmitterCounts, staticCorrection, staticProximity;
+  // and coverage, key depths), its bins as mask words, what it sums of them (gpu::StaticLeaf) and
+  // the emitters it lists.
+  vk::Buffer staticRanges, staticLinks, staticBins, staticDepths, staticMasks, staticLeaves, staticEmitters;
   // The prune's bins where they do not fit in shared memory: a slot of 6·N² per workgroup.
   vk::Buffer globalBins, globalCoverage;
   // Receivers (receivers.h). Per node: its representative surfel, where a walk that skips it goes
@@ -62,11 +61,8 @@ struct IvBuffers {
                                {"staticBins", staticBins},
                                {"staticDepths", staticDepths},
                                {"staticMasks", staticMasks},
-                               {"staticEnvironment", staticEnvironment},
+                               {"staticLeaves", staticLeaves},
                                {"staticEmitters", staticEmitters},
-                               {"staticEmitterCounts", staticEmitterCounts},
-                               {"staticCorrection", staticCorrection},
-                               {"staticProximity", staticProximity},
                                {"globalBins", globalBins},
                                {"globalCoverage", globalCoverage},
                                {"representatives", representatives},

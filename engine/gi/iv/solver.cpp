@@ -117,11 +117,8 @@ void IvSolver::uploadScene(const scene::Geometry& g, const std::vector<uint32_t>
   b_.staticRanges = deviceArray<gpu::LeafRange>(ctx, surfelCount_, allocations_);
   b_.staticMasks = deviceArray<glm::uvec2>(ctx, masks, allocations_);
   b_.overrides = deviceArray<uint32_t>(ctx, masks, allocations_);
-  b_.staticEnvironment = deviceArray<glm::vec4>(ctx, statics, allocations_);
+  b_.staticLeaves = deviceArray<gpu::StaticLeaf>(ctx, statics, allocations_);
   b_.staticEmitters = deviceArray<uint32_t>(ctx, statics * gpu::kStaticEmitters, allocations_);
-  b_.staticEmitterCounts = deviceArray<uint32_t>(ctx, statics, allocations_);
-  b_.staticCorrection = deviceArray<glm::vec4>(ctx, statics, allocations_);
-  b_.staticProximity = deviceArray<float>(ctx, statics, allocations_);
 }
 
 void IvSolver::setLights(const std::vector<gpu::PunctualLight>& lights) {
