@@ -81,7 +81,7 @@ def regions(ref, names):
         "ceiling": ceiling & ~grow(walls, 3),
         "ceiling-wall edge": ceiling & grow(walls, 3),
     }
-    return masks, hit
+    return masks
 
 
 def main():
@@ -96,7 +96,7 @@ def main():
         sys.exit(f"cornell_regions: {args.test} and {args.reference} differ in size")
     t = channels(test, tnames, ["R", "G", "B"])
     r = channels(ref, rnames, ["R", "G", "B"])
-    masks, hit = regions(ref, rnames)
+    masks = regions(ref, rnames)
     rows = {}
     print(f"{'region':45s} {'pixels':>7s} {'test/ref':>9s}")
     for name, mask in masks.items():
