@@ -3,7 +3,8 @@
 // receiver node adds, per link, what its sender sends toward it times the sender's solid angle per
 // area (a disk's on its axis: finite when near) into the bins around the direction it sees the
 // sender in (binTaps), as radiance averaged over each bin. A surfel sender is exact in direction; a
-// cluster's antiradiance (a curved one's intensity) comes from its table, read between bins.
+// cluster's antiradiance (a curved one's intensity) comes from its table, read between bins. A
+// receiver's links are two lists: those between static objects (made once), then the frame's.
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 0
 #include "common.glsl"
@@ -22,7 +23,9 @@ layout(binding = 8, rgba32f) uniform imageBuffer gathered;            // per nod
 // (ar_incident), with each sender's own direction rather than its bins'.
 layout(binding = 9, rgba32f) writeonly uniform imageBuffer gatheredVector;
 layout(std430, binding = 10) readonly buffer Exitance { vec4 exitance[]; };  // per flat node, area · L
-layout(push_constant) uniform Push { ArPush push; };                         // count: nodes
+layout(std430, binding = 11) readonly buffer StaticStarts { uint staticStarts[]; };
+layout(binding = 12, r32ui) readonly uniform uimageBuffer staticSenders;
+layout(push_constant) uniform Push { ArPush push; };  // count: nodes
 
 // A flat node keeps a direction's taps on the side of its plane the direction lies on (their
 // weights renormalised): light arriving at its front must not spill into bins behind it, nor the
@@ -88,59 +91,67 @@ vec3 surfelRadiance(uint surfel, uint bins, vec4 ns, vec3 dir) {
   return (dot(ns.xyz, -dir) > 0.0 ? radiance[surfel].rgb : vec3(0.0)) - through;
 }
 
+// Adds what sender node s sends over its link to receiver r (at pr, its normal and cone nr).
+void gatherLink(uint r, uint s, vec3 pr, vec4 nr) {
+  uint n = push.bins, bins = 6u * n * n;
+  float binWidth = 2.0 / float(n);  // of a bin at a face's centre, in the face's plane
+  vec4 ps = nodePositionArea(s);
+  vec3 d = ps.xyz - pr;
+  float dist2 = dot(d, d);
+  if (dist2 <= 1e-6 * ps.w) return;  // coincident: no direction to bin it in
+  uvec4 t = imageLoad(tree, int(s));
+  if (t.z != 0u) {  // a cluster: what it sends toward the receiver, read between the bins of its table
+    vec3 dir = d * inversesqrt(dist2);
+    uvec4 back;
+    vec4 weights;
+    binTaps(-dir, n, back, weights);
+    vec3 sent = READ_TAPS(intensity, s * bins, back, weights);
+    vec4 cone = nodeNormalCone(s);
+    if (cone.w <= kArFlatCone) {  // flat: its exitance and antiradiance with its own cosine
+      float cosine = dot(cone.xyz, -dir);
+      sent = exitance[s].rgb * max(cosine, 0.0) - sent * abs(cosine);
+    }
+    deposit(r, bins, nr, dir, sent * solidAnglePerArea(ps.w, dist2), 1.0);
+    return;
+  }
+  // A surfel wider than a bin, or near, goes as k×k pieces of its rectangle, each along its own
+  // direction: one direction would stand for a spread of them, and the disk for a nearby square.
+  vec4 ns = nodeNormalCone(s);
+  if (abs(dot(ns.xyz, d)) <= 1e-4 * sqrt(dist2)) return;  // the receiver lies in its plane: it sends nothing there
+  float radius2 = ps.w / kPi;
+  float width = sqrt(solidAnglePerArea(ps.w, dist2) * ps.w) / binWidth;
+  uint pieces = dist2 <= 4.0 * radius2 ? kArPieces : uint(clamp(ceil(width), 1.0, float(kArPieces)));
+  vec3 sideA, sideB;
+  senderSides(s, ns, sideA, sideB);
+  float pieceArea = ps.w / float(pieces * pieces);
+  for (uint j = 0u; j < pieces * pieces; ++j) {
+    vec2 at = (vec2(j % pieces, j / pieces) + 0.5) / float(pieces) * 2.0 - 1.0;
+    vec3 q = d + at.x * sideA + at.y * sideB;
+    float q2 = dot(q, q);
+    if (q2 <= 1e-6 * ps.w) continue;
+    vec3 dir = q * inversesqrt(q2);
+    float omega = pieceArea * solidAnglePerArea(pieceArea, q2) * abs(dot(ns.xyz, dir));
+    // In the bins, a piece wider than a bin is credited one bin's worth: they hold radiance, which
+    // J passes on, and a near piece's light taken along one direction would pass on more than it
+    // has (its neighbours on a curved surface, each in the others' near field, fed it back).
+    float binOmega = binVectors[binOf(dir, push.bins)].w;
+    float binShare = omega > binOmega ? binOmega / omega : 1.0;
+    deposit(r, bins, nr, dir, surfelRadiance(t.w, bins, ns, dir) * omega, binShare);
+  }
+}
+
 void main() {
   uint r = itemIndex();
   if (r >= push.count) return;
-  uint first = starts[r], end = starts[r + 1u], n = push.bins, bins = 6u * n * n;
   vec3 pr = nodePositionArea(r).xyz;
   vec4 nr = nodeNormalCone(r);
   vectorX = vectorY = vectorZ = vec3(0.0);
-  float binWidth = 2.0 / float(n);  // of a bin at a face's centre, in the face's plane
-  for (uint k = first; k < end; ++k) {
-    uint s = imageLoad(senders, int(k)).x & ~kEmitterBit;
-    vec4 ps = nodePositionArea(s);
-    vec3 d = ps.xyz - pr;
-    float dist2 = dot(d, d);
-    if (dist2 <= 1e-6 * ps.w) continue;  // coincident: no direction to bin it in
-    uvec4 t = imageLoad(tree, int(s));
-    if (t.z != 0u) {  // a cluster: what it sends toward the receiver, read between the bins of its table
-      vec3 dir = d * inversesqrt(dist2);
-      uvec4 back;
-      vec4 weights;
-      binTaps(-dir, n, back, weights);
-      vec3 sent = READ_TAPS(intensity, s * bins, back, weights);
-      vec4 cone = nodeNormalCone(s);
-      if (cone.w <= kArFlatCone) {  // flat: its exitance and antiradiance with its own cosine
-        float cosine = dot(cone.xyz, -dir);
-        sent = exitance[s].rgb * max(cosine, 0.0) - sent * abs(cosine);
-      }
-      deposit(r, bins, nr, dir, sent * solidAnglePerArea(ps.w, dist2), 1.0);
-      continue;
-    }
-    // A surfel wider than a bin, or near, goes as k×k pieces of its rectangle, each along its own
-    // direction: one direction would stand for a spread of them, and the disk for a nearby square.
-    vec4 ns = nodeNormalCone(s);
-    if (abs(dot(ns.xyz, d)) <= 1e-4 * sqrt(dist2)) continue;  // the receiver lies in its plane: it sends nothing there
-    float radius2 = ps.w / kPi;
-    float width = sqrt(solidAnglePerArea(ps.w, dist2) * ps.w) / binWidth;
-    uint pieces = dist2 <= 4.0 * radius2 ? kArPieces : uint(clamp(ceil(width), 1.0, float(kArPieces)));
-    vec3 sideA, sideB;
-    senderSides(s, ns, sideA, sideB);
-    float pieceArea = ps.w / float(pieces * pieces);
-    for (uint j = 0u; j < pieces * pieces; ++j) {
-      vec2 at = (vec2(j % pieces, j / pieces) + 0.5) / float(pieces) * 2.0 - 1.0;
-      vec3 q = d + at.x * sideA + at.y * sideB;
-      float q2 = dot(q, q);
-      if (q2 <= 1e-6 * ps.w) continue;
-      vec3 dir = q * inversesqrt(q2);
-      float omega = pieceArea * solidAnglePerArea(pieceArea, q2) * abs(dot(ns.xyz, dir));
-      // In the bins, a piece wider than a bin is credited one bin's worth: they hold radiance, which
-      // J passes on, and a near piece's light taken along one direction would pass on more than it
-      // has (its neighbours on a curved surface, each in the others' near field, fed it back).
-      float binOmega = binVectors[binOf(dir, push.bins)].w;
-      float binShare = omega > binOmega ? binOmega / omega : 1.0;
-      deposit(r, bins, nr, dir, surfelRadiance(t.w, bins, ns, dir) * omega, binShare);
-    }
+  // One loop over both lists: the link's body is long, and compiled once.
+  uint fixedFirst = staticStarts[r], fixedCount = staticStarts[r + 1u] - fixedFirst;
+  uint first = starts[r] - fixedCount, end = fixedCount + starts[r + 1u] - starts[r];
+  for (uint k = 0u; k < end; ++k) {
+    uint s = k < fixedCount ? imageLoad(staticSenders, int(fixedFirst + k)).x : imageLoad(senders, int(first + k)).x;
+    gatherLink(r, s & ~kEmitterBit, pr, nr);
   }
   imageStore(gatheredVector, int(3u * r), vec4(vectorX, 0.0));
   imageStore(gatheredVector, int(3u * r + 1u), vec4(vectorY, 0.0));

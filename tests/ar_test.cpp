@@ -244,6 +244,112 @@ TEST(ArDeterminism, TwoSolvesGiveTheSameBits) {
   EXPECT_EQ(0, std::memcmp(a.irradiance.data(), b.irradiance.data(), a.irradiance.size() * sizeof(glm::vec4)));
 }
 
+// Where one object moves, the links between static objects are made once and kept: the global pass
+// walks them first, then the frame's. That must give what relinking every pair each frame gives,
+// the same links and the same light up to the order of float sums.
+TEST(ArStaticObjects, LinkedOnceGiveWhatAFullRelinkGives) {
+  scene::Scene s = scene::sceneFromModel(scenes::cornellBox({.cells = 6}), "test");
+  scene::Geometry g = scene::buildGeometry(s);
+  gi::Hierarchy h = gi::restPoseHierarchy(s, g);
+  const std::vector<bool> moves = gi::movingRoots(h, s, g, 0);
+  ASSERT_EQ(std::count(moves.begin(), moves.end(), true), 1) << "only the short block moves";
+  auto renderer = [&](std::vector<bool> objectMoves) {
+    return gi::FrameRenderer(test::gpu(), g, {16, 16, 1},
+                             std::make_unique<gi::ArSolver>(test::gpu(), g, h, gi::ArSettings{}, objectMoves));
+  };
+  gi::FrameRenderer split = renderer(moves), full = renderer({});
+  auto solver = [](const gi::FrameRenderer& r) -> const gi::ArSolver& {
+    return dynamic_cast<const gi::ArSolver&>(*r.solver());
+  };
+  const auto view = scene::cameraView(s, scene::evaluatePose(s, 0, 0.0f), s.cameraNodes()[0]);
+  uint32_t staticLinks = 0;
+  for (float t : {0.0f, 0.5f, 1.25f}) {  // the block slid and turned: its shadow moved
+    auto pose = scene::evaluatePose(s, 0, t);
+    split.render(g.frameInputs(s, pose), view, scene::worldLights(s, pose));
+    full.render(g.frameInputs(s, pose), view, scene::worldLights(s, pose));
+    const gi::ArStats a = solver(split).stats(), b = solver(full).stats();
+    EXPECT_EQ(b.staticLinks, 0u);
+    EXPECT_GT(a.staticLinks, a.links / 2) << "most links are between the room and the tall block";
+    if (staticLinks) {
+      EXPECT_EQ(a.staticLinks, staticLinks) << "made once";
+    }
+    staticLinks = a.staticLinks;
+    EXPECT_EQ(a.links, b.links) << "t = " << t;
+    EXPECT_EQ(a.iterations, b.iterations) << "t = " << t;
+    const auto ea = solver(split).surfelIrradiance(), eb = solver(full).surfelIrradiance();
+    ASSERT_EQ(ea.size(), eb.size());
+    double largest = 0, worst = 0;
+    for (const auto& e : eb) largest = std::max(largest, double(e.x));
+    for (size_t i = 0; i < ea.size(); ++i)
+      for (int c = 0; c < 3; ++c) {
+        ASSERT_TRUE(std::isfinite(ea[i][c])) << "surfel " << i;
+        worst = std::max(worst, std::abs(double(ea[i][c]) - eb[i][c]) / largest);
+      }
+    std::printf("[ ar static ] t %.2f: %u of %u links static; largest difference %.2g of the brightest surfel\n",
+                double(t), a.staticLinks, a.links, worst);
+    EXPECT_LT(worst, 1e-5) << "t = " << t;
+  }
+}
+
+// --warm-start: a frame starts from the solution of the frame before. On the animated Cornell box a
+// frame later it settles in fewer iterations than from the emission, and it settles where the cold
+// start does: they differ by the iterations' tolerance (each stops once an iteration changes the
+// irradiance by less than that share of it; with the changes shrinking by half an iteration or more,
+// each lies within about twice that of the fixed point), in the same area-weighted norm.
+TEST(ArWarmStart, SettlesSoonerWhereTheColdStartSettles) {
+  scene::Scene s = scene::sceneFromModel(scenes::cornellBox({.cells = 8}), "test");
+  scene::Geometry g = scene::buildGeometry(s);
+  gi::Hierarchy h = gi::restPoseHierarchy(s, g);
+  const std::vector<bool> moves = gi::movingRoots(h, s, g, 0);
+  auto renderer = [&](bool warm) {
+    return gi::FrameRenderer(
+        test::gpu(), g, {16, 16, 1},
+        std::make_unique<gi::ArSolver>(test::gpu(), g, h, gi::ArSettings{.warmStart = warm}, moves));
+  };
+  gi::FrameRenderer warm = renderer(true), cold = renderer(false);
+  auto solver = [](const gi::FrameRenderer& r) -> const gi::ArSolver& {
+    return dynamic_cast<const gi::ArSolver&>(*r.solver());
+  };
+  const auto view = scene::cameraView(s, scene::evaluatePose(s, 0, 0.0f), s.cameraNodes()[0]);
+  const float tolerance = gi::ArSettings{}.tolerance;
+  for (int frame = 0; frame < 3; ++frame) {
+    auto pose = scene::evaluatePose(s, 0, float(frame) / 24.0f);
+    warm.render(g.frameInputs(s, pose), view, scene::worldLights(s, pose));
+    cold.render(g.frameInputs(s, pose), view, scene::worldLights(s, pose));
+    const gi::ArStats a = solver(warm).stats(), b = solver(cold).stats();
+    const auto ea = solver(warm).surfelIrradiance(), eb = solver(cold).surfelIrradiance();
+    const auto surfels = warm.surfels();
+    ASSERT_EQ(ea.size(), eb.size());
+    double change = 0, total = 0;
+    for (size_t i = 0; i < ea.size(); ++i) {
+      ASSERT_TRUE(std::isfinite(ea[i].x) && std::isfinite(ea[i].y) && std::isfinite(ea[i].z)) << "surfel " << i;
+      const double area = surfels[i].positionArea.w;
+      change += area * std::abs(double(ea[i].y) - eb[i].y), total += area * eb[i].y;
+    }
+    std::printf("[ ar warm start ] frame %d: %u iterations (cold: %u); differs from the cold start by %.2g\n", frame,
+                a.iterations, b.iterations, change / total);
+    EXPECT_FALSE(a.diverged);
+    if (frame == 0) {
+      EXPECT_EQ(a.iterations, b.iterations) << "nothing to start from";
+      EXPECT_EQ(change, 0.0);
+    } else {
+      EXPECT_LT(a.iterations, b.iterations) << "frame " << frame;
+      EXPECT_LT(change / total, 4 * tolerance) << "frame " << frame;
+    }
+  }
+}
+
+// A warm start needs every frame before it in the same run: --shard is refused with it, in one line.
+TEST(ArWarmStart, IsRefusedWithShards) {
+  const auto dir = test::scratchDir("ar-warm-shard");
+  const test::Run run = test::runIvgi({"render", "cornell", "--method", "ar", "--warm-start", "--shard", "0/2",
+                                       "--frames", "0-3", "--out", (dir / "f").string()});
+  EXPECT_NE(run.status, 0);
+  ASSERT_EQ(run.errLines().size(), 1u) << run.err;
+  EXPECT_NE(run.err.find("--warm-start"), std::string::npos) << run.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "f_0000.exr"));
+}
+
 // Tables that cannot fit are refused in one line that names the --dirs that would.
 TEST(ArMemory, TablesBeyondTheBudgetNameTheDirsThatFit) {
   const test::Run run = test::runIvgi({"render", "cornell", "--method", "ar", "--dirs", "32", "--max-memory", "64",

@@ -127,8 +127,9 @@ int runBench(const BenchOptions& o) {
   }
   if (const auto* ar = dynamic_cast<const gi::ArSolver*>(renderer.solver())) {
     const gi::ArStats st = ar->stats();
-    std::printf(", nodes %u, links %u (both sides, unpruned); directional tables %.1f MiB", st.nodes, st.links,
-                double(st.tableBytes) / (1 << 20));
+    std::printf(", nodes %u, links %u (both sides, unpruned", st.nodes, st.links);
+    if (st.staticLinks) std::printf("; %u between static objects, made once", st.staticLinks);
+    std::printf("); directional tables %.1f MiB", double(st.tableBytes) / (1 << 20));
     if (st.framesRedone) std::printf("; %u frame(s) redone (link room, or a diverging iteration)", st.framesRedone);
     if (const auto& it = times.solverFigures["iterations"]; !it.empty())
       std::printf("\niterations: median %.0f a frame (%.0f to %.0f); the last frame's residuals:", percentile(it, 0.5),

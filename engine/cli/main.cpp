@@ -50,6 +50,9 @@ void addSolverOptions(CLI::App* cmd, SolverOptions& o) {
                   "ar: symmetric (radiance and antiradiance together) or asymmetric (a radiance step, then 3 "
                   "antiradiance steps)")
       ->capture_default_str();
+  cmd->add_flag("--warm-start", o.ar.warmStart,
+                "ar: each frame's iteration starts from the frame before's solution (fewer iterations; a frame then "
+                "depends on the frames before it)");
   cmd->add_option("--max-memory", o.maxMemoryMiB, "MiB the solver may allocate at most (0: what the device holds)")
       ->capture_default_str();
   cmd->add_option("--env", o.environment, "environment light: R,G,B radiance or an equirectangular .exr");

@@ -104,6 +104,10 @@ int runRender(const RenderOptions& o) {
   const bool geometryAnimated = scene::animationMovesGeometry(s, tl.animation);
 
   const Shard shard = o.shard.empty() ? Shard{} : parseShard(o.shard);
+  if (shard.count > 1 && solver.method == "ar" && solver.ar.warmStart)
+    throw SettingsError(
+        "--warm-start starts each frame from the one before, which another shard renders: leave it "
+        "out with --shard");
   const auto frames = shardFrames(range.frames(), shard);
   const FrameCamera camera(s, g, tl, o.fps, o.camera, range.frames(), float(image.width) / float(image.height));
 

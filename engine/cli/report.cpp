@@ -10,8 +10,8 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(IvStats, nodes, levels, links, leafLinks, sta
                                    sharedBins, pruneBatches, pruneGroupSize, sendersWalked, staticSendersWalked,
                                    framesRedone, staticPasses, bounces, bounceRemaining, receivers, receiverFills)
 
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ArStats, nodes, levels, links, longestList, bytes, tableBytes, iterations, residual,
-                                   negative, diverged, framesRedone, residuals)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ArStats, nodes, levels, links, staticLinks, longestList, bytes, tableBytes,
+                                   iterations, residual, negative, diverged, framesRedone, residuals)
 
 }  // namespace ivgi::gi
 
@@ -33,6 +33,7 @@ nlohmann::json settingsJson(const std::string& method, const gi::IvSettings& iv,
             {"iterations", ar.iterations ? nlohmann::json(*ar.iterations) : nlohmann::json("auto")},
             {"iterationTolerance", ar.tolerance},
             {"scheme", gi::schemeName(ar.scheme)},
+            {"warmStart", ar.warmStart},
             {"tessellation", tessellation}};
   return {{"method", method},
           {"bins", iv.bins},

@@ -62,8 +62,11 @@ std::unique_ptr<gi::Solver> makeSolver(const SolverOptions& o, const vk::Context
     throw SettingsError(
         "--method pt: the path tracer runs on the CPU; use `ivgi render --method pt` (bench and info measure iv and "
         "none)");
-  if (o.method == "ar")
-    return std::make_unique<gi::ArSolver>(ctx, g, hierarchy ? *hierarchy : gi::restPoseHierarchy(s, g), arSettings(o));
+  if (o.method == "ar") {
+    gi::Hierarchy h = hierarchy ? *hierarchy : gi::restPoseHierarchy(s, g);
+    const std::vector<bool> moves = gi::movingRoots(h, s, g, animation);
+    return std::make_unique<gi::ArSolver>(ctx, g, std::move(h), arSettings(o), moves);
+  }
   if (o.method != "iv") throw SettingsError("--method '" + o.method + "': methods are iv, ar, pt and none");
   gi::IvSettings settings = o.iv;
   settings.memoryBudget = o.maxMemoryMiB << 20;

@@ -286,4 +286,11 @@ Hierarchy restPoseHierarchy(const scene::Scene& scene, const scene::Geometry& g)
   return buildHierarchy(g, rest);
 }
 
+std::vector<bool> movingRoots(const Hierarchy& h, const scene::Scene& scene, const scene::Geometry& g, int animation) {
+  const std::vector<bool> moving = scene::movingInstances(scene, g, animation);
+  std::vector<bool> roots;
+  for (uint32_t instance : h.rootInstance) roots.push_back(moving[instance]);
+  return roots;
+}
+
 }  // namespace ivgi::gi

@@ -44,5 +44,8 @@ bool usableUvAtlas(const std::vector<glm::vec2>& uvs, const std::vector<glm::uve
 Hierarchy buildHierarchy(const scene::Geometry& geometry, const std::vector<scene::Surfel>& restSurfels);
 // The hierarchy over the scene's surfels at its rest pose.
 Hierarchy restPoseHierarchy(const scene::Scene& scene, const scene::Geometry& geometry);
+// Per root of `hierarchy`: whether its object moves under `animation` (-1: none does).
+std::vector<bool> movingRoots(const Hierarchy& hierarchy, const scene::Scene& scene, const scene::Geometry& geometry,
+                              int animation);
 
 }  // namespace ivgi::gi

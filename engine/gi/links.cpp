@@ -24,6 +24,22 @@ bool LinkSet::growLinks(const std::vector<uint32_t>& c, uint32_t& worklistCapaci
   return (bits & (gpu::kOverflowWorklist | gpu::kOverflowLinks)) != 0;
 }
 
+bool mixesStaticAndMoving(const std::vector<bool>& objectMoves, size_t rootCount) {
+  if (objectMoves.empty()) return false;
+  const size_t moving = size_t(std::count(objectMoves.begin(), objectMoves.begin() + rootCount, true));
+  return moving > 0 && moving < rootCount;
+}
+
+void assignRootPairs(const Hierarchy& h, const std::vector<bool>& objectMoves, bool split, LinkSet& fixed,
+                     LinkSet& moving) {
+  auto moves = [&](size_t root) { return objectMoves.empty() || objectMoves[root]; };
+  for (size_t a = 0; a < h.roots.size(); ++a)
+    for (size_t b = 0; b < h.roots.size(); ++b) {
+      auto& pairs = (split && !moves(a) && !moves(b) ? fixed : moving).rootPairs;
+      pairs.insert(pairs.end(), {h.roots[a], h.roots[b]});
+    }
+}
+
 uint32_t withMargin(uint32_t needed) {
   return uint32_t(std::min<uint64_t>(uint64_t(needed) * 5 / 4 + 1024, 0xFFFFFFF0u));
 }

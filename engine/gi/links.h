@@ -30,6 +30,14 @@ struct LinkSet {
   uint32_t leafLinksHeld() const;
 };
 
+// Whether some objects move (per hierarchy root; empty: every one may) and some do not: then the
+// pairs of two static objects are worth linking once.
+bool mixesStaticAndMoving(const std::vector<bool>& objectMoves, size_t rootCount);
+// Every pair of roots (receiver, sender), each object with every other and with itself: into
+// `fixed` where both objects are static and `split`, else into `moving`.
+void assignRootPairs(const Hierarchy& hierarchy, const std::vector<bool>& objectMoves, bool split, LinkSet& fixed,
+                     LinkSet& moving);
+
 // The room an array that grows with a count gets: a quarter more, so that the next frames' changes
 // fit.
 uint32_t withMargin(uint32_t needed);

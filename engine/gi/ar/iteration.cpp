@@ -16,7 +16,8 @@ uint32_t ArIteration::sumGroups(uint32_t surfelCount) const {
 }
 
 void ArIteration::record(VkCommandBuffer cmd, vk::PassTimer& timer, bool timed, const ArBuffers& b, const Hierarchy& h,
-                         const LinkSet& links, gpu::ArPush push, bool radianceStep, uint32_t slot) const {
+                         const LinkSet& staticLinks, const LinkSet& frameLinks, gpu::ArPush push, bool radianceStep,
+                         uint32_t slot) const {
   const uint32_t surfels = uint32_t(h.leafOfSurfel.size()), nodes = uint32_t(h.nodes.size());
   const uint32_t bins = 6 * push.bins * push.bins;
   auto pass = [&](const char* name, auto&& body) {
@@ -36,7 +37,11 @@ void ArIteration::record(VkCommandBuffer cmd, vk::PassTimer& timer, bool timed, 
   pass("global", [&] {
     vkCmdFillBuffer(cmd, b.gathered.handle(), 0, VK_WHOLE_SIZE, 0u);
     vk::barrier(cmd);
-    gather_.dispatchItems(cmd, nodes, b.pool().with({{"starts", links.starts}, {"senders", links.senders}}),
+    gather_.dispatchItems(cmd, nodes,
+                          b.pool().with({{"staticStarts", staticLinks.starts},
+                                         {"staticSenders", staticLinks.senders},
+                                         {"starts", frameLinks.starts},
+                                         {"senders", frameLinks.senders}}),
                           gpu::ArPush{nodes, push.bins});
   });
   pass("incident", [&] {

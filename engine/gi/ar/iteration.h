@@ -14,10 +14,12 @@ class ArIteration {
  public:
   explicit ArIteration(const vk::Context& ctx);
   // Records one iteration; `radianceStep`: the local pass reflects the incident light (else it keeps
-  // the radiance: an antiradiance step); `slot`: where its incident pass leaves its sums. Each pass
-  // is timed where `timed`.
+  // the radiance: an antiradiance step); `slot`: where its incident pass leaves its sums. The global
+  // pass walks each receiver's links of both sets, the static pairs' first. Each pass is timed
+  // where `timed`.
   void record(VkCommandBuffer cmd, vk::PassTimer& timer, bool timed, const ArBuffers& b, const Hierarchy& h,
-              const LinkSet& links, gpu::ArPush push, bool radianceStep, uint32_t slot) const;
+              const LinkSet& staticLinks, const LinkSet& frameLinks, gpu::ArPush push, bool radianceStep,
+              uint32_t slot) const;
   // Workgroups of the incident pass, each leaving one gpu::IterationSum an iteration.
   uint32_t sumGroups(uint32_t surfelCount) const;
 

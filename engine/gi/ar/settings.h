@@ -24,6 +24,9 @@ struct ArSettings {
   std::optional<uint32_t> iterations;
   float tolerance = 1e-3f;  // --iteration-tol
   ArScheme scheme = ArScheme::Symmetric;
+  // --warm-start: a frame's iteration starts from the last frame's solution rather than from the
+  // emission; a frame then depends on the frames solved before it (within the tolerance).
+  bool warmStart = false;
   std::optional<scene::Environment> environment;  // --env; none: no environment light
   uint64_t memoryBudget = 0;                      // --max-memory, in bytes; 0: the device's heap
 };
@@ -38,6 +41,7 @@ const char* schemeName(ArScheme scheme);
 
 struct ArStats {
   uint32_t nodes = 0, levels = 0, links = 0;
+  uint32_t staticLinks = 0;            // of the links, those between static objects (made once)
   uint32_t longestList = 0;            // the most links one receiver node has
   uint64_t bytes = 0, tableBytes = 0;  // in all; of those, the directional tables
   uint32_t iterations = 0;             // the last frame's

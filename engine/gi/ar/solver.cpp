@@ -13,8 +13,9 @@ namespace ivgi::gi {
 namespace {
 
 // Iterations recorded in a frame's first submission and in each more: the host judges them after
-// each submission, so the frame runs up to a submission's worth past its tolerance.
-constexpr uint32_t kIterationSteps = 4;
+// each submission, so the frame runs up to a submission's worth past its tolerance. A warm start
+// begins near its solution: its first submission is the two iterations that can show it settled.
+constexpr uint32_t kIterationSteps = 4, kWarmFirstSteps = 2;
 // Where the iteration counts as diverging: light cancelled past zero beyond this share of the
 // light, or a change of the irradiance above the irradiance and this many times its smallest.
 constexpr float kNegativeBound = 0.5f, kGrowthBound = 10.0f;
@@ -45,7 +46,8 @@ uint64_t ArSolver::tableBytes(uint64_t nodes, uint64_t surfels, uint32_t dirs) {
   return (2 * nodes + surfels) * 6ull * dirs * dirs * sizeof(glm::vec4);
 }
 
-ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy hierarchy, const ArSettings& settings)
+ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy hierarchy, const ArSettings& settings,
+                   const std::vector<bool>& objectMoves)
     : ctx_(ctx),
       hierarchy_(std::move(hierarchy)),
       settings_((validate(settings), settings)),
@@ -92,22 +94,39 @@ ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy h
   b_.sums =
       vk::Buffer(ctx, uint64_t(kIterationSteps) * sumGroups_ * sizeof(gpu::IterationSum), vk::Memory::Host, tally);
 
-  // Every object with every other and with itself: ar cannot leave out a pair that moves less.
-  for (uint32_t a : hierarchy_.roots)
-    for (uint32_t c : hierarchy_.roots) links_.rootPairs.insert(links_.rootPairs.end(), {a, c});
-  links_.roots = vk::makeBuffer(ctx, links_.rootPairs, vk::Memory::Device, tally);
-  links_.counters = vk::makeBuffer(ctx, std::vector<uint32_t>(gpu::kCounterSlots, 0u), vk::Memory::Host, tally);
-  links_.counts = vk::Buffer(ctx, nodeCount_ * sizeof(uint32_t), vk::Memory::Device, tally);
-  links_.starts = vk::Buffer(ctx, (nodeCount_ + 1) * sizeof(uint32_t), vk::Memory::Device, tally);
-  // Both sides link, and wide receivers split too: a few times iv's links a node.
-  links_.linkCapacity = 96 * nodeCount_ + 1024;
-  worklistCapacity_ = std::max<uint32_t>(uint32_t(links_.rootPairs.size() / 2), 24 * nodeCount_ + 1024);
+  // Every object with every other and with itself (ar cannot leave out a pair that moves less);
+  // the pairs of two static objects linked once where something else moves.
+  assignRootPairs(hierarchy_, objectMoves, mixesStaticAndMoving(objectMoves, hierarchy_.roots.size()), staticSet_,
+                  frameSet_);
+  // Nodes per object, whose pairs' links a set's room is guessed from.
+  std::vector<uint32_t> rootOf(nodeCount_), objectNodes(nodeCount_, 0);
+  for (uint32_t node = 0; node < nodeCount_; ++node) {  // parents are numbered before their children
+    const int32_t parent = hierarchy_.nodes[node].parent;
+    rootOf[node] = parent < 0 ? node : rootOf[uint32_t(parent)];
+    ++objectNodes[rootOf[node]];
+  }
+  for (LinkSet* set : {&staticSet_, &frameSet_}) {
+    set->roots =
+        vk::makeBuffer(ctx, set->empty() ? std::vector<uint32_t>{0, 0} : set->rootPairs, vk::Memory::Device, tally);
+    set->counters = vk::makeBuffer(ctx, std::vector<uint32_t>(gpu::kCounterSlots, 0u), vk::Memory::Host, tally);
+    set->counts = vk::Buffer(ctx, nodeCount_ * sizeof(uint32_t), vk::Memory::Device, tally);
+    // An empty set's lists stay empty: its starts are zeros.
+    set->starts = vk::makeBuffer(ctx, std::vector<uint32_t>(nodeCount_ + 1, 0u), vk::Memory::Device, tally);
+    // Both sides link, and wide receivers split too: a few times iv's links a node, shared out
+    // between the sets by their pairs' nodes.
+    uint64_t pairNodes = 0;
+    for (size_t i = 0; i < set->rootPairs.size(); ++i) pairNodes += objectNodes[set->rootPairs[i]];
+    const uint64_t allPairNodes = 2 * uint64_t(hierarchy_.roots.size()) * nodeCount_;
+    set->linkCapacity = set->empty() ? 1 : uint32_t(96 * pairNodes * nodeCount_ / allPairNodes + 1024);
+  }
+  worklistCapacity_ =
+      std::max<uint32_t>(uint32_t(hierarchy_.roots.size() * hierarchy_.roots.size()), 24 * nodeCount_ + 1024);
   allocateLinks();
 }
 
 void ArSolver::allocateLinks() {
   const VkPhysicalDeviceLimits& limits = ctx_.limits();
-  const uint32_t most = std::max(links_.linkCapacity, worklistCapacity_);
+  const uint32_t most = std::max({staticSet_.linkCapacity, frameSet_.linkCapacity, worklistCapacity_});
   if (most > limits.maxTexelBufferElements || uint64_t(most) * 8 > ctx_.maxAllocationBytes())
     throw SettingsError("the ar solver needs " + std::to_string(most) + " links, more than the device holds: --eps " +
                         std::to_string(settings_.epsilon * 2.0f * float(most) / limits.maxTexelBufferElements) +
@@ -118,8 +137,10 @@ void ArSolver::allocateLinks() {
     buffer = vk::Buffer();  // before its successor: the two need not fit at once
     buffer = vk::Buffer(ctx_, bytes, vk::Memory::Device, tally);
   };
-  grow(links_.links, uint64_t(links_.linkCapacity) * 8);
-  grow(links_.senders, uint64_t(links_.linkCapacity) * 4);
+  for (LinkSet* set : {&staticSet_, &frameSet_}) {
+    grow(set->links, uint64_t(set->linkCapacity) * 8);
+    grow(set->senders, uint64_t(set->linkCapacity) * 4);
+  }
   grow(b_.worklistA, uint64_t(worklistCapacity_) * 8);
   grow(b_.worklistB, uint64_t(worklistCapacity_) * 8);
   if (settings_.memoryBudget && allocations_.bytes() > settings_.memoryBudget)
@@ -143,28 +164,38 @@ void ArSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
   if (geometryMoved || !linked_) {
     timedPass(cmd, timer, "refit", [&] { refit_.record(cmd, hierarchy_, b_.tree, surfels, b_.nodes); });
     timedPass(cmd, timer, "links", [&] {
-      const float bin = 4.0f * gpu::kPi / float(6 * settings_.dirs * settings_.dirs);
-      linkCreation_.record(cmd, links_, LinkWork{b_.args, b_.worklistA, b_.worklistB, b_.pool()}, hierarchy_,
-                           LinkCriteria{settings_.epsilon, settings_.kappa * bin, settings_.kappa * bin, true, 0.0f},
-                           worklistCapacity_);
-      sortSenders_.dispatch(cmd, sortSenders_.groupsFor(nodeCount_, 1),
-                            {{"starts", links_.starts}, {"senders", links_.senders}}, gpu::ArPush{nodeCount_});
+      if (!staticLinked_ && !staticSet_.empty()) recordLinks(cmd, staticSet_);
+      recordLinks(cmd, frameSet_);
     });
-    linked_ = true;
+    linked_ = staticLinked_ = true;
   }
-  // Every frame starts cold, from the emission alone: an image never depends on the frames before
-  // it (shards of a farm render the same frames bit for bit).
-  timedPass(cmd, timer, "local", [&] {
-    vkCmdFillBuffer(cmd, b_.incident.handle(), 0, VK_WHOLE_SIZE, 0u);
-    vkCmdFillBuffer(cmd, b_.irradiance.handle(), 0, VK_WHOLE_SIZE, 0u);
-    const VkBufferCopy copy{0, 0, b_.radiance.size()};
-    vkCmdCopyBuffer(cmd, b_.emission.handle(), b_.radiance.handle(), 1, &copy);
-  });
+  // By default every frame starts cold, from the emission alone: an image never depends on the
+  // frames before it (shards of a farm render the same frames bit for bit). --warm-start keeps the
+  // last frame's solution where one stands.
+  const bool warm = settings_.warmStart && solutionStands_;
+  if (!warm)
+    timedPass(cmd, timer, "local", [&] {
+      vkCmdFillBuffer(cmd, b_.incident.handle(), 0, VK_WHOLE_SIZE, 0u);
+      vkCmdFillBuffer(cmd, b_.irradiance.handle(), 0, VK_WHOLE_SIZE, 0u);
+      const VkBufferCopy copy{0, 0, b_.radiance.size()};
+      vkCmdCopyBuffer(cmd, b_.emission.handle(), b_.radiance.handle(), 1, &copy);
+    });
+  solutionStands_ = false;  // until this frame stands
   if (!cap_) diverged_ = false;
   recorded_ = judged_ = 0;
   done_ = false;
   residuals_.clear(), negatives_.clear();
-  recordIterations(cmd, timer, std::min(kIterationSteps, iterationLimit()));
+  recordIterations(cmd, timer, std::min(warm ? kWarmFirstSteps : kIterationSteps, iterationLimit()));
+}
+
+void ArSolver::recordLinks(VkCommandBuffer cmd, LinkSet& set) {
+  const float bin = 4.0f * gpu::kPi / float(6 * settings_.dirs * settings_.dirs);
+  linkCreation_.record(cmd, set, LinkWork{b_.args, b_.worklistA, b_.worklistB, b_.pool()}, hierarchy_,
+                       LinkCriteria{settings_.epsilon, settings_.kappa * bin, settings_.kappa * bin, true, 0.0f},
+                       worklistCapacity_);
+  sortSenders_.dispatch(cmd, sortSenders_.groupsFor(nodeCount_, 1), {{"starts", set.starts}, {"senders", set.senders}},
+                        gpu::ArPush{nodeCount_});
+  vk::barrier(cmd);
 }
 
 void ArSolver::recordIterations(VkCommandBuffer cmd, vk::PassTimer& timer, uint32_t steps) {
@@ -173,7 +204,7 @@ void ArSolver::recordIterations(VkCommandBuffer cmd, vk::PassTimer& timer, uint3
     for (uint32_t k = 0; k < steps; ++k) {
       const uint32_t i = recorded_ + k;
       const bool radianceStep = settings_.scheme == ArScheme::Symmetric || i % (gpu::kAntiradianceSteps + 1) == 0;
-      iteration_.record(cmd, timer, timedEach, b_, hierarchy_, links_,
+      iteration_.record(cmd, timer, timedEach, b_, hierarchy_, staticSet_, frameSet_,
                         gpu::ArPush{0, settings_.dirs, 0, 0, lightCount_, settings_.environment ? 1u : 0u},
                         radianceStep, k);
     }
@@ -230,7 +261,8 @@ void ArSolver::judge() const {
 }
 
 bool ArSolver::wantsMorePasses() const {
-  if (links_.readCounters()[gpu::kCounterOverflow] != 0) return false;  // the frame is redone
+  for (const LinkSet* set : {&staticSet_, &frameSet_})
+    if (set->readCounters()[gpu::kCounterOverflow] != 0) return false;  // the frame is redone
   judge();
   return !done_;
 }
@@ -240,7 +272,15 @@ void ArSolver::recordMorePasses(VkCommandBuffer cmd, vk::PassTimer& timer) {
 }
 
 bool ArSolver::frameMustBeRedone() {
-  if (links_.growLinks(links_.refinedCounters(LinkCreation::levels(hierarchy_)), worklistCapacity_)) {
+  bool grew = false;
+  for (LinkSet* set : {&staticSet_, &frameSet_}) {
+    if (set->empty()) continue;
+    if (set->growLinks(set->refinedCounters(LinkCreation::levels(hierarchy_)), worklistCapacity_)) {
+      grew = true;
+      if (set == &staticSet_) staticLinked_ = false;
+    }
+  }
+  if (grew) {
     allocateLinks();
     linked_ = false;
     ++framesRedone_;
@@ -252,7 +292,10 @@ bool ArSolver::frameMustBeRedone() {
   return true;
 }
 
-void ArSolver::frameStands() { cap_ = 0; }
+void ArSolver::frameStands() {
+  solutionStands_ = !diverged_;
+  cap_ = 0;
+}
 
 std::vector<std::pair<std::string, double>> ArSolver::frameFigures() const {
   return {{"iterations", double(recorded_)},
@@ -263,10 +306,16 @@ std::vector<std::pair<std::string, double>> ArSolver::frameFigures() const {
 ArStats ArSolver::stats() const {
   ArStats s;
   s.nodes = nodeCount_, s.levels = hierarchy_.levels();
-  s.links = links_.readCounters()[gpu::kCounterLinks];
-  const std::vector<uint32_t> starts = links_.starts.read<uint32_t>(nodeCount_ + 1);
+  for (const LinkSet* set : {&staticSet_, &frameSet_}) {
+    if (set->empty()) continue;
+    const uint32_t links = set->readCounters()[gpu::kCounterLinks];
+    s.links += links;
+    if (set == &staticSet_) s.staticLinks = links;
+  }
+  const std::vector<uint32_t> fixed = staticSet_.starts.read<uint32_t>(nodeCount_ + 1);
+  const std::vector<uint32_t> frame = frameSet_.starts.read<uint32_t>(nodeCount_ + 1);
   for (uint32_t node = 0; node < nodeCount_; ++node)
-    s.longestList = std::max(s.longestList, starts[node + 1] - starts[node]);
+    s.longestList = std::max(s.longestList, fixed[node + 1] - fixed[node] + frame[node + 1] - frame[node]);
   s.bytes = allocatedBytes();
   s.tableBytes = tableBytes(nodeCount_, surfelCount_, settings_.dirs);
   s.iterations = recorded_;

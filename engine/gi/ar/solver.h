@@ -22,7 +22,10 @@ namespace ivgi::gi {
 class ArSolver final : public Solver {
  public:
   // Validates the settings (SettingsError) and allocates, refusing in one line what does not fit.
-  ArSolver(const vk::Context& ctx, const scene::Geometry& geometry, Hierarchy hierarchy, const ArSettings& settings);
+  // `objectMoves`, per hierarchy root: whether its object can move (movingRoots); empty: any may,
+  // and every pair is relinked whenever the geometry moved.
+  ArSolver(const vk::Context& ctx, const scene::Geometry& geometry, Hierarchy hierarchy, const ArSettings& settings,
+           const std::vector<bool>& objectMoves = {});
 
   void setLights(const std::vector<gpu::PunctualLight>& lights) override;
   void record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffer& surfels, bool geometryMoved) override;
@@ -43,6 +46,7 @@ class ArSolver final : public Solver {
 
  private:
   void allocateLinks();
+  void recordLinks(VkCommandBuffer cmd, LinkSet& set);
   void recordIterations(VkCommandBuffer cmd, vk::PassTimer& timer, uint32_t steps);
   // Reads the sums of the iterations recorded since the last look and decides whether to go on
   // (wantsMorePasses() asks, so what it decides is mutable).
@@ -55,14 +59,19 @@ class ArSolver final : public Solver {
   const uint32_t surfelCount_, nodeCount_;
   vk::Allocations allocations_;  // before the buffers, which count themselves into it
   ArBuffers b_;
-  LinkSet links_;
+  // The links of the pairs of two static objects (made once, when some other object moves) and of
+  // the rest (made whenever the geometry moved).
+  LinkSet staticSet_, frameSet_;
   uint32_t worklistCapacity_ = 0;
   Refit refit_;
   LinkCreation linkCreation_;
   ArIteration iteration_;
   vk::Program sortSenders_;
   uint32_t lightCount_ = 0, sumGroups_ = 0;
-  bool linked_ = false;
+  bool linked_ = false, staticLinked_ = false;
+  // The tables hold a frame's solution that stood (not diverged, not to be redone): --warm-start's
+  // starting point.
+  bool solutionStands_ = false;
   // The frame's iterations: recorded, judged (their sums read), and whether they are done.
   uint32_t recorded_ = 0;
   mutable uint32_t judged_ = 0;

@@ -35,9 +35,7 @@ IvSetup makeIvSetup(const scene::Scene& scene, const scene::Geometry& g, const I
 }
 
 void markMovingObjects(IvSetup& setup, const scene::Scene& scene, const scene::Geometry& g, int animation) {
-  std::vector<bool> moving = scene::movingInstances(scene, g, animation);
-  setup.objectMoves.clear();
-  for (uint32_t instance : setup.hierarchy.rootInstance) setup.objectMoves.push_back(moving[instance]);
+  setup.objectMoves = movingRoots(setup.hierarchy, scene, g, animation);
 }
 
 IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, IvSetup setup)
@@ -55,17 +53,12 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, IvSetup set
   const Hierarchy& h = setup_.hierarchy;
   // Pairs of two static objects are linked and pruned once, but only when something else moves.
   auto moves = [&](size_t root) { return setup_.objectMoves.empty() || setup_.objectMoves[root]; };
-  bool anyMoves = false, anyStatic = false;
-  for (size_t r = 0; r < h.roots.size(); ++r) (moves(r) ? anyMoves : anyStatic) = true;
   // A static leaf keeps a mask word pair per 32 bins; where those exceed what one binding can
   // address (many surfels at many bins), every object is relinked instead.
   const uint64_t maskWords = uint64_t(surfelCount_) * gpu::maskWordsFor(settings_.bins);
-  const bool split = anyMoves && anyStatic && maskWords * sizeof(glm::uvec2) <= ctx.limits().maxStorageBufferRange;
-  for (size_t a = 0; a < h.roots.size(); ++a)
-    for (size_t b = 0; b < h.roots.size(); ++b) {
-      auto& pairs = (split && !moves(a) && !moves(b) ? staticSet_ : frameSet_).rootPairs;
-      pairs.insert(pairs.end(), {h.roots[a], h.roots[b]});
-    }
+  const bool split = mixesStaticAndMoving(setup_.objectMoves, h.roots.size()) &&
+                     maskWords * sizeof(glm::uvec2) <= ctx.limits().maxStorageBufferRange;
+  assignRootPairs(h, setup_.objectMoves, split, staticSet_, frameSet_);
   std::vector<uint32_t> leafMoves(surfelCount_, 1u);
   if (split) {  // a node moves with its root; parents are numbered before their children
     std::vector<bool> nodeMoves(nodeCount_, false);
