@@ -8,7 +8,7 @@
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 0
 #include "common.glsl"
-layout(local_size_x = 64) in;
+layout(local_size_x = kArGatherGroup) in;
 
 layout(binding = 1, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode
 layout(std430, binding = 2) readonly buffer Starts { uint starts[]; };
@@ -25,7 +25,8 @@ layout(binding = 9, rgba32f) writeonly uniform imageBuffer gatheredVector;
 layout(std430, binding = 10) readonly buffer Exitance { vec4 exitance[]; };  // per flat node, area · L
 layout(std430, binding = 11) readonly buffer StaticStarts { uint staticStarts[]; };
 layout(binding = 12, r32ui) readonly uniform uimageBuffer staticSenders;
-layout(push_constant) uniform Push { ArPush push; };  // count: nodes
+layout(std430, binding = 13) readonly buffer GatherOrder { uint gatherOrder[]; };  // ar_order_receivers
+layout(push_constant) uniform Push { ArPush push; };                               // count: nodes
 
 // A flat node keeps a direction's taps on the side of its plane the direction lies on (their
 // weights renormalised): light arriving at its front must not spill into bins behind it, nor the
@@ -141,8 +142,8 @@ void gatherLink(uint r, uint s, vec3 pr, vec4 nr) {
 }
 
 void main() {
-  uint r = itemIndex();
-  if (r >= push.count) return;
+  if (itemIndex() >= push.count) return;
+  uint r = gatherOrder[itemIndex()];
   vec3 pr = nodePositionArea(r).xyz;
   vec4 nr = nodeNormalCone(r);
   vectorX = vectorY = vectorZ = vec3(0.0);

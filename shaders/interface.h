@@ -322,6 +322,8 @@ struct BounceCheckPush {
 // Pieces per side a near or wide surfel sender is cut into at most (the gather's loops stay far
 // below lavapipe's budget: common.glsl).
 IVGI_CONST uint kArPieces = 2u;
+// The global pass's workgroup size, whose blocks of nodes ar_order_receivers orders.
+IVGI_CONST uint kArGatherGroup = 64u;
 // A node whose normals spread less than this (radians) counts as flat: one plane, a front and a back.
 IVGI_CONST float kArFlatCone = 0.05f;
 // The asymmetric scheme's antiradiance steps after each radiance step.

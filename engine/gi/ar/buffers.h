@@ -20,6 +20,8 @@ struct ArBuffers {
   // its area, the rest: its intensity); per surfel its incident
   // light (its own and its ancestors' gathered, the environment, the lights).
   vk::Buffer gathered, intensity, incident;
+  // The nodes in the order the global pass takes them as receivers (ar_order_receivers).
+  vk::Buffer gatherOrder;
   // Per node: the exitance (area · L) of a flat node, whose intensity table holds its antiradiance
   // alone (the cosines applied where it is read).
   vk::Buffer exitance;
@@ -44,6 +46,7 @@ struct ArBuffers {
                                {"gatheredVector", gatheredVector},
                                {"intensity", intensity},
                                {"exitance", exitance},
+                               {"gatherOrder", gatherOrder},
                                {"incident", incident},
                                {"radiance", radiance},
                                {"irradiance", irradiance},

@@ -56,7 +56,8 @@ ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy h
       refit_(ctx),
       linkCreation_(ctx),
       iteration_(ctx),
-      sortSenders_(shaderProgram(ctx, "ar_sort_senders")) {
+      sortSenders_(shaderProgram(ctx, "ar_sort_senders")),
+      orderReceivers_(shaderProgram(ctx, "ar_order_receivers")) {
   const uint32_t n = settings_.dirs, bins = 6 * n * n;
   // The tables first: they are what limits ar (as the paper says), so a refusal names --dirs.
   const VkPhysicalDeviceLimits& limits = ctx.limits();
@@ -86,6 +87,7 @@ ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy h
   b_.gathered = vk::Buffer(ctx, uint64_t(nodeCount_) * bins * sizeof(glm::vec4), vk::Memory::Device, tally);
   b_.gatheredVector = vk::Buffer(ctx, uint64_t(nodeCount_) * 3 * sizeof(glm::vec4), vk::Memory::Device, tally);
   b_.intensity = vk::Buffer(ctx, uint64_t(nodeCount_) * bins * sizeof(glm::vec4), vk::Memory::Device, tally);
+  b_.gatherOrder = vk::Buffer(ctx, nodeCount_ * sizeof(uint32_t), vk::Memory::Device, tally);
   b_.exitance = vk::Buffer(ctx, nodeCount_ * sizeof(glm::vec4), vk::Memory::Device, tally);
   b_.incident = vk::Buffer(ctx, uint64_t(surfelCount_) * bins * sizeof(glm::vec4), vk::Memory::Device, tally);
   b_.radiance = vk::Buffer(ctx, surfelCount_ * sizeof(glm::vec4), vk::Memory::Device, tally);
@@ -166,6 +168,10 @@ void ArSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
     timedPass(cmd, timer, "links", [&] {
       if (!staticLinked_ && !staticSet_.empty()) recordLinks(cmd, staticSet_);
       recordLinks(cmd, frameSet_);
+      orderReceivers_.dispatch(cmd, orderReceivers_.groupsFor(nodeCount_, gpu::kArGatherGroup),
+                               b_.pool().with({{"staticStarts", staticSet_.starts}, {"starts", frameSet_.starts}}),
+                               gpu::ArPush{nodeCount_});
+      vk::barrier(cmd);
     });
     linked_ = staticLinked_ = true;
   }

@@ -66,7 +66,7 @@ class ArSolver final : public Solver {
   Refit refit_;
   LinkCreation linkCreation_;
   ArIteration iteration_;
-  vk::Program sortSenders_;
+  vk::Program sortSenders_, orderReceivers_;
   uint32_t lightCount_ = 0, sumGroups_ = 0;
   bool linked_ = false, staticLinked_ = false;
   // The tables hold a frame's solution that stood (not diverged, not to be redone): --warm-start's
