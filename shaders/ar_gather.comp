@@ -13,16 +13,16 @@ layout(local_size_x = kArGatherGroup) in;
 layout(binding = 1, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode
 layout(std430, binding = 2) readonly buffer Starts { uint starts[]; };
 layout(binding = 3, r32ui) readonly uniform uimageBuffer senders;
-layout(std430, binding = 4) readonly buffer BinVectors { vec4 binVectors[]; };
-layout(std430, binding = 5) readonly buffer Radiance { vec4 radiance[]; };
-layout(binding = 6, rgba32f) readonly uniform imageBuffer incident;   // per surfel and bin
-layout(binding = 7, rgba32f) readonly uniform imageBuffer intensity;  // per node and bin (ar_pull_up)
-layout(binding = 8, rgba32f) uniform imageBuffer gathered;            // per node and bin, zeroed
+layout(binding = 4, rgba32f) readonly uniform imageBuffer binVectors;  // per bin ∫ω dω, Ω
+layout(binding = 5, rgba32f) readonly uniform imageBuffer radiance;    // per surfel
+layout(binding = 6, rgba32f) readonly uniform imageBuffer incident;    // per surfel and bin
+layout(binding = 7, rgba32f) readonly uniform imageBuffer intensity;   // per node and bin (ar_pull_up)
+layout(binding = 8, rgba32f) uniform imageBuffer gathered;             // per node and bin, zeroed
 // Per flat node, Σ over its links of radiance × solid angle × direction, as three texels (x, y, z,
 // each RGB): a surfel's irradiance is its normal against its own and its flat ancestors'
 // (ar_incident), with each sender's own direction rather than its bins'.
 layout(binding = 9, rgba32f) writeonly uniform imageBuffer gatheredVector;
-layout(std430, binding = 10) readonly buffer Exitance { vec4 exitance[]; };  // per flat node, area · L
+layout(binding = 10, rgba32f) readonly uniform imageBuffer exitance;  // per flat node, area · L
 layout(std430, binding = 11) readonly buffer StaticStarts { uint staticStarts[]; };
 layout(binding = 12, r32ui) readonly uniform uimageBuffer staticSenders;
 layout(std430, binding = 13) readonly buffer GatherOrder { uint gatherOrder[]; };  // ar_order_receivers
@@ -33,8 +33,10 @@ layout(push_constant) uniform Push { ArPush push; };                            
 // light that reached it from beyond into bins in front.
 vec4 keepSide(vec4 normalCone, vec3 dir, uvec4 taps, vec4 weights) {
   if (normalCone.w > kArFlatCone) return weights;  // curved: no one plane
-  vec4 cosines = vec4(dot(normalCone.xyz, binVectors[taps.x].xyz), dot(normalCone.xyz, binVectors[taps.y].xyz),
-                      dot(normalCone.xyz, binVectors[taps.z].xyz), dot(normalCone.xyz, binVectors[taps.w].xyz));
+  vec4 cosines = vec4(dot(normalCone.xyz, imageLoad(binVectors, int(taps.x)).xyz),
+                      dot(normalCone.xyz, imageLoad(binVectors, int(taps.y)).xyz),
+                      dot(normalCone.xyz, imageLoad(binVectors, int(taps.z)).xyz),
+                      dot(normalCone.xyz, imageLoad(binVectors, int(taps.w)).xyz));
   vec4 kept = dot(normalCone.xyz, dir) >= 0.0 ? step(0.0, cosines) : vec4(1.0) - step(0.0, cosines);
   vec4 w = weights * kept;
   float sum = w.x + w.y + w.z + w.w;
@@ -52,7 +54,7 @@ float solidAnglePerArea(float area, float dist2) {
 // Adds to receiver r's texel of bin `bin` radiance × solid angle `sent` over the bin's solid angle.
 void add(uint r, uint bins, uint bin, vec3 sent) {
   int texel = int(r * bins + bin);
-  imageStore(gathered, texel, vec4(imageLoad(gathered, texel).rgb + sent / binVectors[bin].w, 0.0));
+  imageStore(gathered, texel, vec4(imageLoad(gathered, texel).rgb + sent / imageLoad(binVectors, int(bin)).w, 0.0));
 }
 
 vec3 vectorX, vectorY, vectorZ;  // the receiver's Σ sent · dir
@@ -89,7 +91,7 @@ vec3 surfelRadiance(uint surfel, uint bins, vec4 ns, vec3 dir) {
   vec4 weights;
   binTaps(dir, push.bins, taps, weights);
   vec3 through = READ_TAPS(incident, surfel * bins, taps, keepSide(ns, dir, taps, weights));
-  return (dot(ns.xyz, -dir) > 0.0 ? radiance[surfel].rgb : vec3(0.0)) - through;
+  return (dot(ns.xyz, -dir) > 0.0 ? imageLoad(radiance, int(surfel)).rgb : vec3(0.0)) - through;
 }
 
 // Adds what sender node s sends over its link to receiver r (at pr, its normal and cone nr).
@@ -110,7 +112,7 @@ void gatherLink(uint r, uint s, vec3 pr, vec4 nr) {
     vec4 cone = nodeNormalCone(s);
     if (cone.w <= kArFlatCone) {  // flat: its exitance and antiradiance with its own cosine
       float cosine = dot(cone.xyz, -dir);
-      sent = exitance[s].rgb * max(cosine, 0.0) - sent * abs(cosine);
+      sent = imageLoad(exitance, int(s)).rgb * max(cosine, 0.0) - sent * abs(cosine);
     }
     deposit(r, bins, nr, dir, sent * solidAnglePerArea(ps.w, dist2), 1.0);
     return;
@@ -135,7 +137,7 @@ void gatherLink(uint r, uint s, vec3 pr, vec4 nr) {
     // In the bins, a piece wider than a bin is credited one bin's worth: they hold radiance, which
     // J passes on, and a near piece's light taken along one direction would pass on more than it
     // has (its neighbours on a curved surface, each in the others' near field, fed it back).
-    float binOmega = binVectors[binOf(dir, push.bins)].w;
+    float binOmega = imageLoad(binVectors, int(binOf(dir, push.bins))).w;
     float binShare = omega > binOmega ? binOmega / omega : 1.0;
     deposit(r, bins, nr, dir, surfelRadiance(t.w, bins, ns, dir) * omega, binShare);
   }

@@ -13,8 +13,8 @@ layout(local_size_x = 64) in;
 
 layout(binding = 1, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode
 layout(std430, binding = 2) readonly buffer LeafOfSurfel { uint leafOfSurfel[]; };
-layout(std430, binding = 3) readonly buffer BinVectors { vec4 binVectors[]; };
-layout(std430, binding = 4) readonly buffer Environment { vec4 environment[]; };  // radiance per bin
+layout(binding = 3, rgba32f) readonly uniform imageBuffer binVectors;   // per bin ∫ω dω, Ω
+layout(binding = 4, rgba32f) readonly uniform imageBuffer environment;  // radiance per bin
 layout(std430, binding = 5) readonly buffer Lights { PunctualLight lights[]; };
 layout(binding = 6, rgba32f) readonly uniform imageBuffer gathered;  // per node and bin
 layout(binding = 7, rgba32f) uniform imageBuffer incident;           // per surfel and bin
@@ -41,7 +41,7 @@ void main() {
     for (int node = int(leaf); node >= 0 && depth < 32u; node = int(imageLoad(tree, node).x), ++depth)
       if (nodeNormalCone(uint(node)).w > kArFlatCone) curved |= 1u << depth;
     for (uint b = 0u; b < bins; ++b) {
-      vec3 sky = push.environmentOn != 0u ? environment[b].rgb : vec3(0.0), I = sky, fromBins = sky;
+      vec3 sky = push.environmentOn != 0u ? imageLoad(environment, int(b)).rgb : vec3(0.0), I = sky, fromBins = sky;
       uint k = 0u;
       for (int node = int(leaf); node >= 0; node = int(imageLoad(tree, node).x), ++k) {
         vec3 g = imageLoad(gathered, int(uint(node) * bins + b)).rgb;
@@ -49,7 +49,7 @@ void main() {
         if (k < 32u && (curved & (1u << k)) != 0u) fromBins += g;
       }
       imageStore(incident, int(s * bins + b), vec4(I, 0.0));
-      E += fromBins * max(dot(normal, binVectors[b].xyz), 0.0);
+      E += fromBins * max(dot(normal, imageLoad(binVectors, int(b)).xyz), 0.0);
     }
     for (int node = int(leaf); node >= 0; node = int(imageLoad(tree, node).x)) {
       uint v = 3u * uint(node);
@@ -68,7 +68,7 @@ void main() {
       E += added * max(dot(normal, normalize(toLight)), 0.0);
       for (uint j = 0u; j < 4u; ++j) {
         uint bin = taps[j];
-        vec3 radiance = weights[j] * added / binVectors[bin].w;
+        vec3 radiance = weights[j] * added / imageLoad(binVectors, int(bin)).w;
         int texel = int(s * bins + bin);
         imageStore(incident, texel, vec4(imageLoad(incident, texel).rgb + radiance, 0.0));
       }

@@ -10,7 +10,7 @@ layout(local_size_x = 64) in;
 
 layout(binding = 1, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode
 layout(binding = 2, rgba32f) uniform imageBuffer intensity;        // per node and bin
-layout(std430, binding = 3) buffer Exitance { vec4 exitance[]; };  // per node, area · L (flat nodes)
+layout(binding = 3, rgba32f) uniform imageBuffer exitance;         // per node, area · L (flat nodes)
 layout(push_constant) uniform Push { ArPush push; };               // count: the level's nodes × bins
 
 void main() {
@@ -27,11 +27,11 @@ void main() {
     vec4 cone = nodeNormalCone(child);
     if (!flatNode && cone.w <= kArFlatCone) {  // a flat child into a curved table: its cosines at the bin's centre
       float cosine = dot(cone.xyz, omega);
-      entry = exitance[child].rgb * max(cosine, 0.0) - entry * abs(cosine);
+      entry = imageLoad(exitance, int(child)).rgb * max(cosine, 0.0) - entry * abs(cosine);
     }
     sum += entry;
-    exitanceSum += exitance[child].rgb;
+    exitanceSum += imageLoad(exitance, int(child)).rgb;
   }
   imageStore(intensity, int(node * bins + c), vec4(sum, 0.0));
-  if (c == 0u) exitance[node] = vec4(flatNode ? exitanceSum : vec3(0.0), 0.0);
+  if (c == 0u) imageStore(exitance, int(node), vec4(flatNode ? exitanceSum : vec3(0.0), 0.0));
 }
