@@ -3,10 +3,12 @@
 // them in whatever order its atomics ran; the global pass sums in list order, so a canonical order
 // makes its sums, and the image, the same run to run. A bitonic network of all-ascending
 // compare-exchanges (each merge first compares mirrored pairs) over the list padded to a power of
-// two, in place; pairs reaching into the padding need no exchange.
+// two, in place; pairs reaching into the padding need no exchange. A small workgroup: most lists
+// are short, and every subgroup of a workgroup runs every stage; 32 lanes sort lists of up to 32k
+// senders within lavapipe's loop budget (common.glsl), past the longest the global pass can walk.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
-layout(local_size_x = 256) in;
+layout(local_size_x = 32) in;
 
 layout(std430, binding = 0) readonly buffer Starts { uint starts[]; };
 layout(binding = 1, r32ui) coherent uniform uimageBuffer senders;
