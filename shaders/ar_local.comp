@@ -32,7 +32,7 @@ void main() {
   exitance[leaf] = vec4(area * L, 0.0);
   for (uint c = 0u; c < bins; ++c) {
     // Antiradiance toward c: the light that arrived travelling along c, from the opposite bin.
-    vec3 through = imageLoad(incident, int(s * bins + binOf(-binDirection(c, push.bins), push.bins))).rgb;
+    vec3 through = imageLoad(incident, int(s * bins + oppositeBin(c, push.bins))).rgb;
     imageStore(intensity, int(leaf * bins + c), vec4(area * through, 0.0));
   }
 }

@@ -439,6 +439,12 @@ IVGI_FN vec3 binDirection(uint b, uint n) {
   return faceDirection(face, (vec2(float(r % n), float(r / n)) + 0.5f) / float(n) * 2.0f - 1.0f);
 }
 
+// The bin opposite bin b (binOf(−binDirection(b))): the face of the other sign, its cell mirrored.
+IVGI_FN uint oppositeBin(uint b, uint n) {
+  uint perFace = n * n;
+  return (b / perFace ^ 1u) * perFace + perFace - 1u - b % perFace;
+}
+
 // Bin of cell (x, y) of face `face`'s plane, n cells a side: the face's own bin, or past its edge
 // the bin of the neighbouring face that the cell's centre falls in.
 IVGI_FN uint binOfCell(uint face, ivec2 cell, uint n) {

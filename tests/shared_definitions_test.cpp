@@ -204,6 +204,7 @@ TEST(SharedDefinitions, BinSolidAnglesCoverTheSphere) {
       sum += w;
       smallest = std::min(smallest, w), largest = std::max(largest, w);
       ASSERT_EQ(gpu::binOf(gpu::binDirection(b, n), n), b);
+      ASSERT_EQ(gpu::oppositeBin(b, n), gpu::binOf(-gpu::binDirection(b, n), n)) << "bin " << b << " of n " << n;
     }
     EXPECT_NEAR(sum, 4.0 * 3.14159265358979, 1e-4) << n;
     if (n >= 16) {
