@@ -274,7 +274,22 @@ bool ArSolver::wantsMorePasses() const {
 }
 
 void ArSolver::recordMorePasses(VkCommandBuffer cmd, vk::PassTimer& timer) {
-  recordIterations(cmd, timer, std::min(kIterationSteps, iterationLimit() - recorded_));
+  recordIterations(cmd, timer, std::min(nextSteps(), iterationLimit() - recorded_));
+}
+
+uint32_t ArSolver::nextSteps() const {
+  // Iterating to the tolerance on the symmetric scheme, whose changes shrink about geometrically
+  // (alternating between faster and slower steps): as many as the ratio over the last two steps
+  // (one, after a warm start's first two) says are left, so that the frame stops soon after it
+  // settles rather than up to a submission's worth past it. Too few cost a submission more, not
+  // accuracy.
+  if (settings_.iterations || cap_ || settings_.scheme != ArScheme::Symmetric || residuals_.size() < 2)
+    return kIterationSteps;
+  const size_t span = std::min<size_t>(2, residuals_.size() - 1);
+  const double last = residuals_.back(), before = residuals_[residuals_.size() - 1 - span];
+  if (!(last > 0.0 && last < before)) return kIterationSteps;
+  const double left = std::ceil(std::log(settings_.tolerance / last) / (std::log(last / before) / double(span)));
+  return uint32_t(std::clamp(left, 1.0, double(kIterationSteps)));
 }
 
 bool ArSolver::frameMustBeRedone() {

@@ -48,6 +48,8 @@ class ArSolver final : public Solver {
   void allocateLinks();
   void recordLinks(VkCommandBuffer cmd, LinkSet& set);
   void recordIterations(VkCommandBuffer cmd, vk::PassTimer& timer, uint32_t steps);
+  // How many iterations the next submission records.
+  uint32_t nextSteps() const;
   // Reads the sums of the iterations recorded since the last look and decides whether to go on
   // (wantsMorePasses() asks, so what it decides is mutable).
   void judge() const;
