@@ -21,12 +21,15 @@ layout(binding = 8, rgba32f) uniform imageBuffer gathered;             // per no
 // Per flat node, Σ over its links of radiance × solid angle × direction, as three texels (x, y, z,
 // each RGB): a surfel's irradiance is its normal against its own and its flat ancestors'
 // (ar_incident), with each sender's own direction rather than its bins'.
-layout(binding = 9, rgba32f) writeonly uniform imageBuffer gatheredVector;
+layout(binding = 9, rgba32f) uniform imageBuffer gatheredVector;
 layout(binding = 10, rgba32f) readonly uniform imageBuffer exitance;  // per flat node, area · L
 layout(std430, binding = 11) readonly buffer StaticStarts { uint staticStarts[]; };
 layout(binding = 12, r32ui) readonly uniform uimageBuffer staticSenders;
 layout(std430, binding = 13) readonly buffer GatherOrder { uint gatherOrder[]; };  // ar_order_receivers
-layout(push_constant) uniform Push { ArPush push; };                               // count: nodes
+// kArFlagChunks where a receiver's list was longer than the chunks recorded walked (the frame is
+// redone in more).
+layout(std430, binding = 14) buffer GatherFlags { uint gatherFlags[]; };
+layout(push_constant) uniform Push { ArPush push; };  // count: nodes
 
 // A flat node keeps a direction's taps on the side of its plane the direction lies on (their
 // weights renormalised): light arriving at its front must not spill into bins behind it, nor the
@@ -146,13 +149,22 @@ void gatherLink(uint r, uint s, vec3 pr, vec4 nr) {
 void main() {
   if (itemIndex() >= push.count) return;
   uint r = gatherOrder[itemIndex()];
+  // One loop over both lists (the link's body is long, and compiled once), this dispatch's chunk of
+  // them; the chunks after the first go on from the vector sums the one before left.
+  uint fixedFirst = staticStarts[r], fixedCount = staticStarts[r + 1u] - fixedFirst;
+  uint first = starts[r] - fixedCount, end = fixedCount + starts[r + 1u] - starts[r];
+  uint from = push.first * push.chunkLinks, to = min(end, from + push.chunkLinks);
+  if (push.first + 1u == push.chunks && end > to) atomicOr(gatherFlags[0], kArFlagChunks);
+  if (push.first > 0u && from >= end) return;
   vec3 pr = nodePositionArea(r).xyz;
   vec4 nr = nodeNormalCone(r);
   vectorX = vectorY = vectorZ = vec3(0.0);
-  // One loop over both lists: the link's body is long, and compiled once.
-  uint fixedFirst = staticStarts[r], fixedCount = staticStarts[r + 1u] - fixedFirst;
-  uint first = starts[r] - fixedCount, end = fixedCount + starts[r + 1u] - starts[r];
-  for (uint k = 0u; k < end; ++k) {
+  if (push.first > 0u) {
+    vectorX = imageLoad(gatheredVector, int(3u * r)).rgb;
+    vectorY = imageLoad(gatheredVector, int(3u * r + 1u)).rgb;
+    vectorZ = imageLoad(gatheredVector, int(3u * r + 2u)).rgb;
+  }
+  for (uint k = from; k < to; ++k) {
     uint s = k < fixedCount ? imageLoad(staticSenders, int(fixedFirst + k)).x : imageLoad(senders, int(first + k)).x;
     gatherLink(r, s & ~kEmitterBit, pr, nr);
   }

@@ -4,14 +4,16 @@
 // makes its sums, and the image, the same run to run. A bitonic network of all-ascending
 // compare-exchanges (each merge first compares mirrored pairs) over the list padded to a power of
 // two, in place; pairs reaching into the padding need no exchange. A small workgroup: most lists
-// are short, and every subgroup of a workgroup runs every stage; 32 lanes sort lists of up to 32k
-// senders within lavapipe's loop budget (common.glsl), past the longest the global pass can walk.
+// are short, and every subgroup of a workgroup runs every stage; 64 lanes sort a list of
+// kArSortedMost senders in 30,720 loop rounds, within lavapipe's budget (common.glsl). A longer
+// list is flagged, and the solve stops with a message.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
-layout(local_size_x = 32) in;
+layout(local_size_x = 64) in;
 
 layout(std430, binding = 0) readonly buffer Starts { uint starts[]; };
 layout(binding = 1, r32ui) coherent uniform uimageBuffer senders;
+layout(std430, binding = 2) buffer GatherFlags { uint gatherFlags[]; };
 layout(push_constant) uniform Push { ArPush push; };  // count: nodes
 
 void main() {
@@ -19,6 +21,10 @@ void main() {
   if (node >= push.count) return;
   uint first = starts[node], count = starts[node + 1u] - first;
   if (count < 2u) return;
+  if (count > kArSortedMost) {
+    if (gl_LocalInvocationID.x == 0u) atomicOr(gatherFlags[0], kArFlagUnsorted);
+    return;
+  }
   uint padded = 1u << uint(findMSB(count - 1u) + 1);
   for (uint size = 2u; size <= padded; size <<= 1u)
     for (uint stride = size >> 1u; stride > 0u; stride >>= 1u) {

@@ -44,8 +44,9 @@ uint binFace(vec3 d, uint n, out vec2 position) {
 // (LP_MAX_TGSI_LOOP_ITERATIONS, never reset while the subgroup runs) it ends each loop after one
 // round, silently. Passes keep a subgroup's rounds below it: the rasteriser cuts large triangles
 // into slices, one workgroup each; the gather's loops are bounded by a leaf's bins (at most
-// 2·6·64² = 49,152); the prune probes whether its workgroup ran out (the frame is then redone with
-// more subgroups a workgroup); the other passes loop a few thousand rounds at most.
+// 2·6·64² = 49,152); ar's global pass walks a link list in chunks (kArGatherChunk); the prune
+// probes whether its workgroup ran out (the frame is then redone with more subgroups a workgroup);
+// the other passes loop a few thousand rounds at most.
 // True when the budget ran out before this call: a loop of lid + 2 rounds, a count no compiler
 // knows, then runs one round. Devices without such a budget never report it.
 bool loopBudgetSpent() {

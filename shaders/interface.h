@@ -322,6 +322,16 @@ struct BounceCheckPush {
 // Pieces per side a near or wide surfel sender is cut into at most (the gather's loops stay far
 // below lavapipe's budget: common.glsl).
 IVGI_CONST uint kArPieces = 2u;
+// The most links of a receiver's list one dispatch of the global pass walks: a link takes at most
+// 1 + kArPieces² loop rounds, so that a chunk stays within lavapipe's loop budget (common.glsl).
+// Longer lists take more dispatches, each going on where the one before stopped.
+IVGI_CONST uint kArGatherChunk = 8192u;
+// The longest list ar_sort_senders orders within lavapipe's loop budget, and the bits of the flags
+// the global pass and the sort leave (ArBuffers::gatherFlags): a list longer than the chunks
+// recorded walk (the frame is redone in more), a list too long to sort (the solve stops).
+IVGI_CONST uint kArSortedMost = 32768u;
+IVGI_CONST uint kArFlagChunks = 1u;
+IVGI_CONST uint kArFlagUnsorted = 2u;
 // The global pass's workgroup size, whose blocks of nodes ar_order_receivers orders.
 IVGI_CONST uint kArGatherGroup = 64u;
 // A node whose normals spread less than this (radians) counts as flat: one plane, a front and a back.
@@ -338,11 +348,12 @@ struct IterationSum {
 struct ArPush {
   uint count;           // the items: surfels (local, incident), nodes (gather) or a level's node bins (pull-up)
   uint bins;            // N: 6·N² bins
-  uint first;           // pull-up: the level's first node; incident: the sums' slot (iteration in its chunk)
+  uint first;           // pull-up: the level's first node; incident: the sums' slot; gather: the chunk
   uint updateRadiance;  // local: 1 to reflect the incident light (a radiance step), 0 to keep the radiance
   uint lightCount;
   uint environmentOn;
-  uint pad0, pad1;
+  uint chunks;      // gather: the chunks recorded (a list longer than they walk is flagged)
+  uint chunkLinks;  // gather: the links of a list a chunk walks (kArGatherChunk but in tests)
 };
 
 struct ImagePush {  // raster: count = triangles; resolve: count = samples per axis

@@ -248,6 +248,24 @@ TEST(ArDeterminism, TwoSolvesGiveTheSameBits) {
   EXPECT_EQ(0, std::memcmp(a.irradiance.data(), b.irradiance.data(), a.irradiance.size() * sizeof(glm::vec4)));
 }
 
+// A receiver's list longer than one dispatch of the global pass walks (on lavapipe, what its loop
+// budget allows: kArGatherChunk links) is walked in several, each going on where the one before
+// stopped: the frame that finds such a list is redone in as many, and sums in the same order as one
+// dispatch would, so the light is the same bit for bit.
+TEST(ArDeterminism, ListsWalkedInChunksGiveTheSameBits) {
+  auto model = scenes::cornellBox({.cells = 8});
+  ArSolved whole = solveAr(model, {}), chunked = solveAr(model, {.gatherChunkLinks = 16});
+  std::printf("[ ar chunks ] longest list %u links: %u chunks of 16, %u frame(s) redone\n", whole.stats.longestList,
+              chunked.stats.gatherChunks, chunked.stats.framesRedone);
+  EXPECT_EQ(whole.stats.gatherChunks, 1u);
+  EXPECT_EQ(chunked.stats.gatherChunks, (whole.stats.longestList + 15) / 16);
+  EXPECT_GE(chunked.stats.framesRedone, 1u);
+  ASSERT_EQ(whole.irradiance.size(), chunked.irradiance.size());
+  EXPECT_EQ(whole.stats.iterations, chunked.stats.iterations);
+  EXPECT_EQ(
+      0, std::memcmp(whole.irradiance.data(), chunked.irradiance.data(), whole.irradiance.size() * sizeof(glm::vec4)));
+}
+
 // Where one object moves, the links between static objects are made once and kept: the global pass
 // walks them first, then the frame's. That must give what relinking every pair each frame gives,
 // the same links and the same light up to the order of float sums.

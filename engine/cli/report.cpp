@@ -10,8 +10,8 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(IvStats, nodes, levels, links, leafLinks, sta
                                    sharedBins, pruneBatches, pruneGroupSize, sendersWalked, staticSendersWalked,
                                    framesRedone, staticPasses, bounces, bounceRemaining, receivers, receiverFills)
 
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ArStats, nodes, levels, links, staticLinks, longestList, bytes, tableBytes,
-                                   iterations, residual, negative, diverged, framesRedone, residuals)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ArStats, nodes, levels, links, staticLinks, longestList, gatherChunks, bytes,
+                                   tableBytes, iterations, residual, negative, diverged, framesRedone, residuals)
 
 }  // namespace ivgi::gi
 

@@ -31,6 +31,8 @@ struct ArBuffers {
   // Per surfel: radiance (Le + ρE/π, from the last radiance step) and irradiance; per iteration and
   // workgroup of the incident pass, what the host judges the iteration by.
   vk::Buffer radiance, irradiance, sums;
+  // Set by the global pass where a receiver's list was longer than its chunks walked (host-visible).
+  vk::Buffer gatherFlags;
 
   vk::Bindings pool() const {
     return vk::Bindings::pool({{"tree", tree},
@@ -50,7 +52,8 @@ struct ArBuffers {
                                {"incident", incident},
                                {"radiance", radiance},
                                {"irradiance", irradiance},
-                               {"sums", sums}});
+                               {"sums", sums},
+                               {"gatherFlags", gatherFlags}});
   }
 };
 

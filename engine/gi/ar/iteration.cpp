@@ -37,12 +37,15 @@ void ArIteration::record(VkCommandBuffer cmd, vk::PassTimer& timer, bool timed, 
   pass("global", [&] {
     vkCmdFillBuffer(cmd, b.gathered.handle(), 0, VK_WHOLE_SIZE, 0u);
     vk::barrier(cmd);
-    gather_.dispatchItems(cmd, nodes,
-                          b.pool().with({{"staticStarts", staticLinks.starts},
-                                         {"staticSenders", staticLinks.senders},
-                                         {"starts", frameLinks.starts},
-                                         {"senders", frameLinks.senders}}),
-                          gpu::ArPush{nodes, push.bins});
+    for (uint32_t chunk = 0; chunk < push.chunks; ++chunk) {  // each going on where the one before stopped
+      if (chunk) vk::barrier(cmd);
+      gather_.dispatchItems(cmd, nodes,
+                            b.pool().with({{"staticStarts", staticLinks.starts},
+                                           {"staticSenders", staticLinks.senders},
+                                           {"starts", frameLinks.starts},
+                                           {"senders", frameLinks.senders}}),
+                            gpu::ArPush{nodes, push.bins, chunk, 0, 0, 0, push.chunks, push.chunkLinks});
+    }
   });
   pass("incident", [&] {
     push.count = surfels, push.first = slot;

@@ -15,8 +15,8 @@ class ArIteration {
   explicit ArIteration(const vk::Context& ctx);
   // Records one iteration; `radianceStep`: the local pass reflects the incident light (else it keeps
   // the radiance: an antiradiance step); `slot`: where its incident pass leaves its sums. The global
-  // pass walks each receiver's links of both sets, the static pairs' first. Each pass is timed
-  // where `timed`.
+  // pass walks each receiver's links of both sets, the static pairs' first, in push.chunks
+  // dispatches (push.chunkLinks links of a list each). Each pass is timed where `timed`.
   void record(VkCommandBuffer cmd, vk::PassTimer& timer, bool timed, const ArBuffers& b, const Hierarchy& h,
               const LinkSet& staticLinks, const LinkSet& frameLinks, gpu::ArPush push, bool radianceStep,
               uint32_t slot) const;

@@ -29,6 +29,9 @@ struct ArSettings {
   bool warmStart = false;
   std::optional<scene::Environment> environment;  // --env; none: no environment light
   uint64_t memoryBudget = 0;                      // --max-memory, in bytes; 0: the device's heap
+  // The links of a receiver's list one dispatch of the global pass walks; 0: gpu::kArGatherChunk.
+  // Tests set few, so that lists take several dispatches (the frame is redone with more).
+  uint32_t gatherChunkLinks = 0;
 };
 
 // The most iterations a frame runs: a guard against typing errors and light that does not converge.
@@ -43,6 +46,7 @@ struct ArStats {
   uint32_t nodes = 0, levels = 0, links = 0;
   uint32_t staticLinks = 0;            // of the links, those between static objects (made once)
   uint32_t longestList = 0;            // the most links one receiver node has
+  uint32_t gatherChunks = 0;           // the global pass's dispatches an iteration, each a chunk of every list
   uint64_t bytes = 0, tableBytes = 0;  // in all; of those, the directional tables
   uint32_t iterations = 0;             // the last frame's
   float residual = 0;                  // its last iteration's change of the irradiance, over the irradiance

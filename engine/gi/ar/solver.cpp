@@ -92,6 +92,7 @@ ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy h
   b_.incident = vk::Buffer(ctx, uint64_t(surfelCount_) * bins * sizeof(glm::vec4), vk::Memory::Device, tally);
   b_.radiance = vk::Buffer(ctx, surfelCount_ * sizeof(glm::vec4), vk::Memory::Device, tally);
   b_.irradiance = vk::Buffer(ctx, surfelCount_ * sizeof(glm::vec4), vk::Memory::Device, tally);
+  b_.gatherFlags = vk::makeBuffer(ctx, std::vector<uint32_t>(4, 0u), vk::Memory::Host, tally);
   sumGroups_ = iteration_.sumGroups(surfelCount_);
   b_.sums =
       vk::Buffer(ctx, uint64_t(kIterationSteps) * sumGroups_ * sizeof(gpu::IterationSum), vk::Memory::Host, tally);
@@ -163,6 +164,8 @@ uint32_t ArSolver::iterationLimit() const {
 }
 
 void ArSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffer& surfels, bool geometryMoved) {
+  vkCmdFillBuffer(cmd, b_.gatherFlags.handle(), 0, VK_WHOLE_SIZE, 0u);
+  vk::barrier(cmd);
   if (geometryMoved || !linked_) {
     timedPass(cmd, timer, "refit", [&] { refit_.record(cmd, hierarchy_, b_.tree, surfels, b_.nodes); });
     timedPass(cmd, timer, "links", [&] {
@@ -199,7 +202,8 @@ void ArSolver::recordLinks(VkCommandBuffer cmd, LinkSet& set) {
   linkCreation_.record(cmd, set, LinkWork{b_.args, b_.worklistA, b_.worklistB, b_.pool()}, hierarchy_,
                        LinkCriteria{settings_.epsilon, settings_.kappa * bin, settings_.kappa * bin, true, 0.0f},
                        worklistCapacity_);
-  sortSenders_.dispatch(cmd, sortSenders_.groupsFor(nodeCount_, 1), {{"starts", set.starts}, {"senders", set.senders}},
+  sortSenders_.dispatch(cmd, sortSenders_.groupsFor(nodeCount_, 1),
+                        {{"starts", set.starts}, {"senders", set.senders}, {"gatherFlags", b_.gatherFlags}},
                         gpu::ArPush{nodeCount_});
   vk::barrier(cmd);
 }
@@ -211,7 +215,8 @@ void ArSolver::recordIterations(VkCommandBuffer cmd, vk::PassTimer& timer, uint3
       const uint32_t i = recorded_ + k;
       const bool radianceStep = settings_.scheme == ArScheme::Symmetric || i % (gpu::kAntiradianceSteps + 1) == 0;
       iteration_.record(cmd, timer, timedEach, b_, hierarchy_, staticSet_, frameSet_,
-                        gpu::ArPush{0, settings_.dirs, 0, 0, lightCount_, settings_.environment ? 1u : 0u},
+                        gpu::ArPush{0, settings_.dirs, 0, 0, lightCount_, settings_.environment ? 1u : 0u,
+                                    gatherChunks_, chunkLinks()},
                         radianceStep, k);
     }
   };
@@ -269,6 +274,7 @@ void ArSolver::judge() const {
 bool ArSolver::wantsMorePasses() const {
   for (const LinkSet* set : {&staticSet_, &frameSet_})
     if (set->readCounters()[gpu::kCounterOverflow] != 0) return false;  // the frame is redone
+  if (b_.gatherFlags.read<uint32_t>(1)[0] != 0) return false;           // a list too long: see frameMustBeRedone
   judge();
   return !done_;
 }
@@ -307,6 +313,16 @@ bool ArSolver::frameMustBeRedone() {
     ++framesRedone_;
     return true;
   }
+  const uint32_t flags = b_.gatherFlags.read<uint32_t>(1)[0];
+  if (flags & gpu::kArFlagUnsorted)
+    throw SettingsError("the ar solver made a receiver node " + std::to_string(longestList()) +
+                        " links, more than it orders on this device (" + std::to_string(gpu::kArSortedMost) +
+                        "): a larger --kappa or --eps makes fewer");
+  if (flags & gpu::kArFlagChunks) {  // a list longer than the global pass's chunks walked
+    gatherChunks_ = (longestList() + chunkLinks() - 1) / chunkLinks();
+    ++framesRedone_;
+    return true;
+  }
   if (!redo_) return false;
   redo_ = false;
   ++framesRedone_;
@@ -324,6 +340,15 @@ std::vector<std::pair<std::string, double>> ArSolver::frameFigures() const {
           {"diverged", diverged_ ? 1.0 : 0.0}};
 }
 
+uint32_t ArSolver::longestList() const {
+  const std::vector<uint32_t> fixed = staticSet_.starts.read<uint32_t>(nodeCount_ + 1);
+  const std::vector<uint32_t> frame = frameSet_.starts.read<uint32_t>(nodeCount_ + 1);
+  uint32_t longest = 0;
+  for (uint32_t node = 0; node < nodeCount_; ++node)
+    longest = std::max(longest, fixed[node + 1] - fixed[node] + frame[node + 1] - frame[node]);
+  return longest;
+}
+
 ArStats ArSolver::stats() const {
   ArStats s;
   s.nodes = nodeCount_, s.levels = hierarchy_.levels();
@@ -333,10 +358,8 @@ ArStats ArSolver::stats() const {
     s.links += links;
     if (set == &staticSet_) s.staticLinks = links;
   }
-  const std::vector<uint32_t> fixed = staticSet_.starts.read<uint32_t>(nodeCount_ + 1);
-  const std::vector<uint32_t> frame = frameSet_.starts.read<uint32_t>(nodeCount_ + 1);
-  for (uint32_t node = 0; node < nodeCount_; ++node)
-    s.longestList = std::max(s.longestList, fixed[node + 1] - fixed[node] + frame[node + 1] - frame[node]);
+  s.longestList = longestList();
+  s.gatherChunks = gatherChunks_;
   s.bytes = allocatedBytes();
   s.tableBytes = tableBytes(nodeCount_, surfelCount_, settings_.dirs);
   s.iterations = recorded_;

@@ -50,6 +50,8 @@ class ArSolver final : public Solver {
   void recordIterations(VkCommandBuffer cmd, vk::PassTimer& timer, uint32_t steps);
   // How many iterations the next submission records.
   uint32_t nextSteps() const;
+  uint32_t longestList() const;  // the most links a receiver node has, of both sets
+  uint32_t chunkLinks() const { return settings_.gatherChunkLinks ? settings_.gatherChunkLinks : gpu::kArGatherChunk; }
   // Reads the sums of the iterations recorded since the last look and decides whether to go on
   // (wantsMorePasses() asks, so what it decides is mutable).
   void judge() const;
@@ -70,6 +72,9 @@ class ArSolver final : public Solver {
   ArIteration iteration_;
   vk::Program sortSenders_, orderReceivers_;
   uint32_t lightCount_ = 0, sumGroups_ = 0;
+  // Dispatches of the global pass an iteration, each walking chunkLinks() links of a list; more
+  // where a frame found a longer list (it is redone).
+  uint32_t gatherChunks_ = 1;
   bool linked_ = false, staticLinked_ = false;
   // The tables hold a frame's solution that stood (not diverged, not to be redone): --warm-start's
   // starting point.
