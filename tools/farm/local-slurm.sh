@@ -30,6 +30,7 @@ case "$command" in
     ;;
   start)
     if [ "$(id -u)" -ne 0 ]; then echo "$0: needs root to start munged, slurmctld and slurmd" >&2; exit 77; fi
+    PATH=$PATH:/usr/sbin:/sbin  # the daemons live there, which a user's PATH may leave out
     for tool in munged slurmctld slurmd sinfo; do
       command -v "$tool" >/dev/null || { echo "$0: $tool not found (apt-get install slurm-wlm munge)" >&2; exit 77; }
     done
