@@ -6,6 +6,13 @@
 
 namespace ivgi::gi {
 
+void LinkSet::allocateLists(const vk::Context& ctx, uint32_t nodeCount, vk::Allocations* allocations) {
+  roots = vk::makeBuffer(ctx, empty() ? std::vector<uint32_t>{0, 0} : rootPairs, vk::Memory::Device, allocations);
+  counters = vk::makeBuffer(ctx, std::vector<uint32_t>(gpu::kCounterSlots, 0u), vk::Memory::Host, allocations);
+  counts = vk::Buffer(ctx, std::max(empty() ? 0u : nodeCount, 1u) * sizeof(uint32_t), vk::Memory::Device, allocations);
+  starts = vk::makeBuffer(ctx, std::vector<uint32_t>(nodeCount + 1, 0u), vk::Memory::Device, allocations);
+}
+
 std::vector<uint32_t> LinkSet::readCounters() const { return counters.read<uint32_t>(gpu::kCounterSlots); }
 
 std::vector<uint32_t> LinkSet::refinedCounters(uint32_t levels) const {

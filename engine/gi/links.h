@@ -20,6 +20,10 @@ struct LinkSet {
   uint32_t linkCapacity = 0, leafLinkCapacity = 0;
 
   bool empty() const { return rootPairs.empty(); }
+  // Allocates the root pairs, counters and per-receiver lists of a hierarchy of `nodeCount` nodes
+  // (links and senders are sized by the solver). The starts begin as zeros, so that an empty set's
+  // lists are empty wherever a pass reads them.
+  void allocateLists(const vk::Context& ctx, uint32_t nodeCount, vk::Allocations* allocations);
   std::vector<uint32_t> readCounters() const;
   // The counters after a refinement of `levels` levels; throws where pairs were left unrefined (a bug).
   std::vector<uint32_t> refinedCounters(uint32_t levels) const;

@@ -109,12 +109,7 @@ ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy h
     ++objectNodes[rootOf[node]];
   }
   for (LinkSet* set : {&staticSet_, &frameSet_}) {
-    set->roots =
-        vk::makeBuffer(ctx, set->empty() ? std::vector<uint32_t>{0, 0} : set->rootPairs, vk::Memory::Device, tally);
-    set->counters = vk::makeBuffer(ctx, std::vector<uint32_t>(gpu::kCounterSlots, 0u), vk::Memory::Host, tally);
-    set->counts = vk::Buffer(ctx, nodeCount_ * sizeof(uint32_t), vk::Memory::Device, tally);
-    // An empty set's lists stay empty: its starts are zeros.
-    set->starts = vk::makeBuffer(ctx, std::vector<uint32_t>(nodeCount_ + 1, 0u), vk::Memory::Device, tally);
+    set->allocateLists(ctx, nodeCount_, tally);
     // Both sides link, and wide receivers split too: a few times iv's links a node, shared out
     // between the sets by their pairs' nodes.
     uint64_t pairNodes = 0;

@@ -92,13 +92,7 @@ void IvSolver::uploadScene(const scene::Geometry& g, const std::vector<uint32_t>
   b_.lights = vk::Buffer(ctx, sizeof(gpu::PunctualLight), vk::Memory::Host, tally);
   b_.nodes = deviceArray<gpu::NodeState>(ctx, nodeCount_, allocations_);
   b_.args = vk::Buffer(ctx, 4 * sizeof(glm::uvec4), vk::Memory::Device, tally);
-  for (LinkSet* set : {&staticSet_, &frameSet_}) {
-    set->roots =
-        vk::makeBuffer(ctx, set->empty() ? std::vector<uint32_t>{0, 0} : set->rootPairs, vk::Memory::Device, tally);
-    set->counters = vk::makeBuffer(ctx, std::vector<uint32_t>(gpu::kCounterSlots, 0u), vk::Memory::Host, tally);
-    set->counts = deviceArray<uint32_t>(ctx, set->empty() ? 0 : nodeCount_, allocations_);
-    set->starts = deviceArray<uint32_t>(ctx, set->empty() ? 0 : nodeCount_ + 1, allocations_);
-  }
+  for (LinkSet* set : {&staticSet_, &frameSet_}) set->allocateLists(ctx, nodeCount_, tally);
   b_.ranges = deviceArray<gpu::LeafRange>(ctx, surfelCount_, allocations_);
   b_.externalLight = deviceArray<glm::vec4>(ctx, surfelCount_, allocations_);
   b_.nodeEmission = deviceArray<glm::vec4>(ctx, nodeCount_, allocations_);
