@@ -5,7 +5,7 @@
 // links override.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
-layout(local_size_x = 64) in;
+layout(local_size_x = kReceiverGroup) in;
 
 layout(binding = 0, r32ui) readonly uniform uimageBuffer receivers;
 layout(std430, binding = 1) buffer ReceiverCounts { uint receiverCounts[]; };

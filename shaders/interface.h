@@ -194,6 +194,9 @@ IVGI_CONST uint kNotReceiver = 0x7F800000u;
 // group with more has its surfels search on their own).
 IVGI_CONST uint kInterpolationTaps = 16u;
 IVGI_CONST uint kGroupNeighbours = 128u;
+// Invocations a workgroup of the dispatches over receivers and candidates: a round lists few, and
+// lavapipe runs a workgroup on one thread, so small workgroups keep every thread busy.
+IVGI_CONST uint kReceiverGroup = 8u;
 // Dispatch arguments of receiver_args.comp, in order: the round's candidates, the round's new
 // receivers, every receiver, then one per prune batch over the new receivers.
 IVGI_CONST uint kArgsCandidates = 0u;

@@ -18,14 +18,14 @@ uvec4 groupsFor(uint items, uint size) {
 
 void main() {
   if ((push.mode & kArgsStartRound) != 0u) {
-    receiverArgs[kArgsCandidates] = groupsFor(receiverCounts[push.source], 64u);
+    receiverArgs[kArgsCandidates] = groupsFor(receiverCounts[push.source], kReceiverGroup);
     receiverCounts[push.target] = 0u;
     receiverCounts[kReceiverRound] = receiverCounts[kReceiverCount];
   }
   if ((push.mode & kArgsListed) != 0u) {
     const uint all = receiverCounts[kReceiverCount], fresh = all - receiverCounts[kReceiverRound];
-    receiverArgs[kArgsNewReceivers] = groupsFor(fresh, 64u);
-    receiverArgs[kArgsReceivers] = groupsFor(all, 64u);
+    receiverArgs[kArgsNewReceivers] = groupsFor(fresh, kReceiverGroup);
+    receiverArgs[kArgsReceivers] = groupsFor(all, kReceiverGroup);
     for (uint b = 0u; b < push.batches; ++b) {
       const uint left = fresh > b * push.batch ? min(fresh - b * push.batch, push.batch) : 0u;
       receiverArgs[kArgsPruneBatches + b] =

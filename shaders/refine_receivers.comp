@@ -13,7 +13,7 @@
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 12
 #include "common.glsl"
-layout(local_size_x = 64) in;
+layout(local_size_x = kReceiverGroup) in;
 
 layout(binding = 0, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode
 layout(binding = 1, r32ui) readonly uniform uimageBuffer representatives;

@@ -6,7 +6,7 @@ namespace ivgi::gi {
 
 namespace {
 
-constexpr uint32_t kGroupSize = 64;  // of gather.comp, interpolate.comp and pull_up.comp
+constexpr uint32_t kGroupSize = 64;  // of interpolate.comp and pull_up.comp
 
 glm::uvec4 argsOf(vk::Groups g) { return {g.x, g.y, g.z, 0u}; }
 
