@@ -298,10 +298,10 @@ struct ReceiverPush {
 struct InterpolatePush {
   uint surfelCount;
 };
-// The bounces stop where a bounce adds less than a tolerance of the light (or after a count): the
-// gather leaves per workgroup the area-weighted luminance of its leaves' radiosity and of its change,
-// and bounce_check sums them in a fixed order, decides, and writes the next bounce's dispatch sizes
-// (zero groups once it is done).
+// The bounces stop where the light, with the geometric tail of the bounces not run added, settles
+// within a tolerance (or after a count): the interpolation leaves per workgroup the area-weighted
+// luminance of its leaves' radiosity and of its change, and bounce_check sums them in a fixed order,
+// decides, and writes the next bounce's dispatch sizes (zero groups once it is done) and the tail's.
 struct BounceSum {
   float total;   // Σ area · Y(B)
   float change;  // Σ area · |Y(B) − Y(B before)|
@@ -311,14 +311,16 @@ struct BounceState {
   uint done;        // 1: converged or at the count
   float change;     // of the last gather
   float total;      // after the last gather
-  float remaining;  // the change still to come, estimated from the last two (a geometric tail), over total
-  uint pad0, pad1, pad2;
+  float remaining;  // how far the light with its tail may still be off, over total (bounce_check.comp)
+  float gain;       // the tail's factor q/(1 − q) (0: none), q the ratio of the last two changes
+  float estimate;   // the light with its tail: total + change · gain
+  float step;       // how much that estimate moved at the last gather, over total
 };
 struct BounceCheckPush {
   uint groups;      // of the interpolation: BounceSums to add up
-  uint dispatches;  // of a bounce: the gather, the interpolation, then one pull-up a level
+  uint dispatches;  // of a bounce: the gather, the interpolation, then one pull-up a level; the tail's after them
   uint maxGathers;  // done after this many
-  float tolerance;  // done where remaining ≤ tolerance; negative: only at maxGathers
+  float tolerance;  // done where remaining ≤ tolerance, and the tail added; negative: only at maxGathers, no tail
 };
 // ---- ar (engine/gi/ar/): directional tables of 6·N² world bins per node or surfel ----
 

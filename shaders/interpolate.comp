@@ -1,7 +1,8 @@
 #version 460
 // Pass 6c, at every surfel: irradiance E interpolated from the receivers' gathered irradiance with
 // the coefficients of interpolation_weights.comp (a receiver takes its own), radiosity B = π·Le + ρ·E
-// at its leaf. Reads last bounce's radiosity only for the change, writes the next (no race).
+// at its leaf. Reads last bounce's radiosity only for the change, writes the next (no race); keeps
+// the irradiance's change for the tail (bounce_tail.comp).
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 11
 #include "common.glsl"
@@ -15,7 +16,8 @@ layout(binding = 4, rgba32f) readonly uniform imageBuffer albedo;
 layout(binding = 5, rgba32f) readonly uniform imageBuffer emission;
 layout(binding = 6, rgba32f) readonly uniform imageBuffer radiosityIn;
 layout(std430, binding = 7) writeonly buffer RadiosityOut { vec4 radiosityOut[]; };
-layout(std430, binding = 8) writeonly buffer Irradiance { vec4 irradiance[]; };
+layout(std430, binding = 8) buffer Irradiance { vec4 irradiance[]; };
+layout(std430, binding = 13) writeonly buffer IrradianceChange { vec4 irradianceChange[]; };
 layout(std430, binding = 9) writeonly buffer BounceSums { BounceSum bounceSums[]; };  // per workgroup
 layout(std430, binding = 10) readonly buffer FrameCounters { uint frameCounters[]; };
 layout(std430, binding = 12) readonly buffer StaticCounters { uint staticCounters[]; };
@@ -52,6 +54,7 @@ BounceSum interpolate(uint s) {
   const uint leaf = imageLoad(leafOfSurfel, int(s)).x;
   const vec3 b = kPi * imageLoad(emission, int(s)).rgb + imageLoad(albedo, int(s)).rgb * e;
   radiosityOut[leaf] = vec4(b, 0.0);
+  irradianceChange[s] = vec4(e - irradiance[s].rgb, 0.0);
   irradiance[s] = vec4(e, 0.0);
   const float area = nodePositionArea(leaf).w;
   return BounceSum(area * luminance(b), area * abs(luminance(b) - luminance(imageLoad(radiosityIn, int(leaf)).rgb)));

@@ -123,7 +123,9 @@ int runBench(const BenchOptions& o) {
     if (const auto& b = times.solverFigures["bounces"]; !b.empty())
       std::printf("\nbounces: median %.0f a frame (%.0f to %.0f)%s", percentile(b, 0.5),
                   *std::min_element(b.begin(), b.end()), *std::max_element(b.begin(), b.end()),
-                  solver->stats().bounceRemaining > 0 ? ", until the light still to come is below --bounce-tol" : "");
+                  solver->stats().bounceRemaining > 0
+                      ? ", and the tail of those not run, until the light with it settles within --bounce-tol"
+                      : "");
   }
   if (const auto* ar = dynamic_cast<const gi::ArSolver*>(renderer.solver())) {
     const gi::ArStats st = ar->stats();

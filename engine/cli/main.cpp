@@ -28,7 +28,8 @@ void addSolverOptions(CLI::App* cmd, SolverOptions& o) {
   cmd->add_option("--bounces", o.iv.bounces,
                   "exactly this many indirect bounces (0: direct light only); default: until converged (--bounce-tol)");
   cmd->add_option("--bounce-tol", o.iv.bounceTolerance,
-                  "bounces stop where the light still to come is estimated below this share of the light")
+                  "bounces stop where the light, with the estimated tail of the bounces not run added, "
+                  "moves by less than this share of it")
       ->capture_default_str();
   cmd->add_option("--kappa", o.iv.kappa, "split senders wider than this many average bins")->capture_default_str();
   cmd->add_option("--receiver-tol", o.iv.receiverTolerance,

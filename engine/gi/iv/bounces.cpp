@@ -6,7 +6,7 @@ namespace ivgi::gi {
 
 namespace {
 
-constexpr uint32_t kGroupSize = 64;  // of interpolate.comp and pull_up.comp
+constexpr uint32_t kGroupSize = 64;  // of interpolate.comp, pull_up.comp and bounce_tail.comp
 
 glm::uvec4 argsOf(vk::Groups g) { return {g.x, g.y, g.z, 0u}; }
 
@@ -17,19 +17,24 @@ Bounces::Bounces(const vk::Context& ctx, const Hierarchy& h, vk::Allocations& al
       gather_(shaderProgram(ctx, "gather")),
       interpolate_(shaderProgram(ctx, "interpolate")),
       pullUp_(shaderProgram(ctx, "pull_up")),
-      check_(shaderProgram(ctx, "bounce_check")) {
+      check_(shaderProgram(ctx, "bounce_check")),
+      tail_(shaderProgram(ctx, "bounce_tail")) {
   // The dispatch sizes of a whole bounce: the gather over the receivers (set each frame from how
-  // many there are), the interpolation at every surfel, then one pull-up a level.
+  // many there are), the interpolation at every surfel, then one pull-up a level; and the tail's,
+  // none until the check says otherwise.
   const vk::Groups interpolate = interpolate_.groupsFor(h.leafOfSurfel.size(), kGroupSize);
   interpolateGroups_ = interpolate.x * interpolate.y;
   std::vector<glm::uvec4> full = {glm::uvec4(0u, 1u, 1u, 0u), argsOf(interpolate)};
   const std::vector<gpu::LevelPush> batches = levelBatchesBottomUp(h, gpu::kPullUpLevels);
   for (const gpu::LevelPush& batch : batches) full.push_back(argsOf(pullUp_.groupsFor(batch.count, kGroupSize)));
   pullUpDispatches_ = uint32_t(batches.size());
+  full.push_back(glm::uvec4(0u, 1u, 1u, 0u));
   fullArgs_ = vk::makeBuffer(ctx, full, vk::Memory::Device, &allocations);
   args_ = vk::Buffer(ctx, full.size() * sizeof(glm::uvec4), vk::Memory::Device, &allocations);
   sums_ = vk::Buffer(ctx, interpolateGroups_ * sizeof(gpu::BounceSum), vk::Memory::Device, &allocations);
   state_ = vk::Buffer(ctx, sizeof(gpu::BounceState), vk::Memory::Host, &allocations);
+  change_ =
+      vk::Buffer(ctx, std::max<size_t>(h.leafOfSurfel.size(), 1) * sizeof(glm::vec4), vk::Memory::Device, &allocations);
 }
 
 uint32_t Bounces::maxGathers(const IvSettings& settings) {
@@ -60,6 +65,7 @@ void Bounces::recordEmission(VkCommandBuffer cmd, const IvBuffers& b, const Hier
 
 void Bounces::recordStart(VkCommandBuffer cmd, const IvBuffers& b) const {
   vkCmdFillBuffer(cmd, state_.handle(), 0, VK_WHOLE_SIZE, 0u);
+  vkCmdFillBuffer(cmd, b.irradiance.handle(), 0, VK_WHOLE_SIZE, 0u);  // the first gather's change is all of it
   const VkBufferCopy gather{gpu::kArgsReceivers * sizeof(glm::uvec4), 0, sizeof(glm::uvec4)};
   vkCmdCopyBuffer(cmd, b.receiverArgs.handle(), fullArgs_.handle(), 1, &gather);
   vk::barrier(cmd);
@@ -96,13 +102,18 @@ void Bounces::recordSteps(VkCommandBuffer cmd, const IvBuffers& b, const Hierarc
                                                  {"radiosityOut", out},
                                                  {"frameCounters", frameSet.counters},
                                                  {"staticCounters", staticSet.counters},
-                                                 {"bounceSums", sums_}}),
+                                                 {"bounceSums", sums_},
+                                                 {"irradianceChange", change_}}),
                                   gpu::InterpolatePush{surfels});
     vk::barrier(cmd);
     pullUp(cmd, b, h, out, true);
     check_.dispatch(cmd, {},
                     {{"bounceSums", sums_}, {"bounceStates", state_}, {"fullArgs", fullArgs_}, {"bounceArgs", args_}},
                     check);
+    vk::barrier(cmd);
+    tail_.dispatchIndirect(cmd, args_, (pullUpDispatches_ + 2) * sizeof(glm::uvec4),
+                           b.pool().with({{"bounceStates", state_}, {"irradianceChange", change_}}),
+                           gpu::InterpolatePush{surfels});
     vk::barrier(cmd);
   }
 }

@@ -3,9 +3,10 @@
 // through it, and the bounces start from it); then per bounce a gather at the receivers over their
 // surviving links, the interpolation to every surfel (receivers.h), a pull-up to the parents, so
 // that coarse senders send the new value, and a check
-// (bounce_check.comp) of whether the bounces are done: until a bounce adds less than a tolerance of
-// the light, or a given count. Bounces are recorded in steps that run zero workgroups once the
-// check says done; where a frame's steps ran out first, the solver records more.
+// (bounce_check.comp) of whether the bounces are done: until the light with the geometric tail of the
+// bounces not run settles within a tolerance (the tail then added at every surfel), or a given
+// count. Bounces are recorded in steps that run zero workgroups once the check says done; where a
+// frame's steps ran out first, the solver records more.
 #include "engine/gi/hierarchy.h"
 #include "engine/gi/iv/buffers.h"
 #include "engine/gi/iv/settings.h"
@@ -41,9 +42,10 @@ class Bounces {
  private:
   void pullUp(VkCommandBuffer cmd, const IvBuffers& b, const Hierarchy& h, const vk::Buffer& radiosity,
               bool indirect) const;
-  vk::Program emit_, gather_, interpolate_, pullUp_, check_;
+  vk::Program emit_, gather_, interpolate_, pullUp_, check_, tail_;
   uint32_t interpolateGroups_, pullUpDispatches_;
   vk::Buffer sums_, state_, fullArgs_, args_;  // per gather workgroup; the state; dispatch sizes, full and next
+  vk::Buffer change_;                          // per surfel, the irradiance's change at the last gather
 };
 
 }  // namespace ivgi::gi

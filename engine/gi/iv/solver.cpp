@@ -11,7 +11,7 @@ namespace {
 
 // Bounces recorded in a frame's first submission, and in each more where they have not converged:
 // steps past convergence run zero workgroups, so the first covers most scenes in one submission.
-constexpr uint32_t kFirstBounceSteps = 16, kMoreBounceSteps = 32;
+constexpr uint32_t kFirstBounceSteps = 8, kMoreBounceSteps = 32;
 
 IvSetup validated(IvSetup setup) {
   validate(setup.settings);
