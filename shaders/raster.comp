@@ -1,20 +1,28 @@
 #version 460
-// Pass 7a, rasterise: one workgroup per triangle walks the pixels of its screen bounds in 8×8 tiles
-// (no integer division: lavapipe divides one lane at a time), casts the camera ray through each
-// sample centre and keeps the nearest hit by 64-bit atomicMin. A workgroup walks at most
-// kTilesPerSlice tiles, so that it stays within lavapipe's loop budget (common.glsl; past it a large
-// triangle would silently lose its lower rows); bounds holding more are cut into slices of tile
-// rows, slice z walked by workgroup z (the host dispatches as many as bounds as large as the image
-// need).
+// Pass 7a, rasterise: each invocation takes a triangle and projects it. One whose screen bounds
+// hold at most kSmallBounds samples it walks itself, sample by sample; the workgroup walks each
+// larger one together, in 8×8 tiles (no integer division in the loops: lavapipe divides one lane
+// at a time). At every sample the camera ray through its centre is cast and the nearest hit kept by 64-bit
+// atomicMin. lavapipe starts a workgroup at a cost of its own, so the many small triangles of a
+// tessellated scene go 64 to a workgroup. A workgroup walks at most kTilesPerSlice tiles of each
+// large triangle, so that its subgroups stay within lavapipe's loop budget (common.glsl; past it a
+// triangle would silently lose some of its samples); bounds holding more are cut into slices of
+// tiles, slice z walked by workgroups z (the host dispatches as many as bounds as large as the
+// image need).
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 layout(local_size_x = 64) in;
-layout(constant_id = 0) const int kTilesPerSlice = 32768;
+// Of each large triangle of the workgroup's 64: 64 × (tiles + rows) stays under the budget.
+layout(constant_id = 0) const int kTilesPerSlice = 448;
+const int kSmallBounds = 256;
 
 layout(binding = 0, rgba32f) readonly uniform imageBuffer world;        // WorldVertex: position, normal
 layout(binding = 1, rgba32ui) readonly uniform uimageBuffer triangles;  // Triangle
 layout(std430, binding = 2) buffer Visibility { uint64_t visibility[]; };
 layout(push_constant) uniform Push { ImagePush push; };  // count: triangles
+
+shared uint largeCount;
+shared uint large[64];
 
 // Sample-space x/y of a world point, or false when it lies at or behind the near plane.
 bool project(vec3 p, out vec2 s) {
@@ -29,35 +37,69 @@ bool project(vec3 p, out vec2 s) {
   return true;
 }
 
-void main() {
-  uint tri = groupIndex();
-  if (tri >= push.count) return;  // count: triangles
-  uvec4 t = imageLoad(triangles, int(tri));
-  vec3 a = imageLoad(world, int(2u * t.x)).xyz, b = imageLoad(world, int(2u * t.y)).xyz,
-       c = imageLoad(world, int(2u * t.z)).xyz;
+// Triangle `tri`'s corners and its screen bounds (empty: nothing of it on screen).
+struct Projected {
+  vec3 a, b, c;
+  ivec2 lo, hi;
+};
+Projected projected(uint tri) {
+  Projected t;
+  uvec4 v = imageLoad(triangles, int(tri));
+  t.a = imageLoad(world, int(2u * v.x)).xyz, t.b = imageLoad(world, int(2u * v.y)).xyz,
+  t.c = imageLoad(world, int(2u * v.z)).xyz;
   vec2 pa, pb, pc;
-  ivec2 lo = ivec2(0), hi = ivec2(push.size) - 1;
-  if (project(a, pa) && project(b, pb) && project(c, pc)) {
+  t.lo = ivec2(0), t.hi = ivec2(push.size) - 1;
+  if (project(t.a, pa) && project(t.b, pb) && project(t.c, pc)) {
     vec2 mn = min(pa, min(pb, pc)), mx = max(pa, max(pb, pc));
-    if (mx.x < -1.0 || mx.y < -1.0 || mn.x > float(push.size.x) + 1.0 || mn.y > float(push.size.y) + 1.0) return;
-    lo = max(lo, ivec2(floor(mn)) - 1);
-    hi = min(hi, ivec2(ceil(mx)));
+    if (mx.x < -1.0 || mx.y < -1.0 || mn.x > float(push.size.x) + 1.0 || mn.y > float(push.size.y) + 1.0)
+      t.hi = ivec2(-1);
+    t.lo = max(t.lo, ivec2(floor(mn)) - 1);
+    t.hi = min(t.hi, ivec2(ceil(mx)));
   }  // else: a vertex behind the near plane, so the whole image is a conservative bound
-  if (any(lessThan(hi, lo))) return;
-  // This workgroup's slice: its tile rows, at most kTilesPerSlice tiles (a subgroup's rounds: the
-  // tiles plus a round per row, under 35,000).
-  int tileColumns = (hi.x - lo.x) / 8 + 1, rowsPerSlice = max(1, kTilesPerSlice / tileColumns);
-  int first = lo.y + 8 * rowsPerSlice * int(gl_WorkGroupID.z), last = min(hi.y, first + 8 * rowsPerSlice - 1);
-  ivec2 lane = ivec2(gl_LocalInvocationID.x & 7u, gl_LocalInvocationID.x >> 3u);
-  for (int y = first; y <= last; y += 8)
-    for (int x = lo.x; x <= hi.x; x += 8) {
-      ivec2 px = ivec2(x, y) + lane;
-      if (any(greaterThan(px, ivec2(hi.x, last)))) continue;
-      vec3 dir = cameraRay(push.camera, vec2(px) + 0.5, push.size);
-      float depth;
-      vec2 uv;
-      if (!intersectTriangle(push.camera.origin.xyz, dir, a, b, c, depth, uv)) continue;
-      if (depth <= push.camera.origin.w || (push.camera.forward.w > 0.0 && depth > push.camera.forward.w)) continue;
-      atomicMin(visibility[uint(px.y) * push.size.x + uint(px.x)], packDepthKey(depth, tri));
+  return t;
+}
+
+void castSample(uint tri, Projected t, ivec2 px) {
+  vec3 dir = cameraRay(push.camera, vec2(px) + 0.5, push.size);
+  float depth;
+  vec2 uv;
+  if (!intersectTriangle(push.camera.origin.xyz, dir, t.a, t.b, t.c, depth, uv)) return;
+  if (depth <= push.camera.origin.w || (push.camera.forward.w > 0.0 && depth > push.camera.forward.w)) return;
+  atomicMin(visibility[uint(px.y) * push.size.x + uint(px.x)], packDepthKey(depth, tri));
+}
+
+void main() {
+  const uint lid = gl_LocalInvocationID.x;
+  if (lid == 0u) largeCount = 0u;
+  barrier();
+  const uint tri = itemIndex();
+  if (tri < push.count) {
+    const Projected t = projected(tri);
+    const ivec2 extent = t.hi - t.lo + 1;
+    if (all(greaterThan(extent, ivec2(0)))) {
+      if (extent.x * extent.y > kSmallBounds)
+        large[atomicAdd(largeCount, 1u)] = tri;
+      else if (gl_WorkGroupID.z == 0u)
+        for (int y = t.lo.y; y <= t.hi.y; ++y)
+          for (int x = t.lo.x; x <= t.hi.x; ++x) castSample(tri, t, ivec2(x, y));
     }
+  }
+  barrier();
+  // The large ones together: this workgroup's slice of each, at most kTilesPerSlice tiles of it (a
+  // block of tile columns, as wide as the bounds or kTilesPerSlice, and as many tile rows as fit).
+  const ivec2 lane = ivec2(lid & 7u, lid >> 3u);
+  for (uint k = 0u; k < largeCount; ++k) {
+    const uint tri = large[k];
+    const Projected t = projected(tri);
+    const int tileColumns = (t.hi.x - t.lo.x) / 8 + 1, columns = min(tileColumns, kTilesPerSlice),
+              columnBlocks = (tileColumns + columns - 1) / columns, rows = max(1, kTilesPerSlice / columns),
+              z = int(gl_WorkGroupID.z), rowBlock = z / columnBlocks, columnBlock = z - rowBlock * columnBlocks;
+    const ivec2 first = t.lo + 8 * ivec2(columns * columnBlock, rows * rowBlock),
+                last = min(t.hi, first + 8 * ivec2(columns, rows) - 1);
+    for (int y = first.y; y <= last.y; y += 8)
+      for (int x = first.x; x <= last.x; x += 8) {
+        ivec2 px = ivec2(x, y) + lane;
+        if (all(lessThanEqual(px, last))) castSample(tri, t, px);
+      }
+  }
 }

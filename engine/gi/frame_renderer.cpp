@@ -9,15 +9,17 @@ namespace ivgi::gi {
 
 namespace {
 
-// The most 8×8-sample tiles one raster workgroup walks (raster.comp): about 35,000 loop rounds a
-// subgroup, within lavapipe's budget of 65,535 (common.glsl).
-constexpr uint32_t kRasterTilesPerSlice = 32768;
+// The most 8×8-sample tiles one raster workgroup walks of each of its large triangles (raster.comp):
+// 64 triangles' tiles and tile rows stay within lavapipe's loop budget of 65,535 (common.glsl).
+constexpr uint32_t kRasterTilesPerSlice = 448;
 
-// Raster workgroups per triangle: the slices of tile rows that bounds as large as the image need.
+// Raster workgroups per 64 triangles: the slices (blocks of tile columns, then of tile rows) that
+// bounds as large as the image need.
 uint32_t rasterSlices(glm::uvec2 samples) {
   const uint32_t columns = (samples.x + 7) / 8, rows = (samples.y + 7) / 8,
-                 rowsPerSlice = std::max(1u, kRasterTilesPerSlice / columns);
-  return (rows + rowsPerSlice - 1) / rowsPerSlice;
+                 columnsPerSlice = std::min(columns, kRasterTilesPerSlice),
+                 rowsPerSlice = std::max(1u, kRasterTilesPerSlice / columnsPerSlice);
+  return (columns + columnsPerSlice - 1) / columnsPerSlice * ((rows + rowsPerSlice - 1) / rowsPerSlice);
 }
 
 // Surfel of each vertex (welded vertices share one), -1 for vertices without one.
@@ -124,7 +126,7 @@ bool FrameRenderer::recordFrame(VkCommandBuffer cmd, const gpu::Camera& camera, 
   timedPass(cmd, timer_, "raster", [&] {
     vkCmdFillBuffer(cmd, visibility_.handle(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
     vk::barrier(cmd);
-    vk::Groups groups = raster_.groupsFor(triangleCount_, 1);
+    vk::Groups groups = raster_.groupsFor(triangleCount_, 64);
     groups.z = rasterSlices(fine);
     raster_.dispatch(cmd, groups, buffers, gpu::ImagePush{camera, fine, triangleCount_, 0});
   });
