@@ -1,6 +1,6 @@
 #version 460
 // Worklist bookkeeping between two refinement levels: the indirect dispatch size for the list just
-// written, and a zeroed counter for the next one.
+// written, the longest list so far, and a zeroed counter for the next one.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 layout(local_size_x = 1) in;
@@ -11,6 +11,9 @@ layout(push_constant) uniform Push { LinkArgsPush push; };
 
 void main() {
   uint items = counters[push.source];
+  // A worklist's length, counted past its capacity too: the room the next frame's lists need.
+  if (push.source == kCounterWorklistA || push.source == kCounterWorklistB)
+    counters[kCounterWorklistPeak] = max(counters[kCounterWorklistPeak], items);
   args[push.slot] = uvec4(min((items + push.groupSize - 1u) / push.groupSize, 65535u), 1u, 1u, 0u);
   if (push.clear != kNoCounter) counters[push.clear] = 0u;
 }

@@ -15,13 +15,21 @@ layout(std430, binding = 5) buffer Counters { uint counters[]; };
 layout(std430, binding = 6) readonly buffer NodeEmission { vec4 nodeEmission[]; };  // nonzero: the node emits
 layout(push_constant) uniform Push { RefinePush push; };
 
-void emitPair(uint r, uint s) {
-  uint slot = atomicAdd(counters[push.target], 1u);
-  if (slot < push.capacity)
-    imageStore(nextWorklist, int(slot), uvec4(r, s, 0u, 0u));
-  else
-    atomicOr(counters[kCounterOverflow], kOverflowWorklist);
-  atomicMax(counters[kCounterWorklistPeak], slot + 1u);
+// Room in the next worklist for `count` pairs, taken at once (the counter is shared by every
+// thread): the first slot. Past the capacity the frame is redone (link_args records how long the
+// list grew).
+uint reservePairs(uint count) {
+  uint first = atomicAdd(counters[push.target], count);
+  if (first + count > push.capacity) atomicOr(counters[kCounterOverflow], kOverflowWorklist);
+  return first;
+}
+void storePair(uint slot, uint r, uint s) {
+  if (slot < push.capacity) imageStore(nextWorklist, int(slot), uvec4(r, s, 0u, 0u));
+}
+// The pairs of receiver r's children with s, or of r with s's children.
+void emitChildPairs(uint r, uint s, uvec4 tr, uvec4 ts, bool receiverSide) {
+  uint count = receiverSide ? tr.z : ts.z, first = reservePairs(count);
+  for (uint c = 0u; c < count; ++c) storePair(first + c, receiverSide ? tr.y + c : r, receiverSide ? s : ts.y + c);
 }
 
 // Cosine of the smallest angle between a cone of normals (axis n, half-angle cone) and directions
@@ -40,8 +48,9 @@ void main() {
     uint r = pair.x, s = pair.y;
     uvec4 tr = imageLoad(tree, int(r)), ts = imageLoad(tree, int(s));  // parent, firstChild, childCount, surfel
     if (r == s) {  // a node with itself (concave objects): all ordered pairs of its children
+      uint first = reservePairs(tr.z * tr.z);
       for (uint a = 0; a < tr.z; ++a)
-        for (uint b = 0; b < tr.z; ++b) emitPair(tr.y + a, tr.y + b);
+        for (uint b = 0; b < tr.z; ++b) storePair(first + a * tr.z + b, tr.y + a, tr.y + b);
       continue;
     }
     NodeState nr = nodeState(r), ns = nodeState(s);
@@ -89,21 +98,13 @@ void main() {
           atomicOr(counters[kCounterOverflow], kOverflowLinks);
         continue;
       }
-      if (refineSender) {
-        for (uint c = 0; c < ts.z; ++c) emitPair(r, ts.y + c);
-        continue;
-      }
-      if (refineReceiver) {
-        for (uint c = 0; c < tr.z; ++c) emitPair(tr.y + c, s);
+      if (refineSender || refineReceiver) {
+        emitChildPairs(r, s, tr, ts, refineReceiver);
         continue;
       }
     }
     if (leafR && leafS) continue;
     // Split the larger node (by area), or the one that is not a leaf.
-    bool splitReceiver = leafS || (!leafR && nr.positionArea.w >= ns.positionArea.w);
-    if (splitReceiver)
-      for (uint c = 0; c < tr.z; ++c) emitPair(tr.y + c, s);
-    else
-      for (uint c = 0; c < ts.z; ++c) emitPair(r, ts.y + c);
+    emitChildPairs(r, s, tr, ts, leafS || (!leafR && nr.positionArea.w >= ns.positionArea.w));
   }
 }
