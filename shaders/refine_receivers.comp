@@ -62,9 +62,11 @@ float lightNeed(uint c, uint s, float floorValue) {
       node = imageLoad(skip, int(node)).x;
       continue;
     }
-    const uint r = imageLoad(representatives, int(node)).x;
-    if (presence > 0.0 && r != s) {
-      const float place = node >= level.x || t.z == 0u ? presence : presence * (1.0 - refinementShare(needs[node]));
+    // Its sample's place: none where its children took all of it over.
+    const float place =
+        presence <= 0.0 || node >= level.x || t.z == 0u ? presence : presence * (1.0 - refinementShare(needs[node]));
+    const uint r = place > 0.0 ? imageLoad(representatives, int(node)).x : s;
+    if (r != s) {
       const uint at = imageLoad(leafOfSurfel, int(r)).x;
       const vec3 p = nodePositionArea(at).xyz;
       const float w = receiverWeight(x, n, p, nodeNormalCone(at).xyz, kReceiverReach * radius) * place;
@@ -91,8 +93,10 @@ void main() {
     if (imageLoad(tree, int(c)).z == 0u) continue;  // a leaf: nothing to refine
     const uint s = imageLoad(representatives, int(c)).x;
     const float radius = nodeRadius(c);
-    const float need = max(max(kReceiverReach * radius * proximity[s] / push.proximity, radius / push.largest),
-                           lightNeed(c, s, floorValue));
+    // Past 1 the need makes no difference (refinementShare), so the light's test, a walk of the
+    // trees, runs only where the other two leave it below.
+    const float sure = max(kReceiverReach * radius * proximity[s] / push.proximity, radius / push.largest);
+    const float need = sure >= 1.0 ? sure : max(sure, lightNeed(c, s, floorValue));
     needs[c] = need;
     if (need <= kRefineFrom) continue;
     candidatesOut[atomicAdd(receiverCounts[push.target], 1u)] = c;
