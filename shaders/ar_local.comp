@@ -8,6 +8,7 @@
 #define NODE_TEXELS 0
 #include "common.glsl"
 layout(local_size_x = 64) in;
+layout(constant_id = 0) const uint kDirs = 4;  // --dirs: a constant, so that finding a bin's opposite is cheap
 
 layout(std430, binding = 1) readonly buffer LeafOfSurfel { uint leafOfSurfel[]; };
 layout(std430, binding = 2) readonly buffer Albedo { vec4 albedo[]; };
@@ -22,7 +23,7 @@ layout(push_constant) uniform Push { ArPush push; };
 void main() {
   uint s = itemIndex();
   if (s >= push.count) return;
-  uint leaf = leafOfSurfel[s], bins = 6u * push.bins * push.bins;
+  const uint leaf = leafOfSurfel[s], bins = 6u * kDirs * kDirs;
   float area = nodePositionArea(leaf).w;
   vec3 L = radiance[s].rgb;
   if (push.updateRadiance != 0u) {
@@ -32,7 +33,7 @@ void main() {
   exitance[leaf] = vec4(area * L, 0.0);
   for (uint c = 0u; c < bins; ++c) {
     // Antiradiance toward c: the light that arrived travelling along c, from the opposite bin.
-    vec3 through = imageLoad(incident, int(s * bins + oppositeBin(c, push.bins))).rgb;
+    vec3 through = imageLoad(incident, int(s * bins + oppositeBin(c, kDirs))).rgb;
     imageStore(intensity, int(leaf * bins + c), vec4(area * through, 0.0));
   }
 }

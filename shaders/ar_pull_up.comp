@@ -1,5 +1,6 @@
 #version 460
-// ar: the clusters' tables, one level a dispatch, deepest first. A flat node (its normals within
+// ar: the clusters' tables, one level a dispatch, deepest first, over the level's inner nodes (the
+// local pass wrote the leaves'). A flat node (its normals within
 // kArFlatCone) sends what its surfaces send with one normal, so it sums its children's exitance and
 // their antiradiance per bin, and the reader applies the cosines exactly. A curved node's table
 // holds what it sends toward each bin's centre, its children's cosines applied there.
@@ -7,20 +8,23 @@
 #define NODE_TEXELS 0
 #include "common.glsl"
 layout(local_size_x = 64) in;
+layout(constant_id = 0) const uint kDirs = 4;  // --dirs: a constant, so that dividing by the bins is cheap
 
-layout(binding = 1, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode
-layout(binding = 2, rgba32f) uniform imageBuffer intensity;        // per node and bin
-layout(binding = 3, rgba32f) uniform imageBuffer exitance;         // per node, area · L (flat nodes)
-layout(push_constant) uniform Push { ArPush push; };               // count: the level's nodes × bins
+layout(binding = 1, rgba32ui) readonly uniform uimageBuffer tree;     // TreeNode
+layout(binding = 2, rgba32f) uniform imageBuffer intensity;           // per node and bin
+layout(binding = 3, rgba32f) uniform imageBuffer exitance;            // per node, area · L (flat nodes)
+layout(binding = 4, r32ui) readonly uniform uimageBuffer innerNodes;  // level by level
+// count: the level's inner nodes × bins; first: where they start in innerNodes
+layout(push_constant) uniform Push { ArPush push; };
 
 void main() {
   uint item = itemIndex();
   if (item >= push.count) return;
-  uint bins = 6u * push.bins * push.bins, node = push.first + item / bins, c = item % bins;
+  const uint bins = 6u * kDirs * kDirs;
+  uint node = imageLoad(innerNodes, int(push.first + item / bins)).x, c = item % bins;
   uvec4 t = imageLoad(tree, int(node));  // parent, firstChild, childCount, surfel
-  if (t.z == 0u) return;                 // a leaf: the local pass wrote it
   bool flatNode = nodeNormalCone(node).w <= kArFlatCone;
-  vec3 omega = normalize(binDirection(c, push.bins)), sum = vec3(0.0), exitanceSum = vec3(0.0);
+  vec3 omega = flatNode ? vec3(0.0) : normalize(binDirection(c, kDirs)), sum = vec3(0.0), exitanceSum = vec3(0.0);
   for (uint k = 0u; k < t.z; ++k) {
     uint child = t.y + k;
     vec3 entry = imageLoad(intensity, int(child * bins + c)).rgb;

@@ -4,11 +4,21 @@
 
 namespace ivgi::gi {
 
-ArIteration::ArIteration(const vk::Context& ctx)
-    : local_(shaderProgram(ctx, "ar_local")),
-      pullUp_(shaderProgram(ctx, "ar_pull_up")),
+ArIteration::ArIteration(const vk::Context& ctx, const Hierarchy& h, uint32_t dirs, vk::Allocations& allocations)
+    : local_(shaderProgram(ctx, "ar_local", {.constants = {{"kDirs", dirs}}})),
+      pullUp_(shaderProgram(ctx, "ar_pull_up", {.constants = {{"kDirs", dirs}}})),
       gather_(shaderProgram(ctx, "ar_gather")),
-      incident_(shaderProgram(ctx, "ar_incident")) {}
+      incident_(shaderProgram(ctx, "ar_incident")) {
+  std::vector<uint32_t> inner;
+  for (const gpu::LevelPush& level : levelBatchesBottomUp(h)) {
+    const uint32_t first = uint32_t(inner.size());
+    for (uint32_t n = level.first; n < level.first + level.count; ++n)
+      if (h.nodes[n].childCount) inner.push_back(n);
+    if (inner.size() > first) innerLevels_.push_back({first, uint32_t(inner.size()) - first});
+  }
+  innerNodes_ =
+      vk::makeBuffer(ctx, inner.empty() ? std::vector<uint32_t>{0u} : inner, vk::Memory::Device, &allocations);
+}
 
 uint32_t ArIteration::sumGroups(uint32_t surfelCount) const {
   const vk::Groups g = incident_.groupsFor(surfelCount, incident_.localSizeX());
@@ -29,10 +39,11 @@ void ArIteration::record(VkCommandBuffer cmd, vk::PassTimer& timer, bool timed, 
   pass("local", [&] {
     local_.dispatchItems(cmd, surfels, b.pool(), gpu::ArPush{surfels, push.bins, 0, radianceStep ? 1u : 0u});
     vk::barrier(cmd);
-    forEachLevelBottomUp(cmd, h, [&](const gpu::LevelPush& level) {
-      pullUp_.dispatchItems(cmd, uint64_t(level.count) * bins, b.pool(),
+    for (const gpu::LevelPush& level : innerLevels_) {
+      pullUp_.dispatchItems(cmd, uint64_t(level.count) * bins, b.pool().with({{"innerNodes", innerNodes_}}),
                             gpu::ArPush{level.count * bins, push.bins, level.first});
-    });
+      vk::barrier(cmd);
+    }
   });
   pass("global", [&] {
     vkCmdFillBuffer(cmd, b.gathered.handle(), 0, VK_WHOLE_SIZE, 0u);

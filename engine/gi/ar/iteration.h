@@ -12,7 +12,8 @@ namespace ivgi::gi {
 
 class ArIteration {
  public:
-  explicit ArIteration(const vk::Context& ctx);
+  // Pulls up the tables of `h`'s inner nodes, at `dirs` (a constant of the pull-up's program).
+  ArIteration(const vk::Context& ctx, const Hierarchy& h, uint32_t dirs, vk::Allocations& allocations);
   // Records one iteration; `radianceStep`: the local pass reflects the incident light (else it keeps
   // the radiance: an antiradiance step); `slot`: where its incident pass leaves its sums. The global
   // pass walks each receiver's links of both sets, the static pairs' first, in push.chunks
@@ -25,6 +26,9 @@ class ArIteration {
 
  private:
   vk::Program local_, pullUp_, gather_, incident_;
+  // The inner nodes level by level, and per level holding any (deepest first) its range of them.
+  vk::Buffer innerNodes_;
+  std::vector<gpu::LevelPush> innerLevels_;
 };
 
 }  // namespace ivgi::gi

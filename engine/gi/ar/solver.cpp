@@ -55,7 +55,7 @@ ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy h
       nodeCount_(uint32_t(hierarchy_.nodes.size())),
       refit_(ctx),
       linkCreation_(ctx),
-      iteration_(ctx),
+      iteration_(ctx, hierarchy_, settings.dirs, allocations_),
       sortSenders_(shaderProgram(ctx, "ar_sort_senders")),
       orderReceivers_(shaderProgram(ctx, "ar_order_receivers")) {
   const uint32_t n = settings_.dirs, bins = 6 * n * n;
