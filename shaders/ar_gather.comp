@@ -9,6 +9,7 @@
 #define NODE_TEXELS 0
 #include "common.glsl"
 layout(local_size_x = kArGatherGroup) in;
+layout(constant_id = 0) const uint kDirs = 4;  // --dirs: a constant, so that the bins' arithmetic folds
 
 layout(binding = 1, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode
 layout(std430, binding = 2) readonly buffer Starts { uint starts[]; };
@@ -70,7 +71,7 @@ void deposit(uint r, uint bins, vec4 nr, vec3 dir, vec3 sent, float binShare) {
     vectorX += sent * dir.x, vectorY += sent * dir.y, vectorZ += sent * dir.z;
   uvec4 taps;
   vec4 weights;
-  binTaps(dir, push.bins, taps, weights);
+  binTaps(dir, kDirs, taps, weights);
   weights = keepSide(nr, dir, taps, weights) * binShare;
   add(r, bins, taps.x, weights.x * sent);
   add(r, bins, taps.y, weights.y * sent);
@@ -92,14 +93,14 @@ void deposit(uint r, uint bins, vec4 nr, vec3 dir, vec3 sent, float binShare) {
 vec3 surfelRadiance(uint surfel, uint bins, vec4 ns, vec3 dir) {
   uvec4 taps;
   vec4 weights;
-  binTaps(dir, push.bins, taps, weights);
+  binTaps(dir, kDirs, taps, weights);
   vec3 through = READ_TAPS(incident, surfel * bins, taps, keepSide(ns, dir, taps, weights));
   return (dot(ns.xyz, -dir) > 0.0 ? imageLoad(radiance, int(surfel)).rgb : vec3(0.0)) - through;
 }
 
 // Adds what sender node s sends over its link to receiver r (at pr, its normal and cone nr).
 void gatherLink(uint r, uint s, vec3 pr, vec4 nr) {
-  uint n = push.bins, bins = 6u * n * n;
+  uint n = kDirs, bins = 6u * n * n;
   float binWidth = 2.0 / float(n);  // of a bin at a face's centre, in the face's plane
   vec4 ps = nodePositionArea(s);
   vec3 d = ps.xyz - pr;
@@ -140,7 +141,7 @@ void gatherLink(uint r, uint s, vec3 pr, vec4 nr) {
     // In the bins, a piece wider than a bin is credited one bin's worth: they hold radiance, which
     // J passes on, and a near piece's light taken along one direction would pass on more than it
     // has (its neighbours on a curved surface, each in the others' near field, fed it back).
-    float binOmega = imageLoad(binVectors, int(binOf(dir, push.bins))).w;
+    float binOmega = imageLoad(binVectors, int(binOf(dir, kDirs))).w;
     float binShare = omega > binOmega ? binOmega / omega : 1.0;
     deposit(r, bins, nr, dir, surfelRadiance(t.w, bins, ns, dir) * omega, binShare);
   }

@@ -10,6 +10,7 @@
 #define NODE_TEXELS 0
 #include "common.glsl"
 layout(local_size_x = 64) in;
+layout(constant_id = 0) const uint kDirs = 4;  // --dirs: a constant, so that the bins' arithmetic folds
 
 layout(binding = 1, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode
 layout(std430, binding = 2) readonly buffer LeafOfSurfel { uint leafOfSurfel[]; };
@@ -31,7 +32,7 @@ void main() {
   uint s = itemIndex(), lid = gl_LocalInvocationID.x;
   vec3 mine = vec3(0.0);
   if (s < push.count) {
-    uint leaf = leafOfSurfel[s], n = push.bins, bins = 6u * n * n;
+    uint leaf = leafOfSurfel[s], n = kDirs, bins = 6u * n * n;
     vec4 pa = nodePositionArea(leaf);
     vec3 normal = nodeNormalCone(leaf).xyz;
     vec3 E = vec3(0.0);

@@ -7,8 +7,8 @@ namespace ivgi::gi {
 ArIteration::ArIteration(const vk::Context& ctx, const Hierarchy& h, uint32_t dirs, vk::Allocations& allocations)
     : local_(shaderProgram(ctx, "ar_local", {.constants = {{"kDirs", dirs}}})),
       pullUp_(shaderProgram(ctx, "ar_pull_up", {.constants = {{"kDirs", dirs}}})),
-      gather_(shaderProgram(ctx, "ar_gather")),
-      incident_(shaderProgram(ctx, "ar_incident")) {
+      gather_(shaderProgram(ctx, "ar_gather", {.constants = {{"kDirs", dirs}}})),
+      incident_(shaderProgram(ctx, "ar_incident", {.constants = {{"kDirs", dirs}}})) {
   std::vector<uint32_t> inner;
   for (const gpu::LevelPush& level : levelBatchesBottomUp(h)) {
     const uint32_t first = uint32_t(inner.size());
