@@ -10,7 +10,8 @@
 #define NODE_TEXELS 0
 #include "common.glsl"
 layout(local_size_x = 64) in;
-layout(constant_id = 0) const uint kDirs = 4;  // --dirs: a constant, so that the bins' arithmetic folds
+layout(constant_id = 0) const uint kDirs = 4;
+const uint kArPathNodes = 32u;  // the bits of a word  // --dirs: a constant, so that the bins' arithmetic folds
 
 layout(binding = 1, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode
 layout(std430, binding = 2) readonly buffer LeafOfSurfel { uint leafOfSurfel[]; };
@@ -36,19 +37,24 @@ void main() {
     vec4 pa = nodePositionArea(leaf);
     vec3 normal = nodeNormalCone(leaf).xyz;
     vec3 E = vec3(0.0);
-    // Bit k: the k-th node up from the leaf is curved, its light reaching the irradiance through the
-    // bins (trees are far less than 32 levels deep: deeper nodes would count as flat).
-    uint curved = 0u, depth = 0u;
-    for (int node = int(leaf); node >= 0 && depth < 32u; node = int(imageLoad(tree, node).x), ++depth)
-      if (nodeNormalCone(uint(node)).w > kArFlatCone) curved |= 1u << depth;
+    // The root path's first kArPathNodes nodes (their first texels), read once for every bin's sum
+    // over it; bit k of `curved`: the k-th is curved, its light reaching the irradiance through the
+    // bins. Trees are far less deep; any node above those is walked for each bin, as flat.
+    uint curved = 0u, depth = 0u, path[kArPathNodes];
+    int above = int(leaf);
+    for (; above >= 0 && depth < kArPathNodes; above = int(imageLoad(tree, above).x), ++depth) {
+      path[depth] = uint(above) * bins;
+      if (nodeNormalCone(uint(above)).w > kArFlatCone) curved |= 1u << depth;
+    }
     for (uint b = 0u; b < bins; ++b) {
       vec3 sky = push.environmentOn != 0u ? imageLoad(environment, int(b)).rgb : vec3(0.0), I = sky, fromBins = sky;
-      uint k = 0u;
-      for (int node = int(leaf); node >= 0; node = int(imageLoad(tree, node).x), ++k) {
-        vec3 g = imageLoad(gathered, int(uint(node) * bins + b)).rgb;
+      for (uint k = 0u; k < depth; ++k) {
+        vec3 g = imageLoad(gathered, int(path[k] + b)).rgb;
         I += g;
-        if (k < 32u && (curved & (1u << k)) != 0u) fromBins += g;
+        if ((curved & (1u << k)) != 0u) fromBins += g;
       }
+      for (int node = above; node >= 0; node = int(imageLoad(tree, node).x))
+        I += imageLoad(gathered, int(uint(node) * bins + b)).rgb;
       imageStore(incident, int(s * bins + b), vec4(I, 0.0));
       E += fromBins * max(dot(normal, imageLoad(binVectors, int(b)).xyz), 0.0);
     }
