@@ -43,6 +43,8 @@ void main() {
     if (overridden == 0u) g += uintBitsToFloat(link.y) * imageLoad(radiosityIn, int(link.x)).rgb;
   }
   gathered[s] = vec4(g, 0.0);
-  // The largest, for the receivers' refinement (non-negative float bits order as integers).
-  atomicMax(receiverCounts[kReceiverScale], floatBitsToUint(dot(g, vec3(0.2126, 0.7152, 0.0722))));
+  // The largest estimate, for the receivers' refinement (non-negative float bits order as integers;
+  // one counter every thread shares, so the bounces leave it).
+  if (push.newOnly != 0u)
+    atomicMax(receiverCounts[kReceiverScale], floatBitsToUint(dot(g, vec3(0.2126, 0.7152, 0.0722))));
 }
