@@ -10,8 +10,8 @@
 #define NODE_TEXELS 0
 #include "common.glsl"
 layout(local_size_x = 64) in;
-layout(constant_id = 0) const uint kDirs = 4;
-const uint kArPathNodes = 32u;  // the bits of a word  // --dirs: a constant, so that the bins' arithmetic folds
+layout(constant_id = 0) const uint kDirs = 4;  // --dirs: a constant, so that the bins' arithmetic folds
+const uint kArPathNodes = 32u;                 // the bits of a word
 
 layout(binding = 1, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode
 layout(std430, binding = 2) readonly buffer LeafOfSurfel { uint leafOfSurfel[]; };

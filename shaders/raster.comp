@@ -2,8 +2,8 @@
 // Pass 7a, rasterise: each invocation takes a triangle and projects it. One whose screen bounds
 // hold at most kSmallBounds samples it walks itself, sample by sample; the workgroup walks each
 // larger one together, in 8×8 tiles (no integer division in the loops: lavapipe divides one lane
-// at a time). At every sample the camera ray through its centre is cast and the nearest hit kept by 64-bit
-// atomicMin. lavapipe starts a workgroup at a cost of its own, so the many small triangles of a
+// at a time). At every sample the camera ray through its centre is cast and the nearest hit kept
+// by 64-bit atomicMin. lavapipe starts a workgroup at a cost of its own, so the many small triangles of a
 // tessellated scene go 64 to a workgroup. A workgroup walks at most kTilesPerSlice tiles of each
 // large triangle, so that its subgroups stay within lavapipe's loop budget (common.glsl; past it a
 // triangle would silently lose some of its samples); bounds holding more are cut into slices of

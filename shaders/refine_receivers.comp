@@ -62,11 +62,9 @@ float lightNeed(uint c, uint s, float floorValue) {
       node = imageLoad(skip, int(node)).x;
       continue;
     }
-    // Its sample's place: none where its children took all of it over.
-    const float place =
-        presence <= 0.0 || node >= level.x || t.z == 0u ? presence : presence * (1.0 - refinementShare(needs[node]));
-    const uint r = place > 0.0 ? imageLoad(representatives, int(node)).x : s;
-    if (r != s) {
+    const uint r = imageLoad(representatives, int(node)).x;
+    if (presence > 0.0 && r != s) {
+      const float place = node >= level.x || t.z == 0u ? presence : presence * (1.0 - refinementShare(needs[node]));
       const uint at = imageLoad(leafOfSurfel, int(r)).x;
       const vec3 p = nodePositionArea(at).xyz;
       const float w = receiverWeight(x, n, p, nodeNormalCone(at).xyz, kReceiverReach * radius) * place;

@@ -12,7 +12,7 @@ namespace ivgi::gi {
 
 class ArIteration {
  public:
-  // Pulls up the tables of `h`'s inner nodes, at `dirs` (a constant of the pull-up's program).
+  // The passes at `dirs` (a constant of their programs); the pull-up takes `h`'s inner nodes.
   ArIteration(const vk::Context& ctx, const Hierarchy& h, uint32_t dirs, vk::Allocations& allocations);
   // Records one iteration; `radianceStep`: the local pass reflects the incident light (else it keeps
   // the radiance: an antiradiance step); `slot`: where its incident pass leaves its sums. The global
