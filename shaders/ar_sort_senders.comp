@@ -1,45 +1,37 @@
 #version 460
-// ar: each receiver node's senders in ascending order, one workgroup a node. Link creation lists
-// them in whatever order its atomics ran; the global pass sums in list order, so a canonical order
-// makes its sums, and the image, the same run to run. A bitonic network of all-ascending
-// compare-exchanges (each merge first compares mirrored pairs) over the list padded to a power of
-// two, in place; pairs reaching into the padding need no exchange. A small workgroup: most lists
-// are short, and every subgroup of a workgroup runs every stage; 64 lanes sort a list of
-// kArSortedMost senders in 30,720 loop rounds, within lavapipe's budget (common.glsl). A longer
-// list is flagged, and the solve stops with a message.
+// ar: each receiver node's senders in ascending order. Link creation lists them in whatever order
+// its atomics ran; the global pass sums in list order, so a canonical order makes its sums, and the
+// image, the same run to run. An invocation a node: most lists are short, and one invocation sorts
+// a short list by insertion faster than a workgroup starts. A longer list is queued for
+// ar_sort_long_senders (a workgroup each); one longer than kArSortedMost is flagged, and the solve
+// stops with a message.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 layout(local_size_x = 64) in;
 
 layout(std430, binding = 0) readonly buffer Starts { uint starts[]; };
-layout(binding = 1, r32ui) coherent uniform uimageBuffer senders;
+layout(binding = 1, r32ui) uniform uimageBuffer senders;
 layout(std430, binding = 2) buffer GatherFlags { uint gatherFlags[]; };
-layout(push_constant) uniform Push { ArPush push; };  // count: nodes
+layout(std430, binding = 3) buffer LongSorts { uint longSorts[]; };  // count, then the queued nodes
+layout(push_constant) uniform Push { ArPush push; };                 // count: nodes
 
 void main() {
-  uint node = groupIndex();
+  uint node = itemIndex();
   if (node >= push.count) return;
   uint first = starts[node], count = starts[node + 1u] - first;
   if (count < 2u) return;
   if (count > kArSortedMost) {
-    if (gl_LocalInvocationID.x == 0u) atomicOr(gatherFlags[0], kArFlagUnsorted);
-    return;
-  }
-  uint padded = 1u << uint(findMSB(count - 1u) + 1);
-  for (uint size = 2u; size <= padded; size <<= 1u)
-    for (uint stride = size >> 1u; stride > 0u; stride >>= 1u) {
-      uint shift = uint(findLSB(stride));
-      for (uint t = gl_LocalInvocationID.x; t < padded >> 1u; t += gl_WorkGroupSize.x) {
-        uint i = ((t >> shift) << (shift + 1u)) + (t & (stride - 1u));
-        uint j = stride == size >> 1u ? i ^ (size - 1u) : i + stride;
-        if (j >= count) continue;
-        uint a = imageLoad(senders, int(first + i)).x, b = imageLoad(senders, int(first + j)).x;
-        if (a > b) {
-          imageStore(senders, int(first + i), uvec4(b));
-          imageStore(senders, int(first + j), uvec4(a));
-        }
-      }
-      memoryBarrierImage();
-      barrier();
+    atomicOr(gatherFlags[0], kArFlagUnsorted);
+  } else if (count > kArShortList) {
+    longSorts[1u + atomicAdd(longSorts[0], 1u)] = node;
+  } else {
+    uint list[kArShortList];
+    for (uint i = 0u; i < count; ++i) list[i] = imageLoad(senders, int(first + i)).x;
+    for (uint i = 1u; i < count; ++i) {
+      uint value = list[i], j = i;
+      for (; j > 0u && list[j - 1u] > value; --j) list[j] = list[j - 1u];
+      list[j] = value;
     }
+    for (uint i = 0u; i < count; ++i) imageStore(senders, int(first + i), uvec4(list[i]));
+  }
 }

@@ -7,6 +7,11 @@
 // Linear item index of a dispatch laid out over x then y (Program::dispatchItems).
 uint itemIndex() { return gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x; }
 uint groupIndex() { return gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x; }
+// Indirect dispatch size for `items` invocations of `size`, laid out over x then y (itemIndex()).
+uvec4 groupsFor(uint items, uint size) {
+  const uint groups = (items + size - 1u) / size;
+  return uvec4(min(groups, 65535u), (groups + 65534u) / 65535u, 1u, 0u);
+}
 
 // Möller–Trumbore without culling; t along the unnormalised ray (= depth along forward).
 // Barycentrics get a tiny negative slack so that shared edges leave no cracks.

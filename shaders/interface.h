@@ -331,8 +331,11 @@ IVGI_CONST uint kArPieces = 2u;
 // 1 + kArPieces² loop rounds, so that a chunk stays within lavapipe's loop budget (common.glsl).
 // Longer lists take more dispatches, each going on where the one before stopped.
 IVGI_CONST uint kArGatherChunk = 8192u;
-// The longest list ar_sort_senders orders within lavapipe's loop budget, and the bits of the flags
-// the global pass and the sort leave (ArBuffers::gatherFlags): a list longer than the chunks
+// ar_sort_senders sorts a list of at most this many senders in one invocation; longer ones get a
+// workgroup each (ar_sort_long_senders).
+IVGI_CONST uint kArShortList = 64u;
+// The longest list ar_sort_long_senders orders within lavapipe's loop budget, and the bits of the
+// flags the global pass and the sort leave (ArBuffers::gatherFlags): a list longer than the chunks
 // recorded walk (the frame is redone in more), a list too long to sort (the solve stops).
 IVGI_CONST uint kArSortedMost = 32768u;
 IVGI_CONST uint kArFlagChunks = 1u;

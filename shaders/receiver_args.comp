@@ -10,12 +10,6 @@ layout(std430, binding = 0) buffer ReceiverCounts { uint receiverCounts[]; };
 layout(std430, binding = 1) writeonly buffer ReceiverArgs { uvec4 receiverArgs[]; };
 layout(push_constant) uniform Push { ReceiverArgsPush push; };
 
-// Workgroups for `items` invocations of `size`, laid out over x then y (itemIndex() in common.glsl).
-uvec4 groupsFor(uint items, uint size) {
-  const uint groups = (items + size - 1u) / size;
-  return uvec4(min(groups, 65535u), (groups + 65534u) / 65535u, 1u, 0u);
-}
-
 void main() {
   if ((push.mode & kArgsStartRound) != 0u) {
     receiverArgs[kArgsCandidates] = groupsFor(receiverCounts[push.source], kReceiverGroup);

@@ -28,6 +28,7 @@ struct ArSolved {
   std::vector<glm::vec4> irradiance;  // per surfel
   std::vector<scene::Surfel> surfels;
   gi::ArStats stats;
+  std::vector<std::vector<uint32_t>> senderLists;  // per receiver node, of the frame's links
 };
 
 ArSolved solveAr(const tinygltf::Model& model, gi::ArSettings settings, uint32_t tessellation = 16) {
@@ -39,7 +40,7 @@ ArSolved solveAr(const tinygltf::Model& model, gi::ArSettings settings, uint32_t
   auto view = scene::framingCamera(scene::worldBounds(scene::animateOnHost(g, g.frameInputs(s, pose))), 1.0f);
   r.render(g.frameInputs(s, pose), view, scene::worldLights(s, pose));
   const auto& ar = dynamic_cast<const gi::ArSolver&>(*r.solver());
-  return {ar.surfelIrradiance(), r.surfels(), ar.stats()};
+  return {ar.surfelIrradiance(), r.surfels(), ar.stats(), ar.senderLists(false)};
 }
 
 double meanOverArea(const ArSolved& solved, auto&& value) {
@@ -236,6 +237,23 @@ TEST(ArScale, IrradianceDoesNotDependOnTheScenesSize) {
     std::printf("[ ar scale ] x%g: largest difference %.2g of the brightest surfel\n", double(factor), worst);
     EXPECT_LT(worst, 1e-5) << "scale " << factor;
   }
+}
+
+// Link creation lists each receiver's senders in whatever order its atomics ran; the global pass
+// sums in list order, so every list must come out ascending, short lists (sorted an invocation each)
+// and long ones (a workgroup each) alike.
+TEST(ArDeterminism, EveryReceiversSendersAreInOrder) {
+  const ArSolved solved = solveAr(scenes::cornellBox({.cells = 8}), {});
+  size_t shortLists = 0, longLists = 0, unsorted = 0;
+  for (const auto& list : solved.senderLists) {
+    if (list.size() < 2) continue;
+    ++(list.size() > gpu::kArShortList ? longLists : shortLists);
+    unsorted += std::is_sorted(list.begin(), list.end()) ? 0 : 1;
+  }
+  std::printf("[ ar order ] %zu short and %zu long lists, %zu out of order\n", shortLists, longLists, unsorted);
+  EXPECT_GT(shortLists, 0u);
+  EXPECT_GT(longLists, 0u);
+  EXPECT_EQ(unsorted, 0u);
 }
 
 // Two solves give the same bits: the gather sums per receiver in link order, the iteration's sums in

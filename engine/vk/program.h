@@ -96,6 +96,10 @@ class Program {
     bind(cmd, bindings, &push, sizeof(Push));
     vkCmdDispatchIndirect(cmd, args.handle(), offset);
   }
+  void dispatchIndirect(VkCommandBuffer cmd, const Buffer& args, VkDeviceSize offset, const Bindings& bindings) const {
+    bind(cmd, bindings, nullptr, 0);
+    vkCmdDispatchIndirect(cmd, args.handle(), offset);
+  }
   // One invocation per item (items laid out over x and y so that no dimension exceeds the device
   // limit; shaders read their item with itemIndex() from common.glsl and test it against the count).
   template <class Push>

@@ -22,6 +22,8 @@ struct ArBuffers {
   vk::Buffer gathered, intensity, incident;
   // The nodes in the order the global pass takes them as receivers (ar_order_receivers).
   vk::Buffer gatherOrder;
+  // The nodes whose senders' lists are too long for one invocation to sort: a count, then the nodes.
+  vk::Buffer longSorts;
   // Per node: the exitance (area · L) of a flat node, whose intensity table holds its antiradiance
   // alone (the cosines applied where it is read).
   vk::Buffer exitance;
@@ -49,6 +51,7 @@ struct ArBuffers {
                                {"intensity", intensity},
                                {"exitance", exitance},
                                {"gatherOrder", gatherOrder},
+                               {"longSorts", longSorts},
                                {"incident", incident},
                                {"radiance", radiance},
                                {"irradiance", irradiance},

@@ -57,6 +57,8 @@ ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy h
       linkCreation_(ctx),
       iteration_(ctx, hierarchy_, settings.dirs, allocations_),
       sortSenders_(shaderProgram(ctx, "ar_sort_senders")),
+      sortLongSenders_(shaderProgram(ctx, "ar_sort_long_senders")),
+      queueArgs_(shaderProgram(ctx, "queue_args")),
       orderReceivers_(shaderProgram(ctx, "ar_order_receivers")) {
   const uint32_t n = settings_.dirs, bins = 6 * n * n;
   // The tables first: they are what limits ar (as the paper says), so a refusal names --dirs.
@@ -88,6 +90,7 @@ ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy h
   b_.gatheredVector = vk::Buffer(ctx, uint64_t(nodeCount_) * 3 * sizeof(glm::vec4), vk::Memory::Device, tally);
   b_.intensity = vk::Buffer(ctx, uint64_t(nodeCount_) * bins * sizeof(glm::vec4), vk::Memory::Device, tally);
   b_.gatherOrder = vk::Buffer(ctx, nodeCount_ * sizeof(uint32_t), vk::Memory::Device, tally);
+  b_.longSorts = vk::Buffer(ctx, (nodeCount_ + 1) * sizeof(uint32_t), vk::Memory::Device, tally);
   b_.exitance = vk::Buffer(ctx, nodeCount_ * sizeof(glm::vec4), vk::Memory::Device, tally);
   b_.incident = vk::Buffer(ctx, uint64_t(surfelCount_) * bins * sizeof(glm::vec4), vk::Memory::Device, tally);
   b_.radiance = vk::Buffer(ctx, surfelCount_ * sizeof(glm::vec4), vk::Memory::Device, tally);
@@ -197,9 +200,16 @@ void ArSolver::recordLinks(VkCommandBuffer cmd, LinkSet& set) {
   linkCreation_.record(cmd, set, LinkWork{b_.args, b_.worklistA, b_.worklistB, b_.pool()}, hierarchy_,
                        LinkCriteria{settings_.epsilon, settings_.kappa * bin, settings_.kappa * bin, true, 0.0f},
                        worklistCapacity_);
-  sortSenders_.dispatch(cmd, sortSenders_.groupsFor(nodeCount_, 1),
-                        {{"starts", set.starts}, {"senders", set.senders}, {"gatherFlags", b_.gatherFlags}},
-                        gpu::ArPush{nodeCount_});
+  // The senders in order: the short lists an invocation each, the long ones a workgroup each.
+  vkCmdFillBuffer(cmd, b_.longSorts.handle(), 0, sizeof(uint32_t), 0u);
+  vk::barrier(cmd);
+  const vk::Bindings sorting = b_.pool().with({{"starts", set.starts}, {"senders", set.senders}});
+  sortSenders_.dispatchItems(cmd, nodeCount_, sorting, gpu::ArPush{nodeCount_});
+  vk::barrier(cmd);
+  constexpr uint32_t kLongSortArgs = 2;  // the slot in args after link creation's
+  queueArgs_.dispatch(cmd, {1, 1, 1}, {{"queue", b_.longSorts}, {"args", b_.args}}, gpu::ArPush{0, 0, kLongSortArgs});
+  vk::barrier(cmd);
+  sortLongSenders_.dispatchIndirect(cmd, b_.args, kLongSortArgs * sizeof(glm::uvec4), sorting);
   vk::barrier(cmd);
 }
 
@@ -342,6 +352,16 @@ uint32_t ArSolver::longestList() const {
   for (uint32_t node = 0; node < nodeCount_; ++node)
     longest = std::max(longest, fixed[node + 1] - fixed[node] + frame[node + 1] - frame[node]);
   return longest;
+}
+
+std::vector<std::vector<uint32_t>> ArSolver::senderLists(bool staticLinks) const {
+  const LinkSet& set = staticLinks ? staticSet_ : frameSet_;
+  const std::vector<uint32_t> starts = set.starts.read<uint32_t>(nodeCount_ + 1);
+  const std::vector<uint32_t> senders = set.senders.read<uint32_t>(std::max(starts.back(), 1u));
+  std::vector<std::vector<uint32_t>> lists(nodeCount_);
+  for (uint32_t node = 0; node < nodeCount_; ++node)
+    lists[node].assign(senders.begin() + starts[node], senders.begin() + starts[node + 1]);
+  return lists;
 }
 
 ArStats ArSolver::stats() const {

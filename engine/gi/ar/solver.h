@@ -40,6 +40,9 @@ class ArSolver final : public Solver {
   ArStats stats() const;
   // Readback for tests: per surfel, the irradiance of the last iteration.
   std::vector<glm::vec4> surfelIrradiance() const { return b_.irradiance.read<glm::vec4>(surfelCount_); }
+  // Readback for tests: each receiver node's senders in the order the global pass walks them, of
+  // the links made once between static objects or of the frame's.
+  std::vector<std::vector<uint32_t>> senderLists(bool staticLinks) const;
   // The bytes of the directional tables for a scene of these counts (each node: gathered and
   // intensity; each surfel: incident), before anything is allocated (ivgi info).
   static uint64_t tableBytes(uint64_t nodes, uint64_t surfels, uint32_t dirs);
@@ -70,7 +73,7 @@ class ArSolver final : public Solver {
   Refit refit_;
   LinkCreation linkCreation_;
   ArIteration iteration_;
-  vk::Program sortSenders_, orderReceivers_;
+  vk::Program sortSenders_, sortLongSenders_, queueArgs_, orderReceivers_;
   uint32_t lightCount_ = 0, sumGroups_ = 0;
   // Dispatches of the global pass an iteration, each walking chunkLinks() links of a list; more
   // where a frame found a longer list (it is redone).
