@@ -18,7 +18,7 @@ layout(binding = 4, rgba32f) readonly uniform imageBuffer binVectors;  // per bi
 layout(binding = 5, rgba32f) readonly uniform imageBuffer radiance;    // per surfel
 layout(binding = 6, rgba32f) readonly uniform imageBuffer incident;    // per surfel and bin
 layout(binding = 7, rgba32f) readonly uniform imageBuffer intensity;   // per node and bin (ar_pull_up)
-layout(binding = 8, rgba32f) uniform imageBuffer gathered;             // per node and bin, zeroed
+layout(binding = 8, rgba32f) uniform imageBuffer gathered;             // per node and bin, written whole
 // Per flat node, Σ over its links of radiance × solid angle × direction, as three texels (x, y, z,
 // each RGB): a surfel's irradiance is its normal against its own and its flat ancestors'
 // (ar_incident), with each sender's own direction rather than its bins'.
@@ -55,10 +55,20 @@ float solidAnglePerArea(float area, float dist2) {
   return 2.0 * kPi * (1.0 - inversesqrt(1.0 + x)) / area;
 }
 
-// Adds to receiver r's texel of bin `bin` radiance × solid angle `sent` over the bin's solid angle.
-void add(uint r, uint bins, uint bin, vec3 sent) {
-  int texel = int(r * bins + bin);
-  imageStore(gathered, texel, vec4(imageLoad(gathered, texel).rgb + sent / imageLoad(binVectors, int(bin)).w, 0.0));
+// The receiver's table while its links are walked, where it is small enough to be kept by each
+// invocation (its texels are then written once, at the end); a larger one is summed in place.
+const uint kBins = 6u * kDirs * kDirs;
+const bool kTableHere = kBins <= kArGatherTableHere;
+vec3 gatheredHere[kTableHere ? kBins : 1u];
+uint tableBase;  // the receiver's first texel in `gathered`
+
+// Adds to the receiver's bin `bin` radiance × solid angle `sent` over the bin's solid angle.
+void add(uint bin, vec3 sent) {
+  vec3 share = sent / imageLoad(binVectors, int(bin)).w;
+  if (kTableHere)
+    gatheredHere[bin] += share;
+  else
+    imageStore(gathered, int(tableBase + bin), vec4(imageLoad(gathered, int(tableBase + bin)).rgb + share, 0.0));
 }
 
 vec3 vectorX, vectorY, vectorZ;  // the receiver's Σ sent · dir
@@ -66,17 +76,17 @@ vec3 vectorX, vectorY, vectorZ;  // the receiver's Σ sent · dir
 // Deposits radiance × solid angle `sent`, seen along unit `dir`: `binShare` of it into the
 // receiver's bins around it and, where it arrives at the front of a flat receiver, all of it into
 // its vector sum (a curved receiver's surfaces face many ways: their irradiance comes from its bins).
-void deposit(uint r, uint bins, vec4 nr, vec3 dir, vec3 sent, float binShare) {
+void deposit(vec4 nr, vec3 dir, vec3 sent, float binShare) {
   if (nr.w <= kArFlatCone && dot(nr.xyz, dir) >= 0.0)
     vectorX += sent * dir.x, vectorY += sent * dir.y, vectorZ += sent * dir.z;
   uvec4 taps;
   vec4 weights;
   binTaps(dir, kDirs, taps, weights);
   weights = keepSide(nr, dir, taps, weights) * binShare;
-  add(r, bins, taps.x, weights.x * sent);
-  add(r, bins, taps.y, weights.y * sent);
-  add(r, bins, taps.z, weights.z * sent);
-  add(r, bins, taps.w, weights.w * sent);
+  add(taps.x, weights.x * sent);
+  add(taps.y, weights.y * sent);
+  add(taps.z, weights.z * sent);
+  add(taps.w, weights.w * sent);
 }
 
 // A table's value at a direction (`base`: the node's or surfel's first texel), read between the
@@ -98,8 +108,8 @@ vec3 surfelRadiance(uint surfel, uint bins, vec4 ns, vec3 dir) {
   return (dot(ns.xyz, -dir) > 0.0 ? imageLoad(radiance, int(surfel)).rgb : vec3(0.0)) - through;
 }
 
-// Adds what sender node s sends over its link to receiver r (at pr, its normal and cone nr).
-void gatherLink(uint r, uint s, vec3 pr, vec4 nr) {
+// Adds what sender node s sends over its link to the receiver (at pr, its normal and cone nr).
+void gatherLink(uint s, vec3 pr, vec4 nr) {
   uint n = kDirs, bins = 6u * n * n;
   float binWidth = 2.0 / float(n);  // of a bin at a face's centre, in the face's plane
   vec4 ps = nodePositionArea(s);
@@ -118,7 +128,7 @@ void gatherLink(uint r, uint s, vec3 pr, vec4 nr) {
       float cosine = dot(cone.xyz, -dir);
       sent = imageLoad(exitance, int(s)).rgb * max(cosine, 0.0) - sent * abs(cosine);
     }
-    deposit(r, bins, nr, dir, sent * solidAnglePerArea(ps.w, dist2), 1.0);
+    deposit(nr, dir, sent * solidAnglePerArea(ps.w, dist2), 1.0);
     return;
   }
   // A surfel wider than a bin, or near, goes as k×k pieces of its rectangle, each along its own
@@ -143,7 +153,7 @@ void gatherLink(uint r, uint s, vec3 pr, vec4 nr) {
     // has (its neighbours on a curved surface, each in the others' near field, fed it back).
     float binOmega = imageLoad(binVectors, int(binOf(dir, kDirs))).w;
     float binShare = omega > binOmega ? binOmega / omega : 1.0;
-    deposit(r, bins, nr, dir, surfelRadiance(t.w, bins, ns, dir) * omega, binShare);
+    deposit(nr, dir, surfelRadiance(t.w, bins, ns, dir) * omega, binShare);
   }
 }
 
@@ -151,7 +161,7 @@ void main() {
   if (itemIndex() >= push.count) return;
   uint r = gatherOrder[itemIndex()];
   // One loop over both lists (the link's body is long, and compiled once), this dispatch's chunk of
-  // them; the chunks after the first go on from the vector sums the one before left.
+  // them; the chunks after the first go on from the table and vector sums the one before left.
   uint fixedFirst = staticStarts[r], fixedCount = staticStarts[r + 1u] - fixedFirst;
   uint first = starts[r] - fixedCount, end = fixedCount + starts[r + 1u] - starts[r];
   uint from = push.first * push.chunkLinks, to = min(end, from + push.chunkLinks);
@@ -159,16 +169,25 @@ void main() {
   if (push.first > 0u && from >= end) return;
   vec3 pr = nodePositionArea(r).xyz;
   vec4 nr = nodeNormalCone(r);
+  tableBase = r * kBins;
   vectorX = vectorY = vectorZ = vec3(0.0);
-  if (push.first > 0u) {
+  if (push.first > 0u) {  // a later chunk: go on from the sums the one before left
     vectorX = imageLoad(gatheredVector, int(3u * r)).rgb;
     vectorY = imageLoad(gatheredVector, int(3u * r + 1u)).rgb;
     vectorZ = imageLoad(gatheredVector, int(3u * r + 2u)).rgb;
+    for (uint b = 0u; kTableHere && b < kBins; ++b) gatheredHere[b] = imageLoad(gathered, int(tableBase + b)).rgb;
+  } else {
+    for (uint b = 0u; b < kBins; ++b)
+      if (kTableHere)
+        gatheredHere[b] = vec3(0.0);
+      else
+        imageStore(gathered, int(tableBase + b), vec4(0.0));
   }
   for (uint k = from; k < to; ++k) {
     uint s = k < fixedCount ? imageLoad(staticSenders, int(fixedFirst + k)).x : imageLoad(senders, int(first + k)).x;
-    gatherLink(r, s & ~kEmitterBit, pr, nr);
+    gatherLink(s & ~kEmitterBit, pr, nr);
   }
+  for (uint b = 0u; kTableHere && b < kBins; ++b) imageStore(gathered, int(tableBase + b), vec4(gatheredHere[b], 0.0));
   imageStore(gatheredVector, int(3u * r), vec4(vectorX, 0.0));
   imageStore(gatheredVector, int(3u * r + 1u), vec4(vectorY, 0.0));
   imageStore(gatheredVector, int(3u * r + 2u), vec4(vectorZ, 0.0));

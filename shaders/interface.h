@@ -342,6 +342,8 @@ IVGI_CONST uint kArFlagChunks = 1u;
 IVGI_CONST uint kArFlagUnsorted = 2u;
 // The global pass's workgroup size, whose blocks of nodes ar_order_receivers orders.
 IVGI_CONST uint kArGatherGroup = 64u;
+// The global pass keeps a receiver's table in each invocation up to this many bins (--dirs 8).
+IVGI_CONST uint kArGatherTableHere = 384u;
 // A node whose normals spread less than this (radians) counts as flat: one plane, a front and a back.
 IVGI_CONST float kArFlatCone = 0.05f;
 // The asymmetric scheme's antiradiance steps after each radiance step.

@@ -46,8 +46,6 @@ void ArIteration::record(VkCommandBuffer cmd, vk::PassTimer& timer, bool timed, 
     }
   });
   pass("global", [&] {
-    vkCmdFillBuffer(cmd, b.gathered.handle(), 0, VK_WHOLE_SIZE, 0u);
-    vk::barrier(cmd);
     for (uint32_t chunk = 0; chunk < push.chunks; ++chunk) {  // each going on where the one before stopped
       if (chunk) vk::barrier(cmd);
       gather_.dispatchItems(cmd, nodes,
