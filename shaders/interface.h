@@ -246,6 +246,9 @@ struct LinkArgsPush {
   uint slot;       // which dispatch arguments to write
   uint groupSize;  // the next dispatch's workgroup size
 };
+struct QueueArgsPush {
+  uint slot;  // which dispatch arguments to write
+};
 struct RefinePush {
   uint source;  // counter slots of this level's list and of the next
   uint target;

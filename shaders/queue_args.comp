@@ -7,6 +7,6 @@ layout(local_size_x = 1) in;
 
 layout(std430, binding = 0) readonly buffer Queue { uint queue[]; };
 layout(std430, binding = 1) writeonly buffer Args { uvec4 args[]; };
-layout(push_constant) uniform Push { ArPush push; };  // first: the slot in args
+layout(push_constant) uniform Push { QueueArgsPush push; };
 
-void main() { args[push.first] = groupsFor(queue[0], 1u); }
+void main() { args[push.slot] = groupsFor(queue[0], 1u); }

@@ -207,7 +207,7 @@ void ArSolver::recordLinks(VkCommandBuffer cmd, LinkSet& set) {
   sortSenders_.dispatchItems(cmd, nodeCount_, sorting, gpu::ArPush{nodeCount_});
   vk::barrier(cmd);
   constexpr uint32_t kLongSortArgs = 2;  // the slot in args after link creation's
-  queueArgs_.dispatch(cmd, {1, 1, 1}, {{"queue", b_.longSorts}, {"args", b_.args}}, gpu::ArPush{0, 0, kLongSortArgs});
+  queueArgs_.dispatch(cmd, {1, 1, 1}, {{"queue", b_.longSorts}, {"args", b_.args}}, gpu::QueueArgsPush{kLongSortArgs});
   vk::barrier(cmd);
   sortLongSenders_.dispatchIndirect(cmd, b_.args, kLongSortArgs * sizeof(glm::uvec4), sorting);
   vk::barrier(cmd);
