@@ -10,6 +10,8 @@
 #include "common.glsl"
 layout(local_size_x = kArGatherGroup) in;
 layout(constant_id = 0) const uint kDirs = 4;  // --dirs: a constant, so that the bins' arithmetic folds
+// The most bins of a receiver's table kept in each invocation (kArGatherTableHere; tests set fewer).
+layout(constant_id = 1) const uint kTableHereMost = kArGatherTableHere;
 
 layout(binding = 1, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode
 layout(std430, binding = 2) readonly buffer Starts { uint starts[]; };
@@ -58,7 +60,7 @@ float solidAnglePerArea(float area, float dist2) {
 // The receiver's table while its links are walked, where it is small enough to be kept by each
 // invocation (its texels are then written once, at the end); a larger one is summed in place.
 const uint kBins = 6u * kDirs * kDirs;
-const bool kTableHere = kBins <= kArGatherTableHere;
+const bool kTableHere = kBins <= kTableHereMost;
 vec3 gatheredHere[kTableHere ? kBins : 1u];
 uint tableBase;  // the receiver's first texel in `gathered`
 

@@ -284,6 +284,22 @@ TEST(ArDeterminism, ListsWalkedInChunksGiveTheSameBits) {
       0, std::memcmp(whole.irradiance.data(), chunked.irradiance.data(), whole.irradiance.size() * sizeof(glm::vec4)));
 }
 
+// The global pass keeps a receiver's table in each invocation up to kArGatherTableHere bins and
+// sums a larger one in place, in device memory (zeroed by its first chunk): both ways, in one
+// dispatch or in chunks, sum the same terms in the same order.
+TEST(ArDeterminism, TablesSummedInPlaceGiveTheSameBits) {
+  auto model = scenes::cornellBox({.cells = 8});
+  ArSolved here = solveAr(model, {}), inPlace = solveAr(model, {.gatherTableHereMost = 1}),
+           inPlaceChunked = solveAr(model, {.gatherChunkLinks = 16, .gatherTableHereMost = 1});
+  EXPECT_GT(inPlaceChunked.stats.gatherChunks, 1u);
+  for (const ArSolved* other : {&inPlace, &inPlaceChunked}) {
+    ASSERT_EQ(here.irradiance.size(), other->irradiance.size());
+    EXPECT_EQ(here.stats.iterations, other->stats.iterations);
+    EXPECT_EQ(
+        0, std::memcmp(here.irradiance.data(), other->irradiance.data(), here.irradiance.size() * sizeof(glm::vec4)));
+  }
+}
+
 // Where one object moves, the links between static objects are made once and kept: the global pass
 // walks them first, then the frame's. That must give what relinking every pair each frame gives,
 // the same links and the same light up to the order of float sums.

@@ -4,11 +4,16 @@
 
 namespace ivgi::gi {
 
-ArIteration::ArIteration(const vk::Context& ctx, const Hierarchy& h, uint32_t dirs, vk::Allocations& allocations)
-    : local_(shaderProgram(ctx, "ar_local", {.constants = {{"kDirs", dirs}}})),
-      pullUp_(shaderProgram(ctx, "ar_pull_up", {.constants = {{"kDirs", dirs}}})),
-      gather_(shaderProgram(ctx, "ar_gather", {.constants = {{"kDirs", dirs}}})),
-      incident_(shaderProgram(ctx, "ar_incident", {.constants = {{"kDirs", dirs}}})) {
+ArIteration::ArIteration(const vk::Context& ctx, const Hierarchy& h, const ArSettings& settings,
+                         vk::Allocations& allocations)
+    : local_(shaderProgram(ctx, "ar_local", {.constants = {{"kDirs", settings.dirs}}})),
+      pullUp_(shaderProgram(ctx, "ar_pull_up", {.constants = {{"kDirs", settings.dirs}}})),
+      gather_(
+          shaderProgram(ctx, "ar_gather",
+                        {.constants = {{"kDirs", settings.dirs},
+                                       {"kTableHereMost", settings.gatherTableHereMost ? settings.gatherTableHereMost
+                                                                                       : gpu::kArGatherTableHere}}})),
+      incident_(shaderProgram(ctx, "ar_incident", {.constants = {{"kDirs", settings.dirs}}})) {
   std::vector<uint32_t> inner;
   for (const gpu::LevelPush& level : levelBatchesBottomUp(h)) {
     const uint32_t first = uint32_t(inner.size());

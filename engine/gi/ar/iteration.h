@@ -3,6 +3,7 @@
 // its intensity per bin), the intensities pulled up the trees, the global pass (U over the links
 // into each node's gathered table), and each surfel's incident light and irradiance.
 #include "engine/gi/ar/buffers.h"
+#include "engine/gi/ar/settings.h"
 #include "engine/gi/hierarchy.h"
 #include "engine/gi/links.h"
 #include "engine/vk/program.h"
@@ -12,8 +13,9 @@ namespace ivgi::gi {
 
 class ArIteration {
  public:
-  // The passes at `dirs` (a constant of their programs); the pull-up takes `h`'s inner nodes.
-  ArIteration(const vk::Context& ctx, const Hierarchy& h, uint32_t dirs, vk::Allocations& allocations);
+  // The passes at the settings' `dirs` (a constant of their programs); the pull-up takes `h`'s inner
+  // nodes.
+  ArIteration(const vk::Context& ctx, const Hierarchy& h, const ArSettings& settings, vk::Allocations& allocations);
   // Records one iteration; `radianceStep`: the local pass reflects the incident light (else it keeps
   // the radiance: an antiradiance step); `slot`: where its incident pass leaves its sums. The global
   // pass walks each receiver's links of both sets, the static pairs' first, in push.chunks

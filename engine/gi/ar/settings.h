@@ -32,6 +32,10 @@ struct ArSettings {
   // The links of a receiver's list one dispatch of the global pass walks; 0: gpu::kArGatherChunk.
   // Tests set few, so that lists take several dispatches (the frame is redone with more).
   uint32_t gatherChunkLinks = 0;
+  // The most bins of a receiver's table the global pass sums in each invocation (a larger one is
+  // summed in place, in device memory); 0: gpu::kArGatherTableHere. Tests set 1, so that the two
+  // ways can be compared.
+  uint32_t gatherTableHereMost = 0;
 };
 
 // The most iterations a frame runs: a guard against typing errors and light that does not converge.

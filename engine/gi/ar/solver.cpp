@@ -55,7 +55,7 @@ ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy h
       nodeCount_(uint32_t(hierarchy_.nodes.size())),
       refit_(ctx),
       linkCreation_(ctx),
-      iteration_(ctx, hierarchy_, settings.dirs, allocations_),
+      iteration_(ctx, hierarchy_, settings, allocations_),
       sortSenders_(shaderProgram(ctx, "ar_sort_senders")),
       sortLongSenders_(shaderProgram(ctx, "ar_sort_long_senders")),
       queueArgs_(shaderProgram(ctx, "queue_args")),
