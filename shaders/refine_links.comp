@@ -32,6 +32,15 @@ void emitChildPairs(uint r, uint s, uvec4 tr, uvec4 ts, bool receiverSide) {
   for (uint c = 0u; c < count; ++c) storePair(first + c, receiverSide ? tr.y + c : r, receiverSide ? s : ts.y + c);
 }
 
+// Stores the link (r, s); past the capacity the frame is redone with the room counted.
+void storeLink(uint r, uint s) {
+  uint slot = atomicAdd(counters[kCounterLinks], 1u);
+  if (slot < push.linkCapacity)
+    imageStore(links, int(slot), uvec4(r, s, 0u, 0u));
+  else
+    atomicOr(counters[kCounterOverflow], kOverflowLinks);
+}
+
 // Cosine of the smallest angle between a cone of normals (axis n, half-angle cone) and directions
 // toward a sphere seen at angular radius `spread` along dir.
 float cosUpper(vec3 n, float cone, vec3 dir, float spread) {
@@ -60,11 +69,7 @@ void main() {
     float scale = max(nr.positionArea.w, ns.positionArea.w);
     if (dist2 <= 1e-6 * scale) {  // coincident (hard edges): the pruning bins it by points on its disk
       if (leafR && leafS) {
-        uint slot = atomicAdd(counters[kCounterLinks], 1u);
-        if (slot < push.linkCapacity)
-          imageStore(links, int(slot), uvec4(r, s, 0u, 0u));
-        else
-          atomicOr(counters[kCounterOverflow], kOverflowLinks);
+        storeLink(r, s);
         continue;
       }
     } else {
@@ -91,11 +96,7 @@ void main() {
       bool refineReceiver = !refineSender && !leafR && nr.positionArea.w > receiverLimit * dist2;
       bool refine = refineSender || refineReceiver || (!(leafR && leafS) && (overlapping || estimate > push.epsilon));
       if (!refine) {
-        uint slot = atomicAdd(counters[kCounterLinks], 1u);
-        if (slot < push.linkCapacity)
-          imageStore(links, int(slot), uvec4(r, s, 0u, 0u));
-        else
-          atomicOr(counters[kCounterOverflow], kOverflowLinks);
+        storeLink(r, s);
         continue;
       }
       if (refineSender || refineReceiver) {
