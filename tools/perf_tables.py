@@ -371,7 +371,8 @@ the sweep's plot and CSV, and the headline table of the README. Timings are GPU 
 (timestamps around each pass), medians over {args.runs} runs of `ivgi bench`, each itself the median
 over its frames after warm-up frames.
 
-Machine: {machine}.
+Machine: {machine}. The same solvers on a discrete GPU: [performance-gpu.md](performance-gpu.md)
+(`tools/gpu_tables.py`).
 
 ## Per pass: the animated Cornell box
 

@@ -1,0 +1,149 @@
+#!/usr/bin/env python3
+"""Regenerates docs/performance-gpu.md: the GPU-timed figures of docs/performance.md on whatever
+Vulkan device ivgi picks (a discrete GPU before an integrated one, before lavapipe).
+
+Usage: tools/gpu_tables.py [--ivgi build/ivgi] [--runs 3] [--references DIR] [--scenes FILE ...]
+                           [--out docs/performance-gpu.md]
+
+Only the GPU solvers run here; pt is not timed. Errors are measured against pt references rendered
+beforehand, wherever, into --references: `cornell26_pt_0000.exr` (the animated Cornell box at
+`--cells 26`, 320×240, 4096 spp) and `STEM_pt_0000.exr` for each --scenes file (480×270, 1024 spp).
+A row whose reference is missing shows no error. Each section is written as soon as it is measured,
+so a run cut short keeps what it finished.
+"""
+import argparse
+import datetime
+import json
+import os
+import pathlib
+import sys
+import tempfile
+import time
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+from perf_tables import DOCS, ROOT, Runner, cpu_name, fmt, median, per_pass_table, scaling_table  # noqa: E402
+
+
+def relmse(r, test, reference):
+    if not reference.exists():
+        return None
+    return r.json("compare", test, reference)["frames"][0]["metrics"]["relMSE"]
+
+
+def error(value):
+    return "—" if value is None else f"{value:.4f}"
+
+
+def ar_table(r, runs, references):
+    """ar at --cells 26, 320×240: cold frames per --dirs, and warm-started frames."""
+    reference = references / "cornell26_pt_0000.exr"
+    lines = ["| setting | links | iterations | global ms | frame ms | fps | relMSE frame 0 |",
+             "|---|---|---|---|---|---|---|"]
+    for dirs, warm in ((2, False), (4, False), (8, False), (2, True), (4, True)):
+        extra = ("--method", "ar", "--dirs", dirs) + (("--warm-start",) if warm else ())
+        frames = 24 if warm else 6
+        results = [r.json("bench", "cornell", "--cells", 26, "--size", "320x240", "--frames", frames, "--warmup", 1,
+                          *extra) for _ in range(runs)]
+        total = median([j["passes"]["total"]["medianMs"] for j in results])
+        glob = median([j["passes"]["global"]["medianMs"] for j in results])
+        iterations = sorted(f["solver"]["iterations"] for f in results[-1]["frames"])
+        rel = None
+        if not warm:
+            out = r.scratch / f"ar_d{dirs}"
+            r.run("render", "cornell", "--cells", 26, "--size", "320x240", "--frames", 0, "--format", "exr", "--out",
+                  out / "f_%04d", *extra)
+            rel = relmse(r, out / "f_0000.exr", reference)
+        name = f"`--dirs {dirs}`" + (", `--warm-start`" if warm else "") + (" (default)" if dirs == 4 and not warm else "")
+        lines.append(f"| {name} | {results[-1]['solver']['links']:,} | {median(iterations):.0f} | {fmt(glob)} | "
+                     f"{fmt(total)} | {1000.0 / total:.1f} | {error(rel) if not warm else 'as cold'} |")
+    return "\n".join(lines)
+
+
+def iv_error(r, references):
+    out = r.scratch / "iv_cells26"
+    r.run("render", "cornell", "--cells", 26, "--size", "320x240", "--frames", 0, "--format", "exr", "--out",
+          out / "f_%04d")
+    return relmse(r, out / "f_0000.exr", references / "cornell26_pt_0000.exr")
+
+
+def solve(figures):
+    """How the frame's solver ended, from its sidecar figures."""
+    if "bounces" in figures:
+        return f"{figures['bounces']:.0f} bounces"
+    text = f"{figures['iterations']:.0f} iterations"
+    if figures.get("diverged"):
+        return f"diverged: shows iteration {figures['iterations']:.0f}, damped to {figures['damping']:g}"
+    return text + (f", damped to {figures['damping']:g}" if figures.get("damping", 1) < 1 else "")
+
+
+def real_files_table(r, scenes, references):
+    """One frame at 480×270 at the defaults, per method: wall clock from the command's start (device
+    opened, pipelines compiled, links made), the frame's GPU time and its error against pt."""
+    lines = ["| scene | method | wall clock s | GPU ms | solve | relMSE against pt |", "|---|---|---|---|---|---|"]
+    for path in scenes:
+        for method in ("iv", "ar"):
+            out = r.scratch / f"{path.stem}_{method}"
+            begin = time.monotonic()
+            r.run("render", path, "--method", method, "--frames", 0, "--size", "480x270", "--format", "exr", "--out",
+                  out / "f_%04d")
+            seconds = time.monotonic() - begin
+            frame = json.loads((out / "f.json").read_text())["frames"][0]
+            rel = relmse(r, out / "f_0000.exr", references / f"{path.stem}_pt_0000.exr")
+            lines.append(f"| {path.name} | {method} | {seconds:.2f} | {fmt(frame['totalGpuMs'])} | "
+                         f"{solve(frame['solver'])} | {error(rel)} |")
+    return "\n".join(lines)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--ivgi", default=ROOT / "build/ivgi")
+    parser.add_argument("--runs", type=int, default=3)
+    parser.add_argument("--references", type=pathlib.Path, default=pathlib.Path("gpu-references"))
+    parser.add_argument("--scenes", type=pathlib.Path, nargs="*", default=[])
+    parser.add_argument("--out", type=pathlib.Path, default=DOCS / "performance-gpu.md")
+    args = parser.parse_args()
+    sections = []
+
+    def write(device):
+        machine = (f"Vulkan device {device['name']} ({device['type']}), driver {device['driver']} "
+                   f"{device.get('driverInfo', '')}; CPU {cpu_name()}, {os.cpu_count()} cores")
+        body = "\n\n".join(sections)
+        args.out.write_text(f"""# Performance on a GPU
+
+Generated by `tools/gpu_tables.py` on {datetime.date.today().isoformat()}; the lavapipe figures,
+the sweep and pt are in [performance.md](performance.md). Timings are GPU milliseconds (timestamps
+around each pass), medians over {args.runs} runs of `ivgi bench`, each itself the median over its
+frames after warm-up frames. Errors are against pt references rendered beforehand with the same
+settings (`--references`): pt is not run on this machine.
+
+Machine: {machine}.
+
+{body}
+""")
+
+    with tempfile.TemporaryDirectory(prefix="ivgi-gpu-") as scratch:
+        r = Runner(args.ivgi, os.cpu_count(), scratch)
+        passes, device, _ = per_pass_table(r, args.runs)
+        rel = iv_error(r, args.references)
+        sections.append("## iv, per pass: the animated Cornell box\n\n`ivgi bench cornell --cells N --size 320x240 "
+                        "--frames 20 --warmup 3` at the defaults. relMSE of frame 0 at `--cells 26` against pt at "
+                        f"4096 spp: {error(rel)}.\n\n{passes}")
+        write(device)
+        for title, intro, make in (
+                ("ar on the animated Cornell box",
+                 "`ivgi bench cornell --cells 26 --size 320x240 --method ar --dirs N`, 6 frames after a warm-up "
+                 "frame (24 with `--warm-start`); frame 0's relMSE against pt at 4096 spp.",
+                 lambda: ar_table(r, args.runs, args.references)),
+                ("Real files", "One frame at 480×270 at the defaults (the engine lit by the default white sky).",
+                 lambda: real_files_table(r, args.scenes, args.references)),
+                ("iv's cost against the scene's tessellation",
+                 "As in performance.md: frames after 2 warm-up frames, at the defaults and with every surfel a "
+                 "receiver (`--receiver-tol 0`).", lambda: scaling_table(r, args.runs))):
+            print(title, file=sys.stderr, flush=True)
+            sections.append(f"## {title}\n\n{intro}\n\n{make()}")
+            write(device)
+    print(f"wrote {args.out}", file=sys.stderr)
+
+
+if __name__ == "__main__":
+    main()
