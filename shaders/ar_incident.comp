@@ -31,6 +31,9 @@ float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
 
 void main() {
   uint s = itemIndex(), lid = gl_LocalInvocationID.x;
+  // A damped step goes ω of the way from the tables before it (an undamped one just writes them).
+  const float w = push.damping;
+  const bool damped = w < 1.0;
   vec3 mine = vec3(0.0);
   if (s < push.count) {
     uint leaf = leafOfSurfel[s], n = kDirs, bins = 6u * n * n;
@@ -55,7 +58,8 @@ void main() {
       }
       for (int node = above; node >= 0; node = int(imageLoad(tree, node).x))
         I += imageLoad(gathered, int(uint(node) * bins + b)).rgb;
-      imageStore(incident, int(s * bins + b), vec4(I, 0.0));
+      int texel = int(s * bins + b);
+      imageStore(incident, texel, vec4(damped ? mix(imageLoad(incident, texel).rgb, I, w) : I, 0.0));
       E += fromBins * max(dot(normal, imageLoad(binVectors, int(b)).xyz), 0.0);
     }
     for (int node = int(leaf); node >= 0; node = int(imageLoad(tree, node).x)) {
@@ -75,15 +79,17 @@ void main() {
       E += added * max(dot(normal, normalize(toLight)), 0.0);
       for (uint j = 0u; j < 4u; ++j) {
         uint bin = taps[j];
-        vec3 radiance = weights[j] * added / imageLoad(binVectors, int(bin)).w;
+        vec3 radiance = w * weights[j] * added / imageLoad(binVectors, int(bin)).w;
         int texel = int(s * bins + bin);
         imageStore(incident, texel, vec4(imageLoad(incident, texel).rgb + radiance, 0.0));
       }
     }
-    vec3 shown = max(E, vec3(0.0));
-    mine = pa.w *
-           vec3(luminance(shown), abs(luminance(shown) - luminance(irradiance[s].rgb)), luminance(max(-E, vec3(0.0))));
-    irradiance[s] = vec4(shown, 0.0);
+    // The change is the whole step's, damped or not: the iteration has settled when a step would
+    // change nothing, not when a damped one changes little.
+    vec3 shown = max(E, vec3(0.0)), before = irradiance[s].rgb;
+    vec3 kept = damped ? mix(before, shown, w) : shown;
+    mine = pa.w * vec3(luminance(shown), abs(luminance(shown) - luminance(before)), luminance(max(-E, vec3(0.0))));
+    irradiance[s] = vec4(kept, 0.0);
   }
   partial[lid] = mine;
   barrier();

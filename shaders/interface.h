@@ -367,6 +367,9 @@ struct ArPush {
   uint environmentOn;
   uint chunks;      // gather: the chunks recorded (a list longer than they walk is flagged)
   uint chunkLinks;  // gather: the links of a list a chunk walks (kArGatherChunk but in tests)
+  // incident: the share ω of an iteration's step that is taken (1: all of it; less damps an
+  // iteration that diverges): each surfel's incident table and irradiance go ω of the way to the new.
+  float damping;
 };
 
 struct ImagePush {  // raster: count = triangles; resolve: count = samples per axis

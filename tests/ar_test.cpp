@@ -471,11 +471,12 @@ TEST(ArConvergence, ASmoothSpheresPolesSettle) {
 
 namespace {
 
-// A contrived scene on which the iteration diverges (as Dachsbacher et al. say some may): eight
-// two-sided plates of albedo 0.7, 4 mm apart, between a lamp and a floor. Each plate's
+// A contrived scene on which the plain iteration diverges (as Dachsbacher et al. say some may):
+// eight two-sided plates of albedo 0.7, 4 mm apart, between a lamp and a floor. Each plate's
 // antiradiance must cancel the light its neighbours pass on, a step late on the symmetric scheme,
 // and the light cancelled past zero grows past the light within a few iterations (run on without
-// the guard, the irradiance changes by more than itself at every iteration).
+// the guard, the irradiance changes by more than itself at every iteration). The changes alternate
+// in sign: half steps settle them.
 tinygltf::Model stackOfPlates() {
   scenes::GltfBuilder b;
   scenes::MeshData floor, lamp, plates;
@@ -496,16 +497,37 @@ tinygltf::Model stackOfPlates() {
   return b.finish();
 }
 
+// A corrugated sheet standing on a floor under the same lamp: ten V-grooves 0.1 m wide and 0.6 m
+// deep, albedo `rho`. Each face of a groove is its neighbour's near field, many times over.
+tinygltf::Model vGrooves(float rho) {
+  scenes::GltfBuilder b;
+  scenes::MeshData floor, lamp, sheet;
+  scenes::addQuad(floor, {-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}, 8, 8, {0, 1, 0});
+  scenes::addQuad(lamp, {-0.2f, 2, -0.2f}, {0.2f, 2, -0.2f}, {0.2f, 2, 0.2f}, {-0.2f, 2, 0.2f}, 1, 1, {0, 0, 0});
+  for (int k = 0; k < 10; ++k) {
+    const float x = -0.5f + 0.1f * float(k), mid = x + 0.05f;
+    scenes::addQuad(sheet, {x, 0.6f, -0.5f}, {mid, 0, -0.5f}, {mid, 0, 0.5f}, {x, 0.6f, 0.5f}, 1, 6, {mid, 2, 0});
+    scenes::addQuad(sheet, {mid, 0, -0.5f}, {x + 0.1f, 0.6f, -0.5f}, {x + 0.1f, 0.6f, 0.5f}, {mid, 0, 0.5f}, 1, 6,
+                    {mid, 2, 0});
+  }
+  const int grey = b.material("grey", glm::vec3(rho));
+  b.node("floor", b.mesh("floor", {{floor, grey}}));
+  b.node("lamp", b.mesh("lamp", {{lamp, b.material("lamp", glm::vec3(0.0f), glm::vec3(12.0f))}}));
+  b.node("sheet", b.mesh("sheet", {{sheet, grey}}));
+  return b.finish();
+}
+
 // Nothing in the scene can be brighter than its lamp with every bounce kept: L ≤ Le/(1 − ρ).
 constexpr float kPlatesMostIrradiance = float(kPi) * 12.0f / (1.0f - 0.7f);
 
 }  // namespace
 
-// The guard (docs/design.md §2.2): a frame whose iteration diverges is redone up to its best
-// iteration, says so, and holds no NaN, no Inf and no light beyond what the scene can hold.
+// The guard (docs/design.md §2.2): a frame whose iteration diverges, where no damping is allowed
+// (or none holds it), is redone up to its best iteration, says so, and holds no NaN, no Inf and no
+// light beyond what the scene can hold.
 TEST(ArConvergence, ADivergentSceneStopsAtItsBestIteration) {
   for (uint32_t dirs : {4u, 8u}) {
-    ArSolved solved = solveAr(stackOfPlates(), {.dirs = dirs});
+    ArSolved solved = solveAr(stackOfPlates(), {.dirs = dirs, .leastDamping = 1.0f});
     const auto& r = solved.stats.residuals;
     std::printf("[ ar divergence ] plates, 6x%ux%u dirs: diverged %d, shows iteration %u; residual", dirs, dirs,
                 int(solved.stats.diverged), solved.stats.iterations);
@@ -522,9 +544,54 @@ TEST(ArConvergence, ADivergentSceneStopsAtItsBestIteration) {
   }
 }
 
-// Through the command: one line on stderr names the divergence and the iteration shown, the
-// sidecar marks the frame, and the image is written whole and finite (compare refuses NaN or Inf).
-TEST(ArConvergence, ADivergentFrameIsMarkedAndWrittenWhole) {
+// By default the frame is solved again with each step damped to half (a fixed point of the damped
+// iteration is one of the plain iteration): it settles within the tolerance, its changes falling
+// after the first steps, and its light stays within the scene's bound.
+TEST(ArConvergence, ADivergentSceneSettlesDamped) {
+  for (uint32_t dirs : {4u, 8u}) {
+    ArSolved solved = solveAr(stackOfPlates(), {.dirs = dirs});
+    const auto& r = solved.stats.residuals;
+    std::printf("[ ar damping ] plates, 6x%ux%u dirs: damping %.3g, %u iterations; residual", dirs, dirs,
+                double(solved.stats.damping), solved.stats.iterations);
+    for (float x : r) std::printf(" %.2g", double(x));
+    std::printf("\n");
+    EXPECT_FALSE(solved.stats.diverged) << "dirs " << dirs;
+    EXPECT_LT(solved.stats.damping, 1.0f) << "the plain iteration diverges here";
+    ASSERT_GE(r.size(), 4u);
+    EXPECT_LT(r.back(), gi::ArSettings{}.tolerance);
+    for (size_t k = 4; k < r.size(); ++k) EXPECT_LT(r[k], r[k - 1]) << "iteration " << k + 1 << ", dirs " << dirs;
+    for (const auto& e : solved.irradiance) {
+      ASSERT_TRUE(std::isfinite(e.x) && std::isfinite(e.y) && std::isfinite(e.z));
+      EXPECT_LE(e.x, kPlatesMostIrradiance);
+    }
+  }
+}
+
+// Grooves whose iteration no damping holds (its damped changes level off above the tolerance: light
+// that grows on its own) stop at the least damping within a bounded number of iterations, at their
+// best iteration, finite and within the scene's bound, rather than run to the iteration limit.
+TEST(ArConvergence, GroovesNoDampingHoldsStopAtTheirBest) {
+  ArSolved solved = solveAr(vGrooves(0.7f), {});
+  const auto& r = solved.stats.residuals;
+  std::printf("[ ar damping ] grooves: diverged %d, damping %.3g, shows iteration %u; residual",
+              int(solved.stats.diverged), double(solved.stats.damping), solved.stats.iterations);
+  for (float x : r) std::printf(" %.2g", double(x));
+  std::printf("\n");
+  EXPECT_TRUE(solved.stats.diverged);
+  EXPECT_EQ(solved.stats.damping, gi::ArSettings{}.leastDamping);
+  EXPECT_LE(solved.stats.iterations, 100u);
+  ASSERT_FALSE(r.empty());
+  EXPECT_EQ(r.back(), *std::min_element(r.begin(), r.end())) << "the frame shows its best iteration";
+  for (const auto& e : solved.irradiance) {
+    ASSERT_TRUE(std::isfinite(e.x) && std::isfinite(e.y) && std::isfinite(e.z));
+    EXPECT_LE(e.x, float(kPi) * 12.0f / (1.0f - 0.7f));
+  }
+}
+
+// Through the command: one line on stderr names the divergence and the damping that held it, the
+// sidecar gives the frame's damping, and the image is written whole and finite (compare refuses
+// NaN or Inf).
+TEST(ArConvergence, ADampedFrameIsNamedAndWrittenWhole) {
   const auto dir = test::scratchDir("plates");
   scenes::writeModel(stackOfPlates(), (dir / "plates.gltf").string());
   const test::Run run = test::runIvgi({"render", (dir / "plates.gltf").string(), "--method", "ar", "--size", "48x32",
@@ -537,7 +604,8 @@ TEST(ArConvergence, ADivergentFrameIsMarkedAndWrittenWhole) {
       1)
       << run.err;
   const auto sidecar = nlohmann::json::parse(std::ifstream(dir / "f.json"));
-  EXPECT_EQ(sidecar["frames"][0]["solver"]["diverged"], 1.0);
+  EXPECT_EQ(sidecar["frames"][0]["solver"]["diverged"], 0.0);
+  EXPECT_EQ(sidecar["frames"][0]["solver"]["damping"], 0.5);
   const test::Run self = test::runIvgi({"compare", (dir / "f_0000.exr").string(), (dir / "f_0000.exr").string()});
   EXPECT_EQ(self.status, 0) << self.err;
 }

@@ -11,7 +11,8 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(IvStats, nodes, levels, links, leafLinks, sta
                                    framesRedone, staticPasses, bounces, bounceRemaining, receivers, receiverFills)
 
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ArStats, nodes, levels, links, staticLinks, longestList, gatherChunks, bytes,
-                                   tableBytes, iterations, residual, negative, diverged, framesRedone, residuals)
+                                   tableBytes, iterations, residual, negative, diverged, damping, framesRedone,
+                                   residuals)
 
 }  // namespace ivgi::gi
 

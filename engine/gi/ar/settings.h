@@ -36,6 +36,11 @@ struct ArSettings {
   // summed in place, in device memory); 0: gpu::kArGatherTableHere. Tests set 1, so that the two
   // ways can be compared.
   uint32_t gatherTableHereMost = 0;
+  // The least share of a step a diverging iteration is damped to (halving from a whole step) before
+  // it is stopped at its best iteration. Damping holds an iteration whose changes alternate in sign
+  // (each surface's antiradiance a step behind the light it cancels); one whose light grows on its
+  // own is not held by any. Tests set 1 (no damping) to reach the stop.
+  float leastDamping = 0.25f;
 };
 
 // The most iterations a frame runs: a guard against typing errors and light that does not converge.
@@ -56,6 +61,7 @@ struct ArStats {
   float residual = 0;                  // its last iteration's change of the irradiance, over the irradiance
   float negative = 0;                  // light cancelled past zero, over the irradiance
   bool diverged = false;               // the iteration was stopped where it diverged
+  float damping = 1.0f;                // the share of a step the last frame's iteration took
   uint32_t framesRedone = 0;
   std::vector<float> residuals;  // per iteration of the last frame
 };

@@ -221,7 +221,7 @@ void ArSolver::recordIterations(VkCommandBuffer cmd, vk::PassTimer& timer, uint3
       const bool radianceStep = settings_.scheme == ArScheme::Symmetric || i % (gpu::kAntiradianceSteps + 1) == 0;
       iteration_.record(cmd, timer, timedEach, b_, hierarchy_, staticSet_, frameSet_,
                         gpu::ArPush{0, settings_.dirs, 0, 0, lightCount_, settings_.environment ? 1u : 0u,
-                                    gatherChunks_, chunkLinks()},
+                                    gatherChunks_, chunkLinks(), damping_},
                         radianceStep, k);
     }
   };
@@ -248,24 +248,22 @@ void ArSolver::judge() const {
   }
   const std::ptrdiff_t fresh = recorded_ - judged_;  // the iterations just judged
   judged_ = recorded_;
-  if (!cap_) {  // divergence: light cancelled far past zero, or changes that grow past the light
-    // Over every iteration just judged: a growing change may alternate with smaller ones.
+  if (!cap_ && diverging(fresh)) {
     const auto best = std::min_element(residuals_.begin(), residuals_.end());
-    const auto worst = std::max_element(residuals_.end() - fresh, residuals_.end());
-    const float negative = *std::max_element(negatives_.end() - fresh, negatives_.end());
-    const bool finite =
-        std::all_of(residuals_.end() - fresh, residuals_.end(), [](float x) { return std::isfinite(x); }) &&
-        std::isfinite(negative);
-    if (!finite || (recorded_ >= 3 && negative > kNegativeBound) ||
-        (recorded_ >= 8 && *worst > 1.0f && *worst > kGrowthBound * *best)) {
-      cap_ = uint32_t(best - residuals_.begin()) + 1;
-      diverged_ = redo_ = done_ = true;
-      std::fprintf(stderr,
-                   "ivgi: ar: the iteration diverges (the irradiance changed by %.3g of itself at iteration %u, "
-                   "%.3g at iteration %u); the frame shows iteration %u, its best\n",
-                   double(*worst), uint32_t(worst - residuals_.begin()) + 1, double(*best), cap_, cap_);
-      return;
-    }
+    const auto worst = std::max_element(residuals_.begin(), residuals_.end());
+    if (damping_ == 1.0f) firstGrowth_ = *worst, firstGrowthAt_ = uint32_t(worst - residuals_.begin()) + 1;
+    redo_ = done_ = true;
+    if (damping_ > settings_.leastDamping) return void(damping_ *= 0.5f);
+    cap_ = uint32_t(best - residuals_.begin()) + 1;
+    diverged_ = true;
+    char damped[80] = "";
+    if (damping_ < 1.0f)
+      std::snprintf(damped, sizeof damped, " undamped, and still grew with each step damped to %.3g", double(damping_));
+    std::fprintf(stderr,
+                 "ivgi: ar: the iteration diverges (the irradiance changed by %.3g of itself at iteration %u%s); the "
+                 "frame shows iteration %u, its best\n",
+                 double(firstGrowth_), firstGrowthAt_, damped, cap_);
+    return;
   }
   if (recorded_ >= iterationLimit()) return void(done_ = true);
   if (settings_.iterations || cap_) return;
@@ -274,6 +272,21 @@ void ArSolver::judge() const {
   const size_t cycle = settings_.scheme == ArScheme::Symmetric ? 1 : gpu::kAntiradianceSteps + 1;
   if (residuals_.size() < cycle + 1) return;
   done_ = *std::max_element(residuals_.end() - cycle, residuals_.end()) < settings_.tolerance;
+}
+
+bool ArSolver::diverging(std::ptrdiff_t fresh) const {
+  const std::vector<float>& r = residuals_;
+  // Over every iteration just judged: a growing change may alternate with smaller ones.
+  const float best = *std::min_element(r.begin(), r.end()), worst = *std::max_element(r.end() - fresh, r.end());
+  const float negative = *std::max_element(negatives_.end() - fresh, negatives_.end());
+  if (!std::all_of(r.end() - fresh, r.end(), [](float x) { return std::isfinite(x); }) || !std::isfinite(negative))
+    return true;
+  if (recorded_ >= 8 && worst > 1.0f && worst > kGrowthBound * best) return true;
+  // Undamped, light cancelled far past zero; damped, the light may settle with some cancelled past
+  // zero (a damped step is slower, not off), but a change still above the light after 8 steps, or
+  // one that did not fall by a quarter over 16, is light the damping does not hold.
+  if (damping_ == 1.0f) return recorded_ >= 3 && negative > kNegativeBound;
+  return (recorded_ >= 8 && r.back() > 1.0f) || (r.size() > 16 && r.back() > 0.75f * r[r.size() - 17]);
 }
 
 bool ArSolver::wantsMorePasses() const {
@@ -335,14 +348,21 @@ bool ArSolver::frameMustBeRedone() {
 }
 
 void ArSolver::frameStands() {
+  if (damping_ < 1.0f && !diverged_)
+    std::fprintf(stderr,
+                 "ivgi: ar: the iteration diverges undamped (the irradiance changed by %.3g of itself at iteration "
+                 "%u); with each step damped to %.3g it settled in %u iterations\n",
+                 double(firstGrowth_), firstGrowthAt_, double(damping_), recorded_);
   solutionStands_ = !diverged_;
   cap_ = 0;
+  frameDamping_ = damping_, damping_ = 1.0f;
 }
 
 std::vector<std::pair<std::string, double>> ArSolver::frameFigures() const {
   return {{"iterations", double(recorded_)},
           {"residual", residuals_.empty() ? 0.0 : double(residuals_.back())},
-          {"diverged", diverged_ ? 1.0 : 0.0}};
+          {"diverged", diverged_ ? 1.0 : 0.0},
+          {"damping", double(frameDamping_)}};
 }
 
 uint32_t ArSolver::longestList() const {
@@ -381,6 +401,7 @@ ArStats ArSolver::stats() const {
   s.residual = residuals_.empty() ? 0.0f : residuals_.back();
   s.negative = negatives_.empty() ? 0.0f : negatives_.back();
   s.diverged = diverged_;
+  s.damping = frameDamping_;
   s.framesRedone = framesRedone_;
   s.residuals = residuals_;
   return s;

@@ -58,6 +58,7 @@ class ArSolver final : public Solver {
   // Reads the sums of the iterations recorded since the last look and decides whether to go on
   // (wantsMorePasses() asks, so what it decides is mutable).
   void judge() const;
+  bool diverging(std::ptrdiff_t fresh) const;  // over the residuals, the `fresh` just judged
   uint32_t iterationLimit() const;
 
   const vk::Context& ctx_;
@@ -87,9 +88,17 @@ class ArSolver final : public Solver {
   mutable uint32_t judged_ = 0;
   mutable bool done_ = false;
   mutable std::vector<float> residuals_, negatives_;
-  // Where the iteration diverged: the frame is redone up to its best iteration, once.
+  // Where the iteration diverges, the frame is redone with each step damped to half the step before
+  // (down to ArSettings::leastDamping); where it still diverges, once more up to its best iteration
+  // (cap_).
+  // Every frame starts undamped, so that an image never depends on the frames before it.
+  mutable float damping_ = 1.0f;
+  float frameDamping_ = 1.0f;  // the damping the last frame that stood was solved with
   mutable uint32_t cap_ = 0;
   mutable bool diverged_ = false, redo_ = false;
+  // The first divergence of the frame, named in its one line on stderr: the change, its iteration.
+  mutable float firstGrowth_ = 0.0f;
+  mutable uint32_t firstGrowthAt_ = 0;
   uint32_t framesRedone_ = 0;
 };
 
