@@ -10,6 +10,9 @@ beforehand, wherever, into --references: `cornell26_pt_0000.exr` (the animated C
 `--cells 26`, 320×240, 4096 spp) and `STEM_pt_0000.exr` for each --scenes file (480×270, 1024 spp).
 A row whose reference is missing shows no error. Each section is written as soon as it is measured,
 so a run cut short keeps what it finished.
+
+On a GPU machine without ivgi's Debian libraries, `tools/portable_bundle.py --out DIR` packs ivgi
+with what it loads: run this script with `--ivgi DIR/ivgi` and LD_LIBRARY_PATH=DIR/lib.
 """
 import argparse
 import datetime
