@@ -520,6 +520,22 @@ tinygltf::Model vGrooves(float rho) {
 // Nothing in the scene can be brighter than its lamp with every bounce kept: L ≤ Le/(1 − ρ).
 constexpr float kPlatesMostIrradiance = float(kPi) * 12.0f / (1.0f - 0.7f);
 
+// One line of the test's log: how the iteration ended, and its residuals.
+void printIteration(const std::string& what, const ArSolved& solved) {
+  std::printf("[ ar divergence ] %s: diverged %d, damping %.3g, shows iteration %u; residual", what.c_str(),
+              int(solved.stats.diverged), double(solved.stats.damping), solved.stats.iterations);
+  for (float x : solved.stats.residuals) std::printf(" %.2g", double(x));
+  std::printf("\n");
+}
+
+// No NaN, no Inf and no irradiance beyond `most` (what the scene can hold).
+void expectFiniteWithin(const ArSolved& solved, float most) {
+  for (const auto& e : solved.irradiance) {
+    ASSERT_TRUE(std::isfinite(e.x) && std::isfinite(e.y) && std::isfinite(e.z));
+    EXPECT_LE(e.x, most);
+  }
+}
+
 }  // namespace
 
 // The guard (docs/design.md §2.2): a frame whose iteration diverges, where no damping is allowed
@@ -529,18 +545,12 @@ TEST(ArConvergence, ADivergentSceneStopsAtItsBestIteration) {
   for (uint32_t dirs : {4u, 8u}) {
     ArSolved solved = solveAr(stackOfPlates(), {.dirs = dirs, .leastDamping = 1.0f});
     const auto& r = solved.stats.residuals;
-    std::printf("[ ar divergence ] plates, 6x%ux%u dirs: diverged %d, shows iteration %u; residual", dirs, dirs,
-                int(solved.stats.diverged), solved.stats.iterations);
-    for (float x : r) std::printf(" %.2g", double(x));
-    std::printf("\n");
+    printIteration("plates undamped, --dirs " + std::to_string(dirs), solved);
     EXPECT_TRUE(solved.stats.diverged) << "dirs " << dirs;
     ASSERT_EQ(r.size(), solved.stats.iterations);
     ASSERT_FALSE(r.empty());
     EXPECT_EQ(r.back(), *std::min_element(r.begin(), r.end())) << "the frame shows its best iteration";
-    for (const auto& e : solved.irradiance) {
-      ASSERT_TRUE(std::isfinite(e.x) && std::isfinite(e.y) && std::isfinite(e.z));
-      EXPECT_LE(e.x, kPlatesMostIrradiance);
-    }
+    expectFiniteWithin(solved, kPlatesMostIrradiance);
   }
 }
 
@@ -551,19 +561,13 @@ TEST(ArConvergence, ADivergentSceneSettlesDamped) {
   for (uint32_t dirs : {4u, 8u}) {
     ArSolved solved = solveAr(stackOfPlates(), {.dirs = dirs});
     const auto& r = solved.stats.residuals;
-    std::printf("[ ar damping ] plates, 6x%ux%u dirs: damping %.3g, %u iterations; residual", dirs, dirs,
-                double(solved.stats.damping), solved.stats.iterations);
-    for (float x : r) std::printf(" %.2g", double(x));
-    std::printf("\n");
+    printIteration("plates, --dirs " + std::to_string(dirs), solved);
     EXPECT_FALSE(solved.stats.diverged) << "dirs " << dirs;
     EXPECT_LT(solved.stats.damping, 1.0f) << "the plain iteration diverges here";
     ASSERT_GE(r.size(), 4u);
     EXPECT_LT(r.back(), gi::ArSettings{}.tolerance);
     for (size_t k = 4; k < r.size(); ++k) EXPECT_LT(r[k], r[k - 1]) << "iteration " << k + 1 << ", dirs " << dirs;
-    for (const auto& e : solved.irradiance) {
-      ASSERT_TRUE(std::isfinite(e.x) && std::isfinite(e.y) && std::isfinite(e.z));
-      EXPECT_LE(e.x, kPlatesMostIrradiance);
-    }
+    expectFiniteWithin(solved, kPlatesMostIrradiance);
   }
 }
 
@@ -573,19 +577,13 @@ TEST(ArConvergence, ADivergentSceneSettlesDamped) {
 TEST(ArConvergence, GroovesNoDampingHoldsStopAtTheirBest) {
   ArSolved solved = solveAr(vGrooves(0.7f), {});
   const auto& r = solved.stats.residuals;
-  std::printf("[ ar damping ] grooves: diverged %d, damping %.3g, shows iteration %u; residual",
-              int(solved.stats.diverged), double(solved.stats.damping), solved.stats.iterations);
-  for (float x : r) std::printf(" %.2g", double(x));
-  std::printf("\n");
+  printIteration("grooves, rho 0.7", solved);
   EXPECT_TRUE(solved.stats.diverged);
   EXPECT_EQ(solved.stats.damping, gi::ArSettings{}.leastDamping);
   EXPECT_LE(solved.stats.iterations, 100u);
   ASSERT_FALSE(r.empty());
   EXPECT_EQ(r.back(), *std::min_element(r.begin(), r.end())) << "the frame shows its best iteration";
-  for (const auto& e : solved.irradiance) {
-    ASSERT_TRUE(std::isfinite(e.x) && std::isfinite(e.y) && std::isfinite(e.z));
-    EXPECT_LE(e.x, float(kPi) * 12.0f / (1.0f - 0.7f));
-  }
+  expectFiniteWithin(solved, kPlatesMostIrradiance);  // the same lamp and albedo
 }
 
 // Through the command: one line on stderr names the divergence and the damping that held it, the
