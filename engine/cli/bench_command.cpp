@@ -137,6 +137,13 @@ int runBench(const BenchOptions& o) {
       std::printf("\niterations: median %.0f a frame (%.0f to %.0f); the last frame's residuals:", percentile(it, 0.5),
                   *std::min_element(it.begin(), it.end()), *std::max_element(it.begin(), it.end()));
     for (float r : st.residuals) std::printf(" %.2g", double(r));
+    const auto& damping = times.solverFigures["damping"];
+    const auto& diverged = times.solverFigures["diverged"];
+    const auto damped = std::count_if(damping.begin(), damping.end(), [](double w) { return w < 1.0; });
+    if (damped)
+      std::printf("\ndivergence: %td frame(s) solved damped (down to %.3g of a step), %td of them stopped diverged",
+                  damped, *std::min_element(damping.begin(), damping.end()),
+                  std::count(diverged.begin(), diverged.end(), 1.0));
   }
   std::printf("\nbytes allocated: %llu (%.1f MiB)\n", (unsigned long long)bytes, double(bytes) / (1 << 20));
   if (!o.json.empty()) {
