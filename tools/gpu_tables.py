@@ -37,9 +37,17 @@ def error(value):
     return "—" if value is None else f"{value:.4f}"
 
 
+def cornell_error(r, references, *options):
+    """Frame 0 of the animated Cornell box at --cells 26, 320×240, with `options`: its relMSE against
+    the pt reference (None where there is none)."""
+    out = r.scratch / f"cornell_{r.count}"
+    r.run("render", "cornell", "--cells", 26, "--size", "320x240", "--frames", 0, "--format", "exr", "--out",
+          out / "f_%04d", *options)
+    return relmse(r, out / "f_0000.exr", references / "cornell26_pt_0000.exr")
+
+
 def ar_table(r, runs, references):
     """ar at --cells 26, 320×240: cold frames per --dirs, and warm-started frames."""
-    reference = references / "cornell26_pt_0000.exr"
     lines = ["| setting | links | iterations | global ms | frame ms | fps | relMSE frame 0 |",
              "|---|---|---|---|---|---|---|"]
     for dirs, warm in ((2, False), (4, False), (8, False), (2, True), (4, True)):
@@ -50,33 +58,23 @@ def ar_table(r, runs, references):
         total = median([j["passes"]["total"]["medianMs"] for j in results])
         glob = median([j["passes"]["global"]["medianMs"] for j in results])
         iterations = sorted(f["solver"]["iterations"] for f in results[-1]["frames"])
-        rel = None
-        if not warm:
-            out = r.scratch / f"ar_d{dirs}"
-            r.run("render", "cornell", "--cells", 26, "--size", "320x240", "--frames", 0, "--format", "exr", "--out",
-                  out / "f_%04d", *extra)
-            rel = relmse(r, out / "f_0000.exr", reference)
+        rel = None if warm else cornell_error(r, references, *extra)
         name = f"`--dirs {dirs}`" + (", `--warm-start`" if warm else "") + (" (default)" if dirs == 4 and not warm else "")
         lines.append(f"| {name} | {results[-1]['solver']['links']:,} | {median(iterations):.0f} | {fmt(glob)} | "
                      f"{fmt(total)} | {1000.0 / total:.1f} | {error(rel) if not warm else 'as cold'} |")
     return "\n".join(lines)
 
 
-def iv_error(r, references):
-    out = r.scratch / "iv_cells26"
-    r.run("render", "cornell", "--cells", 26, "--size", "320x240", "--frames", 0, "--format", "exr", "--out",
-          out / "f_%04d")
-    return relmse(r, out / "f_0000.exr", references / "cornell26_pt_0000.exr")
 
 
 def solve(figures):
     """How the frame's solver ended, from its sidecar figures."""
     if "bounces" in figures:
         return f"{figures['bounces']:.0f} bounces"
-    text = f"{figures['iterations']:.0f} iterations"
+    damped = f", damped to {figures['damping']:g}" if figures.get("damping", 1) < 1 else ""
     if figures.get("diverged"):
-        return f"diverged: shows iteration {figures['iterations']:.0f}, damped to {figures['damping']:g}"
-    return text + (f", damped to {figures['damping']:g}" if figures.get("damping", 1) < 1 else "")
+        return f"diverged: shows iteration {figures['iterations']:.0f}{damped}"
+    return f"{figures['iterations']:.0f} iterations{damped}"
 
 
 def real_files_table(r, scenes, references):
@@ -127,7 +125,7 @@ Machine: {machine}.
     with tempfile.TemporaryDirectory(prefix="ivgi-gpu-") as scratch:
         r = Runner(args.ivgi, os.cpu_count(), scratch)
         passes, device, _ = per_pass_table(r, args.runs)
-        rel = iv_error(r, args.references)
+        rel = cornell_error(r, args.references)
         sections.append("## iv, per pass: the animated Cornell box\n\n`ivgi bench cornell --cells N --size 320x240 "
                         "--frames 20 --warmup 3` at the defaults. relMSE of frame 0 at `--cells 26` against pt at "
                         f"4096 spp: {error(rel)}.\n\n{passes}")
