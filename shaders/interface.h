@@ -135,6 +135,11 @@ struct LeafLink {
   uint formFactorBits;
 };
 IVGI_CONST uint kEmitterBit = 0x80000000u;  // on a sender in a receiver's list: it emits
+// Arrays that can outgrow one texel view (the leaf links grow with the bins squared) are bound as
+// kTexelParts views of one buffer, each 2^texelPartBits texels (shaders/parted_texels.glsl, which
+// names each view). Two: the prune binds four such arrays, and a push-descriptor layout holds at
+// most 32 descriptors on lavapipe and NVIDIA alike.
+IVGI_CONST uint kTexelParts = 2u;
 
 // The slots of a link set's counter buffer. kCounterSendersWalked is the low word of a 64-bit
 // count (the carries go to the next slot): the root-path senders a prune walked, its work.

@@ -21,6 +21,7 @@
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 1
 #include "common.glsl"
+#include "parted_texels.glsl"
 // As few subgroups a workgroup as lavapipe's loop budget allows (engine/gi/iv/prune.cpp): lavapipe
 // runs a workgroup's subgroups one after another on one thread, switching at every barrier.
 layout(local_size_x_id = 8) in;
@@ -41,9 +42,9 @@ layout(binding = 4, r32ui) readonly uniform uimageBuffer leafOfSurfel;
 layout(binding = 5, rgba32f) readonly uniform imageBuffer binTable;
 layout(std430, binding = 6) buffer GlobalBins { uint64_t globalBins[]; };
 layout(std430, binding = 7) writeonly buffer Ranges { LeafRange ranges[]; };
-// The leaf links are texel buffers: a texel view reaches maxTexelBufferElements (2^27 on lavapipe,
-// 1 GiB of links), where a storage buffer stops at maxStorageBufferRange (128 MiB).
-layout(binding = 8, rg32ui) writeonly uniform uimageBuffer leafLinks;  // LeafLink: sender, form-factor bits
+// The leaf links are texel buffers bound in parts (parted_texels.glsl): they reach past one view's
+// maxTexelBufferElements (2^27 on lavapipe, 1 GiB of links) and one storage binding's range.
+layout(binding = 8, rg32ui) writeonly uniform uimageBuffer leafLinks[kTexelParts];  // LeafLink
 layout(std430, binding = 9) buffer Counters { uint counters[]; };
 // irradiance from lights and environment
 layout(std430, binding = 10) writeonly buffer ExternalLight { vec4 externalLight[]; };
@@ -53,10 +54,10 @@ layout(std430, binding = 13) buffer GlobalCoverage { uint globalCoverage[]; };
 layout(binding = 14, r32ui) readonly uniform uimageBuffer leafMoves;  // per surfel: 1 if its object moves
 // The static pass writes these; the frame pass reads them.
 layout(std430, binding = 15) buffer StaticRanges { LeafRange staticRanges[]; };
-layout(binding = 16, rg32ui) uniform uimageBuffer staticLinks;  // LeafLink
-layout(binding = 17, r32ui) uniform uimageBuffer staticBins;    // StaticBin: bin and coverage, packed
+layout(binding = 16, rg32ui) uniform uimageBuffer staticLinks[kTexelParts];  // LeafLink
+layout(binding = 17, r32ui) uniform uimageBuffer staticBins[kTexelParts];    // StaticBin: bin and coverage, packed
 // the key's upper half (fringe bit, d²), beside the link
-layout(binding = 18, r32ui) uniform uimageBuffer staticDepths;
+layout(binding = 18, r32ui) uniform uimageBuffer staticDepths[kTexelParts];
 // per leaf and mask word: bins held, entries before
 layout(std430, binding = 19) buffer StaticMasks { uvec2 staticMasks[]; };
 layout(std430, binding = 20) buffer StaticLeaves { StaticLeaf staticLeaves[]; };
@@ -136,10 +137,11 @@ Bin binAt(uint slot, uint b) {
   Bin bin = Bin(loadBin(slot, b), loadCoverage(slot, b), 0u, -1, 0.0);
   int e = staticEntryOf(b);
   if (e < 0) return bin;
-  uint staticDepth = imageLoad(staticDepths, e).x;
-  bin.key = min(bin.key, uint64_t(staticDepth) << 32 | imageLoad(staticLinks, e).x);
+  const uint entry = uint(e);
+  uint staticDepth = loadParted(staticDepths, entry).x;
+  bin.key = min(bin.key, uint64_t(staticDepth) << 32 | loadParted(staticLinks, entry).x);
   bin.staticDistance2 = uintBitsToFloat(staticDepth & 0x7FFFFFFFu);  // less the fringe bit
-  bin.staticCovered = staticCoverageOf(imageLoad(staticBins, e).x);
+  bin.staticCovered = staticCoverageOf(loadParted(staticBins, entry).x);
   bin.staticEntry = e;
   bin.covered += bin.staticCovered;
   return bin;
@@ -148,7 +150,8 @@ Bin binAt(uint slot, uint b) {
 // Covered solid angle of bin b: the frame's senders and the leaf's static entry, or that entry alone.
 uint coverageAt(uint slot, uint b, bool staticOnly) {
   int e = staticEntryOf(b);
-  return (staticOnly ? 0u : loadCoverage(slot, b)) + (e >= 0 ? staticCoverageOf(imageLoad(staticBins, e).x) : 0u);
+  const uint entry = uint(max(e, 0));
+  return (staticOnly ? 0u : loadCoverage(slot, b)) + (e >= 0 ? staticCoverageOf(loadParted(staticBins, entry).x) : 0u);
 }
 
 // Bin `step` cells from bin b on its face, or past the face's edge the neighbouring face's.
@@ -562,18 +565,19 @@ void main() {
         if (bin.staticEntry >= 0) near -= proximityOf(n, b, staticCovered, bin.staticDistance2, radius);
         if (outIndex < push.linkCapacity) {
           if (kStaticPass) {
-            imageStore(staticLinks, int(outIndex), uvec4(s, floatBitsToUint(f), 0u, 0u));
-            imageStore(staticBins, int(outIndex), uvec4(packStaticBin(b, bin.covered)));
-            imageStore(staticDepths, int(outIndex), uvec4(uint(bin.key >> 32)));
+            storeParted(staticLinks, outIndex, uvec4(s, floatBitsToUint(f), 0u, 0u));
+            storeParted(staticBins, outIndex, uvec4(packStaticBin(b, bin.covered)));
+            storeParted(staticDepths, outIndex, uvec4(uint(bin.key >> 32)));
           } else {
-            imageStore(leafLinks, int(outIndex), uvec4(s, floatBitsToUint(f), 0u, 0u));
+            storeParted(leafLinks, outIndex, uvec4(s, floatBitsToUint(f), 0u, 0u));
           }
         }
         ++outIndex;
         if (direct) {
           emitterLight -= f * emitted(s);
           if (bin.staticEntry >= 0) {
-            uvec2 link = imageLoad(staticLinks, bin.staticEntry).xy;
+            const uint entry = uint(bin.staticEntry);
+            uvec2 link = loadParted(staticLinks, entry).xy;
             emitterLight += uintBitsToFloat(link.y) * emitted(link.x);
           }
         }

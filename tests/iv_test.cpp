@@ -3,12 +3,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <iterator>
 
+#include "engine/core/errors.h"
 #include "engine/gi/frame_renderer.h"
 #include "engine/scene/gltf.h"
 #include "engine/scene/lights.h"
@@ -33,11 +35,11 @@ gi::IvSettings atEverySurfel(gi::IvSettings settings) {
   return settings;
 }
 
-Solved solve(const tinygltf::Model& model, gi::IvSettings settings) {
+Solved solve(const tinygltf::Model& model, gi::IvSettings settings, vk::Context& ctx = test::gpu()) {
   settings = atEverySurfel(settings);
   scene::Scene s = scene::sceneFromModel(model, "test");
   scene::Geometry g = scene::buildGeometry(s);
-  gi::FrameRenderer r = test::ivRenderer(g, {16, 16, 1}, gi::makeIvSetup(s, g, settings));
+  gi::FrameRenderer r = test::ivRenderer(g, {16, 16, 1}, gi::makeIvSetup(s, g, settings), ctx);
   auto pose = scene::evaluatePose(s, -1, 0.0f);
   auto cams = s.cameraNodes();
   auto view = cams.empty()
@@ -501,4 +503,69 @@ TEST(IvStaticObjects, AFrameThatOutgrowsItsRoomIsRedoneKeepingTheStaticLinks) {
   ASSERT_EQ(ra.size(), rf.size());
   EXPECT_EQ(std::memcmp(ra.data(), rf.data(), ra.size() * sizeof(glm::vec4)), 0);
   EXPECT_GT(ra[4].x, 0.0f) << "the floor is lit";
+}
+
+namespace {
+
+// The animated Cornell box at two times, its short block moving (static and frame leaf links both),
+// solved on `ctx`: per time the leaf radiosity, and the solver's figures of the last.
+struct SolvedFrames {
+  std::vector<std::vector<glm::vec4>> radiosity;
+  gi::IvStats stats;
+};
+SolvedFrames solveCornellFrames(vk::Context& ctx) {
+  scene::Scene s = scene::sceneFromModel(scenes::cornellBox({.cells = 2}), "cornell");
+  scene::Geometry g = scene::buildGeometry(s);
+  gi::IvSettings settings = atEverySurfel({});
+  settings.bins = 6;  // both link sets' leaf links between 2^13 and 2^14
+  settings.bounces = 2;
+  gi::FrameRenderer r = test::ivRenderer(g, {16, 16, 1}, gi::makeIvSetup(s, g, settings, 0), ctx);
+  const auto view = scene::cameraView(s, scene::evaluatePose(s, 0, 0.0f), s.cameraNodes()[0]);
+  SolvedFrames solved;
+  for (float t : {0.0f, 0.5f}) {
+    auto pose = scene::evaluatePose(s, 0, t);
+    r.render(g.frameInputs(s, pose), view);
+    solved.radiosity.push_back(test::ivSolver(r).leafRadiosity());
+  }
+  solved.stats = test::ivSolver(r).stats();
+  return solved;
+}
+
+}  // namespace
+
+// Leaf links past one texel view (maxTexelBufferElements: an H100 refused a real file at 1 GiB of
+// them) are bound in two views of one buffer. On a device whose views hold fewer texels than the
+// scene has static leaf links, and more than half of them, the second view of every leaf-link
+// array is written and read: the light must be the same bit for bit. Views that cannot hold them
+// are refused in one line naming the --bins that would fit.
+TEST(IvMemory, LeafLinksPastOneTexelView) {
+  const SolvedFrames whole = solveCornellFrames(test::gpu());
+  const uint32_t staticLinks = whole.stats.staticLeafLinks, frameLinks = whole.stats.leafLinks;
+  const uint32_t partBits = uint32_t(std::bit_width(staticLinks)) - 1;  // 2^bits <= static < 2^(bits+1)
+  std::printf("[ views ] %u static and %u frame leaf links, in views of 2^%u texels\n", staticLinks, frameLinks,
+              partBits);
+  ASSERT_GE(frameLinks, 1u << partBits) << "the frame's leaf links must reach the second view too";
+  ASSERT_LT(frameLinks, 2u << partBits);
+  vk::Context parted(vk::ContextOptions{.validation = true, .texelPartBits = partBits});
+  ASSERT_EQ(parted.texelPartBits(), partBits);
+  const SolvedFrames inViews = solveCornellFrames(parted);
+  EXPECT_EQ(inViews.stats.staticLeafLinks, staticLinks);
+  EXPECT_EQ(inViews.stats.leafLinks, frameLinks);
+  for (size_t f = 0; f < whole.radiosity.size(); ++f) {
+    ASSERT_EQ(inViews.radiosity[f].size(), whole.radiosity[f].size());
+    EXPECT_EQ(std::memcmp(inViews.radiosity[f].data(), whole.radiosity[f].data(),
+                          whole.radiosity[f].size() * sizeof(glm::vec4)),
+              0)
+        << "frame " << f;
+  }
+  EXPECT_EQ(parted.validationErrors(), 0u);
+
+  vk::Context tooSmall(vk::ContextOptions{.validation = true, .texelPartBits = partBits - 1});
+  try {
+    solveCornellFrames(tooSmall);
+    ADD_FAILURE() << "leaf links past their views were not refused";
+  } catch (const SettingsError& e) {
+    EXPECT_NE(std::string(e.what()).find("texel views"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("--bins"), std::string::npos) << e.what();
+  }
 }

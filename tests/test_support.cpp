@@ -85,8 +85,9 @@ std::optional<std::filesystem::path> sharedGltfDir() {
 
 std::filesystem::path assimpGltfDir() { return "/usr/share/assimp/models/glTF2"; }
 
-gi::FrameRenderer ivRenderer(const scene::Geometry& geometry, gi::ImageSettings image, gi::IvSetup setup) {
-  return gi::FrameRenderer(gpu(), geometry, image, std::make_unique<gi::IvSolver>(gpu(), geometry, std::move(setup)));
+gi::FrameRenderer ivRenderer(const scene::Geometry& geometry, gi::ImageSettings image, gi::IvSetup setup,
+                             vk::Context& ctx) {
+  return gi::FrameRenderer(ctx, geometry, image, std::make_unique<gi::IvSolver>(ctx, geometry, std::move(setup)));
 }
 
 const gi::IvSolver& ivSolver(const gi::FrameRenderer& renderer) {

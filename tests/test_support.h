@@ -36,8 +36,9 @@ Run runIvgi(const std::vector<std::string>& args, const std::map<std::string, st
 std::optional<std::filesystem::path> sharedGltfDir();
 // Debian's assimp-testmodels glTF 2.0 folder (installed by ci/install-deps.sh).
 std::filesystem::path assimpGltfDir();
-// A renderer of `geometry` lit by an iv solver made from `setup`, on the test process's context.
-gi::FrameRenderer ivRenderer(const scene::Geometry& geometry, gi::ImageSettings image, gi::IvSetup setup);
+// A renderer of `geometry` lit by an iv solver made from `setup`, on `ctx` (the test process's).
+gi::FrameRenderer ivRenderer(const scene::Geometry& geometry, gi::ImageSettings image, gi::IvSetup setup,
+                             vk::Context& ctx = gpu());
 // The iv solver of a renderer made by ivRenderer().
 const gi::IvSolver& ivSolver(const gi::FrameRenderer& renderer);
 

@@ -47,7 +47,7 @@ Buffer& Buffer::operator=(Buffer&& o) noexcept {
 
 void Buffer::release() {
   if (!ctx_) return;
-  for (auto& [format, view] : views_) vkDestroyBufferView(ctx_->device(), view, nullptr);
+  for (const View& v : views_) vkDestroyBufferView(ctx_->device(), v.view, nullptr);
   views_.clear();
   if (buffer_) vkDestroyBuffer(ctx_->device(), buffer_, nullptr);
   if (memory_) vkFreeMemory(ctx_->device(), memory_, nullptr);  // unmaps implicitly
@@ -70,16 +70,17 @@ void Buffer::upload(const void* data, VkDeviceSize bytes, VkDeviceSize offset) {
   });
 }
 
-VkBufferView Buffer::texelView(VkFormat format) const {
-  for (auto& [f, view] : views_)
-    if (f == format) return view;
+VkBufferView Buffer::texelView(VkFormat format, VkDeviceSize offset, VkDeviceSize range) const {
+  for (const View& v : views_)
+    if (v.format == format && v.offset == offset && v.range == range) return v.view;
   VkBufferViewCreateInfo vi{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
   vi.buffer = buffer_;
   vi.format = format;
-  vi.range = VK_WHOLE_SIZE;
+  vi.offset = offset;
+  vi.range = range;
   VkBufferView view = VK_NULL_HANDLE;
   check(vkCreateBufferView(ctx_->device(), &vi, nullptr, &view), "vkCreateBufferView");
-  views_.emplace_back(format, view);
+  views_.push_back({format, offset, range, view});
   return view;
 }
 

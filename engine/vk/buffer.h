@@ -54,9 +54,9 @@ class Buffer {
   }
 
   void download(void* data, VkDeviceSize bytes, VkDeviceSize offset = 0) const;
-  // A texel view of the whole buffer (made on first use, kept with the buffer): shaders read it as
-  // an imageBuffer, which lavapipe loads with vector gathers instead of one lane at a time.
-  VkBufferView texelView(VkFormat format) const;
+  // A texel view of the buffer from `offset` (made on first use, kept with the buffer): shaders read
+  // it as an imageBuffer, which lavapipe loads with vector gathers instead of one lane at a time.
+  VkBufferView texelView(VkFormat format, VkDeviceSize offset = 0, VkDeviceSize range = VK_WHOLE_SIZE) const;
   template <class T>
   std::vector<T> read(size_t count) const {
     std::vector<T> out(count);
@@ -72,7 +72,12 @@ class Buffer {
   VkDeviceSize size_ = 0;
   void* mapped_ = nullptr;
   Allocations* allocations_ = nullptr;
-  mutable std::vector<std::pair<VkFormat, VkBufferView>> views_;
+  struct View {
+    VkFormat format;
+    VkDeviceSize offset, range;
+    VkBufferView view;
+  };
+  mutable std::vector<View> views_;
 };
 
 // Creates a buffer sized for `items` (at least one element) and fills it.

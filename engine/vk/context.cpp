@@ -1,6 +1,7 @@
 #include "engine/vk/context.h"
 
 #include <algorithm>
+#include <bit>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -233,6 +234,9 @@ Context::Context(const ContextOptions& options) {
   vkGetPhysicalDeviceProperties2(physical_, &properties2);
   properties_ = properties2.properties;
   maxAllocationBytes_ = maintenance3.maxMemoryAllocationSize;
+  texelPartBits_ = std::min<uint32_t>(std::bit_width(properties_.limits.maxTexelBufferElements) - 1, 31);
+  if (options.texelPartBits)  // views start 16-byte aligned
+    texelPartBits_ = std::clamp<uint32_t>(options.texelPartBits, 4, texelPartBits_);
   subgroupSize_ = std::max(subgroup.subgroupSize, 1u);
   vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
   queueFamily_ = *computeQueueFamily(physical_, &timestampValidBits_);

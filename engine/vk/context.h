@@ -32,6 +32,9 @@ struct DeviceInfo {
 struct ContextOptions {
   std::string device;       // name substring, index or UUID; empty = IVGI_DEVICE, then automatic choice
   bool validation = false;  // also switched on by IVGI_VALIDATION=1
+  // Texels a view of a parted array holds, as a power of two; 0: the most the device allows (tests
+  // make it small, so that small scenes fill several views).
+  uint32_t texelPartBits = 0;
 };
 
 class Context {
@@ -50,6 +53,9 @@ class Context {
   const VkPhysicalDeviceLimits& limits() const { return properties_.limits; }
   // The largest single allocation, and so the largest buffer (VkPhysicalDeviceMaintenance3Properties).
   VkDeviceSize maxAllocationBytes() const { return maxAllocationBytes_; }
+  // An array bound as several texel views (shaders/parted_texels.glsl) has 2^texelPartBits() texels
+  // a view: maxTexelBufferElements rounded down to a power of two, or less where options ask.
+  uint32_t texelPartBits() const { return texelPartBits_; }
   // The size of the heap that device-local buffers come from: what the device says it can hold.
   VkDeviceSize deviceHeapBytes() const;
   double timestampPeriodNs() const { return properties_.limits.timestampPeriod; }
@@ -84,6 +90,7 @@ class Context {
   VkFence fence_ = VK_NULL_HANDLE;
   VkPhysicalDeviceProperties properties_{};
   VkDeviceSize maxAllocationBytes_ = 0;
+  uint32_t texelPartBits_ = 0;
   VkPhysicalDeviceMemoryProperties memory_{};
   DeviceInfo info_;
   mutable uint32_t validationErrors_ = 0;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -35,11 +36,16 @@ struct ReflectedBinding {
   std::string name;
   VkDescriptorType type = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
   TexelFormat texel;
+  uint32_t parts = 1;  // an array of imageBuffers: views of one buffer (parted_texels.glsl)
 };
 
 struct Reflection {
   std::vector<ReflectedBinding> bindings;
-  std::vector<std::pair<std::string, uint32_t>> constants;  // named specialization constants and their ids
+  struct Constant {
+    std::string name;
+    uint32_t id, value;  // the shader's own value
+  };
+  std::vector<Constant> constants;  // the named specialization constants
   uint32_t pushBytes = 0;
   uint32_t localSize[3] = {1, 1, 1};
   // Per dimension, the specialization constant that sets the local size (local_size_x_id), or none.
@@ -89,7 +95,14 @@ Reflection reflect(std::span<const uint32_t> code, const std::string& name) {
     TexelFormat texel = texelFormat(spvc_type_get_image_storage_format(type));
     if (spvc_type_get_image_dimension(type) != SpvDimBuffer || texel.format == VK_FORMAT_UNDEFINED)
       fail("images must be imageBuffers of a 32-bit float or uint format");
-    r.bindings.push_back({setZeroBinding(list[i]), list[i].name, VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER, texel});
+    uint32_t parts = 1;
+    if (unsigned dims = spvc_type_get_num_array_dimensions(type); dims > 0) {
+      if (dims > 1 || !spvc_type_array_dimension_is_literal(type, 0))
+        fail("an array of imageBuffers must have one literal size");
+      parts = spvc_type_get_array_dimension(type, 0);
+    }
+    r.bindings.push_back(
+        {setZeroBinding(list[i]), list[i].name, VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER, texel, parts});
   }
   std::sort(r.bindings.begin(), r.bindings.end(),
             [](const ReflectedBinding& a, const ReflectedBinding& b) { return a.binding < b.binding; });
@@ -114,7 +127,9 @@ Reflection reflect(std::span<const uint32_t> code, const std::string& name) {
   spvc_compiler_get_specialization_constants(compiler, &constants, &count);
   for (size_t i = 0; i < count; ++i)
     if (const char* constantName = spvc_compiler_get_name(compiler, constants[i].id); constantName && *constantName)
-      r.constants.emplace_back(constantName, constants[i].constant_id);
+      r.constants.push_back(
+          {constantName, constants[i].constant_id,
+           spvc_constant_get_scalar_u32(spvc_compiler_get_constant_handle(compiler, constants[i].id), 0, 0)});
   for (uint32_t d = 0; d < 3; ++d)
     r.localSize[d] =
         std::max(1u, spvc_compiler_get_execution_mode_argument_by_index(compiler, SpvExecutionModeLocalSize, d));
@@ -137,7 +152,7 @@ Program::Program(const Context& ctx, std::string name, std::span<const uint32_t>
                  const Specialization& specialization)
     : ctx_(ctx), name_(std::move(name)) {
   Reflection r = reflect(code, name_);
-  for (const ReflectedBinding& b : r.bindings) slots_.push_back({b.name, b.texel.format, b.texel.bytes});
+  for (const ReflectedBinding& b : r.bindings) slots_.push_back({b.name, b.texel.format, b.texel.bytes, b.parts});
   pushBytes_ = r.pushBytes;
   std::copy(r.localSize, r.localSize + 3, localSize_);
   if (pushBytes_ > ctx.limits().maxPushConstantsSize)
@@ -150,12 +165,19 @@ Program::Program(const Context& ctx, std::string name, std::span<const uint32_t>
     entries.push_back({id, uint32_t(4 * values.size()), 4});
     values.push_back(value);
   };
-  for (const auto& [constant, value] : specialization.constants) {
-    auto it = std::find_if(r.constants.begin(), r.constants.end(), [&](const auto& c) { return c.first == constant; });
-    if (it == r.constants.end())
-      throw VulkanError("shader " + name_ + " has no specialization constant named '" + std::string(constant) + "'");
-    specialize(it->second, value);
+  auto constant = [&](std::string_view name) {
+    auto it = std::find_if(r.constants.begin(), r.constants.end(), [&](const auto& c) { return c.name == name; });
+    return it == r.constants.end() ? nullptr : &*it;
+  };
+  for (const auto& [name, value] : specialization.constants) {
+    Reflection::Constant* c = constant(name);
+    if (!c) throw VulkanError("shader " + name_ + " has no specialization constant named '" + std::string(name) + "'");
+    specialize(c->id, value);
+    c->value = value;
   }
+  // parted_texels.glsl: the views' size is the device's; how many the pass reads, its own.
+  if (const Reflection::Constant* c = constant("texelPartBits")) specialize(c->id, ctx.texelPartBits());
+  if (const Reflection::Constant* c = constant("texelViews")) texelViews_ = c->value;
   if (specialization.localSizeX) {
     if (r.localSizeConstant[0] == Reflection::kLiteral)
       throw VulkanError("shader " + name_ + " sets its workgroup size itself (no local_size_x_id)");
@@ -170,7 +192,7 @@ Program::Program(const Context& ctx, std::string name, std::span<const uint32_t>
 
   std::vector<VkDescriptorSetLayoutBinding> bindings(slots_.size());
   for (uint32_t i = 0; i < bindings.size(); ++i)
-    bindings[i] = {i, r.bindings[i].type, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+    bindings[i] = {i, r.bindings[i].type, r.bindings[i].parts, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
   VkDescriptorSetLayoutCreateInfo li{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
   li.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
   li.bindingCount = uint32_t(bindings.size());
@@ -236,7 +258,10 @@ void Program::bind(VkCommandBuffer cmd, const Bindings& bindings, const void* pu
     if (!bound[i]) bound[i] = e.buffer, listed[i] = e.listed;  // listed ones come first
   }
   std::vector<VkDescriptorBufferInfo> infos(n);
-  std::vector<VkBufferView> views(n);
+  uint32_t viewCount = 0;
+  for (const Slot& slot : slots_) viewCount += slot.parts;
+  std::vector<VkBufferView> views;
+  views.reserve(viewCount);  // the writes point into it
   std::vector<VkWriteDescriptorSet> writes(n, {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET});
   for (uint32_t i = 0; i < n; ++i) {
     const Buffer* b = bound[i];
@@ -246,13 +271,10 @@ void Program::bind(VkCommandBuffer cmd, const Bindings& bindings, const void* pu
     w.dstBinding = i;
     w.descriptorCount = 1;
     if (slot.format != VK_FORMAT_UNDEFINED) {
-      if (b->size() / slot.texelBytes > ctx_.limits().maxTexelBufferElements)
-        throw VulkanError("pass " + name_ + ": '" + slot.name + "' of " + std::to_string(b->size()) +
-                          " bytes exceeds the device's maxTexelBufferElements of " +
-                          std::to_string(ctx_.limits().maxTexelBufferElements));
-      views[i] = b->texelView(slot.format);
       w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
-      w.pTexelBufferView = &views[i];
+      w.descriptorCount = slot.parts;
+      w.pTexelBufferView = views.data() + views.size();
+      addTexelViews(*b, slot, views);
     } else {
       if (b->size() > ctx_.limits().maxStorageBufferRange)
         throw VulkanError("pass " + name_ + ": '" + slot.name + "' of " + std::to_string(b->size()) +
@@ -266,6 +288,27 @@ void Program::bind(VkCommandBuffer cmd, const Bindings& bindings, const void* pu
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
   if (n) ctx_.cmdPushDescriptorSet(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, n, writes.data());
   if (pushBytes_) vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, pushBytes_, push);
+}
+
+void Program::addTexelViews(const Buffer& buffer, const Slot& slot, std::vector<VkBufferView>& views) const {
+  const uint64_t texels = buffer.size() / slot.texelBytes;
+  const uint64_t perView = slot.parts > 1 ? uint64_t(1) << ctx_.texelPartBits() : ctx_.limits().maxTexelBufferElements;
+  const uint32_t read = slot.parts > 1 ? std::min(texelViews_, slot.parts) : 1;
+  if (texels > perView * read)
+    throw VulkanError("pass " + name_ + ": '" + slot.name + "' of " + std::to_string(buffer.size()) +
+                      " bytes exceeds the " + std::to_string(read) + " view(s) of " + std::to_string(perView) +
+                      " texels it reads");
+  if (slot.parts == 1) {
+    views.push_back(buffer.texelView(slot.format));
+    return;
+  }
+  const VkDeviceSize partBytes = perView * slot.texelBytes;
+  for (uint32_t p = 0; p < slot.parts; ++p) {
+    const VkDeviceSize offset = p * partBytes;
+    views.push_back(offset < buffer.size()
+                        ? buffer.texelView(slot.format, offset, std::min(partBytes, buffer.size() - offset))
+                        : views[views.size() - p]);
+  }
 }
 
 void barrier(VkCommandBuffer cmd) {

@@ -2,9 +2,9 @@
 // A compute program: one SPIR-V shader whose descriptor layout (storage buffers and imageBuffers,
 // with their formats), binding names, specialization constants and push-constant size are read
 // from the SPIR-V itself. Buffers are bound by the names the shader gives them and go in by push
-// descriptors (an imageBuffer as a texel view of the buffer), so a dispatch is one call naming its
-// buffers, or naming a pool of them that the shader's own names pick from; no binding number is
-// written twice.
+// descriptors (an imageBuffer as a texel view of the buffer; an array of imageBuffers as views of
+// one buffer, shaders/parted_texels.glsl), so a dispatch is one call naming its buffers, or naming
+// a pool of them that the shader's own names pick from; no binding number is written twice.
 #include <vulkan/vulkan.h>
 
 #include <initializer_list>
@@ -64,7 +64,8 @@ class Bindings {
 };
 
 // Values of the shader's specialization constants, by name; the workgroup size set by
-// local_size_x_id has no name and is `localSizeX` (0: the shader's default).
+// local_size_x_id has no name and is `localSizeX` (0: the shader's default). `texelPartBits`
+// (parted_texels.glsl) is set from the device, not here.
 struct Specialization {
   std::initializer_list<std::pair<std::string_view, uint32_t>> constants = {};
   uint32_t localSizeX = 0;
@@ -124,8 +125,13 @@ class Program {
     std::string name;
     VkFormat format = VK_FORMAT_UNDEFINED;
     VkDeviceSize texelBytes = 0;
+    uint32_t parts = 1;  // an imageBuffer array: that many views of one buffer
   };
+  // The views of `buffer` that `slot` binds: the whole buffer, or for an array view p from texel
+  // p << texelPartBits (views past the buffer's end repeat the first: bound, never read).
+  void addTexelViews(const Buffer& buffer, const Slot& slot, std::vector<VkBufferView>& views) const;
   std::vector<Slot> slots_;
+  uint32_t texelViews_ = 1;  // the views of an imageBuffer array the shader reads (parted_texels.glsl)
   uint32_t pushBytes_ = 0;
   uint32_t localSize_[3] = {1, 1, 1};
 };

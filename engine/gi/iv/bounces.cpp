@@ -13,8 +13,9 @@ glm::uvec4 argsOf(vk::Groups g) { return {g.x, g.y, g.z, 0u}; }
 }  // namespace
 
 Bounces::Bounces(const vk::Context& ctx, const Hierarchy& h, vk::Allocations& allocations)
-    : emit_(shaderProgram(ctx, "emit")),
-      gather_(shaderProgram(ctx, "gather")),
+    : ctx_(ctx),
+      emit_(shaderProgram(ctx, "emit")),
+      gather_(std::in_place, ctx, "gather", shaderCode("gather")),
       interpolate_(shaderProgram(ctx, "interpolate")),
       pullUp_(shaderProgram(ctx, "pull_up")),
       check_(shaderProgram(ctx, "bounce_check")),
@@ -75,11 +76,11 @@ void Bounces::recordStart(VkCommandBuffer cmd, const IvBuffers& b) const {
 
 void Bounces::recordEstimate(VkCommandBuffer cmd, const IvBuffers& b, const LinkSet& staticSet, const LinkSet& frameSet,
                              const IvSettings& settings) const {
-  gather_.dispatchIndirect(cmd, b.receiverArgs, gpu::kArgsNewReceivers * sizeof(glm::uvec4),
-                           b.pool().with({{"radiosityIn", b.nodeEmission},
-                                          {"frameCounters", frameSet.counters},
-                                          {"staticCounters", staticSet.counters}}),
-                           gpu::GatherPush{gpu::maskWordsFor(settings.bins), 1u, 0u});
+  gather_->dispatchIndirect(cmd, b.receiverArgs, gpu::kArgsNewReceivers * sizeof(glm::uvec4),
+                            b.pool().with({{"radiosityIn", b.nodeEmission},
+                                           {"frameCounters", frameSet.counters},
+                                           {"staticCounters", staticSet.counters}}),
+                            gpu::GatherPush{gpu::maskWordsFor(settings.bins), 1u, 0u});
   vk::barrier(cmd);
 }
 
@@ -91,7 +92,7 @@ void Bounces::recordSteps(VkCommandBuffer cmd, const IvBuffers& b, const Hierarc
   for (uint32_t k = first; k < first + steps; ++k) {
     const vk::Buffer& in = k % 2 ? b.radiosityB : b.radiosityA;
     const vk::Buffer& out = k % 2 ? b.radiosityA : b.radiosityB;
-    gather_.dispatchIndirect(
+    gather_->dispatchIndirect(
         cmd, args_, 0,
         b.pool().with(
             {{"radiosityIn", in}, {"frameCounters", frameSet.counters}, {"staticCounters", staticSet.counters}}),
@@ -116,6 +117,12 @@ void Bounces::recordSteps(VkCommandBuffer cmd, const IvBuffers& b, const Hierarc
                            gpu::InterpolatePush{surfels});
     vk::barrier(cmd);
   }
+}
+
+void Bounces::readTexelViews(uint32_t views) {
+  if (views == texelViews_) return;
+  texelViews_ = views;
+  gather_.emplace(ctx_, "gather", shaderCode("gather"), vk::Specialization{.constants = {{"texelViews", views}}});
 }
 
 }  // namespace ivgi::gi

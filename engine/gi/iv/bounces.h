@@ -7,6 +7,8 @@
 // bounces not run settles within a tolerance (the tail then added at every surfel), or a given
 // count. Bounces are recorded in steps that run zero workgroups once the check says done; where a
 // frame's steps ran out first, the solver records more.
+#include <optional>
+
 #include "engine/gi/hierarchy.h"
 #include "engine/gi/iv/buffers.h"
 #include "engine/gi/iv/settings.h"
@@ -36,13 +38,19 @@ class Bounces {
                    const LinkSet& frameSet, const IvSettings& settings, uint32_t first, uint32_t steps) const;
   // The gathers a frame runs at most.
   static uint32_t maxGathers(const IvSettings& settings);
+  // The leaf links are bound in `views` texel views (shaders/parted_texels.glsl): 1 or kTexelParts.
+  void readTexelViews(uint32_t views);
   // After the frame's steps ran: how far the bounces got.
   gpu::BounceState state() const { return state_.read<gpu::BounceState>(1)[0]; }
 
  private:
   void pullUp(VkCommandBuffer cmd, const IvBuffers& b, const Hierarchy& h, const vk::Buffer& radiosity,
               bool indirect) const;
-  vk::Program emit_, gather_, interpolate_, pullUp_, check_, tail_;
+  const vk::Context& ctx_;
+  vk::Program emit_;
+  std::optional<vk::Program> gather_;  // made again for more texel views
+  vk::Program interpolate_, pullUp_, check_, tail_;
+  uint32_t texelViews_ = 1;
   uint32_t interpolateGroups_, pullUpDispatches_;
   vk::Buffer sums_, state_, fullArgs_, args_;  // per gather workgroup; the state; dispatch sizes, full and next
   vk::Buffer change_;                          // per surfel, the irradiance's change at the last gather

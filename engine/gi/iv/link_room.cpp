@@ -55,6 +55,18 @@ void LinkRoom::guess(const std::vector<uint32_t>& leafMoves, uint32_t nodeCount)
   allocate();
 }
 
+uint64_t LinkRoom::leafLinkViews() const { return uint64_t(gpu::kTexelParts) << ctx_.texelPartBits(); }
+
+uint32_t LinkRoom::leafLinkRoom(uint32_t needed) const {
+  // The margin only where it fits: leaf links that fit their views exactly are not refused.
+  return uint32_t(std::min<uint64_t>(withMargin(needed), std::max<uint64_t>(needed, leafLinkViews())));
+}
+
+uint32_t LinkRoom::leafLinkTexelViews() const {
+  const uint64_t most = std::max(staticSet_.leafLinkCapacity, frameSet_.leafLinkCapacity);
+  return most > (uint64_t(1) << ctx_.texelPartBits()) ? gpu::kTexelParts : 1u;
+}
+
 std::vector<LinkRoom::Array> LinkRoom::arrays() {
   // All are texels (imageBuffers), whose views reach past one storage binding.
   std::vector<Array> arrays = {
@@ -70,22 +82,33 @@ std::vector<LinkRoom::Array> LinkRoom::arrays() {
   return arrays;
 }
 
+namespace {
+std::string mebibytes(uint64_t bytes) {
+  char text[32];
+  std::snprintf(text, sizeof text, bytes >= (1u << 20) ? "%.0f MiB" : "%.3g MiB", double(bytes) / double(1u << 20));
+  return text;
+}
+}  // namespace
+
 std::string LinkRoom::refusal(const std::vector<Array>& arrays) const {
   // Links grow about as 1/ε, leaf links as N²: the settings that would fit, were `over` the excess.
-  auto refused = [&](uint64_t bytes, const std::string& what, const char* limit, uint64_t limitBytes) {
+  auto refused = [&](uint64_t bytes, const std::string& what, const std::string& limit, uint64_t limitBytes) {
     const double over = double(bytes) / double(std::max<uint64_t>(limitBytes, 1)) * 1.25;
     char fit[160];
     std::snprintf(fit, sizeof fit, "--eps %.3g or --bins %u would fit (links grow about as 1/eps, leaf links as N^2)",
                   settings_.epsilon * over, std::max(1u, uint32_t(double(settings_.bins) / std::sqrt(over))));
-    return "the iv solver needs " + std::to_string(bytes >> 20) + " MiB of " + what + ", above " + limit + " of " +
-           std::to_string(limitBytes >> 20) + " MiB: about " + fit;
+    return "the iv solver needs " + mebibytes(bytes) + " of " + what + ", above " + limit + " of " +
+           mebibytes(limitBytes) + ": about " + fit;
   };
   const VkPhysicalDeviceLimits& limits = ctx_.limits();
   uint64_t total = allocations_.bytes();  // once every array has its new size
   for (const Array& a : arrays) {
-    if (a.elements() > limits.maxTexelBufferElements)
-      return refused(a.bytes(), a.what, "the device's maxTexelBufferElements",
-                     uint64_t(limits.maxTexelBufferElements) * a.elementBytes);
+    const uint64_t texelLimit = a.parted() ? leafLinkViews() : uint64_t(limits.maxTexelBufferElements);
+    if (a.elements() > texelLimit)
+      return refused(a.bytes(), a.what,
+                     a.parted() ? "the " + std::to_string(gpu::kTexelParts) + " texel views it is bound in"
+                                : std::string("the device's maxTexelBufferElements"),
+                     texelLimit * a.elementBytes);
     if (a.bytes() > ctx_.maxAllocationBytes())
       return refused(a.bytes(), a.what, "the device's maxMemoryAllocationSize", ctx_.maxAllocationBytes());
     total = total - a.buffer->size() + std::max<uint64_t>(a.bytes(), a.buffer->size());  // grows what it had
@@ -116,7 +139,7 @@ LinkRoom::Overflow LinkRoom::grow(uint32_t levels) {
     if (bits == 0) continue;
     set->growLinks(c, worklistCapacity_);
     if (bits & gpu::kOverflowLeafLinks)
-      set->leafLinkCapacity = std::max(set->leafLinkCapacity, withMargin(c[gpu::kCounterLeafLinks]));
+      set->leafLinkCapacity = std::max(set->leafLinkCapacity, leafLinkRoom(c[gpu::kCounterLeafLinks]));
     overflow.loopBudget |= (bits & gpu::kOverflowLoopBudget) != 0;
     overflow.any = true;
     overflow.staticSet |= set == &staticSet_;  // a frame set's overflow leaves the static links whole

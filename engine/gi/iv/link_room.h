@@ -36,15 +36,20 @@ class LinkRoom {
   // After a frame that stands: gives back the leaf-link room it left unused, keeping the links the
   // sets hold, and frees the static pairs' links once `staticLinked`.
   void releaseUnused(bool staticLinked);
+  // The texel views the leaf links' arrays are bound in at their room now: 1 or kTexelParts
+  // (shaders/parted_texels.glsl). The passes that read them are made for that many.
+  uint32_t leafLinkTexelViews() const;
 
  private:
   // An array that grows with a count; bound as texels (imageBuffers), so that maxTexelBufferElements
-  // limits it rather than maxStorageBufferRange.
+  // limits it rather than maxStorageBufferRange. The leaf links' arrays, which grow as the bins
+  // squared, are bound in kTexelParts views, so that only the largest allocation limits them.
   struct Array {
     vk::Buffer* buffer;
     uint64_t count, elementBytes;
     const char* what;
     const LinkSet* leafLinksOf;  // the set whose surviving links it holds (kept when it shrinks), or null
+    bool parted() const { return leafLinksOf != nullptr; }  // the leaf links' arrays
     uint64_t elements() const { return std::max<uint64_t>(count, 1); }
     uint64_t bytes() const { return elements() * elementBytes; }
   };
@@ -53,6 +58,8 @@ class LinkRoom {
   std::string refusal(const std::vector<Array>& arrays) const;
   void allocate();
   uint32_t firstLeafLinkGuess(const LinkSet& set, const std::vector<uint32_t>& leafMoves) const;
+  uint64_t leafLinkViews() const;                // the most leaf links their texel views hold
+  uint32_t leafLinkRoom(uint32_t needed) const;  // room for `needed` leaf links, with a margin
 
   const vk::Context& ctx_;
   const IvSettings& settings_;

@@ -61,7 +61,8 @@ void Prune::makePrograms() {
                                                           {"kSharedBins", sharedBins_ ? 1u : 0u},
                                                           {"kSharedSlots", sharedBins_ ? 6 * n * n : 1u},
                                                           {"kMaskWords", gpu::maskWordsFor(n)},
-                                                          {"kStaticPass", pass ? 1u : 0u}},
+                                                          {"kStaticPass", pass ? 1u : 0u},
+                                                          {"texelViews", texelViews_}},
                                             .localSizeX = groupSize()};
     (pass ? static_ : frame_).emplace(ctx_, "prune_bins", shaderCode("prune_bins"), specialization);
   }
@@ -156,6 +157,12 @@ void Prune::onLoopBudgetSpent() {
   subgroups_ *= 2;
   makePrograms();
   binsDirty_ = !sharedBins_;  // the leaves cut short may have left their bins
+}
+
+void Prune::readTexelViews(uint32_t views) {
+  if (views == texelViews_) return;
+  texelViews_ = views;
+  makePrograms();
 }
 
 }  // namespace ivgi::gi

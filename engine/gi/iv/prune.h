@@ -46,6 +46,8 @@ class Prune {
   // A workgroup ran out of lavapipe's loop budget: twice the subgroups share it from the next frame.
   // Throws SettingsError where the workgroup cannot grow.
   void onLoopBudgetSpent();
+  // The leaf links are bound in `views` texel views (shaders/parted_texels.glsl): 1 or kTexelParts.
+  void readTexelViews(uint32_t views);
 
  private:
   void makePrograms();
@@ -62,6 +64,7 @@ class Prune {
   bool sharedBins_;
   uint32_t subgroups_;      // subgroups a workgroup has
   bool binsDirty_ = false;  // a prune was cut short: the global-memory bins may hold its leaves' keys
+  uint32_t texelViews_ = 1;
   std::optional<vk::Program> static_, frame_;
 };
 

@@ -74,6 +74,12 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, IvSetup set
     Prune::clearBins(cmd, b_);
   });
   room_.guess(leafMoves, nodeCount_);
+  readLeafLinkViews();
+}
+
+void IvSolver::readLeafLinkViews() {
+  prune_.readTexelViews(room_.leafLinkTexelViews());
+  bounces_.readTexelViews(room_.leafLinkTexelViews());
 }
 
 void IvSolver::uploadScene(const scene::Geometry& g, const std::vector<uint32_t>& leafMoves, bool split,
@@ -212,6 +218,7 @@ bool IvSolver::frameMustBeRedone() {
   const LinkRoom::Overflow overflow = room_.grow(LinkCreation::levels(setup_.hierarchy));
   if (!overflow.any) return false;
   roomProven_ = false;
+  readLeafLinkViews();
   if (overflow.loopBudget) prune_.onLoopBudgetSpent();
   if (overflow.staticSet) staticLinked_ = false;
   linked_ = false;
