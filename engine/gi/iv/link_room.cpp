@@ -33,23 +33,34 @@ uint32_t LinkRoom::firstLeafLinkGuess(const LinkSet& set, const std::vector<uint
 
 void LinkRoom::guess(const std::vector<uint32_t>& leafMoves, uint32_t nodeCount) {
   const uint32_t surfelCount = uint32_t(leafMoves.size());
+  // A first frame whose room falls short is redone (its links at least), so the guesses are generous
+  // and what stays unused is given back once the frame stands. Refinement makes tens of links a
+  // node, more with more bins, and past a hundred where nested parts' bounds overlap
+  // (2CylinderEngine.glb: 104); its widest level holds ten to twenty pairs a node (the engine: 20).
+  const uint64_t rootPairs = std::max(staticSet_.rootPairs.size(), frameSet_.rootPairs.size()) / 2;
   for (LinkSet* set : {&staticSet_, &frameSet_}) {
-    // Refinement makes a few tens of links a node (more bins refine further).
-    set->linkCapacity = set->empty() ? 0 : 48 * nodeCount + 1024;
+    set->linkCapacity = set->empty() ? 0 : 128 * nodeCount + 1024;
     set->leafLinkCapacity = firstLeafLinkGuess(*set, leafMoves);
   }
-  // The refinement's widest level holds about ten pairs a node: 16 seldom needs a second try.
-  worklistCapacity_ = std::max<uint32_t>(
-      uint32_t(std::max(staticSet_.rootPairs.size(), frameSet_.rootPairs.size()) / 2), 16 * nodeCount + 1024);
+  worklistCapacity_ = uint32_t(std::max<uint64_t>(rootPairs, 32ull * nodeCount + 1024));
   // A guess that does not fit the device shrinks to what does, down to a small start that grows to
-  // what the first frame counts: a leaf-link overflow costs the whole frame again.
-  const uint64_t small = uint64_t(surfelCount) * std::min(6 * settings_.bins * settings_.bins, 128u) + 1024;
+  // what the first frame counts: the leaf links first (their overflow costs the whole frame again),
+  // then the links and worklists (theirs only the links).
+  const uint64_t smallLeafLinks = uint64_t(surfelCount) * std::min(6 * settings_.bins * settings_.bins, 128u) + 1024;
+  const uint64_t smallLinks = 48ull * nodeCount + 1024,
+                 smallWorklist = std::max<uint64_t>(rootPairs, 16ull * nodeCount + 1024);
+  auto shrink = [](uint32_t& capacity, uint64_t least) {
+    if (capacity <= least) return false;
+    capacity = uint32_t(std::max<uint64_t>(uint64_t(capacity) * 3 / 4, least));
+    return true;
+  };
   while (!refusal(arrays()).empty()) {
     bool shrunk = false;
-    for (LinkSet* set : {&staticSet_, &frameSet_})
-      if (set->leafLinkCapacity > small)
-        set->leafLinkCapacity = uint32_t(std::max<uint64_t>(uint64_t(set->leafLinkCapacity) * 3 / 4, small)),
-        shrunk = true;
+    for (LinkSet* set : {&staticSet_, &frameSet_}) shrunk |= shrink(set->leafLinkCapacity, smallLeafLinks);
+    if (!shrunk) {
+      for (LinkSet* set : {&staticSet_, &frameSet_}) shrunk |= !set->empty() && shrink(set->linkCapacity, smallLinks);
+      shrunk |= shrink(worklistCapacity_, smallWorklist);
+    }
     if (!shrunk) break;  // allocate() names what does not fit
   }
   allocate();
@@ -70,15 +81,15 @@ uint32_t LinkRoom::leafLinkTexelViews() const {
 std::vector<LinkRoom::Array> LinkRoom::arrays() {
   // All are texels (imageBuffers), whose views reach past one storage binding.
   std::vector<Array> arrays = {
-      {&b_.worklistA, worklistCapacity_, 8, "refinement worklist", nullptr},
-      {&b_.worklistB, worklistCapacity_, 8, "refinement worklist", nullptr},
+      {&b_.worklistA, worklistCapacity_, 8, "refinement worklist"},
+      {&b_.worklistB, worklistCapacity_, 8, "refinement worklist"},
       {&b_.leafLinks, frameSet_.leafLinkCapacity, 8, "leaf links", &frameSet_},
       {&b_.staticLinks, staticSet_.leafLinkCapacity, 8, "static leaf links", &staticSet_},
       {&b_.staticBins, staticSet_.leafLinkCapacity, 4, "static leaf links' bins", &staticSet_},
       {&b_.staticDepths, staticSet_.leafLinkCapacity, 4, "static leaf links' depths", &staticSet_}};
   for (LinkSet* set : {&staticSet_, &frameSet_})
-    arrays.insert(arrays.end(), {{&set->links, set->linkCapacity, 8, "links", nullptr},
-                                 {&set->senders, set->linkCapacity, 4, "links", nullptr}});
+    arrays.insert(arrays.end(), {{&set->links, set->linkCapacity, 8, "links", nullptr, set},
+                                 {&set->senders, set->linkCapacity, 4, "links", nullptr, set}});
   return arrays;
 }
 
@@ -150,23 +161,34 @@ LinkRoom::Overflow LinkRoom::grow(uint32_t levels) {
 
 void LinkRoom::releaseUnused(bool staticLinked) {
   // The static set's surviving links are made once and never grow: they keep exactly their room,
-  // and the links they were pruned from are not needed again. The frame's keep the margin, and
-  // shrink only past a third unused, lest every frame reallocate.
+  // and the links they were pruned from are not needed again. The frame's leaf links, links and
+  // the worklists keep the margin, and shrink only past a third unused, lest every frame reallocate.
   bool shrinks = !staticSet_.empty() && staticLinked && staticSet_.linkCapacity > 0;
   if (shrinks) staticSet_.linkCapacity = 0;
+  auto fit = [&](uint32_t& capacity, uint32_t used) {
+    const uint32_t fitted = withMargin(used);
+    if (uint64_t(capacity) * 2 > uint64_t(fitted) * 3) capacity = fitted, shrinks = true;
+  };
+  uint32_t worklistPeak = 0;
   for (LinkSet* set : {&staticSet_, &frameSet_}) {
     if (set->empty()) continue;
     const bool isStatic = set == &staticSet_;
-    const uint32_t used = set->leafLinksHeld(), fitted = isStatic ? used : withMargin(used);
-    if (isStatic ? set->leafLinkCapacity > fitted : uint64_t(set->leafLinkCapacity) * 2 > uint64_t(fitted) * 3)
-      set->leafLinkCapacity = fitted, shrinks = true;
+    if (isStatic && set->leafLinkCapacity > set->leafLinksHeld())
+      set->leafLinkCapacity = set->leafLinksHeld(), shrinks = true;
+    if (isStatic && staticLinked) continue;  // its links are not made again
+    const std::vector<uint32_t> c = set->readCounters();
+    if (!isStatic) fit(set->leafLinkCapacity, set->leafLinksHeld()), fit(set->linkCapacity, c[gpu::kCounterLinks]);
+    worklistPeak = std::max(worklistPeak, c[gpu::kCounterWorklistPeak]);
   }
+  fit(worklistCapacity_, worklistPeak);
   if (!shrinks) return;
   for (const Array& a : arrays()) {
     if (std::max(a.bytes(), vk::Buffer::kMinBytes) >= a.buffer->size()) continue;
     vk::Buffer kept(ctx_, a.bytes(), vk::Memory::Device, &allocations_);
-    const uint64_t used = a.leafLinksOf ? a.leafLinksOf->leafLinksHeld() : 0;
-    if (used > 0)  // the surviving links it holds
+    const uint64_t used = a.leafLinksOf ? a.leafLinksOf->leafLinksHeld()
+                          : a.linksOf   ? std::min(a.count, uint64_t(a.linksOf->readCounters()[gpu::kCounterLinks]))
+                                        : 0;
+    if (used > 0)  // the links it holds
       ctx_.submitAndWait([&](VkCommandBuffer cmd) {
         const VkBufferCopy region{0, 0, used * a.elementBytes};
         vkCmdCopyBuffer(cmd, a.buffer->handle(), kept.handle(), 1, &region);

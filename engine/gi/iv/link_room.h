@@ -48,7 +48,8 @@ class LinkRoom {
     vk::Buffer* buffer;
     uint64_t count, elementBytes;
     const char* what;
-    const LinkSet* leafLinksOf;  // the set whose surviving links it holds (kept when it shrinks), or null
+    const LinkSet* leafLinksOf = nullptr;  // the set whose surviving links it holds (kept when it shrinks)
+    const LinkSet* linksOf = nullptr;      // the set whose links it holds (kept when it shrinks)
     bool parted() const { return leafLinksOf != nullptr; }  // the leaf links' arrays
     uint64_t elements() const { return std::max<uint64_t>(count, 1); }
     uint64_t bytes() const { return elements() * elementBytes; }
