@@ -15,11 +15,11 @@ glm::uvec4 argsOf(vk::Groups g) { return {g.x, g.y, g.z, 0u}; }
 Bounces::Bounces(const vk::Context& ctx, const Hierarchy& h, vk::Allocations& allocations)
     : ctx_(ctx),
       emit_(shaderProgram(ctx, "emit")),
-      gather_(std::in_place, ctx, "gather", shaderCode("gather")),
       interpolate_(shaderProgram(ctx, "interpolate")),
       pullUp_(shaderProgram(ctx, "pull_up")),
       check_(shaderProgram(ctx, "bounce_check")),
       tail_(shaderProgram(ctx, "bounce_tail")) {
+  makeGather();
   // The dispatch sizes of a whole bounce: the gather over the receivers (set each frame from how
   // many there are), the interpolation at every surfel, then one pull-up a level; and the tail's,
   // none until the check says otherwise.
@@ -119,10 +119,14 @@ void Bounces::recordSteps(VkCommandBuffer cmd, const IvBuffers& b, const Hierarc
   }
 }
 
+void Bounces::makeGather() {
+  gather_.emplace(ctx_, "gather", shaderCode("gather"), vk::Specialization{.constants = {{"texelViews", texelViews_}}});
+}
+
 void Bounces::readTexelViews(uint32_t views) {
   if (views == texelViews_) return;
   texelViews_ = views;
-  gather_.emplace(ctx_, "gather", shaderCode("gather"), vk::Specialization{.constants = {{"texelViews", views}}});
+  makeGather();
 }
 
 }  // namespace ivgi::gi

@@ -48,9 +48,10 @@ class Bounces {
               bool indirect) const;
   const vk::Context& ctx_;
   vk::Program emit_;
-  std::optional<vk::Program> gather_;  // made again for more texel views
+  void makeGather();  // for texelViews_
   vk::Program interpolate_, pullUp_, check_, tail_;
   uint32_t texelViews_ = 1;
+  std::optional<vk::Program> gather_;  // made again for more texel views
   uint32_t interpolateGroups_, pullUpDispatches_;
   vk::Buffer sums_, state_, fullArgs_, args_;  // per gather workgroup; the state; dispatch sizes, full and next
   vk::Buffer change_;                          // per surfel, the irradiance's change at the last gather

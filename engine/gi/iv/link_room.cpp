@@ -66,11 +66,11 @@ void LinkRoom::guess(const std::vector<uint32_t>& leafMoves, uint32_t nodeCount)
   allocate();
 }
 
-uint64_t LinkRoom::leafLinkViews() const { return uint64_t(gpu::kTexelParts) << ctx_.texelPartBits(); }
+uint64_t LinkRoom::mostLeafLinks() const { return uint64_t(gpu::kTexelParts) << ctx_.texelPartBits(); }
 
 uint32_t LinkRoom::leafLinkRoom(uint32_t needed) const {
   // The margin only where it fits: leaf links that fit their views exactly are not refused.
-  return uint32_t(std::min<uint64_t>(withMargin(needed), std::max<uint64_t>(needed, leafLinkViews())));
+  return uint32_t(std::min<uint64_t>(withMargin(needed), std::max<uint64_t>(needed, mostLeafLinks())));
 }
 
 uint32_t LinkRoom::leafLinkTexelViews() const {
@@ -114,7 +114,7 @@ std::string LinkRoom::refusal(const std::vector<Array>& arrays) const {
   const VkPhysicalDeviceLimits& limits = ctx_.limits();
   uint64_t total = allocations_.bytes();  // once every array has its new size
   for (const Array& a : arrays) {
-    const uint64_t texelLimit = a.parted() ? leafLinkViews() : uint64_t(limits.maxTexelBufferElements);
+    const uint64_t texelLimit = a.parted() ? mostLeafLinks() : uint64_t(limits.maxTexelBufferElements);
     if (a.elements() > texelLimit)
       return refused(a.bytes(), a.what,
                      a.parted() ? "the " + std::to_string(gpu::kTexelParts) + " texel views it is bound in"

@@ -59,7 +59,7 @@ class LinkRoom {
   std::string refusal(const std::vector<Array>& arrays) const;
   void allocate();
   uint32_t firstLeafLinkGuess(const LinkSet& set, const std::vector<uint32_t>& leafMoves) const;
-  uint64_t leafLinkViews() const;                // the most leaf links their texel views hold
+  uint64_t mostLeafLinks() const;                // the most leaf links their texel views hold
   uint32_t leafLinkRoom(uint32_t needed) const;  // room for `needed` leaf links, with a margin
 
   const vk::Context& ctx_;

@@ -78,8 +78,9 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, IvSetup set
 }
 
 void IvSolver::readLeafLinkViews() {
-  prune_.readTexelViews(room_.leafLinkTexelViews());
-  bounces_.readTexelViews(room_.leafLinkTexelViews());
+  const uint32_t views = room_.leafLinkTexelViews();
+  prune_.readTexelViews(views);
+  bounces_.readTexelViews(views);
 }
 
 void IvSolver::uploadScene(const scene::Geometry& g, const std::vector<uint32_t>& leafMoves, bool split,
