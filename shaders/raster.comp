@@ -7,57 +7,22 @@
 // tessellated scene go 64 to a workgroup. A workgroup walks at most kTilesPerSlice tiles of each
 // large triangle, so that its subgroups stay within lavapipe's loop budget (common.glsl; past it a
 // triangle would silently lose some of its samples); bounds holding more are cut into slices of
-// tiles, slice z walked by workgroups z (the host dispatches as many as bounds as large as the
-// image need).
+// tiles, slice z walked by workgroups z (raster_slices counts as many as the frame's largest bounds
+// need).
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 layout(local_size_x = 64) in;
 // Of each large triangle of the workgroup's 64: 64 × (tiles + rows) stays under the budget.
 layout(constant_id = 0) const int kTilesPerSlice = 448;
-const int kSmallBounds = 256;
 
 layout(binding = 0, rgba32f) readonly uniform imageBuffer world;        // WorldVertex: position, normal
 layout(binding = 1, rgba32ui) readonly uniform uimageBuffer triangles;  // Triangle
 layout(std430, binding = 2) buffer Visibility { uint64_t visibility[]; };
 layout(push_constant) uniform Push { ImagePush push; };  // count: triangles
+#include "raster_bounds.glsl"
 
 shared uint largeCount;
 shared uint large[64];
-
-// Sample-space x/y of a world point, or false when it lies at or behind the near plane.
-bool project(vec3 p, out vec2 s) {
-  vec3 d = p - push.camera.origin.xyz;
-  float z = dot(d, push.camera.forward.xyz);
-  s = vec2(0.0);
-  if (z <= push.camera.origin.w) return false;
-  vec2 ndc = vec2(dot(d, push.camera.right.xyz) / dot(push.camera.right.xyz, push.camera.right.xyz),
-                  dot(d, push.camera.up.xyz) / dot(push.camera.up.xyz, push.camera.up.xyz)) /
-             z;
-  s = vec2((ndc.x + 1.0) * 0.5 * float(push.size.x), (1.0 - ndc.y) * 0.5 * float(push.size.y));
-  return true;
-}
-
-// Triangle `tri`'s corners and its screen bounds (empty: nothing of it on screen).
-struct Projected {
-  vec3 a, b, c;
-  ivec2 lo, hi;
-};
-Projected projected(uint tri) {
-  Projected t;
-  uvec4 v = imageLoad(triangles, int(tri));
-  t.a = imageLoad(world, int(2u * v.x)).xyz, t.b = imageLoad(world, int(2u * v.y)).xyz,
-  t.c = imageLoad(world, int(2u * v.z)).xyz;
-  vec2 pa, pb, pc;
-  t.lo = ivec2(0), t.hi = ivec2(push.size) - 1;
-  if (project(t.a, pa) && project(t.b, pb) && project(t.c, pc)) {
-    vec2 mn = min(pa, min(pb, pc)), mx = max(pa, max(pb, pc));
-    if (mx.x < -1.0 || mx.y < -1.0 || mn.x > float(push.size.x) + 1.0 || mn.y > float(push.size.y) + 1.0)
-      t.hi = ivec2(-1);
-    t.lo = max(t.lo, ivec2(floor(mn)) - 1);
-    t.hi = min(t.hi, ivec2(ceil(mx)));
-  }  // else: a vertex behind the near plane, so the whole image is a conservative bound
-  return t;
-}
 
 void castSample(uint tri, Projected t, ivec2 px) {
   vec3 dir = cameraRay(push.camera, vec2(px) + 0.5, push.size);
@@ -75,14 +40,11 @@ void main() {
   const uint tri = itemIndex();
   if (tri < push.count) {
     const Projected t = projected(tri);
-    const ivec2 extent = t.hi - t.lo + 1;
-    if (all(greaterThan(extent, ivec2(0)))) {
-      if (extent.x * extent.y > kSmallBounds)
-        large[atomicAdd(largeCount, 1u)] = tri;
-      else if (gl_WorkGroupID.z == 0u)
-        for (int y = t.lo.y; y <= t.hi.y; ++y)
-          for (int x = t.lo.x; x <= t.hi.x; ++x) castSample(tri, t, ivec2(x, y));
-    }
+    if (isLarge(t))
+      large[atomicAdd(largeCount, 1u)] = tri;
+    else if (gl_WorkGroupID.z == 0u)  // empty bounds walk nothing
+      for (int y = t.lo.y; y <= t.hi.y; ++y)
+        for (int x = t.lo.x; x <= t.hi.x; ++x) castSample(tri, t, ivec2(x, y));
   }
   barrier();
   // The large ones together: this workgroup's slice of each, at most kTilesPerSlice tiles of it (a
@@ -91,11 +53,10 @@ void main() {
   for (uint k = 0u; k < largeCount; ++k) {
     const uint tri = large[k];
     const Projected t = projected(tri);
-    const int tileColumns = (t.hi.x - t.lo.x) / 8 + 1, columns = min(tileColumns, kTilesPerSlice),
-              columnBlocks = (tileColumns + columns - 1) / columns, rows = max(1, kTilesPerSlice / columns),
-              z = int(gl_WorkGroupID.z), rowBlock = z / columnBlocks, columnBlock = z - rowBlock * columnBlocks;
-    const ivec2 first = t.lo + 8 * ivec2(columns * columnBlock, rows * rowBlock),
-                last = min(t.hi, first + 8 * ivec2(columns, rows) - 1);
+    const Slicing s = slicing(t, kTilesPerSlice);
+    const int z = int(gl_WorkGroupID.z), rowBlock = z / s.columnBlocks, columnBlock = z - rowBlock * s.columnBlocks;
+    const ivec2 first = t.lo + 8 * ivec2(s.columns * columnBlock, s.rows * rowBlock),
+                last = min(t.hi, first + 8 * ivec2(s.columns, s.rows) - 1);
     for (int y = first.y; y <= last.y; y += 8)
       for (int x = first.x; x <= last.x; x += 8) {
         ivec2 px = ivec2(x, y) + lane;

@@ -13,15 +13,6 @@ namespace {
 // 64 triangles' tiles and tile rows stay within lavapipe's loop budget of 65,535 (common.glsl).
 constexpr uint32_t kRasterTilesPerSlice = 448;
 
-// Raster workgroups per 64 triangles: the slices (blocks of tile columns, then of tile rows) that
-// bounds as large as the image need.
-uint32_t rasterSlices(glm::uvec2 samples) {
-  const uint32_t columns = (samples.x + 7) / 8, rows = (samples.y + 7) / 8,
-                 columnsPerSlice = std::min(columns, kRasterTilesPerSlice),
-                 rowsPerSlice = std::max(1u, kRasterTilesPerSlice / columnsPerSlice);
-  return (columns + columnsPerSlice - 1) / columnsPerSlice * ((rows + rowsPerSlice - 1) / rowsPerSlice);
-}
-
 // Surfel of each vertex (welded vertices share one), -1 for vertices without one.
 std::vector<int32_t> vertexSurfels(const scene::Geometry& g) {
   std::vector<int32_t> out(g.vertices.size(), -1);
@@ -59,6 +50,7 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
       solver_(std::move(solver)),
       animate_(shaderProgram(ctx, "animate")),
       surfelUpdate_(shaderProgram(ctx, "surfels")),
+      rasterSlices_(shaderProgram(ctx, "raster_slices", {.constants = {{"kTilesPerSlice", kRasterTilesPerSlice}}})),
       raster_(shaderProgram(ctx, "raster", {.constants = {{"kTilesPerSlice", kRasterTilesPerSlice}}})),
       resolve_(shaderProgram(
           ctx, "resolve", {.constants = {{"kTextured", g.textures.empty() ? 0u : 1u}, {"kLit", solver_ ? 1u : 0u}}})),
@@ -83,6 +75,8 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
   for (vk::Buffer* channel : {&radiance_, &albedo_, &normalDepth_, &emission_})
     *channel = vk::Buffer(ctx, pixels * sizeof(glm::vec4), Memory::Host, tally);
   unlitIrradiance_ = vk::Buffer(ctx, 16, Memory::Device, tally);
+  const vk::Groups groups = raster_.groupsFor(triangleCount_, 64);
+  rasterArgs_ = upload(std::vector<uint32_t>{groups.x, groups.y, 1u});  // z: raster_slices each frame
 }
 
 uint64_t FrameRenderer::bytesAllocated() const {
@@ -107,6 +101,7 @@ vk::Bindings FrameRenderer::pool() const {
                              {"world", world_},
                              {"surfels", surfels_},
                              {"visibility", visibility_},
+                             {"rasterArgs", rasterArgs_},
                              {"surfelIrradiance", solver_ ? solver_->irradiance() : unlitIrradiance_},
                              {"radiance", radiance_},
                              {"albedo", albedo_},
@@ -124,11 +119,13 @@ bool FrameRenderer::recordFrame(VkCommandBuffer cmd, const gpu::Camera& camera, 
             [&] { surfelUpdate_.dispatchItems(cmd, surfelCount_, buffers, gpu::CountPush{surfelCount_}); });
   if (solver_) solver_->record(cmd, timer_, surfels_, geometryMoved);
   timedPass(cmd, timer_, "raster", [&] {
+    const gpu::ImagePush push{camera, fine, triangleCount_, 0};
     vkCmdFillBuffer(cmd, visibility_.handle(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
+    vkCmdFillBuffer(cmd, rasterArgs_.handle(), 2 * sizeof(uint32_t), sizeof(uint32_t), 1u);
     vk::barrier(cmd);
-    vk::Groups groups = raster_.groupsFor(triangleCount_, 64);
-    groups.z = rasterSlices(fine);
-    raster_.dispatch(cmd, groups, buffers, gpu::ImagePush{camera, fine, triangleCount_, 0});
+    rasterSlices_.dispatchItems(cmd, triangleCount_, buffers, push);
+    vk::barrier(cmd);
+    raster_.dispatchIndirect(cmd, rasterArgs_, 0, buffers, push);
   });
   if (solver_ && solver_->solvePending()) return false;
   recordResolve(cmd, camera);
