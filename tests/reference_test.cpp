@@ -153,6 +153,24 @@ TEST(SweepCli, WritesCsvJsonAndPlot) {
   EXPECT_FALSE(fs::exists(dir / ".plot_sweep.py"));
 }
 
+// --supersample reaches the renders the sweep scores: a pixel then averages its 4×4 samples, as the
+// path tracer's pixel averages its paths, so that edges stop aliasing against the reference.
+TEST(SweepCli, SupersamplingReachesTheRenders) {
+  auto ref = test::renderExr("sweep_ss_ref", {"--method", "pt", "--spp", "256", "--size", "48x36", "--cells", "2"});
+  std::vector<double> errors;
+  for (const char* samples : {"1", "4"}) {
+    auto dir = test::scratchDir(std::string("sweep_ss") + samples);
+    auto r = test::runIvgi({"sweep", "--cells", "2", "--reference", ref.string(), "--bins", "4", "--receiver-tol", "0",
+                            "--repeats", "1", "--warmup", "0", "--supersample", samples, "--out", dir.string()});
+    ASSERT_EQ(r.status, 0) << r.err;
+    auto j = readJson(dir / "sweep.json");
+    EXPECT_EQ(j["supersample"], std::stoi(samples));
+    ASSERT_EQ(j["settings"].size(), 1u);
+    errors.push_back(j["settings"][0]["error"]["relMSE"].get<double>());
+  }
+  EXPECT_LT(errors[1], errors[0]) << "edges alias at one sample a pixel";
+}
+
 TEST(BenchCli, EqualErrorReportsTheRatio) {
   auto dir = test::scratchDir("equal_error");
   auto r = test::runIvgi({"bench", "--equal-error", "--cells", "2", "--size", "32x24", "--reference-spp", "256",

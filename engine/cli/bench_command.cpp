@@ -57,7 +57,7 @@ void checkFrameCounts(const BenchOptions& o) {
 int runBench(const BenchOptions& o) {
   if (o.equalError) return runEqualError(o);
   checkFrameCounts(o);
-  gi::ImageSettings image;
+  gi::ImageSettings image{.samples = o.supersample};
   parseSize(o.size, image.width, image.height);
   scene::Scene s = loadScene(o.source);
   scene::Geometry g = renderableGeometry(s, o.solver);
@@ -75,7 +75,9 @@ int runBench(const BenchOptions& o) {
   auto& order = times.order;
   auto& frames = times.frames;
 
-  std::printf("ivgi bench: %s, %ux%u, method %s", s.source.c_str(), image.width, image.height, solver.method.c_str());
+  std::printf("ivgi bench: %s, %ux%u", s.source.c_str(), image.width, image.height);
+  if (image.samples > 1) std::printf(" (%ux%u samples a pixel)", image.samples, image.samples);
+  std::printf(", method %s", solver.method.c_str());
   const gi::IvSettings& iv = solver.iv;
   if (solver.method == "iv")
     std::printf(", bins 6x%ux%u, eps %g, bounces %s", iv.bins, iv.bins, iv.epsilon, bouncesText(iv).c_str());
@@ -148,7 +150,11 @@ int runBench(const BenchOptions& o) {
   std::printf("\nbytes allocated: %llu (%.1f MiB)\n", (unsigned long long)bytes, double(bytes) / (1 << 20));
   if (!o.json.empty()) {
     nlohmann::json settings = settingsJson(solver.method, iv, solver.tessellation, arSettings(solver));
-    settings.update({{"width", image.width}, {"height", image.height}, {"frames", o.frames}, {"warmup", o.warmup}});
+    settings.update({{"width", image.width},
+                     {"height", image.height},
+                     {"supersample", image.samples},
+                     {"frames", o.frames},
+                     {"warmup", o.warmup}});
     nlohmann::json j = {{"scene", s.source},
                         {"settings", settings},
                         {"device", deviceJson(ctx)},

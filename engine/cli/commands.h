@@ -113,6 +113,7 @@ struct BenchOptions {
   int frames = 20, warmup = 3;
   double fps = 24.0;
   std::string size = "320x240";
+  uint32_t supersample = 1;  // N×N samples per pixel
   std::string device, json;
   // --equal-error: iv's time and relMSE against a converged pt reference of one frame, and the time
   // pt needs to reach that relMSE.
@@ -161,6 +162,7 @@ struct SweepOptions {
   int frame = 0;
   double fps = 24.0;
   int repeats = 3, warmup = 1;
+  uint32_t supersample = 1;        // N×N samples per pixel
   std::string metric = "relMSE";  // what the Pareto front and the plot use: relMSE or FLIP
   std::string out = "sweep";
 };

@@ -45,7 +45,7 @@ int runEqualError(const BenchOptions& o) {
   if (o.maxSpp < 1 || o.maxSpp > 1u << 20) throw SettingsError("--max-spp must be 1 to 1048576");
   if (!o.solver.environment.empty())
     throw SettingsError("--equal-error compares the scene's own lights; leave out --env");
-  gi::ImageSettings image;
+  gi::ImageSettings image{.samples = o.supersample};
   parseSize(o.size, image.width, image.height);
   scene::Scene s = loadScene(o.source);
   scene::Geometry g = renderableGeometry(s, o.solver);
@@ -126,6 +126,7 @@ int runEqualError(const BenchOptions& o) {
       {"frame", o.frame},
       {"width", image.width},
       {"height", image.height},
+      {"supersample", image.samples},
       {"solver",
        {{"medianGpuMs", ivMs},
         {"relMSE", ivError.relMse},

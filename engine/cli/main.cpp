@@ -126,6 +126,7 @@ int main(int argc, char** argv) {
   b->add_option("--warmup", bench.warmup, "frames rendered first and not measured")->capture_default_str();
   b->add_option("--fps", bench.fps, "frames per second of the animation")->capture_default_str();
   b->add_option("--size", bench.size, "image size WIDTHxHEIGHT")->capture_default_str();
+  b->add_option("--supersample", bench.supersample, "N: N×N samples per pixel")->capture_default_str();
   b->add_option("--device", bench.device, "Vulkan device name substring or index");
   b->add_option("--json", bench.json, "write the figures and per-frame times as JSON");
   b->add_flag("--equal-error", bench.equalError,
@@ -198,6 +199,9 @@ int main(int argc, char** argv) {
   w->add_option("--fps", sweep.fps, "frames per second of the animation")->capture_default_str();
   w->add_option("--camera", sweep.camera, "camera name or index (default: the first in the scene)");
   w->add_option("--animation", sweep.animation, "animation name or index, or none (default: the first)");
+  w->add_option("--supersample", sweep.supersample,
+                "N: N×N samples per pixel (4 integrates each pixel nearly as a path tracer does)")
+      ->capture_default_str();
   w->add_option("--repeats", sweep.repeats, "timed renders per setting (the median is reported)")
       ->capture_default_str();
   w->add_option("--warmup", sweep.warmup, "untimed renders per setting first")->capture_default_str();

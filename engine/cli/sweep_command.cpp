@@ -163,7 +163,7 @@ int runSweep(const SweepOptions& o) {
   if (o.frame > tl.lastFrame)
     throw SettingsError("--frame " + std::to_string(o.frame) + ": the animation ends at frame " +
                         std::to_string(tl.lastFrame));
-  gi::ImageSettings image{reference.width, reference.height, 1};
+  gi::ImageSettings image{reference.width, reference.height, o.supersample};
   const FrameCamera camera(s, g, tl, o.fps, o.camera, {o.frame}, float(image.width) / float(image.height));
   const auto pose = scene::evaluatePose(s, tl.animation, float(tl.time(o.frame, o.fps)));
   const auto inputs = g.frameInputs(s, pose);
@@ -252,6 +252,7 @@ int runSweep(const SweepOptions& o) {
                        {"frame", o.frame},
                        {"width", image.width},
                        {"height", image.height},
+                       {"supersample", image.samples},
                        {"repeats", o.repeats},
                        {"warmup", o.warmup},
                        {"device", deviceJson(ctx)},
