@@ -85,6 +85,17 @@ TEST(BadInput, CorruptedEmbeddedBuffer) {
   EXPECT_LT(r.err.size(), 400u) << r.err;
 }
 
+// A Draco-compressed mesh's accessors have no buffer view of their own, which tinygltf refuses
+// before ivgi sees the model: the message names the extension, not tinygltf's complaint.
+TEST(BadInput, DracoCompressedMeshNamesItsExtension) {
+  tinygltf::Model m = triangleModel();
+  m.accessors[m.meshes[0].primitives[0].indices].bufferView = -1;
+  m.extensionsUsed.push_back("KHR_draco_mesh_compression");
+  m.extensionsRequired.push_back("KHR_draco_mesh_compression");
+  std::string path = writeModel(m, "draco.gltf");
+  expectRenderRefused(path, {}, {path, "requires the unsupported extension KHR_draco_mesh_compression"});
+}
+
 TEST(BadInput, TruncatedGlb) {
   std::string path = writeModel(scenes::cornellBox({.cells = 2}), "cornell.glb");
   fs::resize_file(path, fs::file_size(path) / 2);

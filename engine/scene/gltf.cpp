@@ -9,6 +9,7 @@
 #include <fstream>
 #include <functional>
 #include <glm/gtc/type_ptr.hpp>
+#include <optional>
 #include <set>
 
 #include "engine/scene/gltf_accessors.h"
@@ -19,6 +20,13 @@ namespace {
 
 const std::set<std::string> kSupportedExtensions = {"KHR_lights_punctual", "KHR_materials_emissive_strength",
                                                     "KHR_mesh_quantization"};
+
+// The first extension the model requires that ivgi does not read, or none.
+std::optional<std::string> unsupportedRequirement(const tinygltf::Model& m) {
+  for (const auto& e : m.extensionsRequired)
+    if (!kSupportedExtensions.count(e)) return e;
+  return std::nullopt;
+}
 
 template <class V, int N>
 std::vector<V> toVectors(const std::vector<float>& flat) {
@@ -42,8 +50,7 @@ class Converter {
   }
 
   Scene convert() {
-    for (const auto& e : m_.extensionsRequired)
-      if (!kSupportedExtensions.count(e)) read_.fail("requires the unsupported extension " + e);
+    if (auto e = unsupportedRequirement(m_)) read_.fail("requires the unsupported extension " + *e);
     for (const auto& e : m_.extensionsUsed)
       if (!kSupportedExtensions.count(e)) warn("extension " + e + " is not supported and is ignored");
     textures();
@@ -451,6 +458,9 @@ Scene loadGltf(const std::string& path) {
   bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
                    : loader.LoadASCIIFromFile(&model, &err, &warn, path);
   if (!ok || !err.empty()) {
+    // A file that needs an extension ivgi does not read (Draco's compressed meshes, say) often fails
+    // tinygltf's checks for that reason: say so rather than what tinygltf tripped on.
+    if (auto e = unsupportedRequirement(model)) throw LoadError(path + ": requires the unsupported extension " + *e);
     std::string why = err.empty() ? "not a valid glTF file" : err;
     std::replace(why.begin(), why.end(), '\n', ' ');
     // tinygltf quotes a failing data URI whole: keep the message to one readable line.
