@@ -8,6 +8,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "engine/image/frame_image.h"
 #include "engine/image/metrics.h"
 #include "tests/test_support.h"
 
@@ -121,6 +122,26 @@ TEST(CompareCli, PrintsMetricsWritesJsonAndHeatmap) {
   r = test::runIvgi({"compare", (dir / "missing.exr").string(), kReference.string()});
   EXPECT_NE(r.status, 0);
   EXPECT_NE(r.err.find("missing.exr"), std::string::npos) << r.err;
+}
+
+// Each EXR says how it was made; compare notes the edges' aliasing where a one-sample iv image
+// meets a pt reference, and says nothing where the test averages 4×4 samples.
+TEST(CompareCli, NotesOneSampleAgainstAPathTracedReference) {
+  const std::vector<std::string> scene = {"--cells", "2", "--size", "32x24"};
+  auto pt = test::renderExr("provenance_pt", {"--method", "pt", "--spp", "8", "--cells", "2", "--size", "32x24"});
+  auto one = test::renderExr("provenance_iv1", scene);
+  auto four = test::renderExr("provenance_iv4", {"--cells", "2", "--size", "32x24", "--supersample", "4"});
+  EXPECT_EQ(image::readProvenance(pt.string()).method, "pt");
+  EXPECT_EQ(image::readProvenance(pt.string()).samplesPerPixel, 8u);
+  EXPECT_EQ(image::readProvenance(one.string()).method, "iv");
+  EXPECT_EQ(image::readProvenance(one.string()).samplesPerPixel, 1u);
+  EXPECT_EQ(image::readProvenance(four.string()).samplesPerPixel, 16u);
+  auto r = test::runIvgi({"compare", one.string(), pt.string()});
+  EXPECT_NE(r.err.find("--supersample 4"), std::string::npos) << r.err;
+  r = test::runIvgi({"compare", four.string(), pt.string()});
+  EXPECT_EQ(r.err.find("ivgi: note"), std::string::npos) << r.err;
+  r = test::runIvgi({"compare", one.string(), one.string()});  // a golden of its own kind
+  EXPECT_EQ(r.err.find("ivgi: note"), std::string::npos) << r.err;
 }
 
 // The sweep end to end on a small scene: CSV, JSON and the plot, with a Pareto front.

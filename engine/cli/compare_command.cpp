@@ -14,6 +14,7 @@
 #include "engine/cli/json_file.h"
 #include "engine/cli/options.h"
 #include "engine/image/compare.h"
+#include "engine/image/frame_image.h"
 #include "engine/image/metrics.h"
 #include "engine/image/temporal.h"
 
@@ -188,9 +189,27 @@ nlohmann::json metricsJson(const image::ErrorMetrics& m) {
           {"pixels", m.pixels}};
 }
 
+// A path tracer's pixel averages its paths over the pixel; an iv or ar pixel of one sample is the
+// value at its centre, so along every edge the two differ by aliasing that no solver setting
+// changes. Said once, from the first pair whose headers tell.
+void noteSampling(const std::vector<FramePair>& pairs) {
+  for (const FramePair& pair : pairs) {
+    if (pair.test.empty() || pair.reference.empty()) continue;
+    const image::Provenance test = image::readProvenance(pair.test), ref = image::readProvenance(pair.reference);
+    if (test.method.empty() || ref.method.empty()) return;
+    if (test.method != "pt" && test.samplesPerPixel == 1 && ref.method == "pt")
+      std::fprintf(stderr,
+                   "ivgi: note: the test takes one sample a pixel and the pt reference averages each pixel: "
+                   "edges alias, which no solver setting changes; render the test with --supersample 4 to "
+                   "measure the lighting alone\n");
+    return;
+  }
+}
+
 int runCompare(const CompareOptions& o) {
   check(o);
   const std::vector<FramePair> pairs = pairFrames(o.test, o.reference);
+  noteSampling(pairs);
   const bool sequence = !(fs::is_regular_file(o.test) && fs::is_regular_file(o.reference));
   // A sequence's images are of its failing frames only, in folders: --heatmap/--ratio, else beside the report.
   std::string heatmaps = o.heatmap, ratios = o.ratio;

@@ -158,6 +158,7 @@ int runRender(const RenderOptions& o) {
     sidecar.keepEarlierRecords(skipped);
   }
 
+  const image::Provenance provenance{solver.method, pt ? o.pt.spp : image.samples * image.samples};
   // pt frames take long: its progress counts rows.
   Progress progress("render", pt ? frames.size() * image.height : frames.size(), pt ? "row" : "frame");
   size_t rendered = 0;
@@ -186,7 +187,7 @@ int runRender(const RenderOptions& o) {
                    frame, bad);
     for (size_t i = 0; i < formats.size(); ++i) {
       if (formats[i] == "exr")
-        image::writeExr(paths[i], result.channels);
+        image::writeExr(paths[i], result.channels, provenance);
       else
         image::writePng(paths[i], result.channels, display);
     }

@@ -47,7 +47,17 @@ void writeWith(const std::string& path, const OIIO::ImageSpec& spec, OIIO::TypeD
 
 }  // namespace
 
-void writeExr(const std::string& path, const FrameChannels& f) {
+Provenance readProvenance(const std::string& path) {
+  Provenance p;
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) return p;
+  const OIIO::ImageSpec& spec = in->spec();
+  p.method = spec.get_string_attribute("ivgi:method");
+  p.samplesPerPixel = uint32_t(std::max(spec.get_int_attribute("ivgi:samplesPerPixel", 0), 0));
+  return p;
+}
+
+void writeExr(const std::string& path, const FrameChannels& f, const Provenance& provenance) {
   const char* names[] = {"R",   "G",   "B",   "A", "albedo.R",   "albedo.G",   "albedo.B",
                          "N.X", "N.Y", "N.Z", "Z", "emission.R", "emission.G", "emission.B"};
   const int channels = 14;
@@ -59,6 +69,8 @@ void writeExr(const std::string& path, const FrameChannels& f) {
   // A fixed time stamp: the same render must give the same bytes (golden images, caching, diffs).
   spec.attribute("DateTime", "1970:01:01 00:00:00");
   spec.attribute("Software", "ivgi " IVGI_VERSION);
+  if (!provenance.method.empty()) spec.attribute("ivgi:method", provenance.method);
+  if (provenance.samplesPerPixel > 0) spec.attribute("ivgi:samplesPerPixel", int(provenance.samplesPerPixel));
   std::vector<float> pixels(size_t(f.width) * f.height * channels);
   for (size_t i = 0; i < size_t(f.width) * f.height; ++i) {
     float* p = &pixels[i * channels];

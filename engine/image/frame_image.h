@@ -28,8 +28,18 @@ struct DisplaySettings {
 // Throws SettingsError naming --exposure when it is not a finite number of stops within ±64.
 void validate(const DisplaySettings& display);
 
+// How a frame was made, kept in its EXR header: the method (iv, ar, pt) and the samples that make a
+// pixel (iv and ar: the supersampling's N×N; pt: its paths), so that a comparison can say what
+// the two sides' pixels mean.
+struct Provenance {
+  std::string method;
+  uint32_t samplesPerPixel = 0;  // 0: unknown
+};
+// What `path`'s header says; empty where it says nothing (another program's file).
+Provenance readProvenance(const std::string& path);
+
 // Channels R G B A, albedo.R/G/B, N.X/Y/Z, Z, emission.R/G/B, 32-bit float, ZIP compression.
-void writeExr(const std::string& path, const FrameChannels& frame);
+void writeExr(const std::string& path, const FrameChannels& frame, const Provenance& provenance = {});
 // radiance × 2^exposure, tone mapped, sRGB encoded, 8-bit RGB.
 void writePng(const std::string& path, const FrameChannels& frame, const DisplaySettings& display);
 
