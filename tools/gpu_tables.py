@@ -9,16 +9,19 @@ Only the GPU solvers run here; pt is not timed. Errors are measured against pt r
 beforehand, wherever, into --references: `cornell26_pt_0000.exr` (the animated Cornell box at
 `--cells 26`, 320×240, 4096 spp) and `STEM_pt_0000.exr` for each --scenes file (480×270, 1024 spp).
 A row whose reference is missing shows no error. Each section is written as soon as it is measured,
-so a run cut short keeps what it finished.
+so a run cut short keeps what it finished. The sweep's plot goes beside --out as
+sweep_cornell_gpu.png (it needs a python3 with matplotlib: IVGI_PYTHON names one).
 
 On a GPU machine without ivgi's Debian libraries, `tools/portable_bundle.py --out DIR` packs ivgi
 with what it loads: run this script with `--ivgi DIR/ivgi` and LD_LIBRARY_PATH=DIR/lib.
 """
 import argparse
+import csv
 import datetime
 import json
 import os
 import pathlib
+import shutil
 import sys
 import tempfile
 import time
@@ -65,6 +68,31 @@ def ar_table(r, runs, references):
     return "\n".join(lines)
 
 
+
+
+def sweep_table(r, references, plot):
+    """The speed/accuracy front at 4×4 samples a pixel, as in performance.md: its plot copied to `plot`."""
+    reference = references / "cornell26_pt_0000.exr"
+    if not reference.exists():
+        return "Not measured: no pt reference `cornell26_pt_0000.exr`."
+    out = r.scratch / "sweep"
+    r.run("sweep", "cornell", "--cells", 26, "--reference", reference, "--supersample", 4, "--method", "iv,ar",
+          "--bins", "8,16,24,32", "--receiver-tol", "0,0.2,0.4", "--dirs", "2,4,8", "--repeats", 3, "--out", out)
+    shutil.copy(out / "sweep.png", plot)
+    lines = [f"![error against GPU time per frame, each series' Pareto front joined]({plot.name})", "",
+             "| setting | receivers | GPU ms | MiB | relMSE | FLIP | on the front |", "|---|---|---|---|---|---|---|"]
+    with open(out / "sweep.csv", newline="") as f:
+        for row in csv.DictReader(f):
+            if row["method"] == "iv":
+                tol = "every surfel" if float(row["receiverTol"]) == 0 else f"`--receiver-tol {row['receiverTol']}`"
+                name = f"iv, 6×{row['bins']}×{row['bins']}, {tol}"
+            else:
+                name = f"ar, `--dirs {row['dirs']}`"
+            receivers = f"{int(row['receivers']):,}" if row["method"] == "iv" else "—"
+            lines.append(f"| {name} | {receivers} | {fmt(float(row['ms']))} | "
+                         f"{int(row['bytes']) / 2**20:.1f} | {float(row['relMSE']):.4f} | {float(row['FLIP']):.3f} | "
+                         f"{'yes' if row['pareto'] == '1' else ''} |")
+    return "\n".join(lines)
 
 
 def solve(figures):
@@ -145,6 +173,11 @@ Machine: {machine}.
                  "(`--receiver-tol 0`); the wall clock is the median of the runs' renders; the engine is lit "
                  "by the default white sky.",
                  lambda: real_files_table(r, args.scenes, args.references, args.runs)),
+                ("Speed against accuracy",
+                 "`ivgi sweep cornell --cells 26 --reference REF --supersample 4 --method iv,ar --bins 8,16,24,32 "
+                 "--receiver-tol 0,0.2,0.4 --dirs 2,4,8 --repeats 3`: frame 0 at 320×240, 4×4 samples a pixel, "
+                 "against the pt reference at 4096 spp, as in performance.md.",
+                 lambda: sweep_table(r, args.references, args.out.parent / "sweep_cornell_gpu.png")),
                 ("iv's cost against the scene's tessellation",
                  "As in performance.md: frames after 2 warm-up frames, at the defaults and with every surfel a "
                  "receiver (`--receiver-tol 0`).", lambda: scaling_table(r, args.runs, every_most=100))):
