@@ -16,7 +16,6 @@ On a GPU machine without ivgi's Debian libraries, `tools/portable_bundle.py --ou
 with what it loads: run this script with `--ivgi DIR/ivgi` and LD_LIBRARY_PATH=DIR/lib.
 """
 import argparse
-import csv
 import datetime
 import json
 import os
@@ -27,7 +26,8 @@ import tempfile
 import time
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
-from perf_tables import DOCS, ROOT, Runner, cpu_name, fmt, median, per_pass_table, scaling_table  # noqa: E402
+from perf_tables import (DOCS, ROOT, Runner, cpu_name, fmt, median, per_pass_table, scaling_table,  # noqa: E402
+                         sweep_markdown)
 
 
 def relmse(r, test, reference):
@@ -79,20 +79,8 @@ def sweep_table(r, references, plot):
     r.run("sweep", "cornell", "--cells", 26, "--reference", reference, "--supersample", 4, "--method", "iv,ar",
           "--bins", "8,16,24,32", "--receiver-tol", "0,0.2,0.4", "--dirs", "2,4,8", "--repeats", 3, "--out", out)
     shutil.copy(out / "sweep.png", plot)
-    lines = [f"![error against GPU time per frame, each series' Pareto front joined]({plot.name})", "",
-             "| setting | receivers | GPU ms | MiB | relMSE | FLIP | on the front |", "|---|---|---|---|---|---|---|"]
-    with open(out / "sweep.csv", newline="") as f:
-        for row in csv.DictReader(f):
-            if row["method"] == "iv":
-                tol = "every surfel" if float(row["receiverTol"]) == 0 else f"`--receiver-tol {row['receiverTol']}`"
-                name = f"iv, 6×{row['bins']}×{row['bins']}, {tol}"
-            else:
-                name = f"ar, `--dirs {row['dirs']}`"
-            receivers = f"{int(row['receivers']):,}" if row["method"] == "iv" else "—"
-            lines.append(f"| {name} | {receivers} | {fmt(float(row['ms']))} | "
-                         f"{int(row['bytes']) / 2**20:.1f} | {float(row['relMSE']):.4f} | {float(row['FLIP']):.3f} | "
-                         f"{'yes' if row['pareto'] == '1' else ''} |")
-    return "\n".join(lines)
+    return f"![error against GPU time per frame, each series' Pareto front joined]({plot.name})\n\n" + \
+        sweep_markdown(out / "sweep.csv")
 
 
 def solve(figures):

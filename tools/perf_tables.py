@@ -121,7 +121,12 @@ def sweep_table(r):
           "--out", out)
     shutil.copy(out / "sweep.csv", DOCS / "sweep_cornell.csv")
     shutil.copy(out / "sweep.png", DOCS / "sweep_cornell.png")
-    with open(out / "sweep.csv", newline="") as f:
+    return sweep_markdown(out / "sweep.csv")
+
+
+def sweep_markdown(csv_path):
+    """A sweep's rows as two tables: iv's settings, then ar's."""
+    with open(csv_path, newline="") as f:
         rows = list(csv.DictReader(f))
     lines = ["| bins | `--receiver-tol` | receivers | GPU ms | MiB | relMSE | FLIP | on the front |",
              "|---|---|---|---|---|---|---|---|"]
@@ -139,7 +144,7 @@ def sweep_table(r):
             lines.append(f"| 6×{row['dirs']}×{row['dirs']} | {row['iterationsRun']} | {fmt(float(row['ms']))} | "
                          f"{int(row['bytes']) / 2**20:.1f} | {float(row['relMSE']):.4f} | {float(row['FLIP']):.3f} | "
                          f"{'yes' if row['pareto'] == '1' else ''} |")
-    return "\n".join(lines), rows
+    return "\n".join(lines)
 
 
 def ar_table(r):
@@ -367,7 +372,7 @@ def main():
         print("scaling", file=sys.stderr)
         scaling = scaling_table(r, args.runs)
         print("sweep", file=sys.stderr)
-        sweep, rows = sweep_table(r)
+        sweep = sweep_table(r)
         print("equal error", file=sys.stderr)
         equal, reference_s, ratios, _ = equal_error_table(r, args.runs)
         print("ar", file=sys.stderr)
