@@ -162,7 +162,7 @@ struct SweepOptions {
   int frame = 0;
   double fps = 24.0;
   int repeats = 3, warmup = 1;
-  uint32_t supersample = 1;        // N×N samples per pixel
+  uint32_t supersample = 1;       // N×N samples per pixel
   std::string metric = "relMSE";  // what the Pareto front and the plot use: relMSE or FLIP
   std::string out = "sweep";
 };
