@@ -51,7 +51,7 @@ layout(std430, binding = 10) writeonly buffer ExternalLight { vec4 externalLight
 layout(std430, binding = 11) readonly buffer Lights { PunctualLight lights[]; };
 layout(binding = 12, rgba32f) readonly uniform imageBuffer environment;  // radiance per bin
 layout(std430, binding = 13) buffer GlobalCoverage { uint globalCoverage[]; };
-layout(binding = 14, r32ui) readonly uniform uimageBuffer leafMoves;  // per surfel: 1 if its object moves
+layout(binding = 14, r32ui) readonly uniform uimageBuffer nodeFlags;  // per node: kNodeMoves, kNodeClosed
 // The static pass writes these; the frame pass reads them.
 layout(std430, binding = 15) buffer StaticRanges { LeafRange staticRanges[]; };
 layout(binding = 16, rg32ui) uniform uimageBuffer staticLinks[kTexelParts];  // LeafLink
@@ -185,9 +185,9 @@ void growInto(uint b) {
   if ((mask[b >> 5] & bit) == 0u && staticEntryOf(b) >= 0) atomicOr(grown[b >> 5], bit);
 }
 
-void insert(uint slot, uint b, uint64_t key, float omega) {
+void insert(uint slot, uint b, uint64_t key, float omega, bool covers) {
   if (minBin(slot, b, key) == kEmptyVisibility) atomicOr(mask[b >> 5], 1u << (b & 31u));
-  addCoverage(slot, b, uint(min(omega / imageLoad(binTable, int(b)).w, 1.0) * float(kCoverageUnit) + 0.5));
+  if (covers) addCoverage(slot, b, uint(min(omega / imageLoad(binTable, int(b)).w, 1.0) * float(kCoverageUnit) + 0.5));
 }
 
 // Files a solid angle ω seen along d as a rectangular footprint of the same solid angle on the cube
@@ -199,7 +199,7 @@ void insert(uint slot, uint b, uint64_t key, float omega) {
 // ranks behind every core. A footprint at most one bin wide overlaps two bins from the one under
 // its lower edge, so that the lanes of a subgroup walk loops of the same length (a CPU device runs a
 // subgroup's loop as long as its longest lane); wider footprints walk their own range.
-void insertFootprint(uint slot, vec3 d, uint64_t key, float omega, vec3 sideA, vec3 sideB) {
+void insertFootprint(uint slot, vec3 d, uint64_t key, float omega, vec3 sideA, vec3 sideB, bool covers) {
   vec2 at;
   uint face = binFace(d, kN, at);
   vec2 uv = at / (0.5 * float(kN)) - 1.0;
@@ -231,7 +231,7 @@ void insertFootprint(uint slot, vec3 d, uint64_t key, float omega, vec3 sideA, v
       bool core = covered >= 0.5 || all(equal(centre, ivec2(x, y)));
       if (covered > 0.0 || side <= 0.0)
         insert(slot, binOfCell(face, ivec2(x, y), kN), core ? key : key | kFringeKey,
-               side > 0.0 ? omega * covered * norm : omega);
+               side > 0.0 ? omega * covered * norm : omega, covers);
     }
 }
 
@@ -291,12 +291,24 @@ bool pieceOf(vec3 n, uint s, vec4 normalCone, View v, uint index, out Piece piec
   return true;
 }
 
+// Whether sender s, seen along d, adds to the coverage of the bins it is filed into (it takes part
+// in the nearest key either way). On a closed surface the faces turned away from the receiver lie
+// behind faces turned toward it in the same directions: counted too, they would cover a
+// silhouette's bins twice over, darkening what is seen past it (the sky between an engine's parts)
+// and standing the nearest sender for more of the bin than its object covers. An open surface's back
+// still covers: nothing else may stand in front of it.
+bool covers(uint s, vec4 normalCone, vec3 d) {
+  return normalCone.w >= 0.5 * kPi || dot(normalCone.xyz, d) <= 0.0 ||
+         (imageLoad(nodeFlags, int(s)).x & kNodeClosed) == 0u;
+}
+
 // Piece `index`, filed along its own direction with its own solid angle: the footprints follow the
 // sender's outline, and a coincident sender on a hard edge is seen through its off-centre pieces.
 void filePiece(uint slot, vec3 n, uint s, vec4 normalCone, View v, uint index) {
   Piece piece;
   if (pieceOf(n, s, normalCone, v, index, piece))
-    insertFootprint(slot, piece.q, packLinkKey(v.dist2, s, false), piece.omega, piece.sideA, piece.sideB);
+    insertFootprint(slot, piece.q, packLinkKey(v.dist2, s, false), piece.omega, piece.sideA, piece.sideB,
+                    covers(s, normalCone, v.d));
 }
 
 // Files one sender of the leaf's root path (`marked`: its node, kEmitterBit if it emits), seen from
@@ -320,7 +332,7 @@ void fileSender(uint slot, uint leaf, vec3 p, vec3 n, float area, uint marked) {
   if (v.k == 1u) {
     vec3 sideA, sideB;
     senderSides(s, normalCone, sideA, sideB);
-    insertFootprint(slot, v.d, packLinkKey(v.dist2, s, false), v.omega, sideA, sideB);
+    insertFootprint(slot, v.d, packLinkKey(v.dist2, s, false), v.omega, sideA, sideB, covers(s, normalCone, v.d));
   } else {
     wideQueue[atomicAdd(wideCount, 1u)] = s;  // at most one per sender of the chunk
   }
@@ -434,7 +446,8 @@ void main() {
   }
   for (uint item = push.firstSurfel + groupIndex(); item < end; item += groups) {
     const uint surfel = push.listed != 0u ? imageLoad(receivers, int(listStart + item)).x : item;
-    bool moves = imageLoad(leafMoves, int(surfel)).x != 0u;
+    uint leaf = imageLoad(leafOfSurfel, int(surfel)).x;
+    bool moves = (imageLoad(nodeFlags, int(leaf)).x & kNodeMoves) != 0u;
     if (kStaticPass && moves) {  // pruned every frame instead
       if (lid == 0u) staticRanges[surfel] = LeafRange(0u, 0u);
       continue;
@@ -442,7 +455,6 @@ void main() {
     merging = !kStaticPass && !moves;
     staticFirst = merging ? staticRanges[surfel].first : 0u;
     maskBase = surfel * kMaskWords;
-    uint leaf = imageLoad(leafOfSurfel, int(surfel)).x;
     vec4 receiver = nodePositionArea(leaf);
     vec3 p = receiver.xyz, n = nodeNormalCone(leaf).xyz;
     float area = receiver.w;

@@ -342,6 +342,55 @@ TEST(MovingInstances, OnlyWhatTheAnimationReaches) {
   EXPECT_EQ(std::count(morphing.begin(), morphing.end(), true), long(cg.instances.size()));
 }
 
+// Which instances enclose a volume: a box, also where its faces are meshed apart (T-junctions along
+// its edges) or tessellated, and two coincident squares back to back; not a box without its lid,
+// nor a lone square.
+TEST(ClosedInstances, HolesNotCracks) {
+  scenes::GltfBuilder b;
+  const int grey = b.material("grey", glm::vec3(0.5f));
+  scenes::MeshData box, crackedBox, lidless, square, backToBack;
+  scenes::addBox(box, {0, 0, 0}, glm::vec3(0.5f), 3);
+  // Each face of this box is meshed at its own resolution: no vertex of an edge's shorter side is
+  // on the other.
+  const glm::vec3 c(3, 0, 0);
+  const float h = 0.5f;
+  auto face = [&](scenes::MeshData& m, glm::vec3 p0, glm::vec3 p1, glm::vec3 p2, glm::vec3 p3, int cells) {
+    scenes::addQuad(m, c + p0, c + p1, c + p2, c + p3, cells, cells, c + 4.0f * (p0 + p1 + p2 + p3));
+  };
+  face(crackedBox, {-h, -h, -h}, {h, -h, -h}, {h, -h, h}, {-h, -h, h}, 1);  // bottom
+  face(crackedBox, {-h, h, -h}, {h, h, -h}, {h, h, h}, {-h, h, h}, 2);      // top
+  face(crackedBox, {-h, -h, -h}, {h, -h, -h}, {h, h, -h}, {-h, h, -h}, 4);  // back
+  face(crackedBox, {-h, -h, h}, {h, -h, h}, {h, h, h}, {-h, h, h}, 8);      // front
+  face(crackedBox, {-h, -h, -h}, {-h, -h, h}, {-h, h, h}, {-h, h, -h}, 3);  // left
+  face(crackedBox, {h, -h, -h}, {h, -h, h}, {h, h, h}, {h, h, -h}, 5);      // right
+  for (const auto& f :
+       std::vector<std::array<glm::vec3, 4>>{{glm::vec3(-h, -h, -h), {h, -h, -h}, {h, -h, h}, {-h, -h, h}},
+                                             {glm::vec3(-h, -h, -h), {h, -h, -h}, {h, h, -h}, {-h, h, -h}},
+                                             {glm::vec3(-h, -h, h), {h, -h, h}, {h, h, h}, {-h, h, h}},
+                                             {glm::vec3(-h, -h, -h), {-h, -h, h}, {-h, h, h}, {-h, h, -h}},
+                                             {glm::vec3(h, -h, -h), {h, -h, h}, {h, h, h}, {h, h, -h}}})
+    scenes::addQuad(lidless, f[0] + glm::vec3(6, 0, 0), f[1] + glm::vec3(6, 0, 0), f[2] + glm::vec3(6, 0, 0),
+                    f[3] + glm::vec3(6, 0, 0), 2, 2, glm::vec3(6, 0, 0) + 4.0f * (f[0] + f[1] + f[2] + f[3]));
+  scenes::addQuad(square, {9, 0, 0}, {10, 0, 0}, {10, 0, 1}, {9, 0, 1}, 2, 2, {9.5f, 1, 0.5f});
+  scenes::addQuad(backToBack, {12, 0, 0}, {13, 0, 0}, {13, 0, 1}, {12, 0, 1}, 2, 2, {12.5f, 1, 0.5f});
+  scenes::addQuad(backToBack, {12, 0, 0}, {13, 0, 0}, {13, 0, 1}, {12, 0, 1}, 2, 2, {12.5f, -1, 0.5f});
+  const std::vector<std::pair<std::string, scenes::MeshData>> parts = {{"box", box},
+                                                                       {"cracked box", crackedBox},
+                                                                       {"lidless box", lidless},
+                                                                       {"square", square},
+                                                                       {"back to back", backToBack}};
+  const std::vector<bool> expected = {true, true, false, false, true};
+  for (const auto& [name, mesh] : parts) b.node(name, b.mesh(name, {{mesh, grey}}));
+  const Scene s = sceneFromModel(b.finish(), "closed");
+  for (uint32_t tessellation : {0u, 16u}) {
+    const Geometry g = buildGeometry(s, tessellation);
+    const std::vector<bool> closed = closedInstances(g);
+    ASSERT_EQ(closed.size(), parts.size());
+    for (size_t i = 0; i < parts.size(); ++i)
+      EXPECT_EQ(closed[i], expected[i]) << parts[i].first << ", tessellation " << tessellation;
+  }
+}
+
 // Seen from inside the closed furnace, every sample hits a wall, and each wall's triangles reach
 // past the near plane, so that their screen bounds are the whole image. At 3840×2160 samples a
 // workgroup walking such bounds alone would run out of lavapipe's loop budget (common.glsl) and

@@ -569,3 +569,75 @@ TEST(IvMemory, LeafLinksPastOneTexelView) {
     EXPECT_NE(std::string(e.what()).find("--bins"), std::string::npos) << e.what();
   }
 }
+
+namespace {
+
+// A ground 3 m square (ρ 0.5) under a uniform white sky and, when `cube`, a black closed cube 0.2 m
+// wide whose bottom face is 1 m above the ground's centre. Per ground surfel: its position and
+// radiosity.
+std::vector<std::pair<glm::vec3, double>> groundUnderTheSky(bool cube) {
+  scenes::GltfBuilder b;
+  int grey = b.material("ground", glm::vec3(0.5f)), black = b.material("cube", glm::vec3(0.0f));
+  scenes::MeshData ground, box;
+  scenes::addQuad(ground, {-1.5f, 0, -1.5f}, {1.5f, 0, -1.5f}, {1.5f, 0, 1.5f}, {-1.5f, 0, 1.5f}, 16, 16, {0, 1, 0});
+  scenes::addBox(box, {0, 1.1f, 0}, glm::vec3(0.1f), 2);
+  std::vector<std::pair<scenes::MeshData, int>> parts = {{ground, grey}};
+  if (cube) parts.push_back({box, black});
+  b.node("scene", b.mesh("scene", parts));
+  tinygltf::Model model = b.finish();
+  Solved solved =
+      solve(model, {.bins = 16, .epsilon = 0.02f, .bounces = 0, .environment = scene::Environment::parse("1,1,1")});
+  scene::Scene s = scene::sceneFromModel(model, "test");
+  scene::Geometry g = scene::buildGeometry(s);
+  auto surfels = scene::surfelsOnHost(g, scene::animateOnHost(g, g.frameInputs(s, scene::evaluatePose(s, -1, 0))));
+  std::vector<std::pair<glm::vec3, double>> out;
+  for (size_t i = 0; i < surfels.size(); ++i)
+    if (std::abs(surfels[i].positionArea.y) < 1e-4f && surfels[i].normal.y > 0.9f)
+      out.push_back({glm::vec3(surfels[i].positionArea), solved.radiosity[i].x});
+  return out;
+}
+
+}  // namespace
+
+// A closed cube hides the sky by the faces turned toward the ground; those turned away lie behind
+// them. So the sky it takes away from a ground point is the sum of the form factors of its faces
+// turned toward the point (convex: they do not overlap), by midpoint quadrature. Counting the faces
+// turned away as covering too, the bins along the cube's silhouette came out covered twice over: the
+// shadow of a small object under the sky too dark.
+TEST(IvEnvironment, AClosedObjectHidesTheSkyOnce) {
+  auto open = groundUnderTheSky(false), covered = groundUnderTheSky(true);
+  ASSERT_EQ(open.size(), covered.size());
+  const double pi = 3.14159265358979;
+  // The form factor from ground point p (facing up) to the cube's faces turned toward it.
+  auto cubeFormFactor = [&](glm::dvec3 p) {
+    const glm::dvec3 centre(0.0, 1.1, 0.0);
+    const double half = 0.1;
+    const int k = 48;
+    double f = 0;
+    for (int axis = 0; axis < 3; ++axis)
+      for (double side : {-1.0, 1.0}) {
+        glm::dvec3 n(0.0), u(0.0), v(0.0);
+        n[axis] = side, u[(axis + 1) % 3] = 2 * half, v[(axis + 2) % 3] = 2 * half;
+        const glm::dvec3 corner = centre + half * n - 0.5 * (u + v);
+        if (glm::dot(n, p - (centre + half * n)) <= 0.0) continue;  // turned away from p
+        for (int i = 0; i < k; ++i)
+          for (int j = 0; j < k; ++j) {
+            const glm::dvec3 d = corner + (i + 0.5) / k * u + (j + 0.5) / k * v - p;
+            const double d2 = glm::dot(d, d);
+            f += std::max(d.y, 0.0) * glm::dot(-n, d) / (pi * d2 * d2) * 4 * half * half / (k * k);
+          }
+      }
+    return f;
+  };
+  double hidden = 0, expected = 0;
+  int counted = 0;
+  for (size_t i = 0; i < open.size(); ++i) {
+    const glm::dvec3 p(covered[i].first);
+    if (std::abs(p.x) > 0.6 || std::abs(p.z) > 0.6) continue;
+    hidden += 1.0 - covered[i].second / open[i].second, expected += cubeFormFactor(p), ++counted;
+  }
+  std::printf("[ sky ] %d ground surfels below a closed cube: sky hidden %.5f, its faces' form factor %.5f\n", counted,
+              hidden / counted, expected / counted);
+  ASSERT_GE(counted, 9);
+  EXPECT_NEAR(hidden / expected, 1.0, 0.05);
+}

@@ -319,4 +319,65 @@ std::vector<bool> movingInstances(const Scene& scene, const Geometry& g, int ani
   return moves;
 }
 
+std::vector<bool> closedInstances(const Geometry& g) {
+  // Vertices welded by their exact rest position.
+  struct PositionHash {
+    size_t operator()(const glm::vec3& p) const {
+      uint32_t bits[3];
+      std::memcpy(bits, &p, sizeof(bits));
+      return (size_t(bits[0]) * 73856093u) ^ (size_t(bits[1]) * 19349663u) ^ (size_t(bits[2]) * 83492791u);
+    }
+  };
+  std::unordered_map<glm::vec3, uint32_t, PositionHash> welded;
+  std::vector<uint32_t> weld(g.vertices.size());
+  std::vector<glm::vec3> positions;
+  for (size_t v = 0; v < g.vertices.size(); ++v) {
+    const glm::vec3 p = g.vertices[v].position + glm::vec3(0.0f);  // −0 as +0
+    auto [at, added] = welded.try_emplace(p, uint32_t(positions.size()));
+    if (added) positions.push_back(p);
+    weld[v] = at->second;
+  }
+  // Per instance and edge (a < b): how often it is crossed from a to b, less from b to a; and the
+  // instance's area.
+  std::vector<std::unordered_map<uint64_t, int>> balance(g.instances.size());
+  std::vector<double> area(g.instances.size(), 0.0);
+  for (const Triangle& t : g.triangles) {
+    const uint32_t w[3] = {weld[t.v0], weld[t.v1], weld[t.v2]};
+    if (w[0] == w[1] || w[1] == w[2] || w[2] == w[0]) continue;
+    const uint32_t instance = g.vertices[t.v0].instance;
+    area[instance] +=
+        0.5 * glm::length(glm::cross(positions[w[1]] - positions[w[0]], positions[w[2]] - positions[w[0]]));
+    for (int e = 0; e < 3; ++e) {
+      const uint32_t a = w[e], b = w[(e + 1) % 3];
+      balance[instance][uint64_t(std::min(a, b)) << 32 | std::max(a, b)] += a < b ? 1 : -1;
+    }
+  }
+  // The edges left unbalanced bound holes. Where one side's edge meets several on the other (a
+  // T-junction of a tessellation, a crack between a CAD export's faces meshed apart), the loop they
+  // form encloses next to no area; a hole encloses its own. So: closed where the vector areas of the
+  // unbalanced edges' connected pieces add up to a negligible part of the instance's area.
+  std::vector<uint32_t> parent(positions.size());
+  std::function<uint32_t(uint32_t)> find = [&](uint32_t v) { return parent[v] == v ? v : parent[v] = find(parent[v]); };
+  std::vector<bool> closed(g.instances.size(), false);
+  for (size_t i = 0; i < balance.size(); ++i) {
+    if (balance[i].empty()) continue;
+    for (const auto& [edge, count] : balance[i])
+      if (count != 0) parent[uint32_t(edge >> 32)] = uint32_t(edge >> 32), parent[uint32_t(edge)] = uint32_t(edge);
+    for (const auto& [edge, count] : balance[i])
+      if (count != 0) parent[find(uint32_t(edge >> 32))] = find(uint32_t(edge));
+    std::unordered_map<uint32_t, glm::dvec3> holes;  // by piece: its vector area about its root vertex
+    for (const auto& [edge, count] : balance[i]) {
+      if (count == 0) continue;
+      const uint32_t root = find(uint32_t(edge));
+      const glm::dvec3 o(positions[root]), a = glm::dvec3(positions[uint32_t(edge >> 32)]) - o,
+                                           b = glm::dvec3(positions[uint32_t(edge)]) - o;
+      holes[root] += 0.5 * double(count) * glm::cross(a, b);
+    }
+    double holeArea = 0.0;
+    for (const auto& [root, vectorArea] : holes) holeArea += glm::length(vectorArea);
+    closed[i] = holeArea <= 1e-3 * area[i];
+  }
+  return closed;
+}
+
 }  // namespace ivgi::scene

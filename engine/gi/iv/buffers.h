@@ -8,10 +8,11 @@
 namespace ivgi::gi {
 
 struct IvBuffers {
-  // The scene, uploaded once: the trees, which surfels are leaves and which move, their albedo and
-  // emission, the table of bins (unit centre direction, solid angle), the environment per bin, the
-  // frame's punctual lights.
-  vk::Buffer tree, leafOfSurfel, leafMoves, albedo, emission, binTable, environment, lights;
+  // The scene, uploaded once: the trees, which surfels are leaves, per node whether it moves and
+  // whether its surface is closed (gpu::kNodeMoves, kNodeClosed), the surfels' albedo and emission,
+  // the table of bins (unit centre direction, solid angle), the environment per bin, the frame's
+  // punctual lights.
+  vk::Buffer tree, leafOfSurfel, nodeFlags, albedo, emission, binTable, environment, lights;
   // Per frame: node attributes (refit), emitted radiosity π·Le per node (pulled up), radiosity per
   // node (bounces read one and write the other),
   // irradiance per surfel, and per surfel the irradiance from lights and the environment.
@@ -42,7 +43,7 @@ struct IvBuffers {
   vk::Bindings pool() const {
     return vk::Bindings::pool({{"tree", tree},
                                {"leafOfSurfel", leafOfSurfel},
-                               {"leafMoves", leafMoves},
+                               {"nodeFlags", nodeFlags},
                                {"albedo", albedo},
                                {"emission", emission},
                                {"binTable", binTable},

@@ -59,15 +59,18 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, IvSetup set
   const bool split = mixesStaticAndMoving(setup_.objectMoves, h.roots.size()) &&
                      maskWords * sizeof(glm::uvec2) <= ctx.limits().maxStorageBufferRange;
   assignRootPairs(h, setup_.objectMoves, split, staticSet_, frameSet_);
-  std::vector<uint32_t> leafMoves(surfelCount_, 1u);
-  if (split) {  // a node moves with its root; parents are numbered before their children
-    std::vector<bool> nodeMoves(nodeCount_, false);
-    for (size_t r = 0; r < h.roots.size(); ++r) nodeMoves[h.roots[r]] = moves(r);
-    for (uint32_t node = 0; node < nodeCount_; ++node)
-      if (h.nodes[node].parent >= 0) nodeMoves[node] = nodeMoves[uint32_t(h.nodes[node].parent)];
-    for (uint32_t s = 0; s < surfelCount_; ++s) leafMoves[s] = nodeMoves[h.leafOfSurfel[s]] ? 1u : 0u;
-  }
-  uploadScene(g, leafMoves, split, maskWords);
+  // Per node: whether it moves (with its root; without the split every object counts as moving) and
+  // whether its object's surface is closed. Parents are numbered before their children.
+  const std::vector<bool> closed = scene::closedInstances(g);
+  std::vector<uint32_t> nodeFlags(nodeCount_, 0u);
+  for (size_t r = 0; r < h.roots.size(); ++r)
+    nodeFlags[h.roots[r]] =
+        (!split || moves(r) ? gpu::kNodeMoves : 0u) | (closed[h.rootInstance[r]] ? gpu::kNodeClosed : 0u);
+  for (uint32_t node = 0; node < nodeCount_; ++node)
+    if (h.nodes[node].parent >= 0) nodeFlags[node] = nodeFlags[uint32_t(h.nodes[node].parent)];
+  std::vector<uint32_t> leafMoves(surfelCount_);
+  for (uint32_t s = 0; s < surfelCount_; ++s) leafMoves[s] = nodeFlags[h.leafOfSurfel[s]] & gpu::kNodeMoves;
+  uploadScene(g, nodeFlags, split, maskWords);
   prune_.allocateBins(b_, allocations_);
   ctx.submitAndWait([&](VkCommandBuffer cmd) {
     vkCmdFillBuffer(cmd, b_.staticRanges.handle(), 0, VK_WHOLE_SIZE, 0u);
@@ -83,7 +86,7 @@ void IvSolver::readLeafLinkViews() {
   bounces_.readTexelViews(views);
 }
 
-void IvSolver::uploadScene(const scene::Geometry& g, const std::vector<uint32_t>& leafMoves, bool split,
+void IvSolver::uploadScene(const scene::Geometry& g, const std::vector<uint32_t>& nodeFlags, bool split,
                            uint64_t maskWords) {
   const vk::Context& ctx = ctx_;
   vk::Allocations* tally = &allocations_;
@@ -91,7 +94,7 @@ void IvSolver::uploadScene(const scene::Geometry& g, const std::vector<uint32_t>
   const uint32_t n = settings_.bins;
   b_.tree = vk::makeBuffer(ctx, h.nodes, vk::Memory::Device, tally);
   b_.leafOfSurfel = vk::makeBuffer(ctx, h.leafOfSurfel, vk::Memory::Device, tally);
-  b_.leafMoves = vk::makeBuffer(ctx, leafMoves, vk::Memory::Device, tally);
+  b_.nodeFlags = vk::makeBuffer(ctx, nodeFlags, vk::Memory::Device, tally);
   b_.albedo = vk::makeBuffer(ctx, g.surfelAlbedo, vk::Memory::Device, tally);
   b_.emission = vk::makeBuffer(ctx, g.surfelEmission, vk::Memory::Device, tally);
   b_.binTable = vk::makeBuffer(ctx, binVectorTable(n), vk::Memory::Device, tally);

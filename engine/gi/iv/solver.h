@@ -75,7 +75,7 @@ class IvSolver final : public Solver {
   bool splitsStatic() const { return !staticSet_.empty(); }
   // Makes the passes that read the leaf links for the texel views their room is bound in.
   void readLeafLinkViews();
-  void uploadScene(const scene::Geometry& g, const std::vector<uint32_t>& leafMoves, bool split, uint64_t maskWords);
+  void uploadScene(const scene::Geometry& g, const std::vector<uint32_t>& nodeFlags, bool split, uint64_t maskWords);
   // The frame's receivers, pruned as they are chosen (by their direct light and where their
   // surroundings are near), and the interpolation to every surfel.
   void recordReceivers(VkCommandBuffer cmd, vk::PassTimer& timer);
