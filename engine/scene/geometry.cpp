@@ -357,7 +357,10 @@ std::vector<bool> closedInstances(const Geometry& g) {
   // form encloses next to no area; a hole encloses its own. So: closed where the vector areas of the
   // unbalanced edges' connected pieces add up to a negligible part of the instance's area.
   std::vector<uint32_t> parent(positions.size());
-  std::function<uint32_t(uint32_t)> find = [&](uint32_t v) { return parent[v] == v ? v : parent[v] = find(parent[v]); };
+  auto find = [&](uint32_t v) {  // the root of v's piece, halving the path on the way
+    while (parent[v] != v) v = parent[v] = parent[parent[v]];
+    return v;
+  };
   std::vector<bool> closed(g.instances.size(), false);
   for (size_t i = 0; i < balance.size(); ++i) {
     if (balance[i].empty()) continue;
