@@ -173,6 +173,11 @@ TEST(Info, PrintsTheFigures) {
   for (const char* key : {"meshes", "triangles", "surfels", "animations", "block moves", "2.000 s", "cameras",
                           "Cornell camera", "39.31 deg", "lights", "bounds", "warnings"})
     EXPECT_NE(r.out.find(key), std::string::npos) << key << " missing from:\n" << r.out;
+  // The Cornell box's room is open at the front and its blocks at the bottom; the furnace is a closed cube.
+  EXPECT_NE(r.out.find("closed       0 of 6 drawn instances"), std::string::npos) << r.out;
+  auto furnace = test::runIvgi({"info", "furnace", "--cells", "2"});
+  ASSERT_EQ(furnace.status, 0) << furnace.err;
+  EXPECT_NE(furnace.out.find("closed       1 of 1 drawn instances"), std::string::npos) << furnace.out;
 }
 
 TEST(Devices, ChosenByIndexNameOrEnvironment) {

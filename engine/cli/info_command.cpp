@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cstdio>
 
 #include "engine/cli/commands.h"
@@ -41,6 +42,9 @@ int runInfo(const InfoOptions& o) {
   std::printf("vertices     %zu\n", g.vertices.size());
   std::printf("triangles    %zu (%u degenerate, excluded)\n", g.triangles.size(), g.degenerateTriangles);
   std::printf("surfels      %zu\n", g.surfels.size());
+  const std::vector<bool> closed = scene::closedInstances(g);
+  std::printf("closed       %zu of %zu drawn instances enclose a volume\n",
+              size_t(std::count(closed.begin(), closed.end(), true)), closed.size());
   if (sampledTessellation(solver) > 0) {
     const scene::Geometry sampled = renderableGeometry(s, solver);
     std::printf("tessellated  %zu triangles, %zu surfels (%s, --tessellate %u)\n", sampled.triangles.size(),
