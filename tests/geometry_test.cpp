@@ -350,27 +350,23 @@ TEST(ClosedInstances, HolesNotCracks) {
   const int grey = b.material("grey", glm::vec3(0.5f));
   scenes::MeshData box, crackedBox, lidless, square, backToBack;
   scenes::addBox(box, {0, 0, 0}, glm::vec3(0.5f), 3);
-  // Each face of this box is meshed at its own resolution: no vertex of an edge's shorter side is
-  // on the other.
-  const glm::vec3 c(3, 0, 0);
+  // The six faces of a unit box, corners in order around each, and the cells each is meshed at in the
+  // cracked box: no vertex of an edge's shorter side is on the other. Faces are turned outward.
   const float h = 0.5f;
-  auto face = [&](scenes::MeshData& m, glm::vec3 p0, glm::vec3 p1, glm::vec3 p2, glm::vec3 p3, int cells) {
-    scenes::addQuad(m, c + p0, c + p1, c + p2, c + p3, cells, cells, c + 4.0f * (p0 + p1 + p2 + p3));
+  const std::array<std::array<glm::vec3, 4>, 6> faces = {{{glm::vec3(-h, -h, -h), {h, -h, -h}, {h, -h, h}, {-h, -h, h}},
+                                                          {glm::vec3(-h, h, -h), {h, h, -h}, {h, h, h}, {-h, h, h}},
+                                                          {glm::vec3(-h, -h, -h), {h, -h, -h}, {h, h, -h}, {-h, h, -h}},
+                                                          {glm::vec3(-h, -h, h), {h, -h, h}, {h, h, h}, {-h, h, h}},
+                                                          {glm::vec3(-h, -h, -h), {-h, -h, h}, {-h, h, h}, {-h, h, -h}},
+                                                          {glm::vec3(h, -h, -h), {h, -h, h}, {h, h, h}, {h, h, -h}}}};
+  const std::array<int, 6> crackedCells = {1, 2, 4, 8, 3, 5};
+  auto addFace = [](scenes::MeshData& m, const std::array<glm::vec3, 4>& f, glm::vec3 at, int cells) {
+    scenes::addQuad(m, at + f[0], at + f[1], at + f[2], at + f[3], cells, cells, at + (f[0] + f[1] + f[2] + f[3]));
   };
-  face(crackedBox, {-h, -h, -h}, {h, -h, -h}, {h, -h, h}, {-h, -h, h}, 1);  // bottom
-  face(crackedBox, {-h, h, -h}, {h, h, -h}, {h, h, h}, {-h, h, h}, 2);      // top
-  face(crackedBox, {-h, -h, -h}, {h, -h, -h}, {h, h, -h}, {-h, h, -h}, 4);  // back
-  face(crackedBox, {-h, -h, h}, {h, -h, h}, {h, h, h}, {-h, h, h}, 8);      // front
-  face(crackedBox, {-h, -h, -h}, {-h, -h, h}, {-h, h, h}, {-h, h, -h}, 3);  // left
-  face(crackedBox, {h, -h, -h}, {h, -h, h}, {h, h, h}, {h, h, -h}, 5);      // right
-  for (const auto& f :
-       std::vector<std::array<glm::vec3, 4>>{{glm::vec3(-h, -h, -h), {h, -h, -h}, {h, -h, h}, {-h, -h, h}},
-                                             {glm::vec3(-h, -h, -h), {h, -h, -h}, {h, h, -h}, {-h, h, -h}},
-                                             {glm::vec3(-h, -h, h), {h, -h, h}, {h, h, h}, {-h, h, h}},
-                                             {glm::vec3(-h, -h, -h), {-h, -h, h}, {-h, h, h}, {-h, h, -h}},
-                                             {glm::vec3(h, -h, -h), {h, -h, h}, {h, h, h}, {h, h, -h}}})
-    scenes::addQuad(lidless, f[0] + glm::vec3(6, 0, 0), f[1] + glm::vec3(6, 0, 0), f[2] + glm::vec3(6, 0, 0),
-                    f[3] + glm::vec3(6, 0, 0), 2, 2, glm::vec3(6, 0, 0) + 4.0f * (f[0] + f[1] + f[2] + f[3]));
+  for (size_t i = 0; i < faces.size(); ++i) {
+    addFace(crackedBox, faces[i], {3, 0, 0}, crackedCells[i]);
+    if (i != 1) addFace(lidless, faces[i], {6, 0, 0}, 2);  // all but the top
+  }
   scenes::addQuad(square, {9, 0, 0}, {10, 0, 0}, {10, 0, 1}, {9, 0, 1}, 2, 2, {9.5f, 1, 0.5f});
   scenes::addQuad(backToBack, {12, 0, 0}, {13, 0, 0}, {13, 0, 1}, {12, 0, 1}, 2, 2, {12.5f, 1, 0.5f});
   scenes::addQuad(backToBack, {12, 0, 0}, {13, 0, 0}, {13, 0, 1}, {12, 0, 1}, 2, 2, {12.5f, -1, 0.5f});
