@@ -192,6 +192,43 @@ TEST(IvOcclusion, PartialBlockerShadesPartly) {
   EXPECT_LT(partial / open, 0.95);
 }
 
+// A box resting a centimetre above the floor, under a lamp 20 m up: the floor beneath it gets no
+// direct light. The lamp's bins there hold the box's underside, whose plane separates floor and
+// lamp by a centimetre on the floor's side; an allowance scaled by the lamp's distance (2 cm) took
+// the floor for lying in that plane, and lit the floor under objects resting on it. (The box's
+// surfels are a centimetre wide: a surface much nearer than its surfels are wide covers too little
+// of the view above, docs/notes/iv-accuracy-history.md.)
+TEST(IvOcclusion, AnObjectRestingOnTheFloorShadesTheFloorBeneath) {
+  scenes::GltfBuilder b;
+  scenes::MeshData floor, lamp, box;
+  scenes::addQuad(floor, {-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}, 32, 32, {0, 1, 0});
+  scenes::addQuad(lamp, {-1, 20, -1}, {1, 20, -1}, {1, 20, 1}, {-1, 20, 1}, 1, 1, {0, 0, 0});
+  scenes::addBox(box, {0, 0.015f, 0}, {0.2f, 0.005f, 0.2f}, 40);
+  const int grey = b.material("grey", glm::vec3(0.5f)), light = b.material("light", glm::vec3(0), glm::vec3(50));
+  b.node("room", b.mesh("room", {{floor, grey}, {box, grey}, {lamp, light}}));
+  const tinygltf::Model model = b.finish();
+  Solved solved = solve(model, {.bins = 16, .epsilon = 0.02f, .bounces = 0});
+  scene::Scene s = scene::sceneFromModel(model, "test");
+  scene::Geometry g = scene::buildGeometry(s);
+  auto surfels = scene::surfelsOnHost(g, scene::animateOnHost(g, g.frameInputs(s, scene::evaluatePose(s, -1, 0))));
+  ASSERT_EQ(surfels.size(), solved.radiosity.size());
+  double beneath = 0, open = 0;
+  int beneathCount = 0, openCount = 0;
+  for (size_t i = 0; i < surfels.size(); ++i) {
+    const glm::vec4 p = surfels[i].positionArea;
+    if (std::abs(p.y) > 1e-4f) continue;  // not the floor
+    const float reach = std::max(std::abs(p.x), std::abs(p.z));
+    if (reach < 0.1f) beneath = std::max(beneath, double(solved.radiosity[i].x)), ++beneathCount;
+    if (reach > 0.6f) open += solved.radiosity[i].x, ++openCount;
+  }
+  open /= std::max(openCount, 1);
+  std::printf("[ occlusion ] floor beneath a box resting on it: %d surfels, most %.3g; open floor %.3g\n", beneathCount,
+              beneath, open);
+  ASSERT_GE(beneathCount, 9);
+  EXPECT_GT(open, 0.1);
+  EXPECT_LE(beneath, 1e-3 * open) << "the lamp's light leaks under the box";
+}
+
 // Prune files a near sender as pieces of its node's rectangle (refit.comp): the rectangle with the
 // second moments of the node's area. A 0.8 m × 0.2 m plane turned 30° about its normal must come out
 // as itself at the root: half-extents 0.4 and 0.1 along the plane's own sides.
