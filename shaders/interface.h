@@ -135,10 +135,11 @@ struct LeafLink {
   uint formFactorBits;
 };
 IVGI_CONST uint kEmitterBit = 0x80000000u;  // on a sender in a receiver's list: it emits
-// Per node, for the prune: it moves (its object may move: pruned every frame), and its object's
-// surface is closed (scene::closedInstances).
+// Per node, for the prune: it moves (its object may move: pruned every frame), its object's
+// surface is closed (scene::closedInstances), and above kNodeRootShift its object's root node.
 IVGI_CONST uint kNodeMoves = 1u;
 IVGI_CONST uint kNodeClosed = 2u;
+IVGI_CONST uint kNodeRootShift = 2u;
 // Arrays that can outgrow one texel view (the leaf links grow with the bins squared) are bound as
 // kTexelParts views of one buffer, each 2^texelPartBits texels (shaders/parted_texels.glsl, which
 // names each view). Two: the prune binds four such arrays, and a push-descriptor layout holds at

@@ -51,7 +51,7 @@ layout(std430, binding = 10) writeonly buffer ExternalLight { vec4 externalLight
 layout(std430, binding = 11) readonly buffer Lights { PunctualLight lights[]; };
 layout(binding = 12, rgba32f) readonly uniform imageBuffer environment;  // radiance per bin
 layout(std430, binding = 13) buffer GlobalCoverage { uint globalCoverage[]; };
-layout(binding = 14, r32ui) readonly uniform uimageBuffer nodeFlags;  // per node: kNodeMoves, kNodeClosed
+layout(binding = 14, r32ui) readonly uniform uimageBuffer nodeFlags;  // per node: kNodeMoves, kNodeClosed, root
 // The static pass writes these; the frame pass reads them.
 layout(std430, binding = 15) buffer StaticRanges { LeafRange staticRanges[]; };
 layout(binding = 16, rg32ui) uniform uimageBuffer staticLinks[kTexelParts];  // LeafLink
@@ -291,24 +291,31 @@ bool pieceOf(vec3 n, uint s, vec4 normalCone, View v, uint index, out Piece piec
   return true;
 }
 
-// Whether sender s, seen along d, adds to the coverage of the bins it is filed into (it takes part
-// in the nearest key either way). On a closed surface the faces turned away from the receiver lie
-// behind faces turned toward it in the same directions: counted too, they would cover a
-// silhouette's bins twice over, darkening what is seen past it (the sky between an engine's parts)
-// and standing the nearest sender for more of the bin than its object covers. An open surface's back
-// still covers: nothing else may stand in front of it.
-bool covers(uint s, vec4 normalCone, vec3 d) {
-  return normalCone.w >= 0.5 * kPi || dot(normalCone.xyz, d) <= 0.0 ||
-         (imageLoad(nodeFlags, int(s)).x & kNodeClosed) == 0u;
+// Sender s's key in the bins it is filed into, seen from the receiver (View v), and whether it adds
+// to their coverage. On a closed surface the faces turned away from the receiver lie behind faces
+// turned toward it in the same directions. So they add no coverage: counted, they covered a
+// silhouette's bins twice over, darkening what is seen past it (the sky between an engine's parts).
+// And they rank as if at the far side of their object (its diameter further): by its centre a face
+// behind is often nearer than the face in front of it (across a thin part, or a finely meshed back
+// behind a coarse front), and won bins to send nothing. Where the faces in front leave a bin empty
+// (a receiver just under the object), the face behind still stands for its object there, at the
+// distance of that far side. An open
+// surface's back covers and ranks like a front: nothing else may stand in front of it.
+uint64_t senderKey(uint s, vec4 normalCone, View v, out bool covers) {
+  uint flags = imageLoad(nodeFlags, int(s)).x;
+  covers = normalCone.w >= 0.5 * kPi || dot(normalCone.xyz, v.d) <= 0.0 || (flags & kNodeClosed) == 0u;
+  float farSide = sqrt(v.dist2) + 2.0 * nodeRadius(flags >> kNodeRootShift);
+  return packLinkKey(covers ? v.dist2 : farSide * farSide, s, false);
 }
 
 // Piece `index`, filed along its own direction with its own solid angle: the footprints follow the
 // sender's outline, and a coincident sender on a hard edge is seen through its off-centre pieces.
 void filePiece(uint slot, vec3 n, uint s, vec4 normalCone, View v, uint index) {
   Piece piece;
+  bool covers;
+  uint64_t key = senderKey(s, normalCone, v, covers);
   if (pieceOf(n, s, normalCone, v, index, piece))
-    insertFootprint(slot, piece.q, packLinkKey(v.dist2, s, false), piece.omega, piece.sideA, piece.sideB,
-                    covers(s, normalCone, v.d));
+    insertFootprint(slot, piece.q, key, piece.omega, piece.sideA, piece.sideB, covers);
 }
 
 // Files one sender of the leaf's root path (`marked`: its node, kEmitterBit if it emits), seen from
@@ -332,7 +339,9 @@ void fileSender(uint slot, uint leaf, vec3 p, vec3 n, float area, uint marked) {
   if (v.k == 1u) {
     vec3 sideA, sideB;
     senderSides(s, normalCone, sideA, sideB);
-    insertFootprint(slot, v.d, packLinkKey(v.dist2, s, false), v.omega, sideA, sideB, covers(s, normalCone, v.d));
+    bool covers;
+    uint64_t key = senderKey(s, normalCone, v, covers);
+    insertFootprint(slot, v.d, key, v.omega, sideA, sideB, covers);
   } else {
     wideQueue[atomicAdd(wideCount, 1u)] = s;  // at most one per sender of the chunk
   }

@@ -609,6 +609,29 @@ TEST(IvMemory, LeafLinksPastOneTexelView) {
 
 namespace {
 
+// The form factor from ground point p (facing up) to the faces of a box (centre, half extents)
+// turned toward it, by midpoint quadrature.
+double boxFormFactor(glm::dvec3 p, glm::dvec3 centre, glm::dvec3 half) {
+  const double pi = 3.14159265358979;
+  const int k = 48;
+  double f = 0;
+  for (int axis = 0; axis < 3; ++axis)
+    for (double side : {-1.0, 1.0}) {
+      glm::dvec3 n(0.0), u(0.0), v(0.0);
+      n[axis] = side, u[(axis + 1) % 3] = 2 * half[(axis + 1) % 3], v[(axis + 2) % 3] = 2 * half[(axis + 2) % 3];
+      const glm::dvec3 corner = centre + half[axis] * n - 0.5 * (u + v);
+      if (glm::dot(n, p - (centre + half[axis] * n)) <= 0.0) continue;  // turned away from p
+      const double area = glm::length(u) * glm::length(v);
+      for (int i = 0; i < k; ++i)
+        for (int j = 0; j < k; ++j) {
+          const glm::dvec3 d = corner + (i + 0.5) / k * u + (j + 0.5) / k * v - p;
+          const double d2 = glm::dot(d, d);
+          f += std::max(d.y, 0.0) * glm::dot(-n, d) / (pi * d2 * d2) * area / (k * k);
+        }
+    }
+  return f;
+}
+
 // A ground 3 m square (ρ 0.5) under a uniform white sky and, when `cube`, a black closed cube 0.2 m
 // wide whose bottom face is 1 m above the ground's centre. Per ground surfel: its position and
 // radiosity.
@@ -644,37 +667,56 @@ std::vector<std::pair<glm::vec3, double>> groundUnderTheSky(bool cube) {
 TEST(IvEnvironment, AClosedObjectHidesTheSkyOnce) {
   auto open = groundUnderTheSky(false), covered = groundUnderTheSky(true);
   ASSERT_EQ(open.size(), covered.size());
-  const double pi = 3.14159265358979;
-  // The form factor from ground point p (facing up) to the cube's faces turned toward it.
-  auto cubeFormFactor = [&](glm::dvec3 p) {
-    const glm::dvec3 centre(0.0, 1.1, 0.0);
-    const double half = 0.1;
-    const int k = 48;
-    double f = 0;
-    for (int axis = 0; axis < 3; ++axis)
-      for (double side : {-1.0, 1.0}) {
-        glm::dvec3 n(0.0), u(0.0), v(0.0);
-        n[axis] = side, u[(axis + 1) % 3] = 2 * half, v[(axis + 2) % 3] = 2 * half;
-        const glm::dvec3 corner = centre + half * n - 0.5 * (u + v);
-        if (glm::dot(n, p - (centre + half * n)) <= 0.0) continue;  // turned away from p
-        for (int i = 0; i < k; ++i)
-          for (int j = 0; j < k; ++j) {
-            const glm::dvec3 d = corner + (i + 0.5) / k * u + (j + 0.5) / k * v - p;
-            const double d2 = glm::dot(d, d);
-            f += std::max(d.y, 0.0) * glm::dot(-n, d) / (pi * d2 * d2) * 4 * half * half / (k * k);
-          }
-      }
-    return f;
-  };
   double hidden = 0, expected = 0;
   int counted = 0;
   for (size_t i = 0; i < open.size(); ++i) {
     const glm::dvec3 p(covered[i].first);
     if (std::abs(p.x) > 0.6 || std::abs(p.z) > 0.6) continue;
-    hidden += 1.0 - covered[i].second / open[i].second, expected += cubeFormFactor(p), ++counted;
+    hidden += 1.0 - covered[i].second / open[i].second, expected += boxFormFactor(p, {0, 1.1, 0}, glm::dvec3(0.1)),
+        ++counted;
   }
   std::printf("[ sky ] %d ground surfels below a closed cube: sky hidden %.5f, its faces' form factor %.5f\n", counted,
               hidden / counted, expected / counted);
   ASSERT_GE(counted, 9);
   EXPECT_NEAR(hidden / expected, 1.0, 0.05);
+}
+
+// A closed plate 2 cm thick, 0.3 m over the ground: its underside meshed coarsely, its top finely,
+// so that above a ground point a face of the top is often nearer by its centre than the underside's
+// nearest face. Those faces turned away lie behind the underside, so the bins go to the underside:
+// the ground's links to the plate add up to the form factor of its faces turned toward the ground.
+// Ranked by their centres' distance alone, the top's faces won bins from the underside and sent
+// nothing: the light between close surfaces lost at every bounce.
+TEST(IvEnvironment, AClosedObjectsFacesTowardTheReceiverWinItsBins) {
+  scenes::GltfBuilder b;
+  int grey = b.material("grey", glm::vec3(0.5f));
+  scenes::MeshData ground, plate;
+  scenes::addQuad(ground, {-1.5f, 0, -1.5f}, {1.5f, 0, -1.5f}, {1.5f, 0, 1.5f}, {-1.5f, 0, 1.5f}, 16, 16, {0, 1, 0});
+  const float h = 0.01f, y = 0.31f, w = 0.3f;  // half thickness, centre height, half side
+  scenes::addQuad(plate, {-w, y - h, w}, {w, y - h, w}, {w, y - h, -w}, {-w, y - h, -w}, 8, 8, {0, -1, 0});
+  scenes::addQuad(plate, {-w, y + h, -w}, {w, y + h, -w}, {w, y + h, w}, {-w, y + h, w}, 24, 24, {0, 1, 0});
+  scenes::addQuad(plate, {-w, y - h, -w}, {w, y - h, -w}, {w, y + h, -w}, {-w, y + h, -w}, 8, 1, {0, 0, -1});
+  scenes::addQuad(plate, {w, y - h, w}, {-w, y - h, w}, {-w, y + h, w}, {w, y + h, w}, 8, 1, {0, 0, 1});
+  scenes::addQuad(plate, {-w, y - h, w}, {-w, y - h, -w}, {-w, y + h, -w}, {-w, y + h, w}, 8, 1, {-1, 0, 0});
+  scenes::addQuad(plate, {w, y - h, -w}, {w, y - h, w}, {w, y + h, w}, {w, y + h, -w}, 8, 1, {1, 0, 0});
+  b.node("scene", b.mesh("scene", {{ground, grey}, {plate, grey}}));
+  tinygltf::Model model = b.finish();
+  scene::Scene s = scene::sceneFromModel(model, "test");
+  scene::Geometry g = scene::buildGeometry(s);
+  ASSERT_EQ(scene::closedInstances(g), (std::vector<bool>{false, true}));
+  Solved solved =
+      solve(model, {.bins = 16, .epsilon = 0.02f, .bounces = 0, .environment = scene::Environment::parse("1,1,1")});
+  auto surfels = scene::surfelsOnHost(g, scene::animateOnHost(g, g.frameInputs(s, scene::evaluatePose(s, -1, 0))));
+  double linked = 0, expected = 0;
+  int counted = 0;
+  for (size_t i = 0; i < surfels.size(); ++i) {
+    const glm::dvec3 p(surfels[i].positionArea);
+    if (std::abs(p.y) > 1e-4 || std::abs(p.x) > 0.4 || std::abs(p.z) > 0.4) continue;
+    for (const auto& l : solved.links[i]) linked += l.formFactor;  // the ground's only partner is the plate
+    expected += boxFormFactor(p, {0, y, 0}, {w, h, w}), ++counted;
+  }
+  std::printf("[ closed ] %d ground surfels under a closed plate: links' form factor %.4f, its faces' %.4f\n", counted,
+              linked / counted, expected / counted);
+  ASSERT_GE(counted, 9);
+  EXPECT_NEAR(linked / expected, 1.0, 0.05);
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "engine/core/errors.h"
 #include "engine/gi/bins.h"
 #include "engine/gi/pass.h"
 
@@ -59,13 +60,16 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, IvSetup set
   const bool split = mixesStaticAndMoving(setup_.objectMoves, h.roots.size()) &&
                      maskWords * sizeof(glm::uvec2) <= ctx.limits().maxStorageBufferRange;
   assignRootPairs(h, setup_.objectMoves, split, staticSet_, frameSet_);
-  // Per node: whether it moves (with its root; without the split every object counts as moving) and
-  // whether its object's surface is closed. Parents are numbered before their children.
+  // Per node: whether it moves (with its root; without the split every object counts as moving),
+  // whether its object's surface is closed, and its root. Parents are numbered before their children.
+  if (nodeCount_ >= 1u << (32u - gpu::kNodeRootShift))
+    throw SettingsError("the scene's iv hierarchy has " + std::to_string(nodeCount_) +
+                        " nodes, more than the solver numbers: use a lower --tessellate");
   const std::vector<bool> closed = scene::closedInstances(g);
   std::vector<uint32_t> nodeFlags(nodeCount_, 0u);
   for (size_t r = 0; r < h.roots.size(); ++r)
-    nodeFlags[h.roots[r]] =
-        (!split || moves(r) ? gpu::kNodeMoves : 0u) | (closed[h.rootInstance[r]] ? gpu::kNodeClosed : 0u);
+    nodeFlags[h.roots[r]] = (!split || moves(r) ? gpu::kNodeMoves : 0u) |
+                            (closed[h.rootInstance[r]] ? gpu::kNodeClosed : 0u) | h.roots[r] << gpu::kNodeRootShift;
   for (uint32_t node = 0; node < nodeCount_; ++node)
     if (h.nodes[node].parent >= 0) nodeFlags[node] = nodeFlags[uint32_t(h.nodes[node].parent)];
   std::vector<uint32_t> leafMoves(surfelCount_);
