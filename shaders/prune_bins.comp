@@ -299,8 +299,8 @@ bool pieceOf(vec3 n, uint s, vec4 normalCone, View v, uint index, out Piece piec
 // behind is often nearer than the face in front of it (across a thin part, or a finely meshed back
 // behind a coarse front), and won bins to send nothing. Where the faces in front leave a bin empty
 // (a receiver just under the object), the face behind still stands for its object there, at the
-// distance of that far side. An open
-// surface's back covers and ranks like a front: nothing else may stand in front of it.
+// distance of that far side. An open surface's back covers and ranks like a front: nothing else may
+// stand in front of it.
 uint64_t senderKey(uint s, vec4 normalCone, View v, out bool covers) {
   uint flags = imageLoad(nodeFlags, int(s)).x;
   covers = normalCone.w >= 0.5 * kPi || dot(normalCone.xyz, v.d) <= 0.0 || (flags & kNodeClosed) == 0u;

@@ -64,7 +64,7 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, IvSetup set
   // whether its object's surface is closed, and its root. Parents are numbered before their children.
   if (nodeCount_ >= 1u << (32u - gpu::kNodeRootShift))
     throw SettingsError("the scene's iv hierarchy has " + std::to_string(nodeCount_) +
-                        " nodes, more than the solver numbers: use a lower --tessellate");
+                        " nodes, more than the solver can address: use a lower --tessellate");
   const std::vector<bool> closed = scene::closedInstances(g);
   std::vector<uint32_t> nodeFlags(nodeCount_, 0u);
   for (size_t r = 0; r < h.roots.size(); ++r)
