@@ -194,11 +194,15 @@ void insert(uint slot, uint b, uint64_t key, float omega, bool covers) {
 // face, shaped like the filed element (half-sides `sideA`, `sideB` in the world; zero: a square):
 // the bounding box of their projection gives its aspect, at most 8:1. Box-filtered over the bins it
 // overlaps, on the face of its centre and past its edges on the neighbouring faces: even coverage
-// for senders of any size and slant, across cube edges too. Its core bins (the one under its
-// centre, any it covers by half) take the key as it is, its fringe bins the fringe key, which
-// ranks behind every core. A footprint at most one bin wide overlaps two bins from the one under
-// its lower edge, so that the lanes of a subgroup walk loops of the same length (a CPU device runs a
-// subgroup's loop as long as its longest lane); wider footprints walk their own range.
+// for senders of any size and slant, across cube edges too. Its core bins (those whose centre it
+// holds, grown by an eighth of its sides for the gaps between neighbouring footprints, and any it
+// covers by half) take the key as it is, its fringe bins the fringe key, which ranks behind every
+// core: a bin goes to the nearest surface over its centre, as a ray through it would find, so that
+// a nearer object's outline takes its bins only as far as it reaches (taken whole by any face
+// centred in them, the bins along a blocker's outline darkened its penumbra by a fifth). A
+// footprint at most one bin wide overlaps two bins from the one under its lower edge, so that the
+// lanes of a subgroup walk loops of the same length (a CPU device runs a subgroup's loop as long as
+// its longest lane); wider footprints walk their own range.
 void insertFootprint(uint slot, vec3 d, uint64_t key, float omega, vec3 sideA, vec3 sideB, bool covers) {
   vec2 at;
   uint face = binFace(d, kN, at);
@@ -217,7 +221,6 @@ void insertFootprint(uint slot, vec3 d, uint64_t key, float omega, vec3 sideA, v
   // Cells past the face's edge, up to half a face beyond, lie on the neighbouring faces (binOfCell),
   // so that a footprint across a cube edge does not overfill the face's border bins; the outermost
   // reach to infinity, so that nothing falls off.
-  ivec2 centre = ivec2(clamp(floor(at), vec2(0.0), vec2(float(kN - 1u))));
   ivec2 lowest = ivec2(-int(kN / 2u)), highest = ivec2(int(kN - 1u + kN / 2u));
   ivec2 first = clamp(ivec2(floor(lo)), lowest, highest), end = clamp(ivec2(floor(hi)), lowest, highest);
   end = mix(end, min(first + 1, highest), lessThanEqual(sides, vec2(1.0)));
@@ -228,7 +231,8 @@ void insertFootprint(uint slot, vec3 d, uint64_t key, float omega, vec3 sideA, v
       vec2 cellHi = vec2(x == highest.x ? 1e9 : float(x + 1), y == highest.y ? 1e9 : float(y + 1));
       vec2 overlap = max(min(hi, cellHi) - max(lo, cellLo), vec2(0.0));
       float covered = overlap.x * overlap.y;  // in bins
-      bool core = covered >= 0.5 || all(equal(centre, ivec2(x, y)));
+      vec2 mid = vec2(x, y) + 0.5, grow = 0.125 * sides;
+      bool core = covered >= 0.5 || (all(greaterThanEqual(mid, lo - grow)) && all(lessThan(mid, hi + grow)));
       if (covered > 0.0 || side <= 0.0)
         insert(slot, binOfCell(face, ivec2(x, y), kN), core ? key : key | kFringeKey,
                side > 0.0 ? omega * covered * norm : omega, covers);

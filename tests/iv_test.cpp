@@ -142,7 +142,7 @@ tinygltf::Model emitterBlockerReceiver(bool blocked, int cells, float shift = 0.
   scenes::MeshData emitter, receiver, blocker;
   auto square = [&](scenes::MeshData& m, float y, float half, glm::vec3 facing, float dx = 0.0f) {
     scenes::addQuad(m, {dx - half, y, -half}, {dx + half, y, -half}, {dx + half, y, half}, {dx - half, y, half}, cells,
-                    cells, facing + glm::vec3(dx, 0, 0));
+                    cells, facing);
   };
   square(emitter, 1.0f, 0.1f, {0, 0, 0});
   square(receiver, 0.0f, 0.1f, {0, 1, 0});
@@ -190,6 +190,37 @@ TEST(IvOcclusion, PartialBlockerShadesPartly) {
   std::printf("[ occlusion ] partial blocker: %.1f %% of the light\n", 100 * partial / open);
   EXPECT_GT(partial / open, 0.2);
   EXPECT_LT(partial / open, 0.95);
+}
+
+// The same blocker moved aside by 0.15 m: the receiver gets the light of the part of the emitter the
+// blocker leaves in view (by quadrature of the form factor, each ray tested against the blocker), as
+// closely as the bins resolve the penumbra: within a tenth at 6×16×16 (0.687 of the open light
+// against 0.739) and 3 % at 6×64×64 (0.722). A bin went to any blocker face whose centre fell in it,
+// however little of the bin the face covered, so every bin along the blocker's outline was taken
+// whole: 0.604 at 6×16×16, and 0.769 at 6×64×64.
+TEST(IvOcclusion, APartialBlockerLetsThroughWhatItLeavesInView) {
+  auto model = emitterBlockerReceiver(true, 4, 0.15f);
+  scene::Scene s = scene::sceneFromModel(model, "test");
+  scene::Geometry g = scene::buildGeometry(s);
+  auto surfels = scene::surfelsOnHost(g, scene::animateOnHost(g, g.frameInputs(s, scene::evaluatePose(s, -1, 0))));
+  const int k = 64;
+  double seen = 0, all = 0;
+  for (size_t i = 25; i < 50; ++i) {  // the receiver's surfels, as receiverIrradiance reads them
+    const glm::dvec3 p(surfels[i].positionArea);
+    for (int a = 0; a < k; ++a)
+      for (int c = 0; c < k; ++c) {
+        const glm::dvec3 e(-0.1 + 0.2 * (a + 0.5) / k, 1.0, -0.1 + 0.2 * (c + 0.5) / k), d = e - p;
+        const double f = d.y * d.y / (glm::dot(d, d) * glm::dot(d, d));
+        const glm::dvec3 at = p + d * ((0.5 - p.y) / d.y);  // where the ray crosses the blocker's plane
+        all += f;
+        if (std::abs(at.x - 0.15) > 0.12 || std::abs(at.z) > 0.12) seen += f;
+      }
+  }
+  for (uint32_t bins : {16u, 64u}) {
+    const double lit = receiverIrradiance(true, bins, 0.15f) / receiverIrradiance(false, bins);
+    std::printf("[ occlusion ] N = %u: partial blocker: %.3f of the light, %.3f in view\n", bins, lit, seen / all);
+    EXPECT_NEAR(lit, seen / all, (bins == 16u ? 0.1 : 0.03) * seen / all) << "N = " << bins;
+  }
 }
 
 // A box resting a centimetre above the floor, under a lamp 20 m up: the floor beneath it gets no
@@ -681,18 +712,18 @@ TEST(IvEnvironment, AClosedObjectHidesTheSkyOnce) {
   EXPECT_NEAR(hidden / expected, 1.0, 0.05);
 }
 
-// A closed plate 2 cm thick, 0.3 m over the ground: its underside meshed coarsely, its top finely,
+// A closed plate 4 mm thick, 5 cm over the ground: its underside meshed coarsely, its top finely,
 // so that above a ground point a face of the top is often nearer by its centre than the underside's
 // nearest face. Those faces turned away lie behind the underside, so the bins go to the underside:
 // the ground's links to the plate add up to the form factor of its faces turned toward the ground.
-// Ranked by their centres' distance alone, the top's faces won bins from the underside and sent
-// nothing: the light between close surfaces lost at every bounce.
+// Ranked by their centres' distance alone, the top's faces won half the bins from the underside
+// and sent nothing: the light between close surfaces lost at every bounce.
 TEST(IvEnvironment, AClosedObjectsFacesTowardTheReceiverWinItsBins) {
   scenes::GltfBuilder b;
   int grey = b.material("grey", glm::vec3(0.5f));
   scenes::MeshData ground, plate;
   scenes::addQuad(ground, {-1.5f, 0, -1.5f}, {1.5f, 0, -1.5f}, {1.5f, 0, 1.5f}, {-1.5f, 0, 1.5f}, 16, 16, {0, 1, 0});
-  const float h = 0.01f, y = 0.31f, w = 0.3f;  // half thickness, centre height, half side
+  const float h = 0.002f, y = 0.05f, w = 0.3f;  // half thickness, centre height, half side
   scenes::addQuad(plate, {-w, y - h, w}, {w, y - h, w}, {w, y - h, -w}, {-w, y - h, -w}, 8, 8, {0, -1, 0});
   scenes::addQuad(plate, {-w, y + h, -w}, {w, y + h, -w}, {w, y + h, w}, {-w, y + h, w}, 24, 24, {0, 1, 0});
   scenes::addQuad(plate, {-w, y - h, -w}, {w, y - h, -w}, {w, y + h, -w}, {-w, y + h, -w}, 8, 1, {0, 0, -1});
