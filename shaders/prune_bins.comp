@@ -417,8 +417,7 @@ vec3 directLight(uint slot, vec3 p, vec3 n, uint s) {
     // Each side is judged within a thousandth of its own distance to the surface in the bin: a
     // receiver just under an object resting on it lies behind its plane by less than the lamp is far.
     float sideOfReceiver = dot(plane.xyz, p - onPlane), sideOfEmitter = dot(plane.xyz, p + q - onPlane);
-    float nearMargin = nearest == kEmptyVisibility ? 0.0 : 1e-3 * sqrt(linkKeyDepth(nearest)),
-          farMargin = 1e-3 * sqrt(q2);
+    float nearMargin = 1e-3 * sqrt(linkKeyDepth(nearest)), farMargin = 1e-3 * sqrt(q2);
     bool separates = plane.w >= 0.5 * kPi || (sideOfReceiver > nearMargin && sideOfEmitter < -farMargin) ||
                      (sideOfReceiver < -nearMargin && sideOfEmitter > farMargin);
     bool visible = nearest == kEmptyVisibility || o == s || linkKeyDepth(nearest) >= v.dist2 * 0.999 || !separates;

@@ -49,10 +49,15 @@ Solved solve(const tinygltf::Model& model, gi::IvSettings settings, vk::Context&
   return {test::ivSolver(r).leafRadiosity(), test::ivSolver(r).leafLinks(), test::ivSolver(r).stats()};
 }
 
-double meanOverArea(const tinygltf::Model& model, const std::vector<glm::vec4>& values) {
+// The surfels of `model` at rest, in the order the solver numbers them.
+std::vector<scene::Surfel> restSurfels(const tinygltf::Model& model) {
   scene::Scene s = scene::sceneFromModel(model, "test");
   scene::Geometry g = scene::buildGeometry(s);
-  auto surfels = scene::surfelsOnHost(g, scene::animateOnHost(g, g.frameInputs(s, scene::evaluatePose(s, -1, 0))));
+  return scene::surfelsOnHost(g, scene::animateOnHost(g, g.frameInputs(s, scene::evaluatePose(s, -1, 0))));
+}
+
+double meanOverArea(const tinygltf::Model& model, const std::vector<glm::vec4>& values) {
+  auto surfels = restSurfels(model);
   double sum = 0, area = 0;
   for (size_t i = 0; i < surfels.size(); ++i)
     sum += surfels[i].positionArea.w * values[i].x, area += surfels[i].positionArea.w;
@@ -200,9 +205,7 @@ TEST(IvOcclusion, PartialBlockerShadesPartly) {
 // whole: 0.604 at 6×16×16, and 0.769 at 6×64×64.
 TEST(IvOcclusion, APartialBlockerLetsThroughWhatItLeavesInView) {
   auto model = emitterBlockerReceiver(true, 4, 0.15f);
-  scene::Scene s = scene::sceneFromModel(model, "test");
-  scene::Geometry g = scene::buildGeometry(s);
-  auto surfels = scene::surfelsOnHost(g, scene::animateOnHost(g, g.frameInputs(s, scene::evaluatePose(s, -1, 0))));
+  auto surfels = restSurfels(model);
   const int k = 64;
   double seen = 0, all = 0;
   for (size_t i = 25; i < 50; ++i) {  // the receiver's surfels, as receiverIrradiance reads them
@@ -239,9 +242,7 @@ TEST(IvOcclusion, AnObjectRestingOnTheFloorShadesTheFloorBeneath) {
   b.node("room", b.mesh("room", {{floor, grey}, {box, grey}, {lamp, light}}));
   const tinygltf::Model model = b.finish();
   Solved solved = solve(model, {.bins = 16, .epsilon = 0.02f, .bounces = 0});
-  scene::Scene s = scene::sceneFromModel(model, "test");
-  scene::Geometry g = scene::buildGeometry(s);
-  auto surfels = scene::surfelsOnHost(g, scene::animateOnHost(g, g.frameInputs(s, scene::evaluatePose(s, -1, 0))));
+  auto surfels = restSurfels(model);
   ASSERT_EQ(surfels.size(), solved.radiosity.size());
   double beneath = 0, open = 0;
   int beneathCount = 0, openCount = 0;
@@ -311,9 +312,7 @@ TEST(IvDirectLight, FloorCentreUnderTheCornellLight) {
   for (uint32_t bins : {8u, 16u, 32u}) {
     auto model = scenes::cornellBox({.cells = 16, .animated = false, .blocks = false});
     Solved solved = solve(model, {.bins = bins, .bounces = 0});
-    scene::Scene s = scene::sceneFromModel(model, "cornell");
-    scene::Geometry g = scene::buildGeometry(s);
-    auto surfels = scene::surfelsOnHost(g, scene::animateOnHost(g, g.frameInputs(s, scene::evaluatePose(s, -1, 0))));
+    auto surfels = restSurfels(model);
     size_t best = 0;
     float nearest = 1e9f;
     for (size_t i = 0; i < surfels.size(); ++i) {
@@ -678,9 +677,7 @@ std::vector<std::pair<glm::vec3, double>> groundUnderTheSky(bool cube) {
   tinygltf::Model model = b.finish();
   Solved solved =
       solve(model, {.bins = 16, .epsilon = 0.02f, .bounces = 0, .environment = scene::Environment::parse("1,1,1")});
-  scene::Scene s = scene::sceneFromModel(model, "test");
-  scene::Geometry g = scene::buildGeometry(s);
-  auto surfels = scene::surfelsOnHost(g, scene::animateOnHost(g, g.frameInputs(s, scene::evaluatePose(s, -1, 0))));
+  auto surfels = restSurfels(model);
   std::vector<std::pair<glm::vec3, double>> out;
   for (size_t i = 0; i < surfels.size(); ++i)
     if (std::abs(surfels[i].positionArea.y) < 1e-4f && surfels[i].normal.y > 0.9f)
