@@ -198,8 +198,8 @@ void insert(uint slot, uint b, uint64_t key, float omega, bool covers) {
 // holds, grown by an eighth of its sides for the gaps between neighbouring footprints, and any it
 // covers by half) take the key as it is, its fringe bins the fringe key, which ranks behind every
 // core: a bin goes to the nearest surface over its centre, as a ray through it would find, so that
-// a nearer object's outline takes its bins only as far as it reaches (taken whole by any face
-// centred in them, the bins along a blocker's outline darkened its penumbra by a fifth). A
+// a nearer object's outline takes its bins only as far as it reaches (given whole to any face
+// centred in them, every outline would widen by up to a bin and darken its penumbra). A
 // footprint at most one bin wide overlaps two bins from the one under its lower edge, so that the
 // lanes of a subgroup walk loops of the same length (a CPU device runs a subgroup's loop as long as
 // its longest lane); wider footprints walk their own range.
@@ -297,11 +297,11 @@ bool pieceOf(vec3 n, uint s, vec4 normalCone, View v, uint index, out Piece piec
 
 // Sender s's key in the bins it is filed into, seen from the receiver (View v), and whether it adds
 // to their coverage. On a closed surface the faces turned away from the receiver lie behind faces
-// turned toward it in the same directions. So they add no coverage: counted, they covered a
+// turned toward it in the same directions. So they add no coverage: counted, they would cover a
 // silhouette's bins twice over, darkening what is seen past it (the sky between an engine's parts).
 // And they rank as if at the far side of their object (its diameter further): by its centre a face
 // behind is often nearer than the face in front of it (across a thin part, or a finely meshed back
-// behind a coarse front), and won bins to send nothing. Where the faces in front leave a bin empty
+// behind a coarse front), and would win bins to send nothing. Where the faces in front leave a bin empty
 // (a receiver just under the object), the face behind still stands for its object there, at the
 // distance of that far side. An open surface's back covers and ranks like a front: nothing else may
 // stand in front of it.
