@@ -190,16 +190,40 @@ void insert(uint slot, uint b, uint64_t key, float omega, bool covers) {
   if (covers) addCoverage(slot, b, uint(min(omega / imageLoad(binTable, int(b)).w, 1.0) * float(kCoverageUnit) + 0.5));
 }
 
+// Corner c (an offset from the receiver) on cube face `axis`, `sign`, in bin units; false behind it.
+bool projectCorner(vec3 c, uint axis, float sign, out vec2 at) {
+  float major = sign * (axis == 0u ? c.x : (axis == 1u ? c.y : c.z));
+  vec2 minor = axis == 0u ? c.yz : (axis == 1u ? c.zx : c.xy);
+  at = (minor / max(major, 1e-30) + 1.0) * 0.5 * float(kN);
+  return major > 1e-3 * length(c);
+}
+
+float edgeSide(vec2 a, vec2 b, vec2 m) { return (b.x - a.x) * (m.y - a.y) - (b.y - a.y) * (m.x - a.x); }
+
+// Whether m lies in the convex quadrilateral c0 c1 c2 c3 (either winding) scaled by 9/8 about its
+// centre: elements of one surface whose rectangles do not quite tile (a mesh that is no grid) leave
+// no bin centre between them.
+bool insideOutline(vec2 m, vec2 c0, vec2 c1, vec2 c2, vec2 c3) {
+  vec2 centre = 0.25 * (c0 + c1 + c2 + c3);
+  m = centre + (m - centre) / 1.125;
+  vec4 e = vec4(edgeSide(c0, c1, m), edgeSide(c1, c2, m), edgeSide(c2, c3, m), edgeSide(c3, c0, m));
+  return all(greaterThanEqual(e, vec4(0.0))) || all(lessThanEqual(e, vec4(0.0)));
+}
+
 // Files a solid angle ω seen along d as a rectangular footprint of the same solid angle on the cube
 // face, shaped like the filed element (half-sides `sideA`, `sideB` in the world; zero: a square):
 // the bounding box of their projection gives its aspect, at most 8:1. Box-filtered over the bins it
 // overlaps, on the face of its centre and past its edges on the neighbouring faces: even coverage
-// for senders of any size and slant, across cube edges too. Its core bins (those whose centre it
-// holds, grown by an eighth of its sides for the gaps between neighbouring footprints, and any it
-// covers by half) take the key as it is, its fringe bins the fringe key, which ranks behind every
-// core: a bin goes to the nearest surface over its centre, as a ray through it would find, so that
-// a nearer object's outline takes its bins only as far as it reaches (given whole to any face
-// centred in them, every outline would widen by up to a bin and darken its penumbra). A
+// for senders of any size and slant, across cube edges too. Its core bins take the key as it is,
+// its fringe bins the fringe key, which ranks behind every core: a bin goes to the nearest surface
+// over its centre, as a ray through it would find, so that a nearer object's outline takes its bins
+// only as far as it reaches (given whole to any face centred in them, every outline would widen by
+// up to a bin and darken its penumbra). The core bins are those whose centre lies in the element's
+// own rectangle as the receiver sees it (a quadrilateral on the face): neighbouring elements tile
+// the view as their rectangles tile the surface. The footprint's rectangle of the same solid angle
+// does not follow a slanted or turned element's outline, and had to be grown over the gaps it left
+// between neighbours, which widened every outline. A curved sender, a square without sides, is
+// core where it holds the bin's centre (grown by an eighth of its sides) or covers half. A
 // footprint at most one bin wide overlaps two bins from the one under its lower edge, so that the
 // lanes of a subgroup walk loops of the same length (a CPU device runs a subgroup's loop as long as
 // its longest lane); wider footprints walk their own range.
@@ -218,6 +242,11 @@ void insertFootprint(uint slot, vec3 d, uint64_t key, float omega, vec3 sideA, v
   float aspect = box.x + box.y > 0.0 ? clamp(box.x / max(box.y, 1e-30), 0.125, 8.0) : 1.0;
   vec2 sides = min(side * vec2(sqrt(aspect), inversesqrt(aspect)), vec2(16.0));
   vec2 lo = at - 0.5 * sides, hi = at + 0.5 * sides;
+  // The element's own outline on the face, where its corners lie in front of the receiver.
+  vec2 c0, c1, c2, c3;
+  bool outline = sideA != vec3(0.0) && projectCorner(d - sideA - sideB, axis, sign, c0) &&
+                 projectCorner(d + sideA - sideB, axis, sign, c1) && projectCorner(d + sideA + sideB, axis, sign, c2) &&
+                 projectCorner(d - sideA + sideB, axis, sign, c3);
   // Cells past the face's edge, up to half a face beyond, lie on the neighbouring faces (binOfCell),
   // so that a footprint across a cube edge does not overfill the face's border bins; the outermost
   // reach to infinity, so that nothing falls off.
@@ -232,8 +261,9 @@ void insertFootprint(uint slot, vec3 d, uint64_t key, float omega, vec3 sideA, v
       vec2 overlap = max(min(hi, cellHi) - max(lo, cellLo), vec2(0.0));
       float covered = overlap.x * overlap.y;  // in bins
       vec2 mid = vec2(x, y) + 0.5, grow = 0.125 * sides;
-      bool core = covered >= 0.5 || (all(greaterThanEqual(mid, lo - grow)) && all(lessThan(mid, hi + grow)));
-      if (covered > 0.0 || side <= 0.0)
+      bool core = outline ? insideOutline(mid, c0, c1, c2, c3)
+                          : covered >= 0.5 || (all(greaterThanEqual(mid, lo - grow)) && all(lessThan(mid, hi + grow)));
+      if (covered > 0.0 || side <= 0.0 || core)
         insert(slot, binOfCell(face, ivec2(x, y), kN), core ? key : key | kFringeKey,
                side > 0.0 ? omega * covered * norm : omega, covers);
     }
@@ -394,11 +424,43 @@ vec3 environmentThrough(vec3 n, uint b, uint covered) {
 // Emitted radiosity π·Le of node s (pulled up); zero for a node that emits nothing.
 vec3 emitted(uint s) { return imageLoad(nodeEmission, int(s)).rgb; }
 
+// Whether the ray from p along q crosses node o's rectangle (false for a curved node: it has none).
+bool rectangleHit(uint o, vec3 p, vec3 q) {
+  vec4 plane = nodeNormalCone(o);
+  vec3 sideA, sideB, centre = nodePositionArea(o).xyz;
+  senderSides(o, plane, sideA, sideB);
+  float along = dot(plane.xyz, q);
+  if (sideA == vec3(0.0) || along == 0.0) return false;
+  vec3 h = p + q * (dot(plane.xyz, centre - p) / along) - centre;
+  return abs(dot(h, sideA)) <= dot(sideA, sideA) && abs(dot(h, sideB)) <= dot(sideB, sideB);
+}
+
+// Whether the ray from p along q may cross the surface of sender o, which holds the bin the ray
+// runs through by a fringe only (no surface lies over the bin's centre: the bin is at an outline).
+// It does where it crosses the rectangle of o or of an ancestor of o flat in o's plane: o may be one
+// of a surface's elements, and the ray cross its neighbour. Where none of them is a bin wide, o is
+// one of many elements smaller than the bin, and where the ray meets them is not known: it may.
+bool mayCross(uint o, vec3 p, vec3 q) {
+  const float flatCone = 0.02;  // radians: a cone this narrow is a plane
+  vec3 normal = nodeNormalCone(o).xyz;
+  bool binWide = false;
+  for (int i = int(o); i >= 0; i = int(imageLoad(tree, i).x)) {
+    vec4 cone = nodeNormalCone(uint(i)), positionArea = nodePositionArea(uint(i));
+    if (cone.w > flatCone || dot(cone.xyz, normal) < cos(flatCone)) break;
+    if (rectangleHit(uint(i), p, q)) return true;
+    vec3 d = positionArea.xyz - p;
+    binWide = binWide || positionArea.w * float(kN * kN) >= 4.0 * dot(d, d);  // a bin: (2/N)² at distance 1
+  }
+  return !binWide;
+}
+
 // Direct light from emitter s at the receiver (p, n): each of its pieces (as filed) with its own
 // form factor, where the bin along it shows it: the bin holds the emitter itself, nothing nearer, or
 // a nearer flat sender that does not separate receiver and emitter (its plane has both on one side:
-// the ceiling beside a lamp, the lamp's own other pieces). Exact where the bins only credit whole
-// bins, so that a small emitter's light does not jump as its footprint crosses bin borders.
+// the ceiling beside a lamp, the lamp's own other pieces), or a nearer surface that no more than
+// fringes the bin and that the ray to the piece passes beside (the bin lies on its outline: it is
+// the bin's nearest, but need not cover the piece). Exact where the bins only credit whole bins,
+// so that a small emitter's light does not jump as its footprint crosses bin borders.
 vec3 directLight(uint slot, vec3 p, vec3 n, uint s) {
   vec4 normalCone = nodeNormalCone(s);
   View v = viewOf(p, nodePositionArea(s), normalCone);
@@ -410,7 +472,8 @@ vec3 directLight(uint slot, vec3 p, vec3 n, uint s) {
       continue;  // its back
     vec3 q = piece.q;
     float q2 = dot(q, q);
-    uint64_t nearest = binAt(slot, binOf(q, kN)).key;
+    uint b = binOf(q, kN);
+    uint64_t nearest = binAt(slot, b).key;
     uint o = keyId(nearest);
     vec4 plane = nodeNormalCone(o);
     vec3 onPlane = nodePositionArea(o).xyz;
@@ -420,7 +483,8 @@ vec3 directLight(uint slot, vec3 p, vec3 n, uint s) {
     float nearMargin = 1e-3 * sqrt(linkKeyDepth(nearest)), farMargin = 1e-3 * sqrt(q2);
     bool separates = plane.w >= 0.5 * kPi || (sideOfReceiver > nearMargin && sideOfEmitter < -farMargin) ||
                      (sideOfReceiver < -nearMargin && sideOfEmitter > farMargin);
-    bool visible = nearest == kEmptyVisibility || o == s || linkKeyDepth(nearest) >= v.dist2 * 0.999 || !separates;
+    bool visible = nearest == kEmptyVisibility || o == s || linkKeyDepth(nearest) >= v.dist2 * 0.999 || !separates ||
+                   ((nearest & kFringeKey) != 0ul && !mayCross(o, p, q));
     if (visible) sum += piece.omega * dot(n, q) * inversesqrt(q2) / kPi;
   }
   return sum * emitted(s);
