@@ -435,11 +435,10 @@ bool rectangleHit(uint o, vec3 p, vec3 q) {
   return abs(dot(h, sideA)) <= dot(sideA, sideA) && abs(dot(h, sideB)) <= dot(sideB, sideB);
 }
 
-// Whether the ray from p along q may cross the surface of sender o, which holds the bin the ray
-// runs through by a fringe only (no surface lies over the bin's centre: the bin is at an outline).
-// It does where it crosses the rectangle of o or of an ancestor of o flat in o's plane: o may be one
-// of a surface's elements, and the ray cross its neighbour. Where none of them is a bin wide, o is
-// one of many elements smaller than the bin, and where the ray meets them is not known: it may.
+// Whether the ray from p along q may cross the surface of sender o: it crosses the rectangle of o or
+// of an ancestor of o flat in o's plane (o may be one of a surface's elements, and the ray cross its
+// neighbour), or none of them is a bin wide (o is one of many elements smaller than a bin, and
+// where the ray meets them is not known).
 bool mayCross(uint o, vec3 p, vec3 q) {
   const float flatCone = 0.02;  // radians: a cone this narrow is a plane
   vec3 normal = nodeNormalCone(o).xyz;
@@ -454,13 +453,48 @@ bool mayCross(uint o, vec3 p, vec3 q) {
   return !binWide;
 }
 
+// Whether the surface of bin key `key` stands between the receiver at p and emitter s's piece at
+// p + q: it is nearer than the emitter and its plane separates them, each side judged within a
+// thousandth of its own distance to that surface (a receiver just under an object resting on it
+// lies behind its plane by less than the lamp is far).
+bool separates(uint64_t key, uint s, float emitterDist2, vec3 p, vec3 q) {
+  uint o = keyId(key);
+  if (key == kEmptyVisibility || o == s || linkKeyDepth(key) >= emitterDist2 * 0.999) return false;
+  vec4 plane = nodeNormalCone(o);
+  vec3 onPlane = nodePositionArea(o).xyz;
+  float sideOfReceiver = dot(plane.xyz, p - onPlane), sideOfEmitter = dot(plane.xyz, p + q - onPlane);
+  float nearMargin = 1e-3 * sqrt(linkKeyDepth(key)), farMargin = 1e-3 * length(q);
+  return plane.w >= 0.5 * kPi || (sideOfReceiver > nearMargin && sideOfEmitter < -farMargin) ||
+         (sideOfReceiver < -nearMargin && sideOfEmitter > farMargin);
+}
+
+// Whether the surface of bin key `key` may hide the piece: it stands between, and the ray may cross it.
+bool mayHide(uint64_t key, uint s, float emitterDist2, vec3 p, vec3 q) {
+  return separates(key, s, emitterDist2, p, q) && mayCross(keyId(key), p, q);
+}
+
+// Whether a surface of bin b or of one of its eight neighbours may hide the piece: the ray runs
+// within a bin of their centres, and may cross a surface that holds a neighbour's.
+bool mayHideAround(uint slot, uint b, uint s, float emitterDist2, vec3 p, vec3 q) {
+  return mayHide(binAt(slot, b).key, s, emitterDist2, p, q) ||
+         mayHide(binAt(slot, neighbourBin(b, ivec2(1, 0))).key, s, emitterDist2, p, q) ||
+         mayHide(binAt(slot, neighbourBin(b, ivec2(-1, 0))).key, s, emitterDist2, p, q) ||
+         mayHide(binAt(slot, neighbourBin(b, ivec2(0, 1))).key, s, emitterDist2, p, q) ||
+         mayHide(binAt(slot, neighbourBin(b, ivec2(0, -1))).key, s, emitterDist2, p, q) ||
+         mayHide(binAt(slot, neighbourBin(b, ivec2(1, 1))).key, s, emitterDist2, p, q) ||
+         mayHide(binAt(slot, neighbourBin(b, ivec2(-1, 1))).key, s, emitterDist2, p, q) ||
+         mayHide(binAt(slot, neighbourBin(b, ivec2(1, -1))).key, s, emitterDist2, p, q) ||
+         mayHide(binAt(slot, neighbourBin(b, ivec2(-1, -1))).key, s, emitterDist2, p, q);
+}
+
 // Direct light from emitter s at the receiver (p, n): each of its pieces (as filed) with its own
-// form factor, where the bin along it shows it: the bin holds the emitter itself, nothing nearer, or
-// a nearer flat sender that does not separate receiver and emitter (its plane has both on one side:
-// the ceiling beside a lamp, the lamp's own other pieces), or a nearer surface that no more than
-// fringes the bin and that the ray to the piece passes beside (the bin lies on its outline: it is
-// the bin's nearest, but need not cover the piece). Exact where the bins only credit whole bins,
-// so that a small emitter's light does not jump as its footprint crosses bin borders.
+// form factor, where the bin along it shows it. The bin's nearest surface hides the piece where its
+// plane separates receiver and emitter (not the ceiling beside a lamp, nor the lamp's own other
+// pieces), unless the ray to the piece passes beside it and beside every surface over the
+// neighbouring bins' centres: a bin goes to the surface over its centre, and the piece may lie in
+// the part of the bin that surface leaves open, up to a bin from the centre. Exact where the bins
+// only credit whole bins, so that a small emitter's light does not jump as its footprint crosses
+// bin borders, and penumbrae resolved finer than the bins.
 vec3 directLight(uint slot, vec3 p, vec3 n, uint s) {
   vec4 normalCone = nodeNormalCone(s);
   View v = viewOf(p, nodePositionArea(s), normalCone);
@@ -473,18 +507,7 @@ vec3 directLight(uint slot, vec3 p, vec3 n, uint s) {
     vec3 q = piece.q;
     float q2 = dot(q, q);
     uint b = binOf(q, kN);
-    uint64_t nearest = binAt(slot, b).key;
-    uint o = keyId(nearest);
-    vec4 plane = nodeNormalCone(o);
-    vec3 onPlane = nodePositionArea(o).xyz;
-    // Each side is judged within a thousandth of its own distance to the surface in the bin: a
-    // receiver just under an object resting on it lies behind its plane by less than the lamp is far.
-    float sideOfReceiver = dot(plane.xyz, p - onPlane), sideOfEmitter = dot(plane.xyz, p + q - onPlane);
-    float nearMargin = 1e-3 * sqrt(linkKeyDepth(nearest)), farMargin = 1e-3 * sqrt(q2);
-    bool separates = plane.w >= 0.5 * kPi || (sideOfReceiver > nearMargin && sideOfEmitter < -farMargin) ||
-                     (sideOfReceiver < -nearMargin && sideOfEmitter > farMargin);
-    bool visible = nearest == kEmptyVisibility || o == s || linkKeyDepth(nearest) >= v.dist2 * 0.999 || !separates ||
-                   ((nearest & kFringeKey) != 0ul && !mayCross(o, p, q));
+    bool visible = !separates(binAt(slot, b).key, s, v.dist2, p, q) || !mayHideAround(slot, b, s, v.dist2, p, q);
     if (visible) sum += piece.omega * dot(n, q) * inversesqrt(q2) / kPi;
   }
   return sum * emitted(s);
