@@ -381,7 +381,57 @@ void fileSender(uint slot, uint leaf, vec3 p, vec3 n, float area, uint marked) {
   }
 }
 
-// Irradiance at the receiver from punctual lights that are nearer than the nearest element in their bin.
+// Whether the ray from p along q crosses node o's rectangle (false for a curved node: it has none).
+bool rectangleHit(uint o, vec3 p, vec3 q) {
+  vec4 plane = nodeNormalCone(o);
+  vec3 sideA, sideB, centre = nodePositionArea(o).xyz;
+  senderSides(o, plane, sideA, sideB);
+  float along = dot(plane.xyz, q);
+  if (sideA == vec3(0.0) || along == 0.0) return false;
+  vec3 h = p + q * (dot(plane.xyz, centre - p) / along) - centre;
+  return abs(dot(h, sideA)) <= dot(sideA, sideA) && abs(dot(h, sideB)) <= dot(sideB, sideB);
+}
+
+// Whether the ray from p along q may cross the surface of sender o: it crosses the rectangle of o or
+// of an ancestor of o flat in o's plane (o may be one of a surface's elements, and the ray cross its
+// neighbour), or none of them is a bin wide (o is one of many elements smaller than a bin, and
+// where the ray meets them is not known).
+bool mayCross(uint o, vec3 p, vec3 q) {
+  const float flatCone = 0.02;  // radians: a cone this narrow is a plane
+  vec3 normal = nodeNormalCone(o).xyz, onPlane = nodePositionArea(o).xyz;
+  bool binWide = false;
+  for (int i = int(o); i >= 0; i = int(imageLoad(tree, i).x)) {
+    vec4 cone = nodeNormalCone(uint(i)), positionArea = nodePositionArea(uint(i));
+    if (cone.w > flatCone || dot(cone.xyz, normal) < cos(flatCone) ||
+        abs(dot(normal, positionArea.xyz - onPlane)) > 1e-3 * nodeRadius(uint(i)))
+      break;  // not in o's plane (parallel surfaces apart share a normal)
+    if (rectangleHit(uint(i), p, q)) return true;
+    vec3 d = positionArea.xyz - p;
+    binWide = binWide || positionArea.w * float(kN * kN) >= 4.0 * dot(d, d);  // a bin: (2/N)² at distance 1
+  }
+  return !binWide;
+}
+
+// Whether the surface of bin key `key`, nearer than a punctual light at p + q (squared distance
+// dist²), may cast its shadow at p: the ray may cross it.
+bool mayShadow(uint64_t key, float dist2, vec3 p, vec3 q) {
+  return key != kEmptyVisibility && linkKeyDepth(key) <= dist2 && mayCross(keyId(key), p, q);
+}
+bool mayShadowAround(uint slot, uint b, float dist2, vec3 p, vec3 q) {
+  return mayShadow(binAt(slot, b).key, dist2, p, q) ||
+         mayShadow(binAt(slot, neighbourBin(b, ivec2(1, 0))).key, dist2, p, q) ||
+         mayShadow(binAt(slot, neighbourBin(b, ivec2(-1, 0))).key, dist2, p, q) ||
+         mayShadow(binAt(slot, neighbourBin(b, ivec2(0, 1))).key, dist2, p, q) ||
+         mayShadow(binAt(slot, neighbourBin(b, ivec2(0, -1))).key, dist2, p, q) ||
+         mayShadow(binAt(slot, neighbourBin(b, ivec2(1, 1))).key, dist2, p, q) ||
+         mayShadow(binAt(slot, neighbourBin(b, ivec2(-1, 1))).key, dist2, p, q) ||
+         mayShadow(binAt(slot, neighbourBin(b, ivec2(1, -1))).key, dist2, p, q) ||
+         mayShadow(binAt(slot, neighbourBin(b, ivec2(-1, -1))).key, dist2, p, q);
+}
+
+// Irradiance at the receiver from punctual lights: hidden where the nearest surface in their bin is
+// nearer, and the ray to the light may cross it or a nearer surface over a neighbouring bin's centre
+// (as for an emitter's pieces: shadows sharper than the bins).
 vec3 punctualLight(uint slot, vec3 p, vec3 n) {
   vec3 sum = vec3(0.0);
   for (uint l = 0u; l < push.lightCount; ++l) {
@@ -389,8 +439,10 @@ vec3 punctualLight(uint slot, vec3 p, vec3 n) {
     float dist2, falloff = lightFalloff(lights[l], p, toLight, dist2);
     float cosR = dot(n, normalize(toLight));
     if (cosR <= 0.0 || falloff <= 0.0) continue;
-    uint64_t nearest = binAt(slot, binOf(toLight, kN)).key;
-    if (nearest != kEmptyVisibility && linkKeyDepth(nearest) <= dist2) continue;  // occluded
+    uint b = binOf(toLight, kN);
+    uint64_t nearest = binAt(slot, b).key;
+    if (nearest != kEmptyVisibility && linkKeyDepth(nearest) <= dist2 && mayShadowAround(slot, b, dist2, p, toLight))
+      continue;  // occluded
     sum += lights[l].intensity.rgb * cosR * falloff;
   }
   return sum;
@@ -423,35 +475,6 @@ vec3 environmentThrough(vec3 n, uint b, uint covered) {
 
 // Emitted radiosity π·Le of node s (pulled up); zero for a node that emits nothing.
 vec3 emitted(uint s) { return imageLoad(nodeEmission, int(s)).rgb; }
-
-// Whether the ray from p along q crosses node o's rectangle (false for a curved node: it has none).
-bool rectangleHit(uint o, vec3 p, vec3 q) {
-  vec4 plane = nodeNormalCone(o);
-  vec3 sideA, sideB, centre = nodePositionArea(o).xyz;
-  senderSides(o, plane, sideA, sideB);
-  float along = dot(plane.xyz, q);
-  if (sideA == vec3(0.0) || along == 0.0) return false;
-  vec3 h = p + q * (dot(plane.xyz, centre - p) / along) - centre;
-  return abs(dot(h, sideA)) <= dot(sideA, sideA) && abs(dot(h, sideB)) <= dot(sideB, sideB);
-}
-
-// Whether the ray from p along q may cross the surface of sender o: it crosses the rectangle of o or
-// of an ancestor of o flat in o's plane (o may be one of a surface's elements, and the ray cross its
-// neighbour), or none of them is a bin wide (o is one of many elements smaller than a bin, and
-// where the ray meets them is not known).
-bool mayCross(uint o, vec3 p, vec3 q) {
-  const float flatCone = 0.02;  // radians: a cone this narrow is a plane
-  vec3 normal = nodeNormalCone(o).xyz;
-  bool binWide = false;
-  for (int i = int(o); i >= 0; i = int(imageLoad(tree, i).x)) {
-    vec4 cone = nodeNormalCone(uint(i)), positionArea = nodePositionArea(uint(i));
-    if (cone.w > flatCone || dot(cone.xyz, normal) < cos(flatCone)) break;
-    if (rectangleHit(uint(i), p, q)) return true;
-    vec3 d = positionArea.xyz - p;
-    binWide = binWide || positionArea.w * float(kN * kN) >= 4.0 * dot(d, d);  // a bin: (2/N)² at distance 1
-  }
-  return !binWide;
-}
 
 // Whether the surface of bin key `key` stands between the receiver at p and emitter s's piece at
 // p + q: it is nearer than the emitter and its plane separates them, each side judged within a
