@@ -412,26 +412,51 @@ bool mayCross(uint o, vec3 p, vec3 q) {
   return !binWide;
 }
 
-// Whether the surface of bin key `key`, nearer than a punctual light at p + q (squared distance
-// dist²), may cast its shadow at p: the ray may cross it.
-bool mayShadow(uint64_t key, float dist2, vec3 p, vec3 q) {
-  return key != kEmptyVisibility && linkKeyDepth(key) <= dist2 && mayCross(keyId(key), p, q);
-}
-bool mayShadowAround(uint slot, uint b, float dist2, vec3 p, vec3 q) {
-  return mayShadow(binAt(slot, b).key, dist2, p, q) ||
-         mayShadow(binAt(slot, neighbourBin(b, ivec2(1, 0))).key, dist2, p, q) ||
-         mayShadow(binAt(slot, neighbourBin(b, ivec2(-1, 0))).key, dist2, p, q) ||
-         mayShadow(binAt(slot, neighbourBin(b, ivec2(0, 1))).key, dist2, p, q) ||
-         mayShadow(binAt(slot, neighbourBin(b, ivec2(0, -1))).key, dist2, p, q) ||
-         mayShadow(binAt(slot, neighbourBin(b, ivec2(1, 1))).key, dist2, p, q) ||
-         mayShadow(binAt(slot, neighbourBin(b, ivec2(-1, 1))).key, dist2, p, q) ||
-         mayShadow(binAt(slot, neighbourBin(b, ivec2(1, -1))).key, dist2, p, q) ||
-         mayShadow(binAt(slot, neighbourBin(b, ivec2(-1, -1))).key, dist2, p, q);
+// A light that is no surface: the punctual lights.
+const uint kPunctual = 0xFFFFFFFFu;
+
+// Whether the surface of bin key `key` stands between the receiver at p and the light at p + q:
+// emitter s's piece (its node at squared distance dist²), or a punctual light (s = kPunctual, at
+// dist²). It is nearer than the light, and for an emitter its plane separates them, each side
+// judged within a thousandth of its own distance to that surface (a receiver just under an object
+// resting on it lies behind its plane by less than the lamp is far; the ceiling beside a lamp and
+// the lamp's own other pieces do not separate).
+bool standsBetween(uint64_t key, uint s, float dist2, vec3 p, vec3 q) {
+  uint o = keyId(key);
+  if (key == kEmptyVisibility || o == s) return false;
+  if (s == kPunctual) return linkKeyDepth(key) <= dist2;
+  if (linkKeyDepth(key) >= dist2 * 0.999) return false;
+  vec4 plane = nodeNormalCone(o);
+  vec3 onPlane = nodePositionArea(o).xyz;
+  float sideOfReceiver = dot(plane.xyz, p - onPlane), sideOfEmitter = dot(plane.xyz, p + q - onPlane);
+  float nearMargin = 1e-3 * sqrt(linkKeyDepth(key)), farMargin = 1e-3 * length(q);
+  return plane.w >= 0.5 * kPi || (sideOfReceiver > nearMargin && sideOfEmitter < -farMargin) ||
+         (sideOfReceiver < -nearMargin && sideOfEmitter > farMargin);
 }
 
-// Irradiance at the receiver from punctual lights: hidden where the nearest surface in their bin is
-// nearer, and the ray to the light may cross it or a nearer surface over a neighbouring bin's centre
-// (as for an emitter's pieces: shadows sharper than the bins).
+// Whether the surface of bin key `key` may hide the light: it stands between, and the ray may cross it.
+bool mayHide(uint64_t key, uint s, float dist2, vec3 p, vec3 q) {
+  return standsBetween(key, s, dist2, p, q) && mayCross(keyId(key), p, q);
+}
+
+// Whether the light along q, in bin b, is hidden: the surface over the bin's centre stands between,
+// and the ray to the light may cross it or a surface over one of the eight neighbouring bins'
+// centres (the light may lie in the part of the bin that surface leaves open, up to a bin from its
+// centre): shadows and penumbrae finer than the bins.
+bool hidden(uint slot, uint b, uint s, float dist2, vec3 p, vec3 q) {
+  return standsBetween(binAt(slot, b).key, s, dist2, p, q) &&
+         (mayHide(binAt(slot, b).key, s, dist2, p, q) ||
+          mayHide(binAt(slot, neighbourBin(b, ivec2(1, 0))).key, s, dist2, p, q) ||
+          mayHide(binAt(slot, neighbourBin(b, ivec2(-1, 0))).key, s, dist2, p, q) ||
+          mayHide(binAt(slot, neighbourBin(b, ivec2(0, 1))).key, s, dist2, p, q) ||
+          mayHide(binAt(slot, neighbourBin(b, ivec2(0, -1))).key, s, dist2, p, q) ||
+          mayHide(binAt(slot, neighbourBin(b, ivec2(1, 1))).key, s, dist2, p, q) ||
+          mayHide(binAt(slot, neighbourBin(b, ivec2(-1, 1))).key, s, dist2, p, q) ||
+          mayHide(binAt(slot, neighbourBin(b, ivec2(1, -1))).key, s, dist2, p, q) ||
+          mayHide(binAt(slot, neighbourBin(b, ivec2(-1, -1))).key, s, dist2, p, q));
+}
+
+// Irradiance at the receiver from the punctual lights it does not find hidden.
 vec3 punctualLight(uint slot, vec3 p, vec3 n) {
   vec3 sum = vec3(0.0);
   for (uint l = 0u; l < push.lightCount; ++l) {
@@ -439,10 +464,7 @@ vec3 punctualLight(uint slot, vec3 p, vec3 n) {
     float dist2, falloff = lightFalloff(lights[l], p, toLight, dist2);
     float cosR = dot(n, normalize(toLight));
     if (cosR <= 0.0 || falloff <= 0.0) continue;
-    uint b = binOf(toLight, kN);
-    uint64_t nearest = binAt(slot, b).key;
-    if (nearest != kEmptyVisibility && linkKeyDepth(nearest) <= dist2 && mayShadowAround(slot, b, dist2, p, toLight))
-      continue;  // occluded
+    if (hidden(slot, binOf(toLight, kN), kPunctual, dist2, p, toLight)) continue;
     sum += lights[l].intensity.rgb * cosR * falloff;
   }
   return sum;
@@ -476,48 +498,9 @@ vec3 environmentThrough(vec3 n, uint b, uint covered) {
 // Emitted radiosity π·Le of node s (pulled up); zero for a node that emits nothing.
 vec3 emitted(uint s) { return imageLoad(nodeEmission, int(s)).rgb; }
 
-// Whether the surface of bin key `key` stands between the receiver at p and emitter s's piece at
-// p + q: it is nearer than the emitter and its plane separates them, each side judged within a
-// thousandth of its own distance to that surface (a receiver just under an object resting on it
-// lies behind its plane by less than the lamp is far).
-bool separates(uint64_t key, uint s, float emitterDist2, vec3 p, vec3 q) {
-  uint o = keyId(key);
-  if (key == kEmptyVisibility || o == s || linkKeyDepth(key) >= emitterDist2 * 0.999) return false;
-  vec4 plane = nodeNormalCone(o);
-  vec3 onPlane = nodePositionArea(o).xyz;
-  float sideOfReceiver = dot(plane.xyz, p - onPlane), sideOfEmitter = dot(plane.xyz, p + q - onPlane);
-  float nearMargin = 1e-3 * sqrt(linkKeyDepth(key)), farMargin = 1e-3 * length(q);
-  return plane.w >= 0.5 * kPi || (sideOfReceiver > nearMargin && sideOfEmitter < -farMargin) ||
-         (sideOfReceiver < -nearMargin && sideOfEmitter > farMargin);
-}
-
-// Whether the surface of bin key `key` may hide the piece: it stands between, and the ray may cross it.
-bool mayHide(uint64_t key, uint s, float emitterDist2, vec3 p, vec3 q) {
-  return separates(key, s, emitterDist2, p, q) && mayCross(keyId(key), p, q);
-}
-
-// Whether a surface of bin b or of one of its eight neighbours may hide the piece: the ray runs
-// within a bin of their centres, and may cross a surface that holds a neighbour's.
-bool mayHideAround(uint slot, uint b, uint s, float emitterDist2, vec3 p, vec3 q) {
-  return mayHide(binAt(slot, b).key, s, emitterDist2, p, q) ||
-         mayHide(binAt(slot, neighbourBin(b, ivec2(1, 0))).key, s, emitterDist2, p, q) ||
-         mayHide(binAt(slot, neighbourBin(b, ivec2(-1, 0))).key, s, emitterDist2, p, q) ||
-         mayHide(binAt(slot, neighbourBin(b, ivec2(0, 1))).key, s, emitterDist2, p, q) ||
-         mayHide(binAt(slot, neighbourBin(b, ivec2(0, -1))).key, s, emitterDist2, p, q) ||
-         mayHide(binAt(slot, neighbourBin(b, ivec2(1, 1))).key, s, emitterDist2, p, q) ||
-         mayHide(binAt(slot, neighbourBin(b, ivec2(-1, 1))).key, s, emitterDist2, p, q) ||
-         mayHide(binAt(slot, neighbourBin(b, ivec2(1, -1))).key, s, emitterDist2, p, q) ||
-         mayHide(binAt(slot, neighbourBin(b, ivec2(-1, -1))).key, s, emitterDist2, p, q);
-}
-
 // Direct light from emitter s at the receiver (p, n): each of its pieces (as filed) with its own
-// form factor, where the bin along it shows it. The bin's nearest surface hides the piece where its
-// plane separates receiver and emitter (not the ceiling beside a lamp, nor the lamp's own other
-// pieces), unless the ray to the piece passes beside it and beside every surface over the
-// neighbouring bins' centres: a bin goes to the surface over its centre, and the piece may lie in
-// the part of the bin that surface leaves open, up to a bin from the centre. Exact where the bins
-// only credit whole bins, so that a small emitter's light does not jump as its footprint crosses
-// bin borders, and penumbrae resolved finer than the bins.
+// form factor, where it is not hidden. Exact where the bins only credit whole bins, so that a small
+// emitter's light does not jump as its footprint crosses bin borders.
 vec3 directLight(uint slot, vec3 p, vec3 n, uint s) {
   vec4 normalCone = nodeNormalCone(s);
   View v = viewOf(p, nodePositionArea(s), normalCone);
@@ -529,9 +512,7 @@ vec3 directLight(uint slot, vec3 p, vec3 n, uint s) {
       continue;  // its back
     vec3 q = piece.q;
     float q2 = dot(q, q);
-    uint b = binOf(q, kN);
-    bool visible = !separates(binAt(slot, b).key, s, v.dist2, p, q) || !mayHideAround(slot, b, s, v.dist2, p, q);
-    if (visible) sum += piece.omega * dot(n, q) * inversesqrt(q2) / kPi;
+    if (!hidden(slot, binOf(q, kN), s, v.dist2, p, q)) sum += piece.omega * dot(n, q) * inversesqrt(q2) / kPi;
   }
   return sum * emitted(s);
 }
