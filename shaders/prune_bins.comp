@@ -220,10 +220,10 @@ bool insideOutline(vec2 m, vec2 c0, vec2 c1, vec2 c2, vec2 c3) {
 // only as far as it reaches (given whole to any face centred in them, every outline would widen by
 // up to a bin and darken its penumbra). The core bins are those whose centre lies in the element's
 // own rectangle as the receiver sees it (a quadrilateral on the face): neighbouring elements tile
-// the view as their rectangles tile the surface. The footprint's rectangle of the same solid angle
-// does not follow a slanted or turned element's outline, and had to be grown over the gaps it left
-// between neighbours, which widened every outline. A curved sender, a square without sides, is
-// core where it holds the bin's centre (grown by an eighth of its sides) or covers half. A
+// the view as their rectangles tile the surface, where footprints of the same solid angle would not
+// follow a slanted or turned element's outline and leave gaps, which growing them over would widen
+// every outline by. A curved sender, a square without sides, is core where it holds the bin's
+// centre (grown by an eighth of its sides) or covers half. A
 // footprint at most one bin wide overlaps two bins from the one under its lower edge, so that the
 // lanes of a subgroup walk loops of the same length (a CPU device runs a subgroup's loop as long as
 // its longest lane); wider footprints walk their own range.
@@ -443,10 +443,11 @@ bool mayHide(uint64_t key, uint s, float dist2, vec3 p, vec3 q) {
 // and the ray to the light may cross it or a surface over one of the eight neighbouring bins'
 // centres (the light may lie in the part of the bin that surface leaves open, up to a bin from its
 // centre): shadows and penumbrae finer than the bins.
+// The eight neighbours are tested one after another, not in a loop (lavapipe's loop budget).
 bool hidden(uint slot, uint b, uint s, float dist2, vec3 p, vec3 q) {
-  return standsBetween(binAt(slot, b).key, s, dist2, p, q) &&
-         (mayHide(binAt(slot, b).key, s, dist2, p, q) ||
-          mayHide(binAt(slot, neighbourBin(b, ivec2(1, 0))).key, s, dist2, p, q) ||
+  uint64_t key = binAt(slot, b).key;
+  return standsBetween(key, s, dist2, p, q) &&
+         (mayCross(keyId(key), p, q) || mayHide(binAt(slot, neighbourBin(b, ivec2(1, 0))).key, s, dist2, p, q) ||
           mayHide(binAt(slot, neighbourBin(b, ivec2(-1, 0))).key, s, dist2, p, q) ||
           mayHide(binAt(slot, neighbourBin(b, ivec2(0, 1))).key, s, dist2, p, q) ||
           mayHide(binAt(slot, neighbourBin(b, ivec2(0, -1))).key, s, dist2, p, q) ||
