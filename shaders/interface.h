@@ -513,6 +513,17 @@ IVGI_FN void tangentFrame(vec3 n, IVGI_OUT(vec3) t1, IVGI_OUT(vec3) t2) {
   t2 = cross(n, t1);
 }
 
+// Direction d in the tangent frame (t1, t2) as its angle times four (a right angle a full turn),
+// weighted by its length there: summed over a grid's edges, or over elements' axes, it gives their
+// common orientation modulo a right angle (quarterAngle), whatever the grid's rotation.
+IVGI_FN vec2 quarterTurns(vec3 d, vec3 t1, vec3 t2) {
+  float x = dot(d, t1), y = dot(d, t2), r2 = x * x + y * y;
+  if (r2 <= 0.0f) return vec2(0.0f);
+  float c2 = (x * x - y * y) / r2, s2 = 2.0f * x * y / r2;  // the angle doubled
+  return sqrt(r2) * vec2(c2 * c2 - s2 * s2, 2.0f * c2 * s2);
+}
+IVGI_FN float quarterAngle(vec2 sum) { return length(sum) > 0.0f ? 0.25f * atan(sum.y, sum.x) : 0.0f; }
+
 // ---- Punctual lights ----
 
 // Irradiance per unit intensity on a surface at p facing the light: 1/d², the range window, the

@@ -392,24 +392,27 @@ bool rectangleHit(uint o, vec3 p, vec3 q) {
   return abs(dot(h, sideA)) <= dot(sideA, sideA) && abs(dot(h, sideB)) <= dot(sideB, sideB);
 }
 
-// Whether the ray from p along q may cross the surface of sender o: it crosses the rectangle of o or
-// of an ancestor of o flat in o's plane (o may be one of a surface's elements, and the ray cross its
-// neighbour), or none of them is a bin wide (o is one of many elements smaller than a bin, and
-// where the ray meets them is not known).
-bool mayCross(uint o, vec3 p, vec3 q) {
+// Whether the ray from p along q crosses the surface of sender o: the rectangle of o or of the
+// whole flat surface o lies on (its highest ancestor flat in its plane; o may be one of that
+// surface's elements, and the ray cross its neighbour). Or, unless `surely`, where neither is a bin
+// wide: o is one of many elements smaller than a bin (or a curved one, which has no rectangle), and
+// where the ray meets them is not known.
+bool crosses(uint o, vec3 p, vec3 q, bool surely) {
   const float flatCone = 0.02;  // radians: a cone this narrow is a plane
   vec3 normal = nodeNormalCone(o).xyz, onPlane = nodePositionArea(o).xyz;
-  bool binWide = false;
+  int top = -1;
   for (int i = int(o); i >= 0; i = int(imageLoad(tree, i).x)) {
-    vec4 cone = nodeNormalCone(uint(i)), positionArea = nodePositionArea(uint(i));
+    vec4 cone = nodeNormalCone(uint(i));
     if (cone.w > flatCone || dot(cone.xyz, normal) < cos(flatCone) ||
-        abs(dot(normal, positionArea.xyz - onPlane)) > 1e-3 * nodeRadius(uint(i)))
+        abs(dot(normal, nodePositionArea(uint(i)).xyz - onPlane)) > 1e-3 * nodeRadius(uint(i)))
       break;  // not in o's plane (parallel surfaces apart share a normal)
-    if (rectangleHit(uint(i), p, q)) return true;
-    vec3 d = positionArea.xyz - p;
-    binWide = binWide || positionArea.w * float(kN * kN) >= 4.0 * dot(d, d);  // a bin: (2/N)² at distance 1
+    top = i;
   }
-  return !binWide;
+  if (top < 0) return !surely;
+  if (rectangleHit(o, p, q) || rectangleHit(uint(top), p, q)) return true;
+  vec4 surface = nodePositionArea(uint(top));
+  vec3 d = surface.xyz - p;
+  return !surely && surface.w * float(kN * kN) < 4.0 * dot(d, d);  // a bin: (2/N)² at distance 1
 }
 
 // A light that is no surface: the punctual lights.
@@ -434,27 +437,29 @@ bool standsBetween(uint64_t key, uint s, float dist2, vec3 p, vec3 q) {
          (sideOfReceiver < -nearMargin && sideOfEmitter > farMargin);
 }
 
-// Whether the surface of bin key `key` may hide the light: it stands between, and the ray may cross it.
-bool mayHide(uint64_t key, uint s, float dist2, vec3 p, vec3 q) {
-  return standsBetween(key, s, dist2, p, q) && mayCross(keyId(key), p, q);
+// Whether the surface of bin key `key` hides the light: it stands between, and the ray crosses it
+// (crosses(), `surely` or not).
+bool hides(uint64_t key, uint s, float dist2, vec3 p, vec3 q, bool surely) {
+  return standsBetween(key, s, dist2, p, q) && crosses(keyId(key), p, q, surely);
 }
 
-// Whether the light along q, in bin b, is hidden: the surface over the bin's centre stands between,
-// and the ray to the light may cross it or a surface over one of the eight neighbouring bins'
-// centres (the light may lie in the part of the bin that surface leaves open, up to a bin from its
-// centre): shadows and penumbrae finer than the bins.
+// Whether the light along q, in bin b, is hidden: the ray to it crosses a surface that stands
+// between, over the bin's centre or over one of the eight neighbouring bins' centres (the light may
+// lie up to a bin from its bin's centre, where another surface holds the view): shadows and
+// penumbrae finer than the bins, either way. Over the bin's own centre, a surface whose rectangle
+// does not tell where the ray meets it (curved, or elements smaller than a bin) hides it too.
 // The eight neighbours are tested one after another, not in a loop (lavapipe's loop budget).
 bool hidden(uint slot, uint b, uint s, float dist2, vec3 p, vec3 q) {
   uint64_t key = binAt(slot, b).key;
-  return standsBetween(key, s, dist2, p, q) &&
-         (mayCross(keyId(key), p, q) || mayHide(binAt(slot, neighbourBin(b, ivec2(1, 0))).key, s, dist2, p, q) ||
-          mayHide(binAt(slot, neighbourBin(b, ivec2(-1, 0))).key, s, dist2, p, q) ||
-          mayHide(binAt(slot, neighbourBin(b, ivec2(0, 1))).key, s, dist2, p, q) ||
-          mayHide(binAt(slot, neighbourBin(b, ivec2(0, -1))).key, s, dist2, p, q) ||
-          mayHide(binAt(slot, neighbourBin(b, ivec2(1, 1))).key, s, dist2, p, q) ||
-          mayHide(binAt(slot, neighbourBin(b, ivec2(-1, 1))).key, s, dist2, p, q) ||
-          mayHide(binAt(slot, neighbourBin(b, ivec2(1, -1))).key, s, dist2, p, q) ||
-          mayHide(binAt(slot, neighbourBin(b, ivec2(-1, -1))).key, s, dist2, p, q));
+  return hides(key, s, dist2, p, q, false) ||
+         hides(binAt(slot, neighbourBin(b, ivec2(1, 0))).key, s, dist2, p, q, true) ||
+         hides(binAt(slot, neighbourBin(b, ivec2(-1, 0))).key, s, dist2, p, q, true) ||
+         hides(binAt(slot, neighbourBin(b, ivec2(0, 1))).key, s, dist2, p, q, true) ||
+         hides(binAt(slot, neighbourBin(b, ivec2(0, -1))).key, s, dist2, p, q, true) ||
+         hides(binAt(slot, neighbourBin(b, ivec2(1, 1))).key, s, dist2, p, q, true) ||
+         hides(binAt(slot, neighbourBin(b, ivec2(-1, 1))).key, s, dist2, p, q, true) ||
+         hides(binAt(slot, neighbourBin(b, ivec2(1, -1))).key, s, dist2, p, q, true) ||
+         hides(binAt(slot, neighbourBin(b, ivec2(-1, -1))).key, s, dist2, p, q, true);
 }
 
 // Irradiance at the receiver from the punctual lights it does not find hidden.

@@ -3,10 +3,10 @@
 // their surfel; inner nodes combine their children, already refit.
 //
 // Each node also gets the rectangle that has its area's second moments in its tangent plane
-// (principal axes, half-extents √3·σ): prune files a near sender as pieces of that rectangle, so
-// that neighbouring nodes tile the view as their surfaces do (disks of the same areas would overlap
-// at their sides and leave gaps at their corners, a tenth of the coverage). A leaf takes its
-// surfel's rectangle (surfels.comp).
+// (half-extents √3·σ along its principal axes, or its children's where those are not clear): prune files a near sender
+// as pieces of that rectangle, so that neighbouring nodes tile the view as their surfaces do (disks of the same areas
+// would overlap at their sides and leave gaps at their corners, a tenth of the coverage). A leaf takes its surfel's
+// rectangle (surfels.comp).
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 layout(local_size_x = 64) in;
@@ -57,19 +57,29 @@ void main() {
   tangentFrame(n, a, b);
   float cone = len > 0.0 ? 0.0 : kPi, radius = 0.0;
   vec3 moments = vec3(0.0);  // about p along a, along b, and mixed
+  vec2 quarter = vec2(0.0);  // the children's axes, their angle in (a, b) times four, by area
   for (uint c = 0; c < t.childCount; ++c) {
     NodeState child = nodes[t.firstChild + c];
     if (len > 0.0 && child.positionArea.w > 0.0)
       cone = max(cone, acos(clamp(dot(n, child.normalCone.xyz), -1.0, 1.0)) + child.normalCone.w);
     radius = max(radius, length(child.positionArea.xyz - p) + child.shape.x);
     if (child.positionArea.w > 0.0) moments += child.positionArea.w * secondMoments(child, p, a, b);
+    vec3 t1, t2;
+    tangentFrame(child.normalCone.xyz, t1, t2);
+    vec2 axis = quarterTurns(cos(child.shape.y) * t1 + sin(child.shape.y) * t2, a, b);
+    if (length(axis) > 0.0) quarter += child.positionArea.w * normalize(axis);
   }
   moments /= max(area, 1e-30);
-  // Principal axes of the 2×2 moment matrix [[x, z], [z, y]]: angle and eigenvalues.
-  bool round = moments.z == 0.0 && moments.x == moments.y;  // every axis principal (atan(0, 0) is undefined)
-  float angle = round ? 0.0 : 0.5 * atan(2.0 * moments.z, moments.x - moments.y);
+  // The rectangle's axes: the principal axes of the 2×2 moment matrix [[x, z], [z, y]] where they
+  // are clear, the children's where the moments are nearly round (a square of cells, whose principal
+  // axes follow the triangulation's diagonals and would tip the rectangle past the node's corners);
+  // its half-extents √3·σ along them.
   float mid = 0.5 * (moments.x + moments.y), spread = length(vec2(0.5 * (moments.x - moments.y), moments.z));
-  vec2 halfExtents = sqrt(3.0 * max(vec2(mid + spread, mid - spread), vec2(0.0)));
+  float angle = spread > 0.2 * mid ? 0.5 * atan(2.0 * moments.z, moments.x - moments.y) : quarterAngle(quarter);
+  float ca = cos(angle), sa = sin(angle);
+  vec2 along = vec2(ca * ca * moments.x + 2.0 * ca * sa * moments.z + sa * sa * moments.y,
+                    sa * sa * moments.x - 2.0 * ca * sa * moments.z + ca * ca * moments.y);
+  vec2 halfExtents = sqrt(3.0 * max(along, vec2(0.0)));
   nodes[i].positionArea = vec4(p, area);
   nodes[i].normalCone = vec4(len > 0.0 ? n : vec3(0.0), min(cone, kPi));
   nodes[i].shape = vec4(radius, angle, halfExtents);

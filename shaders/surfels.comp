@@ -48,16 +48,26 @@ void main() {
   vec3 n = length(vertexSum) > 1e-6 ? vertexSum : faceSum;
   float len = length(n);
   vec3 centre = area > 0.0 ? moment / area : self, normal = len > 0.0 ? n / len : vec3(0.0);
-  // The surfel's rectangle: along the tangents, the extents of a rectangle with its area's second
-  // moments about the centre (√3·σ), scaled to its area. On a regular grid an inner surfel is the
-  // square of its cell and one on a border about the half-cell strip it covers, so that neighbours
-  // tile the view as their surfaces do.
+  // The surfel's rectangle: the extents of a rectangle with its area's second moments about the
+  // centre (√3·σ), scaled to its area. On a regular grid an inner surfel is the square of its cell
+  // and one on a border about the half-cell strip it covers, so that neighbours tile the view as
+  // their surfaces do.
   vec3 t1, t2, offset = centre - self;
   tangentFrame(len > 0.0 ? normal : vec3(0.0, 0.0, 1.0), t1, t2);
+  // Its axes follow the mesh's edges (their directions modulo a right angle, weighted by length), so
+  // that on a grid the rectangles of neighbours share their sides whatever the grid's turn.
+  vec2 quarter = vec2(0.0);
+  for (uint k = 0; k < src.triangleCount; ++k) {
+    Triangle t = triangles[surfelTriangles[src.firstTriangle + k]];
+    vec3 a = world[t.v0].position.xyz, b = world[t.v1].position.xyz, c = world[t.v2].position.xyz;
+    quarter += quarterTurns(b - a, t1, t2) + quarterTurns(c - b, t1, t2) + quarterTurns(a - c, t1, t2);
+  }
+  float angle = quarterAngle(quarter);
+  vec3 u1 = cos(angle) * t1 + sin(angle) * t2, u2 = cos(angle) * t2 - sin(angle) * t1;
   moments -= area * outerProduct(offset, offset);
-  vec2 extent = sqrt(3.0 * max(vec2(dot(t1, moments * t1), dot(t2, moments * t2)), vec2(0.0)) / max(area, 1e-30));
+  vec2 extent = sqrt(3.0 * max(vec2(dot(u1, moments * u1), dot(u2, moments * u2)), vec2(0.0)) / max(area, 1e-30));
   extent = extent.x * extent.y > 0.0 ? extent * sqrt(area / (4.0 * extent.x * extent.y)) : vec2(0.5 * sqrt(area));
   surfels[s].positionArea = vec4(centre, len > 0.0 ? area : 0.0);
   surfels[s].normal = vec4(normal, 0.0);
-  surfels[s].shape = vec4(sqrt(area / kPi), 0.0, extent);
+  surfels[s].shape = vec4(sqrt(area / kPi), angle, extent);
 }

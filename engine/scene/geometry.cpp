@@ -281,15 +281,23 @@ std::vector<Surfel> surfelsOnHost(const Geometry& g, const std::vector<WorldVert
     glm::vec3 centre = area > 0.0f ? moment / area : self, normal = len > 0.0f ? n / len : glm::vec3(0.0f);
     glm::vec3 t1, t2, offset = centre - self;
     gpu::tangentFrame(len > 0.0f ? normal : glm::vec3(0, 0, 1), t1, t2);
+    glm::vec2 quarter(0.0f);  // its axes along the mesh's edges (surfels.comp)
+    for (uint32_t k = 0; k < src.triangleCount; ++k) {
+      const Triangle& t = g.triangles[g.surfelTriangles[src.firstTriangle + k]];
+      glm::vec3 a(world[t.v0].position), b(world[t.v1].position), c(world[t.v2].position);
+      quarter += gpu::quarterTurns(b - a, t1, t2) + gpu::quarterTurns(c - b, t1, t2) + gpu::quarterTurns(a - c, t1, t2);
+    }
+    const float angle = gpu::quarterAngle(quarter);
+    const glm::vec3 u1 = std::cos(angle) * t1 + std::sin(angle) * t2, u2 = std::cos(angle) * t2 - std::sin(angle) * t1;
     moments -= area * glm::outerProduct(offset, offset);
     glm::vec2 extent =
-        glm::sqrt(3.0f * glm::max(glm::vec2(glm::dot(t1, moments * t1), glm::dot(t2, moments * t2)), glm::vec2(0.0f)) /
+        glm::sqrt(3.0f * glm::max(glm::vec2(glm::dot(u1, moments * u1), glm::dot(u2, moments * u2)), glm::vec2(0.0f)) /
                   std::max(area, 1e-30f));
     extent = extent.x * extent.y > 0.0f ? extent * std::sqrt(area / (4.0f * extent.x * extent.y))
                                         : glm::vec2(0.5f * std::sqrt(area));
     out[s].positionArea = glm::vec4(centre, len > 0.0f ? area : 0.0f);
     out[s].normal = glm::vec4(normal, 0.0f);
-    out[s].shape = glm::vec4(std::sqrt(area / glm::pi<float>()), 0.0f, extent);
+    out[s].shape = glm::vec4(std::sqrt(area / glm::pi<float>()), angle, extent);
   }
   return out;
 }
