@@ -77,11 +77,9 @@ void senderSides(uint s, vec4 normalCone, out vec3 sideA, out vec3 sideB) {
   sideA = sideB = vec3(0.0);
   if (length(normalCone.xyz) == 0.0 || normalCone.w >= 0.5 * kPi) return;
   vec4 shape = nodeShape(s);
-  vec3 t1, t2;
-  tangentFrame(normalCone.xyz, t1, t2);
-  float c = cos(shape.y), sn = sin(shape.y);
-  sideA = shape.z * (c * t1 + sn * t2);
-  sideB = shape.w * (c * t2 - sn * t1);
+  rectangleAxes(normalCone.xyz, shape.y, sideA, sideB);
+  sideA *= shape.z;
+  sideB *= shape.w;
 }
 #endif
 

@@ -523,6 +523,19 @@ IVGI_FN vec2 quarterTurns(vec3 d, vec3 t1, vec3 t2) {
   return sqrt(r2) * vec2(c2 * c2 - s2 * s2, 2.0f * c2 * s2);
 }
 IVGI_FN float quarterAngle(vec2 sum) { return length(sum) > 0.0f ? 0.25f * atan(sum.y, sum.x) : 0.0f; }
+// quarterTurns() of the three edges of triangle abc.
+IVGI_FN vec2 edgeQuarterTurns(vec3 a, vec3 b, vec3 c, vec3 t1, vec3 t2) {
+  return quarterTurns(b - a, t1, t2) + quarterTurns(c - b, t1, t2) + quarterTurns(a - c, t1, t2);
+}
+
+// The axes of a rectangle (a surfel's, a node's) turned by `angle` in the tangent frame of n.
+IVGI_FN void rectangleAxes(vec3 n, float angle, IVGI_OUT(vec3) u1, IVGI_OUT(vec3) u2) {
+  vec3 t1, t2;
+  tangentFrame(n, t1, t2);
+  float c = cos(angle), s = sin(angle);
+  u1 = c * t1 + s * t2;
+  u2 = c * t2 - s * t1;
+}
 
 // ---- Punctual lights ----
 

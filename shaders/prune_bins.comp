@@ -409,7 +409,7 @@ bool crosses(uint o, vec3 p, vec3 q, bool surely) {
     top = i;
   }
   if (top < 0) return !surely;
-  if (rectangleHit(o, p, q) || rectangleHit(uint(top), p, q)) return true;
+  if (rectangleHit(o, p, q) || (top != int(o) && rectangleHit(uint(top), p, q))) return true;
   vec4 surface = nodePositionArea(uint(top));
   vec3 d = surface.xyz - p;
   return !surely && surface.w * float(kN * kN) < 4.0 * dot(d, d);  // a bin: (2/N)² at distance 1

@@ -3,10 +3,10 @@
 // their surfel; inner nodes combine their children, already refit.
 //
 // Each node also gets the rectangle that has its area's second moments in its tangent plane
-// (half-extents √3·σ along its principal axes, or its children's where those are not clear): prune files a near sender
-// as pieces of that rectangle, so that neighbouring nodes tile the view as their surfaces do (disks of the same areas
-// would overlap at their sides and leave gaps at their corners, a tenth of the coverage). A leaf takes its surfel's
-// rectangle (surfels.comp).
+// (half-extents √3·σ along its principal axes, or its children's where those are not clear):
+// prune files a near sender as pieces of that rectangle, so that neighbouring nodes tile the view
+// as their surfaces do (disks of the same areas would overlap at their sides and leave gaps at
+// their corners, a tenth of the coverage). A leaf takes its surfel's rectangle (surfels.comp).
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 layout(local_size_x = 64) in;
@@ -19,10 +19,8 @@ layout(push_constant) uniform Push { LevelPush push; };
 // Second moments of a node's area about `centre`, in the tangent axes (a, b), per unit area:
 // its rectangle's own (uniform over ±e: e²/3 along each axis) plus its offset.
 vec3 secondMoments(NodeState node, vec3 centre, vec3 a, vec3 b) {
-  vec3 t1, t2;
-  tangentFrame(node.normalCone.xyz, t1, t2);
-  float c = cos(node.shape.y), s = sin(node.shape.y);
-  vec3 u1 = c * t1 + s * t2, u2 = c * t2 - s * t1, d = node.positionArea.xyz - centre;
+  vec3 u1, u2, d = node.positionArea.xyz - centre;
+  rectangleAxes(node.normalCone.xyz, node.shape.y, u1, u2);
   vec2 e2 = node.shape.zw * node.shape.zw / 3.0;
   vec2 pa = vec2(dot(u1, a), dot(u2, a)), pb = vec2(dot(u1, b), dot(u2, b));
   float da = dot(d, a), db = dot(d, b);
@@ -64,9 +62,9 @@ void main() {
       cone = max(cone, acos(clamp(dot(n, child.normalCone.xyz), -1.0, 1.0)) + child.normalCone.w);
     radius = max(radius, length(child.positionArea.xyz - p) + child.shape.x);
     if (child.positionArea.w > 0.0) moments += child.positionArea.w * secondMoments(child, p, a, b);
-    vec3 t1, t2;
-    tangentFrame(child.normalCone.xyz, t1, t2);
-    vec2 axis = quarterTurns(cos(child.shape.y) * t1 + sin(child.shape.y) * t2, a, b);
+    vec3 u1, u2;
+    rectangleAxes(child.normalCone.xyz, child.shape.y, u1, u2);
+    vec2 axis = quarterTurns(u1, a, b);
     if (length(axis) > 0.0) quarter += child.positionArea.w * normalize(axis);
   }
   moments /= max(area, 1e-30);

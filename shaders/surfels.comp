@@ -59,11 +59,11 @@ void main() {
   vec2 quarter = vec2(0.0);
   for (uint k = 0; k < src.triangleCount; ++k) {
     Triangle t = triangles[surfelTriangles[src.firstTriangle + k]];
-    vec3 a = world[t.v0].position.xyz, b = world[t.v1].position.xyz, c = world[t.v2].position.xyz;
-    quarter += quarterTurns(b - a, t1, t2) + quarterTurns(c - b, t1, t2) + quarterTurns(a - c, t1, t2);
+    quarter += edgeQuarterTurns(world[t.v0].position.xyz, world[t.v1].position.xyz, world[t.v2].position.xyz, t1, t2);
   }
   float angle = quarterAngle(quarter);
-  vec3 u1 = cos(angle) * t1 + sin(angle) * t2, u2 = cos(angle) * t2 - sin(angle) * t1;
+  vec3 u1, u2;
+  rectangleAxes(len > 0.0 ? normal : vec3(0.0, 0.0, 1.0), angle, u1, u2);
   moments -= area * outerProduct(offset, offset);
   vec2 extent = sqrt(3.0 * max(vec2(dot(u1, moments * u1), dot(u2, moments * u2)), vec2(0.0)) / max(area, 1e-30));
   extent = extent.x * extent.y > 0.0 ? extent * sqrt(area / (4.0 * extent.x * extent.y)) : vec2(0.5 * sqrt(area));

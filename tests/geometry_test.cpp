@@ -155,10 +155,8 @@ TEST(Surfels, RectanglesTileAFlatFace) {
           const glm::vec3 point = at((i + 0.5f) / samples, (j + 0.5f) / samples);
           int inside = 0;
           for (const auto& sf : surfels) {
-            glm::vec3 t1, t2, d = point - glm::vec3(sf.positionArea);
-            gpu::tangentFrame(glm::vec3(sf.normal), t1, t2);
-            const glm::vec3 u1 = std::cos(sf.shape.y) * t1 + std::sin(sf.shape.y) * t2,
-                            u2 = std::cos(sf.shape.y) * t2 - std::sin(sf.shape.y) * t1;
+            glm::vec3 u1, u2, d = point - glm::vec3(sf.positionArea);
+            gpu::rectangleAxes(glm::vec3(sf.normal), sf.shape.y, u1, u2);
             inside += std::abs(glm::dot(d, u1)) < sf.shape.z && std::abs(glm::dot(d, u2)) < sf.shape.w;
           }
           once += inside == 1;

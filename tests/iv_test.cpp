@@ -302,9 +302,8 @@ TEST(IvHierarchy, NodesAreTheRectanglesOfTheirSurfaces) {
   const gi::Hierarchy& h = test::ivSolver(r).hierarchy();
   const auto nodes = test::ivSolver(r).nodeStates();
   const auto& root = nodes[h.roots[0]];
-  glm::vec3 t1, t2;
-  gpu::tangentFrame(glm::vec3(root.normalCone), t1, t2);
-  glm::vec3 longAxis = std::cos(root.shape.y) * t1 + std::sin(root.shape.y) * t2;
+  glm::vec3 longAxis, shortAxis;
+  gpu::rectangleAxes(glm::vec3(root.normalCone), root.shape.y, longAxis, shortAxis);
   std::printf("[ shape ] root of the plane: half-extents %.4f x %.4f, long axis %.2f deg off the plane's\n",
               root.shape.z, root.shape.w, glm::degrees(std::acos(std::min(std::abs(glm::dot(longAxis, along)), 1.0f))));
   EXPECT_NEAR(root.positionArea.w, 0.16f, 1e-5f);

@@ -284,11 +284,12 @@ std::vector<Surfel> surfelsOnHost(const Geometry& g, const std::vector<WorldVert
     glm::vec2 quarter(0.0f);  // its axes along the mesh's edges (surfels.comp)
     for (uint32_t k = 0; k < src.triangleCount; ++k) {
       const Triangle& t = g.triangles[g.surfelTriangles[src.firstTriangle + k]];
-      glm::vec3 a(world[t.v0].position), b(world[t.v1].position), c(world[t.v2].position);
-      quarter += gpu::quarterTurns(b - a, t1, t2) + gpu::quarterTurns(c - b, t1, t2) + gpu::quarterTurns(a - c, t1, t2);
+      quarter += gpu::edgeQuarterTurns(glm::vec3(world[t.v0].position), glm::vec3(world[t.v1].position),
+                                       glm::vec3(world[t.v2].position), t1, t2);
     }
     const float angle = gpu::quarterAngle(quarter);
-    const glm::vec3 u1 = std::cos(angle) * t1 + std::sin(angle) * t2, u2 = std::cos(angle) * t2 - std::sin(angle) * t1;
+    glm::vec3 u1, u2;
+    gpu::rectangleAxes(len > 0.0f ? normal : glm::vec3(0, 0, 1), angle, u1, u2);
     moments -= area * glm::outerProduct(offset, offset);
     glm::vec2 extent =
         glm::sqrt(3.0f * glm::max(glm::vec2(glm::dot(u1, moments * u1), glm::dot(u2, moments * u2)), glm::vec2(0.0f)) /
