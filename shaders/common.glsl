@@ -13,24 +13,33 @@ uvec4 groupsFor(uint items, uint size) {
   return uvec4(min(groups, 65535u), (groups + 65534u) / 65535u, 1u, 0u);
 }
 
-// Möller–Trumbore without culling; t along the unnormalised ray (= depth along forward).
-// Barycentrics get a tiny negative slack so that shared edges leave no cracks.
+// Watertight ray–triangle test without culling (Woop, Benthin and Wald 2013): the corners are moved
+// into the ray's frame, sheared so that the ray runs along its major axis, and each edge's function
+// is a 2D cross product of its two corners alone. So two triangles sharing an edge compute it as
+// exact negatives of each other, and a ray through the edge, or through a shared corner, hits at
+// least one of them (a tolerance on barycentrics left cracks wherever rounding exceeded it). t along
+// the unnormalised ray (= depth along forward); uv the weights of b and c.
 bool intersectTriangle(vec3 o, vec3 d, vec3 a, vec3 b, vec3 c, out float t, out vec2 uv) {
-  vec3 e1 = b - a, e2 = c - a;
-  vec3 p = cross(d, e2);
-  float det = dot(e1, p);
   t = 0.0;
   uv = vec2(0.0);
-  if (det == 0.0) return false;
-  float inv = 1.0 / det;
-  vec3 s = o - a;
-  float u = dot(s, p) * inv;
-  vec3 q = cross(s, e1);
-  float v = dot(d, q) * inv;
-  const float slack = -1e-6;
-  if (u < slack || v < slack || u + v > 1.0 - slack) return false;
-  t = dot(e2, q) * inv;
-  uv = vec2(u, v);
+  const vec3 ad = abs(d);
+  const int kz = ad.x >= ad.y && ad.x >= ad.z ? 0 : (ad.y >= ad.z ? 1 : 2);
+  int kx = kz == 2 ? 0 : kz + 1, ky = kx == 2 ? 0 : kx + 1;
+  if (d[kz] < 0.0) {  // keep the winding: the frame stays right-handed
+    const int k = kx;
+    kx = ky, ky = k;
+  }
+  const vec3 shear = vec3(d[kx], d[ky], 1.0) / d[kz];
+  const vec3 A = a - o, B = b - o, C = c - o;
+  const vec2 a2 = vec2(A[kx], A[ky]) - shear.xy * A[kz], b2 = vec2(B[kx], B[ky]) - shear.xy * B[kz],
+             c2 = vec2(C[kx], C[ky]) - shear.xy * C[kz];
+  const float u = c2.x * b2.y - c2.y * b2.x, v = a2.x * c2.y - a2.y * c2.x, w = b2.x * a2.y - b2.y * a2.x;
+  if ((u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0)) return false;
+  const float det = u + v + w;
+  if (det == 0.0) return false;  // edge-on or degenerate
+  const float inv = 1.0 / det;
+  t = (u * A[kz] + v * B[kz] + w * C[kz]) * shear.z * inv;
+  uv = vec2(v, w) * inv;
   return true;
 }
 
