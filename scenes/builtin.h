@@ -29,10 +29,15 @@ struct FurnaceOptions {
   int cells = 4;          // per face side
   float albedo = 0.5f;    // uniform, grey
   float emission = 1.0f;  // uniform radiance of every face
+  bool blocks = false;    // the Cornell box's room closed, with its two blocks (cells as the box's)
 };
 // A closed 1 m cube, inward facing, every face with the same albedo and emission: radiosity
-// E/(1-ρ) everywhere. Camera at the centre.
+// E/(1-ρ) everywhere. Camera at the centre. With blocks: the Cornell box's room, closed by a wall
+// where its camera looks in, with its two blocks standing on the floor, every face the furnace's;
+// the radiosity is still E/(1-ρ) everywhere, so that what a solver loses in corners, at contacts
+// and in the blocks' shadows shows as a departure from one number. Camera inside the closing wall.
 tinygltf::Model furnace(const FurnaceOptions& options = {});
+tinygltf::Model cornellFurnace(const FurnaceOptions& options);  // furnace() with blocks
 
 std::vector<std::string> builtinSceneNames();
 

@@ -40,11 +40,52 @@ MeshData block(const Face& top, float height, glm::vec3 centre, float cellsPerMe
   return m;
 }
 
+// The room's walls, its ceiling in eight pieces around the light (so that light and ceiling never
+// overlap: the lamp's piece goes to `lamp`), and the front wall where the camera looks in when `front`.
+struct RoomFaces {
+  MeshData whites, reds, greens, lamp;
+};
+RoomFaces roomFaces(float cellsPerMetre, bool front) {
+  const CornellLight& l = kCornellLight;
+  const glm::vec3 inside = mm(278, 274, 280);
+  RoomFaces r;
+  addFace(r.whites, {{mm(552.8f, 0, 0), mm(0, 0, 0), mm(0, 0, 559.2f), mm(549.6f, 0, 559.2f)}}, cellsPerMetre,
+          inside);  // floor
+  addFace(r.whites, {{mm(549.6f, 0, 559.2f), mm(0, 0, 559.2f), mm(0, 548.8f, 559.2f), mm(556, 548.8f, 559.2f)}},
+          cellsPerMetre, inside);  // back
+  addFace(r.reds, {{mm(552.8f, 0, 0), mm(549.6f, 0, 559.2f), mm(556, 548.8f, 559.2f), mm(556, 548.8f, 0)}},
+          cellsPerMetre, inside);  // left
+  addFace(r.greens, {{mm(0, 0, 559.2f), mm(0, 0, 0), mm(0, 548.8f, 0), mm(0, 548.8f, 559.2f)}}, cellsPerMetre,
+          inside);  // right
+  const float xs[] = {0, l.x0, l.x1, 556}, zs[] = {0, l.z0, l.z1, 559.2f};
+  for (int i = 0; i < 3; ++i)
+    for (int k = 0; k < 3; ++k) {
+      Face f{{mm(xs[i], l.height, zs[k]), mm(xs[i + 1], l.height, zs[k]), mm(xs[i + 1], l.height, zs[k + 1]),
+              mm(xs[i], l.height, zs[k + 1])}};
+      addFace(i == 1 && k == 1 ? r.lamp : r.whites, f, cellsPerMetre, inside);
+    }
+  if (front)  // the open side closed: its corners are the side walls' and the floor's and ceiling's
+    addFace(r.whites, {{mm(0, 0, 0), mm(552.8f, 0, 0), mm(556, 548.8f, 0), mm(0, 548.8f, 0)}}, cellsPerMetre, inside);
+  return r;
+}
+
+const glm::vec3 kShortCentre = mm(185.5f, 0, 169), kTallCentre = mm(368.5f, 0, 351.5f);
+MeshData shortBlock(float cellsPerMetre) {
+  const Face top{{mm(130, 165, 65), mm(82, 165, 225), mm(240, 165, 272), mm(290, 165, 114)}};
+  return block(top, 0.165f, kShortCentre, cellsPerMetre);
+}
+MeshData tallBlock(float cellsPerMetre) {
+  const Face top{{mm(423, 330, 247), mm(265, 330, 296), mm(314, 330, 456), mm(472, 330, 406)}};
+  return block(top, 0.33f, kTallCentre, cellsPerMetre);
+}
+
+float cellsPerMetreFor(int cells) { return float(std::max(cells, 1)) / 0.5592f; }
+
 }  // namespace
 
 tinygltf::Model cornellBox(const CornellOptions& o) {
   checkCells(o.cells);
-  const float cellsPerMetre = float(std::max(o.cells, 1)) / 0.5592f;
+  const float cellsPerMetre = cellsPerMetreFor(o.cells);
   GltfBuilder b;
   int white = b.material("white", {0.725f, 0.71f, 0.68f});
   int red = b.material("red", {0.63f, 0.065f, 0.05f});
@@ -52,36 +93,14 @@ tinygltf::Model cornellBox(const CornellOptions& o) {
   const CornellLight& l = kCornellLight;
   int light = b.material("light", {0.78f, 0.78f, 0.78f}, {l.radiance[0], l.radiance[1], l.radiance[2]});
 
-  const glm::vec3 inside = mm(278, 274, 280);
-  MeshData whites, reds, greens, lamp;
-  addFace(whites, {{mm(552.8f, 0, 0), mm(0, 0, 0), mm(0, 0, 559.2f), mm(549.6f, 0, 559.2f)}}, cellsPerMetre,
-          inside);  // floor
-  addFace(whites, {{mm(549.6f, 0, 559.2f), mm(0, 0, 559.2f), mm(0, 548.8f, 559.2f), mm(556, 548.8f, 559.2f)}},
-          cellsPerMetre, inside);  // back
-  addFace(reds, {{mm(552.8f, 0, 0), mm(549.6f, 0, 559.2f), mm(556, 548.8f, 559.2f), mm(556, 548.8f, 0)}}, cellsPerMetre,
-          inside);  // left
-  addFace(greens, {{mm(0, 0, 559.2f), mm(0, 0, 0), mm(0, 548.8f, 0), mm(0, 548.8f, 559.2f)}}, cellsPerMetre,
-          inside);  // right
-  // The ceiling in eight pieces around the light, so that light and ceiling never overlap.
-  const float xs[] = {0, l.x0, l.x1, 556}, zs[] = {0, l.z0, l.z1, 559.2f};
-  for (int i = 0; i < 3; ++i)
-    for (int k = 0; k < 3; ++k) {
-      Face f{{mm(xs[i], l.height, zs[k]), mm(xs[i + 1], l.height, zs[k]), mm(xs[i + 1], l.height, zs[k + 1]),
-              mm(xs[i], l.height, zs[k + 1])}};
-      addFace(i == 1 && k == 1 ? lamp : whites, f, cellsPerMetre, inside);
-    }
-  int room = b.mesh("room", {{whites, white}, {reds, red}, {greens, green}, {lamp, light}});
+  RoomFaces r = roomFaces(cellsPerMetre, false);
+  int room = b.mesh("room", {{r.whites, white}, {r.reds, red}, {r.greens, green}, {r.lamp, light}});
   b.node("room", room);
 
   int shortNode = -1;
-  const glm::vec3 shortCentre = mm(185.5f, 0, 169), tallCentre = mm(368.5f, 0, 351.5f);
   if (o.blocks) {
-    const Face shortTop{{mm(130, 165, 65), mm(82, 165, 225), mm(240, 165, 272), mm(290, 165, 114)}};
-    const Face tallTop{{mm(423, 330, 247), mm(265, 330, 296), mm(314, 330, 456), mm(472, 330, 406)}};
-    shortNode =
-        b.node("short block", b.mesh("short block", {{block(shortTop, 0.165f, shortCentre, cellsPerMetre), white}}),
-               shortCentre);
-    b.node("tall block", b.mesh("tall block", {{block(tallTop, 0.33f, tallCentre, cellsPerMetre), white}}), tallCentre);
+    shortNode = b.node("short block", b.mesh("short block", {{shortBlock(cellsPerMetre), white}}), kShortCentre);
+    b.node("tall block", b.mesh("tall block", {{tallBlock(cellsPerMetre), white}}), kTallCentre);
   }
 
   // Camera: at (278, 273, -800) mm looking along +z, so turned 180° about y from glTF's -z.
@@ -93,7 +112,7 @@ tinygltf::Model cornellBox(const CornellOptions& o) {
     std::vector<float> slide, turn;
     const float dx[] = {0.0f, -0.03f, -0.06f, -0.03f, 0.0f}, angle[] = {0.0f, 12.0f, 0.0f, -12.0f, 0.0f};
     for (int k = 0; k < 5; ++k) {
-      glm::vec3 t = shortCentre + glm::vec3(dx[k], 0, 0);
+      glm::vec3 t = kShortCentre + glm::vec3(dx[k], 0, 0);
       slide.insert(slide.end(), {t.x, t.y, t.z});
       glm::quat q = glm::angleAxis(glm::radians(angle[k]), glm::vec3(0, 1, 0));
       turn.insert(turn.end(), {q.x, q.y, q.z, q.w});
@@ -101,6 +120,19 @@ tinygltf::Model cornellBox(const CornellOptions& o) {
     b.animate("block moves", shortNode, "translation", times, slide);
     b.animate("block moves", shortNode, "rotation", times, turn);
   }
+  return b.finish();
+}
+
+tinygltf::Model cornellFurnace(const FurnaceOptions& o) {
+  const float cellsPerMetre = cellsPerMetreFor(o.cells);
+  GltfBuilder b;
+  int wall = b.material("furnace wall", glm::vec3(o.albedo), glm::vec3(o.emission));
+  RoomFaces r = roomFaces(cellsPerMetre, true);
+  b.node("furnace", b.mesh("furnace", {{r.whites, wall}, {r.reds, wall}, {r.greens, wall}, {r.lamp, wall}}));
+  b.node("short block", b.mesh("short block", {{shortBlock(cellsPerMetre), wall}}), kShortCentre);
+  b.node("tall block", b.mesh("tall block", {{tallBlock(cellsPerMetre), wall}}), kTallCentre);
+  // Just inside the closing wall, looking in (+z) with a field of view that takes in the room.
+  b.camera("furnace camera", glm::radians(80.0f), 0.001f, mm(278, 274, 5), glm::quat(0, 0, 1, 0));
   return b.finish();
 }
 

@@ -12,6 +12,7 @@ tinygltf::Model furnace(const FurnaceOptions& o) {
   checkCells(o.cells);
   if (!(o.albedo >= 0.0f && o.albedo <= 1.0f)) throw SettingsError("--albedo must lie in [0, 1]");
   if (!(o.emission >= 0.0f && std::isfinite(o.emission))) throw SettingsError("--emission must be finite and >= 0");
+  if (o.blocks) return cornellFurnace(o);
   GltfBuilder b;
   int wall = b.material("furnace wall", glm::vec3(o.albedo), glm::vec3(o.emission));
   MeshData box;

@@ -103,7 +103,7 @@ struct SceneOptions {
   std::string out;
   int cells = 8;
   float albedo = 0.5f, emission = 1.0f;
-  bool still = false;
+  bool still = false, blocks = false;
 };
 int runScene(const SceneOptions& options);
 

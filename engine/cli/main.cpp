@@ -116,6 +116,8 @@ int main(int argc, char** argv) {
   s->add_option("--albedo", scene.albedo, "furnace albedo")->capture_default_str();
   s->add_option("--emission", scene.emission, "furnace emitted radiance")->capture_default_str();
   s->add_flag("--static", scene.still, "Cornell box without its animation");
+  s->add_flag("--blocks", scene.blocks,
+              "furnace: the Cornell box's room closed, with its blocks (--cells as the box's)");
 
   BenchOptions bench;
   auto* b =

@@ -16,7 +16,7 @@ int runScene(const SceneOptions& o) {
   if (o.name == "cornell")
     model = scenes::cornellBox({.cells = o.cells, .animated = !o.still});
   else if (o.name == "furnace")
-    model = scenes::furnace({.cells = o.cells, .albedo = o.albedo, .emission = o.emission});
+    model = scenes::furnace({.cells = o.cells, .albedo = o.albedo, .emission = o.emission, .blocks = o.blocks});
   else
     throw SettingsError("unknown built-in scene '" + o.name + "' (built-in: cornell, furnace)");
   auto dir = std::filesystem::path(o.out).parent_path();
