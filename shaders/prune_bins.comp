@@ -165,16 +165,20 @@ uint neighbourBin(uint b, ivec2 step) {
 // few per cent of a bin between them, and the per-bin cap would turn the overlaps into lost light
 // (a closed room a few per cent dark at every bounce); a surface has no hole narrower than a bin at
 // the bins' resolution. A silhouette against what lies beyond has a neighbour mostly uncovered and
-// keeps its partial coverage. An empty bin stays empty: nothing stands for it.
+// keeps its partial coverage. A neighbour below the receiver's horizon counts as covered: the
+// receiver's own surface bounds the bins there, not a silhouette (a wall's bottom row seen from
+// the floor beside it). An empty bin stays empty: nothing stands for it.
 // The four neighbours are tested one after another, not in a loop: lavapipe bounds the loop rounds
 // a subgroup may run over all the leaves of its workgroup.
-bool halfCovered(uint slot, uint b, ivec2 step, bool staticOnly) {
-  return coverageAt(slot, neighbourBin(b, step), staticOnly) >= kCoverageUnit / 2u;
+bool halfCovered(uint slot, uint b, ivec2 step, bool staticOnly, vec3 n) {
+  const uint neighbour = neighbourBin(b, step);
+  return dot(n, imageLoad(binTable, int(neighbour)).xyz) <= 0.0 ||
+         coverageAt(slot, neighbour, staticOnly) >= kCoverageUnit / 2u;
 }
-uint closedCoverage(uint slot, uint b, uint covered, bool staticOnly) {
+uint closedCoverage(uint slot, uint b, uint covered, bool staticOnly, vec3 n) {
   if (covered == 0u || covered >= kCoverageUnit) return covered;
-  return halfCovered(slot, b, ivec2(1, 0), staticOnly) && halfCovered(slot, b, ivec2(-1, 0), staticOnly) &&
-                 halfCovered(slot, b, ivec2(0, 1), staticOnly) && halfCovered(slot, b, ivec2(0, -1), staticOnly)
+  return halfCovered(slot, b, ivec2(1, 0), staticOnly, n) && halfCovered(slot, b, ivec2(-1, 0), staticOnly, n) &&
+                 halfCovered(slot, b, ivec2(0, 1), staticOnly, n) && halfCovered(slot, b, ivec2(0, -1), staticOnly, n)
              ? kCoverageUnit
              : covered;
 }
@@ -293,9 +297,12 @@ View viewOf(vec3 p, vec4 positionArea, vec4 normalCone) {
   v.minCos = sin(min(normalCone.w, 0.5 * kPi));
   float cosS = abs(dot(normalCone.xyz, v.d)) * inversesqrt(max(v.dist2, 1e-30));
   v.omega = diskSolidAngle(v.radius, v.dist2) * max(cosS, v.minCos);
-  // Width in bins (a bin at a face centre is 2/N wide); near, one direction no longer stands for the disk.
+  // Width in bins (a bin at a face centre is 2/N wide). Within three radii its near side is seen at
+  // twice the scale of its far side or more: footprints centred on a few pieces' directions fall
+  // short of the near side (along a room's edges, of the next wall's bottom row), so it is filed as
+  // the most pieces.
   float width = sqrt(v.omega) * 0.5 * float(kN);
-  v.k = v.dist2 <= 4.0 * v.radius * v.radius ? 8u : uint(clamp(ceil(width), 1.0, 8.0));
+  v.k = v.dist2 <= 9.0 * v.radius * v.radius ? 8u : uint(clamp(ceil(width), 1.0, 8.0));
   return v;
 }
 
@@ -682,8 +689,8 @@ void main() {
         uint b = w * 32u + uint(findLSB(bits));
         bits &= bits - 1u;
         Bin bin = binAt(slot, b);
-        uint s = keyId(bin.key), covered = closedCoverage(slot, b, bin.covered, false),
-             staticCovered = bin.staticEntry >= 0 ? closedCoverage(slot, b, bin.staticCovered, true) : 0u;
+        uint s = keyId(bin.key), covered = closedCoverage(slot, b, bin.covered, false, n),
+             staticCovered = bin.staticEntry >= 0 ? closedCoverage(slot, b, bin.staticCovered, true, n) : 0u;
         float f = survivorFormFactor(n, s, b, covered);
         near += proximityOf(n, b, covered, linkKeyDepth(bin.key), radius);
         if (bin.staticEntry >= 0) near -= proximityOf(n, b, staticCovered, bin.staticDistance2, radius);
@@ -713,7 +720,7 @@ void main() {
     vec3 env = environmentChange;
     if (push.environmentOn != 0u && area > 0.0 && !merging)
       for (uint b = lid; b < kBinCount; b += kGroupSize)
-        env += environmentThrough(n, b, closedCoverage(slot, b, loadCoverage(slot, b), false));
+        env += environmentThrough(n, b, closedCoverage(slot, b, loadCoverage(slot, b), false, n));
     if (kStaticPass) {
       vec3 correction = sumPartials(lid, emitterLight);
       barrier();
