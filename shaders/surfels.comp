@@ -48,10 +48,11 @@ void main() {
   vec3 n = length(vertexSum) > 1e-6 ? vertexSum : faceSum;
   float len = length(n);
   vec3 centre = area > 0.0 ? moment / area : self, normal = len > 0.0 ? n / len : vec3(0.0);
-  // The surfel's rectangle: the extents of a rectangle with its area's second moments about the
-  // centre (√3·σ), scaled to its area. On a regular grid an inner surfel is the square of its cell
-  // and one on a border about the half-cell strip it covers, so that neighbours tile the view as
-  // their surfaces do.
+  // The surfel's rectangle, centred on its centroid and scaled to its area: on a regular grid an inner
+  // surfel is the square of its cell and one on a border the half-cell strip it covers, so that
+  // neighbours tile the view as their surfaces do (a gap between them, seen from near, spans bins).
+  // A vertex whose edges span nothing along an axis (a degenerate fan) takes its area's second
+  // moments (√3·σ) instead.
   vec3 t1, t2, offset = centre - self;
   tangentFrame(len > 0.0 ? normal : vec3(0.0, 0.0, 1.0), t1, t2);
   // Its axes follow the mesh's edges (their directions modulo a right angle, weighted by length), so
@@ -64,8 +65,20 @@ void main() {
   float angle = quarterAngle(quarter);
   vec3 u1, u2;
   rectangleAxes(len > 0.0 ? normal : vec3(0.0, 0.0, 1.0), angle, u1, u2);
+  // Along each axis, half way to the farthest neighbour either side (a border surfel reaches from its
+  // vertex half way in), so that on a grid neighbours' rectangles meet.
+  vec4 reach = vec4(0.0);  // +u1, -u1, +u2, -u2
+  for (uint k = 0; k < src.triangleCount; ++k) {
+    Triangle t = triangles[surfelTriangles[src.firstTriangle + k]];
+    vec3 a = world[t.v0].position.xyz, b = world[t.v1].position.xyz, c = world[t.v2].position.xyz;
+    vec2 e1 = vec2(dot(a - self, u1), dot(a - self, u2)), e2 = vec2(dot(b - self, u1), dot(b - self, u2)),
+         e3 = vec2(dot(c - self, u1), dot(c - self, u2));
+    reach = max(reach, max(vec4(e1, -e1).xzyw, max(vec4(e2, -e2).xzyw, vec4(e3, -e3).xzyw)));
+  }
+  vec2 extent = 0.25 * (reach.xz + reach.yw);
   moments -= area * outerProduct(offset, offset);
-  vec2 extent = sqrt(3.0 * max(vec2(dot(u1, moments * u1), dot(u2, moments * u2)), vec2(0.0)) / max(area, 1e-30));
+  if (extent.x * extent.y <= 0.0)
+    extent = sqrt(3.0 * max(vec2(dot(u1, moments * u1), dot(u2, moments * u2)), vec2(0.0)) / max(area, 1e-30));
   extent = extent.x * extent.y > 0.0 ? extent * sqrt(area / (4.0 * extent.x * extent.y)) : vec2(0.5 * sqrt(area));
   surfels[s].positionArea = vec4(centre, len > 0.0 ? area : 0.0);
   surfels[s].normal = vec4(normal, 0.0);

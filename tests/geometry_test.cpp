@@ -129,13 +129,14 @@ TEST(Surfels, AreasSumToTheMeshArea) {
   EXPECT_NEAR(totalArea(surfelsOnHost(g, world)), triangles, triangles * 1e-5);
 }
 
-// The rectangles the pruning files senders as: on a regular grid they nearly tile the face as the
-// surfels' areas do (inner surfels their cell, border ones about the half-cell strip), whatever the
-// grid's turn in the tangent frame, since their axes follow the mesh's edges. Sampled on a fine grid,
-// at least 92 % of a 1 m square lies in exactly one rectangle (93 % and 97 % at 4 and 9 cells,
-// turned or not); squares of the same areas leave less than that at 4 cells, and rectangles along
-// the tangent frame 78 % of the square turned by half a radian. Border regions are not rectangles
-// (corner quads of three triangles), so 100 % is out of reach.
+// The rectangles the pruning files senders as: on a regular grid they tile the face as the surfels'
+// areas do (inner surfels their cell, border ones the half-cell strip from their vertex in),
+// whatever the grid's turn in the tangent frame, since their axes follow the mesh's edges and reach
+// half way to the neighbours. Sampled on a fine grid, at least 95 % of a 1 m square lies in exactly
+// one rectangle (96.5 % and 97.4 % at 4 cells, straight and turned, 99.7 % at 9); the rectangles of
+// the areas' second moments left 93 %, squares of the same areas less than that at 4 cells, and
+// rectangles along the tangent frame 78 % of the square turned by half a radian. A border surfel's
+// centroid lies off its vertex along the border, so its strip is shifted against the row inside.
 TEST(Surfels, RectanglesTileAFlatFace) {
   for (int cells : {4, 9})
     for (float turn : {0.0f, 0.5f}) {
@@ -161,7 +162,7 @@ TEST(Surfels, RectanglesTileAFlatFace) {
           }
           once += inside == 1;
         }
-      EXPECT_GE(once, 0.92 * samples * samples) << cells << " cells, turned " << turn;
+      EXPECT_GE(once, 0.95 * samples * samples) << cells << " cells, turned " << turn;
       std::printf("[ tile ] %d cells, turned %.1f: %.3f\n", cells, turn, once / double(samples * samples));
     }
 }

@@ -104,12 +104,13 @@ FurnaceCoverage checkFurnace(int cells, float rho, uint32_t bins) {
 
 }  // namespace
 
-// At 12 cells per face and 6×16×16 bins the bins cover at least 0.99 of the receivers' hemispheres,
-// area-weighted: the per-bin cap without the closing of gaps between neighbouring footprints (0.979),
-// footprints that piled into a cube-map face's border bins instead of going on over the neighbouring
-// face, or square surfels, fall below it.
+// At 12 cells per face and 6×16×16 bins the bins cover at least 0.999 of the receivers' hemispheres,
+// area-weighted (0.9997): the per-bin cap without the closing of gaps between neighbouring footprints
+// (0.979), footprints that piled into a cube-map face's border bins instead of going on over the
+// neighbouring face, square surfels, or rectangles of the surfels' second moments, which leave gaps
+// between neighbours that span bins from near the cube's edges (0.9968), fall below it.
 TEST(IvFurnace, EnergyIsConservedUpToTheBinCoverage) {
-  for (float rho : {0.3f, 0.5f, 0.9f}) EXPECT_GE(checkFurnace(12, rho, 16).mean, 0.99) << "rho " << rho;
+  for (float rho : {0.3f, 0.5f, 0.9f}) EXPECT_GE(checkFurnace(12, rho, 16).mean, 0.999) << "rho " << rho;
 }
 
 // More leaf links than one 128 MiB storage binding holds (2^24 of 8 bytes; lavapipe's
@@ -137,8 +138,8 @@ TEST(IvFurnace, FormFactorsOfAReceiverNeverSumAboveOne) {
 // The Cornell box's room closed, with its blocks, every face emitting Le = 1 with albedo ρ: still
 // B = π·Le/(1−ρ) everywhere (pt: PtFurnace.BlocksInsideChangeNothing). What the bins leave
 // uncovered along the room's and the blocks' edges and corners compounds with ρ: at 26 cells a side
-// the area-weighted radiosity comes out 0.4 % low at ρ 0.5 and 3.9 % low at ρ 0.9, where the empty
-// cube of 12 cells a face loses 0.2 % and 1.6 % (IvFurnace.EnergyIsConservedUpToTheBinCoverage). The
+// the area-weighted radiosity comes out 0.3 % low at ρ 0.5 and 3.1 % low at ρ 0.9, where the empty
+// cube of 12 cells a face loses 0.0 % and 0.2 % (IvFurnace.EnergyIsConservedUpToTheBinCoverage). The
 // floor under the blocks, which sees their insides only, is left out.
 TEST(IvFurnace, BlocksInsideLoseWhatTheirEdgesLeaveUncovered) {
   const double pi = 3.14159265358979;
@@ -158,7 +159,7 @@ TEST(IvFurnace, BlocksInsideLoseWhatTheirEdgesLeaveUncovered) {
     std::printf("[ furnace with blocks ] rho %.1f: mean B/pi %.4f, exact %.4f, error %.2f %%\n", rho, mean, exact,
                 100.0 * error);
     EXPECT_LE(error, 1e-3) << "rho " << rho;  // coverage never exceeds the hemisphere
-    EXPECT_GE(error, rho < 0.7f ? -0.01 : -0.05) << "rho " << rho;
+    EXPECT_GE(error, rho < 0.7f ? -0.01 : -0.04) << "rho " << rho;
   }
 }
 

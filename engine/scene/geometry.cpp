@@ -290,10 +290,21 @@ std::vector<Surfel> surfelsOnHost(const Geometry& g, const std::vector<WorldVert
     const float angle = gpu::quarterAngle(quarter);
     glm::vec3 u1, u2;
     gpu::rectangleAxes(len > 0.0f ? normal : glm::vec3(0, 0, 1), angle, u1, u2);
+    glm::vec4 reach(0.0f);  // +u1, -u1, +u2, -u2 (surfels.comp)
+    for (uint32_t k = 0; k < src.triangleCount; ++k) {
+      const Triangle& t = g.triangles[g.surfelTriangles[src.firstTriangle + k]];
+      for (uint32_t v : {t.v0, t.v1, t.v2}) {
+        glm::vec3 e = glm::vec3(world[v].position) - self;
+        float a = glm::dot(e, u1), b = glm::dot(e, u2);
+        reach = glm::max(reach, glm::vec4(a, -a, b, -b));
+      }
+    }
+    glm::vec2 extent = 0.25f * (glm::vec2(reach.x, reach.z) + glm::vec2(reach.y, reach.w));
     moments -= area * glm::outerProduct(offset, offset);
-    glm::vec2 extent =
-        glm::sqrt(3.0f * glm::max(glm::vec2(glm::dot(u1, moments * u1), glm::dot(u2, moments * u2)), glm::vec2(0.0f)) /
-                  std::max(area, 1e-30f));
+    if (extent.x * extent.y <= 0.0f)
+      extent = glm::sqrt(3.0f *
+                         glm::max(glm::vec2(glm::dot(u1, moments * u1), glm::dot(u2, moments * u2)), glm::vec2(0.0f)) /
+                         std::max(area, 1e-30f));
     extent = extent.x * extent.y > 0.0f ? extent * std::sqrt(area / (4.0f * extent.x * extent.y))
                                         : glm::vec2(0.5f * std::sqrt(area));
     out[s].positionArea = glm::vec4(centre, len > 0.0f ? area : 0.0f);
