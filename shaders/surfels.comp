@@ -15,19 +15,12 @@ layout(std430, binding = 4) readonly buffer World { WorldVertex world[]; };
 layout(std430, binding = 5) writeonly buffer Surfels { Surfel surfels[]; };
 layout(push_constant) uniform Push { CountPush push; };  // count: surfels
 
-// Second-moment tensor of triangle (0, p, q) of the given area about its corner 0:
-// area/12 · (ppᵀ + qqᵀ + (p+q)(p+q)ᵀ).
-mat3 cornerMoments(vec3 p, vec3 q, float area) {
-  return area / 12.0 * (outerProduct(p, p) + outerProduct(q, q) + outerProduct(p + q, p + q));
-}
-
 void main() {
   uint s = itemIndex();
   if (s >= push.count) return;
   SurfelSource src = sources[s];
   float area = 0.0;
   vec3 faceSum = vec3(0.0), vertexSum = vec3(0.0), moment = vec3(0.0);
-  mat3 moments = mat3(0.0);  // second moments of the area about its vertex
   vec3 self = world[surfelVertices[src.firstVertex]].position.xyz;
   for (uint k = 0; k < src.triangleCount; ++k) {
     Triangle t = triangles[surfelTriangles[src.firstTriangle + k]];
@@ -37,12 +30,6 @@ void main() {
     area += third;
     faceSum += n;
     moment += third * (22.0 * self + 7.0 * (a + b + c - self)) / 36.0;  // the other two vertices: a + b + c - self
-    // The corner quad (vertex, edge midpoint, centroid, edge midpoint) as two triangles of a sixth
-    // each; the vertex is the corner nearest self (welded copies share its position).
-    float da = distance(a, self), db = distance(b, self), dc = distance(c, self);
-    vec3 x = da <= db && da <= dc ? b : (db <= dc ? c : a), y = a + b + c - self - x;
-    vec3 g = (a + b + c) / 3.0 - self;
-    moments += cornerMoments(0.5 * (x - self), g, 0.5 * third) + cornerMoments(g, 0.5 * (y - self), 0.5 * third);
   }
   for (uint k = 0; k < src.vertexCount; ++k) vertexSum += world[surfelVertices[src.firstVertex + k]].normal.xyz;
   vec3 n = length(vertexSum) > 1e-6 ? vertexSum : faceSum;
@@ -51,9 +38,8 @@ void main() {
   // The surfel's rectangle, centred on its centroid and scaled to its area: on a regular grid an inner
   // surfel is the square of its cell and one on a border the half-cell strip it covers, so that
   // neighbours tile the view as their surfaces do (a gap between them, seen from near, spans bins).
-  // A vertex whose edges span nothing along an axis (a degenerate fan) takes its area's second
-  // moments (√3·σ) instead.
-  vec3 t1, t2, offset = centre - self;
+  // A fan whose edges span nothing along an axis (degenerate) is the square of its area.
+  vec3 t1, t2;
   tangentFrame(len > 0.0 ? normal : vec3(0.0, 0.0, 1.0), t1, t2);
   // Its axes follow the mesh's edges (their directions modulo a right angle, weighted by length), so
   // that on a grid the rectangles of neighbours share their sides whatever the grid's turn.
@@ -76,9 +62,6 @@ void main() {
     reach = max(reach, max(vec4(e1, -e1).xzyw, max(vec4(e2, -e2).xzyw, vec4(e3, -e3).xzyw)));
   }
   vec2 extent = 0.25 * (reach.xz + reach.yw);
-  moments -= area * outerProduct(offset, offset);
-  if (extent.x * extent.y <= 0.0)
-    extent = sqrt(3.0 * max(vec2(dot(u1, moments * u1), dot(u2, moments * u2)), vec2(0.0)) / max(area, 1e-30));
   extent = extent.x * extent.y > 0.0 ? extent * sqrt(area / (4.0 * extent.x * extent.y)) : vec2(0.5 * sqrt(area));
   surfels[s].positionArea = vec4(centre, len > 0.0 ? area : 0.0);
   surfels[s].normal = vec4(normal, 0.0);

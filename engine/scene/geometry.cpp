@@ -245,20 +245,12 @@ std::vector<WorldVertex> animateOnHost(const Geometry& g, const FrameInputs& in)
   return out;
 }
 
-namespace {
-// Second-moment tensor of triangle (0, p, q) of the given area about its corner 0 (surfels.comp).
-glm::mat3 cornerMoments(glm::vec3 p, glm::vec3 q, float area) {
-  return area / 12.0f * (glm::outerProduct(p, p) + glm::outerProduct(q, q) + glm::outerProduct(p + q, p + q));
-}
-}  // namespace
-
 std::vector<Surfel> surfelsOnHost(const Geometry& g, const std::vector<WorldVertex>& world) {
   std::vector<Surfel> out(g.surfels.size());
   for (size_t s = 0; s < g.surfels.size(); ++s) {
     const SurfelSource& src = g.surfels[s];
     float area = 0.0f;
     glm::vec3 faceSum(0.0f), vertexSum(0.0f), moment(0.0f);
-    glm::mat3 moments(0.0f);  // about the vertex
     const glm::vec3 self(world[g.surfelVertices[src.firstVertex]].position);
     for (uint32_t k = 0; k < src.triangleCount; ++k) {
       const Triangle& t = g.triangles[g.surfelTriangles[src.firstTriangle + k]];
@@ -268,18 +260,13 @@ std::vector<Surfel> surfelsOnHost(const Geometry& g, const std::vector<WorldVert
       area += third;
       faceSum += n;
       moment += third * (22.0f * self + 7.0f * (a + b + c - self)) / 36.0f;  // centroid of the vertex's corner quad
-      float da = glm::distance(a, self), db = glm::distance(b, self), dc = glm::distance(c, self);
-      glm::vec3 x = da <= db && da <= dc ? b : (db <= dc ? c : a), y = a + b + c - self - x,
-                mid = (a + b + c) / 3.0f - self;
-      moments +=
-          cornerMoments(0.5f * (x - self), mid, 0.5f * third) + cornerMoments(mid, 0.5f * (y - self), 0.5f * third);
     }
     for (uint32_t k = 0; k < src.vertexCount; ++k)
       vertexSum += glm::vec3(world[g.surfelVertices[src.firstVertex + k]].normal);
     glm::vec3 n = glm::length(vertexSum) > 1e-6f ? vertexSum : faceSum;
     float len = glm::length(n);
     glm::vec3 centre = area > 0.0f ? moment / area : self, normal = len > 0.0f ? n / len : glm::vec3(0.0f);
-    glm::vec3 t1, t2, offset = centre - self;
+    glm::vec3 t1, t2;
     gpu::tangentFrame(len > 0.0f ? normal : glm::vec3(0, 0, 1), t1, t2);
     glm::vec2 quarter(0.0f);  // its axes along the mesh's edges (surfels.comp)
     for (uint32_t k = 0; k < src.triangleCount; ++k) {
@@ -300,11 +287,6 @@ std::vector<Surfel> surfelsOnHost(const Geometry& g, const std::vector<WorldVert
       }
     }
     glm::vec2 extent = 0.25f * (glm::vec2(reach.x, reach.z) + glm::vec2(reach.y, reach.w));
-    moments -= area * glm::outerProduct(offset, offset);
-    if (extent.x * extent.y <= 0.0f)
-      extent = glm::sqrt(3.0f *
-                         glm::max(glm::vec2(glm::dot(u1, moments * u1), glm::dot(u2, moments * u2)), glm::vec2(0.0f)) /
-                         std::max(area, 1e-30f));
     extent = extent.x * extent.y > 0.0f ? extent * std::sqrt(area / (4.0f * extent.x * extent.y))
                                         : glm::vec2(0.5f * std::sqrt(area));
     out[s].positionArea = glm::vec4(centre, len > 0.0f ? area : 0.0f);
