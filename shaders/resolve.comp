@@ -16,9 +16,9 @@ layout(std430, binding = 7) writeonly buffer Radiance { vec4 radiance[]; };
 layout(std430, binding = 8) writeonly buffer Albedo { vec4 albedoOut[]; };
 layout(std430, binding = 9) writeonly buffer NormalDepth { vec4 normalDepth[]; };
 layout(std430, binding = 10) writeonly buffer Emission { vec4 emissionOut[]; };
-layout(binding = 11, r32ui) readonly uniform uimageBuffer vertexSurfel;  // int, -1: none
-layout(binding = 12, rgba32f) readonly uniform imageBuffer surfelIrradiance;
-layout(push_constant) uniform Push { ImagePush push; };  // count: samples per axis
+layout(binding = 11, r32ui) readonly uniform uimageBuffer vertexSurfel;       // int, -1: none
+layout(binding = 12, rgba32f) readonly uniform imageBuffer vertexIrradiance;  // per surfel, at its vertex
+layout(push_constant) uniform Push { ImagePush push; };                       // count: samples per axis
 // False for scenes without textures: the lookups are compiled out. lavapipe runs a branch inside
 // the sample loop masked, so even untaken lookups cost a third of the pass.
 layout(constant_id = 0) const bool kTextured = true;
@@ -28,7 +28,7 @@ layout(constant_id = 1) const bool kLit = false;
 
 vec3 irradianceAt(uint vertex) {
   int surfel = int(imageLoad(vertexSurfel, int(vertex)).x);
-  return surfel >= 0 ? imageLoad(surfelIrradiance, surfel).rgb : vec3(0.0);
+  return surfel >= 0 ? imageLoad(vertexIrradiance, surfel).rgb : vec3(0.0);
 }
 vec3 positionOf(uint vertex) { return imageLoad(world, int(2u * vertex)).xyz; }
 vec3 normalOf(uint vertex) { return imageLoad(world, int(2u * vertex + 1u)).xyz; }

@@ -9,6 +9,7 @@
 
 #include "engine/gi/frame_renderer.h"
 #include "engine/gi/hierarchy.h"
+#include "engine/gi/pass.h"
 #include "engine/scene/gltf.h"
 #include "scenes/builtin.h"
 #include "scenes/gltf_builder.h"
@@ -196,6 +197,62 @@ TEST(Surfels, UvSeamsAreWeldedHardEdgesAreNot) {
   EXPECT_NEAR(areas[2], 1.0f / 3.0f, 1e-6f);
   EXPECT_NEAR(areas[3], 1.0f / 3.0f, 1e-6f);
   EXPECT_NEAR(totalArea(surfels), 2.0f, 1e-5f);
+}
+
+// The resolve shows a surfel's irradiance at its vertex, which on a border lies a quarter of a cell
+// from the centroid the solver gave it for: vertex_irradiance carries it there along the gradient of
+// its neighbours on its own face. A field linear along a floor reaches every vertex (up to the fit's
+// ridge); a wall meeting the floor at a hard edge, of another value, neither pulls on the floor nor
+// moves.
+TEST(Surfels, IrradianceIsCarriedToTheVertexAlongItsFace) {
+  scenes::MeshData mesh;
+  scenes::addQuad(mesh, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}, {0, 0, 0}, 6, 6, {0, 1, 0});  // floor
+  scenes::addQuad(mesh, {0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, 6, 6, {0, 0, 1});  // wall on its edge
+  scenes::GltfBuilder b;
+  b.node("corner", b.mesh("corner", {{mesh, b.material("grey", glm::vec3(0.5f))}}));
+  Scene s = sceneFromModel(b.finish(), "corner");
+  Geometry g = buildGeometry(s);
+  const auto world = animateOnHost(g, g.frameInputs(s, evaluatePose(s, -1, 0)));
+  const auto surfels = surfelsOnHost(g, world);
+  auto field = [](glm::vec3 p) { return 1.0f + 2.0f * p.x + 3.0f * p.z; };
+  const glm::vec3 channels(1.0f, 2.0f, 0.5f);
+  auto onFloor = [&](size_t i) { return surfels[i].normal.y > 0.9f; };
+  std::vector<glm::vec4> solved(surfels.size());
+  for (size_t i = 0; i < surfels.size(); ++i)
+    solved[i] = glm::vec4(onFloor(i) ? field(glm::vec3(surfels[i].positionArea)) * channels : glm::vec3(5.0f), 0.0f);
+
+  auto& ctx = test::gpu();
+  vk::Buffer out(ctx, surfels.size() * sizeof(glm::vec4), vk::Memory::Host);
+  const vk::Buffer sources = vk::makeBuffer(ctx, g.surfels), vertices = vk::makeBuffer(ctx, g.surfelVertices),
+                   triangles = vk::makeBuffer(ctx, g.surfelTriangles), meshTriangles = vk::makeBuffer(ctx, g.triangles),
+                   worldBuffer = vk::makeBuffer(ctx, world), surfelBuffer = vk::makeBuffer(ctx, surfels),
+                   vertexSurfel = vk::makeBuffer(ctx, vertexSurfels(g)), irradiance = vk::makeBuffer(ctx, solved);
+  const vk::Program pass = gi::shaderProgram(ctx, "vertex_irradiance");
+  const uint32_t count = uint32_t(surfels.size());
+  ctx.submitAndWait([&](VkCommandBuffer cmd) {
+    pass.dispatchItems(cmd, count,
+                       {{"surfelSources", sources},
+                        {"surfelVertices", vertices},
+                        {"surfelTriangles", triangles},
+                        {"triangles", meshTriangles},
+                        {"world", worldBuffer},
+                        {"surfels", surfelBuffer},
+                        {"vertexSurfel", vertexSurfel},
+                        {"surfelIrradiance", irradiance},
+                        {"vertexIrradiance", out}},
+                       gpu::CountPush{count});
+  });
+  const auto shown = out.read<glm::vec4>(surfels.size());
+  int moved = 0;
+  for (size_t i = 0; i < surfels.size(); ++i) {
+    const glm::vec3 vertex(world[g.surfelVertices[g.surfels[i].firstVertex]].position);
+    const glm::vec3 own(solved[i]), want = onFloor(i) ? field(vertex) * channels : glm::vec3(5.0f);
+    moved += glm::length(want - own) > 0.01f;
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(shown[i][c], want[c], 0.015f * std::abs(want[c] - own[c]) + 1e-5f)
+          << "surfel " << i << " at " << vertex.x << ", " << vertex.y << ", " << vertex.z << " channel " << c;
+  }
+  EXPECT_GE(moved, 4 * 6) << "the floor's border surfels lie off their vertices";
 }
 
 TEST(Surfels, DegenerateTrianglesAreCountedAndExcluded) {

@@ -2,7 +2,11 @@
 """Regenerates docs/performance.md, the sweep's plot and CSV in docs/, and the headline table of
 README.md from ivgi's own benchmarks, so that no figure is copied by hand.
 
-Usage: tools/perf_tables.py [--ivgi build/ivgi] [--runs 3] [--threads 2]
+Usage: tools/perf_tables.py [--ivgi build/ivgi] [--runs 3] [--threads 2] [--only accuracy]
+
+--only accuracy regenerates only the section on where iv's error lies (its ratio images) and the
+README's row of iv's error, in a few minutes: the section then names the machine and date it was
+measured on, since the rest of the document may come from another run.
 
 Every timing is the median over --runs runs of `ivgi bench` (each itself a median over frames),
 with LP_NUM_THREADS set to --threads for lavapipe and pt on as many threads. The equal-error runs
@@ -359,12 +363,51 @@ def replace_between(text, marker, body):
     return pattern.sub(lambda m: m.group(1) + body + "\n" + m.group(2), text)
 
 
+def machine_line(device, threads):
+    return (f"Vulkan device {device['name']} ({device['type']}), driver {device['driver']} "
+            f"{device.get('driverInfo', '')}, LP_NUM_THREADS={threads}; pt on {threads} threads; "
+            f"CPU {cpu_name()}, {os.cpu_count()} cores")
+
+
+def error_row(errors):
+    """The README headline's row of iv's error against converged pt."""
+    return (f"| iv's error against converged pt, `--cells 26`, 320×240, defaults / every surfel a receiver | relMSE "
+            f"{errors[('defaults', 1)]:.4f} / {errors[('every_surfel', 1)]:.4f}; at `--supersample 4` "
+            f"{errors[('defaults', 4)]:.4f} / {errors[('every_surfel', 4)]:.4f} |")
+
+
+def regenerate_accuracy(args):
+    """--only accuracy: the section's body in docs/performance.md and the README's error row."""
+    with tempfile.TemporaryDirectory(prefix="ivgi-perf-") as scratch:
+        r = Runner(args.ivgi, args.threads, scratch)
+        accuracy, errors = accuracy_table(r)
+        device = r.json("render", "cornell", "--method", "none", "--size", "16x12", "--frames", 0, "--format", "exr",
+                        "--out", r.scratch / "device_%04d")["device"]
+    path = DOCS / "performance.md"
+    doc = path.read_text()
+    start = doc.index("| iv | relMSE, 1 sample a pixel")
+    end = doc.index("\n## ", start)
+    note = (f"This section alone was regenerated (`tools/perf_tables.py --only accuracy`) on "
+            f"{datetime.date.today().isoformat()}: {machine_line(device, args.threads)}.")
+    path.write_text(doc[:start] + accuracy + "\n\n" + note + "\n" + doc[end:])
+    readme = ROOT / "README.md"
+    text = readme.read_text()
+    row = re.compile(r"^\| iv's error against converged pt.*$", re.M)
+    if not row.search(text):
+        sys.exit("perf_tables: README.md's headline table has no row of iv's error")
+    readme.write_text(row.sub(lambda m: error_row(errors), text))
+    print(f"wrote the accuracy section of {path} and the README's error row", file=sys.stderr)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--ivgi", default=ROOT / "build/ivgi")
     parser.add_argument("--runs", type=int, default=3)
     parser.add_argument("--threads", type=int, default=2)
+    parser.add_argument("--only", choices=["accuracy"], help="regenerate this section alone")
     args = parser.parse_args()
+    if args.only == "accuracy":
+        return regenerate_accuracy(args)
     with tempfile.TemporaryDirectory(prefix="ivgi-perf-") as scratch:
         r = Runner(args.ivgi, args.threads, scratch)
         print("per-pass times", file=sys.stderr)
@@ -386,9 +429,7 @@ def main():
         print("render farm", file=sys.stderr)
         farm = farm_table(r, args.threads)
 
-    machine = (f"Vulkan device {device['name']} ({device['type']}), driver {device['driver']} "
-               f"{device.get('driverInfo', '')}, LP_NUM_THREADS={args.threads}; pt on {args.threads} threads; "
-               f"CPU {cpu_name()}, {os.cpu_count()} cores")
+    machine = machine_line(device, args.threads)
     today = datetime.date.today().isoformat()
     doc = f"""# Performance
 
@@ -501,9 +542,7 @@ pipelines and makes the static links again.
         f"a frame ({1000.0 / columns[26]['total']:.1f} fps) |",
         f"| the same at `--cells 8` (the default scene) | {columns[8]['total']:.0f} ms a frame "
         f"({1000.0 / columns[8]['total']:.0f} fps) |",
-        f"| iv's error against converged pt, `--cells 26`, 320×240, defaults / every surfel a receiver | relMSE "
-        f"{errors[('defaults', 1)]:.4f} / {errors[('every_surfel', 1)]:.4f}; at `--supersample 4` "
-        f"{errors[('defaults', 4)]:.4f} / {errors[('every_surfel', 4)]:.4f} |",
+        error_row(errors),
         f"| iv faster than pt at equal relMSE, defaults / every surfel a receiver | "
         f"{ratios['defaults']:.1f}× / {ratios['every surfel a receiver']:.1f}× |",
         f"| ar against pt at equal relMSE, defaults | {ratios['ar, defaults']:.2f}× "

@@ -13,15 +13,6 @@ namespace {
 // 64 triangles' tiles and tile rows stay within lavapipe's loop budget of 65,535 (common.glsl).
 constexpr uint32_t kRasterTilesPerSlice = 448;
 
-// Surfel of each vertex (welded vertices share one), -1 for vertices without one.
-std::vector<int32_t> vertexSurfels(const scene::Geometry& g) {
-  std::vector<int32_t> out(g.vertices.size(), -1);
-  for (size_t s = 0; s < g.surfels.size(); ++s)
-    for (uint32_t k = 0; k < g.surfels[s].vertexCount; ++k)
-      out[g.surfelVertices[g.surfels[s].firstVertex + k]] = int32_t(s);
-  return out;
-}
-
 }  // namespace
 
 void validate(const ImageSettings& s, const vk::Context& ctx) {
@@ -52,6 +43,7 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
       surfelUpdate_(shaderProgram(ctx, "surfels")),
       rasterSlices_(shaderProgram(ctx, "raster_slices", {.constants = {{"kTilesPerSlice", kRasterTilesPerSlice}}})),
       raster_(shaderProgram(ctx, "raster", {.constants = {{"kTilesPerSlice", kRasterTilesPerSlice}}})),
+      vertexIrradiance_(shaderProgram(ctx, "vertex_irradiance")),
       resolve_(shaderProgram(
           ctx, "resolve", {.constants = {{"kTextured", g.textures.empty() ? 0u : 1u}, {"kLit", solver_ ? 1u : 0u}}})),
       timer_(ctx) {
@@ -64,7 +56,7 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
   textures_ = upload(g.textures), texels_ = upload(g.texels);
   surfelSources_ = upload(g.surfels), surfelVertices_ = upload(g.surfelVertices),
   surfelTriangles_ = upload(g.surfelTriangles);
-  vertexSurfel_ = upload(vertexSurfels(g));
+  vertexSurfel_ = upload(scene::vertexSurfels(g));
 
   matrices_ = vk::Buffer(ctx, 0, Memory::Host, tally);  // sized on the first frame
   morphWeights_ = vk::Buffer(ctx, std::max<uint32_t>(g.morphWeightCount, 1) * sizeof(float), Memory::Host, tally);
@@ -75,6 +67,8 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
   for (vk::Buffer* channel : {&radiance_, &albedo_, &normalDepth_, &emission_})
     *channel = vk::Buffer(ctx, pixels * sizeof(glm::vec4), Memory::Host, tally);
   unlitIrradiance_ = vk::Buffer(ctx, 16, Memory::Device, tally);
+  shownIrradiance_ =
+      vk::Buffer(ctx, std::max<size_t>(solver_ ? surfelCount_ : 0, 1) * sizeof(glm::vec4), Memory::Device, tally);
   const vk::Groups groups = raster_.groupsFor(triangleCount_, 64);
   rasterArgs_ = upload(std::vector<uint32_t>{groups.x, groups.y, 1u});  // z: raster_slices each frame
 }
@@ -103,6 +97,7 @@ vk::Bindings FrameRenderer::pool() const {
                              {"visibility", visibility_},
                              {"rasterArgs", rasterArgs_},
                              {"surfelIrradiance", solver_ ? solver_->irradiance() : unlitIrradiance_},
+                             {"vertexIrradiance", shownIrradiance_},
                              {"radiance", radiance_},
                              {"albedo", albedo_},
                              {"normalDepth", normalDepth_},
@@ -134,8 +129,13 @@ bool FrameRenderer::recordFrame(VkCommandBuffer cmd, const gpu::Camera& camera, 
 
 void FrameRenderer::recordResolve(VkCommandBuffer cmd, const gpu::Camera& camera) {
   const glm::uvec2 size(image_.width, image_.height);
+  const vk::Bindings buffers = pool();
   timedPass(cmd, timer_, "resolve", [&] {
-    resolve_.dispatch(cmd, {(size.x + 7) / 8, (size.y + 7) / 8, 1}, pool(),
+    if (solver_) {
+      vertexIrradiance_.dispatchItems(cmd, surfelCount_, buffers, gpu::CountPush{surfelCount_});
+      vk::barrier(cmd);
+    }
+    resolve_.dispatch(cmd, {(size.x + 7) / 8, (size.y + 7) / 8, 1}, buffers,
                       gpu::ImagePush{camera, size, image_.samples, 0});
   });
 }

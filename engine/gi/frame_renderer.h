@@ -65,10 +65,11 @@ class FrameRenderer {
   vk::Buffer surfelSources_, surfelVertices_, surfelTriangles_, vertexSurfel_;
   // Per frame.
   vk::Buffer matrices_, morphWeights_, world_, surfels_, visibility_, unlitIrradiance_;
-  vk::Buffer rasterArgs_;                                  // the raster's dispatch, its z counted by raster_slices
+  vk::Buffer shownIrradiance_;  // the solver's irradiance carried to each surfel's vertex (vertex_irradiance)
+  vk::Buffer rasterArgs_;       // the raster's dispatch, its z counted by raster_slices
   vk::Buffer radiance_, albedo_, normalDepth_, emission_;  // mapped: the image channels
   std::unique_ptr<Solver> solver_;
-  vk::Program animate_, surfelUpdate_, rasterSlices_, raster_, resolve_;
+  vk::Program animate_, surfelUpdate_, rasterSlices_, raster_, vertexIrradiance_, resolve_;
   vk::PassTimer timer_;
 };
 

@@ -296,6 +296,14 @@ std::vector<Surfel> surfelsOnHost(const Geometry& g, const std::vector<WorldVert
   return out;
 }
 
+std::vector<int32_t> vertexSurfels(const Geometry& g) {
+  std::vector<int32_t> out(g.vertices.size(), -1);
+  for (size_t s = 0; s < g.surfels.size(); ++s)
+    for (uint32_t k = 0; k < g.surfels[s].vertexCount; ++k)
+      out[g.surfelVertices[g.surfels[s].firstVertex + k]] = int32_t(s);
+  return out;
+}
+
 Bounds worldBounds(const std::vector<WorldVertex>& world) {
   Bounds b;
   for (const auto& v : world) b.add(glm::vec3(v.position));

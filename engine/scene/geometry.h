@@ -65,6 +65,8 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation = 0);
 std::vector<WorldVertex> animateOnHost(const Geometry& geometry, const FrameInputs& inputs);
 // The surfel pass on the host, likewise.
 std::vector<Surfel> surfelsOnHost(const Geometry& geometry, const std::vector<WorldVertex>& world);
+// The surfel of each vertex (welded vertices share one), -1 for vertices without one.
+std::vector<int32_t> vertexSurfels(const Geometry& geometry);
 
 Bounds worldBounds(const std::vector<WorldVertex>& world);
 
