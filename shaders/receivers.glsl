@@ -10,7 +10,9 @@ vec2 tapOffset[kInterpolationTaps];
 
 // Weight of a receiver at p (normal ns, support radius `radius`) for the surfel at x (normal n):
 // (1 − t²)³ over the support, peaked where t → 0 (1/(t² + 0.01)), so that the fit all but passes
-// through a receiver at its own place.
+// through a receiver at its own place; over the support's radius, so that where finer receivers were
+// needed (a shadow, a contact) they outweigh a coarse one whose support reaches over them: it was
+// judged where the light is smooth and says less about the place than they do.
 float receiverWeight(vec3 x, vec3 n, vec3 p, vec3 ns, float radius) {
   const float c = dot(n, ns);
   if (c <= kReceiverNormalCos) return 0.0;
@@ -19,7 +21,7 @@ float receiverWeight(vec3 x, vec3 n, vec3 p, vec3 ns, float radius) {
   const float t2 = (dot(d, d) + stretch * across * across) / (radius * radius);
   if (t2 >= 1.0) return 0.0;
   const float w = (1.0 - t2) * (1.0 - t2) * (1.0 - t2), a = (c - kReceiverNormalCos) / (1.0 - kReceiverNormalCos);
-  return w * a * a / (t2 + 0.01);
+  return w * a * a / ((t2 + 0.01) * radius);
 }
 
 // Keeps a tap (a receiver met again, standing for another node, adds its weight), or where all
