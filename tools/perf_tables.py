@@ -2,11 +2,12 @@
 """Regenerates docs/performance.md, the sweep's plot and CSV in docs/, and the headline table of
 README.md from ivgi's own benchmarks, so that no figure is copied by hand.
 
-Usage: tools/perf_tables.py [--ivgi build/ivgi] [--runs 3] [--threads 2] [--only accuracy]
+Usage: tools/perf_tables.py [--ivgi build/ivgi] [--runs 3] [--threads 2] [--only accuracy|sweep]
 
---only accuracy regenerates only the section on where iv's error lies (its ratio images) and the
-README's row of iv's error, in a few minutes: the section then names the machine and date it was
-measured on, since the rest of the document may come from another run.
+--only regenerates one section alone: `accuracy` (where iv's error lies, its ratio images, and the
+README's row of iv's error; a few minutes) or `sweep` (the speed/accuracy sweep, its plot and CSV;
+about a quarter of an hour). The section then names the machine and date it was measured on, since
+the rest of the document may come from another run.
 
 Every timing is the median over --runs runs of `ivgi bench` (each itself a median over frames),
 with LP_NUM_THREADS set to --threads for lavapipe and pt on as many threads. The equal-error runs
@@ -376,27 +377,37 @@ def error_row(errors):
             f"{errors[('defaults', 4)]:.4f} / {errors[('every_surfel', 4)]:.4f} |")
 
 
-def regenerate_accuracy(args):
-    """--only accuracy: the section's body in docs/performance.md and the README's error row."""
+# What --only regenerates: each section's table, by the line its body starts with in
+# docs/performance.md (the body runs to the next heading).
+SECTIONS = {"accuracy": "| iv | relMSE, 1 sample a pixel", "sweep": "| bins | `--receiver-tol` |"}
+
+
+def regenerate_section(args):
+    """--only SECTION: that section's body in docs/performance.md (and for accuracy the README's error
+    row), with a line naming the machine and date it was measured on."""
     with tempfile.TemporaryDirectory(prefix="ivgi-perf-") as scratch:
         r = Runner(args.ivgi, args.threads, scratch)
-        accuracy, errors = accuracy_table(r)
+        if args.only == "accuracy":
+            body, errors = accuracy_table(r)
+        else:
+            body = sweep_table(r)
         device = r.json("render", "cornell", "--method", "none", "--size", "16x12", "--frames", 0, "--format", "exr",
                         "--out", r.scratch / "device_%04d")["device"]
     path = DOCS / "performance.md"
     doc = path.read_text()
-    start = doc.index("| iv | relMSE, 1 sample a pixel")
+    start = doc.index(SECTIONS[args.only])
     end = doc.index("\n## ", start)
-    note = (f"This section alone was regenerated (`tools/perf_tables.py --only accuracy`) on "
+    note = (f"This section alone was regenerated (`tools/perf_tables.py --only {args.only}`) on "
             f"{datetime.date.today().isoformat()}: {machine_line(device, args.threads)}.")
-    path.write_text(doc[:start] + accuracy + "\n\n" + note + "\n" + doc[end:])
-    readme = ROOT / "README.md"
-    text = readme.read_text()
-    row = re.compile(r"^\| iv's error against converged pt.*$", re.M)
-    if not row.search(text):
-        sys.exit("perf_tables: README.md's headline table has no row of iv's error")
-    readme.write_text(row.sub(lambda m: error_row(errors), text))
-    print(f"wrote the accuracy section of {path} and the README's error row", file=sys.stderr)
+    path.write_text(doc[:start] + body + "\n\n" + note + "\n" + doc[end:])
+    if args.only == "accuracy":
+        readme = ROOT / "README.md"
+        text = readme.read_text()
+        row = re.compile(r"^\| iv's error against converged pt.*$", re.M)
+        if not row.search(text):
+            sys.exit("perf_tables: README.md's headline table has no row of iv's error")
+        readme.write_text(row.sub(lambda m: error_row(errors), text))
+    print(f"wrote the {args.only} section of {path}", file=sys.stderr)
 
 
 def main():
@@ -404,10 +415,10 @@ def main():
     parser.add_argument("--ivgi", default=ROOT / "build/ivgi")
     parser.add_argument("--runs", type=int, default=3)
     parser.add_argument("--threads", type=int, default=2)
-    parser.add_argument("--only", choices=["accuracy"], help="regenerate this section alone")
+    parser.add_argument("--only", choices=sorted(SECTIONS), help="regenerate this section alone")
     args = parser.parse_args()
-    if args.only == "accuracy":
-        return regenerate_accuracy(args)
+    if args.only:
+        return regenerate_section(args)
     with tempfile.TemporaryDirectory(prefix="ivgi-perf-") as scratch:
         r = Runner(args.ivgi, args.threads, scratch)
         print("per-pass times", file=sys.stderr)
