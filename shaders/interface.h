@@ -271,6 +271,7 @@ struct RefinePush {
   // A receiver subtending more than this from an emitting sender (nodeEmission nonzero) is split
   // (0: down to its surfels).
   float emitterReceiver;
+  uint receiverStaysWhole;  // 1: a pair whose sender is a leaf is stored, however large its receiver
 };
 struct PrunePush {
   uint firstSurfel;  // the leaves [firstSurfel, endSurfel) of this dispatch's batch; listed: of the

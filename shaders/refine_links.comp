@@ -83,6 +83,11 @@ void main() {
       }
       // Senders wholly below the receiver's horizon matter neither for light nor for visibility.
       if (nr.positionArea.w > 0.0 && cosR <= 0.0) continue;
+      // iv re-bins a sender at each leaf under the receiver: one it cannot split stays linked whole.
+      if (leafS && push.receiverStaysWhole != 0u) {
+        storeLink(r, s);
+        continue;
+      }
       bool overlapping = dist <= nr.shape.x + ns.shape.x;
       bool large = ns.positionArea.w > push.largeSender * dist2;
       float estimate = formFactor(ns.positionArea.w, cosS, cosR, dist2);

@@ -77,14 +77,14 @@ void LinkCreation::record(VkCommandBuffer cmd, LinkSet& set, const LinkWork& b, 
     const uint32_t in = level % 2, out = 1 - in;
     args_.dispatch(cmd, {}, {{"counters", set.counters}, {"args", b.args}}, gpu::LinkArgsPush{in, out, 0, 256});
     vk::barrier(cmd);
-    refine_.dispatchIndirect(
-        cmd, b.args, 0,
-        b.pool.with({{"pairs", in ? b.worklistB : b.worklistA},
-                     {"nextWorklist", in ? b.worklistA : b.worklistB},
-                     {"links", set.links},
-                     {"counters", set.counters}}),
-        gpu::RefinePush{in, out, worklistCapacity, set.linkCapacity, criteria.epsilon, criteria.largeSender,
-                        criteria.largeReceiver, criteria.bothSides ? 1u : 0u, criteria.emitterReceiver});
+    refine_.dispatchIndirect(cmd, b.args, 0,
+                             b.pool.with({{"pairs", in ? b.worklistB : b.worklistA},
+                                          {"nextWorklist", in ? b.worklistA : b.worklistB},
+                                          {"links", set.links},
+                                          {"counters", set.counters}}),
+                             gpu::RefinePush{in, out, worklistCapacity, set.linkCapacity, criteria.epsilon,
+                                             criteria.largeSender, criteria.largeReceiver, criteria.bothSides ? 1u : 0u,
+                                             criteria.emitterReceiver, criteria.receiverStaysWhole ? 1u : 0u});
     vk::barrier(cmd);
   }
   // Links sorted by receiver: count, scan, scatter.

@@ -58,6 +58,10 @@ struct LinkCriteria {
   // The solid angle above which a receiver seen from an emitting sender (nodeEmission nonzero) is
   // split (0: down to its surfels).
   float emitterReceiver;
+  // iv: each leaf re-bins every sender of its root path from its own position, so a sender that
+  // cannot be split is linked to its receiver whole: splitting the receiver would only give each of
+  // its leaves the same sender through more links.
+  bool receiverStaysWhole;
 };
 
 // What the refinement works in: its two worklists, the dispatch arguments between its levels, and

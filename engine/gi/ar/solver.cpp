@@ -198,7 +198,7 @@ void ArSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
 void ArSolver::recordLinks(VkCommandBuffer cmd, LinkSet& set) {
   const float bin = 4.0f * gpu::kPi / float(6 * settings_.dirs * settings_.dirs);
   linkCreation_.record(cmd, set, LinkWork{b_.args, b_.worklistA, b_.worklistB, b_.pool()}, hierarchy_,
-                       LinkCriteria{settings_.epsilon, settings_.kappa * bin, settings_.kappa * bin, true, 0.0f},
+                       LinkCriteria{settings_.epsilon, settings_.kappa * bin, settings_.kappa * bin, true, 0.0f, false},
                        worklistCapacity_);
   // The senders in order: the short lists an invocation each, the long ones a workgroup each.
   vkCmdFillBuffer(cmd, b_.longSorts.handle(), 0, sizeof(uint32_t), 0u);

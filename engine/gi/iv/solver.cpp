@@ -147,7 +147,7 @@ void IvSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
   timedPass(cmd, timer, "links", [&] {
     const LinkWork work{b_.args, b_.worklistA, b_.worklistB, b_.pool()};
     const float bin = 4.0f * gpu::kPi / float(6 * settings_.bins * settings_.bins);
-    const LinkCriteria criteria{settings_.epsilon, settings_.kappa * bin, 3.4e38f, false, 3.4e38f};
+    const LinkCriteria criteria{settings_.epsilon, settings_.kappa * bin, 3.4e38f, false, 3.4e38f, true};
     if (linkStatic_) links_.record(cmd, staticSet_, work, h, criteria, room_.worklistCapacity());
     links_.record(cmd, frameSet_, work, h, criteria, room_.worklistCapacity());
   });
