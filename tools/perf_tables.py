@@ -2,12 +2,14 @@
 """Regenerates docs/performance.md, the sweep's plot and CSV in docs/, and the headline table of
 README.md from ivgi's own benchmarks, so that no figure is copied by hand.
 
-Usage: tools/perf_tables.py [--ivgi build/ivgi] [--runs 3] [--threads 2] [--only accuracy|sweep]
+Usage: tools/perf_tables.py [--ivgi build/ivgi] [--runs 3] [--threads 2]
+                            [--only passes|scaling|sweep|accuracy|real]
 
---only regenerates one section alone: `accuracy` (where iv's error lies, its ratio images, and the
-README's row of iv's error; a few minutes) or `sweep` (the speed/accuracy sweep, its plot and CSV;
-about a quarter of an hour). The section then names the machine and date it was measured on, since
-the rest of the document may come from another run.
+--only regenerates one section alone: `passes` (per pass, and the README's rows of the frame time),
+`scaling` (cost against tessellation), `sweep` (the speed/accuracy sweep, its plot and CSV; about
+a quarter of an hour), `accuracy` (where iv's error lies, its ratio images, and the README's row of
+iv's error) or `real` (the real files). The section then names the machine and date it was
+measured on, since the rest of the document may come from another run.
 
 Every timing is the median over --runs runs of `ivgi bench` (each itself a median over frames),
 with LP_NUM_THREADS set to --threads for lavapipe and pt on as many threads. The equal-error runs
@@ -377,36 +379,65 @@ def error_row(errors):
             f"{errors[('defaults', 4)]:.4f} / {errors[('every_surfel', 4)]:.4f} |")
 
 
+def frame_rows(columns):
+    """The README headline's rows of the animated Cornell box's frame time (per_pass_table's columns)."""
+    return [f"| animated Cornell box, `--cells 26` (4,756 surfels), 320×240, defaults | {columns[26]['total']:,.0f} ms "
+            f"a frame ({1000.0 / columns[26]['total']:.1f} fps) |",
+            f"| the same at `--cells 8` (the default scene) | {columns[8]['total']:.0f} ms a frame "
+            f"({1000.0 / columns[8]['total']:.0f} fps) |"]
+
+
+def replace_rows(text, rows):
+    """README.md with each headline row replaced by the new row that starts with its first cell."""
+    for row in rows:
+        first = row.split(" | ")[0]
+        pattern = re.compile(rf"^{re.escape(first)} \|.*$", re.M)
+        if not pattern.search(text):
+            sys.exit(f"perf_tables: README.md's headline table has no row starting {first!r}")
+        text = pattern.sub(lambda m: row, text)
+    return text
+
+
+def accuracy_section(r, args):
+    body, errors = accuracy_table(r)
+    return body, [error_row(errors)]
+
+
+def passes_section(r, args):
+    body, _, columns = per_pass_table(r, args.runs)
+    return body, frame_rows(columns)
+
+
 # What --only regenerates: each section's table, by the line its body starts with in
-# docs/performance.md (the body runs to the next heading).
-SECTIONS = {"accuracy": "| iv | relMSE, 1 sample a pixel", "sweep": "| bins | `--receiver-tol` |"}
+# docs/performance.md (the body runs to the next heading), and the README headline rows it feeds.
+SECTIONS = {
+    "accuracy": ("| iv | relMSE, 1 sample a pixel", accuracy_section),
+    "passes": ("| pass | ", passes_section),
+    "scaling": ("| `--cells` | surfels |", lambda r, args: (scaling_table(r, args.runs), [])),
+    "sweep": ("| bins | `--receiver-tol` |", lambda r, args: (sweep_table(r), [])),
+    "real": ("| scene | surfels | receivers |", lambda r, args: (real_files_table(r, args.runs), [])),
+}
 
 
 def regenerate_section(args):
-    """--only SECTION: that section's body in docs/performance.md (and for accuracy the README's error
-    row), with a line naming the machine and date it was measured on."""
+    """--only SECTION: that section's body in docs/performance.md (and the README headline rows it
+    feeds), with a line naming the machine and date it was measured on."""
+    marker, make = SECTIONS[args.only]
     with tempfile.TemporaryDirectory(prefix="ivgi-perf-") as scratch:
         r = Runner(args.ivgi, args.threads, scratch)
-        if args.only == "accuracy":
-            body, errors = accuracy_table(r)
-        else:
-            body = sweep_table(r)
+        body, rows = make(r, args)
         device = r.json("render", "cornell", "--method", "none", "--size", "16x12", "--frames", 0, "--format", "exr",
                         "--out", r.scratch / "device_%04d")["device"]
     path = DOCS / "performance.md"
     doc = path.read_text()
-    start = doc.index(SECTIONS[args.only])
+    start = doc.index(marker)
     end = doc.index("\n## ", start)
     note = (f"This section alone was regenerated (`tools/perf_tables.py --only {args.only}`) on "
             f"{datetime.date.today().isoformat()}: {machine_line(device, args.threads)}.")
     path.write_text(doc[:start] + body + "\n\n" + note + "\n" + doc[end:])
-    if args.only == "accuracy":
+    if rows:
         readme = ROOT / "README.md"
-        text = readme.read_text()
-        row = re.compile(r"^\| iv's error against converged pt.*$", re.M)
-        if not row.search(text):
-            sys.exit("perf_tables: README.md's headline table has no row of iv's error")
-        readme.write_text(row.sub(lambda m: error_row(errors), text))
+        readme.write_text(replace_rows(readme.read_text(), rows))
     print(f"wrote the {args.only} section of {path}", file=sys.stderr)
 
 
@@ -549,10 +580,7 @@ pipelines and makes the static links again.
     headline = "\n".join([
         "| figure | value |",
         "|---|---|",
-        f"| animated Cornell box, `--cells 26` (4,756 surfels), 320×240, defaults | {columns[26]['total']:,.0f} ms "
-        f"a frame ({1000.0 / columns[26]['total']:.1f} fps) |",
-        f"| the same at `--cells 8` (the default scene) | {columns[8]['total']:.0f} ms a frame "
-        f"({1000.0 / columns[8]['total']:.0f} fps) |",
+        *frame_rows(columns),
         error_row(errors),
         f"| iv faster than pt at equal relMSE, defaults / every surfel a receiver | "
         f"{ratios['defaults']:.1f}× / {ratios['every surfel a receiver']:.1f}× |",
