@@ -34,19 +34,31 @@ layout(std430, binding = 13) readonly buffer GatherOrder { uint gatherOrder[]; }
 layout(std430, binding = 14) buffer GatherFlags { uint gatherFlags[]; };
 layout(push_constant) uniform Push { ArPush push; };  // count: nodes
 
+// The bins around a direction (binTaps) with their bilinear weights, and each bin's ∫ω dω (xyz)
+// and solid angle (w), loaded once for every use of the direction.
+struct Taps {
+  uvec4 bins;
+  vec4 weights;
+  mat4 vectors;  // column i: bin i's
+};
+Taps tapsOf(vec3 dir) {
+  Taps t;
+  binTaps(dir, kDirs, t.bins, t.weights);
+  for (int i = 0; i < 4; ++i) t.vectors[i] = imageLoad(binVectors, int(t.bins[i]));
+  return t;
+}
+
 // A flat node keeps a direction's taps on the side of its plane the direction lies on (their
 // weights renormalised): light arriving at its front must not spill into bins behind it, nor the
 // light that reached it from beyond into bins in front.
-vec4 keepSide(vec4 normalCone, vec3 dir, uvec4 taps, vec4 weights) {
-  if (normalCone.w > kArFlatCone) return weights;  // curved: no one plane
-  vec4 cosines = vec4(dot(normalCone.xyz, imageLoad(binVectors, int(taps.x)).xyz),
-                      dot(normalCone.xyz, imageLoad(binVectors, int(taps.y)).xyz),
-                      dot(normalCone.xyz, imageLoad(binVectors, int(taps.z)).xyz),
-                      dot(normalCone.xyz, imageLoad(binVectors, int(taps.w)).xyz));
+vec4 keepSide(vec4 normalCone, vec3 dir, Taps t) {
+  if (normalCone.w > kArFlatCone) return t.weights;  // curved: no one plane
+  vec4 cosines = vec4(dot(normalCone.xyz, t.vectors[0].xyz), dot(normalCone.xyz, t.vectors[1].xyz),
+                      dot(normalCone.xyz, t.vectors[2].xyz), dot(normalCone.xyz, t.vectors[3].xyz));
   vec4 kept = dot(normalCone.xyz, dir) >= 0.0 ? step(0.0, cosines) : vec4(1.0) - step(0.0, cosines);
-  vec4 w = weights * kept;
+  vec4 w = t.weights * kept;
   float sum = w.x + w.y + w.z + w.w;
-  return sum > 0.0 ? w / sum : weights;
+  return sum > 0.0 ? w / sum : t.weights;
 }
 
 // Solid angle per unit area of a sender of area `area` at squared distance `dist2`: that of a disk
@@ -64,9 +76,10 @@ const bool kTableHere = kBins <= kTableHereMost;
 vec3 gatheredHere[kTableHere ? kBins : 1u];
 uint tableBase;  // the receiver's first texel in `gathered`
 
-// Adds to the receiver's bin `bin` radiance × solid angle `sent` over the bin's solid angle.
-void add(uint bin, vec3 sent) {
-  vec3 share = sent / imageLoad(binVectors, int(bin)).w;
+// Adds to the receiver's bin `bin` (of solid angle `omega`) radiance × solid angle `sent` over the
+// bin's solid angle.
+void add(uint bin, float omega, vec3 sent) {
+  vec3 share = sent / omega;
   if (kTableHere)
     gatheredHere[bin] += share;
   else
@@ -75,20 +88,17 @@ void add(uint bin, vec3 sent) {
 
 vec3 vectorX, vectorY, vectorZ;  // the receiver's Σ sent · dir
 
-// Deposits radiance × solid angle `sent`, seen along unit `dir`: `binShare` of it into the
-// receiver's bins around it and, where it arrives at the front of a flat receiver, all of it into
+// Deposits radiance × solid angle `sent`, seen along unit `dir` (its taps t): `binShare` of it into
+// the receiver's bins around it and, where it arrives at the front of a flat receiver, all of it into
 // its vector sum (a curved receiver's surfaces face many ways: their irradiance comes from its bins).
-void deposit(vec4 nr, vec3 dir, vec3 sent, float binShare) {
+void deposit(vec4 nr, vec3 dir, Taps t, vec3 sent, float binShare) {
   if (nr.w <= kArFlatCone && dot(nr.xyz, dir) >= 0.0)
     vectorX += sent * dir.x, vectorY += sent * dir.y, vectorZ += sent * dir.z;
-  uvec4 taps;
-  vec4 weights;
-  binTaps(dir, kDirs, taps, weights);
-  weights = keepSide(nr, dir, taps, weights) * binShare;
-  add(taps.x, weights.x * sent);
-  add(taps.y, weights.y * sent);
-  add(taps.z, weights.z * sent);
-  add(taps.w, weights.w * sent);
+  vec4 weights = keepSide(nr, dir, t) * binShare;
+  add(t.bins.x, t.vectors[0].w, weights.x * sent);
+  add(t.bins.y, t.vectors[1].w, weights.y * sent);
+  add(t.bins.z, t.vectors[2].w, weights.z * sent);
+  add(t.bins.w, t.vectors[3].w, weights.w * sent);
 }
 
 // A table's value at a direction (`base`: the node's or surfel's first texel), read between the
@@ -100,13 +110,10 @@ void deposit(vec4 nr, vec3 dir, vec3 sent, float binShare) {
    (weights).w * imageLoad(table, int((base) + (taps).w)).rgb)
 
 // The radiance surfel sender s (its surfel, normal) sends along unit `dir` (from the receiver to
-// it): from its front its own, and from either side less the antiradiance, the light that reached
-// it from beyond, read between the bins on its far side.
-vec3 surfelRadiance(uint surfel, uint bins, vec4 ns, vec3 dir) {
-  uvec4 taps;
-  vec4 weights;
-  binTaps(dir, kDirs, taps, weights);
-  vec3 through = READ_TAPS(incident, surfel * bins, taps, keepSide(ns, dir, taps, weights));
+// it; its taps t): from its front its own, and from either side less the antiradiance, the light
+// that reached it from beyond, read between the bins on its far side.
+vec3 surfelRadiance(uint surfel, uint bins, vec4 ns, vec3 dir, Taps t) {
+  vec3 through = READ_TAPS(incident, surfel * bins, t.bins, keepSide(ns, dir, t));
   return (dot(ns.xyz, -dir) > 0.0 ? imageLoad(radiance, int(surfel)).rgb : vec3(0.0)) - through;
 }
 
@@ -130,7 +137,7 @@ void gatherLink(uint s, vec3 pr, vec4 nr) {
       float cosine = dot(cone.xyz, -dir);
       sent = imageLoad(exitance, int(s)).rgb * max(cosine, 0.0) - sent * abs(cosine);
     }
-    deposit(nr, dir, sent * solidAnglePerArea(ps.w, dist2), 1.0);
+    deposit(nr, dir, tapsOf(dir), sent * solidAnglePerArea(ps.w, dist2), 1.0);
     return;
   }
   // A surfel wider than a bin, or near, goes as k×k pieces of its rectangle, each along its own
@@ -154,8 +161,9 @@ void gatherLink(uint s, vec3 pr, vec4 nr) {
     // J passes on, and a near piece's light taken along one direction would pass on more than it
     // has (its neighbours on a curved surface, each in the others' near field, fed it back).
     float binOmega = imageLoad(binVectors, int(binOf(dir, kDirs))).w;
+    const Taps taps = tapsOf(dir);
     float binShare = omega > binOmega ? binOmega / omega : 1.0;
-    deposit(nr, dir, surfelRadiance(t.w, bins, ns, dir) * omega, binShare);
+    deposit(nr, dir, taps, surfelRadiance(t.w, bins, ns, dir, taps) * omega, binShare);
   }
 }
 
