@@ -14,6 +14,7 @@
 #include "engine/image/metrics.h"
 #include "scenes/builtin.h"
 #include "scenes/gltf_builder.h"
+#include "shaders/registry.h"
 #include "tests/test_support.h"
 
 using namespace ivgi;
@@ -106,6 +107,43 @@ TEST(IvBench, PrintsEveryPassAndTheSolversFigures) {
   EXPECT_GT(once, walked);
   EXPECT_GT(j["solver"]["leafLinks"].get<uint64_t>(), 0u);
   EXPECT_GT(j["bytesAllocated"].get<uint64_t>(), 0u);
+}
+
+// `bench --per-program` times every dispatch by its program: each a shader of the build, each
+// frame's dispatches within its passes' time; without the flag nothing is timed that way.
+TEST(IvBench, PerProgramTimesEveryDispatchByItsShader) {
+  const fs::path json = test::scratchDir("bench") / "programs.json";
+  auto r = test::runIvgi({"bench", "--cells", "4", "--size", "64x48", "--frames", "2", "--warmup", "1", "--per-program",
+                          "--json", json.string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("\nprune_bins "), std::string::npos) << r.out;
+  std::ifstream in(json);
+  const auto j = nlohmann::json::parse(in);
+  for (const char* program :
+       {"animate", "refine_links", "prune_bins", "refine_receivers", "gather", "raster", "resolve"})
+    ASSERT_TRUE(j["programs"].contains(program)) << program;
+  for (const auto& [name, figures] : j["programs"].items()) {
+    EXPECT_NO_THROW(shaderCode(name)) << name << " is no shader";
+    EXPECT_GE(figures["dispatches"].get<double>(), 1.0) << name;
+  }
+  ASSERT_EQ(j["frames"].size(), 2u);
+  for (const auto& frame : j["frames"]) {
+    double dispatches = 0;
+    for (const auto& [name, p] : frame["programs"].items()) {
+      EXPECT_GE(p["ms"].get<double>(), 0.0) << name;
+      dispatches += p["ms"].get<double>();
+    }
+    EXPECT_GT(dispatches, 0.0);
+    EXPECT_LE(dispatches, frame["totalGpuMs"].get<double>()) << "each dispatch lies within its pass";
+  }
+
+  const fs::path plain = test::scratchDir("bench") / "plain.json";
+  r = test::runIvgi(
+      {"bench", "--cells", "2", "--size", "32x24", "--frames", "1", "--warmup", "0", "--json", plain.string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.out.find("prune_bins"), std::string::npos) << r.out;
+  std::ifstream plainIn(plain);
+  EXPECT_TRUE(nlohmann::json::parse(plainIn)["programs"].empty());
 }
 
 TEST(IvExtremes, BinsFromOneToSixtyFour) {

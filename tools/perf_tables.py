@@ -91,6 +91,35 @@ def per_pass_table(r, runs):
     return "\n".join(lines), results[26]["device"], columns
 
 
+PROGRAMS_INTRO = """`ivgi bench cornell --cells 26 --size 320x240 --method M --per-program` at the defaults (iv: 20
+frames after 3 warm-up frames, ar: 3 after 1): every dispatch timed on its own, by its program (one
+compute shader each). The programs' times add up to less than the frame: the barriers, fills and
+copies between dispatches belong to the frame's passes, not to a program. The timestamps
+themselves slow the frame (here by about a quarter), so the frame row is not the *Per pass* total."""
+
+
+def programs_table(r, runs):
+    """The animated Cornell box at --cells 26, each dispatch timed by its program (bench --per-program):
+    iv's and ar's, the slowest first, medians over `runs` runs of each run's median."""
+    tables = []
+    for method, frames, warmup in (("iv", 20, 3), ("ar", 3, 1)):
+        results = [r.json("bench", "cornell", "--cells", 26, "--size", "320x240", "--frames", frames, "--warmup",
+                          warmup, "--method", method, "--per-program") for _ in range(runs)]
+        times = {n: median([j["programs"][n]["medianMs"] for j in results if n in j["programs"]])
+                 for n in results[0]["programs"]}
+        names = sorted(times, key=lambda n: -times[n])
+        total = median([j["passes"]["total"]["medianMs"] for j in results])
+        lines = [f"| {method}: program | ms a frame | share of the frame | dispatches a frame |", "|---|---|---|---|"]
+        for name in names:
+            ms = times[name]
+            dispatches = results[0]["programs"][name]["dispatches"]
+            lines.append(f"| `{name}` | {fmt(ms)} | {100.0 * ms / total:.1f} % | {dispatches:.0f} |")
+        count = sum(results[0]["programs"][n]["dispatches"] for n in names)
+        lines.append(f"| the frame (its passes) | {fmt(total)} | 100 % | {count:.0f} |")
+        tables.append("\n".join(lines))
+    return "\n\n".join(tables)
+
+
 def scaling_table(r, runs, every_most=52):
     """The animated Cornell box at more cells a side: adaptive receivers (the default) against every
     surfel a receiver (--receiver-tol 0, up to `every_most` cells: beyond 52, a frame takes many
@@ -413,6 +442,7 @@ def passes_section(r, args):
 SECTIONS = {
     "accuracy": ("| iv | relMSE, 1 sample a pixel", accuracy_section),
     "passes": ("| pass | ", passes_section),
+    "programs": ("| iv: program |", lambda r, args: (programs_table(r, args.runs), [])),
     "scaling": ("| `--cells` | surfels |", lambda r, args: (scaling_table(r, args.runs), [])),
     "sweep": ("| bins | `--receiver-tol` |", lambda r, args: (sweep_table(r), [])),
     "real": ("| scene | surfels | receivers |", lambda r, args: (real_files_table(r, args.runs), [])),
@@ -454,6 +484,8 @@ def main():
         r = Runner(args.ivgi, args.threads, scratch)
         print("per-pass times", file=sys.stderr)
         passes, device, columns = per_pass_table(r, args.runs)
+        print("per-program times", file=sys.stderr)
+        programs = programs_table(r, args.runs)
         print("scaling", file=sys.stderr)
         scaling = scaling_table(r, args.runs)
         print("sweep", file=sys.stderr)
@@ -492,6 +524,12 @@ is linked and pruned in the first frame; every frame after it links the moving b
 receivers, prunes them and solves.
 
 {passes}
+
+## Per program: where a frame's time goes
+
+{PROGRAMS_INTRO}
+
+{programs}
 
 ## Cost against the scene's tessellation
 

@@ -26,12 +26,14 @@ FrameTimes timeFrames(gi::FrameRenderer& renderer, const scene::Scene& s, const 
                       const FrameCamera& camera, double fps, int warmup, int count) {
   const bool moving = scene::animationMovesGeometry(s, tl.animation);
   FrameTimes out;
+  std::vector<std::vector<vk::PassTime>> programs;  // per measured frame
   for (int i = 0; i < warmup + count; ++i) {
     int frame = i % (tl.lastFrame + 1);
     auto pose = scene::evaluatePose(s, tl.animation, float(tl.time(frame, fps)));
     auto result =
         renderer.render(g.frameInputs(s, pose), camera.at(pose), scene::worldLights(s, pose), i == 0 || moving);
     if (i < warmup) continue;
+    programs.push_back(result.programTimes);
     double total = 0;
     nlohmann::json passes = nlohmann::json::object();
     for (const auto& p : result.passTimes) {
@@ -45,9 +47,48 @@ FrameTimes timeFrames(gi::FrameRenderer& renderer, const scene::Scene& s, const 
     for (const auto& [figure, value] : result.solverFigures)
       out.solverFigures[figure].push_back(value), figures[figure] = value;
     out.frames.push_back({{"frame", frame}, {"gpuMs", passes}, {"totalGpuMs", total}, {"solver", figures}});
+    if (!result.programTimes.empty()) {
+      nlohmann::json perProgram = nlohmann::json::object();
+      for (const vk::PassTime& p : result.programTimes) perProgram[p.pass] = {{"ms", p.ms}, {"dispatches", p.count}};
+      out.frames.back()["programs"] = perProgram;
+    }
   }
+  for (const auto& frame : programs)
+    for (const vk::PassTime& p : frame) out.perProgram[p.pass], out.programDispatches[p.pass];
+  for (const auto& frame : programs)
+    for (auto& [name, ms] : out.perProgram) {
+      auto it = std::find_if(frame.begin(), frame.end(), [&](const vk::PassTime& p) { return p.pass == name; });
+      ms.push_back(it == frame.end() ? 0.0 : it->ms);
+      out.programDispatches[name].push_back(it == frame.end() ? 0.0 : double(it->count));
+    }
   return out;
 }
+
+namespace {
+
+// With --per-program: each program's median time a frame, its p90 and its dispatches a frame, the
+// slowest first (printed and as JSON; empty without it).
+nlohmann::json printPrograms(const FrameTimes& times) {
+  nlohmann::json out = nlohmann::json::object();
+  if (times.perProgram.empty()) return out;
+  std::vector<std::pair<double, std::string>> byTime;
+  for (const auto& [name, ms] : times.perProgram) byTime.emplace_back(percentile(ms, 0.5), name);
+  std::sort(byTime.begin(), byTime.end(), std::greater<>());
+  std::printf("\n%-24s %10s %10s %10s\n", "program", "median ms", "p90 ms", "dispatches");
+  double sum = 0;
+  for (const auto& [median, name] : byTime) {
+    const double p90 = percentile(times.perProgram.at(name), 0.9),
+                 dispatches = percentile(times.programDispatches.at(name), 0.5);
+    std::printf("%-24s %10.3f %10.3f %10.0f\n", name.c_str(), median, p90, dispatches);
+    out[name] = {{"medianMs", median}, {"p90Ms", p90}, {"dispatches", dispatches}};
+    sum += median;
+  }
+  std::printf("%-24s %10.3f  (the dispatches' own times: the barriers, fills and copies between them are not in it)\n",
+              "sum of medians", sum);
+  return out;
+}
+
+}  // namespace
 
 void checkFrameCounts(const BenchOptions& o) {
   if (o.frames < 1 || o.frames > 100000) throw SettingsError("--frames must be 1 to 100000");
@@ -67,6 +108,7 @@ int runBench(const BenchOptions& o) {
 
   vk::Context ctx({.device = o.device});
   gi::FrameRenderer renderer(ctx, g, image, makeSolver(solver, ctx, s, g, animation));
+  if (o.perProgram) renderer.timePrograms();
   const FrameCamera camera(s, g, tl, o.fps, "", {0}, float(image.width) / float(image.height));
 
   const bool moving = scene::animationMovesGeometry(s, animation);
@@ -102,6 +144,7 @@ int runBench(const BenchOptions& o) {
   }
   double totalMs = percentile(perPass["total"], 0.5);
   std::printf("\nframe: %.3f ms median GPU, %.2f fps\n", totalMs, totalMs > 0 ? 1000.0 / totalMs : 0.0);
+  const nlohmann::json programs = printPrograms(times);
   std::printf("surfels %zu, triangles %zu", g.surfels.size(), g.triangles.size());
   nlohmann::json counts = {
       {"surfels", g.surfels.size()}, {"triangles", g.triangles.size()}, {"vertices", g.vertices.size()}};
@@ -155,15 +198,11 @@ int runBench(const BenchOptions& o) {
                      {"supersample", image.samples},
                      {"frames", o.frames},
                      {"warmup", o.warmup}});
-    nlohmann::json j = {{"scene", s.source},
-                        {"settings", settings},
-                        {"device", deviceJson(ctx)},
-                        {"passes", summary},
-                        {"fps", totalMs > 0 ? 1000.0 / totalMs : 0.0},
-                        {"counts", counts},
-                        {"solver", solverJson(renderer.solver())},
-                        {"bytesAllocated", bytes},
-                        {"frames", frames}};
+    nlohmann::json j = {{"scene", s.source},         {"settings", settings},
+                        {"device", deviceJson(ctx)}, {"passes", summary},
+                        {"programs", programs},      {"fps", totalMs > 0 ? 1000.0 / totalMs : 0.0},
+                        {"counts", counts},          {"solver", solverJson(renderer.solver())},
+                        {"bytesAllocated", bytes},   {"frames", frames}};
     writeJson(o.json, j);
   }
   return ctx.validationErrors() ? 3 : 0;

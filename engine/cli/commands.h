@@ -115,6 +115,7 @@ struct BenchOptions {
   std::string size = "320x240";
   uint32_t supersample = 1;  // N×N samples per pixel
   std::string device, json;
+  bool perProgram = false;  // also time every dispatch, by program
   // --equal-error: iv's time and relMSE against a converged pt reference of one frame, and the time
   // pt needs to reach that relMSE.
   bool equalError = false;

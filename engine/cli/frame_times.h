@@ -15,6 +15,9 @@ struct FrameTimes {
   std::vector<std::string> order;                            // passes in the order they ran
   nlohmann::json frames = nlohmann::json::array();           // per frame: number, gpuMs per pass, totalGpuMs, solver
   std::map<std::string, std::vector<double>> solverFigures;  // per measured frame, by name (e.g. bounces)
+  // With FrameRenderer::timePrograms(): per program (shader), ms and dispatches per measured frame
+  // (0 where it did not run).
+  std::map<std::string, std::vector<double>> perProgram, programDispatches;
 };
 
 // Renders `warmup` + `count` frames of the animation in memory (wrapping around its end) and keeps

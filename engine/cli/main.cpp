@@ -131,6 +131,8 @@ int main(int argc, char** argv) {
   b->add_option("--supersample", bench.supersample, "N: N×N samples per pixel")->capture_default_str();
   b->add_option("--device", bench.device, "Vulkan device name substring or index");
   b->add_option("--json", bench.json, "write the figures and per-frame times as JSON");
+  b->add_flag("--per-program", bench.perProgram,
+              "also time every dispatch (a timestamp before and after each) and print each program's share");
   b->add_flag("--equal-error", bench.equalError,
               "compare iv with pt at equal relMSE against a converged pt reference of one frame");
   b->add_option("--reference", bench.reference,

@@ -73,6 +73,15 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
   rasterArgs_ = upload(std::vector<uint32_t>{groups.x, groups.y, 1u});  // z: raster_slices each frame
 }
 
+FrameRenderer::~FrameRenderer() {
+  if (programTimer_ && ctx_.dispatchTimer() == &*programTimer_) ctx_.timeDispatches(nullptr);  // a frame cut short
+}
+
+void FrameRenderer::timePrograms() {
+  constexpr uint32_t kMostDispatches = 16384;  // a frame's; any past them go untimed
+  if (!programTimer_) programTimer_.emplace(ctx_, kMostDispatches);
+}
+
 uint64_t FrameRenderer::bytesAllocated() const {
   return allocations_.bytes() + (solver_ ? solver_->allocatedBytes() : 0);
 }
@@ -108,6 +117,10 @@ bool FrameRenderer::recordFrame(VkCommandBuffer cmd, const gpu::Camera& camera, 
   const glm::uvec2 fine = glm::uvec2(image_.width, image_.height) * image_.samples;
   const vk::Bindings buffers = pool();
   timer_.reset(cmd);
+  if (programTimer_) {  // dispatches are timed from the reset to the frame's results
+    programTimer_->reset(cmd);
+    ctx_.timeDispatches(&*programTimer_);
+  }
   timedPass(cmd, timer_, "animate",
             [&] { animate_.dispatchItems(cmd, vertexCount_, buffers, gpu::CountPush{vertexCount_}); });
   timedPass(cmd, timer_, "surfels",
@@ -166,6 +179,10 @@ FrameResult FrameRenderer::render(const scene::FrameInputs& in, const scene::Cam
 
   FrameResult result;
   result.passTimes = timer_.results();
+  if (programTimer_) {
+    ctx_.timeDispatches(nullptr);
+    result.programTimes = programTimer_->results();
+  }
   if (solver_) result.solverFigures = solver_->frameFigures();
   image::FrameChannels& c = result.channels;
   c.width = image_.width, c.height = image_.height;

@@ -4,6 +4,7 @@
 // uploaded once; per frame only the matrices, morph weights and lights go up and the image channels
 // come down.
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,8 @@ struct FrameResult {
   image::FrameChannels channels;
   std::vector<vk::PassTime> passTimes;                        // a pass recorded more than once: summed
   std::vector<std::pair<std::string, double>> solverFigures;  // the solver's frameFigures()
+  // After timePrograms(): per program, its dispatches' times summed and how many ran.
+  std::vector<vk::PassTime> programTimes;
 };
 
 class FrameRenderer {
@@ -37,6 +40,7 @@ class FrameRenderer {
   // `solver`: the lighting method; none renders emission only.
   FrameRenderer(const vk::Context& ctx, const scene::Geometry& geometry, const ImageSettings& image,
                 std::unique_ptr<Solver> solver = nullptr);
+  ~FrameRenderer();
 
   // `lights`: the punctual lights in world space; `geometryMoved`: whether the solver must refit and
   // relink (false only for static geometry after the first frame).
@@ -49,6 +53,9 @@ class FrameRenderer {
   std::vector<scene::Surfel> surfels() const;
   // Device memory of the frame's own buffers and of the solver's.
   uint64_t bytesAllocated() const;
+  // From the next frame on, every dispatch is timed on its own too (a timestamp before and after
+  // each), by program: FrameResult::programTimes.
+  void timePrograms();
 
  private:
   // The frame's passes; false where the solver left its solve for later and the resolve with it.
@@ -71,6 +78,7 @@ class FrameRenderer {
   std::unique_ptr<Solver> solver_;
   vk::Program animate_, surfelUpdate_, rasterSlices_, raster_, vertexIrradiance_, resolve_;
   vk::PassTimer timer_;
+  std::optional<vk::PassTimer> programTimer_;  // timePrograms()
 };
 
 }  // namespace ivgi::gi

@@ -37,6 +37,8 @@ struct ContextOptions {
   uint32_t texelPartBits = 0;
 };
 
+class PassTimer;
+
 class Context {
  public:
   explicit Context(const ContextOptions& options = {});
@@ -76,6 +78,11 @@ class Context {
 
   PFN_vkCmdPushDescriptorSetKHR cmdPushDescriptorSet = nullptr;
 
+  // While set, every program's dispatch is timed on its own into `timer`, under its program's name
+  // (bench --per-program); nullptr: none is.
+  void timeDispatches(PassTimer* timer) const { dispatchTimer_ = timer; }
+  PassTimer* dispatchTimer() const { return dispatchTimer_; }
+
  private:
   VkInstance instance_ = VK_NULL_HANDLE;
   VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
@@ -94,6 +101,7 @@ class Context {
   VkPhysicalDeviceMemoryProperties memory_{};
   DeviceInfo info_;
   mutable uint32_t validationErrors_ = 0;
+  mutable PassTimer* dispatchTimer_ = nullptr;
 
   static VkBool32 VKAPI_PTR onMessage(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
                                       VkDebugUtilsMessageTypeFlagsEXT types,

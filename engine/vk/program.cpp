@@ -7,6 +7,8 @@
 #include <span>
 #include <vector>
 
+#include "engine/vk/timer.h"
+
 namespace ivgi::vk {
 
 namespace {
@@ -235,11 +237,16 @@ Groups Program::groupsFor(uint64_t count, uint32_t perGroup) const {
 }
 
 void Program::dispatch(VkCommandBuffer cmd, Groups groups, const Bindings& bindings) const {
-  bind(cmd, bindings, nullptr, 0);
+  const bool timed = bind(cmd, bindings, nullptr, 0);
   vkCmdDispatch(cmd, groups.x, groups.y, groups.z);
+  endTiming(cmd, timed);
 }
 
-void Program::bind(VkCommandBuffer cmd, const Bindings& bindings, const void* push, uint32_t pushBytes) const {
+void Program::endTiming(VkCommandBuffer cmd, bool timed) const {
+  if (timed) ctx_.dispatchTimer()->end(cmd);
+}
+
+bool Program::bind(VkCommandBuffer cmd, const Bindings& bindings, const void* push, uint32_t pushBytes) const {
   if (pushBytes != pushBytes_)
     throw VulkanError("pass " + name_ + " takes " + std::to_string(pushBytes_) + " push-constant bytes, given " +
                       std::to_string(pushBytes));
@@ -287,6 +294,10 @@ void Program::bind(VkCommandBuffer cmd, const Bindings& bindings, const void* pu
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
   if (n) ctx_.cmdPushDescriptorSet(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, n, writes.data());
   if (pushBytes_) vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, pushBytes_, push);
+  PassTimer* timer = ctx_.dispatchTimer();
+  if (!timer || timer->room() == 0) return false;
+  timer->begin(cmd, name_);
+  return true;
 }
 
 void Program::addTexelViews(const Buffer& buffer, const Slot& slot, std::vector<VkBufferView>& views) const {

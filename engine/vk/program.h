@@ -86,20 +86,23 @@ class Program {
   // Binds every binding of the shader by its name, pushes the constants, dispatches `groups`.
   template <class Push>
   void dispatch(VkCommandBuffer cmd, Groups groups, const Bindings& bindings, const Push& push) const {
-    bind(cmd, bindings, &push, sizeof(Push));
+    const bool timed = bind(cmd, bindings, &push, sizeof(Push));
     vkCmdDispatch(cmd, groups.x, groups.y, groups.z);
+    endTiming(cmd, timed);
   }
   void dispatch(VkCommandBuffer cmd, Groups groups, const Bindings& bindings) const;
   // Dispatch with the group counts at `offset` in `args` (a VkDispatchIndirectCommand).
   template <class Push>
   void dispatchIndirect(VkCommandBuffer cmd, const Buffer& args, VkDeviceSize offset, const Bindings& bindings,
                         const Push& push) const {
-    bind(cmd, bindings, &push, sizeof(Push));
+    const bool timed = bind(cmd, bindings, &push, sizeof(Push));
     vkCmdDispatchIndirect(cmd, args.handle(), offset);
+    endTiming(cmd, timed);
   }
   void dispatchIndirect(VkCommandBuffer cmd, const Buffer& args, VkDeviceSize offset, const Bindings& bindings) const {
-    bind(cmd, bindings, nullptr, 0);
+    const bool timed = bind(cmd, bindings, nullptr, 0);
     vkCmdDispatchIndirect(cmd, args.handle(), offset);
+    endTiming(cmd, timed);
   }
   // One invocation per item (items laid out over x and y so that no dimension exceeds the device
   // limit; shaders read their item with itemIndex() from common.glsl and test it against the count).
@@ -111,7 +114,10 @@ class Program {
   Groups groupsFor(uint64_t count, uint32_t perGroup) const;
 
  private:
-  void bind(VkCommandBuffer cmd, const Bindings& bindings, const void* push, uint32_t pushBytes) const;
+  // Binds, pushes and, where the context times dispatches (and has room), starts timing this one:
+  // whether it did.
+  bool bind(VkCommandBuffer cmd, const Bindings& bindings, const void* push, uint32_t pushBytes) const;
+  void endTiming(VkCommandBuffer cmd, bool timed) const;
 
   const Context& ctx_;
   std::string name_;

@@ -40,9 +40,9 @@ std::vector<PassTime> PassTimer::results() const {
     const double ms = double((ticks[2 * i + 1] - ticks[2 * i]) & mask) * ctx_.timestampPeriodNs() * 1e-6;
     auto same = std::find_if(out.begin(), out.end(), [&](const PassTime& p) { return p.pass == names_[i]; });
     if (same == out.end())
-      out.push_back({names_[i], ms});
+      out.push_back({names_[i], ms, 1});
     else
-      same->ms += ms;  // a pass recorded again (in a later submission of the frame)
+      same->ms += ms, ++same->count;  // a pass recorded again (in a later submission of the frame)
   }
   return out;
 }

@@ -14,6 +14,7 @@ namespace ivgi::vk {
 struct PassTime {
   std::string pass;
   double ms = 0;
+  uint32_t count = 1;  // times it was recorded (summed in ms)
 };
 
 class PassTimer {
