@@ -144,6 +144,11 @@ TEST(IvBench, PerProgramTimesEveryDispatchByItsShader) {
   EXPECT_EQ(r.out.find("prune_bins"), std::string::npos) << r.out;
   std::ifstream plainIn(plain);
   EXPECT_TRUE(nlohmann::json::parse(plainIn)["programs"].empty());
+
+  r = test::runIvgi({"bench", "--equal-error", "--per-program", "--cells", "2"});
+  EXPECT_EQ(r.status, 1);
+  ASSERT_EQ(r.errLines().size(), 1u) << r.err;
+  EXPECT_NE(r.err.find("--per-program"), std::string::npos) << r.err;
 }
 
 TEST(IvExtremes, BinsFromOneToSixtyFour) {
