@@ -53,8 +53,9 @@ FrameTimes timeFrames(gi::FrameRenderer& renderer, const scene::Scene& s, const 
       out.frames.back()["programs"] = perProgram;
     }
   }
+  // Every program any measured frame ran, with a value for each frame (0 where it did not run).
   for (const auto& frame : programs)
-    for (const vk::PassTime& p : frame) out.perProgram[p.pass], out.programDispatches[p.pass];
+    for (const vk::PassTime& p : frame) out.perProgram.try_emplace(p.pass), out.programDispatches.try_emplace(p.pass);
   for (const auto& frame : programs)
     for (auto& [name, ms] : out.perProgram) {
       auto it = std::find_if(frame.begin(), frame.end(), [&](const vk::PassTime& p) { return p.pass == name; });
