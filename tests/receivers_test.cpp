@@ -131,3 +131,34 @@ TEST(Receivers, AdaptiveChoicesDoNotFlicker) {
   EXPECT_LT(temporal, 3e-4);
   EXPECT_LT(temporal, 0.2 * frames);
 }
+
+// Without --receiver-tol the receivers are chosen on a CPU device (lavapipe), where fewer receivers
+// save work, and every surfel is one on a GPU; the sidecar says "auto" and the value solved with.
+TEST(Receivers, TheDefaultToleranceFollowsTheDevice) {
+  EXPECT_EQ(gi::receiverToleranceOn({}, true), gi::kCpuReceiverTolerance);
+  EXPECT_EQ(gi::receiverToleranceOn({}, false), 0.0f);
+  EXPECT_EQ(gi::receiverToleranceOn({.receiverTolerance = 0.2f}, false), 0.2f);
+  EXPECT_EQ(gi::receiverToleranceOn({.receiverTolerance = 0.0f}, true), 0.0f);
+
+  auto dir = test::scratchDir("receiver-tol");
+  for (const std::string given : {"", "0.2"}) {
+    std::vector<std::string> args = {"render",   "cornell",
+                                     "--cells",  "2",
+                                     "--size",   "32x24",
+                                     "--frames", "0",
+                                     "--format", "exr",
+                                     "--out",    (dir / "f").string(),
+                                     "--json",   (dir / "s.json").string()};
+    if (!given.empty()) args.insert(args.end(), {"--receiver-tol", given});
+    auto r = test::runIvgi(args);
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto sidecar = nlohmann::json::parse(std::ifstream(dir / "s.json"));
+    const bool cpu = sidecar["device"]["type"] == "cpu";
+    const float solved = given.empty() ? (cpu ? gi::kCpuReceiverTolerance : 0.0f) : std::stof(given);
+    if (given.empty())
+      EXPECT_EQ(sidecar["settings"]["receiverTolerance"], "auto");
+    else
+      EXPECT_FLOAT_EQ(sidecar["settings"]["receiverTolerance"].get<float>(), solved);
+    EXPECT_FLOAT_EQ(sidecar["solver"]["receiverTolerance"].get<float>(), solved) << sidecar["solver"].dump();
+  }
+}

@@ -42,7 +42,7 @@ nlohmann::json settingsJson(const std::string& method, const gi::IvSettings& iv,
           {"bounces", bouncesJson(iv)},
           {"bounceTolerance", iv.bounceTolerance},
           {"kappa", iv.kappa},
-          {"receiverTolerance", iv.receiverTolerance},
+          {"receiverTolerance", iv.receiverTolerance ? nlohmann::json(*iv.receiverTolerance) : nlohmann::json("auto")},
           {"tessellation", tessellation}};
 }
 
@@ -51,6 +51,7 @@ nlohmann::json solverJson(const gi::Solver* solver) {
   if (const auto* iv = dynamic_cast<const gi::IvSolver*>(solver)) {
     nlohmann::json j = iv->stats();
     j["method"] = "iv";
+    j["receiverTolerance"] = *iv->settings().receiverTolerance;
     return j;
   }
   if (const auto* ar = dynamic_cast<const gi::ArSolver*>(solver)) {

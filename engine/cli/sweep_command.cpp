@@ -51,7 +51,7 @@ std::string label(const SolverOptions& o) {
   else
     s << " tol" << o.iv.bounceTolerance;
   if (o.iv.kappa != 1.0f) s << " k" << o.iv.kappa;
-  s << " r" << o.iv.receiverTolerance;
+  s << " r" << *o.iv.receiverTolerance;
   return s.str();
 }
 
@@ -226,7 +226,7 @@ int runSweep(const SweepOptions& o) {
     const bool ar = st.method == "ar";
     csv << '"' << s.source << "\"," << st.method << ',' << st.iv.bins << ',' << st.iv.epsilon << ','
         << bouncesText(st.iv) << ',' << st.iv.bounceTolerance << ',' << run << ',' << st.iv.kappa << ','
-        << st.iv.receiverTolerance << ',' << receivers << ',' << (ar ? st.ar.dirs : 0u) << ',' << iterations << ','
+        << *st.iv.receiverTolerance << ',' << receivers << ',' << (ar ? st.ar.dirs : 0u) << ',' << iterations << ','
         << r.ms << ',' << r.msP90 << ',' << r.bytes << ',' << r.error.relMse << ',' << r.error.rmse << ','
         << r.error.psnr << ',' << r.error.maxError << ',' << r.error.flip << ',' << (r.pareto ? 1 : 0) << ",\""
         << label(st) << "\"\n";

@@ -83,8 +83,8 @@ const vk::Buffer& Receivers::listBuffer(const IvBuffers& b, uint32_t slot) {
 gpu::ReceiverPush Receivers::push(Lists lists) const {
   return {lists.in,
           lists.out,
-          settings_.receiverTolerance,
-          kProximity * std::sqrt(settings_.receiverTolerance),
+          *settings_.receiverTolerance,
+          kProximity * std::sqrt(*settings_.receiverTolerance),
           nodeCount_,
           surfelCount_,
           kDirectFloor,

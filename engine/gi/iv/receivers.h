@@ -23,7 +23,7 @@ class Receivers {
   // Allocates the receivers' buffers into `b`; with every surfel a receiver, fills them for good.
   Receivers(const vk::Context& ctx, const Hierarchy& h, const IvSettings& settings, IvBuffers& b,
             vk::Allocations& allocations);
-  bool everySurfel() const { return settings_.receiverTolerance <= 0.0f; }
+  bool everySurfel() const { return *settings_.receiverTolerance <= 0.0f; }
   // Rounds a refinement takes at most: one per level with children.
   uint32_t rounds() const { return levels_ > 1 ? levels_ - 1 : 1; }
 

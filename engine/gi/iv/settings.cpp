@@ -12,9 +12,13 @@ void validate(const IvSettings& s) {
   if (s.bounces && *s.bounces > kMaxBounces)
     throw SettingsError("--bounces must be 0 to " + std::to_string(kMaxBounces));
   if (!(s.bounceTolerance > 0.0f && s.bounceTolerance < 1.0f)) throw SettingsError("--bounce-tol must lie in (0, 1)");
-  if (!(s.receiverTolerance >= 0.0f && s.receiverTolerance <= 10.0f))
+  if (s.receiverTolerance && !(*s.receiverTolerance >= 0.0f && *s.receiverTolerance <= 10.0f))
     throw SettingsError("--receiver-tol must lie in [0, 10]");
   if (!(s.kappa >= 0.01f && s.kappa <= 1000.0f)) throw SettingsError("--kappa must lie in [0.01, 1000]");
+}
+
+float receiverToleranceOn(const IvSettings& s, bool cpuDevice) {
+  return s.receiverTolerance.value_or(cpuDevice ? kCpuReceiverTolerance : 0.0f);
 }
 
 }  // namespace ivgi::gi

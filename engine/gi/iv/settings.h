@@ -18,7 +18,8 @@ struct IvSettings {
   float kappa = 1.0f;             // --kappa: refine while a sender covers more than κ average bins
   // --receiver-tol: irradiance is solved at receivers chosen where a receiver's irradiance,
   // predicted from its neighbours, misses by more than this share of it; 0: at every surfel.
-  float receiverTolerance = 0.4f;
+  // None: chosen by the device (receiverToleranceOn).
+  std::optional<float> receiverTolerance;
   std::optional<scene::Environment> environment;  // --env; none: no environment light
   uint64_t memoryBudget = 0;  // --max-memory, in bytes: the most the solver may allocate; 0: the device's heap
   // The most workgroups one prune dispatch runs; 0: as many as the scene and the device allow. Fewer
@@ -32,6 +33,13 @@ struct IvSettings {
 // The most bounces a frame runs, given or until converged: a guard against typing errors and
 // against light that does not converge (an albedo of 1).
 inline constexpr uint32_t kMaxBounces = 10000;
+
+// --receiver-tol's default on a CPU device (lavapipe), where choosing fewer receivers saves work.
+inline constexpr float kCpuReceiverTolerance = 0.4f;
+// The tolerance a solver on such a device uses: --receiver-tol as given; else kCpuReceiverTolerance
+// on a CPU and 0 (every surfel) on a GPU, whose width prunes every surfel at once sooner than the
+// receivers' rounds, each waiting on the one before, choose and prune fewer.
+float receiverToleranceOn(const IvSettings& settings, bool cpuDevice);
 
 // Throws SettingsError naming the option when a setting is out of its range.
 void validate(const IvSettings& settings);

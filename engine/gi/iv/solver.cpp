@@ -14,8 +14,10 @@ namespace {
 // steps past convergence run zero workgroups, so the first covers most scenes in one submission.
 constexpr uint32_t kFirstBounceSteps = 8, kMoreBounceSteps = 32;
 
-IvSetup validated(IvSetup setup) {
+// The setup checked, with the receivers' tolerance settled for the device.
+IvSetup validated(const vk::Context& ctx, IvSetup setup) {
   validate(setup.settings);
+  setup.settings.receiverTolerance = receiverToleranceOn(setup.settings, ctx.info().type == "cpu");
   if (!setup.objectMoves.empty() && setup.objectMoves.size() != setup.hierarchy.roots.size())
     throw std::invalid_argument("IvSetup: objectMoves does not match the hierarchy");
   return setup;
@@ -41,7 +43,7 @@ void markMovingObjects(IvSetup& setup, const scene::Scene& scene, const scene::G
 
 IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, IvSetup setup)
     : ctx_(ctx),
-      setup_(validated(std::move(setup))),
+      setup_(validated(ctx, std::move(setup))),
       settings_(setup_.settings),
       surfelCount_(uint32_t(g.surfels.size())),
       nodeCount_(uint32_t(setup_.hierarchy.nodes.size())),

@@ -58,6 +58,8 @@ class IvSolver final : public Solver {
   uint64_t allocatedBytes() const override { return allocations_.bytes(); }
 
   IvStats stats() const;
+  // The settings as solved with: --receiver-tol settled for the device.
+  const IvSettings& settings() const { return settings_; }
   const Hierarchy& hierarchy() const { return setup_.hierarchy; }
   // Readbacks for tests: per surfel, its radiosity after the last bounce and its surviving links (a
   // static leaf: the frame's, then its static ones not overridden); the nodes as the refit left them.
