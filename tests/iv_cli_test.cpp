@@ -328,4 +328,13 @@ TEST(IvMemory, RefusalNamesTheSettingThatWouldFit) {
   EXPECT_NE(r.err.find("--max-memory"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("--eps"), std::string::npos) << r.err;
   EXPECT_TRUE(fs::is_empty(dir)) << "nothing written";
+  EXPECT_EQ(r.err.find("--receiver-tol"), std::string::npos) << "receivers are already chosen: " << r.err;
+
+  // With every surfel a receiver (a GPU's default), fewer receivers are named as well.
+  r = test::runIvgi({"render", "cornell", "--cells", "8", "--size", "32x24", "--frames", "0", "--max-memory", "8",
+                     "--receiver-tol", "0", "--out", (dir / "f").string()});
+  EXPECT_NE(r.status, 0);
+  ASSERT_EQ(r.errLines().size(), 1u) << r.err;
+  EXPECT_NE(r.err.find("--receiver-tol 0.4"), std::string::npos) << r.err;
+  EXPECT_TRUE(fs::is_empty(dir)) << "nothing written";
 }

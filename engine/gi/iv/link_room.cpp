@@ -108,8 +108,13 @@ std::string LinkRoom::refusal(const std::vector<Array>& arrays) const {
     char fit[160];
     std::snprintf(fit, sizeof fit, "--eps %.3g or --bins %u would fit (links grow about as 1/eps, leaf links as N^2)",
                   settings_.epsilon * over, std::max(1u, uint32_t(double(settings_.bins) / std::sqrt(over))));
+    // Every surfel a receiver (a GPU's default) holds every surfel's leaf links: fewer receivers hold fewer.
+    char fewer[96] = "";
+    if (*settings_.receiverTolerance <= 0.0f)
+      std::snprintf(fewer, sizeof fewer, "; or --receiver-tol %g (receivers where the lighting needs them)",
+                    kCpuReceiverTolerance);
     return "the iv solver needs " + mebibytes(bytes) + " of " + what + ", above " + limit + " of " +
-           mebibytes(limitBytes) + ": about " + fit;
+           mebibytes(limitBytes) + ": about " + fit + fewer;
   };
   const VkPhysicalDeviceLimits& limits = ctx_.limits();
   uint64_t total = allocations_.bytes();  // once every array has its new size
