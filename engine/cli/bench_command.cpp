@@ -124,8 +124,10 @@ int runBench(const BenchOptions& o) {
   if (image.samples > 1) std::printf(" (%ux%u samples a pixel)", image.samples, image.samples);
   std::printf(", method %s", solver.method.c_str());
   const gi::IvSettings& iv = solver.iv;
-  if (solver.method == "iv")
-    std::printf(", bins 6x%ux%u, eps %g, bounces %s", iv.bins, iv.bins, iv.epsilon, bouncesText(iv).c_str());
+  if (const auto* ivSolver = dynamic_cast<const gi::IvSolver*>(renderer.solver()))
+    std::printf(", bins 6x%ux%u, eps %g, bounces %s, receiver-tol %g%s", iv.bins, iv.bins, iv.epsilon,
+                bouncesText(iv).c_str(), *ivSolver->settings().receiverTolerance,
+                iv.receiverTolerance ? "" : " (the device's default)");
   if (solver.method == "ar")
     std::printf(", dirs 6x%ux%u, eps %g, iterations %s, %s", solver.ar.dirs, solver.ar.dirs, iv.epsilon,
                 solver.ar.iterations ? std::to_string(*solver.ar.iterations).c_str() : "auto", solver.arScheme.c_str());

@@ -102,10 +102,11 @@ int runInfo(const InfoOptions& o) {
     solveFrameZero(renderer, s, g);
     const gi::IvStats st = dynamic_cast<const gi::IvSolver&>(*renderer.solver()).stats();
     std::printf(
-        "iv solver    bins 6x%ux%u (%s memory), eps %g: %u nodes in %u levels, %u receivers, %u links, %u leaf "
-        "links, %.1f MiB on %s\n",
+        "iv solver    bins 6x%ux%u (%s memory), eps %g: %u nodes in %u levels, %u receivers (--receiver-tol %g), "
+        "%u links, %u leaf links, %.1f MiB on %s\n",
         solver.iv.bins, solver.iv.bins, st.sharedBins ? "shared" : "global", solver.iv.epsilon, st.nodes, st.levels,
-        st.receivers, st.links, st.leafLinks, double(st.bytes) / (1 << 20), ctx.info().name.c_str());
+        st.receivers, *dynamic_cast<const gi::IvSolver&>(*renderer.solver()).settings().receiverTolerance, st.links,
+        st.leafLinks, double(st.bytes) / (1 << 20), ctx.info().name.c_str());
   }
   return 0;
 }
