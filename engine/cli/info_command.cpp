@@ -100,13 +100,14 @@ int runInfo(const InfoOptions& o) {
     g = renderableGeometry(s, solver);
     gi::FrameRenderer renderer(ctx, g, {16, 16, 1}, makeSolver(solver, ctx, s, g, s.animations.empty() ? -1 : 0));
     solveFrameZero(renderer, s, g);
-    const gi::IvStats st = dynamic_cast<const gi::IvSolver&>(*renderer.solver()).stats();
+    const auto& iv = dynamic_cast<const gi::IvSolver&>(*renderer.solver());
+    const gi::IvStats st = iv.stats();
     std::printf(
         "iv solver    bins 6x%ux%u (%s memory), eps %g: %u nodes in %u levels, %u receivers (--receiver-tol %g), "
         "%u links, %u leaf links, %.1f MiB on %s\n",
         solver.iv.bins, solver.iv.bins, st.sharedBins ? "shared" : "global", solver.iv.epsilon, st.nodes, st.levels,
-        st.receivers, *dynamic_cast<const gi::IvSolver&>(*renderer.solver()).settings().receiverTolerance, st.links,
-        st.leafLinks, double(st.bytes) / (1 << 20), ctx.info().name.c_str());
+        st.receivers, *iv.settings().receiverTolerance, st.links, st.leafLinks, double(st.bytes) / (1 << 20),
+        ctx.info().name.c_str());
   }
   return 0;
 }
