@@ -141,6 +141,17 @@ TEST(Shards, AssembleTheSequenceOneRunWritesBitForBit) {
   EXPECT_EQ(j["frames"].size(), 9u);
   EXPECT_GT(j["medianGpuMs"]["total"].get<double>(), 0.0);
 
+  EXPECT_EQ(report.err.find("warning"), std::string::npos) << "one device, one setting: " << report.err;
+  EXPECT_TRUE(j["warnings"].empty());
+
+  // Shards solved with other receivers (as on another kind of device) are named.
+  ASSERT_EQ(render("mixed", {"--shard", "0/2", "--receiver-tol", "0.4"}).status, 0);
+  ASSERT_EQ(render("mixed", {"--shard", "1/2", "--receiver-tol", "0"}).status, 0);
+  report = test::runIvgi({"report", (dir / "mixed" / "f_%04d").string()});
+  EXPECT_EQ(report.status, 0) << report.err;
+  EXPECT_NE(report.err.find("different receiver tolerances (0, 0.4"), std::string::npos) << report.err;
+  EXPECT_NE(report.err.find("--receiver-tol"), std::string::npos) << report.err;
+
   fs::remove(dir / "shards" / "f_0004.exr");
   report = test::runIvgi({"report", (dir / "shards" / "f_%04d").string()});
   EXPECT_EQ(report.status, 1);

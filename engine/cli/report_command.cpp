@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 
 #include "engine/cli/commands.h"
 #include "engine/cli/json_file.h"
@@ -30,6 +31,13 @@ std::string runsOf(const std::vector<int>& frames) {
   return out;
 }
 
+// "a, b, c".
+std::string listed(const std::set<std::string>& items) {
+  std::string out;
+  for (const std::string& item : items) out += (out.empty() ? "" : ", ") + item;
+  return out;
+}
+
 }  // namespace
 
 int runReport(const ReportOptions& o) {
@@ -40,6 +48,8 @@ int runReport(const ReportOptions& o) {
   std::vector<std::string> formats;
   std::map<int, nlohmann::json> records;  // by frame; a later sidecar's record of a frame replaces an earlier one
   std::string timeKey = "totalGpuMs", passKey = "gpuMs";
+  // What the runs solved on and with: shards that differ here give frames that differ where they meet.
+  std::set<std::string> devices, receiverTolerances;
   for (const std::string& path : sidecars) {
     std::ifstream in(path);
     const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
@@ -51,6 +61,12 @@ int runReport(const ReportOptions& o) {
     for (const auto& f : j["settings"]["formats"]) formats.push_back(f.get<std::string>());
     if (j["settings"]["method"] == "pt") timeKey = "totalCpuMs", passKey = "cpuMs";
     for (const auto& record : j["frames"]) records[record["frame"].get<int>()] = record;
+    if (j.contains("device") && j["device"].contains("name")) devices.insert(j["device"]["name"].get<std::string>());
+    if (j.contains("solver") && j["solver"].is_object() && j["solver"].contains("receiverTolerance")) {
+      char tolerance[32];
+      std::snprintf(tolerance, sizeof tolerance, "%g", j["solver"]["receiverTolerance"].get<double>());
+      receiverTolerances.insert(tolerance);
+    }
   }
   std::sort(requested.begin(), requested.end());
   requested.erase(std::unique(requested.begin(), requested.end()), requested.end());
@@ -93,6 +109,15 @@ int runReport(const ReportOptions& o) {
     std::printf("; wall clock %.0f ms a frame, %.1f s in all", percentile(wall, 0.5), sum / 1000.0);
   }
   if (!perPass.empty()) std::printf("\n");
+  std::vector<std::string> warnings;
+  if (devices.size() > 1)
+    warnings.push_back("the runs used " + std::to_string(devices.size()) + " devices (" + listed(devices) +
+                       "): their frames differ as the devices' arithmetic does");
+  if (receiverTolerances.size() > 1)
+    warnings.push_back("the runs solved iv with different receiver tolerances (" + listed(receiverTolerances) +
+                       "; its default follows the device): give every run the same --receiver-tol");
+  std::fflush(stdout);
+  for (const std::string& w : warnings) std::fprintf(stderr, "ivgi: warning: %s: %s\n", o.pattern.c_str(), w.c_str());
   if (!o.json.empty())
     writeJson(o.json, {{"pattern", o.pattern},
                        {"sidecars", sidecars},
@@ -102,6 +127,7 @@ int runReport(const ReportOptions& o) {
                        {"unrecorded", unrecorded},
                        {passKey == "cpuMs" ? "medianCpuMs" : "medianGpuMs", medians},
                        {"medianWallMs", wall.empty() ? nlohmann::json(nullptr) : nlohmann::json(percentile(wall, 0.5))},
+                       {"warnings", warnings},
                        {"frames", frames}});
   return missing.empty() ? 0 : 1;
 }
