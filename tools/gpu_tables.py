@@ -10,7 +10,8 @@ beforehand, wherever, into --references: `cornell26_pt_0000.exr` (the animated C
 `--cells 26`, 320×240, 4096 spp) and `STEM_pt_0000.exr` for each --scenes file (480×270, 1024 spp).
 A row whose reference is missing shows no error. Each section is written as soon as it is measured,
 so a run cut short keeps what it finished. The sweep's plot goes beside --out as
-sweep_cornell_gpu.png (it needs a python3 with matplotlib: IVGI_PYTHON names one).
+sweep_cornell_gpu.png (it needs a python3 with matplotlib: IVGI_PYTHON names one, else the one
+running this script).
 
 On a GPU machine without ivgi's Debian libraries, `tools/portable_bundle.py --out DIR` packs ivgi
 with what it loads: run this script with `--ivgi DIR/ivgi` and LD_LIBRARY_PATH=DIR/lib.
@@ -146,6 +147,9 @@ Machine: {machine}.
 """)
 
     with tempfile.TemporaryDirectory(prefix="ivgi-gpu-") as scratch:
+        # The sweep plots with this interpreter unless told otherwise: a GPU machine's python3 is
+        # seldom Debian's, whose matplotlib ivgi looks for first.
+        os.environ.setdefault("IVGI_PYTHON", sys.executable)
         r = Runner(args.ivgi, os.cpu_count(), scratch)
         passes, device, _ = per_pass_table(r, args.runs)
         rel = cornell_error(r, args.references)
