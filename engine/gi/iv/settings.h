@@ -37,8 +37,8 @@ inline constexpr uint32_t kMaxBounces = 10000;
 // --receiver-tol's default on a CPU device (lavapipe), where choosing fewer receivers saves work.
 inline constexpr float kCpuReceiverTolerance = 0.4f;
 // The tolerance a solver on such a device uses: --receiver-tol as given; else kCpuReceiverTolerance
-// on a CPU and 0 (every surfel) on a GPU, whose width prunes every surfel at once sooner than the
-// receivers' rounds, each waiting on the one before, choose and prune fewer.
+// on a CPU and 0 (every surfel) on a GPU, whose width prunes every surfel at once in about the time
+// the receivers' rounds, each waiting on the one before, take to choose and prune fewer.
 float receiverToleranceOn(const IvSettings& settings, bool cpuDevice);
 
 // Throws SettingsError naming the option when a setting is out of its range.
