@@ -96,10 +96,9 @@ def solve(figures):
 
 def real_files_table(r, scenes, references, runs):
     """One frame at 480×270 at the defaults per method (iv's: every surfel a receiver), and iv with
-    adaptive receivers (lavapipe's default): the median
-    wall clock of `runs` renders from the command's start (device opened, pipelines compiled, links
-    made; the driver's cache of compiled pipelines warms on the first), the frame's GPU time and its
-    error against pt."""
+    adaptive receivers (lavapipe's default): the median wall clock of `runs` renders from the
+    command's start (device opened, pipelines compiled, links made; the driver's cache of compiled
+    pipelines warms on the first), the frame's GPU time and its error against pt."""
     lines = ["| scene | method | wall clock s | GPU ms | solve | relMSE against pt |", "|---|---|---|---|---|---|"]
     settings = (("iv", ()), ("iv, adaptive receivers", ("--receiver-tol", 0.4)), ("ar", ("--method", "ar")))
     for path in scenes:
@@ -154,8 +153,8 @@ Machine: {machine}.
         passes, device, _ = per_pass_table(r, args.runs)
         rel = cornell_error(r, args.references)
         sections.append("## iv, per pass: the animated Cornell box\n\n`ivgi bench cornell --cells N --size 320x240 "
-                        "--frames 20 --warmup 3` at the defaults (on a GPU, every surfel a receiver). relMSE of frame 0 at `--cells 26` against pt at "
-                        f"4096 spp: {error(rel)}.\n\n{passes}")
+                        "--frames 20 --warmup 3` at the defaults (on a GPU, every surfel a receiver). relMSE of "
+                        f"frame 0 at `--cells 26` against pt at 4096 spp: {error(rel)}.\n\n{passes}")
         write(device)
         for title, intro, make in (
                 ("Per program: where a frame's time goes", PROGRAMS_INTRO, lambda: programs_table(r, args.runs)),
@@ -164,8 +163,8 @@ Machine: {machine}.
                  "frame (24 with `--warm-start`); frame 0's relMSE against pt at 4096 spp.",
                  lambda: ar_table(r, args.runs, args.references)),
                 ("Real files", "One frame at 480×270 at the defaults (iv: every surfel a receiver), and iv with "
-                 "adaptive receivers (`--receiver-tol 0.4`, lavapipe's default); the wall clock is the median of the runs' renders; the engine is lit "
-                 "by the default white sky.",
+                 "adaptive receivers (`--receiver-tol 0.4`, lavapipe's default); the wall clock is the median "
+                 "of the runs' renders; the engine is lit by the default white sky.",
                  lambda: real_files_table(r, args.scenes, args.references, args.runs)),
                 ("Speed against accuracy",
                  "`ivgi sweep cornell --cells 26 --reference REF --supersample 4 --method iv,ar --bins 8,16,24,32 "
@@ -174,7 +173,8 @@ Machine: {machine}.
                  lambda: sweep_table(r, args.references, args.out.parent / "sweep_cornell_gpu.png")),
                 ("iv's cost against the scene's tessellation",
                  "As in performance.md: frames after 2 warm-up frames, with adaptive receivers "
-                 "(`--receiver-tol 0.4`) and with every surfel a receiver (`--receiver-tol 0`, the default here).", lambda: scaling_table(r, args.runs, every_most=100))):
+                 "(`--receiver-tol 0.4`) and with every surfel a receiver (`--receiver-tol 0`, the default "
+                 "here).", lambda: scaling_table(r, args.runs, every_most=100))):
             print(title, file=sys.stderr, flush=True)
             sections.append(f"## {title}\n\n{intro}\n\n{make()}")
             write(device)

@@ -6,10 +6,11 @@ Usage: tools/perf_tables.py [--ivgi build/ivgi] [--runs 3] [--threads 2]
                             [--only passes|programs|scaling|sweep|accuracy|real]
 
 --only regenerates one section alone: `passes` (per pass, and the README's rows of the frame time),
-`programs` (per program, with bench --per-program), `scaling` (cost against tessellation), `sweep` (the speed/accuracy sweep, its plot and CSV; about
-a quarter of an hour), `accuracy` (where iv's error lies, its ratio images, and the README's row of
-iv's error) or `real` (the real files). The section then names the machine and date it was
-measured on, since the rest of the document may come from another run.
+`programs` (per program, with bench --per-program), `scaling` (cost against tessellation), `sweep`
+(the speed/accuracy sweep, its plot and CSV; about a quarter of an hour), `accuracy` (where iv's
+error lies, its ratio images, and the README's row of iv's error) or `real` (the real files). The
+section then names the machine and date it was measured on, since the rest of the document may
+come from another run.
 
 Every timing is the median over --runs runs of `ivgi bench` (each itself a median over frames),
 with LP_NUM_THREADS set to --threads for lavapipe and pt on as many threads. The equal-error runs
