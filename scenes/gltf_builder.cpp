@@ -113,6 +113,9 @@ int GltfBuilder::mesh(const std::string& name, const std::vector<std::pair<MeshD
     if (!data.uvs.empty())
       p.attributes["TEXCOORD_0"] = accessor(data.uvs.data(), data.uvs.size(), TINYGLTF_COMPONENT_TYPE_FLOAT,
                                             TINYGLTF_TYPE_VEC2, 8, TINYGLTF_TARGET_ARRAY_BUFFER);
+    if (!data.colors.empty())
+      p.attributes["COLOR_0"] = accessor(data.colors.data(), data.colors.size(), TINYGLTF_COMPONENT_TYPE_FLOAT,
+                                         TINYGLTF_TYPE_VEC4, 16, TINYGLTF_TARGET_ARRAY_BUFFER);
     if (!data.indices.empty())
       p.indices = accessor(data.indices.data(), data.indices.size(), TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
                            TINYGLTF_TYPE_SCALAR, 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);

@@ -13,6 +13,7 @@ namespace ivgi::scenes {
 struct MeshData {
   std::vector<glm::vec3> positions, normals;
   std::vector<glm::vec2> uvs;
+  std::vector<glm::vec4> colors;  // COLOR_0, written where not empty
   std::vector<uint32_t> indices;
 };
 

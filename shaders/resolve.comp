@@ -18,6 +18,7 @@ layout(std430, binding = 9) writeonly buffer NormalDepth { vec4 normalDepth[]; }
 layout(std430, binding = 10) writeonly buffer Emission { vec4 emissionOut[]; };
 layout(binding = 11, r32ui) readonly uniform uimageBuffer vertexSurfel;       // int, -1: none
 layout(binding = 12, rgba32f) readonly uniform imageBuffer vertexIrradiance;  // per surfel, at its vertex
+layout(binding = 13, rgba32f) readonly uniform imageBuffer colors;            // COLOR_0 per vertex
 layout(push_constant) uniform Push { ImagePush push; };                       // count: samples per axis
 // False for scenes without textures: the lookups are compiled out. lavapipe runs a branch inside
 // the sample loop masked, so even untaken lookups cost a third of the pass.
@@ -25,6 +26,8 @@ layout(constant_id = 0) const bool kTextured = true;
 // True when a solver computed the irradiance at the surfels: pixel radiance = Le + ρ·E/π, with the
 // irradiance E interpolated from the triangle's vertices and ρ the pixel's own (textured) albedo.
 layout(constant_id = 1) const bool kLit = false;
+// True where some primitive has vertex colours (COLOR_0), which multiply the base colour.
+layout(constant_id = 2) const bool kColored = false;
 
 vec3 irradianceAt(uint vertex) {
   int surfel = int(imageLoad(vertexSurfel, int(vertex)).x);
@@ -33,6 +36,7 @@ vec3 irradianceAt(uint vertex) {
 vec3 positionOf(uint vertex) { return imageLoad(world, int(2u * vertex)).xyz; }
 vec3 normalOf(uint vertex) { return imageLoad(world, int(2u * vertex + 1u)).xyz; }
 vec2 uvOf(uint vertex) { return imageLoad(uvs, int(vertex)).xy; }
+vec3 colorOf(uint vertex) { return imageLoad(colors, int(vertex)).rgb; }
 
 vec4 texel(Texture t, int x, int y) {
   uint at = 2u * (t.offset + uint(y) * t.width + uint(x));
@@ -74,6 +78,7 @@ void main() {
       uint mi = t.w & ~kFlatShaded;
       vec3 base = uintBitsToFloat(imageLoad(materials, int(3u * mi)).rgb),
            emit = uintBitsToFloat(imageLoad(materials, int(3u * mi + 1u)).rgb);
+      if (kColored) base *= w.x * colorOf(t.x) + w.y * colorOf(t.y) + w.z * colorOf(t.z);
       if (kTextured) {
         vec2 uv = w.x * uvOf(t.x) + w.y * uvOf(t.y) + w.z * uvOf(t.z);
         ivec2 textures = ivec2(imageLoad(materials, int(3u * mi + 2u)).xy);  // base colour, emissive; -1: none

@@ -119,6 +119,59 @@ TEST(Loader, NormalizedAndQuantizedComponentTypes) {
   EXPECT_TRUE(s.warnings.empty());
 }
 
+TEST(Loader, VertexColorsInEveryFormTheSpecAllows) {
+  // RGBA as normalized unsigned bytes, RGB as normalized unsigned shorts, RGBA as floats.
+  TriangleModel bytes;
+  const uint8_t rgba8[] = {255, 0, 0, 255, /**/ 0, 51, 0, 128, /**/ 0, 0, 255, 0};
+  int a = bytes.b.accessor(rgba8, 3, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_TYPE_VEC4, 4);
+  bytes.b.model().accessors[a].normalized = true;
+  bytes.primitive().attributes["COLOR_0"] = a;
+  Scene s = bytes.load();
+  const auto& c8 = s.meshes[0].primitives[0].colors;
+  ASSERT_EQ(c8.size(), 3u);
+  EXPECT_EQ(c8[0], glm::vec4(1, 0, 0, 1));
+  EXPECT_FLOAT_EQ(c8[1].g, 0.2f);
+  EXPECT_FLOAT_EQ(c8[1].a, 128.0f / 255.0f);
+  EXPECT_TRUE(s.warnings.empty());
+
+  TriangleModel shorts;
+  const uint16_t rgb16[] = {65535, 0, 0, 0, /**/ 0, 65535, 0, 0, /**/ 0, 0, 13107, 0};  // VEC3 padded to 8 bytes
+  a = shorts.b.accessor(rgb16, 3, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_VEC3, 8);
+  shorts.b.model().bufferViews.back().byteStride = 8;
+  shorts.b.model().accessors[a].normalized = true;
+  shorts.primitive().attributes["COLOR_0"] = a;
+  const auto c16 = shorts.load().meshes[0].primitives[0].colors;
+  EXPECT_EQ(c16[1], glm::vec4(0, 1, 0, 1)) << "RGB: alpha 1";
+  EXPECT_FLOAT_EQ(c16[2].b, 0.2f);
+
+  TriangleModel floats;
+  const float rgbaF[] = {0.5f, 0.25f, 1.5f, 1, /**/ 0, 0, 0, 1, /**/ -0.1f, 1, 1, 1};
+  floats.primitive().attributes["COLOR_0"] =
+      floats.b.accessor(rgbaF, 3, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4, 16);
+  s = floats.load();
+  const auto& cf = s.meshes[0].primitives[0].colors;
+  EXPECT_EQ(cf[0], glm::vec4(0.5f, 0.25f, 1.0f, 1.0f)) << "clamped into [0, 1]";
+  EXPECT_EQ(cf[2].r, 0.0f);
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_NE(s.warnings[0].find("COLOR_0"), std::string::npos);
+
+  // Integers that are not normalized, or of a wrong count, are refused with the file's name.
+  TriangleModel plain;
+  a = plain.b.accessor(rgba8, 3, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_TYPE_VEC4, 4);
+  plain.primitive().attributes["COLOR_0"] = a;
+  try {
+    plain.load();
+    ADD_FAILURE() << "COLOR_0 of plain unsigned bytes was accepted";
+  } catch (const LoadError& e) {
+    EXPECT_NE(std::string(e.what()).find("constructed.gltf"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("COLOR_0"), std::string::npos) << e.what();
+  }
+  TriangleModel scalar;
+  scalar.primitive().attributes["COLOR_0"] =
+      scalar.b.accessor(rgbaF, 3, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_SCALAR, 4);
+  EXPECT_THROW(scalar.load(), LoadError);
+}
+
 TEST(Loader, IndexComponentTypes) {
   for (int type : {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
                    TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT}) {

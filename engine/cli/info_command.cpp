@@ -28,10 +28,10 @@ int runInfo(const InfoOptions& o) {
   scene::Scene s = loadScene(o.source);
   scene::Geometry g = scene::buildGeometry(s);
   const SolverOptions solver = withSceneLight(o.solver, s, g);
-  size_t primitives = 0, morphTargets = 0;
+  size_t primitives = 0, morphTargets = 0, colored = 0;
   for (const auto& m : s.meshes) {
     primitives += m.primitives.size();
-    for (const auto& p : m.primitives) morphTargets += p.targets.size();
+    for (const auto& p : m.primitives) morphTargets += p.targets.size(), colored += p.colors.empty() ? 0 : 1;
   }
   auto world = scene::animateOnHost(g, g.frameInputs(s, scene::evaluatePose(s, -1, 0.0f)));
   scene::Bounds b = scene::worldBounds(world);
@@ -50,7 +50,8 @@ int runInfo(const InfoOptions& o) {
     std::printf("tessellated  %zu triangles, %zu surfels (%s, --tessellate %u)\n", sampled.triangles.size(),
                 sampled.surfels.size(), solver.method.c_str(), solver.tessellation);
   }
-  std::printf("materials    %zu, textures %zu\n", s.materials.size(), s.textures.size());
+  std::printf("materials    %zu, textures %zu, vertex colours in %zu of %zu primitives\n", s.materials.size(),
+              s.textures.size(), colored, primitives);
   std::printf("nodes        %zu, skins %zu\n", s.nodes.size(), s.skins.size());
   std::printf("animations   %zu\n", s.animations.size());
   for (size_t i = 0; i < s.animations.size(); ++i) {

@@ -44,8 +44,10 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
       rasterSlices_(shaderProgram(ctx, "raster_slices", {.constants = {{"kTilesPerSlice", kRasterTilesPerSlice}}})),
       raster_(shaderProgram(ctx, "raster", {.constants = {{"kTilesPerSlice", kRasterTilesPerSlice}}})),
       vertexIrradiance_(shaderProgram(ctx, "vertex_irradiance")),
-      resolve_(shaderProgram(
-          ctx, "resolve", {.constants = {{"kTextured", g.textures.empty() ? 0u : 1u}, {"kLit", solver_ ? 1u : 0u}}})),
+      resolve_(shaderProgram(ctx, "resolve",
+                             {.constants = {{"kTextured", g.textures.empty() ? 0u : 1u},
+                                            {"kLit", solver_ ? 1u : 0u},
+                                            {"kColored", g.vertexColors ? 1u : 0u}}})),
       timer_(ctx) {
   validate(image, ctx);
   using vk::Memory;
@@ -53,6 +55,7 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
   auto upload = [&](const auto& items) { return vk::makeBuffer(ctx, items, Memory::Device, tally); };
   vertices_ = upload(g.vertices), instances_ = upload(g.instances), morphDeltas_ = upload(g.morphDeltas);
   triangles_ = upload(g.triangles), uvs_ = upload(g.uvs), materials_ = upload(g.materials);
+  colors_ = upload(g.vertexColors ? g.colors : std::vector<glm::vec4>{glm::vec4(1)});
   textures_ = upload(g.textures), texels_ = upload(g.texels);
   surfelSources_ = upload(g.surfels), surfelVertices_ = upload(g.surfelVertices),
   surfelTriangles_ = upload(g.surfelTriangles);
@@ -92,6 +95,7 @@ vk::Bindings FrameRenderer::pool() const {
                              {"morphDeltas", morphDeltas_},
                              {"triangles", triangles_},
                              {"uvs", uvs_},
+                             {"colors", colors_},
                              {"materials", materials_},
                              {"textures", textures_},
                              {"texels", texels_},

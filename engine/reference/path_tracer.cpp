@@ -181,7 +181,8 @@ struct PathTracer::Impl {
     }
     const gpu::Material& m = g.materials[tr.material & ~gpu::kFlatShaded];
     glm::vec2 uv = w.x * g.uvs[tr.v0] + w.y * g.uvs[tr.v1] + w.z * g.uvs[tr.v2];
-    x.base = glm::vec3(m.baseColor) * glm::vec3(scene::sampleTexture(g, m.baseColorTexture, uv));
+    const glm::vec4 color = w.x * g.colors[tr.v0] + w.y * g.colors[tr.v1] + w.z * g.colors[tr.v2];
+    x.base = glm::vec3(m.baseColor) * glm::vec3(color) * glm::vec3(scene::sampleTexture(g, m.baseColorTexture, uv));
     x.emission = glm::vec3(m.emission) * glm::vec3(scene::sampleTexture(g, m.emissiveTexture, uv));
     return x;
   }

@@ -116,6 +116,7 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation) {
                                               ownerBase[nodeIndex] + uint32_t(k), 8 * given.positions.size() + 4096)
                                 : given;
         const uint32_t instance = uint32_t(g.instances.size());
+        g.vertexColors = g.vertexColors || !p.colors.empty();
         const uint32_t base = uint32_t(g.vertices.size());
         const uint32_t n = uint32_t(p.positions.size());
         const bool skinned = node.skin >= 0 && !p.joints.empty();
@@ -145,6 +146,7 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation) {
           gv.weights = skinned ? p.weights[v] : glm::vec4(0);
           g.vertices.push_back(gv);
           g.uvs.push_back(p.uvs.empty() ? glm::vec2(0) : p.uvs[v]);
+          g.colors.push_back(p.colors.empty() ? glm::vec4(1) : p.colors[v]);
         }
 
         // Weld vertices that differ only in UV (seams) into one surfel: same position, normal and skin.
@@ -192,7 +194,8 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation) {
           for (uint32_t v : welded[s]) {
             g.surfelVertices.push_back(base + v);
             glm::vec2 uv = p.uvs.empty() ? glm::vec2(0) : p.uvs[v];
-            albedo += material.baseColor * sampleTexture(g, material.baseColorTexture, uv);
+            const glm::vec4 color = p.colors.empty() ? glm::vec4(1) : p.colors[v];
+            albedo += material.baseColor * color * sampleTexture(g, material.baseColorTexture, uv);
             emission += material.emission * sampleTexture(g, material.emissiveTexture, uv);
           }
           g.surfelTriangles.insert(g.surfelTriangles.end(), adjacent[s].begin(), adjacent[s].end());

@@ -37,6 +37,8 @@ struct Bounds {
 struct Geometry {
   std::vector<Vertex> vertices;
   std::vector<glm::vec2> uvs;
+  std::vector<glm::vec4> colors;  // COLOR_0, white where a primitive has none
+  bool vertexColors = false;      // some primitive has COLOR_0
   std::vector<Instance> instances;
   std::vector<MorphDelta> morphDeltas;
   std::vector<Triangle> triangles;
@@ -45,7 +47,8 @@ struct Geometry {
   std::vector<uint32_t> texels;  // linear RGBA as two packHalf2x16 words per texel
   std::vector<SurfelSource> surfels;
   std::vector<uint32_t> surfelVertices, surfelTriangles;
-  std::vector<glm::vec4> surfelAlbedo, surfelEmission;  // static: base colour × texture at the vertex UV
+  // static: base colour × texture at the vertex UV (× COLOR_0 for the albedo)
+  std::vector<glm::vec4> surfelAlbedo, surfelEmission;
 
   uint32_t degenerateTriangles = 0;
   uint32_t nodeCount = 0;

@@ -134,6 +134,29 @@ class Converter {
     }
   }
 
+  // COLOR_0: RGB or RGBA, floats or normalized unsigned bytes or shorts (the glTF spec's choices).
+  // A colour outside [0, 1] is clamped into it, as the spec's range says, with a warning.
+  std::vector<glm::vec4> vertexColors(int accessor, const std::string& what) {
+    read_.count(accessor, what);  // the index is checked
+    const tinygltf::Accessor& a = m_.accessors[size_t(accessor)];
+    const bool normalizedInteger = a.normalized && (a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                                                    a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
+    if (a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT && !normalizedInteger)
+      read_.fail(what + " must be floats or normalized unsigned bytes or shorts");
+    const int components = a.type == TINYGLTF_TYPE_VEC3 ? 3 : 4;
+    const std::vector<float> flat = read_.floats(accessor, components, what);
+    std::vector<glm::vec4> colors(flat.size() / size_t(components), glm::vec4(1.0f));
+    bool clamped = false;
+    for (size_t i = 0; i < colors.size(); ++i)
+      for (int c = 0; c < components; ++c) {
+        const float v = flat[i * size_t(components) + size_t(c)];
+        colors[i][c] = std::clamp(v, 0.0f, 1.0f);
+        clamped = clamped || colors[i][c] != v;
+      }
+    if (clamped) warn(what + " holds values outside [0, 1]; they are clamped");
+    return colors;
+  }
+
   Primitive primitive(const tinygltf::Primitive& p, const std::string& what) {
     Primitive out;
     auto attr = [&](const char* name) {
@@ -156,6 +179,10 @@ class Converter {
     if (int a = attr("TEXCOORD_0"); a >= 0) {
       out.uvs = toVectors<glm::vec2, 2>(read_.floats(a, 2, what + " TEXCOORD_0"));
       sized(out.uvs.size(), "TEXCOORD_0");
+    }
+    if (int a = attr("COLOR_0"); a >= 0) {
+      out.colors = vertexColors(a, what + " COLOR_0");
+      sized(out.colors.size(), "COLOR_0");
     }
     int joints = attr("JOINTS_0"), weights = attr("WEIGHTS_0");
     if ((joints >= 0) != (weights >= 0)) read_.fail(what + " has JOINTS_0 without WEIGHTS_0 or the reverse");

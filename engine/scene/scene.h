@@ -42,6 +42,7 @@ struct MorphTarget {
 struct Primitive {
   std::vector<glm::vec3> positions, normals;  // normals empty: flat shading, surfel normals from faces
   std::vector<glm::vec2> uvs;                 // TEXCOORD_0, empty if absent
+  std::vector<glm::vec4> colors;              // COLOR_0 (linear, multiplies the base colour), empty if absent
   std::vector<glm::uvec4> joints;             // JOINTS_0
   std::vector<glm::vec4> weights;             // WEIGHTS_0
   std::vector<uint32_t> indices;              // triangle list (strips and fans are converted)

@@ -3,7 +3,11 @@ a subdivided Suzanne, a sphere, a torus and an emissive panel in the ceiling, an
 the kind of file ivgi's users export themselves (about 36,000 vertices); benchmarks and
 tools/perf_tables.py render it.
 
-Usage: blender --background --factory-startup --python tools/scenes/blender_room.py -- OUT.glb
+With --vertex-colours the left wall is painted red and the right wall green, and the sphere with a
+gradient from bottom to top, in colour attributes on white materials: the exporter writes them as
+COLOR_0, which glTF multiplies into the base colour.
+
+Usage: blender --background --factory-startup --python tools/scenes/blender_room.py -- OUT.glb [--vertex-colours]
 Needs Debian's blender (not installed by ci/install-deps.sh: the tests do not use it).
 """
 import math
@@ -35,7 +39,15 @@ def plane(name, location, rotation, size, cuts, mat, scale=(1.0, 1.0, 1.0)):
     return obj
 
 
-def main(out):
+def paint(obj, colour_of):
+    """Colours each vertex of `obj` by colour_of(its world position), in a colour attribute per point."""
+    attribute = obj.data.color_attributes.new(name="Col", type="FLOAT_COLOR", domain="POINT")
+    for vertex, value in zip(obj.data.vertices, attribute.data):
+        value.color = (*colour_of(obj.matrix_world @ vertex.co), 1.0)
+    obj.data.color_attributes.active_color = attribute
+
+
+def main(out, vertex_colours):
     bpy.ops.wm.read_factory_settings(use_empty=True)
     white = material("walls", (0.7, 0.7, 0.7))
     # A 4 m × 4 m room, 3 m high, floor at z = 0 (Blender's up is +z; the exporter turns it to +y).
@@ -44,8 +56,11 @@ def main(out):
     plane("ceiling", (0, 0, h), (math.pi, 0, 0), w, 12, white)
     plane("back", (0, w / 2, h / 2), (math.pi / 2, 0, 0), w, 12, white, (1, h / w, 1))
     plane("front", (0, -w / 2, h / 2), (-math.pi / 2, 0, 0), w, 12, white, (1, h / w, 1))
-    plane("left", (-w / 2, 0, h / 2), (0, math.pi / 2, 0), w, 12, white, (h / w, 1, 1))
-    plane("right", (w / 2, 0, h / 2), (0, -math.pi / 2, 0), w, 12, white, (h / w, 1, 1))
+    left = plane("left", (-w / 2, 0, h / 2), (0, math.pi / 2, 0), w, 12, white, (h / w, 1, 1))
+    right = plane("right", (w / 2, 0, h / 2), (0, -math.pi / 2, 0), w, 12, white, (h / w, 1, 1))
+    if vertex_colours:  # the walls' albedo 0.7 times these
+        paint(left, lambda p: (1.0, 0.15, 0.15))
+        paint(right, lambda p: (0.15, 1.0, 0.15))
     panel = plane("panel", (0, 0, h - 0.01), (math.pi, 0, 0), 1.0, 1,
                   material("panel", (0.0, 0.0, 0.0), (1.0, 0.95, 0.85), 12.0))
     panel.scale = (1.0, 0.6, 1.0)
@@ -60,7 +75,12 @@ def main(out):
 
     bpy.ops.mesh.primitive_uv_sphere_add(segments=64, ring_count=32, radius=0.45, location=(0.9, -0.3, 0.45))
     bpy.ops.object.shade_smooth()
-    bpy.context.active_object.data.materials.append(material("sphere", (0.2, 0.4, 0.8)))
+    sphere = bpy.context.active_object
+    if vertex_colours:
+        sphere.data.materials.append(material("sphere", (1.0, 1.0, 1.0)))
+        paint(sphere, lambda p: (1.0 - p.z / 0.9, 0.3, p.z / 0.9))
+    else:
+        sphere.data.materials.append(material("sphere", (0.2, 0.4, 0.8)))
 
     bpy.ops.mesh.primitive_torus_add(major_radius=0.45, minor_radius=0.15, major_segments=64, minor_segments=24,
                                      location=(0.6, 1.1, 0.15))
@@ -77,4 +97,5 @@ def main(out):
 
 
 if __name__ == "__main__":
-    main(sys.argv[sys.argv.index("--") + 1])
+    args = sys.argv[sys.argv.index("--") + 1:]
+    main(args[0], "--vertex-colours" in args[1:])

@@ -1,0 +1,130 @@
+// Vertex colours (glTF COLOR_0): they multiply the base colour wherever the albedo is used, in the
+// surfels' albedo the solvers reflect with, in the resolve's per-pixel albedo and in the path tracer.
+#include <gtest/gtest.h>
+
+#include <OpenImageIO/imagebuf.h>
+
+#include <string>
+#include <vector>
+
+#include "engine/image/compare.h"
+#include "scenes/builtin.h"
+#include "scenes/gltf_builder.h"
+#include "tests/test_support.h"
+
+using namespace ivgi;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string writeScene(const tinygltf::Model& model, const std::string& name) {
+  const fs::path path = test::scratchDir("scene-" + name) / (name + ".gltf");
+  scenes::writeModel(model, path.string());
+  return path.string();
+}
+
+// The model with every material's base colour moved into its primitives' COLOR_0 (as normalized
+// unsigned bytes, the form exporters write most, where the colour is a whole number of 255ths), the
+// materials left white.
+tinygltf::Model colorsInVertices(tinygltf::Model m) {
+  std::vector<std::vector<double>> bases;
+  for (auto& material : m.materials) {
+    bases.push_back(material.pbrMetallicRoughness.baseColorFactor);
+    material.pbrMetallicRoughness.baseColorFactor = {1.0, 1.0, 1.0, 1.0};
+  }
+  scenes::GltfBuilder b;
+  b.model() = std::move(m);
+  for (size_t k = 0; k < b.model().meshes.size(); ++k)
+    for (auto& p : b.model().meshes[k].primitives) {
+      const auto& base = bases[size_t(p.material)];
+      const size_t n = size_t(b.model().accessors[size_t(p.attributes.at("POSITION"))].count);
+      std::vector<uint8_t> rgba;
+      for (size_t v = 0; v < n; ++v)
+        for (int c = 0; c < 4; ++c) rgba.push_back(uint8_t(std::lround(base[size_t(c)] * 255.0)));
+      const int a = b.accessor(rgba.data(), n, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_TYPE_VEC4, 4);
+      b.model().accessors[size_t(a)].normalized = true;
+      b.model().meshes[k].primitives[&p - b.model().meshes[k].primitives.data()].attributes["COLOR_0"] = a;
+    }
+  return b.finish();
+}
+
+// The Cornell box with its base colours rounded to 255ths, so that both forms hold the same values.
+tinygltf::Model cornellIn255ths() {
+  tinygltf::Model m = scenes::cornellBox({.cells = 4, .animated = false});
+  for (auto& material : m.materials)
+    for (double& c : material.pbrMetallicRoughness.baseColorFactor) c = std::lround(c * 255.0) / 255.0;
+  return m;
+}
+
+// One channel of an EXR file, row-major.
+std::vector<float> channelOf(const fs::path& exr, const std::string& name) {
+  OIIO_NAMESPACE::ImageBuf buf(exr.string());
+  std::vector<float> values;
+  if (!buf.read(0, 0, true, OIIO_NAMESPACE::TypeDesc::FLOAT) || buf.spec().channelindex(name) < 0) return values;
+  const int c = buf.spec().channelindex(name), channels = buf.spec().nchannels;
+  const float* p = static_cast<const float*>(buf.localpixels());
+  for (size_t i = 0; i < size_t(buf.spec().image_pixels()); ++i) values.push_back(p[i * size_t(channels) + size_t(c)]);
+  return values;
+}
+
+}  // namespace
+
+// The Cornell box coloured by its vertices renders as the box coloured by its materials: iv, ar and
+// the path tracer, every layer, per pixel within 10⁻⁴ of the pixel's value (what is left is the
+// interpolation's rounding of a colour equal at three vertices).
+TEST(VertexColors, ColourTheBoxAsItsMaterialsDo) {
+  const std::string byMaterial = writeScene(cornellIn255ths(), "by-material");
+  const std::string byVertex = writeScene(colorsInVertices(cornellIn255ths()), "by-vertex");
+  const std::vector<std::vector<std::string>> methods = {
+      {"--method", "iv"}, {"--method", "ar"}, {"--method", "pt", "--spp", "16"}};
+  for (const auto& method : methods) {
+    std::vector<std::string> args = {"--size", "48x36"};
+    args.insert(args.end(), method.begin(), method.end());
+    std::vector<std::string> material = args, vertex = args;
+    material.insert(material.begin(), byMaterial);
+    vertex.insert(vertex.begin(), byVertex);
+    const fs::path a = test::renderExr("material-" + method[1], material),
+                   b = test::renderExr("vertex-" + method[1], vertex);
+    for (const auto& d : image::compareLayers(b.string(), a.string(), image::pixelRule(image::layerNames(), 1e-4f, 0)))
+      EXPECT_TRUE(d.passed) << method[1] << ", layer '" << d.layer << "': " << 100 * d.failingFraction
+                            << " % of pixels beyond " << d.threshold << ", max error " << d.maxError;
+  }
+}
+
+// A white floor whose colour runs from red at x = −1 to green at x = 1: the albedo layer follows the
+// colour across each triangle (the camera looks straight down, so a pixel's column is its x), and the
+// solver's light follows the albedo (under a white sky, red light only where the floor is red).
+TEST(VertexColors, InterpolateAcrossTheSurface) {
+  scenes::GltfBuilder b;
+  scenes::MeshData floor;
+  scenes::addQuad(floor, {-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}, 4, 4, {0, 1, 0});
+  for (const glm::vec3& p : floor.positions) {
+    const float t = 0.5f * (p.x + 1.0f);
+    floor.colors.push_back({1.0f - t, t, 0.0f, 1.0f});
+  }
+  b.node("floor", b.mesh("floor", {{floor, b.material("white", glm::vec3(1.0f))}}));
+  b.camera("down", 0.5f, 0.1f, {0, 3, 0}, glm::quatLookAtRH(glm::vec3(0, -1, 0), glm::vec3(0, 0, -1)));
+  const std::string file = writeScene(b.finish(), "gradient");
+  const fs::path exr = test::renderExr("gradient", {file, "--size", "64x64", "--env", "1,1,1"});
+  const std::vector<float> red = channelOf(exr, "albedo.R"), green = channelOf(exr, "albedo.G"),
+                           lit = channelOf(exr, "R"), litGreen = channelOf(exr, "G");
+  ASSERT_EQ(red.size(), 64u * 64u);
+  ASSERT_EQ(lit.size(), 64u * 64u);
+  // The camera sees x within ±0.77 m at the floor (yfov 0.5 at 3 m); pixel column i at x(i).
+  const float halfWidth = 3.0f * std::tan(0.25f);
+  size_t checked = 0;
+  for (int row : {8, 32, 56})
+    for (int column = 0; column < 64; ++column) {
+      const size_t i = size_t(row) * 64 + size_t(column);
+      const float x = halfWidth * ((float(column) + 0.5f) / 32.0f - 1.0f), t = 0.5f * (x + 1.0f);
+      EXPECT_NEAR(red[i], 1.0f - t, 2e-3f) << "row " << row << ", column " << column;
+      EXPECT_NEAR(green[i], t, 2e-3f) << "row " << row << ", column " << column;
+      ++checked;
+    }
+  EXPECT_EQ(checked, 3u * 64u);
+  // Reflected light follows the albedo: red on the left edge, green on the right, each about twice
+  // the other colour's a quarter of the way in.
+  const size_t left = 32 * 64 + 2, right = 32 * 64 + 61;
+  EXPECT_GT(lit[left], 5.0f * litGreen[left]);
+  EXPECT_GT(litGreen[right], 5.0f * lit[right]);
+}
