@@ -68,6 +68,10 @@ struct Texture {
   uint width;
   uint height;
   uint wrap;  // wrapS | wrapT << 16 (glTF enums)
+  // KHR_texture_transform as an affine map of (u, v, 1): u' = dot(uvRowU.xyz, …), v' likewise (w unused).
+  // A texture referenced with another transform is another record over the same texels.
+  vec4 uvRowU;
+  vec4 uvRowV;
 };
 struct SurfelSource {
   uint firstVertex;  // welded vertices, in Geometry::surfelVertices
@@ -432,6 +436,12 @@ IVGI_FN vec3 cameraRay(Camera cam, vec2 samplePos, uvec2 size) {
 // The two texels and the weight of the second along one axis of a bilinear lookup under a glTF wrap
 // mode (33071 CLAMP_TO_EDGE, 33648 MIRRORED_REPEAT, else REPEAT). No integer division: lavapipe
 // runs it one lane at a time.
+// The texture coordinates a lookup of texture t reads at uv: its KHR_texture_transform applied.
+IVGI_FN vec2 transformedUv(Texture t, vec2 uv) {
+  vec3 h = vec3(uv.x, uv.y, 1.0f);
+  return vec2(dot(vec3(t.uvRowU.x, t.uvRowU.y, t.uvRowU.z), h), dot(vec3(t.uvRowV.x, t.uvRowV.y, t.uvRowV.z), h));
+}
+
 IVGI_FN ivec2 texelPair(float u, int size, uint mode, IVGI_OUT(float) weight) {
   if (mode == 33648u) {
     float t = fract(u * 0.5f) * 2.0f;

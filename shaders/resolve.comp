@@ -47,6 +47,7 @@ vec4 sampleTexture(int index, vec2 uv) {
   if (index < 0) return vec4(1.0);
   Texture t = textures[index];
   if (t.width == 0u || t.height == 0u) return vec4(1.0);
+  uv = transformedUv(t, uv);
   float ax, ay;
   ivec2 xs = texelPair(uv.x, int(t.width), t.wrap & 0xffffu, ax), ys = texelPair(uv.y, int(t.height), t.wrap >> 16, ay);
   return mix(mix(texel(t, xs.x, ys.x), texel(t, xs.y, ys.x), ax), mix(texel(t, xs.x, ys.y), texel(t, xs.y, ys.y), ax),

@@ -172,6 +172,50 @@ TEST(Loader, VertexColorsInEveryFormTheSpecAllows) {
   EXPECT_THROW(scalar.load(), LoadError);
 }
 
+// KHR_texture_transform on a texture reference: offset, rotation and scale read, the extension's
+// texCoord overriding the reference's (another set than TEXCOORD_0 is warned of), and values that
+// are not numbers refused with the file's name.
+TEST(Loader, TextureTransformsAreRead) {
+  auto withTransform = [](tinygltf::Value::Object transform) {
+    TriangleModel t;
+    tinygltf::Image image;
+    image.width = image.height = 1, image.component = 4, image.bits = 8;
+    image.pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+    image.image = {255, 255, 255, 255};
+    t.b.model().images.push_back(image);
+    tinygltf::Texture texture;
+    texture.source = 0;
+    t.b.model().textures.push_back(texture);
+    auto& info = t.b.model().materials[0].pbrMetallicRoughness.baseColorTexture;
+    info.index = 0;
+    info.extensions["KHR_texture_transform"] = tinygltf::Value(std::move(transform));
+    t.b.model().extensionsUsed.push_back("KHR_texture_transform");
+    return t.load();
+  };
+  const tinygltf::Value::Array offset{tinygltf::Value(0.25), tinygltf::Value(-1.0)},
+      scale{tinygltf::Value(2.0), tinygltf::Value(0.5)};
+  Scene s = withTransform(
+      {{"offset", tinygltf::Value(offset)}, {"rotation", tinygltf::Value(0.5)}, {"scale", tinygltf::Value(scale)}});
+  const TextureTransform& t = s.materials[0].baseColorTransform;
+  EXPECT_EQ(t.offset, glm::vec2(0.25f, -1.0f));
+  EXPECT_FLOAT_EQ(t.rotation, 0.5f);
+  EXPECT_EQ(t.scale, glm::vec2(2.0f, 0.5f));
+  EXPECT_EQ(s.materials[0].baseColorTexture, 0);
+  EXPECT_TRUE(s.warnings.empty()) << "the extension is read, not ignored";
+
+  s = withTransform({{"texCoord", tinygltf::Value(1)}});
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_NE(s.warnings[0].find("TEXCOORD_1"), std::string::npos) << s.warnings[0];
+
+  try {
+    withTransform({{"scale", tinygltf::Value(2.0)}});
+    ADD_FAILURE() << "a scale that is not a pair was accepted";
+  } catch (const LoadError& e) {
+    EXPECT_NE(std::string(e.what()).find("constructed.gltf"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("scale"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Loader, IndexComponentTypes) {
   for (int type : {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
                    TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT}) {

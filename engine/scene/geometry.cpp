@@ -87,7 +87,8 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation) {
   }
   for (const auto& t : scene.textures) {
     uint32_t wrap = uint32_t(t.wrapS) | uint32_t(t.wrapT) << 16;
-    g.textures.push_back({uint32_t(g.texels.size() / 2), uint32_t(t.width), uint32_t(t.height), wrap});
+    g.textures.push_back({uint32_t(g.texels.size() / 2), uint32_t(t.width), uint32_t(t.height), wrap,
+                          glm::vec4(TextureTransform{}.rowU(), 0.0f), glm::vec4(TextureTransform{}.rowV(), 0.0f)});
     // Decoded once here to linear RGBA16F, so that a lookup only unpacks: the sRGB curve per texel
     // fetch cost lavapipe more than the rest of the resolve pass.
     for (size_t p = 0; p < t.rgba.size() / 4; ++p) {
@@ -98,9 +99,19 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation) {
       g.texels.push_back(glm::packHalf2x16(glm::vec2(linear.b, linear.a)));
     }
   }
+  // A reference with a KHR_texture_transform reads the texture's texels through a record of its own.
+  auto transformed = [&](int texture, const TextureTransform& transform) {
+    if (texture < 0 || (transform.rowU() == TextureTransform{}.rowU() && transform.rowV() == TextureTransform{}.rowV()))
+      return texture;
+    gpu::Texture record = g.textures[size_t(texture)];
+    record.uvRowU = glm::vec4(transform.rowU(), 0.0f), record.uvRowV = glm::vec4(transform.rowV(), 0.0f);
+    g.textures.push_back(record);
+    return int(g.textures.size() - 1);
+  };
   for (const auto& m : scene.materials)
-    g.materials.push_back(
-        {m.baseColor, glm::vec4(m.emissive * m.emissiveStrength, 0.0f), m.baseColorTexture, m.emissiveTexture, 0, 0});
+    g.materials.push_back({m.baseColor, glm::vec4(m.emissive * m.emissiveStrength, 0.0f),
+                           transformed(m.baseColorTexture, m.baseColorTransform),
+                           transformed(m.emissiveTexture, m.emissiveTransform), 0, 0});
   g.materials.push_back({glm::vec4(1.0f), glm::vec4(0.0f), -1, -1, 0, 0});  // glTF default material
   const uint32_t defaultMaterial = uint32_t(g.materials.size() - 1);
 

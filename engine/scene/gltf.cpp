@@ -19,7 +19,7 @@ namespace ivgi::scene {
 namespace {
 
 const std::set<std::string> kSupportedExtensions = {"KHR_lights_punctual", "KHR_materials_emissive_strength",
-                                                    "KHR_mesh_quantization"};
+                                                    "KHR_mesh_quantization", "KHR_texture_transform"};
 
 // The first extension the model requires that ivgi does not read, or none.
 std::optional<std::string> unsupportedRequirement(const tinygltf::Model& m) {
@@ -107,6 +107,33 @@ class Converter {
     return scene_.textures[index].rgba.empty() ? -1 : index;
   }
 
+  // A texture reference: its index (-1: none) and its KHR_texture_transform, whose texCoord
+  // overrides the reference's own.
+  int textureReference(const tinygltf::TextureInfo& info, TextureTransform& transform, const std::string& what) {
+    int texCoord = info.texCoord;
+    const auto it = info.extensions.find("KHR_texture_transform");
+    if (info.index >= 0 && it != info.extensions.end()) {
+      const tinygltf::Value& ext = it->second;
+      const std::string where = what + ": KHR_texture_transform ";
+      auto number = [&](const tinygltf::Value& x, const char* key) {
+        if (!x.IsNumber() || !std::isfinite(x.GetNumberAsDouble()) || std::abs(x.GetNumberAsDouble()) > 3.4e38)
+          read_.fail(where + key + " is not a finite number");
+        return float(x.GetNumberAsDouble());
+      };
+      auto pair = [&](const char* key, glm::vec2 otherwise) {
+        if (!ext.Has(key)) return otherwise;
+        const tinygltf::Value& v = ext.Get(key);
+        if (!v.IsArray() || v.ArrayLen() != 2) read_.fail(where + key + " is not a pair of numbers");
+        return glm::vec2(number(v.Get(0), key), number(v.Get(1), key));
+      };
+      transform.offset = pair("offset", glm::vec2(0.0f));
+      transform.scale = pair("scale", glm::vec2(1.0f));
+      if (ext.Has("rotation")) transform.rotation = number(ext.Get("rotation"), "rotation");
+      if (ext.Has("texCoord")) texCoord = int(number(ext.Get("texCoord"), "texCoord"));
+    }
+    return textureIndex(info.index, texCoord, what);
+  }
+
   void materials() {
     for (const auto& m : m_.materials) {
       Material out;
@@ -115,10 +142,10 @@ class Converter {
       for (int c = 0; c < 4 && c < int(pbr.baseColorFactor.size()); ++c)
         out.baseColor[c] = float(pbr.baseColorFactor[c]);
       for (int c = 0; c < 3 && c < int(m.emissiveFactor.size()); ++c) out.emissive[c] = float(m.emissiveFactor[c]);
-      out.baseColorTexture = textureIndex(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
-                                          "material '" + m.name + "' base colour");
+      out.baseColorTexture =
+          textureReference(pbr.baseColorTexture, out.baseColorTransform, "material '" + m.name + "' base colour");
       out.emissiveTexture =
-          textureIndex(m.emissiveTexture.index, m.emissiveTexture.texCoord, "material '" + m.name + "' emission");
+          textureReference(m.emissiveTexture, out.emissiveTransform, "material '" + m.name + "' emission");
       out.metallicRoughnessTexture =
           textureIndex(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
                        "material '" + m.name + "' metallic-roughness");

@@ -1,10 +1,20 @@
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <functional>
 
 #include "engine/scene/scene.h"
 
 namespace ivgi::scene {
+
+// The extension's own example (offset (0, 1), rotation π/2, scale ½: "only the lower left quadrant of
+// the source image, rotated clockwise 90°") fixes the rotation's sense: u' = cos·u + sin·v.
+glm::vec3 TextureTransform::rowU() const {
+  return {std::cos(rotation) * scale.x, std::sin(rotation) * scale.y, offset.x};
+}
+glm::vec3 TextureTransform::rowV() const {
+  return {-std::sin(rotation) * scale.x, std::cos(rotation) * scale.y, offset.y};
+}
 
 std::optional<int> Scene::findAnimation(const std::string& key) const {
   for (size_t i = 0; i < animations.size(); ++i)

@@ -23,13 +23,26 @@ struct Texture {
   int wrapS = 10497, wrapT = 10497;  // glTF wrap enums: REPEAT, CLAMP_TO_EDGE 33071, MIRRORED_REPEAT 33648
 };
 
+// KHR_texture_transform of one texture reference: the coordinates are scaled, then rotated
+// counter-clockwise by `rotation` radians about the origin, then offset.
+struct TextureTransform {
+  glm::vec2 offset{0.0f};
+  float rotation = 0.0f;
+  glm::vec2 scale{1.0f};
+  // The rows of the affine map (u, v, 1) → u', v'.
+  glm::vec3 rowU() const;
+  glm::vec3 rowV() const;
+};
+
 struct Material {
   std::string name;
   glm::vec4 baseColor{1.0f};
   int baseColorTexture = -1;
+  TextureTransform baseColorTransform;
   glm::vec3 emissive{0.0f};
   float emissiveStrength = 1.0f;  // KHR_materials_emissive_strength
   int emissiveTexture = -1;
+  TextureTransform emissiveTransform;
   float metallic = 1.0f, roughness = 1.0f;  // kept for later solvers
   int metallicRoughnessTexture = -1;
   bool doubleSided = false;
