@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "engine/image/compare.h"
+#include "engine/image/metrics.h"
 #include "engine/scene/geometry.h"
 #include "engine/scene/gltf.h"
 #include "engine/scene/texture_sampling.h"
@@ -230,5 +231,131 @@ TEST(TextureTransform, KhronosTestModelShowsItsTicks) {
         EXPECT_GT(a[c], 0.4f) << "square at " << at.x << ": " << a.r << " " << a.g << " " << a.b;
       else
         EXPECT_LT(a[c], 0.2f) << "square at " << at.x << ": " << a.r << " " << a.g << " " << a.b;
+  }
+}
+
+namespace {
+
+// A floor of two triangles (1 m square) under an 8×8 texture framed in white with a black inside,
+// clamped at its edges: each vertex reads white, the texture's mean is darker than half.
+tinygltf::Model framedFloor() {
+  scenes::GltfBuilder b;
+  scenes::MeshData floor;
+  scenes::addQuad(floor, {0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}, 1, 1, {0, 1, 0});
+  const int material = b.material("framed", glm::vec3(1.0f));
+  b.node("floor", b.mesh("floor", {{floor, material}}));
+  tinygltf::Model m = b.finish();
+  tinygltf::Image image;
+  image.width = image.height = 8, image.component = 4, image.bits = 8;
+  image.pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) {
+      const uint8_t v = (x == 0 || y == 0 || x == 7 || y == 7) ? 255 : 0;
+      image.image.insert(image.image.end(), {v, v, v, 255});
+    }
+  image.mimeType = "image/png";
+  m.images.push_back(image);
+  tinygltf::Sampler clamp;
+  clamp.wrapS = clamp.wrapT = TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE;
+  m.samplers.push_back(clamp);
+  tinygltf::Texture texture;
+  texture.source = 0, texture.sampler = 0;
+  m.textures.push_back(texture);
+  m.materials[size_t(material)].pbrMetallicRoughness.baseColorTexture.index = 0;
+  return m;
+}
+
+}  // namespace
+
+// Each surfel reflects the hat-weighted mean of its triangles' texture, so that the surfels
+// together reflect what the surface does: Σ (area/3 of its triangles) × albedo over the surfels is
+// the texture's integral over the floor, within the sampling's error. Reading the texture at the
+// vertices gave every surfel the frame's white.
+TEST(TexturedAlbedo, SurfelsTogetherReflectTheTexturesMean) {
+  const scene::Scene s = scene::sceneFromModel(framedFloor(), "framed.gltf");
+  const scene::Geometry g = scene::buildGeometry(s, 0);
+  ASSERT_EQ(g.surfels.size(), 4u);
+  double mean = 0.0;  // of the texture over the floor, on a fine grid
+  const int fine = 512;
+  for (int j = 0; j < fine; ++j)
+    for (int i = 0; i < fine; ++i)
+      mean += scene::sampleTexture(g, 0, {(float(i) + 0.5f) / fine, (float(j) + 0.5f) / fine}).r / double(fine * fine);
+  ASSERT_LT(mean, 0.5) << "the frame is the lesser part";
+  std::vector<double> third(g.surfels.size(), 0.0);  // a third of each surfel's triangles' area
+  for (size_t k = 0; k < g.surfels.size(); ++k)
+    for (uint32_t t = 0; t < g.surfels[k].triangleCount; ++t) {
+      const auto& tri = g.triangles[g.surfelTriangles[g.surfels[k].firstTriangle + t]];
+      const glm::vec3 a = g.vertices[tri.v0].position, b = g.vertices[tri.v1].position, c = g.vertices[tri.v2].position;
+      third[k] += glm::length(glm::cross(b - a, c - a)) / 6.0;
+    }
+  double reflected = 0.0;
+  for (size_t k = 0; k < g.surfels.size(); ++k) {
+    reflected += third[k] * g.surfelAlbedo[k].r;
+    EXPECT_LT(g.surfelAlbedo[k].r, 0.9f) << "surfel " << k << " took the white its vertex reads";
+  }
+  EXPECT_NEAR(reflected, mean, 0.01 * mean) << "over the floor's 1 m²";
+}
+
+namespace {
+
+// The Cornell box (8 cells, static) with its white room tiled: one tile a cell, each an 8×8 texture
+// of a dark tile (0.2) inside a line of light grout (0.9), so that every vertex lies on grout while
+// most of the surface is tile, as in a floor modelled a quad a tile.
+tinygltf::Model tiledCornellBox() {
+  tinygltf::Model m = scenes::cornellBox({.cells = 8, .animated = false});
+  tinygltf::Material tiles = m.materials[0];
+  tiles.name = "tiles";
+  tiles.pbrMetallicRoughness.baseColorFactor = {1.0, 1.0, 1.0, 1.0};
+  tiles.pbrMetallicRoughness.baseColorTexture.index = int(m.textures.size());
+  m.materials.push_back(tiles);
+  tinygltf::Image image;
+  image.width = image.height = 8, image.component = 4, image.bits = 8;
+  image.pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) {
+      const uint8_t v = (x == 0 || y == 0 || x == 7 || y == 7) ? 243 : 124;  // sRGB for 0.9 and 0.2
+      image.image.insert(image.image.end(), {v, v, v, 255});
+    }
+  image.mimeType = "image/png";
+  m.images.push_back(image);
+  tinygltf::Texture texture;
+  texture.source = int(m.images.size() - 1);
+  m.textures.push_back(texture);
+  tinygltf::Primitive& room = m.meshes[0].primitives[0];  // the white walls, floor and ceiling
+  room.material = int(m.materials.size() - 1);
+  // addQuad's coordinates run from 0 to 1 over a face's 8 cells: 8 times them puts a tile in a cell.
+  const tinygltf::Accessor& a = m.accessors[size_t(room.attributes.at("TEXCOORD_0"))];
+  const tinygltf::BufferView& view = m.bufferViews[size_t(a.bufferView)];
+  float* uv = reinterpret_cast<float*>(m.buffers[size_t(view.buffer)].data.data() + view.byteOffset + a.byteOffset);
+  for (size_t i = 0; i < 2 * a.count; ++i) uv[i] *= 8.0f;
+  return m;
+}
+
+double meanOver(const image::RgbImage& im, glm::ivec2 from, glm::ivec2 to) {
+  double sum = 0.0;
+  for (int y = from.y; y < to.y; ++y)
+    for (int x = from.x; x < to.x; ++x) {
+      const glm::vec3 p = im.pixels[size_t(y) * im.width + size_t(x)];
+      sum += p.r + p.g + p.b;
+    }
+  return sum / double((to.x - from.x) * (to.y - from.y));
+}
+
+}  // namespace
+
+// The tiled box against the path tracer: the ceiling, lit only by light reflected from the tiled
+// floor and walls, within 5 % of pt (1.34 times pt's with each surfel reading its vertex's grout, at
+// 320×240 and 1,024 samples a pixel), with the surfaces as modelled and as tessellated.
+TEST(TexturedAlbedo, ATiledRoomReflectsItsTilesNotItsGrout) {
+  const std::string file = writeScene(tiledCornellBox(), "tiled");
+  const image::RgbImage pt =
+      image::readLinearRgb(test::renderExr("pt", {file, "--size", "96x72", "--method", "pt", "--spp", "256"}).string());
+  const glm::ivec2 from(30, 2), to(66, 7);  // the ceiling around the lamp, below the image's top edge
+  for (const char* tessellate : {"0", "16"}) {
+    const image::RgbImage iv =
+        image::readLinearRgb(test::renderExr(std::string("iv-") + tessellate, {file, "--size", "96x72", "--supersample",
+                                                                               "4", "--tessellate", tessellate})
+                                 .string());
+    EXPECT_NEAR(meanOver(iv, from, to) / meanOver(pt, from, to), 1.0, 0.05) << "--tessellate " << tessellate;
   }
 }

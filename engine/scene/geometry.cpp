@@ -41,6 +41,47 @@ glm::vec3 transformNormal(const glm::mat4& m, glm::vec3 n) {
   return len > 0.0f ? r / len : glm::vec3(0.0f);
 }
 
+// What a surfel reflects and emits where it varies over its triangles (a texture, vertex colours):
+// the means of albedo and emission over each triangle weighted by a corner's barycentric coordinate
+// (its hat function: the weight with which the resolve spreads the corner's light), so that a coarse
+// mesh under a detailed texture takes the texture's mean where its vertices would each pick a texel.
+// Sampled at the centroids of the triangle's n² equal sub-triangles, about four a texel the
+// triangle covers (at most 32² a triangle).
+struct CornerMeans {
+  glm::vec4 albedo[3], emission[3];
+};
+
+int samplesAcross(const Geometry& g, const gpu::Material& m, const glm::vec2 uv[3]) {
+  const float uvArea =
+      0.5f * std::abs((uv[1].x - uv[0].x) * (uv[2].y - uv[0].y) - (uv[2].x - uv[0].x) * (uv[1].y - uv[0].y));
+  float texels = 0.0f;
+  for (int t : {m.baseColorTexture, m.emissiveTexture})
+    if (t >= 0) texels = std::max(texels, uvArea * float(g.textures[size_t(t)].width * g.textures[size_t(t)].height));
+  return std::clamp(int(std::ceil(2.0f * std::sqrt(texels))), 4, 32);
+}
+
+CornerMeans cornerMeans(const Geometry& g, const gpu::Material& m, const glm::vec2 uv[3], const glm::vec4 color[3]) {
+  const int n = samplesAcross(g, m, uv);
+  CornerMeans out{};
+  auto add = [&](float s, float t) {  // barycentric (1 − s − t, s, t), s and t in units of 1/n
+    const glm::vec3 w(1.0f - (s + t) / float(n), s / float(n), t / float(n));
+    const glm::vec2 at = w.x * uv[0] + w.y * uv[1] + w.z * uv[2];
+    const glm::vec4 albedo = m.baseColor * (w.x * color[0] + w.y * color[1] + w.z * color[2]) *
+                             sampleTexture(g, m.baseColorTexture, at),
+                    emission = m.emission * sampleTexture(g, m.emissiveTexture, at);
+    for (int k = 0; k < 3; ++k) out.albedo[k] += w[k] * albedo, out.emission[k] += w[k] * emission;
+  };
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; i + j < n; ++j) {
+      add(float(i) + 1.0f / 3.0f, float(j) + 1.0f / 3.0f);                      // pointing like the triangle
+      if (i + j + 2 <= n) add(float(i) + 2.0f / 3.0f, float(j) + 2.0f / 3.0f);  // pointing the other way
+    }
+  // Each corner's weights sum to n²/3 over the n² samples.
+  const float norm = 3.0f / float(n * n);
+  for (int k = 0; k < 3; ++k) out.albedo[k] *= norm, out.emission[k] *= norm;
+  return out;
+}
+
 // The world matrix a primitive's positions go through at rest (a skinned mesh's are its bind pose's).
 glm::mat4 restMatrix(const Scene& scene, const Pose& rest, int nodeIndex) {
   return scene.nodes[nodeIndex].skin >= 0 ? glm::mat4(1.0f) : rest.world[nodeIndex];
@@ -184,6 +225,7 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation) {
         }
 
         std::vector<std::vector<uint32_t>> adjacent(welded.size());
+        const size_t firstTriangle = g.triangles.size();
         for (size_t t = 0; t + 2 < p.indices.size(); t += 3) {
           uint32_t a = p.indices[t], b = p.indices[t + 1], c = p.indices[t + 2];
           if (a == b || b == c || a == c || degenerate(p.positions[a], p.positions[b], p.positions[c])) {
@@ -197,22 +239,38 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation) {
           for (uint32_t v : {a, b, c}) adjacent[surfelOf[v]].push_back(tri);
         }
 
+        // Where albedo or emission varies over the triangles, each surfel takes their hat-weighted
+        // means over its triangles, weighted by the triangles' areas.
+        const bool varies = material.baseColorTexture >= 0 || material.emissiveTexture >= 0 || !p.colors.empty();
+        std::vector<glm::vec4> albedoSums(varies ? welded.size() : 0, glm::vec4(0.0f)),
+            emissionSums(albedoSums.size(), glm::vec4(0.0f));
+        std::vector<float> areaSums(albedoSums.size(), 0.0f);
+        for (size_t t = firstTriangle; varies && t < g.triangles.size(); ++t) {
+          const uint32_t corner[3] = {g.triangles[t].v0 - base, g.triangles[t].v1 - base, g.triangles[t].v2 - base};
+          glm::vec2 uv[3];
+          glm::vec4 color[3];
+          for (int k = 0; k < 3; ++k)
+            uv[k] = p.uvs.empty() ? glm::vec2(0) : p.uvs[corner[k]],
+            color[k] = p.colors.empty() ? glm::vec4(1) : p.colors[corner[k]];
+          const float area = 0.5f * glm::length(glm::cross(p.positions[corner[1]] - p.positions[corner[0]],
+                                                           p.positions[corner[2]] - p.positions[corner[0]]));
+          const CornerMeans means = cornerMeans(g, material, uv, color);
+          for (int k = 0; k < 3; ++k) {
+            const uint32_t s = surfelOf[corner[k]];
+            albedoSums[s] += area * means.albedo[k], emissionSums[s] += area * means.emission[k];
+            areaSums[s] += area;
+          }
+        }
+
         for (size_t s = 0; s < welded.size(); ++s) {
           if (adjacent[s].empty()) continue;  // only on degenerate triangles, or unreferenced
           SurfelSource src{uint32_t(g.surfelVertices.size()), uint32_t(welded[s].size()),
                            uint32_t(g.surfelTriangles.size()), uint32_t(adjacent[s].size())};
-          glm::vec4 albedo(0.0f), emission(0.0f);
-          for (uint32_t v : welded[s]) {
-            g.surfelVertices.push_back(base + v);
-            glm::vec2 uv = p.uvs.empty() ? glm::vec2(0) : p.uvs[v];
-            const glm::vec4 color = p.colors.empty() ? glm::vec4(1) : p.colors[v];
-            albedo += material.baseColor * color * sampleTexture(g, material.baseColorTexture, uv);
-            emission += material.emission * sampleTexture(g, material.emissiveTexture, uv);
-          }
+          for (uint32_t v : welded[s]) g.surfelVertices.push_back(base + v);
           g.surfelTriangles.insert(g.surfelTriangles.end(), adjacent[s].begin(), adjacent[s].end());
           g.surfels.push_back(src);
-          g.surfelAlbedo.push_back(albedo / float(welded[s].size()));
-          g.surfelEmission.push_back(emission / float(welded[s].size()));
+          g.surfelAlbedo.push_back(varies ? albedoSums[s] / areaSums[s] : material.baseColor);
+          g.surfelEmission.push_back(varies ? emissionSums[s] / areaSums[s] : material.emission);
         }
       }
     }

@@ -47,7 +47,8 @@ struct Geometry {
   std::vector<uint32_t> texels;  // linear RGBA as two packHalf2x16 words per texel
   std::vector<SurfelSource> surfels;
   std::vector<uint32_t> surfelVertices, surfelTriangles;
-  // static: base colour × texture at the vertex UV (× COLOR_0 for the albedo)
+  // static: base colour × COLOR_0 × texture (emission: emissive × texture), each triangle's
+  // hat-weighted mean over the surfel's triangles
   std::vector<glm::vec4> surfelAlbedo, surfelEmission;
 
   uint32_t degenerateTriangles = 0;
