@@ -306,11 +306,13 @@ TEST(Loader, HarmlessUnsupportedContentIsSkippedWithAWarning) {
   lines.mode = TINYGLTF_MODE_LINE;
   t.b.model().meshes[0].primitives.push_back(lines);
   t.b.model().extensionsUsed.push_back("EXT_made_up");
+  t.b.model().materials[0].alphaMode = "MASK";
   Scene s = t.load();
   EXPECT_EQ(s.meshes[0].primitives.size(), 1u);
-  ASSERT_EQ(s.warnings.size(), 2u);
+  ASSERT_EQ(s.warnings.size(), 3u);
   EXPECT_NE(s.warnings[0].find("EXT_made_up"), std::string::npos);
-  EXPECT_NE(s.warnings[1].find("lines"), std::string::npos);
+  EXPECT_NE(s.warnings[1].find("alphaMode MASK"), std::string::npos) << s.warnings[1];
+  EXPECT_NE(s.warnings[2].find("lines"), std::string::npos);
 }
 
 TEST(Loader, RequiredUnknownExtensionIsAnError) {

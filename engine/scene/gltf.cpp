@@ -152,6 +152,9 @@ class Converter {
       out.metallic = float(pbr.metallicFactor);
       out.roughness = float(pbr.roughnessFactor);
       out.doubleSided = m.doubleSided;
+      // Every method takes a surface as opaque: a cut-out or blended one would block what it lets through.
+      if (m.alphaMode == "MASK" || m.alphaMode == "BLEND")
+        warn("material '" + m.name + "' has alphaMode " + m.alphaMode + "; it is drawn opaque");
       if (auto* v = extensionValue(m.extensions, "KHR_materials_emissive_strength", "emissiveStrength"))
         out.emissiveStrength = float(v->GetNumberAsDouble());
       auto finite = [](glm::vec4 v) { return glm::all(glm::lessThan(glm::abs(v), glm::vec4(3.4e38f))); };
