@@ -433,15 +433,15 @@ IVGI_FN vec3 cameraRay(Camera cam, vec2 samplePos, uvec2 size) {
 
 // ---- Textures ----
 
-// The two texels and the weight of the second along one axis of a bilinear lookup under a glTF wrap
-// mode (33071 CLAMP_TO_EDGE, 33648 MIRRORED_REPEAT, else REPEAT). No integer division: lavapipe
-// runs it one lane at a time.
 // The texture coordinates a lookup of texture t reads at uv: its KHR_texture_transform applied.
 IVGI_FN vec2 transformedUv(Texture t, vec2 uv) {
   vec3 h = vec3(uv.x, uv.y, 1.0f);
   return vec2(dot(vec3(t.uvRowU.x, t.uvRowU.y, t.uvRowU.z), h), dot(vec3(t.uvRowV.x, t.uvRowV.y, t.uvRowV.z), h));
 }
 
+// The two texels and the weight of the second along one axis of a bilinear lookup under a glTF wrap
+// mode (33071 CLAMP_TO_EDGE, 33648 MIRRORED_REPEAT, else REPEAT). No integer division: lavapipe
+// runs it one lane at a time.
 IVGI_FN ivec2 texelPair(float u, int size, uint mode, IVGI_OUT(float) weight) {
   if (mode == 33648u) {
     float t = fract(u * 0.5f) * 2.0f;
