@@ -448,6 +448,8 @@ IVGI_FN ivec2 texelPair(float u, int size, uint mode, IVGI_OUT(float) weight) {
     u = t < 1.0f ? t : 2.0f - t;
   } else if (mode != 33071u) {
     u = fract(u);
+  } else {
+    u = clamp(u, 0.0f, 1.0f);  // the same texels, and no integer overflow far outside
   }
   float x = u * float(size) - 0.5f, f = floor(x);
   weight = x - f;

@@ -270,30 +270,44 @@ tinygltf::Model framedFloor() {
 // Each surfel reflects the hat-weighted mean of its triangles' texture, so that the surfels
 // together reflect what the surface does: Σ (area/3 of its triangles) × albedo over the surfels is
 // the texture's integral over the floor, within the sampling's error. Reading the texture at the
-// vertices gave every surfel the frame's white.
+// vertices gave every surfel the frame's white. Also through a transform that repeats the
+// texture 4 × 4 times over the floor: the samples follow the texels the transform puts there.
 TEST(TexturedAlbedo, SurfelsTogetherReflectTheTexturesMean) {
-  const scene::Scene s = scene::sceneFromModel(framedFloor(), "framed.gltf");
-  const scene::Geometry g = scene::buildGeometry(s, 0);
-  ASSERT_EQ(g.surfels.size(), 4u);
-  double mean = 0.0;  // of the texture over the floor, on a fine grid
-  const int fine = 512;
-  for (int j = 0; j < fine; ++j)
-    for (int i = 0; i < fine; ++i)
-      mean += scene::sampleTexture(g, 0, {(float(i) + 0.5f) / fine, (float(j) + 0.5f) / fine}).r / double(fine * fine);
-  ASSERT_LT(mean, 0.5) << "the frame is the lesser part";
-  std::vector<double> third(g.surfels.size(), 0.0);  // a third of each surfel's triangles' area
-  for (size_t k = 0; k < g.surfels.size(); ++k)
-    for (uint32_t t = 0; t < g.surfels[k].triangleCount; ++t) {
-      const auto& tri = g.triangles[g.surfelTriangles[g.surfels[k].firstTriangle + t]];
-      const glm::vec3 a = g.vertices[tri.v0].position, b = g.vertices[tri.v1].position, c = g.vertices[tri.v2].position;
-      third[k] += glm::length(glm::cross(b - a, c - a)) / 6.0;
+  for (const bool repeated : {false, true}) {
+    tinygltf::Model m = framedFloor();
+    if (repeated) {
+      m.samplers[0].wrapS = m.samplers[0].wrapT = TINYGLTF_TEXTURE_WRAP_REPEAT;
+      const tinygltf::Value::Array four{tinygltf::Value(4.0), tinygltf::Value(4.0)};
+      m.materials[0].pbrMetallicRoughness.baseColorTexture.extensions["KHR_texture_transform"] =
+          tinygltf::Value(tinygltf::Value::Object{{"scale", tinygltf::Value(four)}});
+      m.extensionsUsed.push_back("KHR_texture_transform");
     }
-  double reflected = 0.0;
-  for (size_t k = 0; k < g.surfels.size(); ++k) {
-    reflected += third[k] * g.surfelAlbedo[k].r;
-    EXPECT_LT(g.surfelAlbedo[k].r, 0.9f) << "surfel " << k << " took the white its vertex reads";
+    const scene::Scene s = scene::sceneFromModel(m, "framed.gltf");
+    const scene::Geometry g = scene::buildGeometry(s, 0);
+    ASSERT_EQ(g.surfels.size(), 4u);
+    const int texture = g.materials[0].baseColorTexture;
+    double mean = 0.0;  // of the texture over the floor, on a fine grid
+    const int fine = 1024;
+    for (int j = 0; j < fine; ++j)
+      for (int i = 0; i < fine; ++i)
+        mean += scene::sampleTexture(g, texture, {(float(i) + 0.5f) / fine, (float(j) + 0.5f) / fine}).r /
+                double(fine * fine);
+    ASSERT_LT(mean, 0.5) << "the frame is the lesser part";
+    std::vector<double> third(g.surfels.size(), 0.0);  // a third of each surfel's triangles' area
+    for (size_t k = 0; k < g.surfels.size(); ++k)
+      for (uint32_t t = 0; t < g.surfels[k].triangleCount; ++t) {
+        const auto& tri = g.triangles[g.surfelTriangles[g.surfels[k].firstTriangle + t]];
+        const glm::vec3 a = g.vertices[tri.v0].position, b = g.vertices[tri.v1].position,
+                        c = g.vertices[tri.v2].position;
+        third[k] += glm::length(glm::cross(b - a, c - a)) / 6.0;
+      }
+    double reflected = 0.0;
+    for (size_t k = 0; k < g.surfels.size(); ++k) {
+      reflected += third[k] * g.surfelAlbedo[k].r;
+      EXPECT_LT(g.surfelAlbedo[k].r, 0.9f) << "surfel " << k << " took the white its vertex reads";
+    }
+    EXPECT_NEAR(reflected, mean, 0.01 * mean) << (repeated ? "repeated 4 × 4 times" : "once") << " over 1 m²";
   }
-  EXPECT_NEAR(reflected, mean, 0.01 * mean) << "over the floor's 1 m²";
 }
 
 namespace {

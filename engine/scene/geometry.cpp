@@ -54,10 +54,15 @@ struct CornerMeans {
 int samplesAcross(const Geometry& g, const gpu::Material& m, const glm::vec2 uv[3]) {
   const float uvArea =
       0.5f * std::abs((uv[1].x - uv[0].x) * (uv[2].y - uv[0].y) - (uv[2].x - uv[0].x) * (uv[1].y - uv[0].y));
-  float texels = 0.0f;
-  for (int t : {m.baseColorTexture, m.emissiveTexture})
-    if (t >= 0) texels = std::max(texels, uvArea * float(g.textures[size_t(t)].width * g.textures[size_t(t)].height));
-  return std::clamp(int(std::ceil(2.0f * std::sqrt(texels))), 4, 32);
+  float texels = 0.0f;  // covered, through the reference's transform (its determinant scales the area)
+  for (int t : {m.baseColorTexture, m.emissiveTexture}) {
+    if (t < 0) continue;
+    const gpu::Texture& x = g.textures[size_t(t)];
+    const float scale = std::abs(x.uvRowU.x * x.uvRowV.y - x.uvRowU.y * x.uvRowV.x);
+    texels = std::max(texels, uvArea * scale * float(x.width) * float(x.height));
+  }
+  const float n = 2.0f * std::sqrt(texels);  // NaN or infinite from an absurd transform: the bounds
+  return n > 4.0f ? (n < 32.0f ? int(std::ceil(n)) : 32) : 4;
 }
 
 CornerMeans cornerMeans(const Geometry& g, const gpu::Material& m, const glm::vec2 uv[3], const glm::vec4 color[3]) {
