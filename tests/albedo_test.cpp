@@ -3,8 +3,6 @@
 // surfels' albedo the solvers reflect with, the resolve's per-pixel albedo and the path tracer.
 #include <gtest/gtest.h>
 
-#include <OpenImageIO/imagebuf.h>
-
 #include <cmath>
 #include <string>
 #include <vector>
@@ -62,17 +60,6 @@ tinygltf::Model cornellIn255ths() {
   return m;
 }
 
-// One channel of an EXR file, row-major.
-std::vector<float> channelOf(const fs::path& exr, const std::string& name) {
-  OIIO_NAMESPACE::ImageBuf buf(exr.string());
-  std::vector<float> values;
-  if (!buf.read(0, 0, true, OIIO_NAMESPACE::TypeDesc::FLOAT) || buf.spec().channelindex(name) < 0) return values;
-  const int c = buf.spec().channelindex(name), channels = buf.spec().nchannels;
-  const float* p = static_cast<const float*>(buf.localpixels());
-  for (size_t i = 0; i < size_t(buf.spec().image_pixels()); ++i) values.push_back(p[i * size_t(channels) + size_t(c)]);
-  return values;
-}
-
 }  // namespace
 
 // The Cornell box coloured by its vertices renders as the box coloured by its materials: iv, ar and
@@ -112,8 +99,8 @@ TEST(VertexColors, InterpolateAcrossTheSurface) {
   b.camera("down", 0.5f, 0.1f, {0, 3, 0}, glm::quatLookAtRH(glm::vec3(0, -1, 0), glm::vec3(0, 0, -1)));
   const std::string file = writeScene(b.finish(), "gradient");
   const fs::path exr = test::renderExr("gradient", {file, "--size", "64x64", "--env", "1,1,1"});
-  const std::vector<float> red = channelOf(exr, "albedo.R"), green = channelOf(exr, "albedo.G"),
-                           lit = channelOf(exr, "R"), litGreen = channelOf(exr, "G");
+  const std::vector<float> red = test::channelOf(exr, "albedo.R"), green = test::channelOf(exr, "albedo.G"),
+                           lit = test::channelOf(exr, "R"), litGreen = test::channelOf(exr, "G");
   ASSERT_EQ(red.size(), 64u * 64u);
   ASSERT_EQ(lit.size(), 64u * 64u);
   // The camera sees x within ±0.77 m at the floor (yfov 0.5 at 3 m); pixel column i at x(i).
@@ -188,7 +175,7 @@ TEST(TextureTransform, TheResolveReadsAsTheHostDoes) {
   ASSERT_EQ(transformed, 1) << "a record of its own";
   const fs::path exr = test::renderExr("transformed", {file, "--size", "64x64", "--env", "1,1,1", "--tessellate", "0"});
   std::vector<std::vector<float>> albedo;
-  for (const char* c : {"albedo.R", "albedo.G", "albedo.B"}) albedo.push_back(channelOf(exr, c));
+  for (const char* c : {"albedo.R", "albedo.G", "albedo.B"}) albedo.push_back(test::channelOf(exr, c));
   ASSERT_EQ(albedo[0].size(), 64u * 64u);
   // The floor's UVs run with x and z (addQuad: u along p0 → p1, v along p0 → p3); the camera sees
   // x and z within ±0.77 m, x to the right and z downwards.
@@ -218,7 +205,7 @@ TEST(TextureTransform, KhronosTestModelShowsItsTicks) {
   if (!fs::exists(file)) GTEST_SKIP() << file << " not installed";
   const fs::path exr = test::renderExr("khronos", {file.string(), "--size", "320x240", "--env", "1,1,1"});
   std::vector<std::vector<float>> albedo;
-  for (const char* c : {"albedo.R", "albedo.G", "albedo.B"}) albedo.push_back(channelOf(exr, c));
+  for (const char* c : {"albedo.R", "albedo.G", "albedo.B"}) albedo.push_back(test::channelOf(exr, c));
   ASSERT_EQ(albedo[0].size(), 320u * 240u);
   // The squares' centres at 320×240, read off the rendered image, and the channels that must lead.
   const std::vector<std::pair<glm::ivec2, glm::bvec3>> squares = {

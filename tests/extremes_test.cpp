@@ -4,8 +4,6 @@
 // an analytic bound, the same scene without the extreme, or the path tracer.
 #include <gtest/gtest.h>
 
-#include <OpenImageIO/imagebuf.h>
-
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -200,21 +198,6 @@ std::string groundAndPebble() {
 
 }  // namespace
 
-namespace {
-
-// One channel of an EXR file, row-major.
-std::vector<float> channelOf(const fs::path& exr, const std::string& name) {
-  OIIO_NAMESPACE::ImageBuf buf(exr.string());
-  std::vector<float> values;
-  if (!buf.read(0, 0, true, OIIO_NAMESPACE::TypeDesc::FLOAT) || buf.spec().channelindex(name) < 0) return values;
-  const int c = buf.spec().channelindex(name), channels = buf.spec().nchannels;
-  const float* p = static_cast<const float*>(buf.localpixels());
-  for (size_t i = 0; i < size_t(buf.spec().image_pixels()); ++i) values.push_back(p[i * channels + c]);
-  return values;
-}
-
-}  // namespace
-
 // Sizes 10⁵:1 in one scene: finite, and within 5 % of the path tracer over the ground's pixels (a
 // floor's surfel metres wide under the cube, darkened whole, was 22 % dark before the tessellation
 // refined the ground beside small objects) and over the cube's top. The cube's sides, lit half by
@@ -225,7 +208,7 @@ TEST(Extremes, AKilometreGroundAndACentimetreCube) {
   const fs::path ivFile = test::renderExr("iv", {file, "--size", "64x48"});
   const fs::path ptFile = test::renderExr("pt", {file, "--size", "64x48", "--method", "pt", "--spp", "256"});
   const image::RgbImage iv = readRgb(ivFile), pt = readRgb(ptFile);
-  const std::vector<float> up = channelOf(ptFile, "N.Y");
+  const std::vector<float> up = test::channelOf(ptFile, "N.Y");
   ASSERT_EQ(iv.pixels.size(), pt.pixels.size());
   ASSERT_EQ(up.size(), pt.pixels.size());
   double sums[3][2] = {};  // [ground, top, sides][iv, pt]

@@ -8,6 +8,8 @@
 #include <memory>
 #include <sstream>
 
+#include <OpenImageIO/imagebuf.h>
+
 #include "scenes/builtin.h"
 
 namespace ivgi::test {
@@ -81,6 +83,16 @@ std::optional<std::filesystem::path> sharedGltfDir() {
   auto p = std::filesystem::path(IVGI_SOURCE_DIR) / ".." / "shared" / "data" / "gltf";
   if (std::filesystem::is_directory(p)) return std::filesystem::canonical(p);
   return std::nullopt;
+}
+
+std::vector<float> channelOf(const std::filesystem::path& exr, const std::string& name) {
+  OIIO_NAMESPACE::ImageBuf buf(exr.string());
+  std::vector<float> values;
+  if (!buf.read(0, 0, true, OIIO_NAMESPACE::TypeDesc::FLOAT) || buf.spec().channelindex(name) < 0) return values;
+  const size_t c = size_t(buf.spec().channelindex(name)), channels = size_t(buf.spec().nchannels);
+  const float* p = static_cast<const float*>(buf.localpixels());
+  for (size_t i = 0; i < size_t(buf.spec().image_pixels()); ++i) values.push_back(p[i * channels + c]);
+  return values;
 }
 
 std::filesystem::path assimpGltfDir() { return "/usr/share/assimp/models/glTF2"; }

@@ -61,6 +61,10 @@ DirectLightErrors emptyRoomDirectLight(const std::vector<scene::Surfel>& surfels
 // `model` under a new root node that scales its scenes' roots by `factor`.
 tinygltf::Model scaled(tinygltf::Model model, float factor);
 
+// One channel of an EXR file ("R", "albedo.G", "N.Y", …), row-major; empty if the file or the
+// channel cannot be read.
+std::vector<float> channelOf(const std::filesystem::path& exr, const std::string& name);
+
 // A fresh, empty folder for one test.
 std::filesystem::path scratchDir(const std::string& name);
 
