@@ -129,7 +129,7 @@ class Converter {
       transform.offset = pair("offset", glm::vec2(0.0f));
       transform.scale = pair("scale", glm::vec2(1.0f));
       if (ext.Has("rotation")) transform.rotation = number(ext.Get("rotation"), "rotation");
-      if (ext.Has("texCoord")) texCoord = int(number(ext.Get("texCoord"), "texCoord"));
+      if (ext.Has("texCoord")) texCoord = int(std::clamp(number(ext.Get("texCoord"), "texCoord"), 0.0f, 255.0f));
     }
     return textureIndex(info.index, texCoord, what);
   }
