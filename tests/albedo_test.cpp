@@ -28,7 +28,7 @@ std::string writeScene(const tinygltf::Model& model, const std::string& name) {
 }
 
 // The model with every material's base colour moved into its primitives' COLOR_0 (as normalized
-// unsigned bytes, the form exporters write most, where the colour is a whole number of 255ths), the
+// unsigned bytes, one of the spec's forms, which holds a colour of whole 255ths exactly), the
 // materials left white.
 tinygltf::Model colorsInVertices(tinygltf::Model m) {
   std::vector<std::vector<double>> bases;
@@ -47,7 +47,7 @@ tinygltf::Model colorsInVertices(tinygltf::Model m) {
         for (int c = 0; c < 4; ++c) rgba.push_back(uint8_t(std::lround(base[size_t(c)] * 255.0)));
       const int a = b.accessor(rgba.data(), n, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_TYPE_VEC4, 4);
       b.model().accessors[size_t(a)].normalized = true;
-      b.model().meshes[k].primitives[&p - b.model().meshes[k].primitives.data()].attributes["COLOR_0"] = a;
+      p.attributes["COLOR_0"] = a;  // accessor() grows the accessors and views, not the meshes
     }
   return b.finish();
 }
