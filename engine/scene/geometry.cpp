@@ -147,8 +147,7 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation) {
   }
   // A reference with a KHR_texture_transform reads the texture's texels through a record of its own.
   auto transformed = [&](int texture, const TextureTransform& transform) {
-    if (texture < 0 || (transform.rowU() == TextureTransform{}.rowU() && transform.rowV() == TextureTransform{}.rowV()))
-      return texture;
+    if (texture < 0 || transform.identity()) return texture;
     gpu::Texture record = g.textures[size_t(texture)];
     record.uvRowU = glm::vec4(transform.rowU(), 0.0f), record.uvRowV = glm::vec4(transform.rowV(), 0.0f);
     g.textures.push_back(record);

@@ -29,6 +29,7 @@ struct TextureTransform {
   glm::vec2 offset{0.0f};
   float rotation = 0.0f;
   glm::vec2 scale{1.0f};
+  bool identity() const { return offset == glm::vec2(0.0f) && rotation == 0.0f && scale == glm::vec2(1.0f); }
   // The rows of the affine map (u, v, 1) → u', v'.
   glm::vec3 rowU() const;
   glm::vec3 rowV() const;
