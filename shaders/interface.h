@@ -207,7 +207,7 @@ IVGI_CONST uint kNotReceiver = 0x7F800000u;
 // most nodes whose receivers may weigh for some surfel of a group of neighbours (listed per group; a
 // group with more has its surfels search on their own).
 IVGI_CONST uint kInterpolationTaps = 16u;
-IVGI_CONST uint kGroupNeighbours = 128u;
+IVGI_CONST uint kGroupNeighbours = 256u;
 // Invocations a workgroup of the dispatches over receivers and candidates: a round lists few, and
 // lavapipe runs a workgroup on one thread, so small workgroups keep every thread busy.
 IVGI_CONST uint kReceiverGroup = 8u;

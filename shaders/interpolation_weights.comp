@@ -60,10 +60,8 @@ void main() {
   if (listed <= kGroupNeighbours)
     for (uint i = 0u; i < listed; ++i)
       considerNode(imageLoad(neighbours, int(k * kGroupNeighbours + i)).x, x, n, t1, t2);
-  else {
-    atomicAdd(receiverCounts[8], 1u);
+  else
     gatherTaps(x, n, t1, t2);
-  }
   if (tapCount > 0u) {
     fitCoefficients();
     for (uint t = 0u; t < tapCount; ++t)

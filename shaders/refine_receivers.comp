@@ -31,6 +31,12 @@ layout(push_constant) uniform Push { ReceiverPush push; };
 
 #include "receivers.glsl"
 
+// Whether a node's cone (axis, half-angle) may hold a normal within the interpolation's angle of n
+// (receiverWeight's normal test, with a margin for rounding).
+bool mayFace(vec4 cone, vec3 n) {
+  return acos(clamp(dot(cone.xyz, n), -1.0, 1.0)) - min(cone.w, kPi) < acos(kReceiverNormalCos) + 1e-3;
+}
+
 float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
 
 // The level holding node n: its first node and the first of the level after.
@@ -57,8 +63,10 @@ float lightNeed(uint c, uint s, float floorValue) {
     // Below a node of no presence (or not sampled) no sample has any.
     const float presence = imageLoad(presences, int(node)).x;
     const bool root = t.x == 0xFFFFFFFFu;
-    // Its samples and those below lie within its radius and reach kReceiverReach times as far.
-    if ((presence <= 0.0 && !root) || distance(nodePositionArea(node).xyz, x) > (1.0 + kReceiverReach) * radius) {
+    // Its samples and those below lie within its radius and reach kReceiverReach times as far; their
+    // normals lie within its cone.
+    if ((presence <= 0.0 && !root) || distance(nodePositionArea(node).xyz, x) > (1.0 + kReceiverReach) * radius ||
+        !mayFace(nodeNormalCone(node), n)) {
       node = imageLoad(skip, int(node)).x;
       continue;
     }
