@@ -31,12 +31,6 @@ layout(push_constant) uniform Push { ReceiverPush push; };
 
 #include "receivers.glsl"
 
-// Whether a node's cone (axis, half-angle) may hold a normal within the interpolation's angle of n
-// (receiverWeight's normal test, with a margin for rounding).
-bool mayFace(vec4 cone, vec3 n) {
-  return acos(clamp(dot(cone.xyz, n), -1.0, 1.0)) - min(cone.w, kPi) < acos(kReceiverNormalCos) + 1e-3;
-}
-
 float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
 
 // The level holding node n: its first node and the first of the level after.
@@ -46,40 +40,75 @@ uvec2 levelOf(uint n) {
   return uvec2(levelStarts[l], levelStarts[l + 1u]);
 }
 
-// How far sample s (of child c of a candidate) misses its prediction from the other samples around
-// it of its level or coarser (weighed by their place: a coarser one by its role, one of its level by
-// its presence), over the tolerance. They are found by walking the sampled part of the trees
-// (depth first, without a stack: `skip`), entering only the nodes whose samples may reach s.
-float lightNeed(uint c, uint s, float floorValue) {
-  const uint leaf = imageLoad(leafOfSurfel, int(s)).x;
-  const vec3 x = nodePositionArea(leaf).xyz, n = nodeNormalCone(leaf).xyz;
-  vec3 t1, t2;
-  tangentFrame(n, t1, t2);
-  tapCount = 0u;
-  const uvec2 level = levelOf(c);  // the first node of c's level, and of the next
+// The sample being predicted: its surfel, position, normal and tangents.
+struct Query {
+  uint s;
+  vec3 x, n, t1, t2;
+};
+
+// Node q's sample weighed into the prediction for the query (none for the query's own), by its place:
+// a node of the query's level (or a leaf) by its presence, a coarser one by its role.
+void considerSample(uint q, uvec4 t, float presence, uvec2 level, Query query) {
+  const uint r = imageLoad(representatives, int(q)).x;
+  if (r == query.s) return;
+  const float place = q >= level.x || t.z == 0u ? presence : presence * (1.0 - refinementShare(needs[q]));
+  const uint at = imageLoad(leafOfSurfel, int(r)).x;
+  const vec3 p = nodePositionArea(at).xyz;
+  const float w = receiverWeight(query.x, query.n, p, nodeNormalCone(at).xyz, kReceiverReach * nodeRadius(q)) * place;
+  if (w > 0.0) keepTap(r, w, vec2(dot(p - query.x, query.t1), dot(p - query.x, query.t2)));
+}
+
+// The samples that may weigh for a query within `radius` of `centre` with a normal in `cone`: the
+// sampled nodes of the level given or coarser, found by a walk of the sampled part of the trees (depth
+// first, without a stack: `skip`) that enters only the nodes whose samples may reach so far: their
+// samples lie within their radius and reach kReceiverReach times as far, their normals within their
+// cone (receiverWeight's normal test, with a margin for rounding). The children of a candidate list
+// them once for all (`collect`: false where more than kNearby); a child whose list overflowed walks
+// with its own point and weighs them as it goes.
+const uint kNearby = 128u;
+uint nearby[kNearby];
+uint nearbyCount = 0u;
+bool walkSamples(uvec2 level, vec3 centre, float radius, vec4 cone, bool collect, Query query) {
+  nearbyCount = 0u;
   for (uint node = 0u; node < level.y;) {
     const uvec4 t = imageLoad(tree, int(node));  // parent, firstChild, childCount, surfel
-    const float radius = nodeRadius(node);
     // Below a node of no presence (or not sampled) no sample has any.
     const float presence = imageLoad(presences, int(node)).x;
-    const bool root = t.x == 0xFFFFFFFFu;
-    // Its samples and those below lie within its radius and reach kReceiverReach times as far; their
-    // normals lie within its cone.
-    if ((presence <= 0.0 && !root) || distance(nodePositionArea(node).xyz, x) > (1.0 + kReceiverReach) * radius ||
-        !mayFace(nodeNormalCone(node), n)) {
+    const vec4 normalCone = nodeNormalCone(node);
+    const float apart = acos(clamp(dot(cone.xyz, normalCone.xyz), -1.0, 1.0)) - min(cone.w, kPi) - normalCone.w;
+    if ((presence <= 0.0 && t.x != 0xFFFFFFFFu) ||
+        distance(nodePositionArea(node).xyz, centre) > (1.0 + kReceiverReach) * nodeRadius(node) + radius ||
+        apart >= acos(kReceiverNormalCos) + 1e-3) {
       node = imageLoad(skip, int(node)).x;
       continue;
     }
-    const uint r = imageLoad(representatives, int(node)).x;
-    if (presence > 0.0 && r != s) {
-      const float place = node >= level.x || t.z == 0u ? presence : presence * (1.0 - refinementShare(needs[node]));
-      const uint at = imageLoad(leafOfSurfel, int(r)).x;
-      const vec3 p = nodePositionArea(at).xyz;
-      const float w = receiverWeight(x, n, p, nodeNormalCone(at).xyz, kReceiverReach * radius) * place;
-      if (w > 0.0) keepTap(r, w, vec2(dot(p - x, t1), dot(p - x, t2)));
+    if (presence > 0.0) {
+      if (!collect)
+        considerSample(node, t, presence, level, query);
+      else if (nearbyCount == kNearby)
+        return false;
+      else
+        nearby[nearbyCount++] = node;
     }
     node = node < level.x && t.z != 0u ? t.y : imageLoad(skip, int(node)).x;
   }
+  return true;
+}
+
+// How far child c's sample s misses its prediction from the samples around it of its level or
+// coarser, over the tolerance; `listed`: the candidate's list holds them.
+float lightNeed(uint c, uint s, float floorValue, uvec2 level, bool listed) {
+  const uint leaf = imageLoad(leafOfSurfel, int(s)).x;
+  Query query = Query(s, nodePositionArea(leaf).xyz, nodeNormalCone(leaf).xyz, vec3(0.0), vec3(0.0));
+  tangentFrame(query.n, query.t1, query.t2);
+  tapCount = 0u;
+  if (listed)
+    for (uint i = 0u; i < nearbyCount; ++i) {
+      const uint q = nearby[i];
+      considerSample(q, imageLoad(tree, int(q)), imageLoad(presences, int(q)).x, level, query);
+    }
+  else
+    walkSamples(level, query.x, 0.0, vec4(query.n, 0.0), false, query);
   if (tapCount == 0u) return 1e30;
   fitCoefficients();
   float prediction = 0.0;
@@ -95,6 +124,8 @@ void main() {
   const uint node = imageLoad(candidatesIn, int(k)).x;
   const uvec4 t = imageLoad(tree, int(node));
   const float floorValue = push.floorShare * uintBitsToFloat(receiverCounts[kReceiverScale]);
+  const uvec2 level = levelOf(t.y);  // the children's level: its first node, and the next level's
+  bool walked = false, listed = false;
   for (uint c = t.y; c < t.y + t.z; ++c) {
     if (imageLoad(tree, int(c)).z == 0u) continue;  // a leaf: nothing to refine
     const uint s = imageLoad(representatives, int(c)).x;
@@ -102,7 +133,12 @@ void main() {
     // Past 1 the need makes no difference (refinementShare), so the light's test, a walk of the
     // trees, runs only where the other two leave it below.
     const float sure = max(kReceiverReach * radius * proximity[s] / push.proximity, radius / push.largest);
-    const float need = sure >= 1.0 ? sure : max(sure, lightNeed(c, s, floorValue));
+    if (sure < 1.0 && !walked) {
+      const Query none = Query(0u, vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+      listed = walkSamples(level, nodePositionArea(node).xyz, nodeRadius(node), nodeNormalCone(node), true, none);
+      walked = true;
+    }
+    const float need = sure >= 1.0 ? sure : max(sure, lightNeed(c, s, floorValue, level, listed));
     needs[c] = need;
     if (need <= kRefineFrom) continue;
     candidatesOut[atomicAdd(receiverCounts[push.target], 1u)] = c;
