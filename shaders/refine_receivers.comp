@@ -124,7 +124,7 @@ void main() {
   const uint node = imageLoad(candidatesIn, int(k)).x;
   const uvec4 t = imageLoad(tree, int(node));
   const float floorValue = push.floorShare * uintBitsToFloat(receiverCounts[kReceiverScale]);
-  const uvec2 level = levelOf(t.y);  // the children's level: its first node, and the next level's
+  uvec2 level = uvec2(0u);  // the children's level: its first node, and the next level's
   bool walked = false, listed = false;
   for (uint c = t.y; c < t.y + t.z; ++c) {
     if (imageLoad(tree, int(c)).z == 0u) continue;  // a leaf: nothing to refine
@@ -134,6 +134,7 @@ void main() {
     // trees, runs only where the other two leave it below.
     const float sure = max(kReceiverReach * radius * proximity[s] / push.proximity, radius / push.largest);
     if (sure < 1.0 && !walked) {
+      level = levelOf(c);
       const Query none = Query(0u, vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
       listed = walkSamples(level, nodePositionArea(node).xyz, nodeRadius(node), nodeNormalCone(node), true, none);
       walked = true;
