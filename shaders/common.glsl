@@ -78,6 +78,10 @@ vec4 nodePositionArea(uint i) { return imageLoad(nodes, int(3u * i)); }
 vec4 nodeNormalCone(uint i) { return imageLoad(nodes, int(3u * i + 1u)); }
 vec4 nodeShape(uint i) { return imageLoad(nodes, int(3u * i + 2u)); }
 float nodeRadius(uint i) { return nodeShape(i).x; }
+
+// The least angle between direction d and the directions in a cone (axis, half-angle); negative
+// inside it.
+float angleOutside(vec4 cone, vec3 d) { return acos(clamp(dot(cone.xyz, d), -1.0, 1.0)) - min(cone.w, kPi); }
 NodeState nodeState(uint i) { return NodeState(nodePositionArea(i), nodeNormalCone(i), nodeShape(i)); }
 
 // The half-sides of a sender's rectangle (refit.comp) in the world; zero for a curved sender (a cone

@@ -2,8 +2,9 @@
 // Interpolation weights, step 1 (docs/design.md §2.4): per group of neighbouring surfels (a node two
 // levels above their leaves), the sampled nodes whose receiver may weigh for one of them: with a
 // role, their support within reach of the group's sphere, and their receiver's normal within the
-// kernel's angle of the group's cone (nested parts of many orientations meet within one support). One walk of the trees
-// (depth first, without a stack: `skip`) where `reach` says one below may. The group's surfels weigh only those.
+// kernel's angle of the group's cone (nested parts of many orientations meet within one support).
+// One walk of the trees (depth first, without a stack: `skip`) where `reach` says one below may.
+// The group's surfels weigh only those.
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 3
 #include "common.glsl"
@@ -20,21 +21,21 @@ layout(binding = 8, r32ui) readonly uniform uimageBuffer representatives;
 layout(binding = 9, r32ui) readonly uniform uimageBuffer leafOfSurfel;
 layout(push_constant) uniform Push { ReceiverPush push; };
 
+#include "receivers.glsl"
+
 // Whether a node (reach r, normal cone) may hold a surfel within `radius` of `centre` with a normal
 // in `cone`.
 bool mayHold(vec2 r, vec4 normalCone, vec3 at, vec3 centre, float radius, vec4 cone) {
-  const float angle = acos(clamp(dot(cone.xyz, normalCone.xyz), -1.0, 1.0)) - min(cone.w, kPi);
-  return r.x >= 0.0 && distance(at, centre) <= r.x + radius && (r.y <= -1.0 || cos(max(angle, 0.0)) >= r.y);
+  return r.x >= 0.0 && distance(at, centre) <= r.x + radius &&
+         (r.y <= -1.0 || cos(max(angleOutside(cone, normalCone.xyz), 0.0)) >= r.y);
 }
 
 // Whether node q's receiver may weigh for a surfel within `radius` of `centre` whose normal lies in
-// `cone`: receiverWeight's support (centred on the receiver) and its normal test, with a margin for
-// rounding.
+// `cone`: receiverWeight's support (centred on the receiver) and its normal test.
 bool mayWeigh(uint q, vec3 centre, float radius, vec4 cone) {
   const uint at = imageLoad(leafOfSurfel, int(imageLoad(representatives, int(q)).x)).x;
-  const vec3 normal = nodeNormalCone(at).xyz;
   return distance(nodePositionArea(at).xyz, centre) <= kReceiverReach * nodeRadius(q) + radius &&
-         acos(clamp(dot(cone.xyz, normal), -1.0, 1.0)) - min(cone.w, kPi) < acos(kReceiverNormalCos) + 1e-3;
+         normalsMayWeigh(angleOutside(cone, nodeNormalCone(at).xyz));
 }
 
 void main() {

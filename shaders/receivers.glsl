@@ -24,6 +24,10 @@ float receiverWeight(vec3 x, vec3 n, vec3 p, vec3 ns, float radius) {
   return w * a * a / ((t2 + 0.01) * radius);
 }
 
+// Whether a receiver whose normal is at least `apart` radians from a surfel's may weigh for it:
+// receiverWeight's normal test, with a margin for rounding (a walk skips what it rules out).
+bool normalsMayWeigh(float apart) { return apart < acos(kReceiverNormalCos) + 1e-3; }
+
 // Keeps a tap (a receiver met again, standing for another node, adds its weight), or where all
 // kInterpolationTaps are taken, replaces the lightest if it is heavier (the first found of equal
 // weights stays: a fixed order).

@@ -75,10 +75,9 @@ bool walkSamples(uvec2 level, vec3 centre, float radius, vec4 cone, bool collect
     // Below a node of no presence (or not sampled) no sample has any.
     const float presence = imageLoad(presences, int(node)).x;
     const vec4 normalCone = nodeNormalCone(node);
-    const float apart = acos(clamp(dot(cone.xyz, normalCone.xyz), -1.0, 1.0)) - min(cone.w, kPi) - normalCone.w;
     if ((presence <= 0.0 && t.x != 0xFFFFFFFFu) ||
         distance(nodePositionArea(node).xyz, centre) > (1.0 + kReceiverReach) * nodeRadius(node) + radius ||
-        apart >= acos(kReceiverNormalCos) + 1e-3) {
+        !normalsMayWeigh(angleOutside(cone, normalCone.xyz) - normalCone.w)) {
       node = imageLoad(skip, int(node)).x;
       continue;
     }
