@@ -245,12 +245,10 @@ struct InterpolationTap {  // one rg32ui texel: the receiver, the bits of its co
 
 // ---- Push constants, one struct a pass ----
 
-struct CountPush {  // animate, surfels, emit: the items; count_links, scatter_links: the link capacity
+struct CountPush {  // animate, surfels, emit, pull_up: the items; count_links, scatter_links: the link capacity
   uint count;
 };
-// Levels a pull-up dispatch takes (pull_up.comp sums descendants up to this many levels down).
-IVGI_CONST uint kPullUpLevels = 3u;
-struct LevelPush {  // refit, pull_up: the nodes of one level (pull_up: of up to kPullUpLevels levels)
+struct LevelPush {  // the nodes of one level of the trees
   uint first;
   uint count;
 };

@@ -190,7 +190,7 @@ void growInto(uint b) {
 }
 
 void insert(uint slot, uint b, uint64_t key, float omega, bool covers) {
-  if (minBin(slot, b, key) == kEmptyVisibility) atomicOr(mask[b >> 5], 1u << (b & 31u));
+  minBin(slot, b, key);
   if (covers) addCoverage(slot, b, uint(min(omega / imageLoad(binTable, int(b)).w, 1.0) * float(kCoverageUnit) + 0.5));
 }
 
@@ -612,6 +612,14 @@ void main() {
       }
       barrier();
       if (lid == 0u) wideCount = 0u;  // before the next chunk's filing, past its gathering barrier
+    }
+    barrier();
+    // The bins the walk filed senders in, read once from the bins rather than marked by every filing.
+    for (uint w = lid; w < kMaskWords; w += kGroupSize) {
+      uint bits = 0u;
+      for (uint i = 0u; i < 32u && w * 32u + i < kBinCount; ++i)
+        bits |= loadBin(slot, w * 32u + i) != kEmptyVisibility ? 1u << i : 0u;
+      mask[w] = bits;
     }
     barrier();
     // A merging leaf also re-emits the static bins beside those its frame senders touched: whether a

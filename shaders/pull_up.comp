@@ -1,50 +1,35 @@
 #version 460
-// Pass 6d, pull-up: inner nodes carry the area-weighted mean radiosity of the leaves below, so that
-// coarse senders send the new value. One dispatch takes up to kPullUpLevels levels, deepest first: a
-// node sums its descendants down to the first that are leaves or lie below the dispatch's levels
-// (done before), so that no node reads one the same dispatch writes.
+// Pass 6d, pull-up: inner nodes carry the area-weighted mean radiosity of their children (so of the
+// leaves below), so that coarse senders send the new value. The whole trees in one dispatch
+// (climb.glsl).
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 layout(local_size_x = 64) in;
 
 layout(binding = 0, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode
 layout(std430, binding = 1) readonly buffer Nodes { NodeState nodes[]; };
-layout(std430, binding = 2) buffer Radiosity { vec4 radiosity[]; };
-layout(push_constant) uniform Push { LevelPush push; };  // the dispatch's levels: nodes [first, first + count)
+layout(std430, binding = 2) coherent buffer Radiosity { vec4 radiosity[]; };
+layout(push_constant) uniform Push { CountPush push; };  // count: nodes
 
-vec3 weighted = vec3(0.0), mean = vec3(0.0);
-float area = 0.0, count = 0.0;
+uvec4 treeNodeAt(uint i) { return imageLoad(tree, int(i)); }
 
-void add(uint c) {
-  const float a = nodes[c].positionArea.w;
-  const vec3 b = radiosity[c].rgb;
-  weighted += a * b, mean += b, area += a, count += 1.0;
+void combine(uint i) {
+  const uvec4 t = treeNodeAt(i);
+  if (t.z == 0u) return;  // a leaf's radiosity is the interpolation's
+  vec3 weighted = vec3(0.0), mean = vec3(0.0);
+  float area = 0.0;
+  for (uint c = t.y; c < t.y + t.z; ++c) {
+    const float a = nodes[c].positionArea.w;
+    const vec3 b = radiosity[c].rgb;
+    weighted += a * b, mean += b, area += a;
+  }
+  radiosity[i] = vec4(area > 0.0 ? weighted / area : mean / float(t.z), 0.0);
 }
 
-// Children of node i and of its descendants within the dispatch's levels.
-uvec2 childrenOf(uint i) { return imageLoad(tree, int(i)).yz; }
-bool pending(uint c) { return c < push.first + push.count && imageLoad(tree, int(c)).z != 0u; }
+#define CLIMB_ARRIVALS 3
+#include "climb.glsl"
 
 void main() {
-  const uint k = itemIndex();
-  if (k >= push.count) return;
-  const uint i = push.first + k;
-  const uvec2 children = childrenOf(i);
-  if (children.y == 0u) return;
-  for (uint c = children.x; c < children.x + children.y; ++c) {
-    if (!pending(c)) {
-      add(c);
-      continue;
-    }
-    const uvec2 grand = childrenOf(c);
-    for (uint g = grand.x; g < grand.x + grand.y; ++g) {
-      if (!pending(g)) {
-        add(g);
-        continue;
-      }
-      const uvec2 great = childrenOf(g);
-      for (uint q = great.x; q < great.x + great.y; ++q) add(q);
-    }
-  }
-  radiosity[i] = vec4(area > 0.0 ? weighted / area : mean / count, 0.0);
+  const uint i = itemIndex();
+  if (i < push.count) climbFrom(i);
 }

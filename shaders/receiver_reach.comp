@@ -1,5 +1,5 @@
 #version 460
-// Receivers' reach, one level per dispatch, deepest first: per node, how far from its position the
+// Receivers' reach, bottom-up in one dispatch (climb.glsl): per node, how far from its position the
 // support of a sampled node at or below it that has a role reaches (negative where none does; a
 // support is centred on the node's receiver, which stands off the node's centre), and
 // the least cosine between a surfel's normal and the node's cone axis that such a receiver may still
@@ -11,16 +11,15 @@ layout(local_size_x = 64) in;
 
 layout(binding = 0, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode
 layout(binding = 1, r32f) readonly uniform imageBuffer roles;
-layout(std430, binding = 2) buffer Reach { vec2 reach[]; };  // reach, least cosine
+layout(std430, binding = 2) coherent buffer Reach { vec2 reach[]; };  // reach, least cosine
 layout(binding = 4, r32ui) readonly uniform uimageBuffer representatives;
 layout(binding = 5, r32ui) readonly uniform uimageBuffer leafOfSurfel;
-layout(push_constant) uniform Push { LevelPush push; };
+layout(push_constant) uniform Push { CountPush push; };  // count: nodes
 
-void main() {
-  const uint k = itemIndex();
-  if (k >= push.count) return;
-  const uint i = push.first + k;
-  const uvec4 t = imageLoad(tree, int(i));
+uvec4 treeNodeAt(uint i) { return imageLoad(tree, int(i)); }
+
+void combine(uint i) {
+  const uvec4 t = treeNodeAt(i);
   const float cone = nodeNormalCone(i).w, angle = cone + acos(kReceiverNormalCos);
   const vec3 p = nodePositionArea(i).xyz;
   float r = -1.0;
@@ -31,4 +30,12 @@ void main() {
   for (uint c = t.y; c < t.y + t.z; ++c)
     if (reach[c].x >= 0.0) r = max(r, distance(p, nodePositionArea(c).xyz) + reach[c].x);
   reach[i] = vec2(r, angle >= kPi ? -2.0 : cos(angle));
+}
+
+#define CLIMB_ARRIVALS 6
+#include "climb.glsl"
+
+void main() {
+  const uint i = itemIndex();
+  if (i < push.count) climbFrom(i);
 }

@@ -1,6 +1,6 @@
 #version 460
-// Pass 3, refit: node attributes bottom-up, one dispatch per level (deepest first). Leaves copy
-// their surfel; inner nodes combine their children, already refit.
+// Pass 3, refit: node attributes bottom-up, the whole trees in one dispatch (climb.glsl). Leaves
+// copy their surfel; inner nodes combine their children, already refit.
 //
 // Each node also gets the rectangle that has its area's second moments in its tangent plane
 // (half-extents √3·σ along its principal axes, or its children's where those are not clear):
@@ -13,8 +13,13 @@ layout(local_size_x = 64) in;
 
 layout(std430, binding = 0) readonly buffer Tree { TreeNode tree[]; };
 layout(std430, binding = 1) readonly buffer Surfels { Surfel surfels[]; };
-layout(std430, binding = 2) buffer Nodes { NodeState nodes[]; };
-layout(push_constant) uniform Push { LevelPush push; };
+layout(std430, binding = 2) coherent buffer Nodes { NodeState nodes[]; };
+layout(push_constant) uniform Push { CountPush push; };  // count: nodes
+
+uvec4 treeNodeAt(uint i) {
+  const TreeNode t = tree[i];
+  return uvec4(uint(t.parent), t.firstChild, t.childCount, uint(t.surfel));
+}
 
 // Second moments of a node's area about `centre`, in the tangent axes (a, b), per unit area:
 // its rectangle's own (uniform over ±e: e²/3 along each axis) plus its offset.
@@ -27,10 +32,7 @@ vec3 secondMoments(NodeState node, vec3 centre, vec3 a, vec3 b) {
   return vec3(dot(e2, pa * pa) + da * da, dot(e2, pb * pb) + db * db, dot(e2, pa * pb) + da * db);
 }
 
-void main() {
-  uint k = itemIndex();
-  if (k >= push.count) return;
-  uint i = push.first + k;
+void combine(uint i) {
   TreeNode t = tree[i];
   if (t.surfel >= 0) {
     Surfel s = surfels[t.surfel];
@@ -81,4 +83,12 @@ void main() {
   nodes[i].positionArea = vec4(p, area);
   nodes[i].normalCone = vec4(len > 0.0 ? n : vec3(0.0), min(cone, kPi));
   nodes[i].shape = vec4(radius, angle, halfExtents);
+}
+
+#define CLIMB_ARRIVALS 3
+#include "climb.glsl"
+
+void main() {
+  const uint i = itemIndex();
+  if (i < push.count) climbFrom(i);
 }

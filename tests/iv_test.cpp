@@ -343,6 +343,40 @@ TEST(IvHierarchy, NodesAreTheRectanglesOfTheirSurfaces) {
     for (int c = 0; c < 4; ++c) ASSERT_TRUE(std::isfinite(n.shape[c]));
 }
 
+// Refit runs the trees bottom-up in one dispatch (shaders/climb.glsl): every inner node must be
+// combined after all its children, its area their sum and its position their area-weighted mean,
+// also in a frame where the block has moved and the nodes are refit again.
+TEST(IvHierarchy, EveryNodeIsRefitAfterItsChildren) {
+  auto model = scenes::cornellBox({.cells = 8});
+  scene::Scene s = scene::sceneFromModel(model, "test");
+  scene::Geometry g = scene::buildGeometry(s);
+  gi::FrameRenderer r = test::ivRenderer(g, {16, 16, 1}, gi::makeIvSetup(s, g, {}));
+  for (float time : {0.0f, 0.7f}) {
+    auto pose = scene::evaluatePose(s, 0, time);
+    r.render(g.frameInputs(s, pose),
+             scene::framingCamera(scene::worldBounds(scene::animateOnHost(g, g.frameInputs(s, pose))), 1.0f));
+    const gi::Hierarchy& h = test::ivSolver(r).hierarchy();
+    const auto nodes = test::ivSolver(r).nodeStates();
+    size_t inner = 0, wrong = 0;
+    for (size_t i = 0; i < h.nodes.size(); ++i) {
+      const gpu::TreeNode& t = h.nodes[i];
+      if (t.childCount == 0) continue;
+      double area = 0.0;
+      glm::dvec3 weighted(0.0);
+      for (uint32_t c = t.firstChild; c < t.firstChild + t.childCount; ++c) {
+        area += nodes[c].positionArea.w;
+        weighted += double(nodes[c].positionArea.w) * glm::dvec3(nodes[c].positionArea);
+      }
+      ++inner;
+      const bool right = std::abs(nodes[i].positionArea.w - area) <= 1e-5 * area &&
+                         glm::length(glm::dvec3(nodes[i].positionArea) - weighted / area) <= 1e-5;
+      wrong += right ? 0 : 1;
+    }
+    ASSERT_GT(inner, 100u);
+    EXPECT_EQ(wrong, 0u) << "of " << inner << " inner nodes at time " << time;
+  }
+}
+
 // Direct light at the centre of the floor of the empty Cornell room (no blocks: nothing hides the
 // light), against the exact value: B/π = ρ·E/π, E the light's rectangle integrated numerically.
 TEST(IvDirectLight, FloorCentreUnderTheCornellLight) {

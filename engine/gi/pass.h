@@ -1,6 +1,6 @@
 #pragma once
 // What every pass record uses: its program from the embedded shaders, timestamps around it, and
-// the walk over the hierarchy's levels that refit and pull-up dispatch one level at a time.
+// the hierarchy's levels, deepest first.
 #include <string>
 
 #include "engine/gi/hierarchy.h"
@@ -25,26 +25,12 @@ void timedPass(VkCommandBuffer cmd, vk::PassTimer& timer, const char* name, Body
   vk::barrier(cmd);
 }
 
-// The nodes of the trees' levels in batches of `perBatch` levels, deepest first.
-inline std::vector<gpu::LevelPush> levelBatchesBottomUp(const Hierarchy& h, uint32_t perBatch = 1) {
-  std::vector<gpu::LevelPush> batches;
-  const auto& levels = h.levelStart;
-  for (size_t end = levels.size() - 1; end > 0;) {
-    const size_t first = end > perBatch ? end - perBatch : 0;
-    batches.push_back({levels[first], levels[end] - levels[first]});
-    end = first;
-  }
-  return batches;
-}
-
-// `body(level)` for each level of the trees (or batch of `perBatch` levels), deepest first, with a
-// barrier after each.
-template <class Body>
-void forEachLevelBottomUp(VkCommandBuffer cmd, const Hierarchy& h, Body&& body, uint32_t perBatch = 1) {
-  for (const gpu::LevelPush& level : levelBatchesBottomUp(h, perBatch)) {
-    body(level);
-    vk::barrier(cmd);
-  }
+// The nodes of each of the trees' levels, deepest first.
+inline std::vector<gpu::LevelPush> levelsBottomUp(const Hierarchy& h) {
+  std::vector<gpu::LevelPush> levels;
+  for (size_t end = h.levelStart.size() - 1; end > 0; --end)
+    levels.push_back({h.levelStart[end - 1], h.levelStart[end] - h.levelStart[end - 1]});
+  return levels;
 }
 
 }  // namespace ivgi::gi

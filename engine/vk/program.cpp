@@ -179,6 +179,8 @@ Program::Program(const Context& ctx, std::string name, std::span<const uint32_t>
   // parted_texels.glsl: the views' size is the device's; how many the pass reads, its own.
   if (const Reflection::Constant* c = constant("texelPartBits")) specialize(c->id, ctx.texelPartBits());
   if (const Reflection::Constant* c = constant("texelViews")) texelViews_ = c->value;
+  // climb.glsl: whether its atomics need fences around them.
+  if (const Reflection::Constant* c = constant("cpuDevice")) specialize(c->id, ctx.info().type == "cpu" ? 1u : 0u);
   if (specialization.localSizeX) {
     if (r.localSizeConstant[0] == Reflection::kLiteral)
       throw VulkanError("shader " + name_ + " sets its workgroup size itself (no local_size_x_id)");

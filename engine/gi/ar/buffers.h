@@ -15,6 +15,8 @@ struct ArBuffers {
   // emission of its bright emitters (static), whose links link creation takes down to the
   // receivers' surfels (ar reads the radiance itself).
   vk::Buffer nodes, nodeEmission, args, worklistA, worklistB;
+  // Per node, the refit's arrival counts (shaders/climb.glsl): zero between dispatches.
+  vk::Buffer arrivals;
   // The directional tables: per node the radiance less antiradiance it gathered over its links
   // (looking directions) and what it sends (travel directions; a flat node: its antiradiance times
   // its area, the rest: its intensity); per surfel its incident

@@ -15,7 +15,7 @@ ArIteration::ArIteration(const vk::Context& ctx, const Hierarchy& h, const ArSet
                                                                                        : gpu::kArGatherTableHere}}})),
       incident_(shaderProgram(ctx, "ar_incident", {.constants = {{"kDirs", settings.dirs}}})) {
   std::vector<uint32_t> inner;
-  for (const gpu::LevelPush& level : levelBatchesBottomUp(h)) {
+  for (const gpu::LevelPush& level : levelsBottomUp(h)) {
     const uint32_t first = uint32_t(inner.size());
     for (uint32_t n = level.first; n < level.first + level.count; ++n)
       if (h.nodes[n].childCount) inner.push_back(n);

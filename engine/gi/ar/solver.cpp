@@ -84,6 +84,7 @@ ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy h
   b_.environment = vk::makeBuffer(ctx, environmentTable(settings_.environment, n), vk::Memory::Device, tally);
   b_.lights = vk::Buffer(ctx, sizeof(gpu::PunctualLight), vk::Memory::Host, tally);
   b_.nodes = vk::Buffer(ctx, nodeCount_ * sizeof(gpu::NodeState), vk::Memory::Device, tally);
+  b_.arrivals = vk::makeBuffer(ctx, std::vector<uint32_t>(nodeCount_, 0u), vk::Memory::Device, tally);
   b_.nodeEmission = vk::makeBuffer(ctx, brightEmitters(hierarchy_, g.surfelEmission), vk::Memory::Device, tally);
   b_.args = vk::Buffer(ctx, 4 * sizeof(glm::uvec4), vk::Memory::Device, tally);
   b_.gathered = vk::Buffer(ctx, uint64_t(nodeCount_) * bins * sizeof(glm::vec4), vk::Memory::Device, tally);
@@ -165,7 +166,7 @@ void ArSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
   vkCmdFillBuffer(cmd, b_.gatherFlags.handle(), 0, VK_WHOLE_SIZE, 0u);
   vk::barrier(cmd);
   if (geometryMoved || !linked_) {
-    timedPass(cmd, timer, "refit", [&] { refit_.record(cmd, hierarchy_, b_.tree, surfels, b_.nodes); });
+    timedPass(cmd, timer, "refit", [&] { refit_.record(cmd, hierarchy_, b_.tree, surfels, b_.nodes, b_.arrivals); });
     timedPass(cmd, timer, "links", [&] {
       if (!staticLinked_ && !staticSet_.empty()) recordLinks(cmd, staticSet_);
       recordLinks(cmd, frameSet_);

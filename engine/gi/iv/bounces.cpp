@@ -10,6 +10,9 @@ constexpr uint32_t kGroupSize = 64;  // of interpolate.comp, pull_up.comp and bo
 
 glm::uvec4 argsOf(vk::Groups g) { return {g.x, g.y, g.z, 0u}; }
 
+// The bounce's dispatch sizes (bounce_check.comp): gather, interpolation, pull-up; then the tail's.
+constexpr uint32_t kPullUpArgs = 2, kBounceDispatches = 3;
+
 }  // namespace
 
 Bounces::Bounces(const vk::Context& ctx, const Hierarchy& h, vk::Allocations& allocations)
@@ -21,15 +24,13 @@ Bounces::Bounces(const vk::Context& ctx, const Hierarchy& h, vk::Allocations& al
       tail_(shaderProgram(ctx, "bounce_tail")) {
   makeGather();
   // The dispatch sizes of a whole bounce: the gather over the receivers (set each frame from how
-  // many there are), the interpolation at every surfel, then one pull-up a level; and the tail's,
-  // none until the check says otherwise.
+  // many there are), the interpolation at every surfel, the pull-up over every node; and the
+  // tail's, none until the check says otherwise.
   const vk::Groups interpolate = interpolate_.groupsFor(h.leafOfSurfel.size(), kGroupSize);
   interpolateGroups_ = interpolate.x * interpolate.y;
-  std::vector<glm::uvec4> full = {glm::uvec4(0u, 1u, 1u, 0u), argsOf(interpolate)};
-  const std::vector<gpu::LevelPush> batches = levelBatchesBottomUp(h, gpu::kPullUpLevels);
-  for (const gpu::LevelPush& batch : batches) full.push_back(argsOf(pullUp_.groupsFor(batch.count, kGroupSize)));
-  pullUpDispatches_ = uint32_t(batches.size());
-  full.push_back(glm::uvec4(0u, 1u, 1u, 0u));
+  const std::vector<glm::uvec4> full = {glm::uvec4(0u, 1u, 1u, 0u), argsOf(interpolate),
+                                        argsOf(pullUp_.groupsFor(h.nodes.size(), kGroupSize)),
+                                        glm::uvec4(0u, 1u, 1u, 0u)};
   fullArgs_ = vk::makeBuffer(ctx, full, vk::Memory::Device, &allocations);
   args_ = vk::Buffer(ctx, full.size() * sizeof(glm::uvec4), vk::Memory::Device, &allocations);
   sums_ = vk::Buffer(ctx, interpolateGroups_ * sizeof(gpu::BounceSum), vk::Memory::Device, &allocations);
@@ -45,14 +46,12 @@ uint32_t Bounces::maxGathers(const IvSettings& settings) {
 void Bounces::pullUp(VkCommandBuffer cmd, const IvBuffers& b, const Hierarchy& h, const vk::Buffer& radiosity,
                      bool indirect) const {
   const vk::Bindings bindings = b.pool().with({{"radiosity", radiosity}});
-  uint32_t index = 0;
-  forEachLevelBottomUp(
-      cmd, h,
-      [&](gpu::LevelPush batch) {
-        if (!indirect) return pullUp_.dispatchItems(cmd, batch.count, bindings, batch);
-        pullUp_.dispatchIndirect(cmd, args_, (2 + index++) * sizeof(glm::uvec4), bindings, batch);
-      },
-      gpu::kPullUpLevels);
+  const gpu::CountPush nodes{uint32_t(h.nodes.size())};
+  if (indirect)
+    pullUp_.dispatchIndirect(cmd, args_, kPullUpArgs * sizeof(glm::uvec4), bindings, nodes);
+  else
+    pullUp_.dispatchItems(cmd, nodes.count, bindings, nodes);
+  vk::barrier(cmd);
 }
 
 void Bounces::recordEmission(VkCommandBuffer cmd, const IvBuffers& b, const Hierarchy& h) const {
@@ -87,7 +86,7 @@ void Bounces::recordEstimate(VkCommandBuffer cmd, const IvBuffers& b, const Link
 void Bounces::recordSteps(VkCommandBuffer cmd, const IvBuffers& b, const Hierarchy& h, const LinkSet& staticSet,
                           const LinkSet& frameSet, const IvSettings& settings, uint32_t first, uint32_t steps) const {
   const uint32_t surfels = uint32_t(h.leafOfSurfel.size());
-  const gpu::BounceCheckPush check{interpolateGroups_, pullUpDispatches_ + 2, maxGathers(settings),
+  const gpu::BounceCheckPush check{interpolateGroups_, kBounceDispatches, maxGathers(settings),
                                    settings.bounces ? -1.0f : settings.bounceTolerance};
   for (uint32_t k = first; k < first + steps; ++k) {
     const vk::Buffer& in = k % 2 ? b.radiosityB : b.radiosityA;
@@ -112,7 +111,7 @@ void Bounces::recordSteps(VkCommandBuffer cmd, const IvBuffers& b, const Hierarc
                     {{"bounceSums", sums_}, {"bounceStates", state_}, {"fullArgs", fullArgs_}, {"bounceArgs", args_}},
                     check);
     vk::barrier(cmd);
-    tail_.dispatchIndirect(cmd, args_, (pullUpDispatches_ + 2) * sizeof(glm::uvec4),
+    tail_.dispatchIndirect(cmd, args_, (kBounceDispatches) * sizeof(glm::uvec4),
                            b.pool().with({{"bounceStates", state_}, {"irradianceChange", change_}}),
                            gpu::InterpolatePush{surfels});
     vk::barrier(cmd);

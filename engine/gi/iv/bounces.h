@@ -52,7 +52,7 @@ class Bounces {
   vk::Program interpolate_, pullUp_, check_, tail_;
   uint32_t texelViews_ = 1;
   std::optional<vk::Program> gather_;  // made again for more texel views
-  uint32_t interpolateGroups_, pullUpDispatches_;
+  uint32_t interpolateGroups_;
   vk::Buffer sums_, state_, fullArgs_, args_;  // per gather workgroup; the state; dispatch sizes, full and next
   vk::Buffer change_;                          // per surfel, the irradiance's change at the last gather
 };

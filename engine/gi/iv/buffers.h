@@ -17,6 +17,8 @@ struct IvBuffers {
   // node (bounces read one and write the other),
   // irradiance per surfel, and per surfel the irradiance from lights and the environment.
   vk::Buffer nodes, nodeEmission, radiosityA, radiosityB, irradiance, externalLight;
+  // Per node, the bottom-up passes' arrival counts (shaders/climb.glsl): zero between dispatches.
+  vk::Buffer arrivals;
   // Link creation's two worklists and the indirect dispatch arguments between its levels.
   vk::Buffer args, worklistA, worklistB;
   // Each leaf's surviving links (texels, past one storage binding), and per static leaf and mask
@@ -50,6 +52,7 @@ struct IvBuffers {
                                {"environment", environment},
                                {"lights", lights},
                                {"nodes", nodes},
+                               {"arrivals", arrivals},
                                {"nodeEmission", nodeEmission},
                                {"irradiance", irradiance},
                                {"externalLight", externalLight},

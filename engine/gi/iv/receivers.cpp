@@ -148,11 +148,11 @@ void Receivers::recordRefine(VkCommandBuffer cmd, const IvBuffers& b, uint32_t r
   vk::barrier(cmd);
 }
 
-void Receivers::recordWeights(VkCommandBuffer cmd, const IvBuffers& b, const Hierarchy& h,
-                              const Prune::Batching& batching) const {
+void Receivers::recordWeights(VkCommandBuffer cmd, const IvBuffers& b, const Prune::Batching& batching) const {
   roles_.dispatchItems(cmd, nodeCount_, b.pool(), push(listsOf(0)));
   vk::barrier(cmd);
-  forEachLevelBottomUp(cmd, h, [&](gpu::LevelPush level) { reach_.dispatchItems(cmd, level.count, b.pool(), level); });
+  reach_.dispatchItems(cmd, nodeCount_, b.pool(), gpu::CountPush{nodeCount_});
+  vk::barrier(cmd);
   const Lists none{gpu::kReceiverCandidatesA, gpu::kReceiverCandidatesB};
   neighbours_.dispatchItems(cmd, groupCount_, b.pool(), push(none));
   vk::barrier(cmd);

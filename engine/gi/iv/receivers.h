@@ -37,8 +37,7 @@ class Receivers {
   void recordRefine(VkCommandBuffer cmd, const IvBuffers& b, uint32_t round) const;
   // Each surfel's interpolation; surfels no receiver reaches are listed as the next receivers to
   // prune (their dispatch sizes set).
-  void recordWeights(VkCommandBuffer cmd, const IvBuffers& b, const Hierarchy& h,
-                     const Prune::Batching& batching) const;
+  void recordWeights(VkCommandBuffer cmd, const IvBuffers& b, const Prune::Batching& batching) const;
 
   struct Counts {
     uint32_t receivers, fills;

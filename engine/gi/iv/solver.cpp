@@ -107,6 +107,7 @@ void IvSolver::uploadScene(const scene::Geometry& g, const std::vector<uint32_t>
   b_.environment = vk::makeBuffer(ctx, environmentTable(settings_.environment, n), vk::Memory::Device, tally);
   b_.lights = vk::Buffer(ctx, sizeof(gpu::PunctualLight), vk::Memory::Host, tally);
   b_.nodes = deviceArray<gpu::NodeState>(ctx, nodeCount_, allocations_);
+  b_.arrivals = vk::makeBuffer(ctx, std::vector<uint32_t>(nodeCount_, 0u), vk::Memory::Device, tally);
   b_.args = vk::Buffer(ctx, 4 * sizeof(glm::uvec4), vk::Memory::Device, tally);
   for (LinkSet* set : {&staticSet_, &frameSet_}) set->allocateLists(ctx, nodeCount_, tally);
   b_.ranges = deviceArray<gpu::LeafRange>(ctx, surfelCount_, allocations_);
@@ -142,7 +143,7 @@ void IvSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
   }
   linkStatic_ = splitsStatic() && !staticLinked_;
   timedPass(cmd, timer, "refit", [&] {
-    refit_.record(cmd, h, b_.tree, surfels, b_.nodes);
+    refit_.record(cmd, h, b_.tree, surfels, b_.nodes, b_.arrivals);
     bounces_.recordEmission(cmd, b_, h);
   });
   staticPasses_ += linkStatic_ ? 1 : 0;
@@ -191,7 +192,7 @@ void IvSolver::recordReceivers(VkCommandBuffer cmd, vk::PassTimer& timer) {
     });
   }
   // Surfels that no receiver's support holds become receivers too.
-  timedPass(cmd, timer, "interpolation", [&] { receivers_.recordWeights(cmd, b_, setup_.hierarchy, batching); });
+  timedPass(cmd, timer, "interpolation", [&] { receivers_.recordWeights(cmd, b_, batching); });
   timedPass(cmd, timer, "prune", [&] { prune_.recordReceivers(cmd, staticSet_, frameSet_, b_, lightCount_); });
 }
 

@@ -1,0 +1,30 @@
+// Bottom-up over the trees in one dispatch (refit, pull-up, the receivers' reach), instead of one
+// dispatch a level: each dispatch costs lavapipe a wake-up and a wait of its threads whatever its
+// work. An invocation per node; a leaf's combines its node and climbs: a parent is combined by the
+// invocation whose child arrives there last (a count per node, which that invocation sets back to
+// zero for the next dispatch), so every node is combined once, after all its children. Which
+// invocation combines a node differs from run to run; what it computes does not.
+//
+// The including shader defines CLIMB_ARRIVALS (the binding of the counts), `uvec4 treeNodeAt(uint)`
+// (gpu::TreeNode: parent, first child, child count, surfel) and `void combine(uint node)`, and
+// declares `coherent` the buffer that combine() writes and reads of children.
+layout(std430, binding = CLIMB_ARRIVALS) coherent buffer Arrivals { uint arrivals[]; };
+// Set by vk::Program from the device. A CPU device's atomics already order the memory around them,
+// and lavapipe loses lanes of a divergent loop at a memoryBarrierBuffer().
+layout(constant_id = 29) const bool cpuDevice = false;
+
+// From node `leaf` (nothing where it is not a leaf) up to where a sibling is still to come.
+void climbFrom(uint leaf) {
+  uvec4 t = treeNodeAt(leaf);
+  if (t.z == 0u) combine(leaf);
+  int parent = t.z == 0u ? int(t.x) : -1;
+  while (parent >= 0) {
+    if (!cpuDevice) memoryBarrierBuffer();  // the node's result before its arrival is counted
+    t = treeNodeAt(uint(parent));
+    if (atomicAdd(arrivals[parent], 1u) + 1u < t.z) break;
+    arrivals[parent] = 0u;
+    if (!cpuDevice) memoryBarrierBuffer();  // the siblings' results after the last arrival
+    combine(uint(parent));
+    parent = int(t.x);
+  }
+}
