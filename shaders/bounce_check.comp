@@ -14,9 +14,7 @@ layout(local_size_x = 1) in;
 
 layout(std430, binding = 0) readonly buffer BounceSums { BounceSum sums[]; };
 layout(std430, binding = 1) buffer BounceStates { BounceState state; };
-layout(std430, binding = 2) readonly buffer FullArgs {
-  uvec4 fullArgs[];
-};  // gather, interpolation, pull-up
+layout(std430, binding = 2) readonly buffer FullArgs { uvec4 fullArgs[]; };       // gather, interpolation, pull-up
 layout(std430, binding = 3) writeonly buffer BounceArgs { uvec4 bounceArgs[]; };  // and the tail's last
 layout(push_constant) uniform Push { BounceCheckPush push; };
 

@@ -1,13 +1,14 @@
-// Bottom-up over the trees in one dispatch (refit, pull-up, the receivers' reach), instead of one
-// dispatch a level: each dispatch costs lavapipe a wake-up and a wait of its threads whatever its
-// work. An invocation per node; a leaf's combines its node and climbs: a parent is combined by the
-// invocation whose child arrives there last (a count per node, which that invocation sets back to
-// zero for the next dispatch), so every node is combined once, after all its children. Which
-// invocation combines a node differs from run to run; what it computes does not.
+// Bottom-up over the trees in one dispatch (refit, pull-up, the receivers' reach): a dispatch a
+// level would cost lavapipe a wake-up and a wait of its threads each, whatever its work. An
+// invocation per node (main() below); a leaf's combines its node and climbs: a parent is combined
+// by the invocation whose child arrives there last (a count per node, which that invocation sets
+// back to zero for the next dispatch), so every node is combined once, after all its children.
+// Which invocation combines a node differs from run to run; what it computes does not.
 //
 // The including shader defines CLIMB_ARRIVALS (the binding of the counts), `uvec4 treeNodeAt(uint)`
-// (gpu::TreeNode: parent, first child, child count, surfel) and `void combine(uint node)`, and
-// declares `coherent` the buffer that combine() writes and reads of children.
+// (gpu::TreeNode: parent, first child, child count, surfel), `void combine(uint node)` and a push
+// constant `push` whose `count` is the number of nodes (gpu::CountPush), and declares `coherent`
+// the buffer that combine() writes and reads of children.
 layout(std430, binding = CLIMB_ARRIVALS) coherent buffer Arrivals { uint arrivals[]; };
 // Set by vk::Program from the device. A CPU device's atomics already order the memory around them,
 // and lavapipe loses lanes of a divergent loop at a memoryBarrierBuffer().
@@ -27,4 +28,9 @@ void climbFrom(uint leaf) {
     combine(uint(parent));
     parent = int(t.x);
   }
+}
+
+void main() {
+  const uint i = itemIndex();
+  if (i < push.count) climbFrom(i);
 }

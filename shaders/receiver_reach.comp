@@ -34,8 +34,3 @@ void combine(uint i) {
 
 #define CLIMB_ARRIVALS 6
 #include "climb.glsl"
-
-void main() {
-  const uint i = itemIndex();
-  if (i < push.count) climbFrom(i);
-}

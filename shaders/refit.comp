@@ -87,8 +87,3 @@ void combine(uint i) {
 
 #define CLIMB_ARRIVALS 3
 #include "climb.glsl"
-
-void main() {
-  const uint i = itemIndex();
-  if (i < push.count) climbFrom(i);
-}

@@ -111,7 +111,7 @@ void Bounces::recordSteps(VkCommandBuffer cmd, const IvBuffers& b, const Hierarc
                     {{"bounceSums", sums_}, {"bounceStates", state_}, {"fullArgs", fullArgs_}, {"bounceArgs", args_}},
                     check);
     vk::barrier(cmd);
-    tail_.dispatchIndirect(cmd, args_, (kBounceDispatches) * sizeof(glm::uvec4),
+    tail_.dispatchIndirect(cmd, args_, kBounceDispatches * sizeof(glm::uvec4),
                            b.pool().with({{"bounceStates", state_}, {"irradianceChange", change_}}),
                            gpu::InterpolatePush{surfels});
     vk::barrier(cmd);
