@@ -10,9 +10,6 @@
 // constant `push` whose `count` is the number of nodes (gpu::CountPush), and declares `coherent`
 // the buffer that combine() writes and reads of children.
 layout(std430, binding = CLIMB_ARRIVALS) coherent buffer Arrivals { uint arrivals[]; };
-// Set by vk::Program from the device. A CPU device's atomics already order the memory around them,
-// and lavapipe loses lanes of a divergent loop at a memoryBarrierBuffer().
-layout(constant_id = 29) const bool cpuDevice = false;
 
 // From node `leaf` (nothing where it is not a leaf) up to where a sibling is still to come.
 void climbFrom(uint leaf) {

@@ -4,6 +4,11 @@
 #extension GL_EXT_shader_atomic_int64 : require
 #include "interface.h"
 
+// Set by vk::Program from the device. A CPU device's atomics already order the memory around them,
+// and lavapipe loses lanes of a divergent loop at a memory barrier: fences between workgroups of one
+// dispatch (climb.glsl, a last workgroup's bookkeeping) are a GPU's only.
+layout(constant_id = 29) const bool cpuDevice = false;
+
 // Linear item index of a dispatch laid out over x then y (Program::dispatchItems).
 uint itemIndex() { return gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x; }
 uint groupIndex() { return gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x; }

@@ -2,7 +2,7 @@
 // Pass 4b: links per receiver node, to sort the links by receiver.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
-layout(local_size_x = 256) in;
+layout(local_size_x = kLinkGroup) in;
 
 layout(binding = 0, rg32ui) readonly uniform uimageBuffer links;  // receiver, sender
 layout(std430, binding = 1) buffer Counts { uint counts[]; };

@@ -159,8 +159,16 @@ IVGI_CONST uint kCounterLeafLinks = 3u;
 IVGI_CONST uint kCounterOverflow = 4u;
 IVGI_CONST uint kCounterWorklistPeak = 5u;
 IVGI_CONST uint kCounterSendersWalked = 6u;
-IVGI_CONST uint kCounterSlots = 8u;
-IVGI_CONST uint kNoCounter = 0xFFFFFFFFu;
+IVGI_CONST uint kCounterGroupsDone = 8u;  // a refinement level's finished workgroups (refine_links)
+IVGI_CONST uint kCounterSlots = 9u;
+// Link creation's workgroups (refine_links, count_links, scatter_links) and its indirect dispatch
+// sizes (uvec4 each in its args buffer): the next refinement level's, and the sort's (the links).
+IVGI_CONST uint kLinkGroup = 256u;
+IVGI_CONST uint kLinkArgsLevel = 0u;
+IVGI_CONST uint kLinkArgsSort = 1u;
+// The dispatch size for a list of `items` (each dispatch loops over what its workgroups cannot
+// cover at once).
+IVGI_FN uvec4 linkGroupsFor(uint items) { return uvec4(min((items + kLinkGroup - 1u) / kLinkGroup, 65535u), 1u, 1u, 0u); }
 // Bits of counters[kCounterOverflow]: what a frame ran out of room for (it is redone with more).
 // kOverflowLoopBudget: a prune workgroup ran out of lavapipe's loop budget (common.glsl).
 IVGI_CONST uint kOverflowWorklist = 1u;
@@ -251,12 +259,6 @@ struct CountPush {  // animate, surfels, emit, pull_up: the items; count_links, 
 struct LevelPush {  // the nodes of one level of the trees
   uint first;
   uint count;
-};
-struct LinkArgsPush {
-  uint source;     // counter slot whose items the next dispatch takes
-  uint clear;      // counter slot to zero for the next list (kNoCounter: none)
-  uint slot;       // which dispatch arguments to write
-  uint groupSize;  // the next dispatch's workgroup size
 };
 struct QueueArgsPush {
   uint slot;  // which dispatch arguments to write

@@ -1,23 +1,27 @@
 #version 460
 // Pass 4, link creation, one refinement level: each candidate pair (receiver, sender) is stored as
-// a link or split into the pairs of the larger node's children (docs/design.md §2.1).
+// a link or split into the pairs of the larger node's children (docs/design.md §2.1). The last
+// workgroup to finish sizes the next level's dispatch and the sort's, so that a level is one
+// dispatch (a level of no pairs runs no workgroup, and leaves the sizes it found: zero for the next
+// level, the links for the sort).
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 1
 #include "common.glsl"
-layout(local_size_x = 256) in;
+layout(local_size_x = kLinkGroup) in;
 
 layout(binding = 0, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode
 layout(binding = 2, rg32ui) readonly uniform uimageBuffer pairs;
 // Texels, as every array that grows with the link counts: their views reach past one storage binding.
 layout(binding = 3, rg32ui) writeonly uniform uimageBuffer nextWorklist;
 layout(binding = 4, rg32ui) writeonly uniform uimageBuffer links;
-layout(std430, binding = 5) buffer Counters { uint counters[]; };
+layout(std430, binding = 5) coherent buffer Counters { uint counters[]; };
 layout(std430, binding = 6) readonly buffer NodeEmission { vec4 nodeEmission[]; };  // nonzero: the node emits
+layout(std430, binding = 7) writeonly buffer Args { uvec4 args[]; };
 layout(push_constant) uniform Push { RefinePush push; };
 
 // Room in the next worklist for `count` pairs, taken at once (the counter is shared by every
-// thread): the first slot. Past the capacity the frame is redone (link_args records how long the
-// list grew).
+// thread): the first slot. Past the capacity the frame is redone (sizeNextLevel() records how long
+// the list grew).
 uint reservePairs(uint count) {
   uint first = atomicAdd(counters[push.target], count);
   if (first + count > push.capacity) atomicOr(counters[kCounterOverflow], kOverflowWorklist);
@@ -49,7 +53,18 @@ float cosUpper(vec3 n, float cone, vec3 dir, float spread) {
   return angle <= 0.0 ? 1.0 : (angle >= 0.5 * kPi ? 0.0 : cos(angle));
 }
 
-void main() {
+// Once every workgroup has listed its pairs: the dispatch sizes of the next level and of the sort,
+// the longest list so far (counted past the capacity too: the room the next frame's lists need),
+// and this level's counter zeroed, to count the level after next.
+void sizeNextLevel() {
+  const uint items = counters[push.target];
+  counters[kCounterWorklistPeak] = max(counters[kCounterWorklistPeak], items);
+  args[kLinkArgsLevel] = linkGroupsFor(items);
+  args[kLinkArgsSort] = linkGroupsFor(counters[kCounterLinks]);
+  counters[push.source] = 0u;
+}
+
+void refinePairs() {
   uint total = counters[push.source];
   uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
   for (uint k = gl_GlobalInvocationID.x; k < total && k < push.capacity; k += stride) {
@@ -113,4 +128,15 @@ void main() {
     // Split the larger node (by area), or the one that is not a leaf.
     emitChildPairs(r, s, tr, ts, leafS || (!leafR && nr.positionArea.w >= ns.positionArea.w));
   }
+}
+
+void main() {
+  refinePairs();
+  barrier();  // this workgroup's pairs listed
+  if (gl_LocalInvocationIndex != 0u) return;
+  if (!cpuDevice) memoryBarrier();  // before its finish is counted
+  if (atomicAdd(counters[kCounterGroupsDone], 1u) + 1u < gl_NumWorkGroups.x * gl_NumWorkGroups.y) return;
+  counters[kCounterGroupsDone] = 0u;
+  if (!cpuDevice) memoryBarrier();  // every workgroup's pairs counted
+  sizeNextLevel();
 }

@@ -4,7 +4,7 @@
 // that emits is marked (kEmitterBit), so that the pruning lists it without reading its emission.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
-layout(local_size_x = 256) in;
+layout(local_size_x = kLinkGroup) in;
 
 layout(binding = 0, rg32ui) readonly uniform uimageBuffer links;    // receiver, sender
 layout(std430, binding = 1) buffer Counts { uint cursors[]; };      // the scan made the counts cursors

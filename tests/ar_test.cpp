@@ -266,6 +266,49 @@ TEST(ArDeterminism, TwoSolvesGiveTheSameBits) {
   EXPECT_EQ(0, std::memcmp(a.irradiance.data(), b.irradiance.data(), a.irradiance.size() * sizeof(glm::vec4)));
 }
 
+// The pull-up combines every cluster's table after its children's (a level a dispatch, deepest
+// first): after the last of a fixed count of iterations (each leaves different tables, so a cluster
+// combined from stale children shows), every flat cluster (whose table holds its children's
+// antiradiance summed, its exitance their exitance summed) holds its children's sums in every bin.
+TEST(ArPullUp, EveryFlatClusterSumsItsChildrenInEveryBin) {
+  auto model = scenes::cornellBox({.cells = 8});
+  scene::Scene s = scene::sceneFromModel(model, "test");
+  scene::Geometry g = scene::buildGeometry(s);
+  const gi::ArSettings settings{.dirs = 3, .iterations = 3};
+  gi::FrameRenderer r(test::gpu(), g, {16, 16, 1},
+                      std::make_unique<gi::ArSolver>(test::gpu(), g, gi::restPoseHierarchy(s, g), settings));
+  auto pose = scene::evaluatePose(s, 0, 0.5f);
+  r.render(g.frameInputs(s, pose),
+           scene::framingCamera(scene::worldBounds(scene::animateOnHost(g, g.frameInputs(s, pose))), 1.0f));
+  const auto& ar = dynamic_cast<const gi::ArSolver&>(*r.solver());
+  const gi::Hierarchy& h = ar.hierarchy();
+  const auto nodes = ar.nodeStates();
+  const auto intensity = ar.intensities(), exitance = ar.exitances();
+  const size_t bins = 6 * settings.dirs * settings.dirs;
+  size_t flat = 0, wrong = 0;
+  double scale = 0.0;
+  for (const glm::vec4& e : exitance) scale = std::max(scale, double(glm::length(glm::vec3(e))));
+  auto near = [&](glm::dvec3 a, glm::vec4 b) { return glm::length(a - glm::dvec3(b)) <= 1e-5 * scale; };
+  for (size_t i = 0; i < h.nodes.size(); ++i) {
+    const gpu::TreeNode& t = h.nodes[i];
+    if (t.childCount == 0 || nodes[i].normalCone.w > gpu::kArFlatCone) continue;
+    ++flat;
+    glm::dvec3 exitanceSum(0.0);
+    for (uint32_t c = t.firstChild; c < t.firstChild + t.childCount; ++c) exitanceSum += glm::dvec3(exitance[c]);
+    bool right = near(exitanceSum, exitance[i]);
+    for (size_t bin = 0; bin < bins; ++bin) {
+      glm::dvec3 sum(0.0);
+      for (uint32_t c = t.firstChild; c < t.firstChild + t.childCount; ++c)
+        sum += glm::dvec3(intensity[c * bins + bin]);
+      right = right && near(sum, intensity[i * bins + bin]);
+    }
+    wrong += right ? 0 : 1;
+  }
+  ASSERT_GT(scale, 0.0);
+  ASSERT_GT(flat, 100u);
+  EXPECT_EQ(wrong, 0u) << "of " << flat << " flat clusters";
+}
+
 // A receiver's list longer than one dispatch of the global pass walks (on lavapipe, what its loop
 // budget allows: kArGatherChunk links) is walked in several, each going on where the one before
 // stopped: the frame that finds such a list is redone in as many, and sums in the same order as one

@@ -1,6 +1,7 @@
 #include "engine/gi/links.h"
 
 #include <algorithm>
+#include <array>
 
 #include "engine/gi/pass.h"
 
@@ -54,8 +55,7 @@ uint32_t withMargin(uint32_t needed) {
 uint32_t LinkSet::leafLinksHeld() const { return std::min(leafLinkCapacity, readCounters()[gpu::kCounterLeafLinks]); }
 
 LinkCreation::LinkCreation(const vk::Context& ctx)
-    : args_(shaderProgram(ctx, "link_args")),
-      refine_(shaderProgram(ctx, "refine_links")),
+    : refine_(shaderProgram(ctx, "refine_links")),
       count_(shaderProgram(ctx, "count_links")),
       scan_(shaderProgram(ctx, "scan_counts")),
       scatter_(shaderProgram(ctx, "scatter_links")) {}
@@ -64,34 +64,36 @@ uint32_t LinkCreation::levels(const Hierarchy& h) { return 2 * (h.maxDepth() + 1
 
 void LinkCreation::record(VkCommandBuffer cmd, LinkSet& set, const LinkWork& b, const Hierarchy& h,
                           const LinkCriteria& criteria, uint32_t worklistCapacity) const {
-  const uint32_t start[2] = {uint32_t(set.rootPairs.size() / 2), 0};
+  // The first level's list (the root pairs), counted as the longest so far, and its dispatch size;
+  // each level's last workgroup sizes the next (refine_links).
+  const uint32_t rootPairs = uint32_t(set.rootPairs.size() / 2);
+  std::array<uint32_t, gpu::kCounterWorklistPeak + 1> start{};
+  start[gpu::kCounterWorklistA] = start[gpu::kCounterWorklistPeak] = rootPairs;
+  const glm::uvec4 firstLevel = gpu::linkGroupsFor(rootPairs);
   vkCmdFillBuffer(cmd, set.counters.handle(), 0, VK_WHOLE_SIZE, 0);
   vkCmdFillBuffer(cmd, set.counts.handle(), 0, VK_WHOLE_SIZE, 0);
   vk::barrier(cmd);
-  vkCmdUpdateBuffer(cmd, set.counters.handle(), 0, sizeof(start), start);
+  vkCmdUpdateBuffer(cmd, set.counters.handle(), 0, sizeof(start), start.data());
+  vkCmdUpdateBuffer(cmd, b.args.handle(), gpu::kLinkArgsLevel * sizeof(glm::uvec4), sizeof(firstLevel), &firstLevel);
   const VkBufferCopy copy{0, 0, set.rootPairs.size() * sizeof(uint32_t)};
   vkCmdCopyBuffer(cmd, set.roots.handle(), b.worklistA.handle(), 1, &copy);
   vk::barrier(cmd);
   const uint32_t levelCount = levels(h);
   for (uint32_t level = 0; level < levelCount; ++level) {
     const uint32_t in = level % 2, out = 1 - in;
-    args_.dispatch(cmd, {}, {{"counters", set.counters}, {"args", b.args}}, gpu::LinkArgsPush{in, out, 0, 256});
-    vk::barrier(cmd);
-    refine_.dispatchIndirect(cmd, b.args, 0,
+    refine_.dispatchIndirect(cmd, b.args, gpu::kLinkArgsLevel * sizeof(glm::uvec4),
                              b.pool.with({{"pairs", in ? b.worklistB : b.worklistA},
                                           {"nextWorklist", in ? b.worklistA : b.worklistB},
                                           {"links", set.links},
-                                          {"counters", set.counters}}),
+                                          {"counters", set.counters},
+                                          {"args", b.args}}),
                              gpu::RefinePush{in, out, worklistCapacity, set.linkCapacity, criteria.epsilon,
                                              criteria.largeSender, criteria.largeReceiver, criteria.bothSides ? 1u : 0u,
                                              criteria.emitterReceiver, criteria.receiverStaysWhole ? 1u : 0u});
     vk::barrier(cmd);
   }
   // Links sorted by receiver: count, scan, scatter.
-  args_.dispatch(cmd, {}, {{"counters", set.counters}, {"args", b.args}},
-                 gpu::LinkArgsPush{gpu::kCounterLinks, gpu::kNoCounter, 1, 256});
-  vk::barrier(cmd);
-  const VkDeviceSize sortArgs = sizeof(glm::uvec4);
+  const VkDeviceSize sortArgs = gpu::kLinkArgsSort * sizeof(glm::uvec4);
   count_.dispatchIndirect(cmd, b.args, sortArgs,
                           {{"links", set.links}, {"counts", set.counts}, {"counters", set.counters}},
                           gpu::CountPush{set.linkCapacity});

@@ -81,7 +81,7 @@ class LinkCreation {
               const LinkCriteria& criteria, uint32_t worklistCapacity) const;
 
  private:
-  vk::Program args_, refine_, count_, scan_, scatter_;
+  vk::Program refine_, count_, scan_, scatter_;
 };
 
 }  // namespace ivgi::gi

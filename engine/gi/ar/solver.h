@@ -40,6 +40,14 @@ class ArSolver final : public Solver {
   ArStats stats() const;
   // Readback for tests: per surfel, the irradiance of the last iteration.
   std::vector<glm::vec4> surfelIrradiance() const { return b_.irradiance.read<glm::vec4>(surfelCount_); }
+  const Hierarchy& hierarchy() const { return hierarchy_; }
+  // Readback for tests: per node its refit state, and the table of what it sends (6·N² bins a node)
+  // and exitance that the last iteration's local pass and pull-up left.
+  std::vector<gpu::NodeState> nodeStates() const { return b_.nodes.read<gpu::NodeState>(nodeCount_); }
+  std::vector<glm::vec4> intensities() const {
+    return b_.intensity.read<glm::vec4>(size_t(nodeCount_) * 6 * settings_.dirs * settings_.dirs);
+  }
+  std::vector<glm::vec4> exitances() const { return b_.exitance.read<glm::vec4>(nodeCount_); }
   // Readback for tests: each receiver node's senders in the order the global pass walks them, of
   // the links made once between static objects or of the frame's.
   std::vector<std::vector<uint32_t>> senderLists(bool staticLinks) const;
