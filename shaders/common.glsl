@@ -9,14 +9,21 @@
 // dispatch (climb.glsl, a last workgroup's bookkeeping) are a GPU's only.
 layout(constant_id = 29) const bool cpuDevice = false;
 
+// Ends main() in every invocation but the first of the dispatch's last workgroup to get here, which
+// may then read what every workgroup wrote (a dispatch's bookkeeping for the next, without a
+// dispatch of its own). `done`: a counter, zero before and set back to zero here. Use in main(),
+// after the work, in uniform control flow.
+#define ONLY_IN_THE_LAST_WORKGROUP(done)                                          \
+  barrier();                                                                      \
+  if (gl_LocalInvocationIndex != 0u) return;                                      \
+  if (!cpuDevice) memoryBarrier(); /* its work before its finish is counted */    \
+  if (atomicAdd(done, 1u) + 1u < gl_NumWorkGroups.x * gl_NumWorkGroups.y) return; \
+  done = 0u;                                                                      \
+  if (!cpuDevice) memoryBarrier() /* every workgroup's work after the last finish */
+
 // Linear item index of a dispatch laid out over x then y (Program::dispatchItems).
 uint itemIndex() { return gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x + gl_GlobalInvocationID.x; }
 uint groupIndex() { return gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x; }
-// Indirect dispatch size for `items` invocations of `size`, laid out over x then y (itemIndex()).
-uvec4 groupsFor(uint items, uint size) {
-  const uint groups = (items + size - 1u) / size;
-  return uvec4(min(groups, 65535u), (groups + 65534u) / 65535u, 1u, 0u);
-}
 
 // Watertight ray–triangle test without culling (Woop, Benthin and Wald 2013): the corners are moved
 // into the ray's frame, sheared so that the ray runs along its major axis, and each edge's function

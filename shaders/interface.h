@@ -166,9 +166,16 @@ IVGI_CONST uint kCounterSlots = 9u;
 IVGI_CONST uint kLinkGroup = 256u;
 IVGI_CONST uint kLinkArgsLevel = 0u;
 IVGI_CONST uint kLinkArgsSort = 1u;
+// Indirect dispatch size for `items` invocations of `size`, laid out over x then y (itemIndex()).
+IVGI_FN uvec4 groupsFor(uint items, uint size) {
+  const uint groups = (items + size - 1u) / size;
+  return uvec4(min(groups, 65535u), (groups + 65534u) / 65535u, 1u, 0u);
+}
 // The dispatch size for a list of `items` (each dispatch loops over what its workgroups cannot
 // cover at once).
-IVGI_FN uvec4 linkGroupsFor(uint items) { return uvec4(min((items + kLinkGroup - 1u) / kLinkGroup, 65535u), 1u, 1u, 0u); }
+IVGI_FN uvec4 linkGroupsFor(uint items) {
+  return uvec4(min((items + kLinkGroup - 1u) / kLinkGroup, 65535u), 1u, 1u, 0u);
+}
 // Bits of counters[kCounterOverflow]: what a frame ran out of room for (it is redone with more).
 // kOverflowLoopBudget: a prune workgroup ran out of lavapipe's loop budget (common.glsl).
 IVGI_CONST uint kOverflowWorklist = 1u;
@@ -204,10 +211,11 @@ IVGI_FN uint maskWordsFor(uint n) { return (6u * n * n + 31u) / 32u; }
 // interpolated to every other surfel. Slots of the receivers' counter buffer:
 IVGI_CONST uint kReceiverCandidatesA = 0u;  // the two candidate lists of the refinement rounds
 IVGI_CONST uint kReceiverCandidatesB = 1u;
-IVGI_CONST uint kReceiverCount = 2u;  // receivers listed so far this frame
-IVGI_CONST uint kReceiverRound = 3u;  // the first receiver listed in this round
-IVGI_CONST uint kReceiverFills = 4u;  // surfels that no receiver's support reached, made receivers
-IVGI_CONST uint kReceiverScale = 5u;  // the largest irradiance gathered (luminance bits)
+IVGI_CONST uint kReceiverCount = 2u;       // receivers listed so far this frame
+IVGI_CONST uint kReceiverRound = 3u;       // the first receiver listed in this round
+IVGI_CONST uint kReceiverFills = 4u;       // surfels that no receiver's support reached, made receivers
+IVGI_CONST uint kReceiverScale = 5u;       // the largest irradiance gathered (luminance bits)
+IVGI_CONST uint kReceiverGroupsDone = 6u;  // workgroups of a round's step that finished
 IVGI_CONST uint kReceiverSlots = 8u;
 // A surfel's support radius as float bits: +inf while it is not a receiver (atomicMin lists it once).
 IVGI_CONST uint kNotReceiver = 0x7F800000u;
@@ -219,8 +227,9 @@ IVGI_CONST uint kGroupNeighbours = 256u;
 // Invocations a workgroup of the dispatches over receivers and candidates: a round lists few, and
 // lavapipe runs a workgroup on one thread, so small workgroups keep every thread busy.
 IVGI_CONST uint kReceiverGroup = 8u;
-// Dispatch arguments of receiver_args.comp, in order: the round's candidates, the round's new
-// receivers, every receiver, then one per prune batch over the new receivers.
+// Dispatch arguments of the receivers (shaders/receiver_args.glsl), in order: the round's
+// candidates, the round's new receivers, every receiver, then one per prune batch over the new
+// receivers.
 IVGI_CONST uint kArgsCandidates = 0u;
 IVGI_CONST uint kArgsNewReceivers = 1u;
 IVGI_CONST uint kArgsReceivers = 2u;
@@ -311,7 +320,8 @@ struct ReceiverPush {
   float floorShare;  // a sample darker than this share of the largest is judged against that
   uint groupCount;   // of neighbour lists
   float largest;     // the largest radius a cell may have
-  uint pad0, pad1, pad2;
+  // The prune's batching (Prune::Batching), for the dispatch sizes over the receivers listed.
+  uint batch, leavesPerGroup, maxGroups, batches;
 };
 struct InterpolatePush {
   uint surfelCount;

@@ -132,11 +132,6 @@ void refinePairs() {
 
 void main() {
   refinePairs();
-  barrier();  // this workgroup's pairs listed
-  if (gl_LocalInvocationIndex != 0u) return;
-  if (!cpuDevice) memoryBarrier();  // before its finish is counted
-  if (atomicAdd(counters[kCounterGroupsDone], 1u) + 1u < gl_NumWorkGroups.x * gl_NumWorkGroups.y) return;
-  counters[kCounterGroupsDone] = 0u;
-  if (!cpuDevice) memoryBarrier();  // every workgroup's pairs counted
+  ONLY_IN_THE_LAST_WORKGROUP(counters[kCounterGroupsDone]);
   sizeNextLevel();
 }

@@ -9,7 +9,8 @@
 //   might go unseen);
 // - its sample against the prediction from the other samples nearby of its level or coarser, over
 //   --receiver-tol of its own irradiance (against a share of the largest where it is darker).
-// A child whose need passes kRefineFrom is refined: the next round's candidate.
+// A child whose need passes kRefineFrom is refined: the next round's candidate. The last workgroup
+// starts the next round.
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 12
 #include "common.glsl"
@@ -19,7 +20,7 @@ layout(binding = 0, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode
 layout(binding = 1, r32ui) readonly uniform uimageBuffer representatives;
 layout(binding = 2, r32ui) readonly uniform uimageBuffer candidatesIn;
 layout(std430, binding = 3) writeonly buffer CandidatesOut { uint candidatesOut[]; };
-layout(std430, binding = 4) buffer ReceiverCounts { uint receiverCounts[]; };
+layout(std430, binding = 4) coherent buffer ReceiverCounts { uint receiverCounts[]; };
 layout(binding = 5, r32ui) readonly uniform uimageBuffer skip;
 layout(binding = 6, rgba32f) readonly uniform imageBuffer gathered;  // per surfel, at receivers
 layout(binding = 7, r32ui) readonly uniform uimageBuffer leafOfSurfel;
@@ -27,7 +28,9 @@ layout(std430, binding = 8) readonly buffer Proximity { float proximity[]; };  /
 layout(std430, binding = 9) buffer Needs { float needs[]; };                   // per node
 layout(std430, binding = 10) readonly buffer LevelStarts { uint levelStarts[]; };
 layout(binding = 11, r32f) readonly uniform imageBuffer presences;  // 0 where not sampled
+layout(std430, binding = 13) writeonly buffer ReceiverArgs { uvec4 receiverArgs[]; };
 layout(push_constant) uniform Push { ReceiverPush push; };
+#include "receiver_args.glsl"
 
 #include "receivers.glsl"
 
@@ -117,7 +120,7 @@ float lightNeed(uint c, uint s, float floorValue, uvec2 level, bool listed) {
   return abs(max(prediction, 0.0) - value) / max(push.tolerance * max(value, floorValue), 1e-30);
 }
 
-void main() {
+void refineCandidate() {
   const uint k = itemIndex();
   if (k >= receiverCounts[push.source]) return;
   const uint node = imageLoad(candidatesIn, int(k)).x;
@@ -143,4 +146,14 @@ void main() {
     if (need <= kRefineFrom) continue;
     candidatesOut[atomicAdd(receiverCounts[push.target], 1u)] = c;
   }
+}
+
+// The last workgroup starts the next round (the candidates listed here; this round's list emptied
+// for the round after) and sizes its dispatches over no new receivers yet: where the next round
+// has no candidates, its steps run no workgroup, and those sizes stand.
+void main() {
+  refineCandidate();
+  ONLY_IN_THE_LAST_WORKGROUP(receiverCounts[kReceiverGroupsDone]);
+  startRound(push.target, push.source);
+  receiversListed(push.batch, push.leavesPerGroup, push.maxGroups, push.batches);
 }

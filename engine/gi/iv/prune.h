@@ -35,10 +35,10 @@ class Prune {
   void recordFrame(VkCommandBuffer cmd, const LinkSet& staticSet, const LinkSet& frameSet, const IvBuffers& b,
                    uint32_t lightCount);
   // Records the frame's prune of the receivers a refinement round listed, one batch after another
-  // with the dispatch sizes receiver_args.comp wrote from how many there are.
+  // with the dispatch sizes receiver_args.glsl wrote from how many there are.
   void recordReceivers(VkCommandBuffer cmd, const LinkSet& staticSet, const LinkSet& frameSet, const IvBuffers& b,
                        uint32_t lightCount);
-  // How the prune of listed receivers is batched: what receiver_args.comp sizes it by.
+  // How the prune of listed receivers is batched: what receiver_args.glsl sizes it by.
   struct Batching {
     uint32_t batch, leavesPerGroup, maxGroups, batches;
   };

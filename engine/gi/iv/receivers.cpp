@@ -80,7 +80,7 @@ const vk::Buffer& Receivers::listBuffer(const IvBuffers& b, uint32_t slot) {
   return slot == gpu::kReceiverCandidatesA ? b.candidatesA : b.candidatesB;
 }
 
-gpu::ReceiverPush Receivers::push(Lists lists) const {
+gpu::ReceiverPush Receivers::push(Lists lists, const Prune::Batching& batching) const {
   return {lists.in,
           lists.out,
           *settings_.receiverTolerance,
@@ -90,9 +90,10 @@ gpu::ReceiverPush Receivers::push(Lists lists) const {
           kDirectFloor,
           groupCount_,
           largestCell_,
-          0u,
-          0u,
-          0u};
+          batching.batch,
+          batching.leavesPerGroup,
+          batching.maxGroups,
+          batching.batches};
 }
 
 void Receivers::recordArgs(VkCommandBuffer cmd, const IvBuffers& b, uint32_t mode, Lists lists,
@@ -122,6 +123,9 @@ void Receivers::recordStart(VkCommandBuffer cmd, const IvBuffers& b) const {
   std::vector<uint32_t> counts(gpu::kReceiverSlots, 0u);
   counts[gpu::kReceiverCandidatesA] = uint32_t(roots_.size() / sizeof(uint32_t));
   vkCmdUpdateBuffer(cmd, b.receiverCounts.handle(), 0, counts.size() * sizeof(uint32_t), counts.data());
+  const glm::uvec4 candidates = gpu::groupsFor(counts[gpu::kReceiverCandidatesA], gpu::kReceiverGroup);
+  vkCmdUpdateBuffer(cmd, b.receiverArgs.handle(), gpu::kArgsCandidates * sizeof(glm::uvec4), sizeof(candidates),
+                    &candidates);
   vkCmdFillBuffer(cmd, b.receiverRadius.handle(), 0, VK_WHOLE_SIZE, gpu::kNotReceiver);
   vkCmdFillBuffer(cmd, b.needs.handle(), 0, VK_WHOLE_SIZE, 0u);
   vkCmdFillBuffer(cmd, b.presences.handle(), 0, VK_WHOLE_SIZE, 0u);
@@ -132,19 +136,18 @@ void Receivers::recordStart(VkCommandBuffer cmd, const IvBuffers& b) const {
 void Receivers::recordSelect(VkCommandBuffer cmd, const IvBuffers& b, uint32_t round,
                              const Prune::Batching& batching) const {
   const Lists lists = listsOf(round);
-  recordArgs(cmd, b, gpu::kArgsStartRound, lists, batching);
   select_.dispatchIndirect(cmd, b.receiverArgs, gpu::kArgsCandidates * sizeof(glm::uvec4),
-                           b.pool().with({{"candidatesIn", listBuffer(b, lists.in)}}), push(lists));
+                           b.pool().with({{"candidatesIn", listBuffer(b, lists.in)}}), push(lists, batching));
   vk::barrier(cmd);
-  recordArgs(cmd, b, gpu::kArgsListed, lists, batching);
 }
 
-void Receivers::recordRefine(VkCommandBuffer cmd, const IvBuffers& b, uint32_t round) const {
+void Receivers::recordRefine(VkCommandBuffer cmd, const IvBuffers& b, uint32_t round,
+                             const Prune::Batching& batching) const {
   const Lists lists = listsOf(round);
   refine_.dispatchIndirect(
       cmd, b.receiverArgs, gpu::kArgsCandidates * sizeof(glm::uvec4),
       b.pool().with({{"candidatesIn", listBuffer(b, lists.in)}, {"candidatesOut", listBuffer(b, lists.out)}}),
-      push(lists));
+      push(lists, batching));
   vk::barrier(cmd);
 }
 

@@ -27,14 +27,14 @@ class Receivers {
   // Rounds a refinement takes at most: one per level with children.
   uint32_t rounds() const { return levels_ > 1 ? levels_ - 1 : 1; }
 
-  // No receivers yet; the roots are the first round's candidates.
+  // No receivers yet; the roots are the first round's candidates (their dispatch size set).
   void recordStart(VkCommandBuffer cmd, const IvBuffers& b) const;
   // A round's first step: its candidates' children's representatives become receivers, and the
-  // dispatch sizes for pruning and estimating them are set.
+  // dispatch sizes for pruning (in `batching`'s batches) and estimating them are set.
   void recordSelect(VkCommandBuffer cmd, const IvBuffers& b, uint32_t round, const Prune::Batching& batching) const;
   // A round's last step, after the new receivers' estimates: which children are cells and which
-  // the next round's candidates.
-  void recordRefine(VkCommandBuffer cmd, const IvBuffers& b, uint32_t round) const;
+  // the next round's candidates (their dispatch size set, and the next round's over no receivers).
+  void recordRefine(VkCommandBuffer cmd, const IvBuffers& b, uint32_t round, const Prune::Batching& batching) const;
   // Each surfel's interpolation; surfels no receiver reaches are listed as the next receivers to
   // prune (their dispatch sizes set).
   void recordWeights(VkCommandBuffer cmd, const IvBuffers& b, const Prune::Batching& batching) const;
@@ -52,7 +52,7 @@ class Receivers {
   static const vk::Buffer& listBuffer(const IvBuffers& b, uint32_t slot);
   void recordArgs(VkCommandBuffer cmd, const IvBuffers& b, uint32_t mode, Lists lists,
                   const Prune::Batching& batching) const;
-  gpu::ReceiverPush push(Lists lists) const;
+  gpu::ReceiverPush push(Lists lists, const Prune::Batching& batching = {}) const;
   void makeEverySurfelReceiver(const vk::Context& ctx, IvBuffers& b) const;
 
   const IvSettings& settings_;

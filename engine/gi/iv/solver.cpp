@@ -188,7 +188,7 @@ void IvSolver::recordReceivers(VkCommandBuffer cmd, vk::PassTimer& timer) {
     timedPass(cmd, timer, "prune", [&] { prune_.recordReceivers(cmd, staticSet_, frameSet_, b_, lightCount_); });
     timedPass(cmd, timer, "receivers", [&] {
       bounces_.recordEstimate(cmd, b_, staticSet_, frameSet_, settings_);
-      receivers_.recordRefine(cmd, b_, round);
+      receivers_.recordRefine(cmd, b_, round, batching);
     });
   }
   // Surfels that no receiver's support holds become receivers too.
