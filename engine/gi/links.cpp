@@ -16,7 +16,7 @@ void LinkSet::allocateLists(const vk::Context& ctx, uint32_t nodeCount, vk::Allo
 
 std::vector<uint32_t> LinkSet::readCounters() const { return counters.read<uint32_t>(gpu::kCounterSlots); }
 
-std::vector<uint32_t> LinkSet::refinedCounters(uint32_t levels) const {
+std::vector<uint32_t> LinkSet::refinedCounters() const {
   std::vector<uint32_t> c = readCounters();
   if (uint32_t left = c[levels % 2]; left != 0)
     throw vk::VulkanError("link creation left " + std::to_string(left) + " pairs unrefined after " +
@@ -41,10 +41,16 @@ bool mixesStaticAndMoving(const std::vector<bool>& objectMoves, size_t rootCount
 void assignRootPairs(const Hierarchy& h, const std::vector<bool>& objectMoves, bool split, LinkSet& fixed,
                      LinkSet& moving) {
   auto moves = [&](size_t root) { return objectMoves.empty() || objectMoves[root]; };
+  // Each node's height (levels below it): the nodes lie level by level, children after parents.
+  std::vector<uint32_t> height(h.nodes.size(), 0);
+  for (size_t i = h.nodes.size(); i-- > 0;)
+    for (uint32_t c = h.nodes[i].firstChild; c < h.nodes[i].firstChild + h.nodes[i].childCount; ++c)
+      height[i] = std::max(height[i], height[c] + 1);
   for (size_t a = 0; a < h.roots.size(); ++a)
     for (size_t b = 0; b < h.roots.size(); ++b) {
-      auto& pairs = (split && !moves(a) && !moves(b) ? fixed : moving).rootPairs;
-      pairs.insert(pairs.end(), {h.roots[a], h.roots[b]});
+      LinkSet& set = split && !moves(a) && !moves(b) ? fixed : moving;
+      set.rootPairs.insert(set.rootPairs.end(), {h.roots[a], h.roots[b]});
+      set.levels = std::max(set.levels, height[h.roots[a]] + height[h.roots[b]] + 1);
     }
 }
 
@@ -59,8 +65,6 @@ LinkCreation::LinkCreation(const vk::Context& ctx)
       count_(shaderProgram(ctx, "count_links")),
       scan_(shaderProgram(ctx, "scan_counts")),
       scatter_(shaderProgram(ctx, "scatter_links")) {}
-
-uint32_t LinkCreation::levels(const Hierarchy& h) { return 2 * (h.maxDepth() + 1) + 1; }
 
 void LinkCreation::record(VkCommandBuffer cmd, LinkSet& set, const LinkWork& b, const Hierarchy& h,
                           const LinkCriteria& criteria, uint32_t worklistCapacity) const {
@@ -78,8 +82,7 @@ void LinkCreation::record(VkCommandBuffer cmd, LinkSet& set, const LinkWork& b, 
   const VkBufferCopy copy{0, 0, set.rootPairs.size() * sizeof(uint32_t)};
   vkCmdCopyBuffer(cmd, set.roots.handle(), b.worklistA.handle(), 1, &copy);
   vk::barrier(cmd);
-  const uint32_t levelCount = levels(h);
-  for (uint32_t level = 0; level < levelCount; ++level) {
+  for (uint32_t level = 0; level < set.levels; ++level) {
     const uint32_t in = level % 2, out = 1 - in;
     refine_.dispatchIndirect(cmd, b.args, gpu::kLinkArgsLevel * sizeof(glm::uvec4),
                              b.pool.with({{"pairs", in ? b.worklistB : b.worklistA},

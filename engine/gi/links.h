@@ -16,6 +16,9 @@ namespace ivgi::gi {
 // the pairs with a moving side (made whenever the geometry moved).
 struct LinkSet {
   std::vector<uint32_t> rootPairs;  // receiver root, sender root
+  // The refinement levels its pairs take at most: each level splits one side of a pair (or both of
+  // a node with itself), so the deepest pair's two trees' heights, then a level that stores it.
+  uint32_t levels = 0;
   vk::Buffer roots, counters, links, counts, starts, senders;
   uint32_t linkCapacity = 0, leafLinkCapacity = 0;
 
@@ -25,8 +28,8 @@ struct LinkSet {
   // lists are empty wherever a pass reads them.
   void allocateLists(const vk::Context& ctx, uint32_t nodeCount, vk::Allocations* allocations);
   std::vector<uint32_t> readCounters() const;
-  // The counters after a refinement of `levels` levels; throws where pairs were left unrefined (a bug).
-  std::vector<uint32_t> refinedCounters(uint32_t levels) const;
+  // The counters after its refinement; throws where pairs were left unrefined (a bug).
+  std::vector<uint32_t> refinedCounters() const;
   // Grows the link capacity, and `worklistCapacity`, to what the counters `c` say overflowed, with
   // a margin; whether either grew.
   bool growLinks(const std::vector<uint32_t>& c, uint32_t& worklistCapacity);
@@ -75,8 +78,6 @@ struct LinkWork {
 class LinkCreation {
  public:
   explicit LinkCreation(const vk::Context& ctx);
-  // Refinement levels: each splits one side of every pair, so at most the two trees' depths.
-  static uint32_t levels(const Hierarchy& hierarchy);
   void record(VkCommandBuffer cmd, LinkSet& set, const LinkWork& work, const Hierarchy& hierarchy,
               const LinkCriteria& criteria, uint32_t worklistCapacity) const;
 

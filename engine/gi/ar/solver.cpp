@@ -321,7 +321,7 @@ bool ArSolver::frameMustBeRedone() {
   bool grew = false;
   for (LinkSet* set : {&staticSet_, &frameSet_}) {
     if (set->empty()) continue;
-    if (set->growLinks(set->refinedCounters(LinkCreation::levels(hierarchy_)), worklistCapacity_)) {
+    if (set->growLinks(set->refinedCounters(), worklistCapacity_)) {
       grew = true;
       if (set == &staticSet_) staticLinked_ = false;
     }

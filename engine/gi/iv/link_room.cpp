@@ -146,11 +146,11 @@ void LinkRoom::allocate() {
   }
 }
 
-LinkRoom::Overflow LinkRoom::grow(uint32_t levels) {
+LinkRoom::Overflow LinkRoom::grow() {
   Overflow overflow;
   for (LinkSet* set : {&staticSet_, &frameSet_}) {
     if (set->empty()) continue;
-    const std::vector<uint32_t> c = set->refinedCounters(levels);
+    const std::vector<uint32_t> c = set->refinedCounters();
     const uint32_t bits = c[gpu::kCounterOverflow];
     if (bits == 0) continue;
     set->growLinks(c, worklistCapacity_);

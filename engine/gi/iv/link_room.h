@@ -30,9 +30,8 @@ class LinkRoom {
     bool loopBudget = false;  // a prune workgroup ran out of loop rounds
     bool staticSet = false;   // the static set's links must be made again
   };
-  // After a frame: grows what overflowed (and allocates it). `levels`: the refinement levels the
-  // frame ran, after which no pair may be left.
-  Overflow grow(uint32_t levels);
+  // After a frame: grows what overflowed (and allocates it).
+  Overflow grow();
   // After a frame that stands: gives back the leaf-link room it left unused, keeping the links the
   // sets hold, and frees the static pairs' links once `staticLinked`.
   void releaseUnused(bool staticLinked);

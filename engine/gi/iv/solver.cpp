@@ -226,7 +226,7 @@ std::vector<std::pair<std::string, double>> IvSolver::frameFigures() const {
 }
 
 bool IvSolver::frameMustBeRedone() {
-  const LinkRoom::Overflow overflow = room_.grow(LinkCreation::levels(setup_.hierarchy));
+  const LinkRoom::Overflow overflow = room_.grow();
   if (!overflow.any) return false;
   roomProven_ = false;
   readLeafLinkViews();
