@@ -24,6 +24,12 @@ using uint = uint32_t;
 
 IVGI_CONST float kPi = 3.14159265358979f;
 
+// Indirect dispatch size for `items` invocations of `size`, laid out over x then y (itemIndex()).
+IVGI_FN uvec4 groupsFor(uint items, uint size) {
+  const uint groups = (items + size - 1u) / size;
+  return uvec4(min(groups, 65535u), (groups + 65534u) / 65535u, 1u, 0u);
+}
+
 // ---- Scene data (engine/scene/geometry.h builds it; animate, surfels, raster and resolve read it) ----
 
 struct Vertex {
@@ -166,16 +172,9 @@ IVGI_CONST uint kCounterSlots = 9u;
 IVGI_CONST uint kLinkGroup = 256u;
 IVGI_CONST uint kLinkArgsLevel = 0u;
 IVGI_CONST uint kLinkArgsSort = 1u;
-// Indirect dispatch size for `items` invocations of `size`, laid out over x then y (itemIndex()).
-IVGI_FN uvec4 groupsFor(uint items, uint size) {
-  const uint groups = (items + size - 1u) / size;
-  return uvec4(min(groups, 65535u), (groups + 65534u) / 65535u, 1u, 0u);
-}
-// The dispatch size for a list of `items` (each dispatch loops over what its workgroups cannot
-// cover at once).
-IVGI_FN uvec4 linkGroupsFor(uint items) {
-  return uvec4(min((items + kLinkGroup - 1u) / kLinkGroup, 65535u), 1u, 1u, 0u);
-}
+// The dispatch size for a list of `items`: along x alone, as link creation's shaders loop over what
+// their workgroups cannot cover at once.
+IVGI_FN uvec4 linkGroupsFor(uint items) { return uvec4(groupsFor(items, kLinkGroup).x, 1u, 1u, 0u); }
 // Bits of counters[kCounterOverflow]: what a frame ran out of room for (it is redone with more).
 // kOverflowLoopBudget: a prune workgroup ran out of lavapipe's loop budget (common.glsl).
 IVGI_CONST uint kOverflowWorklist = 1u;
