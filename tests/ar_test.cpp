@@ -390,31 +390,34 @@ TEST(ArStaticObjects, LinkedOnceGiveWhatAFullRelinkGives) {
   }
 }
 
-// --warm-start: a frame starts from the solution of the frame before. On the animated Cornell box a
-// frame later it settles in fewer iterations than from the emission, and it settles where the cold
-// start does: they differ by the iterations' tolerance (each stops once an iteration changes the
-// irradiance by less than that share of it; with the changes shrinking by half an iteration or more,
-// each lies within about twice that of the fixed point), in the same area-weighted norm.
-TEST(ArWarmStart, SettlesSoonerWhereTheColdStartSettles) {
+// Chains (--restart-every): a frame starts from the solution of the frame before. On the animated
+// Cornell box a frame later it settles in fewer iterations than from the emission, and it settles
+// where the cold start does: they differ by the iterations' tolerance (each stops once an iteration
+// changes the irradiance by less than that share of it; with the changes shrinking by half an
+// iteration or more, each lies within about twice that of the fixed point), in the same
+// area-weighted norm. A frame redone (as one that ran out of room is) starts again from the same
+// solution, and ends bit for bit where the frame solved once does.
+TEST(ArChains, SettleSoonerWhereTheColdStartSettles) {
   scene::Scene s = scene::sceneFromModel(scenes::cornellBox({.cells = 8}), "test");
   scene::Geometry g = scene::buildGeometry(s);
   gi::Hierarchy h = gi::restPoseHierarchy(s, g);
   const std::vector<bool> moves = gi::movingRoots(h, s, g, 0);
-  auto renderer = [&](bool warm) {
+  auto renderer = [&](uint32_t restartEvery, bool redo) {
     return gi::FrameRenderer(
         test::gpu(), g, {16, 16, 1},
-        std::make_unique<gi::ArSolver>(test::gpu(), g, h, gi::ArSettings{.warmStart = warm}, moves));
+        std::make_unique<gi::ArSolver>(test::gpu(), g, h,
+                                       gi::ArSettings{.restartEvery = restartEvery, .redoEachFrameOnce = redo}, moves));
   };
-  gi::FrameRenderer warm = renderer(true), cold = renderer(false);
+  gi::FrameRenderer warm = renderer(3, false), cold = renderer(1, false), redone = renderer(3, true);
   auto solver = [](const gi::FrameRenderer& r) -> const gi::ArSolver& {
     return dynamic_cast<const gi::ArSolver&>(*r.solver());
   };
   const auto view = scene::cameraView(s, scene::evaluatePose(s, 0, 0.0f), s.cameraNodes()[0]);
   const float tolerance = gi::ArSettings{}.tolerance;
-  for (int frame = 0; frame < 3; ++frame) {
+  for (int frame = 0; frame < 4; ++frame) {
     auto pose = scene::evaluatePose(s, 0, float(frame) / 24.0f);
-    warm.render(g.frameInputs(s, pose), view, scene::worldLights(s, pose));
-    cold.render(g.frameInputs(s, pose), view, scene::worldLights(s, pose));
+    for (gi::FrameRenderer* r : {&warm, &cold, &redone})
+      r->render(g.frameInputs(s, pose), view, scene::worldLights(s, pose), true, frame);
     const gi::ArStats a = solver(warm).stats(), b = solver(cold).stats();
     const auto ea = solver(warm).surfelIrradiance(), eb = solver(cold).surfelIrradiance();
     const auto surfels = warm.surfels();
@@ -425,28 +428,27 @@ TEST(ArWarmStart, SettlesSoonerWhereTheColdStartSettles) {
       const double area = surfels[i].positionArea.w;
       change += area * std::abs(double(ea[i].y) - eb[i].y), total += area * eb[i].y;
     }
-    std::printf("[ ar warm start ] frame %d: %u iterations (cold: %u); differs from the cold start by %.2g\n", frame,
+    std::printf("[ ar chains ] frame %d: %u iterations (cold: %u); differs from the cold start by %.2g\n", frame,
                 a.iterations, b.iterations, change / total);
     EXPECT_FALSE(a.diverged);
-    if (frame == 0) {
+    EXPECT_FALSE(b.warm);
+    const gi::ArStats c = solver(redone).stats();
+    EXPECT_EQ(c.framesRedone, uint32_t(frame + 1));
+    EXPECT_TRUE(solver(redone).surfelIrradiance() == ea) << "frame " << frame << ": redone, it ends elsewhere";
+    if (frame % 3 == 0) {
+      EXPECT_FALSE(a.warm) << "frame " << frame << " restarts the chain";
       EXPECT_EQ(a.iterations, b.iterations) << "nothing to start from";
       EXPECT_EQ(change, 0.0);
     } else {
+      EXPECT_TRUE(a.warm) << "frame " << frame;
       EXPECT_LT(a.iterations, b.iterations) << "frame " << frame;
       EXPECT_LT(change / total, 4 * tolerance) << "frame " << frame;
     }
   }
-}
-
-// A warm start needs every frame before it in the same run: --shard is refused with it, in one line.
-TEST(ArWarmStart, IsRefusedWithShards) {
-  const auto dir = test::scratchDir("ar-warm-shard");
-  const test::Run run = test::runIvgi({"render", "cornell", "--method", "ar", "--warm-start", "--shard", "0/2",
-                                       "--frames", "0-3", "--out", (dir / "f").string()});
-  EXPECT_NE(run.status, 0);
-  ASSERT_EQ(run.errLines().size(), 1u) << run.err;
-  EXPECT_NE(run.err.find("--warm-start"), std::string::npos) << run.err;
-  EXPECT_FALSE(std::filesystem::exists(dir / "f_0000.exr"));
+  // A frame whose predecessor was not the frame before starts from the emission, as a restart does.
+  auto pose = scene::evaluatePose(s, 0, 5.0f / 24.0f);
+  warm.render(g.frameInputs(s, pose), view, scene::worldLights(s, pose), true, 5);
+  EXPECT_FALSE(solver(warm).stats().warm);
 }
 
 // Tables that cannot fit are refused in one line that names the --dirs that would.

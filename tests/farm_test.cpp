@@ -101,6 +101,13 @@ TEST(Shards, EveryRequestedFrameFallsInExactlyOneStridedShard) {
   std::sort(seen.begin(), seen.end());
   EXPECT_EQ(seen, frames);
   EXPECT_EQ(cli::shardFrames({0, 1, 2}, cli::parseShard("5/8")), std::vector<int>{}) << "more shards than frames";
+  // Chains of 4 frames (0-3, 4-7, …) go whole to a shard, every 3rd from the shard's index.
+  const auto chainOf = [](int frame) { return frame - frame % 4; };
+  EXPECT_EQ(cli::shardFrames(cli::FrameRange{2, 17, 1}.frames(), cli::parseShard("1/3"), chainOf),
+            (std::vector<int>{4, 5, 6, 7, 16, 17}));
+  EXPECT_EQ(cli::shardFrames(cli::FrameRange{2, 17, 3}.frames(), cli::parseShard("0/2"), chainOf),
+            (std::vector<int>{2, 8, 11, 17}))
+      << "2 | 5 | 8, 11 | 14 | 17: runs 0, 2 and 4";
   for (const char* bad : {"4/4", "1/0", "-1/3", "a/b", "3", ""})
     EXPECT_THROW(cli::parseShard(bad), SettingsError) << bad;
   // A Slurm array 10-16:2 (10, 12, 14, 16): task 14 is the third of four.
@@ -156,6 +163,36 @@ TEST(Shards, AssembleTheSequenceOneRunWritesBitForBit) {
   report = test::runIvgi({"report", (dir / "shards" / "f_%04d").string()});
   EXPECT_EQ(report.status, 1);
   EXPECT_NE(report.out.find("missing: 4\n"), std::string::npos) << report.out;
+}
+
+// ar's chains (--restart-every): a frame starts from the solution of the frame before, so a run that
+// starts inside a chain solves the frames of the chain before it first, without writing them; shards
+// take whole chains. Every way of cutting the sequence writes what one run writes, byte for byte.
+TEST(Shards, ArChainsGiveTheSameFramesWhereverARunStarts) {
+  const fs::path dir = test::scratchDir("farm-ar");
+  auto render = [&](const std::string& out, std::vector<std::string> extra) {
+    std::vector<std::string> args = {
+        "render", "cornell",         "--method", "ar",       "--cells", "4",     "--size",
+        "32x24",  "--restart-every", "3",        "--format", "exr",     "--out", (dir / out / "f_%04d").string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return test::runIvgi(args);
+  };
+  ASSERT_EQ(render("one", {"--frames", "0-6"}).status, 0);
+  for (int i = 0; i < 2; ++i)
+    ASSERT_EQ(render("shards", {"--frames", "0-6", "--shard", std::to_string(i) + "/2"}).status, 0);
+  expectSameFrames(dir / "shards", dir / "one");
+  const auto frames = nlohmann::json::parse(std::ifstream(dir / "shards" / "f.shard-1-of-2.json"))["frames"];
+  ASSERT_EQ(frames.size(), 3u) << "shard 1 of 2 takes the chain 3-5";
+  for (const auto& f : frames) {
+    EXPECT_EQ(f["solver"]["warm"].get<double>(), f["frame"].get<int>() == 3 ? 0.0 : 1.0) << f.dump();
+  }
+  // A run of frame 5 alone solves 3 and 4 first; a resumed run solves what a missing frame needs.
+  ASSERT_EQ(render("alone", {"--frames", "5"}).status, 0);
+  EXPECT_EQ(slurp(dir / "alone" / "f_0005.exr"), slurp(dir / "one" / "f_0005.exr"));
+  fs::copy(dir / "one", dir / "resumed");
+  fs::remove(dir / "resumed" / "f_0004.exr");
+  ASSERT_EQ(render("resumed", {"--frames", "0-6", "--resume"}).status, 0);
+  expectSameFrames(dir / "resumed", dir / "one");
 }
 
 // --resume removes the temporaries of runs that are over (a run lock nobody holds, or a process of

@@ -3,12 +3,14 @@
 README.md from ivgi's own benchmarks, so that no figure is copied by hand.
 
 Usage: tools/perf_tables.py [--ivgi build/ivgi] [--runs 3] [--threads 2]
-                            [--only passes|programs|scaling|sweep|accuracy|real]
+                            [--only passes|programs|scaling|sweep|accuracy|real|ar|flicker|equal]
 
 --only regenerates one section alone: `passes` (per pass, and the README's rows of the frame time),
 `programs` (per program, with bench --per-program), `scaling` (cost against tessellation), `sweep`
 (the speed/accuracy sweep, its plot and CSV; about a quarter of an hour), `accuracy` (where iv's
-error lies, its ratio images, and the README's row of iv's error) or `real` (the real files). The
+error lies, its ratio images, and the README's row of iv's error), `real` (the real files), `ar`
+(ar per --dirs, and the README's rows of ar), `flicker` (the sequences' temporal error) or `equal`
+(iv and ar against pt at equal error, and the README's rows of it). The
 section then names the machine and date it was measured on, since the rest of the document may
 come from another run.
 
@@ -192,37 +194,42 @@ def sweep_markdown(csv_path):
 
 
 def ar_table(r):
-    """ar on the animated Cornell box at --cells 26 and 320×240 (issue 22's target case): per --dirs the
-    median GPU ms over 3 frames after a warm-up frame (one bench run: a frame takes seconds), and frame
-    0's relMSE against a 4096-spp pt reference of that scene."""
+    """ar on the animated Cornell box at --cells 26 and 320×240 (issue 22's target case), per --dirs: a
+    restart (every frame from the emission, `--restart-every 1`: the median GPU ms over 3 frames after
+    a warm-up frame), the defaults' chains over the whole animation (48 frames after a warm-up frame:
+    median and mean), and frame 0's relMSE against a 4096-spp pt reference of that scene (frame 0
+    starts a chain, so it is the restart's image)."""
     reference = cells26_reference(r)
-    lines = ["| `--dirs` | links | tables MiB | iterations | global ms | frame ms | fps | relMSE |",
+    lines = ["| `--dirs` | links | tables MiB | iterations, a restart / chained (range) | restart ms | chained ms, "
+             "median / mean | fps over the animation | relMSE |",
              "|---|---|---|---|---|---|---|---|"]
     figures = {}
     for dirs in (2, 4, 6, 8):
-        j = r.json("bench", "cornell", "--cells", 26, "--size", "320x240", "--frames", 3, "--warmup", 1, "--method",
-                   "ar", "--dirs", dirs)
+        cold = r.json("bench", "cornell", "--cells", 26, "--size", "320x240", "--frames", 3, "--warmup", 1, "--method",
+                      "ar", "--dirs", dirs, "--restart-every", 1)
+        chained = r.json("bench", "cornell", "--cells", 26, "--size", "320x240", "--frames", 48, "--warmup", 1,
+                         "--method", "ar", "--dirs", dirs)
         out = r.scratch / f"ar_cells26_d{dirs}"
         r.run("render", "cornell", "--cells", 26, "--method", "ar", "--dirs", dirs, "--size", "320x240", "--frames", 0,
               "--format", "exr", "--out", out / "f_%04d")
         rel = r.json("compare", out / "f_0000.exr", reference)["frames"][0]["metrics"]["relMSE"]
-        total, s = j["passes"]["total"]["medianMs"], j["solver"]
-        figures[dirs] = (total, rel)
-        lines.append(f"| {dirs} | {s['links']:,} | {s['tableBytes'] / 2**20:.1f} | {s['iterations']} | "
-                     f"{fmt(j['passes']['global']['medianMs'])} | {fmt(total)} | {1000.0 / total:.2f} | {rel:.4f} |")
-    # The warm start over more frames (frames starting where the last one ended vary more): its
-    # accuracy over a sequence is in the flicker table.
-    for dirs in (4, 2):
-        j = r.json("bench", "cornell", "--cells", 26, "--size", "320x240", "--frames", 8, "--warmup", 1, "--method",
-                   "ar", "--dirs", dirs, "--warm-start")
-        total, s = j["passes"]["total"]["medianMs"], j["solver"]
-        iterations = sorted(f["solver"]["iterations"] for f in j["frames"])
-        figures[("warm", dirs)] = total
-        lines.append(f"| {dirs}, `--warm-start` | {s['links']:,} | {s['tableBytes'] / 2**20:.1f} | "
-                     f"{median(iterations):.0f} ({iterations[0]:.0f}–{iterations[-1]:.0f}) | "
-                     f"{fmt(j['passes']['global']['medianMs'])} | {fmt(total)} | {1000.0 / total:.2f} | "
-                     f"{'see *Flicker*' if dirs == 4 else 'frame 0: as above'} |")
+        restart, s = cold["passes"]["total"]["medianMs"], chained["solver"]
+        median_ms, mean_ms = chained["passes"]["total"]["medianMs"], chained["passes"]["total"]["meanMs"]
+        iterations = sorted(f["solver"]["iterations"] for f in chained["frames"])
+        figures[dirs] = (mean_ms, rel, restart)
+        lines.append(f"| {dirs} | {s['links']:,} | {s['tableBytes'] / 2**20:.1f} | {cold['solver']['iterations']} / "
+                     f"{median(iterations):.0f} ({iterations[0]:.0f}–{iterations[-1]:.0f}) | {fmt(restart)} | "
+                     f"{fmt(median_ms)} / {fmt(mean_ms)} | {1000.0 / mean_ms:.2f} | {rel:.4f} |")
     return "\n".join(lines), figures
+
+
+def ar_rows(figures):
+    """The README headline's rows of ar on the animated Cornell box (ar_table's figures)."""
+    return [f"| ar (antiradiance) at `--cells 26`, 320×240, defaults (`--dirs 4`) / `--dirs 8`, over the animation | "
+            f"{figures[4][0]:,.0f} ms a frame ({1000.0 / figures[4][0]:.1f} fps), relMSE {figures[4][1]:.4f} / "
+            f"{figures[8][0]:,.0f} ms, relMSE {figures[8][1]:.4f} |",
+            f"| ar at `--dirs 2`, the same | {figures[2][0]:,.0f} ms a frame ({1000.0 / figures[2][0]:.1f} fps), "
+            f"relMSE {figures[2][1]:.4f} |"]
 
 
 def accuracy_table(r):
@@ -272,7 +279,7 @@ def equal_error_table(r, runs):
                         ("ar, defaults", ("--method", "ar"))):
         results = [r.json("bench", "--equal-error", "--size", "320x240", "--reference", reference, "--threads",
                           r.threads, *extra) for _ in range(runs)]
-        iv_ms = median([j["solver"]["medianGpuMs"] for j in results])
+        iv_ms = median([j["solver"]["meanGpuMs"] for j in results])
         rel = median([j["solver"]["relMSE"] for j in results])
         pt_ms = median([j["ptMsAtEqualError"] for j in results if j.get("ratio")])
         ratio = median([j["ratio"] for j in results if j.get("ratio")])
@@ -289,7 +296,8 @@ def flicker_table(r):
     r.run("render", *scene, "--method", "pt", "--spp", 1024, "--threads", r.threads, "--out", pt / "f_%04d")
     lines = ["| setting | mean relMSE of the frames | temporal relMSE |", "|---|---|---|"]
     for name, extra in (("iv, defaults (adaptive receivers)", ()), ("iv, every surfel a receiver", ("--receiver-tol", 0)),
-                        ("ar, defaults", ("--method", "ar")), ("ar, `--warm-start`", ("--method", "ar", "--warm-start"))):
+                        ("ar, defaults (chains of 16 frames)", ("--method", "ar")),
+                        ("ar, every frame from the emission", ("--method", "ar", "--restart-every", 1))):
         out = r.scratch / f"flicker_{len(lines)}"
         r.run("render", *scene, *extra, "--out", out / "f_%04d")
         j = r.json("compare", out, pt)
@@ -440,6 +448,24 @@ def accuracy_section(r, args):
     return body, [error_row(errors)]
 
 
+def equal_rows(ratios):
+    """The README headline's rows of iv and ar against pt at equal error (equal_error_table's ratios)."""
+    return [f"| iv faster than pt at equal relMSE, defaults / every surfel a receiver | "
+            f"{ratios['defaults']:.1f}× / {ratios['every surfel a receiver']:.1f}× |",
+            f"| ar against pt at equal relMSE, defaults | {ratios['ar, defaults']:.2f}× "
+            f"({'faster' if ratios['ar, defaults'] >= 1 else 'slower'}) |"]
+
+
+def equal_section(r, args):
+    body, _, ratios, _ = equal_error_table(r, args.runs)
+    return body, equal_rows(ratios)
+
+
+def ar_section(r, args):
+    body, figures = ar_table(r)
+    return body, ar_rows(figures)
+
+
 def passes_section(r, args):
     body, _, columns = per_pass_table(r, args.runs)
     return body, frame_rows(columns)
@@ -454,6 +480,9 @@ SECTIONS = {
     "scaling": ("| `--cells` | surfels |", lambda r, args: (scaling_table(r, args.runs), [])),
     "sweep": ("| bins | `--receiver-tol` |", lambda r, args: (sweep_table(r), [])),
     "real": ("| scene | surfels | receivers |", lambda r, args: (real_files_table(r, args.runs), [])),
+    "ar": ("| `--dirs` | links |", ar_section),
+    "flicker": ("| setting | mean relMSE of the frames |", lambda r, args: (flicker_table(r), [])),
+    "equal": ("| setting | ms per frame | relMSE | pt ms", equal_section),
 }
 
 
@@ -565,12 +594,14 @@ at each `--dirs`.
 
 ## ar on the animated Cornell box
 
-`ivgi bench cornell --cells 26 --size 320x240 --frames 3 --warmup 1 --method ar --dirs N`, and
-frame 0 rendered the same way against pt at 4096 spp (defaults: `--dirs 4`, iterations until an
-iteration changes the irradiance by less than 0.001). Every frame starts from the emission alone
-and relinks the moving block (the links between static objects are made once); with
-`--warm-start` (8 frames after the warm-up) a frame starts from the last frame's solution (its
-first frame starts cold, so its frame 0 is the cold row's).
+`ivgi bench cornell --cells 26 --size 320x240 --method ar --dirs N`, and frame 0 rendered the same
+way against pt at 4096 spp (defaults: `--dirs 4`, iterations until an iteration changes the
+irradiance by less than 0.001, chains of 16 frames). Every frame relinks the moving block (the links
+between static objects are made once). A restart (`--restart-every 1`, 3 frames after a warm-up
+frame) starts from the emission alone; by default frames 0, 16, 32, … do, and each frame between
+starts from the solution of the frame before (48 frames, the whole animation, after a warm-up
+frame: 3 restarts). Frame 0 starts a chain, so its relMSE is the restart's; the chained frames'
+accuracy over a sequence is in *Flicker*.
 
 {ar}
 
@@ -588,8 +619,9 @@ stays structured is iv's bias ([notes/iv-accuracy-history.md](notes/iv-accuracy-
 
 ## iv and ar against the path tracer at equal error
 
-`ivgi bench --equal-error --size 320x240 --reference REF [--method ar]`: the solver's median GPU
-time over 20 animated frames and its relMSE on frame 0 against a 4096-spp pt reference (which took
+`ivgi bench --equal-error --size 320x240 --reference REF [--method ar]`: the solver's mean GPU
+time over 20 animated frames (ar: one restart among them) and its relMSE on frame 0 against a
+4096-spp pt reference (which took
 {reference_s:,.0f} s to render); pt renders the frame at 1, 2, 4, … spp on {args.threads} threads until it
 reaches the solver's relMSE, and its wall-clock time at that error is interpolated log–log. iv and
 ar run on lavapipe, a CPU emulating a GPU, on the same cores as pt.
@@ -629,17 +661,8 @@ pipelines and makes the static links again.
         "|---|---|",
         *frame_rows(columns),
         error_row(errors),
-        f"| iv faster than pt at equal relMSE, defaults / every surfel a receiver | "
-        f"{ratios['defaults']:.1f}× / {ratios['every surfel a receiver']:.1f}× |",
-        f"| ar against pt at equal relMSE, defaults | {ratios['ar, defaults']:.2f}× "
-        f"({'faster' if ratios['ar, defaults'] >= 1 else 'slower'}) |",
-        f"| ar (antiradiance) at `--cells 26`, 320×240, defaults (`--dirs 4`) / `--dirs 8` | "
-        f"{ar_figures[4][0]:,.0f} ms a frame, relMSE {ar_figures[4][1]:.4f} / {ar_figures[8][0]:,.0f} ms, relMSE "
-        f"{ar_figures[8][1]:.4f} |",
-        f"| ar with `--warm-start` (each frame from the last one's solution), the same scene, `--dirs 4` / "
-        f"`--dirs 2` | {ar_figures[('warm', 4)]:,.0f} ms a frame ({1000.0 / ar_figures[('warm', 4)]:.1f} fps) / "
-        f"{ar_figures[('warm', 2)]:,.0f} ms ({1000.0 / ar_figures[('warm', 2)]:.1f} fps), relMSE "
-        f"{ar_figures[2][1]:.4f} |",
+        *equal_rows(ratios),
+        *ar_rows(ar_figures),
     ])
     readme = ROOT / "README.md"
     readme.write_text(replace_between(readme.read_text(), "perf:headline", headline))

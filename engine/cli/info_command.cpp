@@ -83,11 +83,13 @@ int runInfo(const InfoOptions& o) {
     const scene::Geometry sampled = renderableGeometry(s, solver);
     const gi::Hierarchy h = gi::restPoseHierarchy(s, sampled);
     const gi::ArSettings ar = arSettings(solver);
-    const uint64_t tables = gi::ArSolver::tableBytes(h.nodes.size(), sampled.surfels.size(), ar.dirs);
+    const bool chained = ar.restartEvery > 1;
+    const uint64_t tables = gi::ArSolver::tableBytes(h.nodes.size(), sampled.surfels.size(), ar.dirs, chained);
     std::printf(
-        "ar tables    dirs 6x%ux%u: %zu nodes and %zu surfels x %u bins x (gathered, intensity; incident) "
+        "ar tables    dirs 6x%ux%u: %zu nodes and %zu surfels x %u bins x (gathered, intensity; incident%s) "
         "x RGBA32F = %.1f MiB\n",
-        ar.dirs, ar.dirs, h.nodes.size(), sampled.surfels.size(), 6 * ar.dirs * ar.dirs, double(tables) / (1 << 20));
+        ar.dirs, ar.dirs, h.nodes.size(), sampled.surfels.size(), 6 * ar.dirs * ar.dirs,
+        chained ? ", the chain's start" : "", double(tables) / (1 << 20));
     vk::Context ctx;
     gi::FrameRenderer renderer(ctx, sampled, {16, 16, 1},
                                makeSolver(solver, ctx, s, sampled, s.animations.empty() ? -1 : 0, &h));

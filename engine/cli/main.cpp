@@ -51,9 +51,11 @@ void addSolverOptions(CLI::App* cmd, SolverOptions& o) {
                   "ar: symmetric (radiance and antiradiance together) or asymmetric (a radiance step, then 3 "
                   "antiradiance steps)")
       ->capture_default_str();
-  cmd->add_flag("--warm-start", o.ar.warmStart,
-                "ar: each frame's iteration starts from the frame before's solution (fewer iterations; a frame then "
-                "depends on the frames before it)");
+  cmd->add_option("--restart-every", o.ar.restartEvery,
+                  "ar: frames numbered a multiple of K start their iteration from the emission, the frames between "
+                  "from the solution of the frame before (solved first where not asked for): fewer iterations, and a "
+                  "frame's image depends on its number alone; 1: every frame from the emission")
+      ->capture_default_str();
   cmd->add_option("--max-memory", o.maxMemoryMiB, "MiB the solver may allocate at most (0: what the device holds)")
       ->capture_default_str();
   cmd->add_option("--env", o.environment, "environment light: R,G,B radiance or an equirectangular .exr");

@@ -85,9 +85,14 @@ Shard parseShard(const std::string& text) {
   return s;
 }
 
-std::vector<int> shardFrames(const std::vector<int>& frames, const Shard& shard) {
+std::vector<int> shardFrames(const std::vector<int>& frames, const Shard& shard,
+                             const std::function<int(int)>& chainStart) {
   std::vector<int> out;
-  for (size_t i = shard.index; i < frames.size(); i += shard.count) out.push_back(frames[i]);
+  size_t run = 0;  // the runs of frames of one chain, counted in order
+  for (size_t i = 0; i < frames.size(); ++i) {
+    if (i > 0 && chainStart(frames[i]) != chainStart(frames[i - 1])) ++run;
+    if (run % shard.count == shard.index) out.push_back(frames[i]);
+  }
   return out;
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // Parsing and checking of the values users type: frame ranges, image sizes, output patterns.
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -27,9 +28,12 @@ struct Shard {
 // "I/N", or "slurm": the task's place in its Slurm job array (SLURM_ARRAY_TASK_ID less
 // SLURM_ARRAY_TASK_MIN, over SLURM_ARRAY_TASK_STEP) of SLURM_ARRAY_TASK_COUNT; throws SettingsError.
 Shard parseShard(const std::string& text);
-// The frames of `frames` that `shard` renders: every count-th from its index on, so that a costly
-// stretch of the animation is spread over all shards.
-std::vector<int> shardFrames(const std::vector<int>& frames, const Shard& shard);
+// The frames of `frames` that `shard` renders: of the runs of frames that share a chain
+// (Solver::chainStart; by default each frame is its own), every count-th from its index on, so that a
+// costly stretch of the animation is spread over all shards and no chain is split between two.
+std::vector<int> shardFrames(
+    const std::vector<int>& frames, const Shard& shard,
+    const std::function<int(int)>& chainStart = [](int frame) { return frame; });
 
 // Output pattern with a printf-style frame number (%d, %04d, …). The extension, if any, is
 // replaced by each format's.

@@ -104,11 +104,10 @@ int runRender(const RenderOptions& o) {
   const bool geometryAnimated = scene::animationMovesGeometry(s, tl.animation);
 
   const Shard shard = o.shard.empty() ? Shard{} : parseShard(o.shard);
-  if (shard.count > 1 && solver.method == "ar" && solver.ar.warmStart)
-    throw SettingsError(
-        "--warm-start starts each frame from the one before, which another shard renders: leave it "
-        "out with --shard");
-  const auto frames = shardFrames(range.frames(), shard);
+  const auto chainStart = [&](int frame) {
+    return renderer && renderer->solver() ? renderer->solver()->chainStart(frame) : frame;
+  };
+  const auto frames = shardFrames(range.frames(), shard, chainStart);
   const FrameCamera camera(s, g, tl, o.fps, o.camera, range.frames(), float(image.width) / float(image.height));
 
   fs::create_directories(pattern.directory());
@@ -161,7 +160,15 @@ int runRender(const RenderOptions& o) {
   const image::Provenance provenance{solver.method, pt ? o.pt.spp : image.samples * image.samples};
   // pt frames take long: its progress counts rows.
   Progress progress("render", pt ? frames.size() * image.height : frames.size(), pt ? "row" : "frame");
-  size_t rendered = 0;
+  int lastSolved = -1;  // by the renderer
+  // Solved on the GPU; relinked in the first frame this run solves, whatever frame that is: an image
+  // never depends on the frames solved before it (but those of its chain, the same in every run).
+  auto solve = [&](int frame, const scene::Pose& pose, const scene::CameraView& view) {
+    gi::FrameResult result = renderer->render(g.frameInputs(s, pose), view, scene::worldLights(s, pose),
+                                              lastSolved < 0 || geometryAnimated, frame);
+    lastSolved = frame;
+    return result;
+  };
   for (int frame : frames) {
     if (o.resume && done(frame)) {
       progress.advance(pt ? image.height : 1, true);
@@ -176,10 +183,14 @@ int runRender(const RenderOptions& o) {
     if (pt) {
       result = pathTraceFrame(g, s, pose, environment, view, image, uint32_t(frame), ptSettings, progress);
     } else {
-      // Relinked in the first frame this run renders, whatever frame that is: an image never
-      // depends on the frames rendered before it.
-      result = renderer->render(g.frameInputs(s, pose), view, scene::worldLights(s, pose),
-                                rendered == 0 || geometryAnimated);
+      // A frame that starts from the solution of the frame before: the frames of its chain before it
+      // that this run has not just solved are solved first, and not written.
+      const int start = chainStart(frame);
+      for (int before = lastSolved >= start && lastSolved < frame ? lastSolved + 1 : start; before < frame; ++before) {
+        const auto posed = scene::evaluatePose(s, tl.animation, float(tl.time(before, o.fps)));
+        solve(before, posed, camera.at(posed));
+      }
+      result = solve(frame, pose, view);
       progress.advance();
     }
     if (size_t bad = image::sanitize(result.channels))
@@ -198,7 +209,6 @@ int runRender(const RenderOptions& o) {
     if (renderer)
       sidecar.set("solver", solverJson(renderer->solver())), sidecar.set("bytesAllocated", renderer->bytesAllocated());
     sidecar.write();  // after every frame: a run killed later keeps this frame's record
-    ++rendered;
   }
   progress.finish();
   sidecar.write();

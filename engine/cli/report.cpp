@@ -11,7 +11,7 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(IvStats, nodes, levels, links, leafLinks, sta
                                    framesRedone, staticPasses, bounces, bounceRemaining, receivers, receiverFills)
 
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ArStats, nodes, levels, links, staticLinks, longestList, gatherChunks, bytes,
-                                   tableBytes, iterations, residual, negative, diverged, damping, framesRedone,
+                                   tableBytes, iterations, warm, residual, negative, diverged, damping, framesRedone,
                                    residuals)
 
 }  // namespace ivgi::gi
@@ -34,7 +34,7 @@ nlohmann::json settingsJson(const std::string& method, const gi::IvSettings& iv,
             {"iterations", ar.iterations ? nlohmann::json(*ar.iterations) : nlohmann::json("auto")},
             {"iterationTolerance", ar.tolerance},
             {"scheme", gi::schemeName(ar.scheme)},
-            {"warmStart", ar.warmStart},
+            {"restartEvery", ar.restartEvery},
             {"tessellation", tessellation}};
   return {{"method", method},
           {"bins", iv.bins},

@@ -158,12 +158,12 @@ void FrameRenderer::recordResolve(VkCommandBuffer cmd, const gpu::Camera& camera
 }
 
 FrameResult FrameRenderer::render(const scene::FrameInputs& in, const scene::CameraView& view,
-                                  const std::vector<gpu::PunctualLight>& lights, bool geometryMoved) {
+                                  const std::vector<gpu::PunctualLight>& lights, bool geometryMoved, int frame) {
   if (matrices_.size() < in.matrices.size() * sizeof(glm::mat4))
     matrices_ = vk::Buffer(ctx_, in.matrices.size() * sizeof(glm::mat4), vk::Memory::Host, &allocations_);
   matrices_.upload(in.matrices);
   morphWeights_.upload(in.morphWeights);
-  if (solver_) solver_->setLights(lights);
+  if (solver_) solver_->setLights(lights), solver_->beginFrame(frame);
   const gpu::Camera camera = scene::gpuCamera(view, float(image_.width) / float(image_.height));
   // A frame the solver could not finish (it ran out of room) is redone, relinking; one whose solver
   // has more to do (its solve after its links, bounces not converged) gets it, and the image is

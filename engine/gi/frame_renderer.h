@@ -43,9 +43,10 @@ class FrameRenderer {
   ~FrameRenderer();
 
   // `lights`: the punctual lights in world space; `geometryMoved`: whether the solver must refit and
-  // relink (false only for static geometry after the first frame).
+  // relink (false only for static geometry after the first frame); `frame`: the frame's number, for
+  // a solver that chains frames (Solver::chainStart; negative: none).
   FrameResult render(const scene::FrameInputs& inputs, const scene::CameraView& view,
-                     const std::vector<gpu::PunctualLight>& lights = {}, bool geometryMoved = true);
+                     const std::vector<gpu::PunctualLight>& lights = {}, bool geometryMoved = true, int frame = -1);
   const Solver* solver() const { return solver_.get(); }
 
   // Results of the last frame's geometry passes (for tests and later solvers).

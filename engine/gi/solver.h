@@ -15,6 +15,12 @@ class Solver {
  public:
   virtual ~Solver() = default;
 
+  // The first frame of the chain `frame` belongs to: a solver whose solve of a frame starts from the
+  // solution of the frame before it needs the frames from there to frame − 1 solved, in order, just
+  // before it (a frame's image then depends on its number alone). By default every frame stands alone.
+  virtual int chainStart(int frame) const { return frame; }
+  // The number of the frame about to be recorded (negative: none, a frame that chains to nothing).
+  virtual void beginFrame(int /*frame*/) {}
   // The frame's punctual lights in world space.
   virtual void setLights(const std::vector<gpu::PunctualLight>& lights) = 0;
   // Records the solver's passes, each timed. `geometryMoved`: the surfels changed since the last

@@ -35,6 +35,9 @@ struct ArBuffers {
   // Per surfel: radiance (Le + ρE/π, from the last radiance step) and irradiance; per iteration and
   // workgroup of the incident pass, what the host judges the iteration by.
   vk::Buffer radiance, irradiance, sums;
+  // Where frames chain: the incident tables, radiance and irradiance a warm frame started from, so
+  // that a frame redone starts from the same.
+  vk::Buffer startIncident, startRadiance, startIrradiance;
   // Set by the global pass where a receiver's list was longer than its chunks walked (host-visible).
   vk::Buffer gatherFlags;
 

@@ -11,6 +11,8 @@ void validate(const ArSettings& s) {
   if (s.iterations && (*s.iterations < 1 || *s.iterations > kMaxIterations))
     throw SettingsError("--iterations must be 1 to " + std::to_string(kMaxIterations));
   if (!(s.tolerance > 0.0f && s.tolerance < 1.0f)) throw SettingsError("--iteration-tol must lie in (0, 1)");
+  if (s.restartEvery < 1 || s.restartEvery > kMostRestartEvery)
+    throw SettingsError("--restart-every must be 1 to " + std::to_string(kMostRestartEvery));
   if (!(s.leastDamping > 0.0f && s.leastDamping <= 1.0f))
     throw SettingsError("ar: the least damping must lie in (0, 1]");
 }

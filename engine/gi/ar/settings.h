@@ -24,9 +24,11 @@ struct ArSettings {
   std::optional<uint32_t> iterations;
   float tolerance = 1e-3f;  // --iteration-tol
   ArScheme scheme = ArScheme::Symmetric;
-  // --warm-start: a frame's iteration starts from the last frame's solution rather than from the
-  // emission; a frame then depends on the frames solved before it (within the tolerance).
-  bool warmStart = false;
+  // --restart-every K: a frame whose number is a multiple of K starts its iteration from the
+  // emission, every other from the solution of the frame before it (solved first where it was not
+  // asked for: ArSolver::chainStart), so that a frame's image depends on its number alone. 1: every
+  // frame from the emission.
+  uint32_t restartEvery = 16;
   std::optional<scene::Environment> environment;  // --env; none: no environment light
   uint64_t memoryBudget = 0;                      // --max-memory, in bytes; 0: the device's heap
   // The links of a receiver's list one dispatch of the global pass walks; 0: gpu::kArGatherChunk.
@@ -41,10 +43,16 @@ struct ArSettings {
   // (each surface's antiradiance a step behind the light it cancels); one whose light grows on its
   // own is not held by any. Tests set 1 (no damping) to reach the stop.
   float leastDamping = 0.25f;
+  // Tests: every frame is redone once, as a frame that ran out of room is, so that a frame redone can
+  // be compared with one solved once.
+  bool redoEachFrameOnce = false;
 };
 
 // The most iterations a frame runs: a guard against typing errors and light that does not converge.
 inline constexpr uint32_t kMaxIterations = 2000;
+
+// The longest chain of frames --restart-every allows (a frame may have to solve as many before it).
+inline constexpr uint32_t kMostRestartEvery = 100000;
 
 // Throws SettingsError naming the option when a setting is out of its range.
 void validate(const ArSettings& settings);
@@ -58,6 +66,7 @@ struct ArStats {
   uint32_t gatherChunks = 0;           // the global pass's dispatches an iteration, each a chunk of every list
   uint64_t bytes = 0, tableBytes = 0;  // in all; of those, the directional tables
   uint32_t iterations = 0;             // the last frame's
+  bool warm = false;                   // whether it started from the frame before's solution
   float residual = 0;                  // its last iteration's change of the irradiance, over the irradiance
   float negative = 0;                  // light cancelled past zero, over the irradiance
   bool diverged = false;               // the iteration was stopped where it diverged

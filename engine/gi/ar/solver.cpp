@@ -42,8 +42,8 @@ std::vector<glm::vec4> brightEmitters(const Hierarchy& h, const std::vector<glm:
 
 }  // namespace
 
-uint64_t ArSolver::tableBytes(uint64_t nodes, uint64_t surfels, uint32_t dirs) {
-  return (2 * nodes + surfels) * 6ull * dirs * dirs * sizeof(glm::vec4);
+uint64_t ArSolver::tableBytes(uint64_t nodes, uint64_t surfels, uint32_t dirs, bool chained) {
+  return (2 * nodes + (chained ? 2 : 1) * surfels) * 6ull * dirs * dirs * sizeof(glm::vec4);
 }
 
 ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy hierarchy, const ArSettings& settings,
@@ -63,7 +63,8 @@ ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy h
   const uint32_t n = settings_.dirs, bins = 6 * n * n;
   // The tables first: they are what limits ar (as the paper says), so a refusal names --dirs.
   const VkPhysicalDeviceLimits& limits = ctx.limits();
-  const uint64_t tables = tableBytes(nodeCount_, surfelCount_, n);
+  const bool chained = settings_.restartEvery > 1;
+  const uint64_t tables = tableBytes(nodeCount_, surfelCount_, n, chained);
   const uint64_t largest = uint64_t(std::max(nodeCount_, surfelCount_)) * bins;
   const uint64_t heap = settings_.memoryBudget ? settings_.memoryBudget : ctx.deviceHeapBytes();
   double over = std::max({double(largest) / limits.maxTexelBufferElements,
@@ -96,6 +97,11 @@ ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy h
   b_.incident = vk::Buffer(ctx, uint64_t(surfelCount_) * bins * sizeof(glm::vec4), vk::Memory::Device, tally);
   b_.radiance = vk::Buffer(ctx, surfelCount_ * sizeof(glm::vec4), vk::Memory::Device, tally);
   b_.irradiance = vk::Buffer(ctx, surfelCount_ * sizeof(glm::vec4), vk::Memory::Device, tally);
+  if (chained) {
+    b_.startIncident = vk::Buffer(ctx, b_.incident.size(), vk::Memory::Device, tally);
+    b_.startRadiance = vk::Buffer(ctx, b_.radiance.size(), vk::Memory::Device, tally);
+    b_.startIrradiance = vk::Buffer(ctx, b_.irradiance.size(), vk::Memory::Device, tally);
+  }
   b_.gatherFlags = vk::makeBuffer(ctx, std::vector<uint32_t>(4, 0u), vk::Memory::Host, tally);
   sumGroups_ = iteration_.sumGroups(surfelCount_);
   b_.sums =
@@ -150,6 +156,14 @@ void ArSolver::allocateLinks() {
                         " of device memory, above --max-memory: a larger --eps or a smaller --dirs would fit");
 }
 
+int ArSolver::chainStart(int frame) const { return frame - frame % int(settings_.restartEvery); }
+
+void ArSolver::beginFrame(int frame) {
+  frame_ = frame;
+  warm_ = frame > 0 && frame != chainStart(frame) && solved_ == frame - 1;
+  redoing_ = false;
+}
+
 void ArSolver::setLights(const std::vector<gpu::PunctualLight>& lights) {
   if (b_.lights.size() < lights.size() * sizeof(gpu::PunctualLight))
     b_.lights = vk::Buffer(ctx_, lights.size() * sizeof(gpu::PunctualLight), vk::Memory::Host, &allocations_);
@@ -177,23 +191,33 @@ void ArSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
     });
     linked_ = staticLinked_ = true;
   }
-  // By default every frame starts cold, from the emission alone: an image never depends on the
-  // frames before it (shards of a farm render the same frames bit for bit). --warm-start keeps the
-  // last frame's solution where one stands.
-  const bool warm = settings_.warmStart && solutionStands_;
-  if (!warm)
-    timedPass(cmd, timer, "local", [&] {
-      vkCmdFillBuffer(cmd, b_.incident.handle(), 0, VK_WHOLE_SIZE, 0u);
-      vkCmdFillBuffer(cmd, b_.irradiance.handle(), 0, VK_WHOLE_SIZE, 0u);
-      const VkBufferCopy copy{0, 0, b_.radiance.size()};
-      vkCmdCopyBuffer(cmd, b_.emission.handle(), b_.radiance.handle(), 1, &copy);
-    });
-  solutionStands_ = false;  // until this frame stands
+  recordStart(cmd, timer);
+  solved_ = -1;  // until this frame stands
   if (!cap_) diverged_ = false;
   recorded_ = judged_ = 0;
   done_ = false;
   residuals_.clear(), negatives_.clear();
-  recordIterations(cmd, timer, std::min(warm ? kWarmFirstSteps : kIterationSteps, iterationLimit()));
+  recordIterations(cmd, timer, std::min(warm_ ? kWarmFirstSteps : kIterationSteps, iterationLimit()));
+}
+
+void ArSolver::recordStart(VkCommandBuffer cmd, vk::PassTimer& timer) {
+  timedPass(cmd, timer, "local", [&] {
+    auto copy = [&](const vk::Buffer& from, const vk::Buffer& to) {
+      const VkBufferCopy region{0, 0, from.size()};
+      vkCmdCopyBuffer(cmd, from.handle(), to.handle(), 1, &region);
+    };
+    if (!warm_) {
+      vkCmdFillBuffer(cmd, b_.incident.handle(), 0, VK_WHOLE_SIZE, 0u);
+      vkCmdFillBuffer(cmd, b_.irradiance.handle(), 0, VK_WHOLE_SIZE, 0u);
+      copy(b_.emission, b_.radiance);
+    } else if (redoing_) {
+      copy(b_.startIncident, b_.incident), copy(b_.startRadiance, b_.radiance);
+      copy(b_.startIrradiance, b_.irradiance);
+    } else {
+      copy(b_.incident, b_.startIncident), copy(b_.radiance, b_.startRadiance);
+      copy(b_.irradiance, b_.startIrradiance);
+    }
+  });
 }
 
 void ArSolver::recordLinks(VkCommandBuffer cmd, LinkSet& set) {
@@ -318,6 +342,12 @@ uint32_t ArSolver::nextSteps() const {
 }
 
 bool ArSolver::frameMustBeRedone() {
+  redoing_ = mustRedo();
+  if (redoing_) ++framesRedone_;
+  return redoing_;
+}
+
+bool ArSolver::mustRedo() {
   bool grew = false;
   for (LinkSet* set : {&staticSet_, &frameSet_}) {
     if (set->empty()) continue;
@@ -329,7 +359,6 @@ bool ArSolver::frameMustBeRedone() {
   if (grew) {
     allocateLinks();
     linked_ = false;
-    ++framesRedone_;
     return true;
   }
   const uint32_t flags = b_.gatherFlags.read<uint32_t>(1)[0];
@@ -339,12 +368,11 @@ bool ArSolver::frameMustBeRedone() {
                         "): a larger --kappa or --eps makes fewer");
   if (flags & gpu::kArFlagChunks) {  // a list longer than the global pass's chunks walked
     gatherChunks_ = (longestList() + chunkLinks() - 1) / chunkLinks();
-    ++framesRedone_;
     return true;
   }
+  if (settings_.redoEachFrameOnce && !redoing_) return true;
   if (!redo_) return false;
   redo_ = false;
-  ++framesRedone_;
   return true;
 }
 
@@ -354,13 +382,14 @@ void ArSolver::frameStands() {
                  "ivgi: ar: the iteration diverges undamped (the irradiance changed by %.3g of itself at iteration "
                  "%u); with each step damped to %.3g it settled in %u iterations\n",
                  double(firstGrowth_), firstGrowthAt_, double(damping_), recorded_);
-  solutionStands_ = !diverged_;
+  solved_ = diverged_ ? -1 : frame_;
   cap_ = 0;
   frameDamping_ = damping_, damping_ = 1.0f;
 }
 
 std::vector<std::pair<std::string, double>> ArSolver::frameFigures() const {
   return {{"iterations", double(recorded_)},
+          {"warm", warm_ ? 1.0 : 0.0},
           {"residual", residuals_.empty() ? 0.0 : double(residuals_.back())},
           {"diverged", diverged_ ? 1.0 : 0.0},
           {"damping", double(frameDamping_)}};
@@ -397,8 +426,9 @@ ArStats ArSolver::stats() const {
   s.longestList = longestList();
   s.gatherChunks = gatherChunks_;
   s.bytes = allocatedBytes();
-  s.tableBytes = tableBytes(nodeCount_, surfelCount_, settings_.dirs);
+  s.tableBytes = tableBytes(nodeCount_, surfelCount_, settings_.dirs, settings_.restartEvery > 1);
   s.iterations = recorded_;
+  s.warm = warm_;
   s.residual = residuals_.empty() ? 0.0f : residuals_.back();
   s.negative = negatives_.empty() ? 0.0f : negatives_.back();
   s.diverged = diverged_;

@@ -27,6 +27,8 @@ class ArSolver final : public Solver {
   ArSolver(const vk::Context& ctx, const scene::Geometry& geometry, Hierarchy hierarchy, const ArSettings& settings,
            const std::vector<bool>& objectMoves = {});
 
+  int chainStart(int frame) const override;
+  void beginFrame(int frame) override;
   void setLights(const std::vector<gpu::PunctualLight>& lights) override;
   void record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffer& surfels, bool geometryMoved) override;
   bool frameMustBeRedone() override;
@@ -52,13 +54,17 @@ class ArSolver final : public Solver {
   // the links made once between static objects or of the frame's.
   std::vector<std::vector<uint32_t>> senderLists(bool staticLinks) const;
   // The bytes of the directional tables for a scene of these counts (each node: gathered and
-  // intensity; each surfel: incident), before anything is allocated (ivgi info).
-  static uint64_t tableBytes(uint64_t nodes, uint64_t surfels, uint32_t dirs);
+  // intensity; each surfel: incident, and where frames chain, the start of the frame's iteration),
+  // before anything is allocated (ivgi info).
+  static uint64_t tableBytes(uint64_t nodes, uint64_t surfels, uint32_t dirs, bool chained);
 
  private:
   void allocateLinks();
+  bool mustRedo();  // frameMustBeRedone's decision (it counts and remembers it)
   void recordLinks(VkCommandBuffer cmd, LinkSet& set);
   void recordIterations(VkCommandBuffer cmd, vk::PassTimer& timer, uint32_t steps);
+  // The start of the frame's iteration: from the emission, or from the frame before's solution.
+  void recordStart(VkCommandBuffer cmd, vk::PassTimer& timer);
   // How many iterations the next submission records.
   uint32_t nextSteps() const;
   uint32_t longestList() const;  // the most links a receiver node has, of both sets
@@ -88,9 +94,11 @@ class ArSolver final : public Solver {
   // where a frame found a longer list (it is redone).
   uint32_t gatherChunks_ = 1;
   bool linked_ = false, staticLinked_ = false;
-  // The tables hold a frame's solution that stood (not diverged, not to be redone): --warm-start's
-  // starting point.
-  bool solutionStands_ = false;
+  // The frame being solved (beginFrame), the frame whose solution that stood (not diverged, not to
+  // be redone) the tables hold (negative: none), and whether this frame starts from it; a frame
+  // redone starts again from what it started from, kept in `b_.start*`.
+  int frame_ = -1, solved_ = -1;
+  bool warm_ = false, redoing_ = false;
   // The frame's iterations: recorded, judged (their sums read), and whether they are done.
   uint32_t recorded_ = 0;
   mutable uint32_t judged_ = 0;
