@@ -443,46 +443,38 @@ def replace_rows(text, rows):
     return text
 
 
-def accuracy_section(r, args):
-    body, errors = accuracy_table(r)
-    return body, [error_row(errors)]
-
-
 def equal_rows(ratios):
     """The README headline's rows of iv and ar against pt at equal error (equal_error_table's ratios)."""
-    return [f"| iv faster than pt at equal relMSE, defaults / every surfel a receiver | "
-            f"{ratios['defaults']:.1f}× / {ratios['every surfel a receiver']:.1f}× |",
-            f"| ar against pt at equal relMSE, defaults | {ratios['ar, defaults']:.2f}× "
-            f"({'faster' if ratios['ar, defaults'] >= 1 else 'slower'}) |"]
+    iv = f"{ratios['defaults']:.1f}× / {ratios['every surfel a receiver']:.1f}×"
+    ar = ratios["ar, defaults"]
+    return [f"| iv faster than pt at equal relMSE, defaults / every surfel a receiver | {iv} |",
+            f"| ar against pt at equal relMSE, defaults | {ar:.2f}× ({'faster' if ar >= 1 else 'slower'}) |"]
 
 
-def equal_section(r, args):
-    body, _, ratios, _ = equal_error_table(r, args.runs)
-    return body, equal_rows(ratios)
-
-
-def ar_section(r, args):
-    body, figures = ar_table(r)
-    return body, ar_rows(figures)
-
-
-def passes_section(r, args):
-    body, _, columns = per_pass_table(r, args.runs)
-    return body, frame_rows(columns)
+def with_rows(table, rows):
+    """A section's maker: the body of `table`'s result (its first item) and the README headline rows
+    that `rows` makes of the whole result."""
+    def make(r, args):
+        result = table(r, args)
+        return result[0], rows(result)
+    return make
 
 
 # What --only regenerates: each section's table, by the line its body starts with in
 # docs/performance.md (the body runs to the next heading), and the README headline rows it feeds.
 SECTIONS = {
-    "accuracy": ("| iv | relMSE, 1 sample a pixel", accuracy_section),
-    "passes": ("| pass | ", passes_section),
+    "accuracy": ("| iv | relMSE, 1 sample a pixel",
+                 with_rows(lambda r, args: accuracy_table(r), lambda result: [error_row(result[1])])),
+    "passes": ("| pass | ", with_rows(lambda r, args: per_pass_table(r, args.runs),
+                                      lambda result: frame_rows(result[2]))),
     "programs": ("| iv: program |", lambda r, args: (programs_table(r, args.runs), [])),
     "scaling": ("| `--cells` | surfels |", lambda r, args: (scaling_table(r, args.runs), [])),
     "sweep": ("| bins | `--receiver-tol` |", lambda r, args: (sweep_table(r), [])),
     "real": ("| scene | surfels | receivers |", lambda r, args: (real_files_table(r, args.runs), [])),
-    "ar": ("| `--dirs` | links |", ar_section),
+    "ar": ("| `--dirs` | links |", with_rows(lambda r, args: ar_table(r), lambda result: ar_rows(result[1]))),
     "flicker": ("| setting | mean relMSE of the frames |", lambda r, args: (flicker_table(r), [])),
-    "equal": ("| setting | ms per frame | relMSE | pt ms", equal_section),
+    "equal": ("| setting | ms per frame | relMSE | pt ms",
+              with_rows(lambda r, args: equal_error_table(r, args.runs), lambda result: equal_rows(result[2]))),
 }
 
 
