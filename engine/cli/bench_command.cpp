@@ -150,11 +150,7 @@ int runBench(const BenchOptions& o) {
     summary[p] = {{"medianMs", med}, {"p90Ms", p90}, {"frames", perPass[p].size()}};
   }
   double totalMs = percentile(perPass["total"], 0.5);
-  // The mean too: where frames differ by kind (ar's chains: a restart among warm frames), the
-  // animation's rate is the mean's.
-  const std::vector<double>& totals = perPass["total"];
-  const double meanMs =
-      totals.empty() ? 0.0 : std::accumulate(totals.begin(), totals.end(), 0.0) / double(totals.size());
+  const double meanMs = mean(perPass["total"]);
   summary["total"]["meanMs"] = meanMs;
   std::printf("\nframe: %.3f ms median GPU, %.2f fps; mean %.3f ms, %.2f fps over the measured frames\n", totalMs,
               totalMs > 0 ? 1000.0 / totalMs : 0.0, meanMs, meanMs > 0 ? 1000.0 / meanMs : 0.0);

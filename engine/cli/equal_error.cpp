@@ -7,7 +7,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <numeric>
 
 #include "engine/cli/commands.h"
 #include "engine/cli/frame_times.h"
@@ -85,7 +84,7 @@ int runEqualError(const BenchOptions& o) {
   // (solved from the emission, as a restart of ar's chains is).
   FrameTimes times = timeFrames(renderer, s, g, tl, camera, o.fps, o.warmup, o.frames);
   const std::vector<double>& totals = times.perPass["total"];
-  const double ivMs = std::accumulate(totals.begin(), totals.end(), 0.0) / double(std::max<size_t>(totals.size(), 1));
+  const double ivMs = mean(totals);
   const char* method = solver.method.c_str();
   auto ivFrame = renderer.render(g.frameInputs(s, pose), view, scene::worldLights(s, pose), true);
   image::sanitize(ivFrame.channels);

@@ -83,7 +83,7 @@ int runInfo(const InfoOptions& o) {
     const scene::Geometry sampled = renderableGeometry(s, solver);
     const gi::Hierarchy h = gi::restPoseHierarchy(s, sampled);
     const gi::ArSettings ar = arSettings(solver);
-    const bool chained = ar.restartEvery > 1;
+    const bool chained = ar.chained();
     const uint64_t tables = gi::ArSolver::tableBytes(h.nodes.size(), sampled.surfels.size(), ar.dirs, chained);
     std::printf(
         "ar tables    dirs 6x%ux%u: %zu nodes and %zu surfels x %u bins x (gathered, intensity; incident%s) "

@@ -1,7 +1,8 @@
 #pragma once
-// Order statistics of per-frame timings.
+// Statistics of per-frame timings.
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <vector>
 
 namespace ivgi::cli {
@@ -13,6 +14,12 @@ inline double percentile(std::vector<double> values, double q) {
   double at = q * double(values.size() - 1);
   size_t lo = size_t(std::floor(at)), hi = std::min(lo + 1, values.size() - 1);
   return values[lo] + (values[hi] - values[lo]) * (at - double(lo));
+}
+
+// The mean (0 of none): where frames differ in kind (ar's restarts among chained frames), the
+// animation's rate is the mean's, not the median's.
+inline double mean(const std::vector<double>& values) {
+  return values.empty() ? 0.0 : std::accumulate(values.begin(), values.end(), 0.0) / double(values.size());
 }
 
 }  // namespace ivgi::cli

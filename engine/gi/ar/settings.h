@@ -29,6 +29,7 @@ struct ArSettings {
   // asked for: ArSolver::chainStart), so that a frame's image depends on its number alone. 1: every
   // frame from the emission.
   uint32_t restartEvery = 16;
+  bool chained() const { return restartEvery > 1; }
   std::optional<scene::Environment> environment;  // --env; none: no environment light
   uint64_t memoryBudget = 0;                      // --max-memory, in bytes; 0: the device's heap
   // The links of a receiver's list one dispatch of the global pass walks; 0: gpu::kArGatherChunk.

@@ -63,7 +63,7 @@ ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy h
   const uint32_t n = settings_.dirs, bins = 6 * n * n;
   // The tables first: they are what limits ar (as the paper says), so a refusal names --dirs.
   const VkPhysicalDeviceLimits& limits = ctx.limits();
-  const bool chained = settings_.restartEvery > 1;
+  const bool chained = settings_.chained();
   const uint64_t tables = tableBytes(nodeCount_, surfelCount_, n, chained);
   const uint64_t largest = uint64_t(std::max(nodeCount_, surfelCount_)) * bins;
   const uint64_t heap = settings_.memoryBudget ? settings_.memoryBudget : ctx.deviceHeapBytes();
@@ -426,7 +426,7 @@ ArStats ArSolver::stats() const {
   s.longestList = longestList();
   s.gatherChunks = gatherChunks_;
   s.bytes = allocatedBytes();
-  s.tableBytes = tableBytes(nodeCount_, surfelCount_, settings_.dirs, settings_.restartEvery > 1);
+  s.tableBytes = tableBytes(nodeCount_, surfelCount_, settings_.dirs, settings_.chained());
   s.iterations = recorded_;
   s.warm = warm_;
   s.residual = residuals_.empty() ? 0.0f : residuals_.back();
