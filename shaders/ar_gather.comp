@@ -4,7 +4,8 @@
 // area (a disk's on its axis: finite when near) into the bins around the direction it sees the
 // sender in (binTaps), as radiance averaged over each bin. A surfel sender is exact in direction; a
 // cluster's antiradiance (a curved one's intensity) comes from its table, read between bins. A
-// receiver's links are two lists: those between static objects (made once), then the frame's.
+// receiver's links are two lists: those between static objects (made once), then the frame's, each
+// in the order the sorts left (walkKey: the lanes of neighbouring receivers take alike links at once).
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 0
 #include "common.glsl"
@@ -61,14 +62,6 @@ vec4 keepSide(vec4 normalCone, vec3 dir, Taps t) {
   return sum > 0.0 ? w / sum : t.weights;
 }
 
-// Solid angle per unit area of a sender of area `area` at squared distance `dist2`: that of a disk
-// of its area seen on its axis, 2π(1 − 1/√(1 + a/(π d²)))/a, finite as d → 0 and 1/d² far away.
-float solidAnglePerArea(float area, float dist2) {
-  float x = area / (kPi * dist2);
-  if (x < 1e-4) return 1.0 / dist2 * (1.0 - 0.75 * x);  // the series: no cancellation
-  return 2.0 * kPi * (1.0 - inversesqrt(1.0 + x)) / area;
-}
-
 // The receiver's table while its links are walked, where it is small enough to be kept by each
 // invocation (its texels are then written once, at the end); a larger one is summed in place.
 const uint kBins = 6u * kDirs * kDirs;
@@ -120,7 +113,6 @@ vec3 surfelRadiance(uint surfel, uint bins, vec4 ns, vec3 dir, Taps t) {
 // Adds what sender node s sends over its link to the receiver (at pr, its normal and cone nr).
 void gatherLink(uint s, vec3 pr, vec4 nr) {
   uint n = kDirs, bins = 6u * n * n;
-  float binWidth = 2.0 / float(n);  // of a bin at a face's centre, in the face's plane
   vec4 ps = nodePositionArea(s);
   vec3 d = ps.xyz - pr;
   float dist2 = dot(d, d);
@@ -140,13 +132,10 @@ void gatherLink(uint s, vec3 pr, vec4 nr) {
     deposit(nr, dir, tapsOf(dir), sent * solidAnglePerArea(ps.w, dist2), 1.0);
     return;
   }
-  // A surfel wider than a bin, or near, goes as k×k pieces of its rectangle, each along its own
-  // direction: one direction would stand for a spread of them, and the disk for a nearby square.
+  // A surfel goes as pieces of its rectangle, each along its own direction (surfelPieces).
   vec4 ns = nodeNormalCone(s);
   if (abs(dot(ns.xyz, d)) <= 1e-4 * sqrt(dist2)) return;  // the receiver lies in its plane: it sends nothing there
-  float radius2 = ps.w / kPi;
-  float width = sqrt(solidAnglePerArea(ps.w, dist2) * ps.w) / binWidth;
-  uint pieces = dist2 <= 4.0 * radius2 ? kArPieces : uint(clamp(ceil(width), 1.0, float(kArPieces)));
+  uint pieces = surfelPieces(ps.w, dist2, n);
   vec3 sideA, sideB;
   senderSides(s, ns, sideA, sideB);
   float pieceArea = ps.w / float(pieces * pieces);

@@ -354,6 +354,41 @@ struct BounceCheckPush {
 // Pieces per side a near or wide surfel sender is cut into at most (the gather's loops stay far
 // below lavapipe's budget: common.glsl).
 IVGI_CONST uint kArPieces = 2u;
+
+// Solid angle per unit area of a sender of area `area` at squared distance `dist2`: that of a disk
+// of its area seen on its axis, 2π(1 − 1/√(1 + a/(π d²)))/a, finite as d → 0 and 1/d² far away.
+IVGI_FN float solidAnglePerArea(float area, float dist2) {
+  const float x = area / (kPi * dist2);
+  if (x < 1e-4f) return 1.0f / dist2 * (1.0f - 0.75f * x);  // the series: no cancellation
+  return 2.0f * kPi * (1.0f - inversesqrt(1.0f + x)) / area;
+}
+
+// The pieces per side the global pass cuts a surfel sender of area `area` at squared distance
+// `dist2` into under bins of `n` per face's side: one wider than a bin, or near, goes as k×k pieces
+// of its rectangle, each along its own direction (one direction would stand for a spread of them,
+// and the disk for a nearby square).
+IVGI_FN uint surfelPieces(float area, float dist2, uint n) {
+  const float binWidth = 2.0f / float(n);  // of a bin at a face's centre, in the face's plane
+  const float width = sqrt(solidAnglePerArea(area, dist2) * area) / binWidth;
+  return dist2 <= 4.0f * (area / kPi) ? kArPieces : uint(clamp(ceil(width), 1.0f, float(kArPieces)));
+}
+
+// A receiver's senders in the order the global pass walks them, so that the lanes walking
+// neighbouring receivers' lists side by side take links of the same kind at the same step (a
+// lane's longer link holds up the rest): the clusters first, then the surfels by pieces, most
+// first; within a kind by node. The key keeps the emitter bit where the sender has it, the kind in
+// the bits below, the node in the rest: the ar solver takes at most 2^kArKindShift nodes.
+IVGI_CONST uint kArKindShift = 29u;
+IVGI_CONST uint kArNodeMask = (1u << kArKindShift) - 1u;
+IVGI_FN uint linkKind(bool cluster, float senderArea, float dist2, uint n) {
+  return cluster ? 0u : 1u + kArPieces - surfelPieces(senderArea, dist2, n);
+}
+IVGI_FN uint walkKey(uint sender, uint kind) {
+  return (sender & kEmitterBit) | (kind << kArKindShift) | (sender & kArNodeMask);
+}
+// Keys compare without the emitter bit; the lists hold the senders (without their kind).
+IVGI_FN bool walkedBefore(uint keyA, uint keyB) { return (keyA & ~kEmitterBit) < (keyB & ~kEmitterBit); }
+IVGI_FN uint senderOfKey(uint key) { return key & (kEmitterBit | kArNodeMask); }
 // The most links of a receiver's list one dispatch of the global pass walks: a link takes at most
 // 1 + kArPieces² loop rounds, so that a chunk stays within lavapipe's loop budget (common.glsl).
 // Longer lists take more dispatches, each going on where the one before stopped.

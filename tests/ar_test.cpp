@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -29,6 +30,8 @@ struct ArSolved {
   std::vector<scene::Surfel> surfels;
   gi::ArStats stats;
   std::vector<std::vector<uint32_t>> senderLists;  // per receiver node, of the frame's links
+  std::vector<gpu::NodeState> nodes;               // the frame's refit
+  std::vector<gpu::TreeNode> tree;
 };
 
 ArSolved solveAr(const tinygltf::Model& model, gi::ArSettings settings, uint32_t tessellation = 16) {
@@ -40,7 +43,7 @@ ArSolved solveAr(const tinygltf::Model& model, gi::ArSettings settings, uint32_t
   auto view = scene::framingCamera(scene::worldBounds(scene::animateOnHost(g, g.frameInputs(s, pose))), 1.0f);
   r.render(g.frameInputs(s, pose), view, scene::worldLights(s, pose));
   const auto& ar = dynamic_cast<const gi::ArSolver&>(*r.solver());
-  return {ar.surfelIrradiance(), r.surfels(), ar.stats(), ar.senderLists(false)};
+  return {ar.surfelIrradiance(), r.surfels(), ar.stats(), ar.senderLists(false), ar.nodeStates(), ar.hierarchy().nodes};
 }
 
 double meanOverArea(const ArSolved& solved, auto&& value) {
@@ -240,19 +243,36 @@ TEST(ArScale, IrradianceDoesNotDependOnTheScenesSize) {
 }
 
 // Link creation lists each receiver's senders in whatever order its atomics ran; the global pass
-// sums in list order, so every list must come out ascending, short lists (sorted an invocation each)
-// and long ones (a workgroup each) alike.
-TEST(ArDeterminism, EveryReceiversSendersAreInOrder) {
+// sums in list order, so every list must come out in one order, short lists (sorted an invocation
+// each) and long ones (a workgroup each) alike: the order the pass walks them in (walkKey: the
+// clusters, then the surfels by pieces, most first; within a kind by node).
+TEST(ArDeterminism, EveryReceiversSendersAreInWalkingOrder) {
   const ArSolved solved = solveAr(scenes::cornellBox({.cells = 8}), {});
+  const uint32_t dirs = gi::ArSettings{}.dirs;
   size_t shortLists = 0, longLists = 0, unsorted = 0;
-  for (const auto& list : solved.senderLists) {
+  std::array<size_t, gpu::kArPieces + 1> kinds{};
+  for (size_t receiver = 0; receiver < solved.senderLists.size(); ++receiver) {
+    const auto& list = solved.senderLists[receiver];
     if (list.size() < 2) continue;
     ++(list.size() > gpu::kArShortList ? longLists : shortLists);
-    unsorted += std::is_sorted(list.begin(), list.end()) ? 0 : 1;
+    std::vector<uint32_t> keys;
+    for (uint32_t sender : list) {
+      const uint32_t node = sender & ~gpu::kEmitterBit;
+      const glm::vec4 ps = solved.nodes[node].positionArea;
+      const glm::vec3 d = glm::vec3(ps) - glm::vec3(solved.nodes[receiver].positionArea);
+      const uint32_t kind = gpu::linkKind(solved.tree[node].childCount != 0, ps.w, glm::dot(d, d), dirs);
+      ++kinds[kind];
+      keys.push_back(gpu::walkKey(sender, kind));
+    }
+    unsorted += std::is_sorted(keys.begin(), keys.end(), gpu::walkedBefore) ? 0 : 1;
   }
-  std::printf("[ ar order ] %zu short and %zu long lists, %zu out of order\n", shortLists, longLists, unsorted);
+  std::printf("[ ar order ] %zu short and %zu long lists, %zu out of order; links by kind:", shortLists, longLists,
+              unsorted);
+  for (size_t count : kinds) std::printf(" %zu", count);
+  std::printf("\n");
   EXPECT_GT(shortLists, 0u);
   EXPECT_GT(longLists, 0u);
+  for (size_t count : kinds) EXPECT_GT(count, 0u);  // every kind met, so that their order is tested
   EXPECT_EQ(unsorted, 0u);
 }
 

@@ -56,11 +56,17 @@ ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy h
       refit_(ctx),
       linkCreation_(ctx),
       iteration_(ctx, hierarchy_, settings, allocations_),
-      sortSenders_(shaderProgram(ctx, "ar_sort_senders")),
-      sortLongSenders_(shaderProgram(ctx, "ar_sort_long_senders")),
+      sortSenders_(shaderProgram(ctx, "ar_sort_senders", {.constants = {{"kDirs", settings.dirs}}})),
+      sortLongSenders_(shaderProgram(ctx, "ar_sort_long_senders", {.constants = {{"kDirs", settings.dirs}}})),
       queueArgs_(shaderProgram(ctx, "queue_args")),
       orderReceivers_(shaderProgram(ctx, "ar_order_receivers")) {
   const uint32_t n = settings_.dirs, bins = 6 * n * n;
+  // A receiver's senders are sorted by a key of a link's kind (0 to kArPieces) above its sender's node.
+  static_assert(gpu::kArPieces < (1u << (31 - gpu::kArKindShift)));
+  if (nodeCount_ > (1u << gpu::kArKindShift))
+    throw SettingsError("the ar solver takes at most " + std::to_string(1u << gpu::kArKindShift) +
+                        " nodes, and this scene makes " + std::to_string(nodeCount_) +
+                        ": a smaller --tessellate makes fewer");
   // The tables first: they are what limits ar (as the paper says), so a refusal names --dirs.
   const VkPhysicalDeviceLimits& limits = ctx.limits();
   const bool chained = settings_.chained();
