@@ -1,24 +1,22 @@
 #version 460
-// ar: each surfel's incident light per bin, what its node and its ancestors gathered plus the
-// environment and the punctual lights (unoccluded: antiradiance cancels them where they are
-// blocked); and its irradiance: its normal against the vector sums of what its flat node and
-// ancestors gathered (each sender along its own direction), the bins of its front for what its
-// curved ancestors gathered and the environment (Σ L·max(n·∫ω dω, 0)), and the lights' exact
-// cosines. The workgroup sums what the host judges the
-// iteration by.
+// ar: each surfel's incident light per bin, what its node and its ancestors gathered (summed down
+// the trees by ar_sum_down) plus the environment and the punctual lights (unoccluded: antiradiance
+// cancels them where they are blocked); and its irradiance: its normal against the vector sums of
+// what its flat node and ancestors gathered (each sender along its own direction), the bins of its
+// front for what its curved ancestors gathered and the environment (Σ L·max(n·∫ω dω, 0)), and the
+// lights' exact cosines. The workgroup sums what the host judges the iteration by.
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 0
 #include "common.glsl"
 layout(local_size_x = 64) in;
 layout(constant_id = 0) const uint kDirs = 4;  // --dirs: a constant, so that the bins' arithmetic folds
-const uint kArPathNodes = 32u;                 // the bits of a word
 
 layout(binding = 1, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode
 layout(std430, binding = 2) readonly buffer LeafOfSurfel { uint leafOfSurfel[]; };
 layout(binding = 3, rgba32f) readonly uniform imageBuffer binVectors;   // per bin ∫ω dω, Ω
 layout(binding = 4, rgba32f) readonly uniform imageBuffer environment;  // radiance per bin
 layout(std430, binding = 5) readonly buffer Lights { PunctualLight lights[]; };
-layout(binding = 6, rgba32f) readonly uniform imageBuffer gathered;  // per node and bin
+layout(binding = 6, rgba32f) readonly uniform imageBuffer gathered;  // per node and bin, with its ancestors'
 layout(binding = 7, rgba32f) uniform imageBuffer incident;           // per surfel and bin
 layout(std430, binding = 8) buffer Irradiance { vec4 irradiance[]; };
 layout(std430, binding = 9) writeonly buffer Sums { IterationSum sums[]; };
@@ -40,24 +38,18 @@ void main() {
     vec4 pa = nodePositionArea(leaf);
     vec3 normal = nodeNormalCone(leaf).xyz;
     vec3 E = vec3(0.0);
-    // The root path's first kArPathNodes nodes (their first texels), read once for every bin's sum
-    // over it; bit k of `curved`: the k-th is curved, its light reaching the irradiance through the
-    // bins. Trees are far less deep; any node above those is walked for each bin, as flat.
-    uint curved = 0u, depth = 0u, path[kArPathNodes];
-    int above = int(leaf);
-    for (; above >= 0 && depth < kArPathNodes; above = int(imageLoad(tree, above).x), ++depth) {
-      path[depth] = uint(above) * bins;
-      if (nodeNormalCone(uint(above)).w > kArFlatCone) curved |= 1u << depth;
-    }
+    // Every inner node's table holds what it and its ancestors gathered (ar_sum_down): the leaf's
+    // and its parent's are what reaches the surfel through its tree. A curved node's ancestors are
+    // curved (a node's normal cone holds its children's) and a leaf is flat, so what the curved
+    // nodes of the path gathered, which reaches the irradiance through the bins, is the table of
+    // the lowest of them.
+    int parent = int(imageLoad(tree, int(leaf)).x), curved = parent;
+    while (curved >= 0 && nodeNormalCone(uint(curved)).w <= kArFlatCone) curved = int(imageLoad(tree, curved).x);
     for (uint b = 0u; b < bins; ++b) {
-      vec3 sky = push.environmentOn != 0u ? imageLoad(environment, int(b)).rgb : vec3(0.0), I = sky, fromBins = sky;
-      for (uint k = 0u; k < depth; ++k) {
-        vec3 g = imageLoad(gathered, int(path[k] + b)).rgb;
-        I += g;
-        if ((curved & (1u << k)) != 0u) fromBins += g;
-      }
-      for (int node = above; node >= 0; node = int(imageLoad(tree, node).x))
-        I += imageLoad(gathered, int(uint(node) * bins + b)).rgb;
+      vec3 sky = push.environmentOn != 0u ? imageLoad(environment, int(b)).rgb : vec3(0.0);
+      vec3 I = sky + imageLoad(gathered, int(leaf * bins + b)).rgb;
+      if (parent >= 0) I += imageLoad(gathered, int(uint(parent) * bins + b)).rgb;
+      vec3 fromBins = curved >= 0 ? sky + imageLoad(gathered, int(uint(curved) * bins + b)).rgb : sky;
       int texel = int(s * bins + b);
       imageStore(incident, texel, vec4(damped ? mix(imageLoad(incident, texel).rgb, I, w) : I, 0.0));
       E += fromBins * max(dot(normal, imageLoad(binVectors, int(b)).xyz), 0.0);

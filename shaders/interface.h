@@ -418,9 +418,11 @@ struct IterationSum {
   float pad;
 };
 struct ArPush {
-  uint count;  // the items: surfels (local, incident), nodes (gather) or a level's inner nodes × bins (pull-up)
+  // the items: surfels (local, incident), nodes (gather), a level's inner nodes × bins (pull-up) or
+  // its inner nodes (sum-down)
+  uint count;
   uint bins;   // N: 6·N² bins
-  uint first;  // pull-up: the level's first in the inner nodes; incident: the sums' slot; gather: the chunk
+  uint first;  // pull-up, sum-down: the level's first in the inner nodes; incident: the sums' slot; gather: the chunk
   uint updateRadiance;  // local: 1 to reflect the incident light (a radiance step), 0 to keep the radiance
   uint lightCount;
   uint environmentOn;

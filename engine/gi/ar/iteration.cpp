@@ -13,6 +13,7 @@ ArIteration::ArIteration(const vk::Context& ctx, const Hierarchy& h, const ArSet
                         {.constants = {{"kDirs", settings.dirs},
                                        {"kTableHereMost", settings.gatherTableHereMost ? settings.gatherTableHereMost
                                                                                        : gpu::kArGatherTableHere}}})),
+      sumDown_(shaderProgram(ctx, "ar_sum_down", {.constants = {{"kDirs", settings.dirs}}})),
       incident_(shaderProgram(ctx, "ar_incident", {.constants = {{"kDirs", settings.dirs}}})) {
   std::vector<uint32_t> inner;
   for (const gpu::LevelPush& level : levelsBottomUp(h)) {
@@ -62,6 +63,11 @@ void ArIteration::record(VkCommandBuffer cmd, vk::PassTimer& timer, bool timed, 
     }
   });
   pass("incident", [&] {
+    for (auto level = innerLevels_.rbegin(); level != innerLevels_.rend(); ++level) {  // the top first
+      sumDown_.dispatchItems(cmd, level->count, b.pool().with({{"innerNodes", innerNodes_}}),
+                             gpu::ArPush{level->count, push.bins, level->first});
+      vk::barrier(cmd);
+    }
     push.count = surfels, push.first = slot;
     incident_.dispatchItems(cmd, surfels, b.pool(), push);
   });

@@ -1,7 +1,8 @@
 #pragma once
 // One ar iteration as its passes (docs/design.md §2.2): the local pass (K and J at every surfel,
 // its intensity per bin), the intensities pulled up the trees, the global pass (U over the links
-// into each node's gathered table), and each surfel's incident light and irradiance.
+// into each node's gathered table), the inner nodes' gathered tables summed down the trees, and
+// each surfel's incident light and irradiance.
 #include "engine/gi/ar/buffers.h"
 #include "engine/gi/ar/settings.h"
 #include "engine/gi/hierarchy.h"
@@ -27,8 +28,9 @@ class ArIteration {
   uint32_t sumGroups(uint32_t surfelCount) const;
 
  private:
-  vk::Program local_, pullUp_, gather_, incident_;
-  // The inner nodes level by level, and per level holding any (deepest first) its range of them.
+  vk::Program local_, pullUp_, gather_, sumDown_, incident_;
+  // The inner nodes level by level, and per level holding any (deepest first) its range of them:
+  // the pull-up's dispatches, and in reverse the sum-down's.
   vk::Buffer innerNodes_;
   std::vector<gpu::LevelPush> innerLevels_;
 };
