@@ -534,6 +534,33 @@ TEST(ArConvergence, ASmoothSpheresPolesSettle) {
   EXPECT_LT(brightest, kPi * 12.0f);
 }
 
+// The incident pass reads what a surfel's curved ancestors gathered from the lowest of them alone
+// (ar_sum_down has summed each node's ancestors into it), which holds only while a leaf is flat and
+// a curved node's ancestors are all curved: the refit's normal cone of a node must hold its
+// children's.
+// The Cornell box's flat walls and the sphere's curved surface, whose curved nodes reach far down.
+TEST(ArSumDown, ALeafIsFlatAndACurvedNodesAncestorsAreCurved) {
+  for (const auto& [name, model] : {std::pair{"Cornell box", scenes::cornellBox({.cells = 8})},
+                                    std::pair{"sphere on a floor", sphereOnAFloor(32, 16)}}) {
+    const ArSolved solved = solveAr(model, {.iterations = 1});
+    auto curved = [&](size_t node) { return solved.nodes[node].normalCone.w > gpu::kArFlatCone; };
+    size_t curvedNodes = 0, flatInner = 0, wrong = 0;
+    for (size_t node = 0; node < solved.tree.size(); ++node) {
+      const gpu::TreeNode& t = solved.tree[node];
+      if (t.childCount == 0) {
+        wrong += curved(node) ? 1 : 0;
+        continue;
+      }
+      ++(curved(node) ? curvedNodes : flatInner);
+      if (curved(node) && t.parent >= 0 && !curved(size_t(t.parent))) ++wrong;
+    }
+    std::printf("[ ar sum-down ] %s: %zu curved and %zu flat inner nodes\n", name, curvedNodes, flatInner);
+    EXPECT_GT(curvedNodes, 0u) << name;
+    EXPECT_GT(flatInner, 0u) << name;
+    EXPECT_EQ(wrong, 0u) << name;
+  }
+}
+
 namespace {
 
 // A contrived scene on which the plain iteration diverges (as Dachsbacher et al. say some may):
