@@ -8,13 +8,13 @@
 // make and undo the keys), within lavapipe's budget (common.glsl).
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 3
+#define TREE_TEXELS 4
 #include "ar_links.glsl"
 layout(local_size_x = 64) in;
 
 layout(std430, binding = 0) readonly buffer Starts { uint starts[]; };
 layout(binding = 1, r32ui) coherent uniform uimageBuffer senders;
 layout(std430, binding = 2) readonly buffer LongSorts { uint longSorts[]; };  // count, then the queued nodes
-layout(binding = 4, rgba32ui) readonly uniform uimageBuffer tree;             // TreeNode
 layout(constant_id = 0) const uint kDirs = 4;                                 // --dirs
 
 void main() {
@@ -26,8 +26,7 @@ void main() {
   vec3 receiver = nodePositionArea(node).xyz;
   for (uint i = gl_LocalInvocationID.x; i < count; i += gl_WorkGroupSize.x) {
     uint sender = imageLoad(senders, int(first + i)).x;
-    imageStore(senders, int(first + i),
-               uvec4(walkKeyOf(sender, imageLoad(tree, int(sender & ~kEmitterBit)).z, receiver, kDirs)));
+    imageStore(senders, int(first + i), uvec4(walkKeyOf(sender, receiver, kDirs)));
   }
   memoryBarrierImage();
   barrier();

@@ -1,12 +1,13 @@
 #version 460
 // ar: each receiver node's senders in the order the global pass walks them (walkKey). Link creation
 // lists them in whatever order its atomics ran; the global pass sums in list order, so a canonical
-// order makes its sums, and the image, the same run to run. An invocation a node: most lists are short, and one
-// invocation sorts a short list by insertion faster than a workgroup starts. A longer list is queued for
-// ar_sort_long_senders (a workgroup each); one longer than kArSortedMost is flagged, and the solve
-// stops with a message.
+// order makes its sums, and the image, the same run to run. An invocation a node: most lists are
+// short, and one invocation sorts a short list by insertion faster than a workgroup starts. A
+// longer list is queued for ar_sort_long_senders (a workgroup each); one longer than kArSortedMost
+// is flagged, and the solve stops with a message.
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 5
+#define TREE_TEXELS 4
 #include "ar_links.glsl"
 layout(local_size_x = 64) in;
 
@@ -14,7 +15,6 @@ layout(std430, binding = 0) readonly buffer Starts { uint starts[]; };
 layout(binding = 1, r32ui) uniform uimageBuffer senders;
 layout(std430, binding = 2) buffer GatherFlags { uint gatherFlags[]; };
 layout(std430, binding = 3) buffer LongSorts { uint longSorts[]; };  // count, then the queued nodes
-layout(binding = 4, rgba32ui) readonly uniform uimageBuffer tree;    // TreeNode
 layout(constant_id = 0) const uint kDirs = 4;                        // --dirs
 layout(push_constant) uniform Push { ArPush push; };                 // count: nodes
 
@@ -32,7 +32,7 @@ void main() {
     vec3 receiver = nodePositionArea(node).xyz;
     for (uint i = 0u; i < count; ++i) {
       uint sender = imageLoad(senders, int(first + i)).x;
-      list[i] = walkKeyOf(sender, imageLoad(tree, int(sender & ~kEmitterBit)).z, receiver, kDirs);
+      list[i] = walkKeyOf(sender, receiver, kDirs);
     }
     for (uint i = 1u; i < count; ++i) {
       uint value = list[i], j = i;

@@ -11,9 +11,8 @@ layout(constant_id = 0) const uint kDirs = 4;  // --dirs: a constant, so that di
 layout(binding = 0, rgba32ui) readonly uniform uimageBuffer tree;     // TreeNode
 layout(binding = 1, rgba32f) uniform imageBuffer gathered;            // per node and bin
 layout(binding = 2, r32ui) readonly uniform uimageBuffer innerNodes;  // level by level
-layout(push_constant) uniform Push {
-  ArPush push;
-};  // count: the level's inner nodes; first: where they start in innerNodes
+// count: the level's inner nodes; first: where they start in innerNodes
+layout(push_constant) uniform Push { ArPush push; };
 
 void main() {
   uint item = itemIndex();
