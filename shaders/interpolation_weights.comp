@@ -63,7 +63,7 @@ void main() {
   else
     gatherTaps(x, n, t1, t2);
   if (tapCount > 0u) {
-    fitCoefficients();
+    fitCoefficients(true);
     for (uint t = 0u; t < tapCount; ++t)
       imageStore(taps, int(s * kInterpolationTaps + t), uvec4(tapReceiver[t], floatBitsToUint(tapWeight[t]), 0u, 0u));
     tapCounts[s] = tapCount;

@@ -57,13 +57,71 @@ void considerReceiver(uint s, uint leaf, float radius, float presence, vec3 x, v
   if (w > 0.0) keepTap(s, w, vec2(dot(p - x, t1), dot(p - x, t2)));
 }
 
-// Turns the taps' weights into the coefficients of a weighted linear fit evaluated at the query:
-// c_k = w_k·(A⁻¹q_k)₀ with q_k = (1, offset_k/σ) and A = Σ w q qᵀ, so that irradiance changing
-// linearly along the surface is interpolated exactly. Offsets are measured in σ, the taps' RMS
-// offset, so that the solve does not depend on the scene's scale. The slopes are regularised: one
-// or two taps, or taps in a line, give the weighted mean along what they leave undetermined; taps
-// all at the query's place give their weighted mean. Σ c_k = 1.
-void fitCoefficients() {
+// The fit's regularisation, against the taps' total weight: slopes and curvatures the taps leave
+// undetermined go to 0. A quadratic fit whose coefficients sum in magnitude past kMaxFitGain is
+// replaced by the linear one (fitCoefficients).
+const float kSlopeRegularisation = 0.01, kCurvatureRegularisation = 0.1, kMaxFitGain = 1.5;
+
+// The terms of the fit at a tap offset o (in σ): constant, slopes and curvatures.
+const uint kFitTerms = 6u;
+float[kFitTerms] fitTerms(vec2 o) { return float[kFitTerms](1.0, o.x, o.y, o.x * o.x, o.x * o.y, o.y * o.y); }
+
+// z = A⁻¹e₀ over the first m terms, A = Σ w q qᵀ with the slopes and the curvatures regularised
+// (by Cholesky: A is symmetric and, regularised, positive definite).
+float[kFitTerms] solveFit(uint m, float unit) {
+  float a[kFitTerms][kFitTerms];
+  for (uint i = 0u; i < m; ++i)
+    for (uint j = 0u; j <= i; ++j) a[i][j] = 0.0;
+  for (uint t = 0u; t < tapCount; ++t) {
+    const float q[kFitTerms] = fitTerms(tapOffset[t] * unit);
+    for (uint i = 0u; i < m; ++i)
+      for (uint j = 0u; j <= i; ++j) a[i][j] += tapWeight[t] * q[i] * q[j];
+  }
+  for (uint i = 1u; i < m; ++i) a[i][i] += (i < 3u ? kSlopeRegularisation : kCurvatureRegularisation) * a[0][0];
+  for (uint j = 0u; j < m; ++j) {  // A = L·Lᵀ, L in the lower triangle
+    float d = a[j][j];
+    for (uint k = 0u; k < j; ++k) d -= a[j][k] * a[j][k];
+    a[j][j] = sqrt(max(d, 1e-12 * a[0][0]));
+    for (uint i = j + 1u; i < m; ++i) {
+      float v = a[i][j];
+      for (uint k = 0u; k < j; ++k) v -= a[i][k] * a[j][k];
+      a[i][j] = v / a[j][j];
+    }
+  }
+  float z[kFitTerms] = float[kFitTerms](0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+  for (uint i = 0u; i < m; ++i) {  // L·y = e₀
+    float v = i == 0u ? 1.0 : 0.0;
+    for (uint k = 0u; k < i; ++k) v -= a[i][k] * z[k];
+    z[i] = v / a[i][i];
+  }
+  for (uint i = m; i-- > 0u;) {  // Lᵀ·z = y
+    float v = z[i];
+    for (uint k = i + 1u; k < m; ++k) v -= a[k][i] * z[k];
+    z[i] = v / a[i][i];
+  }
+  return z;
+}
+
+// Tap t's factor in the fit z (its coefficient over its weight): (A⁻¹q_t)₀ = q_t·z.
+float fitFactor(uint t, float unit, float z[kFitTerms]) {
+  const float q[kFitTerms] = fitTerms(tapOffset[t] * unit);
+  float c = 0.0;
+  for (uint i = 0u; i < kFitTerms; ++i) c += z[i] * q[i];
+  return c;
+}
+
+// Turns the taps' weights into the coefficients of a weighted least-squares fit evaluated at the
+// query: c_k = w_k·(A⁻¹q_k)₀ with A = Σ w q qᵀ, so that irradiance changing linearly along the
+// surface is interpolated exactly. Offsets are measured in σ, the taps' RMS offset, so that the solve
+// does not depend on the scene's scale. The slopes are regularised: one or two taps, or taps in a
+// line, give the weighted mean along what they leave undetermined; taps all at the query's place
+// give their weighted mean. Σ c_k = 1.
+// With `curvature` the fit is quadratic, so that light brightest between receivers (a wall's middle)
+// is not flattened toward them, nor the darkest lifted. Where the taps determine a quadratic poorly
+// it swings, and coefficients of large magnitude would amplify the receivers' differences from one
+// bounce to the next (a CAD file's slivers made the bounces diverge): past kMaxFitGain the fit
+// stays linear.
+void fitCoefficients(bool curvature) {
   float total = 0.0, spread = 0.0;
   for (uint t = 0u; t < tapCount; ++t) total += tapWeight[t], spread += tapWeight[t] * dot(tapOffset[t], tapOffset[t]);
   spread /= total;
@@ -72,14 +130,11 @@ void fitCoefficients() {
     return;
   }
   const float unit = inversesqrt(spread);
-  mat3 a = mat3(0.0);
-  for (uint t = 0u; t < tapCount; ++t) {
-    const vec3 q = vec3(1.0, tapOffset[t] * unit);
-    a += tapWeight[t] * outerProduct(q, q);
+  float z[kFitTerms] = solveFit(curvature ? kFitTerms : 3u, unit);
+  if (curvature) {
+    float gain = 0.0;
+    for (uint t = 0u; t < tapCount; ++t) gain += abs(tapWeight[t] * fitFactor(t, unit, z));
+    if (!(gain <= kMaxFitGain)) z = solveFit(3u, unit);
   }
-  a[1][1] += 0.01 * a[0][0];
-  a[2][2] += 0.01 * a[0][0];
-  const mat3 inv = inverse(a);
-  const vec3 row = vec3(inv[0][0], inv[1][0], inv[2][0]);
-  for (uint t = 0u; t < tapCount; ++t) tapWeight[t] *= dot(row, vec3(1.0, tapOffset[t] * unit));
+  for (uint t = 0u; t < tapCount; ++t) tapWeight[t] *= fitFactor(t, unit, z);
 }

@@ -112,7 +112,7 @@ float lightNeed(uint c, uint s, float floorValue, uvec2 level, bool listed) {
   else
     walkSamples(level, query.x, 0.0, vec4(query.n, 0.0), false, query);
   if (tapCount == 0u) return 1e30;
-  fitCoefficients();
+  fitCoefficients(false);  // linear: the sample left out, a quadratic through the rest swings
   float prediction = 0.0;
   for (uint t = 0u; t < tapCount; ++t)
     prediction += tapWeight[t] * luminance(imageLoad(gathered, int(tapReceiver[t])).rgb);

@@ -130,12 +130,15 @@ DirectLightErrors emptyRoomDirectLight(const std::vector<scene::Surfel>& surfels
     brightest = std::max(brightest, exact[i]);
   }
   DirectLightErrors e;
+  double got = 0, expected = 0;
   for (size_t i = 0; i < surfels.size(); ++i) {
     if (exact[i] < 0.05 * brightest) continue;  // grazing: a few bins' worth of light
-    const double error = std::abs(irradianceOf(i) - exact[i]) / exact[i];
+    const double value = irradianceOf(i), error = std::abs(value - exact[i]) / exact[i];
     e.mean += error, e.worst = std::max(e.worst, error), ++e.counted;
+    got += surfels[i].positionArea.w * value, expected += surfels[i].positionArea.w * exact[i];
   }
   e.mean /= std::max(e.counted, 1);
+  e.total = got / std::max(expected, 1e-30);
   return e;
 }
 

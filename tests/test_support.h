@@ -49,10 +49,11 @@ double cornellLightIrradiance(glm::dvec3 p, glm::dvec3 n, int k);
 // The direct light of the empty Cornell room's lamp at each surfel that sees it well (walls and floor;
 // not the lamp, nor the ceiling level with it, nor where it comes grazing, under 5 % of the
 // brightest) against cornellLightIrradiance(): how many, and the mean and worst relative error of
-// irradianceOf(i), a solver's irradiance (red) at surfel i.
+// irradianceOf(i), a solver's irradiance (red) at surfel i; and the light they receive in all (Σ area ·
+// irradiance) over the exact.
 struct DirectLightErrors {
   int counted = 0;
-  double mean = 0, worst = 0;
+  double mean = 0, worst = 0, total = 0;
 };
 DirectLightErrors emptyRoomDirectLight(const std::vector<scene::Surfel>& surfels,
                                        const std::vector<glm::vec4>& emission,
