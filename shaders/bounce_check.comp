@@ -7,7 +7,10 @@
 // it at every surfel). Done after maxGathers, or where that estimate has settled: it moved by at
 // most `tolerance` of the light at this gather, and by at most that over q at the one before (a
 // single small step may be the estimate crossing its limit). Done, the next gather and its pull-up
-// run zero workgroups and the tail runs once.
+// run zero workgroups and the tail runs once. Also done, without the tail, where the bounces diverge:
+// a change past kDivergingGrowth times the least from the second gather on (the first bounce's, the
+// second gather's, may exceed the direct light's) and past kDivergingFloor of the light; the host
+// says so.
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
 layout(local_size_x = 1) in;
@@ -40,7 +43,10 @@ void main() {
   const float step = gathers >= 3u && gain > 0.0 && state.gain > 0.0 ? abs(estimate - state.estimate) / light : 1e30;
   float remaining = max(step, gain > 0.0 ? state.step * gain / (1.0 + gain) : 1e30);
   if (change == 0.0) remaining = 0.0;  // nothing changes (no light, or no bounce light)
-  const bool done = gathers >= push.maxGathers || (automatic && gathers >= 2u && remaining <= push.tolerance);
+  const bool diverged = gathers >= 3u && change > kDivergingGrowth * state.least && change > kDivergingFloor * total;
+  const float least = gathers == 2u ? change : min(state.least, change);
+  const bool done =
+      diverged || gathers >= push.maxGathers || (automatic && gathers >= 2u && remaining <= push.tolerance);
   state.gathers = gathers;
   state.done = done ? 1u : 0u;
   state.change = change;
@@ -49,6 +55,8 @@ void main() {
   state.gain = gain;
   state.estimate = estimate;
   state.step = step;
+  state.least = least;
+  state.diverged = diverged ? 1u : 0u;
   for (uint i = 0u; i < push.dispatches; ++i) bounceArgs[i] = done ? kNoGroups : fullArgs[i];
   bounceArgs[push.dispatches] = done && gain > 0.0 ? fullArgs[1] : kNoGroups;
 }

@@ -342,7 +342,15 @@ struct BounceState {
   float gain;       // the tail's factor q/(1 − q) (0: none), q the ratio of the last two changes
   float estimate;   // the light with its tail: total + change · gain
   float step;       // how much that estimate moved at the last gather, over total
+  float least;      // the least change from the second gather on
+  uint diverged;    // 1: stopped where a change grew past kDivergingGrowth times that least
 };
+// Each bounce adds less light than the one before wherever albedo is below 1 (a convergent
+// transport); a change this many times the least before it, and past kDivergingFloor of the light,
+// means the bounces diverge. Below that floor the changes are the float sums' own jitter (a count
+// forced far past convergence), which may double.
+IVGI_CONST float kDivergingGrowth = 2.0f;
+IVGI_CONST float kDivergingFloor = 1e-4f;
 struct BounceCheckPush {
   uint groups;      // of the interpolation: BounceSums to add up
   uint dispatches;  // of a bounce: the gather, the interpolation, then one pull-up a level; the tail's after them

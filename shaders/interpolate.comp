@@ -50,7 +50,7 @@ BounceSum interpolate(uint s) {
     uvec2 tap = imageLoad(taps, int(s * kInterpolationTaps + t)).xy;
     e += uintBitsToFloat(tap.y) * imageLoad(gathered, int(tap.x)).rgb;
   }
-  e = max(e, vec3(0.0));  // coefficients of a linear fit may be negative
+  e = max(e, vec3(0.0));  // the fit's coefficients may be negative
   const uint leaf = imageLoad(leafOfSurfel, int(s)).x;
   const vec3 b = kPi * imageLoad(emission, int(s)).rgb + imageLoad(albedo, int(s)).rgb * e;
   radiosityOut[leaf] = vec4(b, 0.0);

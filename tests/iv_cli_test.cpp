@@ -10,6 +10,7 @@
 #include <fstream>
 #include <iterator>
 
+#include "engine/gi/pass.h"
 #include "engine/image/compare.h"
 #include "engine/image/metrics.h"
 #include "scenes/builtin.h"
@@ -315,6 +316,72 @@ TEST(IvBounces, TheTailBringsTheAutomaticCountNearConvergence) {
               without);
   EXPECT_GT(without, 0.0);
   EXPECT_LT(withTail, 0.1 * without);
+}
+
+namespace {
+
+// bounce_check.comp fed one gather's area-weighted light and change at a time, as the
+// interpolation leaves them: the state after each, until it is done (or after all of them).
+std::vector<gpu::BounceState> checkBounces(const std::vector<gpu::BounceSum>& gathers, float tolerance) {
+  vk::Context& ctx = test::gpu();
+  const vk::Program check = gi::shaderProgram(ctx, "bounce_check");
+  vk::Buffer sums(ctx, sizeof(gpu::BounceSum), vk::Memory::Host),
+      state(ctx, sizeof(gpu::BounceState), vk::Memory::Host);
+  const std::vector<glm::uvec4> full(3, glm::uvec4(1u));
+  const vk::Buffer fullArgs = vk::makeBuffer(ctx, full), args(ctx, 4 * sizeof(glm::uvec4), vk::Memory::Device);
+  state.upload(std::vector<gpu::BounceState>(1, gpu::BounceState{}));
+  std::vector<gpu::BounceState> states;
+  for (const gpu::BounceSum& gather : gathers) {
+    sums.upload(std::vector<gpu::BounceSum>{gather});
+    ctx.submitAndWait([&](VkCommandBuffer cmd) {
+      check.dispatch(cmd, {},
+                     {{"bounceSums", sums}, {"bounceStates", state}, {"fullArgs", fullArgs}, {"bounceArgs", args}},
+                     gpu::BounceCheckPush{1u, 3u, 1000u, tolerance});
+    });
+    states.push_back(state.read<gpu::BounceState>(1)[0]);
+    if (states.back().done) break;
+  }
+  return states;
+}
+
+}  // namespace
+
+// The bounces' changes shrink in a convergent transport (from the first bounce on), so a change
+// past kDivergingGrowth times the least before it stops the bounces as diverging. A slow decay
+// with the float sums' jitter, a first bounce that adds more than the direct light, and changes at
+// the sums' noise (a count forced far past convergence, where the changes may double) do not.
+TEST(IvBounces, GrowingChangesStopAsDiverging) {
+  std::vector<gpu::BounceSum> growing, slow, early, noise;
+  float total = 10.0f;
+  for (int k = 0; k < 40; ++k) {
+    const float grows = 0.5f * std::pow(1.3f, float(k)), jitter = 1.0f + 0.03f * float(k % 3 == 0 ? 1 : -1);
+    growing.push_back({total += grows, grows});
+    slow.push_back(
+        {10.0f + 500.0f * (1.0f - std::pow(0.999f, float(k + 1))), 0.5f * std::pow(0.999f, float(k)) * jitter});
+    early.push_back({10.0f + float(k), k == 0 ? 0.5f : 0.9f * std::pow(0.7f, float(k - 1))});
+    noise.push_back({100.0f, k < 3 ? 1.0f / float(k + 1) : (k % 2 ? 3e-6f : 1e-6f)});
+  }
+  // Where the growing series must stop: the first gather past twice the least change since the second.
+  uint32_t expected = 0;
+  for (size_t k = 2, least = 1; k < growing.size() && !expected; ++k) {
+    if (growing[k].change > gpu::kDivergingGrowth * growing[least].change) expected = uint32_t(k + 1);
+    if (growing[k].change < growing[least].change) least = k;
+  }
+  // Counted bounces (no tolerance): only the divergence stops them early.
+  const auto g = checkBounces(growing, -1.0f);
+  ASSERT_FALSE(g.empty());
+  EXPECT_EQ(g.back().done, 1u);
+  EXPECT_EQ(g.back().diverged, 1u);
+  EXPECT_EQ(g.back().gathers, expected);
+  for (const auto& series : {slow, early, noise}) {
+    const auto states = checkBounces(series, -1.0f);
+    EXPECT_EQ(states.size(), series.size());
+    for (const gpu::BounceState& state : states) EXPECT_EQ(state.diverged, 0u) << "gather " << state.gathers;
+  }
+  // No scene here diverges (the host's line is not reached); the sidecar's figure is 0 on one that
+  // converges.
+  auto f = solverFigures(test::scratchDir("converging"), {"cornell", "--cells", "4", "--size", "48x36"});
+  EXPECT_EQ(f["diverged"].get<double>(), 0.0);
 }
 
 // A scene that cannot fit the memory it is allowed gets one line naming the setting that would,

@@ -181,6 +181,9 @@ int runBench(const BenchOptions& o) {
                   solver->stats().bounceRemaining > 0
                       ? ", and the tail of those not run, until the light with it settles within --bounce-tol"
                       : "");
+    const auto& diverged = times.solverFigures["diverged"];
+    if (const auto stopped = std::count(diverged.begin(), diverged.end(), 1.0))
+      std::printf("\ndivergence: %td frame(s) stopped with their bounces diverging", stopped);
   }
   if (const auto* ar = dynamic_cast<const gi::ArSolver*>(renderer.solver())) {
     const gi::ArStats st = ar->stats();

@@ -1,6 +1,7 @@
 #include "engine/gi/iv/solver.h"
 
 #include <algorithm>
+#include <cstdio>
 
 #include "engine/core/errors.h"
 #include "engine/gi/bins.h"
@@ -222,6 +223,7 @@ std::vector<std::pair<std::string, double>> IvSolver::frameFigures() const {
   const gpu::BounceState s = bounces_.state();
   return {{"bounces", double(s.gathers) - 1.0},
           {"bounceRemaining", settings_.bounces ? 0.0 : double(s.remaining)},
+          {"diverged", double(s.diverged)},
           {"receivers", double(receivers_.counts(b_).receivers)}};
 }
 
@@ -240,6 +242,11 @@ bool IvSolver::frameMustBeRedone() {
 void IvSolver::frameStands() {
   room_.releaseUnused(staticLinked_);
   roomProven_ = true;
+  if (const gpu::BounceState s = bounces_.state(); s.diverged)
+    std::fprintf(stderr,
+                 "ivgi: iv: the bounces diverge (bounce %u added over %g times the least light a bounce had added); "
+                 "the frame shows it, stopped there; --receiver-tol 0 solves every surfel without interpolating\n",
+                 s.gathers - 1, double(gpu::kDivergingGrowth));
 }
 
 IvStats IvSolver::stats() const {
