@@ -81,7 +81,7 @@ float[kFitTerms] solveFit(uint m, float unit) {
   for (uint j = 0u; j < m; ++j) {  // A = L·Lᵀ, L in the lower triangle
     float d = a[j][j];
     for (uint k = 0u; k < j; ++k) d -= a[j][k] * a[j][k];
-    a[j][j] = sqrt(max(d, 1e-12 * a[0][0]));
+    a[j][j] = sqrt(max(d, 1e-12 * a[0][0]));  // taps nearly in a line: rounding may leave ≤ 0
     for (uint i = j + 1u; i < m; ++i) {
       float v = a[i][j];
       for (uint k = 0u; k < j; ++k) v -= a[i][k] * a[j][k];
