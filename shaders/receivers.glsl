@@ -119,8 +119,8 @@ float fitFactor(uint t, float unit, float z[kFitTerms]) {
 // With `curvature` the fit is quadratic, so that light brightest between receivers (a wall's middle)
 // is not flattened toward them, nor the darkest lifted. Where the taps determine a quadratic poorly
 // it swings, and coefficients of large magnitude would amplify the receivers' differences from one
-// bounce to the next (a CAD file's slivers made the bounces diverge): past kMaxFitGain the fit
-// stays linear.
+// bounce to the next (on a CAD file's slivers, taps nearly in a line, enough to make the bounces
+// diverge): past kMaxFitGain the fit stays linear.
 void fitCoefficients(bool curvature) {
   float total = 0.0, spread = 0.0;
   for (uint t = 0u; t < tapCount; ++t) total += tapWeight[t], spread += tapWeight[t] * dot(tapOffset[t], tapOffset[t]);
