@@ -1,16 +1,23 @@
-# Compiles every DIR/*.comp to SPIR-V at build time and embeds the words in a static library, so
-# the ivgi binary finds its shaders from any working directory. FUNCTION("name") returns them
-# (ivgi::shaderCode for the product's shaders/).
+# Compiles every .comp under DIR (its folders included) to SPIR-V at build time and embeds the words
+# in a static library, so the ivgi binary finds its shaders from any working directory.
+# FUNCTION("name") returns them by file name (ivgi::shaderCode for the product's shaders/), which
+# must be unique under DIR. Includes resolve beside the including file, then from DIR and shaders/.
 function(ivgi_embed_shaders target dir function)
-  file(GLOB sources CONFIGURE_DEPENDS ${dir}/*.comp)
-  file(GLOB includes CONFIGURE_DEPENDS ${dir}/*.glsl ${CMAKE_SOURCE_DIR}/shaders/*.glsl ${CMAKE_SOURCE_DIR}/shaders/*.h)
+  file(GLOB_RECURSE sources CONFIGURE_DEPENDS ${dir}/*.comp)
+  file(GLOB_RECURSE includes CONFIGURE_DEPENDS ${dir}/*.glsl ${CMAKE_SOURCE_DIR}/shaders/*.glsl
+       ${CMAKE_SOURCE_DIR}/shaders/*.h)
   set(outdir ${CMAKE_CURRENT_BINARY_DIR}/${target})
   file(MAKE_DIRECTORY ${outdir})
   set(headers)
   set(table "")
   set(incs "")
+  set(names)
   foreach(src ${sources})
     get_filename_component(name ${src} NAME_WE)
+    if(name IN_LIST names)
+      message(FATAL_ERROR "two shaders under ${dir} are named ${name}: the registry finds them by name")
+    endif()
+    list(APPEND names ${name})
     set(header ${outdir}/${name}.spv.h)
     add_custom_command(
       OUTPUT ${header}

@@ -343,7 +343,7 @@ TEST(IvHierarchy, NodesAreTheRectanglesOfTheirSurfaces) {
     for (int c = 0; c < 4; ++c) ASSERT_TRUE(std::isfinite(n.shape[c]));
 }
 
-// Refit runs the trees bottom-up in one dispatch (shaders/climb.glsl): every inner node must be
+// Refit runs the trees bottom-up in one dispatch (shaders/common/climb.glsl): every inner node must be
 // combined after all its children, its area their sum and its position their area-weighted mean,
 // also in a frame where the block has moved and the nodes are refit again.
 TEST(IvHierarchy, EveryNodeIsRefitAfterItsChildren) {

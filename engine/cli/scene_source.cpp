@@ -60,8 +60,8 @@ std::unique_ptr<gi::Solver> makeSolver(const SolverOptions& o, const vk::Context
   if (o.method == "none") return nullptr;
   if (o.method == "pt")
     throw SettingsError(
-        "--method pt: the path tracer runs on the CPU; use `ivgi render --method pt` (bench and info measure iv and "
-        "none)");
+        "--method pt: the path tracer runs on the CPU; use `ivgi render --method pt` (bench and info measure iv, "
+        "ar and none)");
   if (o.method == "ar") {
     gi::Hierarchy h = hierarchy ? *hierarchy : gi::restPoseHierarchy(s, g);
     const std::vector<bool> moves = gi::movingRoots(h, s, g, animation);

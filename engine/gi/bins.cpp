@@ -1,12 +1,18 @@
 #include "engine/gi/bins.h"
 
 #include <cmath>
+#include <map>
+#include <mutex>
 
 #include "shaders/interface.h"
 
 namespace ivgi::gi {
 
-std::vector<glm::vec4> binVectorTable(uint32_t n) {
+float meanBinSolidAngle(uint32_t n) { return 4.0f * gpu::kPi / float(6 * n * n); }
+
+namespace {
+
+std::vector<glm::vec4> computeBinVectorTable(uint32_t n) {
   // Each bin cut into k×k cells of exact solid angle, each at its centre direction: the error falls
   // as 1/k², far below float precision at k = 32.
   constexpr int k = 32;
@@ -27,6 +33,17 @@ std::vector<glm::vec4> binVectorTable(uint32_t n) {
     table[b] = glm::vec4(glm::vec3(sum), gpu::binSolidAngle(b, n));
   }
   return table;
+}
+
+}  // namespace
+
+const std::vector<glm::vec4>& binVectorTable(uint32_t n) {
+  static std::mutex lock;
+  static std::map<uint32_t, std::vector<glm::vec4>> tables;
+  const std::lock_guard<std::mutex> guard(lock);
+  auto it = tables.find(n);
+  if (it == tables.end()) it = tables.emplace(n, computeBinVectorTable(n)).first;
+  return it->second;
 }
 
 std::vector<glm::vec4> environmentTable(const std::optional<scene::Environment>& environment, uint32_t n) {

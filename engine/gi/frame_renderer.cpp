@@ -126,17 +126,15 @@ bool FrameRenderer::recordFrame(VkCommandBuffer cmd, const gpu::Camera& camera, 
     ctx_.timeDispatches(&*programTimer_);
   }
   timedPass(cmd, timer_, "animate",
-            [&] { animate_.dispatchItems(cmd, vertexCount_, buffers, gpu::CountPush{vertexCount_}); });
+            [&] { animate_.dispatchItems(cmd, vertexCount_, buffers, gpu::CountPush{.count = vertexCount_}); });
   timedPass(cmd, timer_, "surfels",
-            [&] { surfelUpdate_.dispatchItems(cmd, surfelCount_, buffers, gpu::CountPush{surfelCount_}); });
+            [&] { surfelUpdate_.dispatchItems(cmd, surfelCount_, buffers, gpu::CountPush{.count = surfelCount_}); });
   if (solver_) solver_->record(cmd, timer_, surfels_, geometryMoved);
   timedPass(cmd, timer_, "raster", [&] {
-    const gpu::ImagePush push{camera, fine, triangleCount_, 0};
-    vkCmdFillBuffer(cmd, visibility_.handle(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
-    vkCmdFillBuffer(cmd, rasterArgs_.handle(), 2 * sizeof(uint32_t), sizeof(uint32_t), 1u);
-    vk::barrier(cmd);
+    const gpu::RasterPush push{.camera = camera, .size = fine, .triangleCount = triangleCount_};
+    vk::fillBuffer(cmd, visibility_, 0xFFFFFFFFu);
+    vk::fillBuffer(cmd, rasterArgs_, 1u, 2 * sizeof(uint32_t), sizeof(uint32_t));
     rasterSlices_.dispatchItems(cmd, triangleCount_, buffers, push);
-    vk::barrier(cmd);
     raster_.dispatchIndirect(cmd, rasterArgs_, 0, buffers, push);
   });
   if (solver_ && solver_->solvePending()) return false;
@@ -148,12 +146,9 @@ void FrameRenderer::recordResolve(VkCommandBuffer cmd, const gpu::Camera& camera
   const glm::uvec2 size(image_.width, image_.height);
   const vk::Bindings buffers = pool();
   timedPass(cmd, timer_, "resolve", [&] {
-    if (solver_) {
-      vertexIrradiance_.dispatchItems(cmd, surfelCount_, buffers, gpu::CountPush{surfelCount_});
-      vk::barrier(cmd);
-    }
+    if (solver_) vertexIrradiance_.dispatchItems(cmd, surfelCount_, buffers, gpu::CountPush{.count = surfelCount_});
     resolve_.dispatch(cmd, {(size.x + 7) / 8, (size.y + 7) / 8, 1}, buffers,
-                      gpu::ImagePush{camera, size, image_.samples, 0});
+                      gpu::ResolvePush{.camera = camera, .size = size, .samples = image_.samples});
   });
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // One frame on the GPU as its list of passes (docs/design.md §4): animate → surfels →
-// the solver's passes (iv: refit → links → receivers and prune → bounces) → raster → resolve. Scene data is
+// the solver's passes (iv: refit → links → receivers and prune → bounces; ar: refit → links →
+// iterations) → raster → resolve. Scene data is
 // uploaded once; per frame only the matrices, morph weights and lights go up and the image channels
 // come down.
 #include <memory>

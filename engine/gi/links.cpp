@@ -74,14 +74,11 @@ void LinkCreation::record(VkCommandBuffer cmd, LinkSet& set, const LinkWork& b, 
   std::array<uint32_t, gpu::kCounterWorklistPeak + 1> start{};
   start[gpu::kCounterWorklistA] = start[gpu::kCounterWorklistPeak] = rootPairs;
   const glm::uvec4 firstLevel = gpu::linkGroupsFor(rootPairs);
-  vkCmdFillBuffer(cmd, set.counters.handle(), 0, VK_WHOLE_SIZE, 0);
-  vkCmdFillBuffer(cmd, set.counts.handle(), 0, VK_WHOLE_SIZE, 0);
-  vk::barrier(cmd);
-  vkCmdUpdateBuffer(cmd, set.counters.handle(), 0, sizeof(start), start.data());
-  vkCmdUpdateBuffer(cmd, b.args.handle(), gpu::kLinkArgsLevel * sizeof(glm::uvec4), sizeof(firstLevel), &firstLevel);
-  const VkBufferCopy copy{0, 0, set.rootPairs.size() * sizeof(uint32_t)};
-  vkCmdCopyBuffer(cmd, set.roots.handle(), b.worklistA.handle(), 1, &copy);
-  vk::barrier(cmd);
+  vk::fillBuffer(cmd, set.counters, 0u);
+  vk::fillBuffer(cmd, set.counts, 0u);
+  vk::updateBuffer(cmd, set.counters, 0, sizeof(start), start.data());
+  vk::updateBuffer(cmd, b.args, gpu::kLinkArgsLevel * sizeof(glm::uvec4), sizeof(firstLevel), &firstLevel);
+  vk::copyRegion(cmd, set.roots, b.worklistA, {0, 0, set.rootPairs.size() * sizeof(uint32_t)});
   for (uint32_t level = 0; level < set.levels; ++level) {
     const uint32_t in = level % 2, out = 1 - in;
     refine_.dispatchIndirect(cmd, b.args, gpu::kLinkArgsLevel * sizeof(glm::uvec4),
@@ -89,25 +86,33 @@ void LinkCreation::record(VkCommandBuffer cmd, LinkSet& set, const LinkWork& b, 
                                           {"nextWorklist", in ? b.worklistA : b.worklistB},
                                           {"links", set.links},
                                           {"counters", set.counters},
-                                          {"args", b.args}}),
-                             gpu::RefinePush{in, out, worklistCapacity, set.linkCapacity, criteria.epsilon,
-                                             criteria.largeSender, criteria.largeReceiver, criteria.bothSides ? 1u : 0u,
-                                             criteria.emitterReceiver, criteria.receiverStaysWhole ? 1u : 0u});
-    vk::barrier(cmd);
+                                          {"args", b.args},
+                                          {"emitters", b.emitters}}),
+                             gpu::RefinePush{.source = in,
+                                             .target = out,
+                                             .capacity = worklistCapacity,
+                                             .linkCapacity = set.linkCapacity,
+                                             .epsilon = criteria.epsilon,
+                                             .largeSender = criteria.largeSender,
+                                             .largeReceiver = criteria.largeReceiver,
+                                             .bothSides = criteria.bothSides ? 1u : 0u,
+                                             .emitterReceiver = criteria.emitterReceiver,
+                                             .receiverStaysWhole = criteria.receiverStaysWhole ? 1u : 0u});
   }
   // Links sorted by receiver: count, scan, scatter.
   const VkDeviceSize sortArgs = gpu::kLinkArgsSort * sizeof(glm::uvec4);
+  const gpu::SortLinksPush sort{.linkCapacity = set.linkCapacity};
   count_.dispatchIndirect(cmd, b.args, sortArgs,
-                          {{"links", set.links}, {"counts", set.counts}, {"counters", set.counters}},
-                          gpu::CountPush{set.linkCapacity});
-  vk::barrier(cmd);
-  scan_.dispatch(cmd, {}, {{"counts", set.counts}, {"starts", set.starts}}, gpu::CountPush{uint32_t(h.nodes.size())});
-  vk::barrier(cmd);
-  scatter_.dispatchIndirect(
-      cmd, b.args, sortArgs,
-      b.pool.with({{"links", set.links}, {"counts", set.counts}, {"senders", set.senders}, {"counters", set.counters}}),
-      gpu::CountPush{set.linkCapacity});
-  vk::barrier(cmd);
+                          {{"links", set.links}, {"counts", set.counts}, {"counters", set.counters}}, sort);
+  scan_.dispatch(cmd, {}, {{"counts", set.counts}, {"starts", set.starts}},
+                 gpu::CountPush{.count = uint32_t(h.nodes.size())});
+  scatter_.dispatchIndirect(cmd, b.args, sortArgs,
+                            {{"links", set.links},
+                             {"counts", set.counts},
+                             {"senders", set.senders},
+                             {"counters", set.counters},
+                             {"emitters", b.emitters}},
+                            sort);
 }
 
 }  // namespace ivgi::gi

@@ -1,5 +1,5 @@
 #pragma once
-// Pass 4, link creation (docs/design.md §2.1, §5): from a list of root pairs, level-synchronous refinement on
+// Link creation (docs/design.md §2.1, §5): from a list of root pairs, level-synchronous refinement on
 // two worklists with indirect dispatch (a pair is stored as a link or split into the pairs of its
 // larger node's children), then the links sorted by receiver: counted, scanned, scattered. iv and
 // ar make their links with it, each by its own criteria.
@@ -58,8 +58,8 @@ struct LinkCriteria {
   // Whether senders behind the receiver's horizon are linked too (ar: antiradiance reaches a
   // surface's back); and then the form-factor estimate takes |cos| on both sides.
   bool bothSides;
-  // The solid angle above which a receiver seen from an emitting sender (nodeEmission nonzero) is
-  // split (0: down to its surfels).
+  // The solid angle above which a receiver seen from an emitting sender (LinkWork::emitters nonzero)
+  // is split (0: down to its surfels).
   float emitterReceiver;
   // iv: each leaf re-bins every sender of its root path from its own position, so a sender that
   // cannot be split is linked to its receiver whole: splitting the receiver would only give each of
@@ -67,11 +67,11 @@ struct LinkCriteria {
   bool receiverStaysWhole;
 };
 
-// What the refinement works in: its two worklists, the dispatch arguments between its levels, and
-// a pool that holds the trees ("tree"), their node states ("nodes") and per node its emission
-// ("nodeEmission", which marks emitting senders).
+// What the refinement works in: its two worklists, the dispatch arguments between its levels, per
+// node whether it counts as an emitter (nonzero rgb: iv's emission, ar's bright emitters; its links
+// carry kEmitterBit), and a pool that holds the trees ("tree") and their node states ("nodes").
 struct LinkWork {
-  const vk::Buffer &args, &worklistA, &worklistB;
+  const vk::Buffer &args, &worklistA, &worklistB, &emitters;
   vk::Bindings pool;
 };
 

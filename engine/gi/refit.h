@@ -1,8 +1,8 @@
 #pragma once
-// Pass 3, refit (shaders/refit.comp): the trees' node attributes from the frame's surfels,
-// bottom-up in one dispatch: area, area-weighted position and normal, the cone of normals,
-// a bounding radius, and the rectangle of the node's area. The trees' topology never changes.
-#include "engine/gi/hierarchy.h"
+// The refit (shaders/gi/refit.comp): the trees' node attributes from the frame's surfels, bottom-up
+// in one dispatch: area, area-weighted position and normal, the cone of normals, a bounding radius,
+// and the rectangle of the node's area. The trees' topology never changes.
+#include "engine/gi/scene_buffers.h"
 #include "engine/vk/program.h"
 
 namespace ivgi::gi {
@@ -10,10 +10,8 @@ namespace ivgi::gi {
 class Refit {
  public:
   explicit Refit(const vk::Context& ctx);
-  // `tree`: the hierarchy's nodes (gpu::TreeNode); `nodes`: their gpu::NodeState, written;
-  // `arrivals`: a count per node, zero before and after (shaders/climb.glsl).
-  void record(VkCommandBuffer cmd, const Hierarchy& h, const vk::Buffer& tree, const vk::Buffer& surfels,
-              const vk::Buffer& nodes, const vk::Buffer& arrivals) const;
+  // Writes scene.nodes from the trees and the frame's `surfels` (gpu::Surfel).
+  void record(VkCommandBuffer cmd, const SceneBuffers& scene, const vk::Buffer& surfels) const;
 
  private:
   vk::Program program_;

@@ -1,7 +1,7 @@
 #pragma once
 // What a lighting method gives the frame (docs/design.md §8): after the surfel pass it
 // records its passes, which leave the irradiance at every surfel for the resolve pass. The frame
-// renderer owns one; iv is one, ar will be another.
+// renderer owns one: iv (iv/solver.h) and ar (ar/solver.h).
 #include <cstdint>
 #include <vector>
 

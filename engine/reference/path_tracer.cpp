@@ -167,7 +167,7 @@ struct PathTracer::Impl {
     return ray.tfar < 0.0f;
   }
 
-  // Everything shading needs at barycentric w of a triangle, as shaders/resolve.comp computes it.
+  // Everything shading needs at barycentric w of a triangle, as shaders/frame/resolve.comp computes it.
   Surface surface(uint32_t tri, float t, glm::vec3 w) const {
     const auto& tr = g.triangles[tri];
     Surface x{tri, t, w.x * pos(tr.v0) + w.y * pos(tr.v1) + w.z * pos(tr.v2), {}, {}, {}, {}};

@@ -1,6 +1,6 @@
 #pragma once
 // Bilinear texture lookup with glTF wrap modes over the linear half-float texels of Geometry, as
-// sampleTexture() in shaders/resolve.comp does it (both address texels by gpu::texelPair).
+// sampleTexture() in shaders/frame/resolve.comp does it (both address texels by gpu::texelPair).
 #include <glm/glm.hpp>
 
 namespace ivgi::scene {

@@ -99,9 +99,35 @@ void Buffer::download(void* data, VkDeviceSize bytes, VkDeviceSize offset) const
   staging.download(data, bytes);
 }
 
+void barrier(VkCommandBuffer cmd) {
+  VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+  mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+  mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
+                     VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_HOST_READ_BIT;
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
+                           VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_HOST_BIT,
+                       0, 1, &mb, 0, nullptr, 0, nullptr);
+}
+
 void copyBuffer(VkCommandBuffer cmd, const Buffer& from, const Buffer& to) {
-  const VkBufferCopy all{0, 0, from.size()};
-  vkCmdCopyBuffer(cmd, from.handle(), to.handle(), 1, &all);
+  copyRegion(cmd, from, to, {0, 0, from.size()});
+}
+
+void copyRegion(VkCommandBuffer cmd, const Buffer& from, const Buffer& to, const VkBufferCopy& region) {
+  vkCmdCopyBuffer(cmd, from.handle(), to.handle(), 1, &region);
+  barrier(cmd);
+}
+
+void fillBuffer(VkCommandBuffer cmd, const Buffer& buffer, uint32_t value, VkDeviceSize offset, VkDeviceSize size) {
+  vkCmdFillBuffer(cmd, buffer.handle(), offset, size, value);
+  barrier(cmd);
+}
+
+void updateBuffer(VkCommandBuffer cmd, const Buffer& buffer, VkDeviceSize offset, VkDeviceSize bytes,
+                  const void* data) {
+  vkCmdUpdateBuffer(cmd, buffer.handle(), offset, bytes, data);
+  barrier(cmd);
 }
 
 }  // namespace ivgi::vk

@@ -3,6 +3,7 @@
 // and carry per-frame inputs up and results down.
 #include <vulkan/vulkan.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <span>
@@ -80,6 +81,12 @@ class Buffer {
   mutable std::vector<View> views_;
 };
 
+// A device buffer for `count` items of T (at least one: a buffer is never empty), not filled.
+template <class T>
+Buffer deviceArray(const Context& ctx, size_t count, Allocations& allocations) {
+  return Buffer(ctx, std::max<size_t>(count, 1) * sizeof(T), Memory::Device, &allocations);
+}
+
 // Creates a buffer sized for `items` (at least one element) and fills it.
 template <class T>
 Buffer makeBuffer(const Context& ctx, const std::vector<T>& items, Memory memory = Memory::Device,
@@ -89,7 +96,18 @@ Buffer makeBuffer(const Context& ctx, const std::vector<T>& items, Memory memory
   return b;
 }
 
-// Records a copy of the whole of `from` to the start of `to` (a barrier must follow before it is read).
+// Makes the writes of earlier commands (shader and transfer) visible to later ones and to the host.
+// Dispatches (program.h) and the transfers below record it themselves.
+void barrier(VkCommandBuffer cmd);
+
+// Transfers recorded into a command buffer, each ending, as a dispatch does, with the barrier after
+// it (program.h): a copy of the whole of `from` to the start of `to`, or of one region; `size`
+// bytes from `offset` filled with a 32-bit value; bytes written from the host's memory (at most
+// 65,536, recorded into the command buffer).
 void copyBuffer(VkCommandBuffer cmd, const Buffer& from, const Buffer& to);
+void copyRegion(VkCommandBuffer cmd, const Buffer& from, const Buffer& to, const VkBufferCopy& region);
+void fillBuffer(VkCommandBuffer cmd, const Buffer& buffer, uint32_t value, VkDeviceSize offset = 0,
+                VkDeviceSize size = VK_WHOLE_SIZE);
+void updateBuffer(VkCommandBuffer cmd, const Buffer& buffer, VkDeviceSize offset, VkDeviceSize bytes, const void* data);
 
 }  // namespace ivgi::vk

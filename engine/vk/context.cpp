@@ -275,9 +275,18 @@ Context::Context(const ContextOptions& options) {
   check(vkCreateFence(device_, &fi, nullptr, &fence_), "vkCreateFence");
 }
 
+std::shared_ptr<const void> Context::shared(const std::string& key,
+                                            const std::function<std::shared_ptr<const void>()>& make) const {
+  const std::lock_guard<std::mutex> lock(sharedLock_);
+  auto it = shared_.find(key);
+  if (it == shared_.end()) it = shared_.emplace(key, make()).first;
+  return it->second;
+}
+
 Context::~Context() {
   if (device_) {
     vkDeviceWaitIdle(device_);
+    shared_.clear();
     vkDestroyFence(device_, fence_, nullptr);
     vkDestroyCommandPool(device_, pool_, nullptr);
     vkDestroyDevice(device_, nullptr);

@@ -5,6 +5,9 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -55,7 +58,7 @@ class Context {
   const VkPhysicalDeviceLimits& limits() const { return properties_.limits; }
   // The largest single allocation, and so the largest buffer (VkPhysicalDeviceMaintenance3Properties).
   VkDeviceSize maxAllocationBytes() const { return maxAllocationBytes_; }
-  // An array bound as several texel views (shaders/parted_texels.glsl) has 2^texelPartBits() texels
+  // An array bound as several texel views (shaders/common/parted_texels.glsl) has 2^texelPartBits() texels
   // a view: maxTexelBufferElements rounded down to a power of two, or less where options ask.
   uint32_t texelPartBits() const { return texelPartBits_; }
   // The size of the heap that device-local buffers come from: what the device says it can hold.
@@ -83,6 +86,12 @@ class Context {
   void timeDispatches(PassTimer* timer) const { dispatchTimer_ = timer; }
   PassTimer* dispatchTimer() const { return dispatchTimer_; }
 
+  // What was made once under `key` for this device, made by `make` the first time it is asked for
+  // and kept as long as the context: the compiled pipelines that every Program of one shader and
+  // specialization shares (a pipeline costs its compilation; a device compiles it once).
+  std::shared_ptr<const void> shared(const std::string& key,
+                                     const std::function<std::shared_ptr<const void>()>& make) const;
+
  private:
   VkInstance instance_ = VK_NULL_HANDLE;
   VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
@@ -102,6 +111,8 @@ class Context {
   DeviceInfo info_;
   mutable uint32_t validationErrors_ = 0;
   mutable PassTimer* dispatchTimer_ = nullptr;
+  mutable std::mutex sharedLock_;
+  mutable std::map<std::string, std::shared_ptr<const void>> shared_;  // shared(); emptied before the device goes
 
   static VkBool32 VKAPI_PTR onMessage(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
                                       VkDebugUtilsMessageTypeFlagsEXT types,

@@ -152,11 +152,30 @@ Reflection reflect(std::span<const uint32_t> code, const std::string& name) {
 Program::Program(const Context& ctx, std::string name, std::span<const uint32_t> code,
                  const Specialization& specialization)
     : ctx_(ctx), name_(std::move(name)) {
+  // One compilation per shader code and specialization for the context (the device's own values,
+  // texelPartBits and cpuDevice, are the same for every program of it).
+  std::string key = name_ + "@" + std::to_string(reinterpret_cast<uintptr_t>(code.data())) + "+" +
+                    std::to_string(code.size()) + " x" + std::to_string(specialization.localSizeX);
+  for (const auto& [constant, value] : specialization.constants)
+    key += " " + std::string(constant) + "=" + std::to_string(value);
+  compiled_ = std::static_pointer_cast<const Compiled>(
+      ctx.shared(key, [&] { return std::shared_ptr<const void>(compile(code, specialization)); }));
+  slots_ = compiled_->slots;
+  texelViews_ = compiled_->texelViews;
+  pushBytes_ = compiled_->pushBytes;
+  std::copy(compiled_->localSize, compiled_->localSize + 3, localSize_);
+}
+
+std::shared_ptr<Program::Compiled> Program::compile(std::span<const uint32_t> code,
+                                                    const Specialization& specialization) const {
+  const Context& ctx = ctx_;
+  auto c = std::make_shared<Compiled>();
+  c->device = ctx.device();
   Reflection r = reflect(code, name_);
-  for (const ReflectedBinding& b : r.bindings) slots_.push_back({b.name, b.texel.format, b.texel.bytes, b.parts});
-  pushBytes_ = r.pushBytes;
-  std::copy(r.localSize, r.localSize + 3, localSize_);
-  if (pushBytes_ > ctx.limits().maxPushConstantsSize)
+  for (const ReflectedBinding& b : r.bindings) c->slots.push_back({b.name, b.texel.format, b.texel.bytes, b.parts});
+  c->pushBytes = r.pushBytes;
+  std::copy(r.localSize, r.localSize + 3, c->localSize);
+  if (c->pushBytes > ctx.limits().maxPushConstantsSize)
     throw VulkanError("shader " + name_ + " needs more push-constant bytes than the device allows");
 
   // Specialization: each named constant by its id, and the workgroup size.
@@ -171,63 +190,66 @@ Program::Program(const Context& ctx, std::string name, std::span<const uint32_t>
     return it == r.constants.end() ? nullptr : &*it;
   };
   for (const auto& [name, value] : specialization.constants) {
-    Reflection::Constant* c = constant(name);
-    if (!c) throw VulkanError("shader " + name_ + " has no specialization constant named '" + std::string(name) + "'");
-    specialize(c->id, value);
-    c->value = value;
+    Reflection::Constant* k = constant(name);
+    if (!k) throw VulkanError("shader " + name_ + " has no specialization constant named '" + std::string(name) + "'");
+    specialize(k->id, value);
+    k->value = value;
   }
   // parted_texels.glsl: the views' size is the device's; how many the pass reads, its own.
-  if (const Reflection::Constant* c = constant("texelPartBits")) specialize(c->id, ctx.texelPartBits());
-  if (const Reflection::Constant* c = constant("texelViews")) texelViews_ = c->value;
+  if (const Reflection::Constant* k = constant("texelPartBits")) specialize(k->id, ctx.texelPartBits());
+  if (const Reflection::Constant* k = constant("texelViews")) c->texelViews = k->value;
   // climb.glsl: whether its atomics need fences around them.
-  if (const Reflection::Constant* c = constant("cpuDevice")) specialize(c->id, ctx.info().type == "cpu" ? 1u : 0u);
+  if (const Reflection::Constant* k = constant("cpuDevice")) specialize(k->id, ctx.info().type == "cpu" ? 1u : 0u);
   if (specialization.localSizeX) {
     if (r.localSizeConstant[0] == Reflection::kLiteral)
       throw VulkanError("shader " + name_ + " sets its workgroup size itself (no local_size_x_id)");
     specialize(r.localSizeConstant[0], specialization.localSizeX);
-    localSize_[0] = specialization.localSizeX;
+    c->localSize[0] = specialization.localSizeX;
   }
 
   VkShaderModuleCreateInfo mi{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
   mi.codeSize = code.size_bytes();
   mi.pCode = code.data();
-  check(vkCreateShaderModule(ctx.device(), &mi, nullptr, &module_), "vkCreateShaderModule");
+  check(vkCreateShaderModule(ctx.device(), &mi, nullptr, &c->module), "vkCreateShaderModule");
 
-  std::vector<VkDescriptorSetLayoutBinding> bindings(slots_.size());
+  std::vector<VkDescriptorSetLayoutBinding> bindings(c->slots.size());
   for (uint32_t i = 0; i < bindings.size(); ++i)
     bindings[i] = {i, r.bindings[i].type, r.bindings[i].parts, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
   VkDescriptorSetLayoutCreateInfo li{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
   li.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
   li.bindingCount = uint32_t(bindings.size());
   li.pBindings = bindings.data();
-  check(vkCreateDescriptorSetLayout(ctx.device(), &li, nullptr, &setLayout_), "vkCreateDescriptorSetLayout");
+  check(vkCreateDescriptorSetLayout(ctx.device(), &li, nullptr, &c->setLayout), "vkCreateDescriptorSetLayout");
 
-  VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, pushBytes_};
+  VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, c->pushBytes};
   VkPipelineLayoutCreateInfo pli{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
   pli.setLayoutCount = 1;
-  pli.pSetLayouts = &setLayout_;
-  pli.pushConstantRangeCount = pushBytes_ ? 1 : 0;
+  pli.pSetLayouts = &c->setLayout;
+  pli.pushConstantRangeCount = c->pushBytes ? 1 : 0;
   pli.pPushConstantRanges = &range;
-  check(vkCreatePipelineLayout(ctx.device(), &pli, nullptr, &layout_), "vkCreatePipelineLayout");
+  check(vkCreatePipelineLayout(ctx.device(), &pli, nullptr, &c->layout), "vkCreatePipelineLayout");
 
   VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
   ci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
   ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-  ci.stage.module = module_;
+  ci.stage.module = c->module;
   ci.stage.pName = "main";
   VkSpecializationInfo info{uint32_t(entries.size()), entries.data(), values.size() * 4, values.data()};
   if (!entries.empty()) ci.stage.pSpecializationInfo = &info;
-  ci.layout = layout_;
-  check(vkCreateComputePipelines(ctx.device(), VK_NULL_HANDLE, 1, &ci, nullptr, &pipeline_),
+  ci.layout = c->layout;
+  check(vkCreateComputePipelines(ctx.device(), VK_NULL_HANDLE, 1, &ci, nullptr, &c->pipeline),
         "vkCreateComputePipelines");
+  return c;
 }
 
-Program::~Program() {
-  vkDestroyPipeline(ctx_.device(), pipeline_, nullptr);
-  vkDestroyPipelineLayout(ctx_.device(), layout_, nullptr);
-  vkDestroyDescriptorSetLayout(ctx_.device(), setLayout_, nullptr);
-  vkDestroyShaderModule(ctx_.device(), module_, nullptr);
+Program::Compiled::~Compiled() {
+  vkDestroyPipeline(device, pipeline, nullptr);
+  vkDestroyPipelineLayout(device, layout, nullptr);
+  vkDestroyDescriptorSetLayout(device, setLayout, nullptr);
+  vkDestroyShaderModule(device, module, nullptr);
 }
+
+Program::~Program() = default;
 
 Groups Program::groupsFor(uint64_t count, uint32_t perGroup) const {
   uint64_t groups = std::max<uint64_t>(1, (count + perGroup - 1) / perGroup);
@@ -241,11 +263,12 @@ Groups Program::groupsFor(uint64_t count, uint32_t perGroup) const {
 void Program::dispatch(VkCommandBuffer cmd, Groups groups, const Bindings& bindings) const {
   const bool timed = bind(cmd, bindings, nullptr, 0);
   vkCmdDispatch(cmd, groups.x, groups.y, groups.z);
-  endTiming(cmd, timed);
+  finish(cmd, timed);
 }
 
-void Program::endTiming(VkCommandBuffer cmd, bool timed) const {
+void Program::finish(VkCommandBuffer cmd, bool timed) const {
   if (timed) ctx_.dispatchTimer()->end(cmd);
+  barrier(cmd);
 }
 
 bool Program::bind(VkCommandBuffer cmd, const Bindings& bindings, const void* push, uint32_t pushBytes) const {
@@ -293,9 +316,9 @@ bool Program::bind(VkCommandBuffer cmd, const Bindings& bindings, const void* pu
       w.pBufferInfo = &infos[i];
     }
   }
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
-  if (n) ctx_.cmdPushDescriptorSet(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, n, writes.data());
-  if (pushBytes_) vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, pushBytes_, push);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, compiled_->pipeline);
+  if (n) ctx_.cmdPushDescriptorSet(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, compiled_->layout, 0, n, writes.data());
+  if (pushBytes_) vkCmdPushConstants(cmd, compiled_->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, pushBytes_, push);
   PassTimer* timer = ctx_.dispatchTimer();
   if (!timer || timer->room() == 0) return false;
   timer->begin(cmd, name_);
@@ -321,17 +344,6 @@ void Program::addTexelViews(const Buffer& buffer, const Slot& slot, std::vector<
                         ? buffer.texelView(slot.format, offset, std::min(partBytes, buffer.size() - offset))
                         : views[views.size() - p]);
   }
-}
-
-void barrier(VkCommandBuffer cmd) {
-  VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-  mb.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
-  mb.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
-                     VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_HOST_READ_BIT;
-  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
-                           VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_HOST_BIT,
-                       0, 1, &mb, 0, nullptr, 0, nullptr);
 }
 
 }  // namespace ivgi::vk

@@ -3,11 +3,13 @@
 // with their formats), binding names, specialization constants and push-constant size are read
 // from the SPIR-V itself. Buffers are bound by the names the shader gives them and go in by push
 // descriptors (an imageBuffer as a texel view of the buffer; an array of imageBuffers as views of
-// one buffer, shaders/parted_texels.glsl), so a dispatch is one call naming its buffers, or naming
-// a pool of them that the shader's own names pick from; no binding number is written twice.
+// one buffer, shaders/common/parted_texels.glsl), so a dispatch is one call naming its buffers, or
+// naming a pool of them that the shader's own names pick from; no binding number is written twice.
+// Every dispatch ends with a barrier (buffer.h): what it wrote is what the next command reads.
 #include <vulkan/vulkan.h>
 
 #include <initializer_list>
+#include <memory>
 #include <span>
 #include <string>
 #include <string_view>
@@ -48,6 +50,12 @@ class Bindings {
     b.entries_.insert(b.entries_.end(), entries_.begin(), entries_.end());
     return b;
   }
+  // These bindings, then those of `more` (a pool of pools).
+  Bindings plus(const Bindings& more) const {
+    Bindings b = *this;
+    b.entries_.insert(b.entries_.end(), more.entries_.begin(), more.entries_.end());
+    return b;
+  }
 
  private:
   friend class Program;
@@ -83,12 +91,13 @@ class Program {
   uint32_t localSizeX() const { return localSize_[0]; }
   uint32_t pushConstantBytes() const { return pushBytes_; }
 
-  // Binds every binding of the shader by its name, pushes the constants, dispatches `groups`.
+  // Binds every binding of the shader by its name, pushes the constants, dispatches `groups`, and
+  // records the barrier after it.
   template <class Push>
   void dispatch(VkCommandBuffer cmd, Groups groups, const Bindings& bindings, const Push& push) const {
     const bool timed = bind(cmd, bindings, &push, sizeof(Push));
     vkCmdDispatch(cmd, groups.x, groups.y, groups.z);
-    endTiming(cmd, timed);
+    finish(cmd, timed);
   }
   void dispatch(VkCommandBuffer cmd, Groups groups, const Bindings& bindings) const;
   // Dispatch with the group counts at `offset` in `args` (a VkDispatchIndirectCommand).
@@ -97,12 +106,12 @@ class Program {
                         const Push& push) const {
     const bool timed = bind(cmd, bindings, &push, sizeof(Push));
     vkCmdDispatchIndirect(cmd, args.handle(), offset);
-    endTiming(cmd, timed);
+    finish(cmd, timed);
   }
   void dispatchIndirect(VkCommandBuffer cmd, const Buffer& args, VkDeviceSize offset, const Bindings& bindings) const {
     const bool timed = bind(cmd, bindings, nullptr, 0);
     vkCmdDispatchIndirect(cmd, args.handle(), offset);
-    endTiming(cmd, timed);
+    finish(cmd, timed);
   }
   // One invocation per item (items laid out over x and y so that no dimension exceeds the device
   // limit; shaders read their item with itemIndex() from common.glsl and test it against the count).
@@ -117,14 +126,9 @@ class Program {
   // Binds, pushes and, where the context times dispatches (and has room), starts timing this one:
   // whether it did.
   bool bind(VkCommandBuffer cmd, const Bindings& bindings, const void* push, uint32_t pushBytes) const;
-  void endTiming(VkCommandBuffer cmd, bool timed) const;
+  // Ends the dispatch's timing where bind() started it, then records the barrier after it.
+  void finish(VkCommandBuffer cmd, bool timed) const;
 
-  const Context& ctx_;
-  std::string name_;
-  VkShaderModule module_ = VK_NULL_HANDLE;
-  VkDescriptorSetLayout setLayout_ = VK_NULL_HANDLE;
-  VkPipelineLayout layout_ = VK_NULL_HANDLE;
-  VkPipeline pipeline_ = VK_NULL_HANDLE;
   // Per binding (numbered 0..n-1): its name, and an imageBuffer's view format and texel bytes
   // (UNDEFINED for a storage buffer).
   struct Slot {
@@ -133,6 +137,24 @@ class Program {
     VkDeviceSize texelBytes = 0;
     uint32_t parts = 1;  // an imageBuffer array: that many views of one buffer
   };
+  // The pipeline compiled from the shader and specialization, with what reflection found: shared by
+  // every Program of them on one context (Context::shared).
+  struct Compiled {
+    VkDevice device = VK_NULL_HANDLE;
+    VkShaderModule module = VK_NULL_HANDLE;
+    VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
+    VkPipelineLayout layout = VK_NULL_HANDLE;
+    VkPipeline pipeline = VK_NULL_HANDLE;
+    std::vector<Slot> slots;
+    uint32_t texelViews = 1, pushBytes = 0;
+    uint32_t localSize[3] = {1, 1, 1};
+    ~Compiled();
+  };
+  std::shared_ptr<Compiled> compile(std::span<const uint32_t> code, const Specialization& specialization) const;
+
+  const Context& ctx_;
+  std::string name_;
+  std::shared_ptr<const Compiled> compiled_;
   // The views of `buffer` that `slot` binds: the whole buffer, or for an array view p from texel
   // p << texelPartBits (views past the buffer's end repeat the first: bound, never read).
   void addTexelViews(const Buffer& buffer, const Slot& slot, std::vector<VkBufferView>& views) const;
@@ -141,8 +163,5 @@ class Program {
   uint32_t pushBytes_ = 0;
   uint32_t localSize_[3] = {1, 1, 1};
 };
-
-// Makes the writes of earlier passes (shader and transfer) visible to later passes.
-void barrier(VkCommandBuffer cmd);
 
 }  // namespace ivgi::vk

@@ -2,7 +2,7 @@
 // Runs the bin and form-factor definitions of shaders/interface.h on the cases of
 // tests/shared_definitions_test.cpp.
 #extension GL_GOOGLE_include_directive : require
-#include "common.glsl"
+#include "common/common.glsl"
 layout(local_size_x = 64) in;
 
 struct BinCase {

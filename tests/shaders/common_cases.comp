@@ -1,7 +1,7 @@
 #version 460
 // Runs the definitions of shaders/interface.h on the cases of tests/shared_definitions_test.cpp.
 #extension GL_GOOGLE_include_directive : require
-#include "common.glsl"
+#include "common/common.glsl"
 layout(local_size_x = 64) in;
 
 struct Case {
@@ -15,11 +15,11 @@ layout(std430, binding = 1) writeonly buffer Keys { uint64_t keys[]; };
 layout(std430, binding = 2) writeonly buffer Pairs { vec4 pairs[]; };  // texel pair, weight, key round trip
 layout(std430, binding = 3) writeonly buffer Rays { vec4 rays[]; };
 layout(std430, binding = 4) writeonly buffer StaticBins { uvec4 staticBins[]; };  // packed, bin, coverage
-layout(push_constant) uniform Push { ImagePush push; };
+layout(push_constant) uniform Push { RasterPush push; };  // the raster's camera; triangleCount: the cases
 
 void main() {
   uint i = itemIndex();
-  if (i >= push.count) return;
+  if (i >= push.triangleCount) return;
   Case c = cases[i];
   uint64_t key = packDepthKey(c.value, c.id);
   keys[i] = key;

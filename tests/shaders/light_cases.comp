@@ -2,7 +2,7 @@
 // Runs lightFalloff() of shaders/interface.h for every (light, point) pair of the host side of the
 // test (tests/shared_definitions_test.cpp).
 #extension GL_GOOGLE_include_directive : require
-#include "common.glsl"
+#include "common/common.glsl"
 layout(local_size_x = 64) in;
 
 layout(std430, binding = 0) readonly buffer Lights { PunctualLight lights[]; };

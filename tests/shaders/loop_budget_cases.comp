@@ -1,8 +1,8 @@
 #version 460
-// Runs loops of the given rounds, then loopBudgetSpent() of shaders/common.glsl, for the cases of
+// Runs loops of the given rounds, then loopBudgetSpent() of shaders/common/common.glsl, for the cases of
 // tests/shared_definitions_test.cpp: one case a workgroup (a subgroup's loops share the budget).
 #extension GL_GOOGLE_include_directive : require
-#include "common.glsl"
+#include "common/common.glsl"
 layout(local_size_x = 8) in;
 
 layout(std430, binding = 0) readonly buffer Cases { uvec2 cases[]; };       // rounds of a first and a second loop

@@ -1,9 +1,9 @@
 #version 460
 // Reads one buffer through imageBuffers of three formats and through the NodeState helpers of
-// shaders/common.glsl, and writes what it read (tests/vk_test.cpp).
+// shaders/common/common.glsl, and writes what it read (tests/vk_test.cpp).
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 3
-#include "common.glsl"
+#include "common/common.glsl"
 layout(local_size_x = 64) in;
 
 layout(binding = 0, rgba32f) readonly uniform imageBuffer asVec4;

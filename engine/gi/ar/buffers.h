@@ -1,22 +1,20 @@
 #pragma once
-// The ar solver's device memory, by what it holds; the passes bind these by the names their shaders
-// give them (pool()). The directional tables hold 6·N² bins per node or surfel, as rgba32f texels
-// (their views reach past one storage binding).
+// The ar solver's device memory, by what it holds: the scene both solvers read (scene_buffers.h)
+// and ar's own; the passes bind these by the names their shaders give them (pool()). The
+// directional tables hold 6·N² bins per node or surfel, as rgba32f texels (their views reach past
+// one storage binding).
+#include "engine/gi/scene_buffers.h"
 #include "engine/vk/buffer.h"
 #include "engine/vk/program.h"
 
 namespace ivgi::gi {
 
 struct ArBuffers {
-  // The scene, uploaded once: the trees, each surfel's leaf, albedo and emission (Le), per bin
-  // ∫ω dω and Ω, the environment per bin, the frame's punctual lights.
-  vk::Buffer tree, leafOfSurfel, albedo, emission, binVectors, environment, lights;
-  // Per frame: node attributes (refit); link creation's worklists and dispatch sizes. Per node, the
-  // emission of its bright emitters (static), whose links link creation takes down to the
-  // receivers' surfels (ar reads the radiance itself).
-  vk::Buffer nodes, nodeEmission, args, worklistA, worklistB;
-  // Per node, the refit's arrival counts (shaders/climb.glsl): zero between dispatches.
-  vk::Buffer arrivals;
+  SceneBuffers scene;
+  // Per node, uploaded once: the emission of its bright emitters, whose links link creation takes
+  // down to the receivers' surfels (LinkWork::emitters; ar reads the radiance itself). Link
+  // creation's dispatch sizes and worklists.
+  vk::Buffer brightEmitters, args, worklistA, worklistB;
   // The directional tables: per node the radiance less antiradiance it gathered over its links
   // (looking directions) and what it sends (travel directions; a flat node: its antiradiance times
   // its area, the rest: its intensity); per surfel its incident
@@ -42,26 +40,17 @@ struct ArBuffers {
   vk::Buffer gatherFlags;
 
   vk::Bindings pool() const {
-    return vk::Bindings::pool({{"tree", tree},
-                               {"leafOfSurfel", leafOfSurfel},
-                               {"albedo", albedo},
-                               {"emission", emission},
-                               {"binVectors", binVectors},
-                               {"environment", environment},
-                               {"lights", lights},
-                               {"nodes", nodes},
-                               {"nodeEmission", nodeEmission},
-                               {"gathered", gathered},
-                               {"gatheredVector", gatheredVector},
-                               {"intensity", intensity},
-                               {"exitance", exitance},
-                               {"gatherOrder", gatherOrder},
-                               {"longSorts", longSorts},
-                               {"incident", incident},
-                               {"radiance", radiance},
-                               {"irradiance", irradiance},
-                               {"sums", sums},
-                               {"gatherFlags", gatherFlags}});
+    return scene.pool().plus(vk::Bindings::pool({{"gathered", gathered},
+                                                 {"gatheredVector", gatheredVector},
+                                                 {"intensity", intensity},
+                                                 {"exitance", exitance},
+                                                 {"gatherOrder", gatherOrder},
+                                                 {"longSorts", longSorts},
+                                                 {"incident", incident},
+                                                 {"radiance", radiance},
+                                                 {"irradiance", irradiance},
+                                                 {"sums", sums},
+                                                 {"gatherFlags", gatherFlags}}));
   }
 };
 

@@ -7,32 +7,42 @@
 #include "engine/gi/ar/settings.h"
 #include "engine/gi/hierarchy.h"
 #include "engine/gi/links.h"
+#include "engine/gi/pass.h"
 #include "engine/vk/program.h"
 #include "engine/vk/timer.h"
 
 namespace ivgi::gi {
 
+// What changes between the iterations a solver records.
+struct ArStep {
+  bool radianceStep;  // the local pass reflects the incident light (else it keeps the radiance)
+  uint32_t sumSlot;   // where the incident pass leaves its sums
+  // The global pass walks each receiver's links in `chunks` dispatches of `chunkLinks` links each.
+  uint32_t chunks, chunkLinks;
+  float damping;  // the share of the step taken (ArIncidentPush::damping)
+  bool timed;     // each pass timed on its own (else the caller times the iterations together)
+};
+
 class ArIteration {
  public:
-  // The passes at the settings' `dirs` (a constant of their programs); the pull-up takes `h`'s inner
-  // nodes.
-  ArIteration(const vk::Context& ctx, const Hierarchy& h, const ArSettings& settings, vk::Allocations& allocations);
-  // Records one iteration; `radianceStep`: the local pass reflects the incident light (else it keeps
-  // the radiance: an antiradiance step); `slot`: where its incident pass leaves its sums. The global
-  // pass walks each receiver's links of both sets, the static pairs' first, in push.chunks
-  // dispatches (push.chunkLinks links of a list each). Each pass is timed where `timed`.
-  void record(VkCommandBuffer cmd, vk::PassTimer& timer, bool timed, const ArBuffers& b, const Hierarchy& h,
-              const LinkSet& staticLinks, const LinkSet& frameLinks, gpu::ArPush push, bool radianceStep,
-              uint32_t slot) const;
+  // The passes at the settings' `dirs` (a constant of their programs), recording into the solver's
+  // buffers `b` over the links of its two sets (the static pairs' first); the pull-up takes `h`'s
+  // inner nodes.
+  ArIteration(const vk::Context& ctx, const Hierarchy& h, const ArSettings& settings, const ArBuffers& b,
+              const LinkSet& staticLinks, const LinkSet& frameLinks, vk::Allocations& allocations);
+  void record(VkCommandBuffer cmd, vk::PassTimer& timer, const ArStep& step) const;
   // Workgroups of the incident pass, each leaving one gpu::IterationSum an iteration.
-  uint32_t sumGroups(uint32_t surfelCount) const;
+  uint32_t sumGroups() const;
 
  private:
+  const ArBuffers& b_;
+  const LinkSet &staticLinks_, &frameLinks_;
+  const uint32_t surfelCount_, nodeCount_, bins_;
   vk::Program local_, pullUp_, gather_, sumDown_, incident_;
   // The inner nodes level by level, and per level holding any (deepest first) its range of them:
   // the pull-up's dispatches, and in reverse the sum-down's.
   vk::Buffer innerNodes_;
-  std::vector<gpu::LevelPush> innerLevels_;
+  std::vector<NodeRange> innerLevels_;
 };
 
 }  // namespace ivgi::gi

@@ -55,7 +55,7 @@ ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy h
       nodeCount_(uint32_t(hierarchy_.nodes.size())),
       refit_(ctx),
       linkCreation_(ctx),
-      iteration_(ctx, hierarchy_, settings, allocations_),
+      iteration_(ctx, hierarchy_, settings, b_, staticSet_, frameSet_, allocations_),
       sortSenders_(shaderProgram(ctx, "ar_sort_senders", {.constants = {{"kDirs", settings.dirs}}})),
       sortLongSenders_(shaderProgram(ctx, "ar_sort_long_senders", {.constants = {{"kDirs", settings.dirs}}})),
       queueArgs_(shaderProgram(ctx, "queue_args")),
@@ -83,16 +83,8 @@ ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy h
         " surfels), more than " + (settings_.memoryBudget ? "--max-memory" : "the device") + " allows: --dirs " +
         std::to_string(std::max(1u, uint32_t(n / std::sqrt(over)))) + " would fit (the tables grow as N^2)");
   vk::Allocations* tally = &allocations_;
-  b_.tree = vk::makeBuffer(ctx, hierarchy_.nodes, vk::Memory::Device, tally);
-  b_.leafOfSurfel = vk::makeBuffer(ctx, hierarchy_.leafOfSurfel, vk::Memory::Device, tally);
-  b_.albedo = vk::makeBuffer(ctx, g.surfelAlbedo, vk::Memory::Device, tally);
-  b_.emission = vk::makeBuffer(ctx, g.surfelEmission, vk::Memory::Device, tally);
-  b_.binVectors = vk::makeBuffer(ctx, binVectorTable(n), vk::Memory::Device, tally);
-  b_.environment = vk::makeBuffer(ctx, environmentTable(settings_.environment, n), vk::Memory::Device, tally);
-  b_.lights = vk::Buffer(ctx, sizeof(gpu::PunctualLight), vk::Memory::Host, tally);
-  b_.nodes = vk::Buffer(ctx, nodeCount_ * sizeof(gpu::NodeState), vk::Memory::Device, tally);
-  b_.arrivals = vk::makeBuffer(ctx, std::vector<uint32_t>(nodeCount_, 0u), vk::Memory::Device, tally);
-  b_.nodeEmission = vk::makeBuffer(ctx, brightEmitters(hierarchy_, g.surfelEmission), vk::Memory::Device, tally);
+  b_.scene = SceneBuffers(ctx, g, hierarchy_, n, settings_.environment, allocations_);
+  b_.brightEmitters = vk::makeBuffer(ctx, brightEmitters(hierarchy_, g.surfelEmission), vk::Memory::Device, tally);
   b_.args = vk::Buffer(ctx, 4 * sizeof(glm::uvec4), vk::Memory::Device, tally);
   b_.gathered = vk::Buffer(ctx, uint64_t(nodeCount_) * bins * sizeof(glm::vec4), vk::Memory::Device, tally);
   b_.gatheredVector = vk::Buffer(ctx, uint64_t(nodeCount_) * 3 * sizeof(glm::vec4), vk::Memory::Device, tally);
@@ -109,7 +101,7 @@ ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy h
     b_.startIrradiance = vk::Buffer(ctx, b_.irradiance.size(), vk::Memory::Device, tally);
   }
   b_.gatherFlags = vk::makeBuffer(ctx, std::vector<uint32_t>(4, 0u), vk::Memory::Host, tally);
-  sumGroups_ = iteration_.sumGroups(surfelCount_);
+  sumGroups_ = iteration_.sumGroups();
   b_.sums =
       vk::Buffer(ctx, uint64_t(kIterationSteps) * sumGroups_ * sizeof(gpu::IterationSum), vk::Memory::Host, tally);
 
@@ -171,10 +163,7 @@ void ArSolver::beginFrame(int frame) {
 }
 
 void ArSolver::setLights(const std::vector<gpu::PunctualLight>& lights) {
-  if (b_.lights.size() < lights.size() * sizeof(gpu::PunctualLight))
-    b_.lights = vk::Buffer(ctx_, lights.size() * sizeof(gpu::PunctualLight), vk::Memory::Host, &allocations_);
-  b_.lights.upload(lights);
-  lightCount_ = uint32_t(lights.size());
+  b_.scene.setLights(ctx_, lights, allocations_);
 }
 
 uint32_t ArSolver::iterationLimit() const {
@@ -183,17 +172,15 @@ uint32_t ArSolver::iterationLimit() const {
 }
 
 void ArSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffer& surfels, bool geometryMoved) {
-  vkCmdFillBuffer(cmd, b_.gatherFlags.handle(), 0, VK_WHOLE_SIZE, 0u);
-  vk::barrier(cmd);
+  vk::fillBuffer(cmd, b_.gatherFlags, 0u);
   if (geometryMoved || !linked_) {
-    timedPass(cmd, timer, "refit", [&] { refit_.record(cmd, hierarchy_, b_.tree, surfels, b_.nodes, b_.arrivals); });
+    timedPass(cmd, timer, "refit", [&] { refit_.record(cmd, b_.scene, surfels); });
     timedPass(cmd, timer, "links", [&] {
       if (!staticLinked_ && !staticSet_.empty()) recordLinks(cmd, staticSet_);
       recordLinks(cmd, frameSet_);
       orderReceivers_.dispatch(cmd, orderReceivers_.groupsFor(nodeCount_, gpu::kArGatherGroup),
                                b_.pool().with({{"staticStarts", staticSet_.starts}, {"starts", frameSet_.starts}}),
-                               gpu::ArPush{nodeCount_});
-      vk::barrier(cmd);
+                               gpu::CountPush{.count = nodeCount_});
     });
     linked_ = staticLinked_ = true;
   }
@@ -208,14 +195,11 @@ void ArSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
 
 void ArSolver::recordStart(VkCommandBuffer cmd, vk::PassTimer& timer) {
   timedPass(cmd, timer, "local", [&] {
-    auto copy = [&](const vk::Buffer& from, const vk::Buffer& to) {
-      const VkBufferCopy region{0, 0, from.size()};
-      vkCmdCopyBuffer(cmd, from.handle(), to.handle(), 1, &region);
-    };
+    auto copy = [&](const vk::Buffer& from, const vk::Buffer& to) { vk::copyBuffer(cmd, from, to); };
     if (!warm_) {
-      vkCmdFillBuffer(cmd, b_.incident.handle(), 0, VK_WHOLE_SIZE, 0u);
-      vkCmdFillBuffer(cmd, b_.irradiance.handle(), 0, VK_WHOLE_SIZE, 0u);
-      copy(b_.emission, b_.radiance);
+      vk::fillBuffer(cmd, b_.incident, 0u);
+      vk::fillBuffer(cmd, b_.irradiance, 0u);
+      copy(b_.scene.emission, b_.radiance);
     } else if (redoing_) {
       copy(b_.startIncident, b_.incident), copy(b_.startRadiance, b_.radiance);
       copy(b_.startIrradiance, b_.irradiance);
@@ -227,21 +211,24 @@ void ArSolver::recordStart(VkCommandBuffer cmd, vk::PassTimer& timer) {
 }
 
 void ArSolver::recordLinks(VkCommandBuffer cmd, LinkSet& set) {
-  const float bin = 4.0f * gpu::kPi / float(6 * settings_.dirs * settings_.dirs);
-  linkCreation_.record(cmd, set, LinkWork{b_.args, b_.worklistA, b_.worklistB, b_.pool()}, hierarchy_,
-                       LinkCriteria{settings_.epsilon, settings_.kappa * bin, settings_.kappa * bin, true, 0.0f, false},
+  const float split = settings_.kappa * meanBinSolidAngle(settings_.dirs);
+  linkCreation_.record(cmd, set, LinkWork{b_.args, b_.worklistA, b_.worklistB, b_.brightEmitters, b_.pool()},
+                       hierarchy_,
+                       LinkCriteria{.epsilon = settings_.epsilon,
+                                    .largeSender = split,
+                                    .largeReceiver = split,
+                                    .bothSides = true,
+                                    .emitterReceiver = 0.0f,
+                                    .receiverStaysWhole = false},
                        worklistCapacity_);
   // The senders in order: the short lists an invocation each, the long ones a workgroup each.
-  vkCmdFillBuffer(cmd, b_.longSorts.handle(), 0, sizeof(uint32_t), 0u);
-  vk::barrier(cmd);
+  vk::fillBuffer(cmd, b_.longSorts, 0u, 0, sizeof(uint32_t));
   const vk::Bindings sorting = b_.pool().with({{"starts", set.starts}, {"senders", set.senders}});
-  sortSenders_.dispatchItems(cmd, nodeCount_, sorting, gpu::ArPush{nodeCount_});
-  vk::barrier(cmd);
+  sortSenders_.dispatchItems(cmd, nodeCount_, sorting, gpu::CountPush{.count = nodeCount_});
   constexpr uint32_t kLongSortArgs = 2;  // the slot in args after link creation's
-  queueArgs_.dispatch(cmd, {1, 1, 1}, {{"queue", b_.longSorts}, {"args", b_.args}}, gpu::QueueArgsPush{kLongSortArgs});
-  vk::barrier(cmd);
+  queueArgs_.dispatch(cmd, {1, 1, 1}, {{"queue", b_.longSorts}, {"args", b_.args}},
+                      gpu::QueueArgsPush{.slot = kLongSortArgs});
   sortLongSenders_.dispatchIndirect(cmd, b_.args, kLongSortArgs * sizeof(glm::uvec4), sorting);
-  vk::barrier(cmd);
 }
 
 void ArSolver::recordIterations(VkCommandBuffer cmd, vk::PassTimer& timer, uint32_t steps) {
@@ -250,10 +237,13 @@ void ArSolver::recordIterations(VkCommandBuffer cmd, vk::PassTimer& timer, uint3
     for (uint32_t k = 0; k < steps; ++k) {
       const uint32_t i = recorded_ + k;
       const bool radianceStep = settings_.scheme == ArScheme::Symmetric || i % (gpu::kAntiradianceSteps + 1) == 0;
-      iteration_.record(cmd, timer, timedEach, b_, hierarchy_, staticSet_, frameSet_,
-                        gpu::ArPush{0, settings_.dirs, 0, 0, lightCount_, settings_.environment ? 1u : 0u,
-                                    gatherChunks_, chunkLinks(), damping_},
-                        radianceStep, k);
+      iteration_.record(cmd, timer,
+                        ArStep{.radianceStep = radianceStep,
+                               .sumSlot = k,
+                               .chunks = gatherChunks_,
+                               .chunkLinks = chunkLinks(),
+                               .damping = damping_,
+                               .timed = timedEach});
     }
   };
   if (timedEach)

@@ -45,7 +45,7 @@ class ArSolver final : public Solver {
   const Hierarchy& hierarchy() const { return hierarchy_; }
   // Readback for tests: per node its refit state, and the table of what it sends (6·N² bins a node)
   // and exitance that the last iteration's local pass and pull-up left.
-  std::vector<gpu::NodeState> nodeStates() const { return b_.nodes.read<gpu::NodeState>(nodeCount_); }
+  std::vector<gpu::NodeState> nodeStates() const { return b_.scene.nodes.read<gpu::NodeState>(nodeCount_); }
   std::vector<glm::vec4> intensities() const {
     return b_.intensity.read<glm::vec4>(size_t(nodeCount_) * 6 * settings_.dirs * settings_.dirs);
   }
@@ -89,7 +89,7 @@ class ArSolver final : public Solver {
   LinkCreation linkCreation_;
   ArIteration iteration_;
   vk::Program sortSenders_, sortLongSenders_, queueArgs_, orderReceivers_;
-  uint32_t lightCount_ = 0, sumGroups_ = 0;
+  uint32_t sumGroups_ = 0;
   // Dispatches of the global pass an iteration, each walking chunkLinks() links of a list; more
   // where a frame found a longer list (it is redone).
   uint32_t gatherChunks_ = 1;

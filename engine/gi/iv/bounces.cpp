@@ -15,8 +15,15 @@ constexpr uint32_t kPullUpArgs = 2, kBounceDispatches = 3;
 
 }  // namespace
 
-Bounces::Bounces(const vk::Context& ctx, const Hierarchy& h, vk::Allocations& allocations)
+Bounces::Bounces(const vk::Context& ctx, const Hierarchy& h, const IvSettings& settings, const IvBuffers& b,
+                 const LinkSet& staticSet, const LinkSet& frameSet, vk::Allocations& allocations)
     : ctx_(ctx),
+      settings_(settings),
+      b_(b),
+      staticSet_(staticSet),
+      frameSet_(frameSet),
+      surfelCount_(uint32_t(h.leafOfSurfel.size())),
+      nodeCount_(uint32_t(h.nodes.size())),
       emit_(shaderProgram(ctx, "emit")),
       interpolate_(shaderProgram(ctx, "interpolate")),
       pullUp_(shaderProgram(ctx, "pull_up")),
@@ -43,78 +50,65 @@ uint32_t Bounces::maxGathers(const IvSettings& settings) {
   return (settings.bounces ? *settings.bounces : kMaxBounces) + 1;
 }
 
-void Bounces::pullUp(VkCommandBuffer cmd, const IvBuffers& b, const Hierarchy& h, const vk::Buffer& radiosity,
-                     bool indirect) const {
-  const vk::Bindings bindings = b.pool().with({{"radiosity", radiosity}});
-  const gpu::CountPush nodes{uint32_t(h.nodes.size())};
+void Bounces::pullUp(VkCommandBuffer cmd, const vk::Buffer& radiosity, bool indirect) const {
+  const vk::Bindings bindings = b_.pool().with({{"radiosity", radiosity}});
+  const gpu::CountPush nodes{.count = nodeCount_};
   if (indirect)
     pullUp_.dispatchIndirect(cmd, args_, kPullUpArgs * sizeof(glm::uvec4), bindings, nodes);
   else
     pullUp_.dispatchItems(cmd, nodes.count, bindings, nodes);
-  vk::barrier(cmd);
 }
 
-void Bounces::recordEmission(VkCommandBuffer cmd, const IvBuffers& b, const Hierarchy& h) const {
-  const uint32_t surfels = uint32_t(h.leafOfSurfel.size());
-  emit_.dispatchItems(cmd, surfels, b.pool().with({{"radiosity", b.nodeEmission}}), gpu::CountPush{surfels});
-  vk::barrier(cmd);
-  pullUp(cmd, b, h, b.nodeEmission, false);
-  vk::copyBuffer(cmd, b.nodeEmission, b.radiosityA);
-  vk::barrier(cmd);
+void Bounces::recordEmission(VkCommandBuffer cmd) const {
+  emit_.dispatchItems(cmd, surfelCount_, b_.pool().with({{"radiosity", b_.nodeEmission}}),
+                      gpu::CountPush{.count = surfelCount_});
+  pullUp(cmd, b_.nodeEmission, false);
+  vk::copyBuffer(cmd, b_.nodeEmission, b_.radiosityA);
 }
 
-void Bounces::recordStart(VkCommandBuffer cmd, const IvBuffers& b) const {
-  vkCmdFillBuffer(cmd, state_.handle(), 0, VK_WHOLE_SIZE, 0u);
-  vkCmdFillBuffer(cmd, b.irradiance.handle(), 0, VK_WHOLE_SIZE, 0u);  // the first gather's change is all of it
-  const VkBufferCopy gather{gpu::kArgsReceivers * sizeof(glm::uvec4), 0, sizeof(glm::uvec4)};
-  vkCmdCopyBuffer(cmd, b.receiverArgs.handle(), fullArgs_.handle(), 1, &gather);
-  vk::barrier(cmd);
+void Bounces::recordStart(VkCommandBuffer cmd) const {
+  vk::fillBuffer(cmd, state_, 0u);
+  vk::fillBuffer(cmd, b_.irradiance, 0u);  // the first gather's change is all of it
+  vk::copyRegion(cmd, b_.receiverArgs, fullArgs_, {gpu::kArgsReceivers * sizeof(glm::uvec4), 0, sizeof(glm::uvec4)});
   vk::copyBuffer(cmd, fullArgs_, args_);
-  vk::barrier(cmd);
 }
 
-void Bounces::recordEstimate(VkCommandBuffer cmd, const IvBuffers& b, const LinkSet& staticSet, const LinkSet& frameSet,
-                             const IvSettings& settings) const {
-  gather_->dispatchIndirect(cmd, b.receiverArgs, gpu::kArgsNewReceivers * sizeof(glm::uvec4),
-                            b.pool().with({{"radiosityIn", b.nodeEmission},
-                                           {"frameCounters", frameSet.counters},
-                                           {"staticCounters", staticSet.counters}}),
-                            gpu::GatherPush{gpu::maskWordsFor(settings.bins), 1u, 0u});
-  vk::barrier(cmd);
+vk::Bindings Bounces::gatherBindings(const vk::Buffer& in) const {
+  return b_.pool().with(
+      {{"radiosityIn", in}, {"frameCounters", frameSet_.counters}, {"staticCounters", staticSet_.counters}});
 }
 
-void Bounces::recordSteps(VkCommandBuffer cmd, const IvBuffers& b, const Hierarchy& h, const LinkSet& staticSet,
-                          const LinkSet& frameSet, const IvSettings& settings, uint32_t first, uint32_t steps) const {
-  const uint32_t surfels = uint32_t(h.leafOfSurfel.size());
-  const gpu::BounceCheckPush check{interpolateGroups_, kBounceDispatches, maxGathers(settings),
-                                   settings.bounces ? -1.0f : settings.bounceTolerance};
+void Bounces::recordEstimate(VkCommandBuffer cmd) const {
+  gather_->dispatchIndirect(cmd, b_.receiverArgs, gpu::kArgsNewReceivers * sizeof(glm::uvec4),
+                            gatherBindings(b_.nodeEmission),
+                            gpu::GatherPush{.maskWords = gpu::maskWordsFor(settings_.bins), .newOnly = 1u});
+}
+
+void Bounces::recordSteps(VkCommandBuffer cmd, uint32_t first, uint32_t steps) const {
+  const gpu::BounceCheckPush check{.groups = interpolateGroups_,
+                                   .dispatches = kBounceDispatches,
+                                   .maxGathers = maxGathers(settings_),
+                                   .tolerance = settings_.bounces ? -1.0f : settings_.bounceTolerance};
+  const gpu::InterpolatePush surfels{.surfelCount = surfelCount_};
   for (uint32_t k = first; k < first + steps; ++k) {
-    const vk::Buffer& in = k % 2 ? b.radiosityB : b.radiosityA;
-    const vk::Buffer& out = k % 2 ? b.radiosityA : b.radiosityB;
-    gather_->dispatchIndirect(
-        cmd, args_, 0,
-        b.pool().with(
-            {{"radiosityIn", in}, {"frameCounters", frameSet.counters}, {"staticCounters", staticSet.counters}}),
-        gpu::GatherPush{gpu::maskWordsFor(settings.bins), 0u, 0u});
-    vk::barrier(cmd);
+    const vk::Buffer& in = solution(k);
+    const vk::Buffer& out = solution(k + 1);
+    gather_->dispatchIndirect(cmd, args_, 0, gatherBindings(in),
+                              gpu::GatherPush{.maskWords = gpu::maskWordsFor(settings_.bins), .newOnly = 0u});
     interpolate_.dispatchIndirect(cmd, args_, sizeof(glm::uvec4),
-                                  b.pool().with({{"radiosityIn", in},
-                                                 {"radiosityOut", out},
-                                                 {"frameCounters", frameSet.counters},
-                                                 {"staticCounters", staticSet.counters},
-                                                 {"bounceSums", sums_},
-                                                 {"irradianceChange", change_}}),
-                                  gpu::InterpolatePush{surfels});
-    vk::barrier(cmd);
-    pullUp(cmd, b, h, out, true);
+                                  b_.pool().with({{"radiosityIn", in},
+                                                  {"radiosityOut", out},
+                                                  {"frameCounters", frameSet_.counters},
+                                                  {"staticCounters", staticSet_.counters},
+                                                  {"bounceSums", sums_},
+                                                  {"irradianceChange", change_}}),
+                                  surfels);
+    pullUp(cmd, out, true);
     check_.dispatch(cmd, {},
                     {{"bounceSums", sums_}, {"bounceStates", state_}, {"fullArgs", fullArgs_}, {"bounceArgs", args_}},
                     check);
-    vk::barrier(cmd);
     tail_.dispatchIndirect(cmd, args_, kBounceDispatches * sizeof(glm::uvec4),
-                           b.pool().with({{"bounceStates", state_}, {"irradianceChange", change_}}),
-                           gpu::InterpolatePush{surfels});
-    vk::barrier(cmd);
+                           b_.pool().with({{"bounceStates", state_}, {"irradianceChange", change_}}), surfels);
   }
 }
 

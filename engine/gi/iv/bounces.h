@@ -1,12 +1,12 @@
 #pragma once
-// Pass 6, bounces: emitted radiosity at the leaves, pulled up the trees (the prune credits emitters
+// The bounces: emitted radiosity at the leaves, pulled up the trees (the prune credits emitters
 // through it, and the bounces start from it); then per bounce a gather at the receivers over their
 // surviving links, the interpolation to every surfel (receivers.h), a pull-up to the parents, so
-// that coarse senders send the new value, and a check
-// (bounce_check.comp) of whether the bounces are done: until the light with the geometric tail of the
-// bounces not run settles within a tolerance (the tail then added at every surfel), or a given
-// count. Bounces are recorded in steps that run zero workgroups once the check says done; where a
-// frame's steps ran out first, the solver records more.
+// that coarse senders send the new value, and a check (shaders/iv/bounce_check.comp) of whether
+// the bounces are done: until the light with the geometric tail of the bounces not run settles
+// within a tolerance (the tail then added at every surfel), or a given count. Bounces are recorded
+// in steps that run zero workgroups once the check says done; where a frame's steps ran out first,
+// the solver records more.
 #include <optional>
 
 #include "engine/gi/hierarchy.h"
@@ -19,37 +19,40 @@ namespace ivgi::gi {
 
 class Bounces {
  public:
-  Bounces(const vk::Context& ctx, const Hierarchy& h, vk::Allocations& allocations);
+  // Records into the solver's buffers `b`, over the links of its two sets.
+  Bounces(const vk::Context& ctx, const Hierarchy& h, const IvSettings& settings, const IvBuffers& b,
+          const LinkSet& staticSet, const LinkSet& frameSet, vk::Allocations& allocations);
   // π·Le into nodeEmission at the leaves, pulled up, and copied to radiosityA (where bounces start).
-  void recordEmission(VkCommandBuffer cmd, const IvBuffers& b, const Hierarchy& h) const;
+  void recordEmission(VkCommandBuffer cmd) const;
   // The frame's first gather comes next, over the receivers listed.
-  void recordStart(VkCommandBuffer cmd, const IvBuffers& b) const;
+  void recordStart(VkCommandBuffer cmd) const;
   // The irradiance the receivers' refinement judges by: the direct light of the round's new
   // receivers, gathered from the emission.
-  void recordEstimate(VkCommandBuffer cmd, const IvBuffers& b, const LinkSet& staticSet, const LinkSet& frameSet,
-                      const IvSettings& settings) const;
+  void recordEstimate(VkCommandBuffer cmd) const;
   // The buffer holding the radiosity of the last gather recorded so far (state().gathers of them).
-  static const vk::Buffer& solution(const IvBuffers& b, uint32_t gathers) {
-    return gathers % 2 ? b.radiosityB : b.radiosityA;
-  }
+  const vk::Buffer& solution(uint32_t gathers) const { return gathers % 2 ? b_.radiosityB : b_.radiosityA; }
   // `steps` more gathers (each with its interpolation, pull-up and check), from the frame's gather
   // `first` on; radiosityA and radiosityB take turns.
-  void recordSteps(VkCommandBuffer cmd, const IvBuffers& b, const Hierarchy& h, const LinkSet& staticSet,
-                   const LinkSet& frameSet, const IvSettings& settings, uint32_t first, uint32_t steps) const;
+  void recordSteps(VkCommandBuffer cmd, uint32_t first, uint32_t steps) const;
   // The gathers a frame runs at most.
   static uint32_t maxGathers(const IvSettings& settings);
-  // The leaf links are bound in `views` texel views (shaders/parted_texels.glsl): 1 or kTexelParts.
+  // The leaf links are bound in `views` texel views (shaders/common/parted_texels.glsl): 1 or kTexelParts.
   void readTexelViews(uint32_t views);
   // After the frame's steps ran: how far the bounces got.
   gpu::BounceState state() const { return state_.read<gpu::BounceState>(1)[0]; }
 
  private:
-  void pullUp(VkCommandBuffer cmd, const IvBuffers& b, const Hierarchy& h, const vk::Buffer& radiosity,
-              bool indirect) const;
-  const vk::Context& ctx_;
-  vk::Program emit_;
+  void pullUp(VkCommandBuffer cmd, const vk::Buffer& radiosity, bool indirect) const;
+  // The gather's buffers, reading the radiosity `in`.
+  vk::Bindings gatherBindings(const vk::Buffer& in) const;
   void makeGather();  // for texelViews_
-  vk::Program interpolate_, pullUp_, check_, tail_;
+
+  const vk::Context& ctx_;
+  const IvSettings& settings_;
+  const IvBuffers& b_;
+  const LinkSet &staticSet_, &frameSet_;
+  const uint32_t surfelCount_, nodeCount_;
+  vk::Program emit_, interpolate_, pullUp_, check_, tail_;
   uint32_t texelViews_ = 1;
   std::optional<vk::Program> gather_;  // made again for more texel views
   uint32_t interpolateGroups_;

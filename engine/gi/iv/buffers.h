@@ -1,24 +1,23 @@
 #pragma once
-// The iv solver's device memory, by what it holds; the link sets (links.h) hold what each set of
-// root pairs links. The passes bind these by the names their shaders give them: each dispatch takes
-// what its shader names from pool() and lists only what differs (a link set's, a bounce's).
+// The iv solver's device memory, by what it holds: the scene both solvers read (scene_buffers.h)
+// and iv's own; the link sets (links.h) hold what each set of root pairs links. The passes bind
+// these by the names their shaders give them: each dispatch takes what its shader names from pool()
+// and lists only what differs (a link set's, a bounce's).
+#include "engine/gi/scene_buffers.h"
 #include "engine/vk/buffer.h"
 #include "engine/vk/program.h"
 
 namespace ivgi::gi {
 
 struct IvBuffers {
-  // The scene, uploaded once: the trees, which surfels are leaves, per node whether it moves and
-  // whether its surface is closed (gpu::kNodeMoves, kNodeClosed), the surfels' albedo and emission,
-  // the table of bins (unit centre direction, solid angle), the environment per bin, the frame's
-  // punctual lights.
-  vk::Buffer tree, leafOfSurfel, nodeFlags, albedo, emission, binTable, environment, lights;
-  // Per frame: node attributes (refit), emitted radiosity π·Le per node (pulled up), radiosity per
-  // node (bounces read one and write the other),
-  // irradiance per surfel, and per surfel the irradiance from lights and the environment.
-  vk::Buffer nodes, nodeEmission, radiosityA, radiosityB, irradiance, externalLight;
-  // Per node, the bottom-up passes' arrival counts (shaders/climb.glsl): zero between dispatches.
-  vk::Buffer arrivals;
+  SceneBuffers scene;
+  // Per node, uploaded once: whether it moves and whether its surface is closed (gpu::kNodeMoves,
+  // kNodeClosed), and its object's root.
+  vk::Buffer nodeFlags;
+  // Per frame: emitted radiosity π·Le per node (pulled up), radiosity per node (bounces read one and
+  // write the other), irradiance per surfel, and per surfel the irradiance from lights and the
+  // environment.
+  vk::Buffer nodeEmission, radiosityA, radiosityB, irradiance, externalLight;
   // Link creation's two worklists and the indirect dispatch arguments between its levels.
   vk::Buffer args, worklistA, worklistB;
   // Each leaf's surviving links (texels, past one storage binding), and per static leaf and mask
@@ -43,51 +42,42 @@ struct IvBuffers {
 
   // Every buffer above by the name the shaders bind it under.
   vk::Bindings pool() const {
-    return vk::Bindings::pool({{"tree", tree},
-                               {"leafOfSurfel", leafOfSurfel},
-                               {"nodeFlags", nodeFlags},
-                               {"albedo", albedo},
-                               {"emission", emission},
-                               {"binTable", binTable},
-                               {"environment", environment},
-                               {"lights", lights},
-                               {"nodes", nodes},
-                               {"arrivals", arrivals},
-                               {"nodeEmission", nodeEmission},
-                               {"irradiance", irradiance},
-                               {"externalLight", externalLight},
-                               {"args", args},
-                               {"ranges", ranges},
-                               {"leafLinks", leafLinks},
-                               {"overrides", overrides},
-                               {"staticRanges", staticRanges},
-                               {"staticLinks", staticLinks},
-                               {"staticBins", staticBins},
-                               {"staticDepths", staticDepths},
-                               {"staticMasks", staticMasks},
-                               {"staticLeaves", staticLeaves},
-                               {"staticEmitters", staticEmitters},
-                               {"globalBins", globalBins},
-                               {"globalCoverage", globalCoverage},
-                               {"representatives", representatives},
-                               {"skip", skip},
-                               {"levelStarts", levelStarts},
-                               {"needs", needs},
-                               {"presences", presences},
-                               {"roles", roles},
-                               {"groups", groups},
-                               {"groupOfSurfel", groupOfSurfel},
-                               {"neighbourCounts", neighbourCounts},
-                               {"neighbours", neighbours},
-                               {"receivers", receivers},
-                               {"receiverCounts", receiverCounts},
-                               {"receiverArgs", receiverArgs},
-                               {"receiverRadius", receiverRadius},
-                               {"reach", reach},
-                               {"gathered", gathered},
-                               {"tapCounts", tapCounts},
-                               {"taps", taps},
-                               {"proximity", proximity}});
+    return scene.pool().plus(vk::Bindings::pool({{"nodeFlags", nodeFlags},
+                                                 {"nodeEmission", nodeEmission},
+                                                 {"irradiance", irradiance},
+                                                 {"externalLight", externalLight},
+                                                 {"args", args},
+                                                 {"ranges", ranges},
+                                                 {"leafLinks", leafLinks},
+                                                 {"overrides", overrides},
+                                                 {"staticRanges", staticRanges},
+                                                 {"staticLinks", staticLinks},
+                                                 {"staticBins", staticBins},
+                                                 {"staticDepths", staticDepths},
+                                                 {"staticMasks", staticMasks},
+                                                 {"staticLeaves", staticLeaves},
+                                                 {"staticEmitters", staticEmitters},
+                                                 {"globalBins", globalBins},
+                                                 {"globalCoverage", globalCoverage},
+                                                 {"representatives", representatives},
+                                                 {"skip", skip},
+                                                 {"levelStarts", levelStarts},
+                                                 {"needs", needs},
+                                                 {"presences", presences},
+                                                 {"roles", roles},
+                                                 {"groups", groups},
+                                                 {"groupOfSurfel", groupOfSurfel},
+                                                 {"neighbourCounts", neighbourCounts},
+                                                 {"neighbours", neighbours},
+                                                 {"receivers", receivers},
+                                                 {"receiverCounts", receiverCounts},
+                                                 {"receiverArgs", receiverArgs},
+                                                 {"receiverRadius", receiverRadius},
+                                                 {"reach", reach},
+                                                 {"gathered", gathered},
+                                                 {"tapCounts", tapCounts},
+                                                 {"taps", taps},
+                                                 {"proximity", proximity}}));
   }
 };
 

@@ -195,8 +195,7 @@ void LinkRoom::releaseUnused(bool staticLinked) {
                                         : 0;
     if (used > 0)  // the links it holds
       ctx_.submitAndWait([&](VkCommandBuffer cmd) {
-        const VkBufferCopy region{0, 0, used * a.elementBytes};
-        vkCmdCopyBuffer(cmd, a.buffer->handle(), kept.handle(), 1, &region);
+        vk::copyRegion(cmd, *a.buffer, kept, {0, 0, used * a.elementBytes});
       });
     *a.buffer = std::move(kept);
   }

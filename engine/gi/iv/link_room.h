@@ -36,7 +36,7 @@ class LinkRoom {
   // sets hold, and frees the static pairs' links once `staticLinked`.
   void releaseUnused(bool staticLinked);
   // The texel views the leaf links' arrays are bound in at their room now: 1 or kTexelParts
-  // (shaders/parted_texels.glsl). The passes that read them are made for that many.
+  // (shaders/common/parted_texels.glsl). The passes that read them are made for that many.
   uint32_t leafLinkTexelViews() const;
 
  private:

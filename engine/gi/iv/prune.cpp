@@ -45,10 +45,14 @@ bool Prune::binsFitShared(const vk::Context& ctx, uint32_t n) {
   return ctx.sharedInt64Atomics() && bytes <= ctx.limits().maxComputeSharedMemorySize;
 }
 
-Prune::Prune(const vk::Context& ctx, const IvSettings& settings, uint32_t surfelCount)
+Prune::Prune(const vk::Context& ctx, const IvSettings& settings, uint32_t surfelCount, const IvBuffers& b,
+             const LinkSet& staticSet, const LinkSet& frameSet)
     : ctx_(ctx),
       settings_(settings),
       surfelCount_(surfelCount),
+      b_(b),
+      staticSet_(staticSet),
+      frameSet_(frameSet),
       sharedBins_(binsFitShared(ctx, settings.bins)),
       subgroups_(firstSubgroups(settings.bins, surfelCount)) {
   makePrograms();
@@ -93,60 +97,59 @@ void Prune::allocateBins(IvBuffers& b, vk::Allocations& allocations) const {
   b.globalCoverage = vk::Buffer(ctx_, slots * 4, vk::Memory::Device, &allocations);
 }
 
-void Prune::clearBins(VkCommandBuffer cmd, const IvBuffers& b) {
-  vkCmdFillBuffer(cmd, b.globalBins.handle(), 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
-  vkCmdFillBuffer(cmd, b.globalCoverage.handle(), 0, VK_WHOLE_SIZE, 0u);
+void Prune::clearBins(VkCommandBuffer cmd) const {
+  vk::fillBuffer(cmd, b_.globalBins, 0xFFFFFFFFu);
+  vk::fillBuffer(cmd, b_.globalCoverage, 0u);
 }
 
-void Prune::clearIfDirty(VkCommandBuffer cmd, const IvBuffers& b) {
+void Prune::clearIfDirty(VkCommandBuffer cmd) {
   if (!binsDirty_) return;
-  clearBins(cmd, b);
-  vk::barrier(cmd);
+  clearBins(cmd);
   binsDirty_ = false;
 }
 
-void Prune::recordStatic(VkCommandBuffer cmd, const LinkSet& staticSet, const IvBuffers& b, uint32_t lightCount) {
-  clearIfDirty(cmd, b);
-  recordPass(cmd, *static_, staticSet, staticSet, b, lightCount);
+vk::Bindings Prune::bindings(const LinkSet& set) const {
+  return b_.pool().with({{"starts", set.starts},
+                         {"senders", set.senders},
+                         {"counters", set.counters},
+                         {"staticCounters", staticSet_.counters}});
 }
 
-void Prune::recordFrame(VkCommandBuffer cmd, const LinkSet& staticSet, const LinkSet& frameSet, const IvBuffers& b,
-                        uint32_t lightCount) {
-  clearIfDirty(cmd, b);
-  recordPass(cmd, *frame_, frameSet, staticSet, b, lightCount);
+gpu::PrunePush Prune::push(const LinkSet& set, uint32_t first, uint32_t end, bool listed) const {
+  return {.firstSurfel = first,
+          .endSurfel = end,
+          .listed = listed ? 1u : 0u,
+          .linkCapacity = set.leafLinkCapacity,
+          .lightCount = b_.scene.lightCount,
+          .environmentOn = b_.scene.environmentOn ? 1u : 0u,
+          .staticCapacity = staticSet_.leafLinkCapacity};
+}
+
+void Prune::recordStatic(VkCommandBuffer cmd) {
+  clearIfDirty(cmd);
+  recordPass(cmd, *static_, staticSet_);
+}
+
+void Prune::recordFrame(VkCommandBuffer cmd) {
+  clearIfDirty(cmd);
+  recordPass(cmd, *frame_, frameSet_);
 }
 
 // Batches of at most leavesPerGroup() leaves a workgroup: one batch where the bins are shared
 // memory, several where each workgroup's global-memory slot limits how many there can be.
-void Prune::recordPass(VkCommandBuffer cmd, const vk::Program& pass, const LinkSet& set, const LinkSet& staticSet,
-                       const IvBuffers& b, uint32_t lightCount) const {
+void Prune::recordPass(VkCommandBuffer cmd, const vk::Program& pass, const LinkSet& set) const {
   const uint32_t groupCount = groups(), leaves = batch();
-  for (uint32_t first = 0; first < surfelCount_; first += leaves) {
-    pass.dispatch(cmd, pass.groupsFor(groupCount, 1),
-                  b.pool().with({{"starts", set.starts},
-                                 {"senders", set.senders},
-                                 {"counters", set.counters},
-                                 {"staticCounters", staticSet.counters}}),
-                  gpu::PrunePush{first, std::min(surfelCount_, first + leaves), 0u, set.leafLinkCapacity, lightCount,
-                                 settings_.environment ? 1u : 0u, staticSet.leafLinkCapacity});
-    vk::barrier(cmd);
-  }
+  for (uint32_t first = 0; first < surfelCount_; first += leaves)
+    pass.dispatch(cmd, pass.groupsFor(groupCount, 1), bindings(set),
+                  push(set, first, std::min(surfelCount_, first + leaves), false));
 }
 
-void Prune::recordReceivers(VkCommandBuffer cmd, const LinkSet& staticSet, const LinkSet& frameSet, const IvBuffers& b,
-                            uint32_t lightCount) {
-  clearIfDirty(cmd, b);
+void Prune::recordReceivers(VkCommandBuffer cmd) {
+  clearIfDirty(cmd);
   const uint32_t leaves = batch();
-  for (uint32_t k = 0; k < batches(); ++k) {
-    frame_->dispatchIndirect(cmd, b.receiverArgs, (gpu::kArgsPruneBatches + k) * sizeof(glm::uvec4),
-                             b.pool().with({{"starts", frameSet.starts},
-                                            {"senders", frameSet.senders},
-                                            {"counters", frameSet.counters},
-                                            {"staticCounters", staticSet.counters}}),
-                             gpu::PrunePush{k * leaves, (k + 1) * leaves, 1u, frameSet.leafLinkCapacity, lightCount,
-                                            settings_.environment ? 1u : 0u, staticSet.leafLinkCapacity});
-    vk::barrier(cmd);
-  }
+  for (uint32_t k = 0; k < batches(); ++k)
+    frame_->dispatchIndirect(cmd, b_.receiverArgs, (gpu::kArgsPruneBatches + k) * sizeof(glm::uvec4),
+                             bindings(frameSet_), push(frameSet_, k * leaves, (k + 1) * leaves, true));
 }
 
 void Prune::onLoopBudgetSpent() {

@@ -1,5 +1,5 @@
 #pragma once
-// Pass 5, bin pruning and push-down (shaders/prune_bins.comp): each leaf re-bins the links of itself
+// Bin pruning and push-down (shaders/iv/prune_bins.comp): each leaf re-bins the links of itself
 // and its ancestors from its own position and keeps the nearest sender per direction bin. Objects
 // that cannot move are pruned once (the static pass); every frame prunes what the frame's links
 // reach. This record sizes the prune's workgroups and dispatches, and owns its bins when they do not
@@ -15,7 +15,9 @@ namespace ivgi::gi {
 
 class Prune {
  public:
-  Prune(const vk::Context& ctx, const IvSettings& settings, uint32_t surfelCount);
+  // Records into the buffers `b` of the solver, for the links of its two sets.
+  Prune(const vk::Context& ctx, const IvSettings& settings, uint32_t surfelCount, const IvBuffers& b,
+        const LinkSet& staticSet, const LinkSet& frameSet);
   // Whether 6·N² bins fit the device's shared memory (else the global-memory path runs).
   static bool binsFitShared(const vk::Context& ctx, uint32_t n);
 
@@ -26,18 +28,16 @@ class Prune {
   void allocateBins(IvBuffers& b, vk::Allocations& allocations) const;
   // Empty bins in every global-memory slot. Each leaf empties the bins it touched; a prune cut short
   // (lavapipe's loop budget) may not have, so a redo starts from this.
-  static void clearBins(VkCommandBuffer cmd, const IvBuffers& b);
+  void clearBins(VkCommandBuffer cmd) const;
 
   // Records the static pass: the static leaves against the static set's links.
-  void recordStatic(VkCommandBuffer cmd, const LinkSet& staticSet, const IvBuffers& b, uint32_t lightCount);
-  // Records the frame's prune of every leaf against `frameSet` (static leaves merge with what the
-  // static pass kept).
-  void recordFrame(VkCommandBuffer cmd, const LinkSet& staticSet, const LinkSet& frameSet, const IvBuffers& b,
-                   uint32_t lightCount);
+  void recordStatic(VkCommandBuffer cmd);
+  // Records the frame's prune of every leaf against the frame set's links (static leaves merge with
+  // what the static pass kept).
+  void recordFrame(VkCommandBuffer cmd);
   // Records the frame's prune of the receivers a refinement round listed, one batch after another
   // with the dispatch sizes receiver_args.glsl wrote from how many there are.
-  void recordReceivers(VkCommandBuffer cmd, const LinkSet& staticSet, const LinkSet& frameSet, const IvBuffers& b,
-                       uint32_t lightCount);
+  void recordReceivers(VkCommandBuffer cmd);
   // How the prune of listed receivers is batched: what receiver_args.glsl sizes it by.
   struct Batching {
     uint32_t batch, leavesPerGroup, maxGroups, batches;
@@ -46,14 +46,16 @@ class Prune {
   // A workgroup ran out of lavapipe's loop budget: twice the subgroups share it from the next frame.
   // Throws SettingsError where the workgroup cannot grow.
   void onLoopBudgetSpent();
-  // The leaf links are bound in `views` texel views (shaders/parted_texels.glsl): 1 or kTexelParts.
+  // The leaf links are bound in `views` texel views (shaders/common/parted_texels.glsl): 1 or kTexelParts.
   void readTexelViews(uint32_t views);
 
  private:
   void makePrograms();
-  void recordPass(VkCommandBuffer cmd, const vk::Program& pass, const LinkSet& set, const LinkSet& staticSet,
-                  const IvBuffers& b, uint32_t lightCount) const;
-  void clearIfDirty(VkCommandBuffer cmd, const IvBuffers& b);
+  void recordPass(VkCommandBuffer cmd, const vk::Program& pass, const LinkSet& set) const;
+  // The buffers a prune of `set`'s links binds, and its push constants for the leaves [first, end).
+  vk::Bindings bindings(const LinkSet& set) const;
+  gpu::PrunePush push(const LinkSet& set, uint32_t first, uint32_t end, bool listed) const;
+  void clearIfDirty(VkCommandBuffer cmd);
   uint32_t groups() const;  // workgroups a dispatch runs
   uint32_t leavesPerGroup() const;
   uint32_t batch() const;  // leaves one dispatch walks
@@ -61,6 +63,8 @@ class Prune {
   const vk::Context& ctx_;
   const IvSettings& settings_;
   uint32_t surfelCount_;
+  const IvBuffers& b_;
+  const LinkSet &staticSet_, &frameSet_;
   bool sharedBins_;
   uint32_t subgroups_;      // subgroups a workgroup has
   bool binsDirty_ = false;  // a prune was cut short: the global-memory bins may hold its leaves' keys

@@ -21,16 +21,12 @@ constexpr float kCellsAcross = 8.0f;
 // light, to which the bounces add most where it is dark).
 constexpr float kDirectFloor = 0.1f;
 
-template <class T>
-vk::Buffer deviceArray(const vk::Context& ctx, size_t count, vk::Allocations& allocations) {
-  return vk::Buffer(ctx, std::max<size_t>(count, 1) * sizeof(T), vk::Memory::Device, &allocations);
-}
-
 }  // namespace
 
 Receivers::Receivers(const vk::Context& ctx, const Hierarchy& h, const IvSettings& settings, IvBuffers& b,
                      vk::Allocations& allocations)
     : settings_(settings),
+      b_(b),
       surfelCount_(uint32_t(h.leafOfSurfel.size())),
       nodeCount_(uint32_t(h.nodes.size())),
       levels_(h.levels()),
@@ -49,24 +45,24 @@ Receivers::Receivers(const vk::Context& ctx, const Hierarchy& h, const IvSetting
   b.skip = vk::makeBuffer(ctx, h.skip, vk::Memory::Device, tally);
   b.levelStarts = vk::makeBuffer(ctx, h.levelStart, vk::Memory::Device, tally);
   b.receiverCounts = vk::Buffer(ctx, gpu::kReceiverSlots * sizeof(uint32_t), vk::Memory::Host, tally);
-  b.receiverArgs = deviceArray<glm::uvec4>(ctx, gpu::kArgsPruneBatches + std::max<size_t>(surfels, 1), allocations);
-  b.receivers = deviceArray<uint32_t>(ctx, surfels, allocations);
-  b.receiverRadius = deviceArray<uint32_t>(ctx, surfels, allocations);
-  b.tapCounts = deviceArray<uint32_t>(ctx, surfels, allocations);
-  b.taps = deviceArray<gpu::InterpolationTap>(ctx, surfels * gpu::kInterpolationTaps, allocations);
-  b.gathered = deviceArray<glm::vec4>(ctx, surfels, allocations);
-  b.proximity = deviceArray<float>(ctx, surfels, allocations);
+  b.receiverArgs = vk::deviceArray<glm::uvec4>(ctx, gpu::kArgsPruneBatches + std::max<size_t>(surfels, 1), allocations);
+  b.receivers = vk::deviceArray<uint32_t>(ctx, surfels, allocations);
+  b.receiverRadius = vk::deviceArray<uint32_t>(ctx, surfels, allocations);
+  b.tapCounts = vk::deviceArray<uint32_t>(ctx, surfels, allocations);
+  b.taps = vk::deviceArray<gpu::InterpolationTap>(ctx, surfels * gpu::kInterpolationTaps, allocations);
+  b.gathered = vk::deviceArray<glm::vec4>(ctx, surfels, allocations);
+  b.proximity = vk::deviceArray<float>(ctx, surfels, allocations);
   const bool refines = !everySurfel();
-  b.candidatesA = deviceArray<uint32_t>(ctx, refines ? nodes : 0, allocations);
-  b.candidatesB = deviceArray<uint32_t>(ctx, refines ? nodes : 0, allocations);
-  b.reach = deviceArray<glm::vec2>(ctx, refines ? nodes : 0, allocations);
-  b.needs = deviceArray<float>(ctx, refines ? nodes : 0, allocations);
-  b.presences = deviceArray<float>(ctx, refines ? nodes : 0, allocations);
-  b.roles = deviceArray<float>(ctx, refines ? nodes : 0, allocations);
+  b.candidatesA = vk::deviceArray<uint32_t>(ctx, refines ? nodes : 0, allocations);
+  b.candidatesB = vk::deviceArray<uint32_t>(ctx, refines ? nodes : 0, allocations);
+  b.reach = vk::deviceArray<glm::vec2>(ctx, refines ? nodes : 0, allocations);
+  b.needs = vk::deviceArray<float>(ctx, refines ? nodes : 0, allocations);
+  b.presences = vk::deviceArray<float>(ctx, refines ? nodes : 0, allocations);
+  b.roles = vk::deviceArray<float>(ctx, refines ? nodes : 0, allocations);
   b.groups = vk::makeBuffer(ctx, refines ? h.groups : std::vector<uint32_t>{}, vk::Memory::Device, tally);
   b.groupOfSurfel = vk::makeBuffer(ctx, refines ? h.groupOfSurfel : std::vector<uint32_t>{}, vk::Memory::Device, tally);
-  b.neighbourCounts = deviceArray<uint32_t>(ctx, refines ? h.groups.size() : 0, allocations);
-  b.neighbours = deviceArray<uint32_t>(ctx, refines ? h.groups.size() * gpu::kGroupNeighbours : 0, allocations);
+  b.neighbourCounts = vk::deviceArray<uint32_t>(ctx, refines ? h.groups.size() : 0, allocations);
+  b.neighbours = vk::deviceArray<uint32_t>(ctx, refines ? h.groups.size() * gpu::kGroupNeighbours : 0, allocations);
   roots_ = vk::makeBuffer(ctx, h.roots, vk::Memory::Device, tally);
   if (!refines) makeEverySurfelReceiver(ctx, b);
 }
@@ -76,32 +72,35 @@ Receivers::Lists Receivers::listsOf(uint32_t round) {
                    : Lists{gpu::kReceiverCandidatesA, gpu::kReceiverCandidatesB};
 }
 
-const vk::Buffer& Receivers::listBuffer(const IvBuffers& b, uint32_t slot) {
-  return slot == gpu::kReceiverCandidatesA ? b.candidatesA : b.candidatesB;
+const vk::Buffer& Receivers::listBuffer(uint32_t slot) const {
+  return slot == gpu::kReceiverCandidatesA ? b_.candidatesA : b_.candidatesB;
 }
 
 gpu::ReceiverPush Receivers::push(Lists lists, const Prune::Batching& batching) const {
-  return {lists.in,
-          lists.out,
-          *settings_.receiverTolerance,
-          kProximity * std::sqrt(*settings_.receiverTolerance),
-          nodeCount_,
-          surfelCount_,
-          kDirectFloor,
-          groupCount_,
-          largestCell_,
-          batching.batch,
-          batching.leavesPerGroup,
-          batching.maxGroups,
-          batching.batches};
+  return {.source = lists.in,
+          .target = lists.out,
+          .tolerance = *settings_.receiverTolerance,
+          .proximity = kProximity * std::sqrt(*settings_.receiverTolerance),
+          .nodeCount = nodeCount_,
+          .surfelCount = surfelCount_,
+          .floorShare = kDirectFloor,
+          .groupCount = groupCount_,
+          .largest = largestCell_,
+          .batch = batching.batch,
+          .leavesPerGroup = batching.leavesPerGroup,
+          .maxGroups = batching.maxGroups,
+          .batches = batching.batches};
 }
 
-void Receivers::recordArgs(VkCommandBuffer cmd, const IvBuffers& b, uint32_t mode, Lists lists,
-                           const Prune::Batching& batching) const {
-  args_.dispatch(cmd, {}, {{"receiverCounts", b.receiverCounts}, {"receiverArgs", b.receiverArgs}},
-                 gpu::ReceiverArgsPush{mode, lists.in, lists.out, batching.batch, batching.leavesPerGroup,
-                                       batching.maxGroups, batching.batches, 0});
-  vk::barrier(cmd);
+void Receivers::recordArgs(VkCommandBuffer cmd, uint32_t mode, Lists lists, const Prune::Batching& batching) const {
+  args_.dispatch(cmd, {}, {{"receiverCounts", b_.receiverCounts}, {"receiverArgs", b_.receiverArgs}},
+                 gpu::ReceiverArgsPush{.mode = mode,
+                                       .source = lists.in,
+                                       .target = lists.out,
+                                       .batch = batching.batch,
+                                       .leavesPerGroup = batching.leavesPerGroup,
+                                       .maxGroups = batching.maxGroups,
+                                       .batches = batching.batches});
 }
 
 void Receivers::makeEverySurfelReceiver(const vk::Context& ctx, IvBuffers& b) const {
@@ -116,57 +115,47 @@ void Receivers::makeEverySurfelReceiver(const vk::Context& ctx, IvBuffers& b) co
   std::vector<uint32_t> counts(gpu::kReceiverSlots, 0u);
   counts[gpu::kReceiverCount] = surfelCount_;
   b.receiverCounts.upload(counts);
-  ctx.submitAndWait([&](VkCommandBuffer cmd) { recordArgs(cmd, b, gpu::kArgsListed, listsOf(0), {1, 1, 1, 0}); });
+  ctx.submitAndWait([&](VkCommandBuffer cmd) { recordArgs(cmd, gpu::kArgsListed, listsOf(0), {1, 1, 1, 0}); });
 }
 
-void Receivers::recordStart(VkCommandBuffer cmd, const IvBuffers& b) const {
+void Receivers::recordStart(VkCommandBuffer cmd) const {
   std::vector<uint32_t> counts(gpu::kReceiverSlots, 0u);
   counts[gpu::kReceiverCandidatesA] = uint32_t(roots_.size() / sizeof(uint32_t));
-  vkCmdUpdateBuffer(cmd, b.receiverCounts.handle(), 0, counts.size() * sizeof(uint32_t), counts.data());
+  vk::updateBuffer(cmd, b_.receiverCounts, 0, counts.size() * sizeof(uint32_t), counts.data());
   const glm::uvec4 candidates = gpu::groupsFor(counts[gpu::kReceiverCandidatesA], gpu::kReceiverGroup);
-  vkCmdUpdateBuffer(cmd, b.receiverArgs.handle(), gpu::kArgsCandidates * sizeof(glm::uvec4), sizeof(candidates),
-                    &candidates);
-  vkCmdFillBuffer(cmd, b.receiverRadius.handle(), 0, VK_WHOLE_SIZE, gpu::kNotReceiver);
-  vkCmdFillBuffer(cmd, b.needs.handle(), 0, VK_WHOLE_SIZE, 0u);
-  vkCmdFillBuffer(cmd, b.presences.handle(), 0, VK_WHOLE_SIZE, 0u);
-  vk::copyBuffer(cmd, roots_, b.candidatesA);
-  vk::barrier(cmd);
+  vk::updateBuffer(cmd, b_.receiverArgs, gpu::kArgsCandidates * sizeof(glm::uvec4), sizeof(candidates), &candidates);
+  vk::fillBuffer(cmd, b_.receiverRadius, gpu::kNotReceiver);
+  vk::fillBuffer(cmd, b_.needs, 0u);
+  vk::fillBuffer(cmd, b_.presences, 0u);
+  vk::copyBuffer(cmd, roots_, b_.candidatesA);
 }
 
-void Receivers::recordSelect(VkCommandBuffer cmd, const IvBuffers& b, uint32_t round,
-                             const Prune::Batching& batching) const {
+void Receivers::recordSelect(VkCommandBuffer cmd, uint32_t round, const Prune::Batching& batching) const {
   const Lists lists = listsOf(round);
-  select_.dispatchIndirect(cmd, b.receiverArgs, gpu::kArgsCandidates * sizeof(glm::uvec4),
-                           b.pool().with({{"candidatesIn", listBuffer(b, lists.in)}}), push(lists, batching));
-  vk::barrier(cmd);
+  select_.dispatchIndirect(cmd, b_.receiverArgs, gpu::kArgsCandidates * sizeof(glm::uvec4),
+                           b_.pool().with({{"candidatesIn", listBuffer(lists.in)}}), push(lists, batching));
 }
 
-void Receivers::recordRefine(VkCommandBuffer cmd, const IvBuffers& b, uint32_t round,
-                             const Prune::Batching& batching) const {
+void Receivers::recordRefine(VkCommandBuffer cmd, uint32_t round, const Prune::Batching& batching) const {
   const Lists lists = listsOf(round);
   refine_.dispatchIndirect(
-      cmd, b.receiverArgs, gpu::kArgsCandidates * sizeof(glm::uvec4),
-      b.pool().with({{"candidatesIn", listBuffer(b, lists.in)}, {"candidatesOut", listBuffer(b, lists.out)}}),
+      cmd, b_.receiverArgs, gpu::kArgsCandidates * sizeof(glm::uvec4),
+      b_.pool().with({{"candidatesIn", listBuffer(lists.in)}, {"candidatesOut", listBuffer(lists.out)}}),
       push(lists, batching));
-  vk::barrier(cmd);
 }
 
-void Receivers::recordWeights(VkCommandBuffer cmd, const IvBuffers& b, const Prune::Batching& batching) const {
-  roles_.dispatchItems(cmd, nodeCount_, b.pool(), push(listsOf(0)));
-  vk::barrier(cmd);
-  reach_.dispatchItems(cmd, nodeCount_, b.pool(), gpu::CountPush{nodeCount_});
-  vk::barrier(cmd);
+void Receivers::recordWeights(VkCommandBuffer cmd, const Prune::Batching& batching) const {
+  roles_.dispatchItems(cmd, nodeCount_, b_.pool(), push(listsOf(0)));
+  reach_.dispatchItems(cmd, nodeCount_, b_.pool(), gpu::CountPush{.count = nodeCount_});
   const Lists none{gpu::kReceiverCandidatesA, gpu::kReceiverCandidatesB};
-  neighbours_.dispatchItems(cmd, groupCount_, b.pool(), push(none));
-  vk::barrier(cmd);
-  recordArgs(cmd, b, gpu::kArgsStartRound, none, batching);  // fills are listed from here
-  weights_.dispatchItems(cmd, surfelCount_, b.pool(), push(none));
-  vk::barrier(cmd);
-  recordArgs(cmd, b, gpu::kArgsListed, none, batching);
+  neighbours_.dispatchItems(cmd, groupCount_, b_.pool(), push(none));
+  recordArgs(cmd, gpu::kArgsStartRound, none, batching);  // fills are listed from here
+  weights_.dispatchItems(cmd, surfelCount_, b_.pool(), push(none));
+  recordArgs(cmd, gpu::kArgsListed, none, batching);
 }
 
-Receivers::Counts Receivers::counts(const IvBuffers& b) const {
-  const auto c = b.receiverCounts.read<uint32_t>(gpu::kReceiverSlots);
+Receivers::Counts Receivers::counts() const {
+  const auto c = b_.receiverCounts.read<uint32_t>(gpu::kReceiverSlots);
   return {c[gpu::kReceiverCount], c[gpu::kReceiverFills]};
 }
 

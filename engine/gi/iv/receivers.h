@@ -20,7 +20,8 @@ namespace ivgi::gi {
 
 class Receivers {
  public:
-  // Allocates the receivers' buffers into `b`; with every surfel a receiver, fills them for good.
+  // Allocates the receivers' buffers into `b` and records into them; with every surfel a receiver,
+  // fills them for good.
   Receivers(const vk::Context& ctx, const Hierarchy& h, const IvSettings& settings, IvBuffers& b,
             vk::Allocations& allocations);
   bool everySurfel() const { return *settings_.receiverTolerance <= 0.0f; }
@@ -28,34 +29,34 @@ class Receivers {
   uint32_t rounds() const { return levels_ > 1 ? levels_ - 1 : 1; }
 
   // No receivers yet; the roots are the first round's candidates (their dispatch size set).
-  void recordStart(VkCommandBuffer cmd, const IvBuffers& b) const;
+  void recordStart(VkCommandBuffer cmd) const;
   // A round's first step: its candidates' children's representatives become receivers, and the
   // dispatch sizes for pruning (in `batching`'s batches) and estimating them are set.
-  void recordSelect(VkCommandBuffer cmd, const IvBuffers& b, uint32_t round, const Prune::Batching& batching) const;
+  void recordSelect(VkCommandBuffer cmd, uint32_t round, const Prune::Batching& batching) const;
   // A round's last step, after the new receivers' estimates: which children are cells and which
   // the next round's candidates (their dispatch size set, and the next round's over no receivers).
-  void recordRefine(VkCommandBuffer cmd, const IvBuffers& b, uint32_t round, const Prune::Batching& batching) const;
+  void recordRefine(VkCommandBuffer cmd, uint32_t round, const Prune::Batching& batching) const;
   // Each surfel's interpolation; surfels no receiver reaches are listed as the next receivers to
   // prune (their dispatch sizes set).
-  void recordWeights(VkCommandBuffer cmd, const IvBuffers& b, const Prune::Batching& batching) const;
+  void recordWeights(VkCommandBuffer cmd, const Prune::Batching& batching) const;
 
   struct Counts {
     uint32_t receivers, fills;
   };
-  Counts counts(const IvBuffers& b) const;
+  Counts counts() const;
 
  private:
   struct Lists {  // the counter slots of the candidate list a step reads and of the one it writes
     uint32_t in, out;
   };
   static Lists listsOf(uint32_t round);
-  static const vk::Buffer& listBuffer(const IvBuffers& b, uint32_t slot);
-  void recordArgs(VkCommandBuffer cmd, const IvBuffers& b, uint32_t mode, Lists lists,
-                  const Prune::Batching& batching) const;
+  const vk::Buffer& listBuffer(uint32_t slot) const;
+  void recordArgs(VkCommandBuffer cmd, uint32_t mode, Lists lists, const Prune::Batching& batching) const;
   gpu::ReceiverPush push(Lists lists, const Prune::Batching& batching = {}) const;
   void makeEverySurfelReceiver(const vk::Context& ctx, IvBuffers& b) const;
 
   const IvSettings& settings_;
+  const IvBuffers& b_;
   uint32_t surfelCount_, nodeCount_, levels_, groupCount_;
   float largestCell_;
   vk::Program args_, select_, refine_, roles_, reach_, neighbours_, weights_;

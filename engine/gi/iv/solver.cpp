@@ -24,11 +24,6 @@ IvSetup validated(const vk::Context& ctx, IvSetup setup) {
   return setup;
 }
 
-template <class T>
-vk::Buffer deviceArray(const vk::Context& ctx, size_t count, vk::Allocations& allocations) {
-  return vk::Buffer(ctx, std::max<size_t>(count, 1) * sizeof(T), vk::Memory::Device, &allocations);
-}
-
 }  // namespace
 
 IvSetup makeIvSetup(const scene::Scene& scene, const scene::Geometry& g, const IvSettings& settings,
@@ -50,8 +45,8 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, IvSetup set
       nodeCount_(uint32_t(setup_.hierarchy.nodes.size())),
       refit_(ctx),
       links_(ctx),
-      prune_(ctx, settings_, surfelCount_),
-      bounces_(ctx, setup_.hierarchy, allocations_),
+      prune_(ctx, settings_, surfelCount_, b_, staticSet_, frameSet_),
+      bounces_(ctx, setup_.hierarchy, settings_, b_, staticSet_, frameSet_, allocations_),
       receivers_(ctx, setup_.hierarchy, settings_, b_, allocations_),
       room_(ctx, settings_, b_, staticSet_, frameSet_, allocations_) {
   const Hierarchy& h = setup_.hierarchy;
@@ -80,8 +75,8 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, IvSetup set
   uploadScene(g, nodeFlags, split, maskWords);
   prune_.allocateBins(b_, allocations_);
   ctx.submitAndWait([&](VkCommandBuffer cmd) {
-    vkCmdFillBuffer(cmd, b_.staticRanges.handle(), 0, VK_WHOLE_SIZE, 0u);
-    Prune::clearBins(cmd, b_);
+    vk::fillBuffer(cmd, b_.staticRanges, 0u);
+    prune_.clearBins(cmd);
   });
   room_.guess(leafMoves, nodeCount_);
   readLeafLinkViews();
@@ -97,18 +92,9 @@ void IvSolver::uploadScene(const scene::Geometry& g, const std::vector<uint32_t>
                            uint64_t maskWords) {
   const vk::Context& ctx = ctx_;
   vk::Allocations* tally = &allocations_;
-  const Hierarchy& h = setup_.hierarchy;
-  const uint32_t n = settings_.bins;
-  b_.tree = vk::makeBuffer(ctx, h.nodes, vk::Memory::Device, tally);
-  b_.leafOfSurfel = vk::makeBuffer(ctx, h.leafOfSurfel, vk::Memory::Device, tally);
+  using vk::deviceArray;
+  b_.scene = SceneBuffers(ctx, g, setup_.hierarchy, settings_.bins, settings_.environment, allocations_);
   b_.nodeFlags = vk::makeBuffer(ctx, nodeFlags, vk::Memory::Device, tally);
-  b_.albedo = vk::makeBuffer(ctx, g.surfelAlbedo, vk::Memory::Device, tally);
-  b_.emission = vk::makeBuffer(ctx, g.surfelEmission, vk::Memory::Device, tally);
-  b_.binTable = vk::makeBuffer(ctx, binVectorTable(n), vk::Memory::Device, tally);
-  b_.environment = vk::makeBuffer(ctx, environmentTable(settings_.environment, n), vk::Memory::Device, tally);
-  b_.lights = vk::Buffer(ctx, sizeof(gpu::PunctualLight), vk::Memory::Host, tally);
-  b_.nodes = deviceArray<gpu::NodeState>(ctx, nodeCount_, allocations_);
-  b_.arrivals = vk::makeBuffer(ctx, std::vector<uint32_t>(nodeCount_, 0u), vk::Memory::Device, tally);
   b_.args = vk::Buffer(ctx, 4 * sizeof(glm::uvec4), vk::Memory::Device, tally);
   for (LinkSet* set : {&staticSet_, &frameSet_}) set->allocateLists(ctx, nodeCount_, tally);
   b_.ranges = deviceArray<gpu::LeafRange>(ctx, surfelCount_, allocations_);
@@ -127,10 +113,7 @@ void IvSolver::uploadScene(const scene::Geometry& g, const std::vector<uint32_t>
 }
 
 void IvSolver::setLights(const std::vector<gpu::PunctualLight>& lights) {
-  if (b_.lights.size() < lights.size() * sizeof(gpu::PunctualLight))
-    b_.lights = vk::Buffer(ctx_, lights.size() * sizeof(gpu::PunctualLight), vk::Memory::Host, &allocations_);
-  b_.lights.upload(lights);
-  lightCount_ = uint32_t(lights.size());
+  b_.scene.setLights(ctx_, lights, allocations_);
 }
 
 void IvSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffer& surfels, bool geometryMoved) {
@@ -138,20 +121,24 @@ void IvSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
   linkStatic_ = false;
   solvePending_ = geometryMoved || !linked_;
   if (!solvePending_) {
-    timedPass(cmd, timer, "bounces", [&] { bounces_.recordEmission(cmd, b_, h); });
+    timedPass(cmd, timer, "bounces", [&] { bounces_.recordEmission(cmd); });
     recordFirstBounces(cmd, timer);
     return;
   }
   linkStatic_ = splitsStatic() && !staticLinked_;
   timedPass(cmd, timer, "refit", [&] {
-    refit_.record(cmd, h, b_.tree, surfels, b_.nodes, b_.arrivals);
-    bounces_.recordEmission(cmd, b_, h);
+    refit_.record(cmd, b_.scene, surfels);
+    bounces_.recordEmission(cmd);
   });
   staticPasses_ += linkStatic_ ? 1 : 0;
   timedPass(cmd, timer, "links", [&] {
-    const LinkWork work{b_.args, b_.worklistA, b_.worklistB, b_.pool()};
-    const float bin = 4.0f * gpu::kPi / float(6 * settings_.bins * settings_.bins);
-    const LinkCriteria criteria{settings_.epsilon, settings_.kappa * bin, 3.4e38f, false, 3.4e38f, true};
+    const LinkWork work{b_.args, b_.worklistA, b_.worklistB, b_.nodeEmission, b_.pool()};
+    const LinkCriteria criteria{.epsilon = settings_.epsilon,
+                                .largeSender = settings_.kappa * meanBinSolidAngle(settings_.bins),
+                                .largeReceiver = 3.4e38f,
+                                .bothSides = false,
+                                .emitterReceiver = 3.4e38f,
+                                .receiverStaysWhole = true};
     if (linkStatic_) links_.record(cmd, staticSet_, work, h, criteria, room_.worklistCapacity());
     links_.record(cmd, frameSet_, work, h, criteria, room_.worklistCapacity());
   });
@@ -164,8 +151,8 @@ void IvSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
 // first bounces.
 void IvSolver::recordSolve(VkCommandBuffer cmd, vk::PassTimer& timer) {
   timedPass(cmd, timer, "prune", [&] {
-    if (linkStatic_) prune_.recordStatic(cmd, staticSet_, b_, lightCount_);
-    if (receivers_.everySurfel()) prune_.recordFrame(cmd, staticSet_, frameSet_, b_, lightCount_);
+    if (linkStatic_) prune_.recordStatic(cmd);
+    if (receivers_.everySurfel()) prune_.recordFrame(cmd);
   });
   if (!receivers_.everySurfel()) recordReceivers(cmd, timer);
   linked_ = staticLinked_ = true;
@@ -175,26 +162,26 @@ void IvSolver::recordSolve(VkCommandBuffer cmd, vk::PassTimer& timer) {
 
 void IvSolver::recordFirstBounces(VkCommandBuffer cmd, vk::PassTimer& timer) {
   timedPass(cmd, timer, "bounces", [&] {
-    bounces_.recordStart(cmd, b_);
+    bounces_.recordStart(cmd);
     gathersRecorded_ = std::min(kFirstBounceSteps, Bounces::maxGathers(settings_));
-    bounces_.recordSteps(cmd, b_, setup_.hierarchy, staticSet_, frameSet_, settings_, 0, gathersRecorded_);
+    bounces_.recordSteps(cmd, 0, gathersRecorded_);
   });
 }
 
 void IvSolver::recordReceivers(VkCommandBuffer cmd, vk::PassTimer& timer) {
   const Prune::Batching batching = prune_.batching();
-  timedPass(cmd, timer, "receivers", [&] { receivers_.recordStart(cmd, b_); });
+  timedPass(cmd, timer, "receivers", [&] { receivers_.recordStart(cmd); });
   for (uint32_t round = 0; round < receivers_.rounds(); ++round) {
-    timedPass(cmd, timer, "receivers", [&] { receivers_.recordSelect(cmd, b_, round, batching); });
-    timedPass(cmd, timer, "prune", [&] { prune_.recordReceivers(cmd, staticSet_, frameSet_, b_, lightCount_); });
+    timedPass(cmd, timer, "receivers", [&] { receivers_.recordSelect(cmd, round, batching); });
+    timedPass(cmd, timer, "prune", [&] { prune_.recordReceivers(cmd); });
     timedPass(cmd, timer, "receivers", [&] {
-      bounces_.recordEstimate(cmd, b_, staticSet_, frameSet_, settings_);
-      receivers_.recordRefine(cmd, b_, round, batching);
+      bounces_.recordEstimate(cmd);
+      receivers_.recordRefine(cmd, round, batching);
     });
   }
   // Surfels that no receiver's support holds become receivers too.
-  timedPass(cmd, timer, "interpolation", [&] { receivers_.recordWeights(cmd, b_, batching); });
-  timedPass(cmd, timer, "prune", [&] { prune_.recordReceivers(cmd, staticSet_, frameSet_, b_, lightCount_); });
+  timedPass(cmd, timer, "interpolation", [&] { receivers_.recordWeights(cmd, batching); });
+  timedPass(cmd, timer, "prune", [&] { prune_.recordReceivers(cmd); });
 }
 
 bool IvSolver::overflowed() const {
@@ -214,7 +201,7 @@ void IvSolver::recordMorePasses(VkCommandBuffer cmd, vk::PassTimer& timer) {
   if (solvePending_) return recordSolve(cmd, timer);
   timedPass(cmd, timer, "bounces", [&] {
     const uint32_t steps = std::min(kMoreBounceSteps, Bounces::maxGathers(settings_) - gathersRecorded_);
-    bounces_.recordSteps(cmd, b_, setup_.hierarchy, staticSet_, frameSet_, settings_, gathersRecorded_, steps);
+    bounces_.recordSteps(cmd, gathersRecorded_, steps);
     gathersRecorded_ += steps;
   });
 }
@@ -224,7 +211,7 @@ std::vector<std::pair<std::string, double>> IvSolver::frameFigures() const {
   return {{"bounces", double(s.gathers) - 1.0},
           {"bounceRemaining", settings_.bounces ? 0.0 : double(s.remaining)},
           {"diverged", double(s.diverged)},
-          {"receivers", double(receivers_.counts(b_).receivers)}};
+          {"receivers", double(receivers_.counts().receivers)}};
 }
 
 bool IvSolver::frameMustBeRedone() {
@@ -273,7 +260,7 @@ IvStats IvSolver::stats() const {
   const gpu::BounceState bounces = bounces_.state();
   s.bounces = bounces.gathers - 1;
   s.bounceRemaining = settings_.bounces ? 0.0f : bounces.remaining;
-  const Receivers::Counts receivers = receivers_.counts(b_);
+  const Receivers::Counts receivers = receivers_.counts();
   s.receivers = receivers.receivers, s.receiverFills = receivers.fills;
   return s;
 }
@@ -301,15 +288,15 @@ std::vector<std::vector<IvSolver::LeafLink>> IvSolver::leafLinks() const {
 }
 
 std::vector<uint32_t> IvSolver::receiverSurfels() const {
-  auto list = b_.receivers.read<uint32_t>(receivers_.counts(b_).receivers);
+  auto list = b_.receivers.read<uint32_t>(receivers_.counts().receivers);
   std::sort(list.begin(), list.end());
   return list;
 }
 
-std::vector<gpu::NodeState> IvSolver::nodeStates() const { return b_.nodes.read<gpu::NodeState>(nodeCount_); }
+std::vector<gpu::NodeState> IvSolver::nodeStates() const { return b_.scene.nodes.read<gpu::NodeState>(nodeCount_); }
 
 std::vector<glm::vec4> IvSolver::leafRadiosity() const {
-  auto nodes = Bounces::solution(b_, bounces_.state().gathers).read<glm::vec4>(nodeCount_);
+  auto nodes = bounces_.solution(bounces_.state().gathers).read<glm::vec4>(nodeCount_);
   std::vector<glm::vec4> out(surfelCount_);
   for (uint32_t s = 0; s < surfelCount_; ++s) out[s] = nodes[setup_.hierarchy.leafOfSurfel[s]];
   return out;

@@ -103,7 +103,6 @@ class IvSolver final : public Solver {
   bool roomProven_ = false;    // a frame stood since the link room last grew
   bool linkStatic_ = false;    // the frame makes the static set's links
   uint32_t framesRedone_ = 0, staticPasses_ = 0;
-  uint32_t lightCount_ = 0;
   uint32_t gathersRecorded_ = 0;  // this frame's, so far
 };
 

@@ -1,0 +1,45 @@
+#include "engine/gi/scene_buffers.h"
+
+#include "engine/gi/bins.h"
+
+namespace ivgi::gi {
+
+SceneBuffers::SceneBuffers(const vk::Context& ctx, const scene::Geometry& g, const Hierarchy& h, uint32_t bins,
+                           const std::optional<scene::Environment>& sky, vk::Allocations& allocations)
+    : nodeCount(uint32_t(h.nodes.size())),
+      surfelCount(uint32_t(h.leafOfSurfel.size())),
+      environmentOn(sky.has_value()) {
+  vk::Allocations* tally = &allocations;
+  const size_t nodeCount = std::max<size_t>(h.nodes.size(), 1);
+  tree = vk::makeBuffer(ctx, h.nodes, vk::Memory::Device, tally);
+  leafOfSurfel = vk::makeBuffer(ctx, h.leafOfSurfel, vk::Memory::Device, tally);
+  albedo = vk::makeBuffer(ctx, g.surfelAlbedo, vk::Memory::Device, tally);
+  emission = vk::makeBuffer(ctx, g.surfelEmission, vk::Memory::Device, tally);
+  binTable = vk::makeBuffer(ctx, binVectorTable(bins), vk::Memory::Device, tally);
+  environment = vk::makeBuffer(ctx, environmentTable(sky, bins), vk::Memory::Device, tally);
+  lights = vk::Buffer(ctx, sizeof(gpu::PunctualLight), vk::Memory::Host, tally);
+  nodes = vk::Buffer(ctx, nodeCount * sizeof(gpu::NodeState), vk::Memory::Device, tally);
+  arrivals = vk::makeBuffer(ctx, std::vector<uint32_t>(nodeCount, 0u), vk::Memory::Device, tally);
+}
+
+void SceneBuffers::setLights(const vk::Context& ctx, const std::vector<gpu::PunctualLight>& frameLights,
+                             vk::Allocations& allocations) {
+  if (lights.size() < frameLights.size() * sizeof(gpu::PunctualLight))
+    lights = vk::Buffer(ctx, frameLights.size() * sizeof(gpu::PunctualLight), vk::Memory::Host, &allocations);
+  lights.upload(frameLights);
+  lightCount = uint32_t(frameLights.size());
+}
+
+vk::Bindings SceneBuffers::pool() const {
+  return vk::Bindings::pool({{"tree", tree},
+                             {"leafOfSurfel", leafOfSurfel},
+                             {"albedo", albedo},
+                             {"emission", emission},
+                             {"binTable", binTable},
+                             {"environment", environment},
+                             {"lights", lights},
+                             {"nodes", nodes},
+                             {"arrivals", arrivals}});
+}
+
+}  // namespace ivgi::gi

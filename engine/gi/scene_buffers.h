@@ -1,0 +1,37 @@
+#pragma once
+// The scene as both solvers read it on the device, one buffer and one name per quantity: what iv's
+// and ar's passes bind under these names is the same data. A solver uploads it once, at the bins of
+// its own settings (iv's --bins, ar's --dirs), and holds it in its buffers (iv/buffers.h,
+// ar/buffers.h).
+#include <optional>
+#include <vector>
+
+#include "engine/gi/hierarchy.h"
+#include "engine/scene/environment.h"
+#include "engine/scene/geometry.h"
+#include "engine/vk/buffer.h"
+#include "engine/vk/program.h"
+
+namespace ivgi::gi {
+
+struct SceneBuffers {
+  // Uploaded once: the trees (gpu::TreeNode), each surfel's leaf, the surfels' albedo and emission
+  // (Le), per bin ∫ω dω and its solid angle (binVectorTable), the environment's radiance per bin.
+  vk::Buffer tree, leafOfSurfel, albedo, emission, binTable, environment;
+  // Per frame: the punctual lights (host-visible), and the nodes' states (gpu::NodeState, refit)
+  // with the refit's arrival counts (shaders/common/climb.glsl: zero between dispatches).
+  vk::Buffer lights, nodes, arrivals;
+  uint32_t nodeCount = 0, surfelCount = 0, lightCount = 0;
+  bool environmentOn = false;
+
+  SceneBuffers() = default;
+  SceneBuffers(const vk::Context& ctx, const scene::Geometry& geometry, const Hierarchy& hierarchy, uint32_t bins,
+               const std::optional<scene::Environment>& environment, vk::Allocations& allocations);
+  // The frame's punctual lights in world space (the buffer grows where they do not fit).
+  void setLights(const vk::Context& ctx, const std::vector<gpu::PunctualLight>& frameLights,
+                 vk::Allocations& allocations);
+  // Every buffer above by the name the shaders bind it under.
+  vk::Bindings pool() const;
+};
+
+}  // namespace ivgi::gi

@@ -1,0 +1,66 @@
+#version 460
+// The raster pass: each invocation takes a triangle and projects it. One whose screen bounds
+// hold at most kSmallBounds samples it walks itself, sample by sample; the workgroup walks each
+// larger one together, in 8×8 tiles (no integer division in the loops: lavapipe divides one lane
+// at a time). At every sample the camera ray through its centre is cast and the nearest hit kept
+// by 64-bit atomicMin. lavapipe starts a workgroup at a cost of its own, so the many small triangles of a
+// tessellated scene go 64 to a workgroup. A workgroup walks at most kTilesPerSlice tiles of each
+// large triangle, so that its subgroups stay within lavapipe's loop budget (common.glsl; past it a
+// triangle would silently lose some of its samples); bounds holding more are cut into slices of
+// tiles, slice z walked by workgroups z (raster_slices counts as many as the frame's largest bounds
+// need).
+#extension GL_GOOGLE_include_directive : require
+#include "common/common.glsl"
+layout(local_size_x = 64) in;
+// Of each large triangle of the workgroup's 64: 64 × (tiles + rows) stays under the budget.
+layout(constant_id = 0) const int kTilesPerSlice = 448;
+
+layout(binding = 0, rgba32f) readonly uniform imageBuffer world;        // WorldVertex: position, normal
+layout(binding = 1, rgba32ui) readonly uniform uimageBuffer triangles;  // Triangle
+layout(std430, binding = 2) buffer Visibility { uint64_t visibility[]; };
+layout(push_constant) uniform Push { RasterPush push; };
+#include "raster_bounds.glsl"
+
+shared uint largeCount;
+shared uint large[64];
+
+void castSample(uint tri, Projected t, ivec2 px) {
+  vec3 dir = cameraRay(push.camera, vec2(px) + 0.5, push.size);
+  float depth;
+  vec2 uv;
+  if (!intersectTriangle(push.camera.origin.xyz, dir, t.a, t.b, t.c, depth, uv)) return;
+  if (depth <= push.camera.origin.w || (push.camera.forward.w > 0.0 && depth > push.camera.forward.w)) return;
+  atomicMin(visibility[uint(px.y) * push.size.x + uint(px.x)], packDepthKey(depth, tri));
+}
+
+void main() {
+  const uint lid = gl_LocalInvocationID.x;
+  if (lid == 0u) largeCount = 0u;
+  barrier();
+  const uint tri = itemIndex();
+  if (tri < push.triangleCount) {
+    const Projected t = projected(tri);
+    if (isLarge(t))
+      large[atomicAdd(largeCount, 1u)] = tri;
+    else if (gl_WorkGroupID.z == 0u)  // empty bounds walk nothing
+      for (int y = t.lo.y; y <= t.hi.y; ++y)
+        for (int x = t.lo.x; x <= t.hi.x; ++x) castSample(tri, t, ivec2(x, y));
+  }
+  barrier();
+  // The large ones together: this workgroup's slice of each, at most kTilesPerSlice tiles of it (a
+  // block of tile columns, as wide as the bounds or kTilesPerSlice, and as many tile rows as fit).
+  const ivec2 lane = ivec2(lid & 7u, lid >> 3u);
+  for (uint k = 0u; k < largeCount; ++k) {
+    const uint tri = large[k];
+    const Projected t = projected(tri);
+    const Slicing s = slicing(t, kTilesPerSlice);
+    const int z = int(gl_WorkGroupID.z), rowBlock = z / s.columnBlocks, columnBlock = z - rowBlock * s.columnBlocks;
+    const ivec2 first = t.lo + 8 * ivec2(s.columns * columnBlock, s.rows * rowBlock),
+                last = min(t.hi, first + 8 * ivec2(s.columns, s.rows) - 1);
+    for (int y = first.y; y <= last.y; y += 8)
+      for (int x = first.x; x <= last.x; x += 8) {
+        ivec2 px = ivec2(x, y) + lane;
+        if (all(lessThanEqual(px, last))) castSample(tri, t, px);
+      }
+  }
+}

@@ -1,0 +1,69 @@
+#version 460
+// The surfel pass: area = a third of the adjacent triangles; position = the centroid of that
+// area (the vertex's corner quad of each triangle: vertex, edge midpoints, centroid), so that a surfel
+// on a hard edge lies inside its own face; normal from the welded vertex normals or, where the mesh
+// has none, area-weighted face normals.
+#extension GL_GOOGLE_include_directive : require
+#include "common/common.glsl"
+layout(local_size_x = 256) in;
+
+layout(std430, binding = 0) readonly buffer SurfelSources { SurfelSource sources[]; };
+layout(std430, binding = 1) readonly buffer SurfelVertices { uint surfelVertices[]; };
+layout(std430, binding = 2) readonly buffer SurfelTriangles { uint surfelTriangles[]; };
+layout(std430, binding = 3) readonly buffer Triangles { Triangle triangles[]; };
+layout(std430, binding = 4) readonly buffer World { WorldVertex world[]; };
+layout(std430, binding = 5) writeonly buffer Surfels { Surfel surfels[]; };
+layout(push_constant) uniform Push { CountPush push; };  // count: surfels
+
+void main() {
+  uint s = itemIndex();
+  if (s >= push.count) return;
+  SurfelSource src = sources[s];
+  float area = 0.0;
+  vec3 faceSum = vec3(0.0), vertexSum = vec3(0.0), moment = vec3(0.0);
+  vec3 self = world[surfelVertices[src.firstVertex]].position.xyz;
+  for (uint k = 0; k < src.triangleCount; ++k) {
+    Triangle t = triangles[surfelTriangles[src.firstTriangle + k]];
+    vec3 a = world[t.v0].position.xyz, b = world[t.v1].position.xyz, c = world[t.v2].position.xyz;
+    vec3 n = cross(b - a, c - a);
+    float third = length(n) / 6.0;
+    area += third;
+    faceSum += n;
+    moment += third * (22.0 * self + 7.0 * (a + b + c - self)) / 36.0;  // the other two vertices: a + b + c - self
+  }
+  for (uint k = 0; k < src.vertexCount; ++k) vertexSum += world[surfelVertices[src.firstVertex + k]].normal.xyz;
+  vec3 n = length(vertexSum) > 1e-6 ? vertexSum : faceSum;
+  float len = length(n);
+  vec3 centre = area > 0.0 ? moment / area : self, normal = len > 0.0 ? n / len : vec3(0.0);
+  // The surfel's rectangle, centred on its centroid and scaled to its area: on a regular grid an inner
+  // surfel is the square of its cell and one on a border the half-cell strip it covers, so that
+  // neighbours tile the view as their surfaces do (a gap between them, seen from near, spans bins).
+  // A fan whose edges span nothing along an axis (degenerate) is the square of its area.
+  vec3 t1, t2;
+  tangentFrame(len > 0.0 ? normal : vec3(0.0, 0.0, 1.0), t1, t2);
+  // Its axes follow the mesh's edges (their directions modulo a right angle, weighted by length), so
+  // that on a grid the rectangles of neighbours share their sides whatever the grid's turn.
+  vec2 quarter = vec2(0.0);
+  for (uint k = 0; k < src.triangleCount; ++k) {
+    Triangle t = triangles[surfelTriangles[src.firstTriangle + k]];
+    quarter += edgeQuarterTurns(world[t.v0].position.xyz, world[t.v1].position.xyz, world[t.v2].position.xyz, t1, t2);
+  }
+  float angle = quarterAngle(quarter);
+  vec3 u1, u2;
+  rectangleAxes(len > 0.0 ? normal : vec3(0.0, 0.0, 1.0), angle, u1, u2);
+  // Along each axis, half way to the farthest neighbour either side (a border surfel reaches from its
+  // vertex half way in), so that on a grid neighbours' rectangles meet.
+  vec4 reach = vec4(0.0);  // +u1, -u1, +u2, -u2
+  for (uint k = 0; k < src.triangleCount; ++k) {
+    Triangle t = triangles[surfelTriangles[src.firstTriangle + k]];
+    vec3 a = world[t.v0].position.xyz, b = world[t.v1].position.xyz, c = world[t.v2].position.xyz;
+    vec2 e1 = vec2(dot(a - self, u1), dot(a - self, u2)), e2 = vec2(dot(b - self, u1), dot(b - self, u2)),
+         e3 = vec2(dot(c - self, u1), dot(c - self, u2));
+    reach = max(reach, max(vec4(e1, -e1).xzyw, max(vec4(e2, -e2).xzyw, vec4(e3, -e3).xzyw)));
+  }
+  vec2 extent = 0.25 * (reach.xz + reach.yw);
+  extent = extent.x * extent.y > 0.0 ? extent * sqrt(area / (4.0 * extent.x * extent.y)) : vec2(0.5 * sqrt(area));
+  surfels[s].positionArea = vec4(centre, len > 0.0 ? area : 0.0);
+  surfels[s].normal = vec4(normal, 0.0);
+  surfels[s].shape = vec4(sqrt(area / kPi), angle, extent);
+}

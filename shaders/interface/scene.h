@@ -1,0 +1,181 @@
+// The scene as the passes read it: its data (engine/scene/geometry.h builds it), the camera and
+// its rays, textures, punctual lights, the surfel hierarchy; the frame's own passes' push
+// constants.
+// Part of shaders/interface.h, which includes it inside its namespace and language macros.
+// ---- Scene data (engine/scene/geometry.h builds it; animate, surfels, raster and resolve read it) ----
+
+struct Vertex {
+  vec3 position;  // rest pose, primitive space
+  uint instance;
+  vec3 normal;
+  uint local;  // index inside its primitive, for morph deltas
+  uvec4 joints;
+  vec4 weights;
+};
+struct Instance {
+  uint matrix;  // node world matrix, or first joint matrix when skinned
+  uint skinned;
+  uint morphTargets;
+  uint morphWeightBase;
+  uint morphDeltaBase;  // deltas of target k, vertex v at morphDeltaBase + k * vertexCount + v
+  uint vertexCount;
+  uint pad0;
+  uint pad1;
+};
+struct MorphDelta {
+  vec4 position;
+  vec4 normal;
+};
+struct Triangle {
+  uint v0;
+  uint v1;
+  uint v2;
+  uint material;  // material index | kFlatShaded when the primitive has no normals
+};
+IVGI_CONST uint kFlatShaded = 0x80000000u;
+struct Material {
+  vec4 baseColor;
+  vec4 emission;  // rgb: emissive factor × strength (radiance)
+  int baseColorTexture;
+  int emissiveTexture;
+  int pad0;
+  int pad1;
+};
+struct Texture {
+  uint offset;  // in texels; each texel is linear RGBA as two packHalf2x16 words
+  uint width;
+  uint height;
+  uint wrap;  // wrapS | wrapT << 16 (glTF enums)
+  // KHR_texture_transform as an affine map of (u, v, 1): u' = dot(uvRowU.xyz, …), v' likewise (w unused).
+  // A texture referenced with another transform is another record over the same texels.
+  vec4 uvRowU;
+  vec4 uvRowV;
+};
+struct SurfelSource {
+  uint firstVertex;  // welded vertices, in Geometry::surfelVertices
+  uint vertexCount;
+  uint firstTriangle;  // adjacent non-degenerate triangles, in Geometry::surfelTriangles
+  uint triangleCount;
+};
+struct WorldVertex {  // the animate pass's output
+  vec4 position;
+  vec4 normal;
+};
+struct Surfel {       // the surfel pass's output
+  vec4 positionArea;  // centroid of the surfel's area, area
+  vec4 normal;
+  vec4 shape;  // as NodeState's: x the radius of a disk of its area, y the angle (0), zw half-extents
+};
+
+// Pinhole camera: right and up scaled by tan of the half field of view; origin.w = znear,
+// forward.w = zfar (0: none). Image size in samples, pixel (0,0) top-left, centres at +0.5.
+struct Camera {
+  vec4 origin;
+  vec4 right;
+  vec4 up;
+  vec4 forward;
+};
+
+// KHR_lights_punctual, in world space for the frame (engine/scene/lights.h).
+struct PunctualLight {
+  vec4 position;   // w: 0 directional, 1 point, 2 spot
+  vec4 direction;  // where the light points; w: range (0: none)
+  vec4 intensity;  // rgb: colour × intensity, radiometric
+  vec4 cone;       // cos outer, cos inner
+};
+IVGI_CONST float kLightDirectional = 0.0f;
+IVGI_CONST float kLightPoint = 1.0f;
+IVGI_CONST float kLightSpot = 2.0f;
+
+// ---- The surfel hierarchy (engine/gi/hierarchy.h) ----
+
+struct TreeNode {
+  int parent;       // -1 for a root
+  uint firstChild;  // children are contiguous in the next level
+  uint childCount;  // 0 for a leaf
+  int surfel;       // the leaf's surfel, -1 for an inner node
+};
+// Per frame: area-weighted position and total area; normal and the half-angle of the cone holding
+// every normal below; shape: x the radius of a sphere around the position holding every surfel
+// disk below, y the angle of the node's rectangle in tangentFrame(normal), zw its half-extents.
+struct NodeState {
+  vec4 positionArea;
+  vec4 normalCone;
+  vec4 shape;
+};
+
+// ---- Camera rays ----
+
+IVGI_FN vec3 cameraRay(Camera cam, vec2 samplePos, uvec2 size) {
+  vec2 ndc = vec2(2.0f * samplePos.x / float(size.x) - 1.0f, 1.0f - 2.0f * samplePos.y / float(size.y));
+  return vec3(cam.forward) + ndc.x * vec3(cam.right) + ndc.y * vec3(cam.up);
+}
+
+// ---- Textures ----
+
+// The texture coordinates a lookup of texture t reads at uv: its KHR_texture_transform applied.
+IVGI_FN vec2 transformedUv(Texture t, vec2 uv) {
+  vec3 h = vec3(uv.x, uv.y, 1.0f);
+  return vec2(dot(vec3(t.uvRowU.x, t.uvRowU.y, t.uvRowU.z), h), dot(vec3(t.uvRowV.x, t.uvRowV.y, t.uvRowV.z), h));
+}
+
+// The two texels and the weight of the second along one axis of a bilinear lookup under a glTF wrap
+// mode (33071 CLAMP_TO_EDGE, 33648 MIRRORED_REPEAT, else REPEAT). No integer division: lavapipe
+// runs it one lane at a time.
+IVGI_FN ivec2 texelPair(float u, int size, uint mode, IVGI_OUT(float) weight) {
+  if (mode == 33648u) {
+    float t = fract(u * 0.5f) * 2.0f;
+    u = t < 1.0f ? t : 2.0f - t;
+  } else if (mode != 33071u) {
+    u = fract(u);
+  } else {
+    u = clamp(u, 0.0f, 1.0f);  // the same texels, and no integer overflow far outside
+  }
+  float x = u * float(size) - 0.5f, f = floor(x);
+  weight = x - f;
+  int i = int(f), j = i + 1;
+  if (mode == 33071u || mode == 33648u) return clamp(ivec2(i, j), 0, size - 1);
+  return ivec2(i < 0 ? i + size : i, j >= size ? j - size : j);
+}
+
+// ---- Punctual lights ----
+
+// Irradiance per unit intensity on a surface at p facing the light: 1/d², the range window, the
+// spot cone (smooth between the outer and inner cosines). toLight is not normalised; dist2 is its
+// squared length, 3.4e38 for a directional light.
+IVGI_FN float lightFalloff(PunctualLight light, vec3 p, IVGI_OUT(vec3) toLight, IVGI_OUT(float) dist2) {
+  dist2 = 3.4e38f;
+  if (light.position.w == kLightDirectional) {
+    toLight = -vec3(light.direction);
+    return 1.0f;
+  }
+  toLight = vec3(light.position) - p;
+  dist2 = dot(toLight, toLight);
+  if (dist2 <= 0.0f) return 0.0f;
+  float falloff = 1.0f / dist2;
+  if (light.direction.w > 0.0f) {
+    float window = clamp(1.0f - pow(sqrt(dist2) / light.direction.w, 4.0f), 0.0f, 1.0f);
+    falloff *= window * window;
+  }
+  if (light.position.w == kLightSpot) {
+    float c = dot(normalize(-toLight), vec3(light.direction));
+    float t = clamp((c - light.cone.x) / max(light.cone.y - light.cone.x, 1e-6f), 0.0f, 1.0f);
+    falloff *= t * t * (3.0f - 2.0f * t);
+  }
+  return falloff;
+}
+
+// ---- Push constants of the frame's passes ----
+
+struct RasterPush {  // raster_slices, raster
+  Camera camera;
+  uvec2 size;  // the image in samples
+  uint triangleCount;
+  uint pad;
+};
+struct ResolvePush {  // resolve
+  Camera camera;
+  uvec2 size;    // the image in pixels
+  uint samples;  // per pixel and axis
+  uint pad;
+};

@@ -1,0 +1,63 @@
+#version 460
+// iv's bounces, at every surfel: irradiance E interpolated from the receivers' gathered irradiance with
+// the coefficients of interpolation_weights.comp (a receiver takes its own), radiosity B = π·Le + ρ·E
+// at its leaf. Reads last bounce's radiosity only for the change, writes the next (no race); keeps
+// the irradiance's change for the tail (bounce_tail.comp).
+#extension GL_GOOGLE_include_directive : require
+#define NODE_TEXELS 11
+#include "common/common.glsl"
+layout(local_size_x = 64) in;
+
+layout(binding = 0, r32ui) readonly uniform uimageBuffer leafOfSurfel;
+layout(binding = 1, r32ui) readonly uniform uimageBuffer tapCounts;
+layout(binding = 2, rg32ui) readonly uniform uimageBuffer taps;  // InterpolationTap, kInterpolationTaps a surfel
+layout(binding = 3, rgba32f) readonly uniform imageBuffer gathered;
+layout(binding = 4, rgba32f) readonly uniform imageBuffer albedo;
+layout(binding = 5, rgba32f) readonly uniform imageBuffer emission;
+layout(binding = 6, rgba32f) readonly uniform imageBuffer radiosityIn;
+layout(std430, binding = 7) writeonly buffer RadiosityOut { vec4 radiosityOut[]; };
+layout(std430, binding = 8) buffer Irradiance { vec4 irradiance[]; };
+layout(std430, binding = 13) writeonly buffer IrradianceChange { vec4 irradianceChange[]; };
+layout(std430, binding = 9) writeonly buffer BounceSums { BounceSum bounceSums[]; };  // per workgroup
+layout(std430, binding = 10) readonly buffer FrameCounters { uint frameCounters[]; };
+layout(std430, binding = 12) readonly buffer StaticCounters { uint staticCounters[]; };
+layout(push_constant) uniform Push { InterpolatePush push; };
+
+shared BounceSum partial[64];
+
+float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
+
+// Leaves the workgroup's sum for bounce_check, added in a fixed order.
+void sumBounce(BounceSum mine) {
+  const uint lid = gl_LocalInvocationID.x;
+  partial[lid] = mine;
+  barrier();
+  if (lid == 0u) {
+    BounceSum sum = BounceSum(0.0, 0.0);
+    for (uint i = 0u; i < 64u; ++i) sum.total += partial[i].total, sum.change += partial[i].change;
+    bounceSums[groupIndex()] = sum;
+  }
+}
+
+// The surfel's new radiosity and irradiance; none (zeros for the sums) past the surfels or in a
+// frame that overflowed (it is redone).
+BounceSum interpolate(uint s) {
+  if (s >= push.surfelCount || (frameCounters[kCounterOverflow] | staticCounters[kCounterOverflow]) != 0u)
+    return BounceSum(0.0, 0.0);
+  const uint count = imageLoad(tapCounts, int(s)).x;
+  vec3 e = vec3(0.0);
+  for (uint t = 0u; t < count; ++t) {
+    uvec2 tap = imageLoad(taps, int(s * kInterpolationTaps + t)).xy;
+    e += uintBitsToFloat(tap.y) * imageLoad(gathered, int(tap.x)).rgb;
+  }
+  e = max(e, vec3(0.0));  // the fit's coefficients may be negative
+  const uint leaf = imageLoad(leafOfSurfel, int(s)).x;
+  const vec3 b = kPi * imageLoad(emission, int(s)).rgb + imageLoad(albedo, int(s)).rgb * e;
+  radiosityOut[leaf] = vec4(b, 0.0);
+  irradianceChange[s] = vec4(e - irradiance[s].rgb, 0.0);
+  irradiance[s] = vec4(e, 0.0);
+  const float area = nodePositionArea(leaf).w;
+  return BounceSum(area * luminance(b), area * abs(luminance(b) - luminance(imageLoad(radiosityIn, int(leaf)).rgb)));
+}
+
+void main() { sumBounce(interpolate(itemIndex())); }
