@@ -1,7 +1,7 @@
 // Golden images on lavapipe: every channel of the built-in Cornell box at two frames and of
 // animated assets, against references in tests/golden/, through `ivgi compare --golden`, the gate
 // users get. To regenerate them after an intended change:
-//   IVGI_UPDATE_GOLDEN=1 ctest --test-dir build -R Golden
+//   IVGI_UPDATE_GOLDEN=1 build/tests/ivgi_tests --gtest_filter='Golden.*'
 #include <gtest/gtest.h>
 
 #include <OpenImageIO/imagebuf.h>

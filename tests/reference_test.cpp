@@ -1,7 +1,7 @@
 // The measuring stick end to end through the ivgi binary: pt renders, iv scored against the stored
 // converged pt reference, compare, sweep and the equal-error benchmark.
 //   The reference tests/golden/pt_cornell_f0000.exr is the built-in Cornell box, frame 0, 160×120,
-//   pt at 4096 spp. Regenerate: IVGI_UPDATE_GOLDEN=1 ctest --test-dir build -R Reference
+//   pt at 4096 spp. Regenerate: IVGI_UPDATE_GOLDEN=1 build/tests/ivgi_tests --gtest_filter='Reference.*'
 #include <gtest/gtest.h>
 
 #include <cstdlib>
