@@ -240,7 +240,7 @@ TEST(Surfels, IrradianceIsCarriedToTheVertexAlongItsFace) {
                         {"vertexSurfel", vertexSurfel},
                         {"surfelIrradiance", irradiance},
                         {"vertexIrradiance", out}},
-                       gpu::CountPush{count});
+                       gpu::CountPush{.count = count});
   });
   const auto shown = out.read<glm::vec4>(surfels.size());
   int moved = 0;

@@ -336,7 +336,7 @@ std::vector<gpu::BounceState> checkBounces(const std::vector<gpu::BounceSum>& ga
     ctx.submitAndWait([&](VkCommandBuffer cmd) {
       check.dispatch(cmd, {},
                      {{"bounceSums", sums}, {"bounceStates", state}, {"fullArgs", fullArgs}, {"bounceArgs", args}},
-                     gpu::BounceCheckPush{1u, 3u, 1000u, tolerance});
+                     gpu::BounceCheckPush{.groups = 1u, .dispatches = 3u, .maxGathers = 1000u, .tolerance = tolerance});
     });
     states.push_back(state.read<gpu::BounceState>(1)[0]);
     if (states.back().done) break;

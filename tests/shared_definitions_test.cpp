@@ -167,7 +167,8 @@ TEST(SharedDefinitions, BinsAndFormFactorsAgree) {
   vk::Buffer in = vk::makeBuffer(ctx, cs);
   vk::Buffer out(ctx, cs.size() * sizeof(BinResult), vk::Memory::Host);
   ctx.submitAndWait([&](VkCommandBuffer cmd) {
-    program.dispatchItems(cmd, cs.size(), {{"cases", in}, {"results", out}}, gpu::CountPush{uint32_t(cs.size())});
+    program.dispatchItems(cmd, cs.size(), {{"cases", in}, {"results", out}},
+                          gpu::CountPush{.count = uint32_t(cs.size())});
   });
   auto got = out.read<BinResult>(cs.size());
   for (size_t i = 0; i < cs.size(); ++i) {
@@ -305,7 +306,7 @@ TEST(SharedDefinitions, LoopBudgetSpentTellsWhenLoopsWereCutShort) {
   vk::Buffer out(ctx, cs.size() * sizeof(glm::uvec4), vk::Memory::Host);
   ctx.submitAndWait([&](VkCommandBuffer cmd) {
     program.dispatch(cmd, program.groupsFor(cs.size(), 1), {{"cases", in}, {"results", out}},
-                     gpu::CountPush{uint32_t(cs.size())});
+                     gpu::CountPush{.count = uint32_t(cs.size())});
   });
   const auto got = out.read<glm::uvec4>(cs.size());
   const bool lavapipe = ctx.info().name.find("llvmpipe") != std::string::npos;

@@ -25,7 +25,7 @@ TEST(Program, ImageBuffersReadWhatTheHostWrote) {
   ctx.submitAndWait([&](VkCommandBuffer cmd) {
     program.dispatchItems(
         cmd, count, {{"asVec4", input}, {"asUvec2", input}, {"asUint", input}, {"nodes", input}, {"results", output}},
-        gpu::CountPush{count});
+        gpu::CountPush{.count = count});
   });
   auto got = output.read<float>(count * 16);
   for (uint32_t i = 0; i < count; ++i) {
@@ -46,7 +46,8 @@ TEST(Program, BindsEveryBindingByItsNameOnce) {
   vk::Program program(ctx, "texel_cases", testShaderCode("texel_cases"));
   auto refusal = [&](vk::Bindings bindings) -> std::string {
     try {
-      ctx.submitAndWait([&](VkCommandBuffer cmd) { program.dispatchItems(cmd, 1, bindings, gpu::CountPush{1}); });
+      ctx.submitAndWait(
+          [&](VkCommandBuffer cmd) { program.dispatchItems(cmd, 1, bindings, gpu::CountPush{.count = 1}); });
     } catch (const vk::VulkanError& e) {
       return e.what();
     }

@@ -71,6 +71,9 @@ struct IterationSum {
 
 // ---- Push constants of ar's passes ----
 
+struct QueueArgsPush {  // queue_args
+  uint slot;            // which dispatch arguments to write
+};
 struct ArLocalPush {  // ar_local
   uint surfelCount;
   uint updateRadiance;  // 1: reflect the incident light (a radiance step); 0: keep the radiance

@@ -169,9 +169,9 @@ struct BounceState {
 // forced far past convergence), which may double.
 IVGI_CONST float kDivergingGrowth = 2.0f;
 IVGI_CONST float kDivergingFloor = 1e-4f;
-struct BounceCheckPush {
-  uint groups;      // of the interpolation: BounceSums to add up
-  uint dispatches;  // of a bounce: the gather, the interpolation, then one pull-up a level; the tail's after them
-  uint maxGathers;  // done after this many
+struct BounceCheckPush {  // bounce_check
+  uint groups;            // of the interpolation: BounceSums to add up
+  uint dispatches;        // of a bounce: the gather, the interpolation, then one pull-up a level; the tail's after them
+  uint maxGathers;        // done after this many
   float tolerance;  // done where remaining ≤ tolerance, and the tail added; negative: only at maxGathers, no tail
 };

@@ -46,6 +46,3 @@ struct RefinePush {  // refine_links
 struct SortLinksPush {  // count_links, scatter_links
   uint linkCapacity;    // the links past it were not stored (the set overflowed)
 };
-struct QueueArgsPush {  // queue_args
-  uint slot;            // which dispatch arguments to write
-};
