@@ -112,6 +112,19 @@ TEST(BadInput, AccessorOutOfRange) {
   expectRenderRefused(path, {}, {path, "POSITION", "past the end of buffer view"});
 }
 
+// A count far past the data (a few bytes declaring terabytes, or a count whose product with the
+// stride wraps around) is refused by the check of the buffer view, before anything is sized by it
+// (sized first, 10^12 positions asked for 12 TB and ended in std::bad_alloc).
+TEST(BadInput, AccessorCountFarPastItsDataIsRefusedBeforeAnythingIsSized) {
+  for (size_t count : {size_t(1000000000000ull), size_t(1) << 62}) {
+    tinygltf::Model m = triangleModel();
+    m.accessors[m.meshes[0].primitives[0].attributes["POSITION"]].count = count;
+    std::string path = writeModel(m, "huge.gltf");
+    auto r = test::runIvgi({"info", path});
+    expectOneLineError(r, {path, "POSITION", "past the end of buffer view"});
+  }
+}
+
 TEST(BadInput, BufferViewOutOfRange) {
   tinygltf::Model m = triangleModel();
   auto& view = m.bufferViews[m.accessors[m.meshes[0].primitives[0].attributes["POSITION"]].bufferView];

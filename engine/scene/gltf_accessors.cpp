@@ -14,10 +14,12 @@ std::vector<float> AccessorReader::floats(int index, int components, const std::
     fail(what + ": accessor " + std::to_string(index) + " has " +
          std::to_string(tinygltf::GetNumComponentsInType(a.type)) + " components, expected " +
          std::to_string(components));
-  std::vector<float> out(size_t(a.count) * components, 0.0f);
+  std::vector<float> out;  // sized once the data it declares proved to be in its buffers
   forEachElement(a, index, what, [&](size_t element, const uint8_t* p) {
+    if (out.empty()) out.resize(size_t(a.count) * components, 0.0f);
     for (int c = 0; c < components; ++c) out[element * components + c] = component(a, p, c);
   });
+  out.resize(size_t(a.count) * components, 0.0f);  // an accessor of zeros alone
   for (float v : out)
     if (!std::isfinite(v)) fail(what + ": accessor " + std::to_string(index) + " holds a NaN or infinite value");
   return out;
@@ -31,10 +33,12 @@ std::vector<uint32_t> AccessorReader::uints(int index, int components, const std
       a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
       a.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
     fail(what + ": accessor " + std::to_string(index) + " must hold unsigned integers");
-  std::vector<uint32_t> out(size_t(a.count) * components, 0);
+  std::vector<uint32_t> out;  // sized once the data it declares proved to be in its buffers
   forEachElement(a, index, what, [&](size_t element, const uint8_t* p) {
+    if (out.empty()) out.resize(size_t(a.count) * components, 0u);
     for (int c = 0; c < components; ++c) out[element * components + c] = rawUint(a.componentType, p, c);
   });
+  out.resize(size_t(a.count) * components, 0u);  // an accessor of zeros alone
   return out;
 }
 
@@ -106,7 +110,9 @@ const uint8_t* AccessorReader::viewData(int view, size_t offset, size_t count, s
          std::to_string(bv.buffer) + " (" + std::to_string(bv.byteOffset + bv.byteLength) + " > " +
          std::to_string(buffer.data.size()) + " bytes)");
   *stride = bv.byteStride ? bv.byteStride : elementSize;
-  if (count > 0 && offset + *stride * (count - 1) + elementSize > bv.byteLength)
+  // In this order, so that no product of a count and a stride can wrap around.
+  if (count > 0 && (offset > bv.byteLength || elementSize > bv.byteLength - offset ||
+                    (count - 1) > (bv.byteLength - offset - elementSize) / *stride))
     fail(what + ": accessor data reaches past the end of buffer view " + std::to_string(view));
   return buffer.data.data() + bv.byteOffset + offset;
 }
@@ -118,18 +124,23 @@ void AccessorReader::forEachElement(const tinygltf::Accessor& a, int index, cons
   if (componentSize <= 0 || components <= 0)
     fail(what + ": accessor " + std::to_string(index) + " has an invalid type");
   size_t elementSize = size_t(componentSize) * components;
-  if (a.bufferView >= 0) {
-    size_t stride = 0;
-    const uint8_t* base = viewData(a.bufferView, a.byteOffset, a.count, elementSize, &stride, what);
-    for (size_t i = 0; i < a.count; ++i) visit(i, base + i * stride);
-  }  // no buffer view: zeros, possibly replaced by sparse values below
-  if (a.sparse.isSparse) {
-    const auto& s = a.sparse;
-    size_t idxStride = 0, valStride = 0;
+  // Every view the accessor reads is checked to hold what it declares before the first visit, so
+  // that a count past its data is refused before anything is sized by it.
+  size_t stride = 0, idxStride = 0, valStride = 0;
+  const uint8_t* base =
+      a.bufferView >= 0 ? viewData(a.bufferView, a.byteOffset, a.count, elementSize, &stride, what) : nullptr;
+  const uint8_t *idx = nullptr, *val = nullptr;
+  const auto& s = a.sparse;
+  if (s.isSparse) {
     int idxSize = tinygltf::GetComponentSizeInBytes(s.indices.componentType);
     if (idxSize <= 0) fail(what + ": sparse accessor " + std::to_string(index) + " has an invalid index type");
-    const uint8_t* idx = viewData(s.indices.bufferView, s.indices.byteOffset, s.count, idxSize, &idxStride, what);
-    const uint8_t* val = viewData(s.values.bufferView, s.values.byteOffset, s.count, elementSize, &valStride, what);
+    idx = viewData(s.indices.bufferView, s.indices.byteOffset, s.count, idxSize, &idxStride, what);
+    val = viewData(s.values.bufferView, s.values.byteOffset, s.count, elementSize, &valStride, what);
+  }
+  if (base)
+    for (size_t i = 0; i < a.count; ++i) visit(i, base + i * stride);
+  // no buffer view: zeros, possibly replaced by sparse values below
+  if (s.isSparse) {
     for (int i = 0; i < s.count; ++i) {
       uint32_t target = rawUint(s.indices.componentType, idx + i * idxStride, 0);
       if (target >= a.count) fail(what + ": sparse index " + std::to_string(target) + " out of range");
