@@ -59,7 +59,9 @@ TEST(Render, WritesFramesAndASidecarWithPerPassTimes) {
       ASSERT_TRUE(frame["gpuMs"].contains(pass)) << pass;
       EXPECT_GT(frame["gpuMs"][pass].get<double>(), 0.0) << pass;
     }
+    EXPECT_GT(frame["hostPeakMiB"].get<double>(), 10.0);  // the host's peak so far: never falls
   }
+  EXPECT_GE(j["frames"][2]["hostPeakMiB"].get<double>(), j["frames"][0]["hostPeakMiB"].get<double>());
   EXPECT_EQ(j["frames"][2]["frame"], 4);
   EXPECT_NEAR(j["frames"][2]["time"].get<double>(), 4.0 / 24.0, 1e-12);
   EXPECT_FALSE(j["device"]["name"].get<std::string>().empty());

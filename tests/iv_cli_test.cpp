@@ -94,7 +94,7 @@ TEST(IvBench, PrintsEveryPassAndTheSolversFigures) {
   ASSERT_EQ(r.status, 0) << r.err;
   for (const char* row : {"\nrefit ", "\nlinks ", "\nprune ", "\nbounces ", "\nraster ", "\nresolve ", "\ntotal ",
                           "fps", "LP_NUM_THREADS", "leaf links after push-down and pruning",
-                          "root-path senders walked in the last frame", "bytes allocated"})
+                          "root-path senders walked in the last frame", "bytes allocated", "host peak"})
     EXPECT_NE(r.out.find(row), std::string::npos) << row << " in\n" << r.out;
   std::ifstream in(json);
   const auto j = nlohmann::json::parse(in);
@@ -108,6 +108,10 @@ TEST(IvBench, PrintsEveryPassAndTheSolversFigures) {
   EXPECT_GT(once, walked);
   EXPECT_GT(j["solver"]["leafLinks"].get<uint64_t>(), 0u);
   EXPECT_GT(j["bytesAllocated"].get<uint64_t>(), 0u);
+  // The host's peak resident memory: at least what the process's code and the scene took, and
+  // within a small scene's (not a runaway allocation).
+  EXPECT_GT(j["hostPeakMiB"].get<double>(), 10.0);
+  EXPECT_LT(j["hostPeakMiB"].get<double>(), 4096.0);
 }
 
 // `bench --per-program` times every dispatch by its program: each a shader of the build, each

@@ -206,7 +206,9 @@ int runBench(const BenchOptions& o) {
                   damped, *std::min_element(damping.begin(), damping.end()),
                   std::count(diverged.begin(), diverged.end(), 1.0));
   }
-  std::printf("\nbytes allocated: %llu (%.1f MiB)\n", (unsigned long long)bytes, double(bytes) / (1 << 20));
+  const double hostPeak = hostPeakMiB();
+  std::printf("\nbytes allocated: %llu (%.1f MiB) on the device; host peak %.1f MiB resident\n",
+              (unsigned long long)bytes, double(bytes) / (1 << 20), hostPeak);
   if (!o.json.empty()) {
     nlohmann::json settings = settingsJson(solver.method, iv, solver.tessellation, arSettings(solver));
     settings.update({{"width", image.width},
@@ -224,6 +226,7 @@ int runBench(const BenchOptions& o) {
                         {"counts", counts},
                         {"solver", solverJson(renderer.solver())},
                         {"bytesAllocated", bytes},
+                        {"hostPeakMiB", hostPeak},
                         {"frames", frames}};
     writeJson(o.json, j);
   }

@@ -1,5 +1,7 @@
 #include "engine/cli/machine.h"
 
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <cstdlib>
 #include <fstream>
@@ -50,6 +52,12 @@ nlohmann::json cpuJson(unsigned requestedThreads) {
 
 std::string cpuLine(unsigned requestedThreads) {
   return cpuModel() + ", " + std::to_string(cpuThreads(requestedThreads)) + " threads (Embree 3)";
+}
+
+double hostPeakMiB() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return double(usage.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB on Linux
 }
 
 }  // namespace ivgi::cli

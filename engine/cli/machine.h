@@ -16,4 +16,8 @@ unsigned cpuThreads(unsigned requested);  // 0: every core
 nlohmann::json cpuJson(unsigned requestedThreads);
 std::string cpuLine(unsigned requestedThreads);  // "CPU MODEL, N threads"
 
+// The most resident host memory this process has held so far, in MiB (getrusage's ru_maxrss): a
+// frame's record takes it after the frame, so it covers the scene's set-up and every frame before.
+double hostPeakMiB();
+
 }  // namespace ivgi::cli

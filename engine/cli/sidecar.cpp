@@ -7,6 +7,7 @@
 #include <regex>
 
 #include "engine/cli/json_file.h"
+#include "engine/cli/machine.h"
 #include "engine/cli/statistics.h"
 
 namespace ivgi::cli {
@@ -38,8 +39,13 @@ void Sidecar::addFrame(int frame, double time, const std::vector<std::pair<std::
   nlohmann::json passes = nlohmann::json::object();
   double total = 0;
   for (const auto& [pass, ms] : passMs) passes[pass] = ms, total += ms;
-  nlohmann::json record = {{"frame", frame},   {"time", time},     {passKey_, passes},
-                           {totalKey_, total}, {"wallMs", wallMs}, {"files", files}};
+  nlohmann::json record = {{"frame", frame},
+                           {"time", time},
+                           {passKey_, passes},
+                           {totalKey_, total},
+                           {"wallMs", wallMs},
+                           {"files", files},
+                           {"hostPeakMiB", hostPeakMiB()}};
   for (const auto& [figure, value] : solver) record["solver"][figure] = value;
   json_["frames"].push_back(std::move(record));
 }
