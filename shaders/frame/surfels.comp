@@ -1,6 +1,6 @@
 #version 460
-// The surfel pass: area = a third of the adjacent triangles; position = the centroid of that
-// area (the vertex's corner quad of each triangle: vertex, edge midpoints, centroid), so that a surfel
+// The surfel pass: area = a third of the adjacent triangles; position = the centroid of that area
+// (the vertex's corner quad of each triangle: vertex, edge midpoints, centroid), so that a surfel
 // on a hard edge lies inside its own face; normal from the welded vertex normals or, where the mesh
 // has none, area-weighted face normals.
 #extension GL_GOOGLE_include_directive : require

@@ -1,11 +1,11 @@
 #version 460
-// The resolve pass, first the irradiance at the vertices: what the resolve pass interpolates across each triangle. A
-// solver gives a surfel's irradiance over its area, at its centroid; the resolve shows it at the
-// vertex. Inside a regular grid the two coincide, but on a hard edge the vertex lies on the edge and
-// the centroid a quarter of a cell inside, where a concave edge's light changes fastest: shown at
-// the vertex as it is, the centroid's value would draw a bright line along every such edge. So each
-// surfel's value is carried to its vertex along the gradient of a linear fit over its mesh
-// neighbours on its side of the edge (normals within kReceiverNormalCos).
+// The resolve pass, first the irradiance at the vertices, which it interpolates across each
+// triangle. A solver gives a surfel's irradiance over its area, at its centroid; the resolve shows
+// it at the vertex. Inside a regular grid the two coincide, but on a hard edge the vertex lies on
+// the edge and the centroid a quarter of a cell inside, where a concave edge's light changes
+// fastest: shown at the vertex as it is, the centroid's value would draw a bright line along every
+// such edge. So each surfel's value is carried to its vertex along the gradient of a linear fit
+// over its mesh neighbours on its side of the edge (normals within kReceiverNormalCos).
 #extension GL_GOOGLE_include_directive : require
 #include "common/common.glsl"
 layout(local_size_x = 64) in;

@@ -1,6 +1,6 @@
 #version 460
-// Link creation, after count_links: exclusive prefix sum of the per-node link counts (one workgroup: nodes are few),
-// giving each receiver's first slot; the counts become write cursors.
+// Link creation, after count_links: exclusive prefix sum of the per-node link counts (one
+// workgroup: nodes are few), giving each receiver's first slot; the counts become write cursors.
 #extension GL_GOOGLE_include_directive : require
 #include "common/common.glsl"
 layout(local_size_x = 256) in;

@@ -1,7 +1,8 @@
 #version 460
-// Link creation, last: senders sorted by receiver. The order inside a receiver's list varies run to run; the
-// pruning after it keeps the nearest per bin by key, which does not depend on that order. A sender
-// that emits is marked (kEmitterBit), so that the pruning lists it without reading its emission.
+// Link creation, last: senders sorted by receiver. The order inside a receiver's list varies run to
+// run; the pruning after it keeps the nearest per bin by key, which does not depend on that order.
+// A sender that emits is marked (kEmitterBit), so that the pruning lists it without reading its
+// emission.
 #extension GL_GOOGLE_include_directive : require
 #include "common/common.glsl"
 layout(local_size_x = kLinkGroup) in;

@@ -1,16 +1,16 @@
 #version 460
-// iv's bounces, after each gather: whether the bounces are done, and the next bounce's dispatch sizes.
-// The interpolation's per-workgroup sums are added in a fixed order (deterministic). Past the first
-// bounces the changes decay geometrically (the slowest mode of the transport dominates), so the
-// bounces not run add about change · q / (1 − q), q the ratio of the last two changes; with that
-// tail the light is estimated far more closely than by the bounces run alone (bounce_tail.comp adds
-// it at every surfel). Done after maxGathers, or where that estimate has settled: it moved by at
-// most `tolerance` of the light at this gather, and by at most that over q at the one before (a
+// iv's bounces, after each gather: whether the bounces are done, and the next bounce's dispatch
+// sizes. The interpolation's per-workgroup sums are added in a fixed order (deterministic). Past
+// the first bounces the changes decay geometrically (the slowest mode of the transport dominates),
+// so the bounces not run add about change · q / (1 − q), q the ratio of the last two changes; with
+// that tail the light is estimated far more closely than by the bounces run alone (bounce_tail.comp
+// adds it at every surfel). Done after maxGathers, or where that estimate has settled: it moved by
+// at most `tolerance` of the light at this gather, and by at most that over q at the one before (a
 // single small step may be the estimate crossing its limit). Done, the next gather and its pull-up
-// run zero workgroups and the tail runs once. Also done, without the tail, where the bounces diverge:
-// a change past kDivergingGrowth times the least from the second gather on (the first bounce's, the
-// second gather's, may exceed the direct light's) and past kDivergingFloor of the light; the host
-// says so.
+// run zero workgroups and the tail runs once. Also done, without the tail, where the bounces
+// diverge: a change past kDivergingGrowth times the least from the second gather on (the first
+// bounce's, the second gather's, may exceed the direct light's) and past kDivergingFloor of the
+// light; the host says so.
 #extension GL_GOOGLE_include_directive : require
 #include "common/common.glsl"
 layout(local_size_x = 1) in;

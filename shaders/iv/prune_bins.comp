@@ -1,13 +1,15 @@
 #version 460
-// Bin pruning and push-down (docs/design.md §4, the prune): each leaf takes the links of itself and of all its
-// ancestors, re-bins them from its own position into 6×N×N direction bins and keeps the nearest sender per bin (64-bit
-// atomicMin on distance², sender; senders centred in the bin rank ahead of those whose footprint only brushes it);
-// everything farther in a bin is occluded. The links along a leaf's root path partition every other surface once, so
-// the solid angles they subtend also say how much of each bin is covered; the survivor stands for that covered part: F
-// = cos θr · min(Ω_bin, Ω_covered) / π (a hemisphere never sums above 1). Survivors are written in bin order. Punctual
-// lights, the environment and emitters' direct light (each emitter's own form factor, not the whole bins it would win)
-// are tested against the same bins. Bins live in shared memory where they fit, else in a global slot per workgroup;
-// each workgroup walks many leaves and resets only the bins it touched.
+// The prune, bin pruning and push-down: each leaf takes the links of itself and of all its ancestors,
+// re-bins them from its own position into 6×N×N direction bins and keeps the nearest sender per bin
+// (64-bit atomicMin on distance², sender; senders centred in the bin rank ahead of those whose
+// footprint only brushes it); everything farther in a bin is occluded. The links along
+// a leaf's root path partition every other surface once, so the solid angles they subtend also say
+// how much of each bin is covered; the survivor stands for that covered part:
+// F = cos θr · min(Ω_bin, Ω_covered) / π (a hemisphere never sums above 1). Survivors are written
+// in bin order. Punctual lights, the environment and emitters' direct light (each emitter's own
+// form factor, not the whole bins it would win) are tested against the same bins. Bins live in
+// shared memory where they fit, else in a global slot per workgroup; each workgroup walks many
+// leaves and resets only the bins it touched.
 //
 // Objects that cannot move are linked and pruned once (the static pass, over the links between
 // them); every frame (the frame pass) a moving leaf is pruned in full from the links of the pairs

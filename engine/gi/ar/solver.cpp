@@ -195,17 +195,16 @@ void ArSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
 
 void ArSolver::recordStart(VkCommandBuffer cmd, vk::PassTimer& timer) {
   timedPass(cmd, timer, "local", [&] {
-    auto copy = [&](const vk::Buffer& from, const vk::Buffer& to) { vk::copyBuffer(cmd, from, to); };
     if (!warm_) {
       vk::fillBuffer(cmd, b_.incident, 0u);
       vk::fillBuffer(cmd, b_.irradiance, 0u);
-      copy(b_.scene.emission, b_.radiance);
+      vk::copyBuffer(cmd, b_.scene.emission, b_.radiance);
     } else if (redoing_) {
-      copy(b_.startIncident, b_.incident), copy(b_.startRadiance, b_.radiance);
-      copy(b_.startIrradiance, b_.irradiance);
+      vk::copyBuffer(cmd, b_.startIncident, b_.incident), vk::copyBuffer(cmd, b_.startRadiance, b_.radiance);
+      vk::copyBuffer(cmd, b_.startIrradiance, b_.irradiance);
     } else {
-      copy(b_.incident, b_.startIncident), copy(b_.radiance, b_.startRadiance);
-      copy(b_.irradiance, b_.startIrradiance);
+      vk::copyBuffer(cmd, b_.incident, b_.startIncident), vk::copyBuffer(cmd, b_.radiance, b_.startRadiance);
+      vk::copyBuffer(cmd, b_.irradiance, b_.startIrradiance);
     }
   });
 }
