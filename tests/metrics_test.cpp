@@ -1,9 +1,14 @@
 // The image metrics on constructed pairs whose answers are known.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
+#include <filesystem>
 #include <random>
 
+#include "engine/image/frame_image.h"
+#include "engine/image/image_file.h"
 #include "engine/image/metrics.h"
 
 using namespace ivgi;
@@ -113,4 +118,30 @@ TEST(Flip, GrowsWithThePerturbation) {
     EXPECT_GT(f, last) << "shift " << shift;
     last = f;
   }
+}
+
+// Found by tests/fuzz/exr_fuzzer: an EXR rewritten within the same second at a larger size was read
+// with the header OpenImageIO's ImageCache had kept of the first (a heap overflow, and the old
+// size). Every reader (compare, the metrics, the temporal measure, --env, masks) reads the file as
+// it is now.
+TEST(ImageFiles, AFileRewrittenWithinTheSecondIsReadAsItIsNow) {
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() / ("ivgi-rewritten-" + std::to_string(getpid()) + ".exr");
+  auto frame = [](uint32_t w, uint32_t h, float value) {
+    image::FrameChannels f{w, h, {}, {}, {}, {}};
+    for (auto* channel : {&f.radiance, &f.albedo, &f.normalDepth, &f.emission})
+      channel->assign(size_t(w) * h, glm::vec4(value, value, value, 1.0f));
+    return f;
+  };
+  image::writeExr(path.string(), frame(8, 6, 0.25f));
+  EXPECT_EQ(image::readLinearRgb(path.string()).width, 8u);
+  image::writeExr(path.string(), frame(40, 30, 0.5f));  // the same second, in all likelihood
+  const image::RgbImage now = image::readLinearRgb(path.string());
+  ASSERT_EQ(now.width, 40u);
+  ASSERT_EQ(now.height, 30u);
+  EXPECT_EQ(now.pixels.back(), glm::vec3(0.5f));
+  const OIIO::ImageBuf all = image::readFloatImage(path.string());
+  EXPECT_EQ(all.spec().width, 40);
+  EXPECT_EQ(all.spec().nchannels, 14);
+  std::filesystem::remove(path);
 }

@@ -15,6 +15,7 @@
 #include "engine/cli/options.h"
 #include "engine/image/compare.h"
 #include "engine/image/frame_image.h"
+#include "engine/image/image_file.h"
 #include "engine/image/metrics.h"
 #include "engine/image/temporal.h"
 
@@ -26,9 +27,7 @@ namespace fs = std::filesystem;
 
 // One flag per pixel: non-zero where the mask image's first channel is non-zero.
 std::vector<uint8_t> readMask(const std::string& path, const image::RgbImage& like) {
-  OIIO::ImageBuf buf(path);
-  if (!buf.read(0, 0, true, OIIO::TypeDesc::FLOAT))
-    throw std::runtime_error(path + ": cannot read the mask: " + buf.geterror());
+  const OIIO::ImageBuf buf = image::readFloatImage(path, "the mask");
   if (uint32_t(buf.spec().width) != like.width || uint32_t(buf.spec().height) != like.height)
     throw std::runtime_error(path + ": the mask is " + std::to_string(buf.spec().width) + "x" +
                              std::to_string(buf.spec().height) + ", the images " + std::to_string(like.width) + "x" +

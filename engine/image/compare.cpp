@@ -1,5 +1,7 @@
 #include "engine/image/compare.h"
 
+#include "engine/image/image_file.h"
+
 #include <OpenImageIO/imagebuf.h>
 
 #include <algorithm>
@@ -31,17 +33,11 @@ std::vector<int> layerChannels(const OIIO::ImageSpec& spec, const std::string& l
   return out;
 }
 
-OIIO::ImageBuf readFloat(const std::string& file) {
-  OIIO::ImageBuf buf(file);
-  if (!buf.read(0, 0, true, OIIO::TypeDesc::FLOAT)) throw std::runtime_error(file + ": cannot read: " + buf.geterror());
-  return buf;
-}
-
 }  // namespace
 
 std::vector<LayerDifference> compareLayers(const std::string& testFile, const std::string& refFile,
                                            const std::vector<LayerTolerance>& tolerances) {
-  OIIO::ImageBuf test = readFloat(testFile), ref = readFloat(refFile);
+  OIIO::ImageBuf test = readFloatImage(testFile), ref = readFloatImage(refFile);
   const auto &ts = test.spec(), &rs = ref.spec();
   if (ts.width != rs.width || ts.height != rs.height)
     throw std::runtime_error(testFile + ": " + std::to_string(ts.width) + "x" + std::to_string(ts.height) +

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "engine/image/colour.h"
+#include "engine/image/image_file.h"
 
 namespace ivgi::image {
 
@@ -23,9 +24,9 @@ OIIO::ImageBuf toBuffer(const RgbImage& image) {
 }  // namespace
 
 RgbImage readLinearRgb(const std::string& path) {
-  OIIO::ImageBuf buf(path);
-  if (!buf.init_spec(path, 0, 0)) throw std::runtime_error(path + ": cannot read: " + buf.geterror());
-  if (buf.spec().format != OIIO::TypeDesc::FLOAT && buf.spec().format != OIIO::TypeDesc::HALF)
+  OIIO::TypeDesc format;
+  const OIIO::ImageBuf buf = readFloatImage(path, "", &format);
+  if (format != OIIO::TypeDesc::FLOAT && format != OIIO::TypeDesc::HALF)
     throw std::runtime_error(path +
                              ": not a floating-point image: compare reads linear OpenEXR radiance as ivgi writes it");
   const auto& names = buf.spec().channelnames;
@@ -34,7 +35,6 @@ RgbImage readLinearRgb(const std::string& path) {
     for (int k = 0; k < 3; ++k)
       if (names[c] == std::string(1, "RGB"[k])) rgb[k] = c;
   if (rgb[0] < 0 || rgb[1] < 0 || rgb[2] < 0) throw std::runtime_error(path + ": no R, G, B channels");
-  if (!buf.read(0, 0, true, OIIO::TypeDesc::FLOAT)) throw std::runtime_error(path + ": cannot read: " + buf.geterror());
   RgbImage out{uint32_t(buf.spec().width), uint32_t(buf.spec().height), {}};
   out.pixels.resize(size_t(out.width) * out.height);
   std::vector<float> all(out.pixels.size() * buf.spec().nchannels);

@@ -1,5 +1,7 @@
 #include "engine/image/temporal.h"
 
+#include "engine/image/image_file.h"
+
 #include <OpenImageIO/imagebuf.h>
 
 #include <cmath>
@@ -16,8 +18,7 @@ struct Surfaces {
 };
 
 Surfaces readSurfaces(const std::string& path) {
-  OIIO::ImageBuf buf(path);
-  if (!buf.read(0, 0, true, OIIO::TypeDesc::FLOAT)) throw std::runtime_error(path + ": cannot read: " + buf.geterror());
+  const OIIO::ImageBuf buf = readFloatImage(path);
   const auto& spec = buf.spec();
   std::vector<int> at;
   for (const char* name : {"A", "Z", "N.X", "N.Y", "N.Z"}) {

@@ -1,5 +1,7 @@
 #include "engine/scene/environment.h"
 
+#include "engine/image/image_file.h"
+
 #include <OpenImageIO/imagebuf.h>
 
 #include <algorithm>
@@ -35,9 +37,12 @@ Environment Environment::parse(const std::string& spec) {
     env.constant_ = parseColour(spec);
     return env;
   }
-  OIIO_NAMESPACE::ImageBuf image(spec);
-  if (!image.read(0, 0, true, OIIO_NAMESPACE::TypeDesc::FLOAT))
-    throw LoadError(spec + ": cannot read the environment: " + image.geterror());
+  OIIO_NAMESPACE::ImageBuf image;
+  try {
+    image = image::readFloatImage(spec, "the environment");
+  } catch (const std::runtime_error& e) {
+    throw LoadError(e.what());
+  }
   const auto& is = image.spec();
   if (is.nchannels < 3 || is.width < 1 || is.height < 1) throw LoadError(spec + ": the environment needs RGB channels");
   const float* px = static_cast<const float*>(image.localpixels());
