@@ -360,3 +360,25 @@ TEST(TexturedAlbedo, ATiledRoomReflectsItsTilesNotItsGrout) {
     EXPECT_NEAR(meanOver(iv, from, to) / meanOver(pt, from, to), 1.0, 0.05) << "--tessellate " << tessellate;
   }
 }
+
+// Found by tests/fuzz/gltf_scene_fuzzer (UBSan: NaN converted to int in texelPair): texture
+// coordinates beyond float's range, here by a KHR_texture_transform that scales and offsets them
+// past it, made the sampler's texel index NaN cast to int, and so an index out of the texture on the
+// host and on the GPU. Such a coordinate reads as 0: every surfel's albedo is a texel's, in [0, 1].
+TEST(TexturedAlbedo, CoordinatesBeyondFloatsRangeReadAsZero) {
+  tinygltf::Model m = framedFloor();
+  const tinygltf::Value::Array huge{tinygltf::Value(3e38), tinygltf::Value(3e38)};
+  m.materials[0].pbrMetallicRoughness.baseColorTexture.extensions["KHR_texture_transform"] =
+      tinygltf::Value(tinygltf::Value::Object{{"scale", tinygltf::Value(huge)}, {"offset", tinygltf::Value(huge)}});
+  m.extensionsUsed.push_back("KHR_texture_transform");
+  const scene::Geometry g = scene::buildGeometry(scene::sceneFromModel(m, "huge-uv.gltf"), 0);
+  ASSERT_FALSE(g.surfelAlbedo.empty());
+  for (const glm::vec4& albedo : g.surfelAlbedo)
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_TRUE(std::isfinite(albedo[c]));
+      EXPECT_GE(albedo[c], 0.0f);
+      EXPECT_LE(albedo[c], 1.0f);
+    }
+  const glm::vec4 atZero = scene::sampleTexture(g, g.materials[0].baseColorTexture, {0.0f, 0.0f});
+  EXPECT_EQ(scene::sampleTexture(g, g.materials[0].baseColorTexture, {1.0f, 1.0f}), atZero);
+}

@@ -123,6 +123,9 @@ IVGI_FN vec2 transformedUv(Texture t, vec2 uv) {
 // mode (33071 CLAMP_TO_EDGE, 33648 MIRRORED_REPEAT, else REPEAT). No integer division: lavapipe
 // runs it one lane at a time.
 IVGI_FN ivec2 texelPair(float u, int size, uint mode, IVGI_OUT(float) weight) {
+  // A coordinate beyond float's range (huge UVs interpolated, a transform scaling them past it) has
+  // no texel: it reads as 0, not as an index out of the texture.
+  if (!(abs(u) < 1e30f)) u = 0.0f;
   if (mode == 33648u) {
     float t = fract(u * 0.5f) * 2.0f;
     u = t < 1.0f ? t : 2.0f - t;
