@@ -18,7 +18,7 @@ void blendSkin(Primitive& p, uint32_t a, uint32_t b) {
   std::array<std::pair<float, uint32_t>, 8> merged{};
   size_t count = 0;
   for (const auto& [w, j] : all) {
-    const uint32_t joint = j;  // a structured binding is no lambda capture before C++20's clang 16
+    const uint32_t joint = j;  // clang 14 cannot capture a structured binding in a lambda
     auto it =
         std::find_if(merged.begin(), merged.begin() + long(count), [&](const auto& m) { return m.second == joint; });
     if (it != merged.begin() + long(count))
