@@ -160,10 +160,6 @@ Program::Program(const Context& ctx, std::string name, std::span<const uint32_t>
     key += " " + std::string(constant) + "=" + std::to_string(value);
   compiled_ = std::static_pointer_cast<const Compiled>(
       ctx.shared(key, [&] { return std::shared_ptr<const void>(compile(code, specialization)); }));
-  slots_ = compiled_->slots;
-  texelViews_ = compiled_->texelViews;
-  pushBytes_ = compiled_->pushBytes;
-  std::copy(compiled_->localSize, compiled_->localSize + 3, localSize_);
 }
 
 std::shared_ptr<Program::Compiled> Program::compile(std::span<const uint32_t> code,
@@ -272,31 +268,32 @@ void Program::finish(VkCommandBuffer cmd, bool timed) const {
 }
 
 bool Program::bind(VkCommandBuffer cmd, const Bindings& bindings, const void* push, uint32_t pushBytes) const {
-  if (pushBytes != pushBytes_)
-    throw VulkanError("pass " + name_ + " takes " + std::to_string(pushBytes_) + " push-constant bytes, given " +
-                      std::to_string(pushBytes));
-  const uint32_t n = uint32_t(slots_.size());
+  if (pushBytes != compiled_->pushBytes)
+    throw VulkanError("pass " + name_ + " takes " + std::to_string(compiled_->pushBytes) +
+                      " push-constant bytes, given " + std::to_string(pushBytes));
+  const uint32_t n = uint32_t(compiled_->slots.size());
   std::vector<const Buffer*> bound(n, nullptr);
   std::vector<bool> listed(n, false);
   for (const Bindings::Entry& e : bindings.entries_) {
-    auto it = std::find_if(slots_.begin(), slots_.end(), [&](const Slot& s) { return s.name == e.name; });
-    if (it == slots_.end()) {
+    auto it =
+        std::find_if(compiled_->slots.begin(), compiled_->slots.end(), [&](const Slot& s) { return s.name == e.name; });
+    if (it == compiled_->slots.end()) {
       if (e.listed) throw VulkanError("pass " + name_ + " has no binding named '" + std::string(e.name) + "'");
       continue;  // a pool's buffer this shader does not read
     }
-    const size_t i = size_t(it - slots_.begin());
+    const size_t i = size_t(it - compiled_->slots.begin());
     if (e.listed && listed[i]) throw VulkanError("pass " + name_ + ": '" + std::string(e.name) + "' is bound twice");
     if (!bound[i]) bound[i] = e.buffer, listed[i] = e.listed;  // listed ones come first
   }
   std::vector<VkDescriptorBufferInfo> infos(n);
   uint32_t viewCount = 0;
-  for (const Slot& slot : slots_) viewCount += slot.parts;
+  for (const Slot& slot : compiled_->slots) viewCount += slot.parts;
   std::vector<VkBufferView> views;
   views.reserve(viewCount);  // the writes point into it
   std::vector<VkWriteDescriptorSet> writes(n, {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET});
   for (uint32_t i = 0; i < n; ++i) {
     const Buffer* b = bound[i];
-    const Slot& slot = slots_[i];
+    const Slot& slot = compiled_->slots[i];
     if (!b) throw VulkanError("pass " + name_ + ": no buffer given for its binding '" + slot.name + "'");
     VkWriteDescriptorSet& w = writes[i];
     w.dstBinding = i;
@@ -318,7 +315,8 @@ bool Program::bind(VkCommandBuffer cmd, const Bindings& bindings, const void* pu
   }
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, compiled_->pipeline);
   if (n) ctx_.cmdPushDescriptorSet(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, compiled_->layout, 0, n, writes.data());
-  if (pushBytes_) vkCmdPushConstants(cmd, compiled_->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, pushBytes_, push);
+  if (compiled_->pushBytes)
+    vkCmdPushConstants(cmd, compiled_->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, compiled_->pushBytes, push);
   PassTimer* timer = ctx_.dispatchTimer();
   if (!timer || timer->room() == 0) return false;
   timer->begin(cmd, name_);
@@ -328,7 +326,7 @@ bool Program::bind(VkCommandBuffer cmd, const Bindings& bindings, const void* pu
 void Program::addTexelViews(const Buffer& buffer, const Slot& slot, std::vector<VkBufferView>& views) const {
   const uint64_t texels = buffer.size() / slot.texelBytes;
   const uint64_t perView = slot.parts > 1 ? uint64_t(1) << ctx_.texelPartBits() : ctx_.limits().maxTexelBufferElements;
-  const uint32_t read = slot.parts > 1 ? std::min(texelViews_, slot.parts) : 1;
+  const uint32_t read = slot.parts > 1 ? std::min(compiled_->texelViews, slot.parts) : 1;
   if (texels > perView * read)
     throw VulkanError("pass " + name_ + ": '" + slot.name + "' of " + std::to_string(buffer.size()) +
                       " bytes exceeds the " + std::to_string(read) + " view(s) of " + std::to_string(perView) +

@@ -88,8 +88,8 @@ class Program {
   Program& operator=(const Program&) = delete;
 
   const std::string& name() const { return name_; }
-  uint32_t localSizeX() const { return localSize_[0]; }
-  uint32_t pushConstantBytes() const { return pushBytes_; }
+  uint32_t localSizeX() const { return compiled_->localSize[0]; }
+  uint32_t pushConstantBytes() const { return compiled_->pushBytes; }
 
   // Binds every binding of the shader by its name, pushes the constants, dispatches `groups`, and
   // records the barrier after it.
@@ -117,7 +117,7 @@ class Program {
   // limit; shaders read their item with itemIndex() from common.glsl and test it against the count).
   template <class Push>
   void dispatchItems(VkCommandBuffer cmd, uint64_t items, const Bindings& bindings, const Push& push) const {
-    dispatch(cmd, groupsFor(items, localSize_[0]), bindings, push);
+    dispatch(cmd, groupsFor(items, compiled_->localSize[0]), bindings, push);
   }
   // Workgroups for `count` items of `perGroup` each, laid out over x then y.
   Groups groupsFor(uint64_t count, uint32_t perGroup) const;
@@ -146,7 +146,8 @@ class Program {
     VkPipelineLayout layout = VK_NULL_HANDLE;
     VkPipeline pipeline = VK_NULL_HANDLE;
     std::vector<Slot> slots;
-    uint32_t texelViews = 1, pushBytes = 0;
+    uint32_t texelViews = 1;  // the views of an imageBuffer array the shader reads (parted_texels.glsl)
+    uint32_t pushBytes = 0;
     uint32_t localSize[3] = {1, 1, 1};
     ~Compiled();
   };
@@ -158,10 +159,6 @@ class Program {
   // The views of `buffer` that `slot` binds: the whole buffer, or for an array view p from texel
   // p << texelPartBits (views past the buffer's end repeat the first: bound, never read).
   void addTexelViews(const Buffer& buffer, const Slot& slot, std::vector<VkBufferView>& views) const;
-  std::vector<Slot> slots_;
-  uint32_t texelViews_ = 1;  // the views of an imageBuffer array the shader reads (parted_texels.glsl)
-  uint32_t pushBytes_ = 0;
-  uint32_t localSize_[3] = {1, 1, 1};
 };
 
 }  // namespace ivgi::vk
