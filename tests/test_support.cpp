@@ -1,6 +1,7 @@
 #include "tests/test_support.h"
 
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdlib>
@@ -10,6 +11,7 @@
 
 #include <OpenImageIO/imagebuf.h>
 
+#include "engine/cli/app.h"
 #include "scenes/builtin.h"
 
 namespace ivgi::test {
@@ -60,7 +62,44 @@ std::vector<std::string> Run::errLines() const {
   return lines;
 }
 
+namespace {
+
+// The whole of what `file` holds.
+std::string readAll(std::FILE* file) {
+  std::string text;
+  std::rewind(file);
+  char chunk[4096];
+  for (size_t n; (n = std::fread(chunk, 1, sizeof chunk, file)) > 0;) text.append(chunk, n);
+  return text;
+}
+
+// Runs the command line in this process on its device, its stdout and stderr caught in files.
+Run runHere(const std::vector<std::string>& args) {
+  vk::Context& device = gpu();
+  std::vector<std::string> all = {IVGI_BINARY};
+  all.insert(all.end(), args.begin(), args.end());
+  std::fflush(stdout), std::fflush(stderr);
+  std::FILE *out = std::tmpfile(), *err = std::tmpfile();
+  const int keptOut = dup(STDOUT_FILENO), keptErr = dup(STDERR_FILENO);
+  dup2(fileno(out), STDOUT_FILENO), dup2(fileno(err), STDERR_FILENO);
+  Run r;
+  r.status = cli::run(all, &device);
+  std::fflush(stdout), std::fflush(stderr);
+  dup2(keptOut, STDOUT_FILENO), dup2(keptErr, STDERR_FILENO);
+  close(keptOut), close(keptErr);
+  r.out = readAll(out), r.err = readAll(err);
+  std::fclose(out), std::fclose(err);
+  return r;
+}
+
+}  // namespace
+
 Run runIvgi(const std::vector<std::string>& args, const std::map<std::string, std::string>& env) {
+  if (env.empty() && std::find(args.begin(), args.end(), "--device") == args.end()) return runHere(args);
+  return runIvgiProcess(args, env);
+}
+
+Run runIvgiProcess(const std::vector<std::string>& args, const std::map<std::string, std::string>& env) {
   static int counter = 0;
   auto dir = std::filesystem::temp_directory_path() /
              ("ivgi-run-" + std::to_string(getpid()) + "-" + std::to_string(counter++));

@@ -1,6 +1,6 @@
 #pragma once
-// Helpers shared by the tests: one Vulkan context per test process (validation on), running the
-// ivgi binary, the real glTF assets, scratch folders.
+// Helpers shared by the tests: one Vulkan context per test process (validation on), running ivgi's
+// command line, the real glTF assets, scratch folders.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -29,8 +29,11 @@ struct Run {
   std::string out, err;
   std::vector<std::string> errLines() const;
 };
-// Runs build/ivgi with `args` (validation on) and waits.
+// Runs the command line `ivgi ARGS`, validation on: in this process on gpu() (cli::run), or, where
+// `env` sets variables or the args name a --device, as build/ivgi in a process of its own.
 Run runIvgi(const std::vector<std::string>& args, const std::map<std::string, std::string>& env = {});
+// Runs build/ivgi with `args` (validation on) in a process of its own and waits.
+Run runIvgiProcess(const std::vector<std::string>& args, const std::map<std::string, std::string>& env = {});
 
 // ../shared/data/gltf beside the checkout, when present.
 std::optional<std::filesystem::path> sharedGltfDir();

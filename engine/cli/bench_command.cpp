@@ -110,7 +110,8 @@ int runBench(const BenchOptions& o) {
   const Timeline tl = timeline(s, "", o.fps);
   const int animation = tl.animation;
 
-  vk::Context ctx({.device = o.device});
+  const std::shared_ptr<vk::Context> device = openDevice(o.device);
+  vk::Context& ctx = *device;
   gi::FrameRenderer renderer(ctx, g, image, makeSolver(solver, ctx, s, g, animation));
   if (o.perProgram) renderer.timePrograms();
   const FrameCamera camera(s, g, tl, o.fps, "", {0}, float(image.width) / float(image.height));

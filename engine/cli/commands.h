@@ -17,6 +17,17 @@
 
 namespace ivgi::cli {
 
+// The Vulkan device a command runs on: --device (a name substring, index or UUID; empty: IVGI_DEVICE,
+// else the best), unless the program running the command line lent its own (run()): a program that
+// runs many commands in one process (the tests) spares each the device's creation and the
+// compilation of its pipelines.
+struct DeviceChoice {
+  std::string name;
+  vk::Context* lent = nullptr;  // used when `name` is empty
+};
+// The device `choice` names: the lent one, or one opened now and closed with the last reference.
+std::shared_ptr<vk::Context> openDevice(const DeviceChoice& choice);
+
 struct SceneChoice {
   std::string scene;  // a .gltf/.glb path or a built-in name; empty: the animated Cornell box
   int cells = 8;      // tessellation of the built-in scenes
@@ -77,7 +88,8 @@ struct RenderOptions {
   std::string formats = "exr,png";
   std::string tonemap = "aces";
   float exposure = 0.0f;
-  std::string camera, animation, device, json;
+  std::string camera, animation, json;
+  DeviceChoice device;
   bool resume = false;
   std::string shard;  // "I/N" or "slurm"; empty: every frame
 };
@@ -95,6 +107,7 @@ struct InfoOptions {
   SceneChoice source;
   SolverOptions solver;
   bool memory = false;  // set when --method is given: report the solver's memory
+  DeviceChoice device;  // where the solver's memory is measured
 };
 int runInfo(const InfoOptions& options);
 
@@ -114,7 +127,8 @@ struct BenchOptions {
   double fps = 24.0;
   std::string size = "320x240";
   uint32_t supersample = 1;  // N×N samples per pixel
-  std::string device, json;
+  std::string json;
+  DeviceChoice device;
   bool perProgram = false;  // also time every dispatch, by program
   // --equal-error: iv's time and relMSE against a converged pt reference of one frame, and the time
   // pt needs to reach that relMSE.
@@ -159,7 +173,8 @@ struct SweepOptions {
               receiverTolerances = "0.2";
   std::string dirs = "4";  // ar's direction resolutions
   uint32_t tessellation = SolverOptions{}.tessellation;
-  std::string environment, camera, animation, device;
+  std::string environment, camera, animation;
+  DeviceChoice device;
   int frame = 0;
   double fps = 24.0;
   int repeats = 3, warmup = 1;

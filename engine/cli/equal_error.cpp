@@ -62,7 +62,8 @@ int runEqualError(const BenchOptions& o) {
   const auto pose = scene::evaluatePose(s, tl.animation, float(tl.time(o.frame, o.fps)));
   const auto view = camera.at(pose);
   // The renderer first: its settings are checked before the reference takes its time.
-  vk::Context ctx({.device = o.device});
+  const std::shared_ptr<vk::Context> device = openDevice(o.device);
+  vk::Context& ctx = *device;
   gi::FrameRenderer renderer(ctx, g, image, makeSolver(solver, ctx, s, g, tl.animation));
 
   // The reference: given, or rendered now with seed 0 (the measured pt runs use seed 1).

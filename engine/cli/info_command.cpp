@@ -90,7 +90,8 @@ int runInfo(const InfoOptions& o) {
         "x RGBA32F = %.1f MiB\n",
         ar.dirs, ar.dirs, h.nodes.size(), sampled.surfels.size(), 6 * ar.dirs * ar.dirs,
         chained ? ", the chain's start" : "", double(tables) / (1 << 20));
-    vk::Context ctx;
+    const std::shared_ptr<vk::Context> device = openDevice(o.device);
+    vk::Context& ctx = *device;
     gi::FrameRenderer renderer(ctx, sampled, {16, 16, 1},
                                makeSolver(solver, ctx, s, sampled, s.animations.empty() ? -1 : 0, &h));
     solveFrameZero(renderer, s, sampled);
@@ -99,7 +100,8 @@ int runInfo(const InfoOptions& o) {
                 st.links, st.iterations, double(st.bytes) / (1 << 20), ctx.info().name.c_str());
   }
   if (o.memory && solver.method == "iv") {
-    vk::Context ctx;
+    const std::shared_ptr<vk::Context> device = openDevice(o.device);
+    vk::Context& ctx = *device;
     g = renderableGeometry(s, solver);
     gi::FrameRenderer renderer(ctx, g, {16, 16, 1}, makeSolver(solver, ctx, s, g, s.animations.empty() ? -1 : 0));
     solveFrameZero(renderer, s, g);

@@ -89,7 +89,7 @@ int runRender(const RenderOptions& o) {
   for (const auto& w : s.warnings) std::fprintf(stderr, "ivgi: warning: %s: %s\n", s.source.c_str(), w.c_str());
 
   // The frame source: the GPU pipeline (iv, none) or the Embree path tracer (pt, no Vulkan).
-  std::unique_ptr<vk::Context> ctx;
+  std::shared_ptr<vk::Context> ctx;
   std::unique_ptr<gi::FrameRenderer> renderer;
   std::optional<scene::Environment> environment;
   const reference::PathSettings ptSettings = pathSettings(o.pt, solver);
@@ -98,7 +98,7 @@ int runRender(const RenderOptions& o) {
       throw SettingsError("--supersample: pt spreads its --spp samples over each pixel; leave --supersample at 1");
     if (!solver.environment.empty()) environment = scene::Environment::parse(solver.environment);
   } else {
-    ctx = std::make_unique<vk::Context>(vk::ContextOptions{.device = o.device});
+    ctx = openDevice(o.device);
     renderer = std::make_unique<gi::FrameRenderer>(*ctx, g, image, makeSolver(solver, *ctx, s, g, tl.animation));
   }
   const bool geometryAnimated = scene::animationMovesGeometry(s, tl.animation);

@@ -9,6 +9,11 @@
 
 namespace ivgi::cli {
 
+std::shared_ptr<vk::Context> openDevice(const DeviceChoice& choice) {
+  if (choice.lent && choice.name.empty()) return {std::shared_ptr<vk::Context>{}, choice.lent};  // not owned
+  return std::make_shared<vk::Context>(vk::ContextOptions{.device = choice.name});
+}
+
 scene::Scene loadScene(const SceneChoice& choice) {
   const std::string& name = choice.scene.empty() ? "cornell" : choice.scene;
   auto builtins = scenes::builtinSceneNames();

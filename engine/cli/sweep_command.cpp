@@ -169,7 +169,8 @@ int runSweep(const SweepOptions& o) {
   const auto inputs = g.frameInputs(s, pose);
   const auto lights = scene::worldLights(s, pose);
 
-  vk::Context ctx({.device = o.device});
+  const std::shared_ptr<vk::Context> device = openDevice(o.device);
+  vk::Context& ctx = *device;
   // Every timed render solves the frame as a later frame of the animation does: refit, links and
   // pruning of what moves, bounces (what cannot move is linked by the warm-up render).
   std::vector<Row> rows;
