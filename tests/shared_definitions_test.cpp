@@ -54,8 +54,7 @@ TEST(SharedDefinitions, GlslAndCppAgree) {
   view.right = glm::normalize(glm::cross(view.forward, glm::vec3(0, 1, 0)));
   view.up = glm::cross(view.right, view.forward);
   view.yfov = 0.6f;
-  const gpu::RasterPush push{
-      .camera = scene::gpuCamera(view, 1.5f), .size = {48, 32}, .triangleCount = uint32_t(cs.size())};
+  const gpu::ResolvePush push{.camera = scene::gpuCamera(view, 1.5f), .size = {48, 32}, .samples = uint32_t(cs.size())};
   ctx.submitAndWait([&](VkCommandBuffer cmd) {
     program.dispatchItems(cmd, cs.size(),
                           {{"cases", in}, {"keys", keys}, {"pairs", pairs}, {"rays", rays}, {"staticBins", staticBins}},

@@ -7,14 +7,6 @@
 
 namespace ivgi::gi {
 
-namespace {
-
-// The most 8×8-sample tiles one raster workgroup walks of each of its large triangles (raster.comp):
-// 64 triangles' tiles and tile rows stay within lavapipe's loop budget of 65,535 (common.glsl).
-constexpr uint32_t kRasterTilesPerSlice = 448;
-
-}  // namespace
-
 void validate(const ImageSettings& s, const vk::Context& ctx) {
   const auto& lim = ctx.limits();
   const std::string size = "--size " + std::to_string(s.width) + "x" + std::to_string(s.height);
@@ -41,13 +33,12 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
       solver_(std::move(solver)),
       animate_(shaderProgram(ctx, "animate")),
       surfelUpdate_(shaderProgram(ctx, "surfels")),
-      rasterSlices_(shaderProgram(ctx, "raster_slices", {.constants = {{"kTilesPerSlice", kRasterTilesPerSlice}}})),
-      raster_(shaderProgram(ctx, "raster", {.constants = {{"kTilesPerSlice", kRasterTilesPerSlice}}})),
       vertexIrradiance_(shaderProgram(ctx, "vertex_irradiance")),
       resolve_(shaderProgram(ctx, "resolve",
                              {.constants = {{"kTextured", g.textures.empty() ? 0u : 1u},
                                             {"kLit", solver_ ? 1u : 0u},
                                             {"kColored", g.vertexColors ? 1u : 0u}}})),
+      raster_(ctx, triangleCount_, &allocations_),
       timer_(ctx) {
   validate(image, ctx);
   using vk::Memory;
@@ -72,8 +63,7 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
   unlitIrradiance_ = vk::Buffer(ctx, 16, Memory::Device, tally);
   shownIrradiance_ =
       vk::Buffer(ctx, std::max<size_t>(solver_ ? surfelCount_ : 0, 1) * sizeof(glm::vec4), Memory::Device, tally);
-  const vk::Groups groups = raster_.groupsFor(triangleCount_, 64);
-  rasterArgs_ = upload(std::vector<uint32_t>{groups.x, groups.y, 1u});  // z: raster_slices each frame
+  view_ = vk::Buffer(ctx, sizeof(gpu::Camera), Memory::Device, tally);
 }
 
 FrameRenderer::~FrameRenderer() {
@@ -108,7 +98,6 @@ vk::Bindings FrameRenderer::pool() const {
                              {"world", world_},
                              {"surfels", surfels_},
                              {"visibility", visibility_},
-                             {"rasterArgs", rasterArgs_},
                              {"surfelIrradiance", solver_ ? solver_->irradiance() : unlitIrradiance_},
                              {"vertexIrradiance", shownIrradiance_},
                              {"radiance", radiance_},
@@ -131,11 +120,8 @@ bool FrameRenderer::recordFrame(VkCommandBuffer cmd, const gpu::Camera& camera, 
             [&] { surfelUpdate_.dispatchItems(cmd, surfelCount_, buffers, gpu::CountPush{.count = surfelCount_}); });
   if (solver_) solver_->record(cmd, timer_, surfels_, geometryMoved);
   timedPass(cmd, timer_, "raster", [&] {
-    const gpu::RasterPush push{.camera = camera, .size = fine, .triangleCount = triangleCount_};
-    vk::fillBuffer(cmd, visibility_, 0xFFFFFFFFu);
-    vk::fillBuffer(cmd, rasterArgs_, 1u, 2 * sizeof(uint32_t), sizeof(uint32_t));
-    rasterSlices_.dispatchItems(cmd, triangleCount_, buffers, push);
-    raster_.dispatchIndirect(cmd, rasterArgs_, 0, buffers, push);
+    vk::updateBuffer(cmd, view_, 0, sizeof camera, &camera);
+    raster_.record(cmd, buffers, view_, 1, fine, visibility_);
   });
   if (solver_ && solver_->solvePending()) return false;
   recordResolve(cmd, camera);

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/gi/raster.h"
 #include "engine/gi/solver.h"
 #include "engine/image/frame_image.h"
 #include "engine/scene/camera.h"
@@ -75,10 +76,11 @@ class FrameRenderer {
   // Per frame.
   vk::Buffer matrices_, morphWeights_, world_, surfels_, visibility_, unlitIrradiance_;
   vk::Buffer shownIrradiance_;  // the solver's irradiance carried to each surfel's vertex (vertex_irradiance)
-  vk::Buffer rasterArgs_;       // the raster's dispatch, its z counted by raster_slices
+  vk::Buffer view_;             // the camera, the raster's one view
   vk::Buffer radiance_, albedo_, normalDepth_, emission_;  // mapped: the image channels
   std::unique_ptr<Solver> solver_;
-  vk::Program animate_, surfelUpdate_, rasterSlices_, raster_, vertexIrradiance_, resolve_;
+  vk::Program animate_, surfelUpdate_, vertexIrradiance_, resolve_;
+  Raster raster_;
   vk::PassTimer timer_;
   std::optional<vk::PassTimer> programTimer_;  // timePrograms()
 };

@@ -1,5 +1,7 @@
 #version 460
-// The raster pass: each invocation takes a triangle and projects it. One whose screen bounds
+// The raster pass: each invocation takes a triangle and projects it into one view (a camera, or a
+// face of a light's cube of depth maps): workgroups z are the views, each in as many slices as the
+// largest bounds need. One whose screen bounds
 // hold at most kSmallBounds samples it walks itself, sample by sample; the workgroup walks each
 // larger one together, in 8×8 tiles (no integer division in the loops: lavapipe divides one lane
 // at a time). At every sample the camera ray through its centre is cast and the nearest hit kept
@@ -7,8 +9,7 @@
 // tessellated scene go 64 to a workgroup. A workgroup walks at most kTilesPerSlice tiles of each
 // large triangle, so that its subgroups stay within lavapipe's loop budget (common.glsl; past it a
 // triangle would silently lose some of its samples); bounds holding more are cut into slices of
-// tiles, slice z walked by workgroups z (raster_slices counts as many as the frame's largest bounds
-// need).
+// tiles, a workgroup a slice (raster_slices counts as many as the largest bounds need).
 #extension GL_GOOGLE_include_directive : require
 #include "common/common.glsl"
 layout(local_size_x = 64) in;
@@ -17,32 +18,41 @@ layout(constant_id = 0) const int kTilesPerSlice = 448;
 
 layout(binding = 0, rgba32f) readonly uniform imageBuffer world;        // WorldVertex: position, normal
 layout(binding = 1, rgba32ui) readonly uniform uimageBuffer triangles;  // Triangle
-layout(std430, binding = 2) buffer Visibility { uint64_t visibility[]; };
+layout(std430, binding = 2) buffer Visibility { uint64_t visibility[]; };  // view after view
+layout(std430, binding = 3) readonly buffer Views { Camera views[]; };    // a view whose near is < 0: none
 layout(push_constant) uniform Push { RasterPush push; };
 #include "raster_bounds.glsl"
 
 shared uint largeCount;
 shared uint large[64];
 
+Camera camera;  // the workgroup's view
+uint viewStart;  // its first sample in `visibility`
+
 void castSample(uint tri, Projected t, ivec2 px) {
-  vec3 dir = cameraRay(push.camera, vec2(px) + 0.5, push.size);
+  vec3 dir = cameraRay(camera, vec2(px) + 0.5, push.size);
   float depth;
   vec2 uv;
-  if (!intersectTriangle(push.camera.origin.xyz, dir, t.a, t.b, t.c, depth, uv)) return;
-  if (depth <= push.camera.origin.w || (push.camera.forward.w > 0.0 && depth > push.camera.forward.w)) return;
-  atomicMin(visibility[uint(px.y) * push.size.x + uint(px.x)], packDepthKey(depth, tri));
+  if (!intersectTriangle(camera.origin.xyz, dir, t.a, t.b, t.c, depth, uv)) return;
+  if (depth <= camera.origin.w || (camera.forward.w > 0.0 && depth > camera.forward.w)) return;
+  atomicMin(visibility[viewStart + uint(px.y) * push.size.x + uint(px.x)], packDepthKey(depth, tri));
 }
 
 void main() {
+  const uint slices = gl_NumWorkGroups.z / push.viewCount, view = gl_WorkGroupID.z / slices,
+             slice = gl_WorkGroupID.z - view * slices;
+  camera = views[view];
+  if (camera.origin.w < 0.0) return;  // the whole workgroup: no view
+  viewStart = view * push.size.x * push.size.y;
   const uint lid = gl_LocalInvocationID.x;
   if (lid == 0u) largeCount = 0u;
   barrier();
   const uint tri = itemIndex();
   if (tri < push.triangleCount) {
-    const Projected t = projected(tri);
+    const Projected t = projected(camera, tri);
     if (isLarge(t))
       large[atomicAdd(largeCount, 1u)] = tri;
-    else if (gl_WorkGroupID.z == 0u)  // empty bounds walk nothing
+    else if (slice == 0u)  // empty bounds walk nothing
       for (int y = t.lo.y; y <= t.hi.y; ++y)
         for (int x = t.lo.x; x <= t.hi.x; ++x) castSample(tri, t, ivec2(x, y));
   }
@@ -52,9 +62,9 @@ void main() {
   const ivec2 lane = ivec2(lid & 7u, lid >> 3u);
   for (uint k = 0u; k < largeCount; ++k) {
     const uint tri = large[k];
-    const Projected t = projected(tri);
+    const Projected t = projected(camera, tri);
     const Slicing s = slicing(t, kTilesPerSlice);
-    const int z = int(gl_WorkGroupID.z), rowBlock = z / s.columnBlocks, columnBlock = z - rowBlock * s.columnBlocks;
+    const int z = int(slice), rowBlock = z / s.columnBlocks, columnBlock = z - rowBlock * s.columnBlocks;
     const ivec2 first = t.lo + 8 * ivec2(s.columns * columnBlock, s.rows * rowBlock),
                 last = min(t.hi, first + 8 * ivec2(s.columns, s.rows) - 1);
     for (int y = first.y; y <= last.y; y += 8)

@@ -1,20 +1,16 @@
-// A triangle's screen bounds and how the rasteriser walks them (raster.comp, raster_slices.comp).
-// Expects `world`, `triangles` and `push` (RasterPush) declared before it.
+// A triangle's bounds in a view and how the rasteriser walks them (raster.comp, raster_slices.comp).
+// Expects `world`, `triangles`, `views` and `push` (RasterPush) declared before it.
 
 // Bounds holding at most this many samples are walked by the triangle's own invocation.
 const int kSmallBounds = 256;
 
-// Sample-space x/y of a world point, or false when it lies at or behind the near plane.
-bool project(vec3 p, out vec2 s) {
-  vec3 d = p - push.camera.origin.xyz;
-  float z = dot(d, push.camera.forward.xyz);
-  s = vec2(0.0);
-  if (z <= push.camera.origin.w) return false;
-  vec2 ndc = vec2(dot(d, push.camera.right.xyz) / dot(push.camera.right.xyz, push.camera.right.xyz),
-                  dot(d, push.camera.up.xyz) / dot(push.camera.up.xyz, push.camera.up.xyz)) /
-             z;
-  s = vec2((ndc.x + 1.0) * 0.5 * float(push.size.x), (1.0 - ndc.y) * 0.5 * float(push.size.y));
-  return true;
+// Sample-space x/y of a world point at distance z (> 0) along the view's forward axis.
+vec2 projectAt(Camera camera, vec3 p, float z) {
+  const vec3 d = p - camera.origin.xyz;
+  const vec2 ndc = vec2(dot(d, camera.right.xyz) / dot(camera.right.xyz, camera.right.xyz),
+                        dot(d, camera.up.xyz) / dot(camera.up.xyz, camera.up.xyz)) /
+                   z;
+  return vec2((ndc.x + 1.0) * 0.5 * float(push.size.x), (1.0 - ndc.y) * 0.5 * float(push.size.y));
 }
 
 // Triangle `tri`'s corners and its screen bounds (empty: nothing of it on screen).
@@ -22,20 +18,35 @@ struct Projected {
   vec3 a, b, c;
   ivec2 lo, hi;
 };
-Projected projected(uint tri) {
+// The bounds are those of the part of the triangle beyond the near plane (the triangle clipped by
+// it), so that a triangle reaching behind the camera walks only what it can cover, and one wholly
+// behind walks nothing.
+Projected projected(Camera camera, uint tri) {
   Projected t;
   uvec4 v = imageLoad(triangles, int(tri));
   t.a = imageLoad(world, int(2u * v.x)).xyz, t.b = imageLoad(world, int(2u * v.y)).xyz,
   t.c = imageLoad(world, int(2u * v.z)).xyz;
-  vec2 pa, pb, pc;
-  t.lo = ivec2(0), t.hi = ivec2(push.size) - 1;
-  if (project(t.a, pa) && project(t.b, pb) && project(t.c, pc)) {
-    vec2 mn = min(pa, min(pb, pc)), mx = max(pa, max(pb, pc));
-    if (mx.x < -1.0 || mx.y < -1.0 || mn.x > float(push.size.x) + 1.0 || mn.y > float(push.size.y) + 1.0)
-      t.hi = ivec2(-1);
-    t.lo = max(t.lo, ivec2(floor(mn)) - 1);
-    t.hi = min(t.hi, ivec2(ceil(mx)));
-  }  // else: a vertex behind the near plane, so the whole image is a conservative bound
+  const vec3 corner[3] = vec3[3](t.a, t.b, t.c);
+  const float near = camera.origin.w;
+  float z[3];
+  for (int i = 0; i < 3; ++i) z[i] = dot(corner[i] - camera.origin.xyz, camera.forward.xyz);
+  vec2 mn = vec2(3.4e38), mx = vec2(-3.4e38);
+  for (int i = 0; i < 3; ++i) {
+    const int j = i == 2 ? 0 : i + 1;
+    if (z[i] > near) {
+      const vec2 s = projectAt(camera, corner[i], z[i]);
+      mn = min(mn, s), mx = max(mx, s);
+    }
+    if ((z[i] > near) != (z[j] > near)) {  // the edge crosses the near plane: where it does
+      const vec2 s = projectAt(camera, mix(corner[i], corner[j], (near - z[i]) / (z[j] - z[i])), near);
+      mn = min(mn, s), mx = max(mx, s);
+    }
+  }
+  const vec2 far = vec2(push.size) + 2.0;  // past it, bounds convert to int safely and stay off screen
+  t.lo = max(ivec2(0), ivec2(clamp(floor(mn), vec2(-2.0), far)) - 1);
+  t.hi = min(ivec2(push.size) - 1, ivec2(clamp(ceil(mx), vec2(-2.0), far)));
+  if (mx.x < -1.0 || mx.y < -1.0 || mn.x > float(push.size.x) + 1.0 || mn.y > float(push.size.y) + 1.0)
+    t.hi = ivec2(-1);  // off screen, or wholly behind the near plane (mn > mx)
   return t;
 }
 

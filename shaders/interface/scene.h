@@ -171,10 +171,9 @@ IVGI_FN float lightFalloff(PunctualLight light, vec3 p, IVGI_OUT(vec3) toLight, 
 // ---- Push constants of the frame's passes ----
 
 struct RasterPush {  // raster_slices, raster
-  Camera camera;
-  uvec2 size;  // the image in samples
+  uvec2 size;  // a view's image in samples
   uint triangleCount;
-  uint pad;
+  uint viewCount;
 };
 struct ResolvePush {  // resolve
   Camera camera;

@@ -15,11 +15,11 @@ layout(std430, binding = 1) writeonly buffer Keys { uint64_t keys[]; };
 layout(std430, binding = 2) writeonly buffer Pairs { vec4 pairs[]; };  // texel pair, weight, key round trip
 layout(std430, binding = 3) writeonly buffer Rays { vec4 rays[]; };
 layout(std430, binding = 4) writeonly buffer StaticBins { uvec4 staticBins[]; };  // packed, bin, coverage
-layout(push_constant) uniform Push { RasterPush push; };  // the raster's camera; triangleCount: the cases
+layout(push_constant) uniform Push { ResolvePush push; };  // the resolve's camera; samples: the cases
 
 void main() {
   uint i = itemIndex();
-  if (i >= push.triangleCount) return;
+  if (i >= push.samples) return;
   Case c = cases[i];
   uint64_t key = packDepthKey(c.value, c.id);
   keys[i] = key;

@@ -1,0 +1,27 @@
+#pragma once
+// The raster (shaders/frame/raster_slices.comp, raster.comp): the nearest triangle at every sample of
+// one or more views, as 64-bit depth and triangle keys, the views one after another in the target.
+// The camera's view is one; a light's depth maps are the faces of a cube around each of its samples.
+#include "engine/vk/buffer.h"
+#include "engine/vk/program.h"
+#include "shaders/interface.h"
+
+namespace ivgi::gi {
+
+class Raster {
+ public:
+  Raster(const vk::Context& ctx, uint32_t triangleCount, vk::Allocations* tally);
+
+  // Rasterizes the triangles (`world`, `triangles` from `scene`) into `target`: `viewCount` views of
+  // `size` samples each, whose cameras `views` holds (a view whose near is negative is skipped and
+  // left empty).
+  void record(VkCommandBuffer cmd, const vk::Bindings& scene, const vk::Buffer& views, uint32_t viewCount,
+              glm::uvec2 size, const vk::Buffer& target) const;
+
+ private:
+  uint32_t triangleCount_;
+  vk::Program slices_, raster_;
+  vk::Buffer args_;  // the raster's dispatch, its z counted by raster_slices
+};
+
+}  // namespace ivgi::gi
