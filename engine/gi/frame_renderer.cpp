@@ -24,7 +24,7 @@ void validate(const ImageSettings& s, const vk::Context& ctx) {
 }
 
 FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, const ImageSettings& image,
-                             std::unique_ptr<Solver> solver)
+                             std::unique_ptr<Solver> solver, const std::optional<DirectLightSettings>& directLight)
     : ctx_(ctx),
       image_(image),
       vertexCount_(uint32_t(g.vertices.size())),
@@ -64,6 +64,9 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
   shownIrradiance_ =
       vk::Buffer(ctx, std::max<size_t>(solver_ ? surfelCount_ : 0, 1) * sizeof(glm::vec4), Memory::Device, tally);
   view_ = vk::Buffer(ctx, sizeof(gpu::Camera), Memory::Device, tally);
+  if (directLight)
+    if (auto samples = emitterSamples(g, directLight->samples); !samples.empty())
+      direct_.emplace(ctx, std::move(samples), surfelCount_, *directLight, tally);
 }
 
 FrameRenderer::~FrameRenderer() {
@@ -118,6 +121,7 @@ bool FrameRenderer::recordFrame(VkCommandBuffer cmd, const gpu::Camera& camera, 
             [&] { animate_.dispatchItems(cmd, vertexCount_, buffers, gpu::CountPush{.count = vertexCount_}); });
   timedPass(cmd, timer_, "surfels",
             [&] { surfelUpdate_.dispatchItems(cmd, surfelCount_, buffers, gpu::CountPush{.count = surfelCount_}); });
+  if (direct_) direct_->record(cmd, timer_, buffers, raster_);
   if (solver_) solver_->record(cmd, timer_, surfels_, geometryMoved);
   timedPass(cmd, timer_, "raster", [&] {
     vk::updateBuffer(cmd, view_, 0, sizeof camera, &camera);

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/gi/direct_light.h"
 #include "engine/gi/raster.h"
 #include "engine/gi/solver.h"
 #include "engine/image/frame_image.h"
@@ -39,9 +40,11 @@ struct FrameResult {
 
 class FrameRenderer {
  public:
-  // `solver`: the lighting method; none renders emission only.
+  // `solver`: the lighting method; none renders emission only. `directLight`: light the surfels
+  // from the emitters through depth maps each frame (where something emits).
   FrameRenderer(const vk::Context& ctx, const scene::Geometry& geometry, const ImageSettings& image,
-                std::unique_ptr<Solver> solver = nullptr);
+                std::unique_ptr<Solver> solver = nullptr,
+                const std::optional<DirectLightSettings>& directLight = std::nullopt);
   ~FrameRenderer();
 
   // `lights`: the punctual lights in world space; `geometryMoved`: whether the solver must refit and
@@ -50,6 +53,7 @@ class FrameRenderer {
   FrameResult render(const scene::FrameInputs& inputs, const scene::CameraView& view,
                      const std::vector<gpu::PunctualLight>& lights = {}, bool geometryMoved = true, int frame = -1);
   const Solver* solver() const { return solver_.get(); }
+  const DirectLight* directLight() const { return direct_ ? &*direct_ : nullptr; }
 
   // Results of the last frame's geometry passes (for tests and later solvers).
   std::vector<scene::WorldVertex> worldVertices() const;
@@ -81,6 +85,7 @@ class FrameRenderer {
   std::unique_ptr<Solver> solver_;
   vk::Program animate_, surfelUpdate_, vertexIrradiance_, resolve_;
   Raster raster_;
+  std::optional<DirectLight> direct_;
   vk::PassTimer timer_;
   std::optional<vk::PassTimer> programTimer_;  // timePrograms()
 };

@@ -16,17 +16,17 @@ layout(local_size_x = 64) in;
 // Of each large triangle of the workgroup's 64: 64 × (tiles + rows) stays under the budget.
 layout(constant_id = 0) const int kTilesPerSlice = 448;
 
-layout(binding = 0, rgba32f) readonly uniform imageBuffer world;        // WorldVertex: position, normal
-layout(binding = 1, rgba32ui) readonly uniform uimageBuffer triangles;  // Triangle
+layout(binding = 0, rgba32f) readonly uniform imageBuffer world;           // WorldVertex: position, normal
+layout(binding = 1, rgba32ui) readonly uniform uimageBuffer triangles;     // Triangle
 layout(std430, binding = 2) buffer Visibility { uint64_t visibility[]; };  // view after view
-layout(std430, binding = 3) readonly buffer Views { Camera views[]; };    // a view whose near is < 0: none
+layout(std430, binding = 3) readonly buffer Views { Camera views[]; };     // a view whose near is < 0: none
 layout(push_constant) uniform Push { RasterPush push; };
 #include "raster_bounds.glsl"
 
 shared uint largeCount;
 shared uint large[64];
 
-Camera camera;  // the workgroup's view
+Camera camera;   // the workgroup's view
 uint viewStart;  // its first sample in `visibility`
 
 void castSample(uint tri, Projected t, ivec2 px) {

@@ -1,8 +1,8 @@
 #version 460
 // The raster pass, first: how many workgroups in z the raster needs, the slices of the largest
-// triangle bounds in any of its views (raster.comp walks at most kTilesPerSlice tiles of a triangle
-// in one workgroup), times the views. Counted for the image's size instead, a finely supersampled frame of small triangles
-// would start tens of idle workgroups for every 64 triangles.
+// triangle bounds in any of its views (raster.comp walks at most kTilesPerSlice tiles of a
+// triangle in one workgroup), times the views. Counted for the image's size instead, a finely
+// supersampled frame of small triangles would start tens of idle workgroups for every 64 triangles.
 #extension GL_GOOGLE_include_directive : require
 #include "common/common.glsl"
 layout(local_size_x = 64) in;

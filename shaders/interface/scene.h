@@ -168,10 +168,32 @@ IVGI_FN float lightFalloff(PunctualLight light, vec3 p, IVGI_OUT(vec3) toLight, 
   return falloff;
 }
 
+// ---- Direct light from depth maps (engine/gi/direct_light.h) ----
+
+// A point chosen on an emissive triangle by power: the triangle, the barycentric weights of its
+// corners b and c, and 1 / (samples × the triangle's probability), which times the triangle's area
+// in the frame is the area the point stands for.
+struct EmitterSample {
+  uint triangle;
+  float b;
+  float c;
+  float weightPerArea;
+};
+// An emitter sample in the frame (light_views): where it is and the area it stands for, the
+// emitter's front, its radiance (rgb).
+struct LightPoint {
+  vec4 positionArea;
+  vec4 normal;
+  vec4 radiance;
+};
+// Each sample's depth maps are the faces of a cube of 90° views around it, face = 2·axis + (negative
+// ? 1 : 0) as the bins' (views 6·sample + face of the raster's target).
+IVGI_CONST uint kCubeFaces = 6u;
+
 // ---- Push constants of the frame's passes ----
 
 struct RasterPush {  // raster_slices, raster
-  uvec2 size;  // a view's image in samples
+  uvec2 size;        // a view's image in samples
   uint triangleCount;
   uint viewCount;
 };
@@ -179,5 +201,11 @@ struct ResolvePush {  // resolve
   Camera camera;
   uvec2 size;    // the image in pixels
   uint samples;  // per pixel and axis
+  uint pad;
+};
+struct DirectLightPush {  // direct_surfels
+  uint count;             // points lit
+  uint sampleCount;       // emitter samples
+  uint resolution;        // a depth map's side in texels
   uint pad;
 };

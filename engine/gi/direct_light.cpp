@@ -1,0 +1,104 @@
+#include "engine/gi/direct_light.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "engine/core/errors.h"
+#include "engine/gi/pass.h"
+
+namespace ivgi::gi {
+
+namespace {
+
+// The bytes of the depth maps of `settings`: 64-bit keys, six maps a sample.
+uint64_t depthBytes(const DirectLightSettings& s) {
+  return uint64_t(s.samples) * gpu::kCubeFaces * s.resolution * s.resolution * sizeof(uint64_t);
+}
+
+}  // namespace
+
+void validate(const DirectLightSettings& s, const vk::Context& ctx) {
+  if (s.samples < 1 || s.samples > 4096)
+    throw SettingsError("--light-samples " + std::to_string(s.samples) + ": must be 1 to 4096");
+  if (s.resolution < 8 || s.resolution > 4096)
+    throw SettingsError("--shadow-map " + std::to_string(s.resolution) + ": must be 8 to 4096");
+  if (depthBytes(s) > ctx.limits().maxStorageBufferRange)
+    throw SettingsError("--light-samples " + std::to_string(s.samples) + " with --shadow-map " +
+                        std::to_string(s.resolution) + " needs " + std::to_string(depthBytes(s) >> 20) +
+                        " MiB of depth maps, above the device's maxStorageBufferRange (" +
+                        std::to_string(ctx.limits().maxStorageBufferRange >> 20) + " MiB)");
+}
+
+std::vector<gpu::EmitterSample> emitterSamples(const scene::Geometry& g, uint32_t count) {
+  // Each triangle's power at rest, in the primitive's own space: only the ratios between triangles
+  // matter, and the frame's weight takes the triangle's area as it is then.
+  std::vector<double> power(g.triangles.size(), 0.0);
+  double total = 0;
+  for (size_t t = 0; t < g.triangles.size(); ++t) {
+    const scene::Triangle& tri = g.triangles[t];
+    const glm::vec3 e = glm::vec3(g.materials[tri.material & ~gpu::kFlatShaded].emission);
+    const double luminance = 0.2126 * e.r + 0.7152 * e.g + 0.0722 * e.b;
+    if (!(luminance > 0)) continue;
+    const glm::dvec3 a = g.vertices[tri.v0].position, b = g.vertices[tri.v1].position, c = g.vertices[tri.v2].position;
+    const double area = 0.5 * glm::length(glm::cross(b - a, c - a));
+    power[t] = area * luminance;
+    total += power[t];
+  }
+  std::vector<gpu::EmitterSample> samples;
+  if (!(total > 0) || count == 0) return samples;
+  constexpr double kGolden = 0.6180339887498949;
+  double before = 0;  // the power of the triangles before t
+  size_t t = 0;
+  for (uint32_t i = 0; i < count; ++i) {
+    const double target = (i + 0.5) / count * total;
+    while (t + 1 < power.size() && (power[t] <= 0 || before + power[t] < target)) before += power[t++];
+    const double u = std::clamp((target - before) / power[t], 0.0, 1.0), v = std::fmod((i + 0.5) * kGolden, 1.0);
+    const double root = std::sqrt(u);  // uniform over the triangle
+    const scene::Triangle& tri = g.triangles[t];
+    const glm::dvec3 a = g.vertices[tri.v0].position, b = g.vertices[tri.v1].position, c = g.vertices[tri.v2].position;
+    const double area = 0.5 * glm::length(glm::cross(b - a, c - a));
+    // pdf per area at rest: (power[t] / total) / area; the weight is its inverse over the count, per
+    // unit of the triangle's area.
+    samples.push_back({.triangle = uint32_t(t),
+                       .b = float(root * (1 - v)),
+                       .c = float(root * v),
+                       .weightPerArea = float(total / (power[t] / area) / count / area)});
+  }
+  return samples;
+}
+
+DirectLight::DirectLight(const vk::Context& ctx, std::vector<gpu::EmitterSample> samples, uint32_t surfelCount,
+                         const DirectLightSettings& settings, vk::Allocations* tally)
+    : settings_(settings),
+      sampleCount_(uint32_t(samples.size())),
+      surfelCount_(surfelCount),
+      lightViews_(shaderProgram(ctx, "light_views")),
+      directSurfels_(shaderProgram(ctx, "direct_surfels")) {
+  validate(settings, ctx);
+  samples_ = vk::makeBuffer(ctx, samples, vk::Memory::Device, tally);
+  points_ = vk::Buffer(ctx, sampleCount_ * sizeof(gpu::LightPoint), vk::Memory::Device, tally);
+  views_ = vk::Buffer(ctx, sampleCount_ * gpu::kCubeFaces * sizeof(gpu::Camera), vk::Memory::Device, tally);
+  depth_ = vk::Buffer(
+      ctx, uint64_t(sampleCount_) * gpu::kCubeFaces * settings.resolution * settings.resolution * sizeof(uint64_t),
+      vk::Memory::Device, tally);
+  surfelDirect_ = vk::Buffer(ctx, std::max(surfelCount, 1u) * sizeof(glm::vec4), vk::Memory::Device, tally);
+}
+
+void DirectLight::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bindings& frame,
+                         const Raster& raster) const {
+  const vk::Bindings buffers = vk::Bindings::pool({{"emitterSamples", samples_},
+                                                   {"lightPoints", points_},
+                                                   {"lightViews", views_},
+                                                   {"lightDepth", depth_},
+                                                   {"surfelDirect", surfelDirect_}})
+                                   .plus(frame);
+  timedPass(cmd, timer, "direct light", [&] {
+    lightViews_.dispatchItems(cmd, sampleCount_, buffers, gpu::CountPush{.count = sampleCount_});
+    raster.record(cmd, frame, views_, sampleCount_ * gpu::kCubeFaces, glm::uvec2(settings_.resolution), depth_);
+    directSurfels_.dispatchItems(
+        cmd, surfelCount_, buffers,
+        gpu::DirectLightPush{.count = surfelCount_, .sampleCount = sampleCount_, .resolution = settings_.resolution});
+  });
+}
+
+}  // namespace ivgi::gi

@@ -1,0 +1,49 @@
+#pragma once
+// Direct light from depth maps (docs/design.md §2.5): points chosen over the emissive triangles by
+// power, each with a cube of depth maps rasterized around it every frame, light the surfels (the
+// first bounce's source) with their visibility resolved by the maps, not by a solver's bins.
+#include <vector>
+
+#include "engine/gi/raster.h"
+#include "engine/scene/geometry.h"
+#include "engine/vk/buffer.h"
+#include "engine/vk/program.h"
+#include "engine/vk/timer.h"
+
+namespace ivgi::gi {
+
+struct DirectLightSettings {
+  uint32_t samples = 128;     // points over the emitters
+  uint32_t resolution = 128;  // a depth map's side, in texels (a cube of six a sample)
+};
+// Throws SettingsError for settings no frame can use on `ctx`.
+void validate(const DirectLightSettings& settings, const vk::Context& ctx);
+
+// `count` points over the emissive triangles of `geometry`, chosen by power (area at rest × the
+// emission's luminance), stratified: the i-th takes the triangle where the power's running sum
+// crosses (i + ½)/count, and its place in the triangle from where in the triangle's share that
+// falls and from a second, golden-ratio sequence. Empty where nothing emits.
+std::vector<gpu::EmitterSample> emitterSamples(const scene::Geometry& geometry, uint32_t count);
+
+class DirectLight {
+ public:
+  // `samples` from emitterSamples(); at least one.
+  DirectLight(const vk::Context& ctx, std::vector<gpu::EmitterSample> samples, uint32_t surfelCount,
+              const DirectLightSettings& settings, vk::Allocations* tally);
+
+  // Places the samples, rasterizes their depth maps and lights the surfels; `frame` holds the
+  // frame's buffers (world, triangles, materials, surfels).
+  void record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bindings& frame, const Raster& raster) const;
+
+  // Per surfel, its direct irradiance (rgb), after record().
+  const vk::Buffer& surfelDirect() const { return surfelDirect_; }
+  uint32_t sampleCount() const { return sampleCount_; }
+
+ private:
+  DirectLightSettings settings_;
+  uint32_t sampleCount_, surfelCount_;
+  vk::Buffer samples_, points_, views_, depth_, surfelDirect_;
+  vk::Program lightViews_, directSurfels_;
+};
+
+}  // namespace ivgi::gi

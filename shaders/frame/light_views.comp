@@ -1,0 +1,52 @@
+#version 460
+// Direct light, first: each emitter sample where the frame put it (its triangle's corners as the
+// animate pass left them), the area it stands for, and the cube of 90° views around it that its
+// depth maps are rasterized in. A face wholly behind the emitter is no view (near < 0).
+#extension GL_GOOGLE_include_directive : require
+#include "common/common.glsl"
+layout(local_size_x = 64) in;
+
+layout(binding = 0, rgba32f) readonly uniform imageBuffer world;        // WorldVertex: position, normal
+layout(binding = 1, rgba32ui) readonly uniform uimageBuffer triangles;  // Triangle
+layout(binding = 2, rgba32ui) readonly uniform uimageBuffer materials;  // Material: base colour, emission, textures
+layout(std430, binding = 3) readonly buffer EmitterSamples { EmitterSample emitterSamples[]; };
+layout(std430, binding = 4) writeonly buffer LightPoints { LightPoint lightPoints[]; };
+layout(std430, binding = 5) writeonly buffer LightViews { Camera lightViews[]; };
+layout(push_constant) uniform Push { CountPush push; };
+
+vec3 positionOf(uint vertex) { return imageLoad(world, int(2u * vertex)).xyz; }
+vec3 normalOf(uint vertex) { return imageLoad(world, int(2u * vertex + 1u)).xyz; }
+
+void main() {
+  const uint i = itemIndex();
+  if (i >= push.count) return;
+  const EmitterSample s = emitterSamples[i];
+  const uvec4 t = imageLoad(triangles, int(s.triangle));
+  const vec3 a = positionOf(t.x), b = positionOf(t.y), c = positionOf(t.z);
+  const vec3 p = a + s.b * (b - a) + s.c * (c - a), g = cross(b - a, c - a);
+  const float doubleArea = length(g);
+  vec3 n = doubleArea > 0.0 ? g / doubleArea : vec3(0.0, 0.0, 1.0);
+  // The front is the side the shading normals face (flat shaded: the winding's), as the surfels'.
+  if ((t.w & kFlatShaded) == 0u &&
+      dot((1.0 - s.b - s.c) * normalOf(t.x) + s.b * normalOf(t.y) + s.c * normalOf(t.z), n) < 0.0)
+    n = -n;
+  const uint material = t.w & ~kFlatShaded;
+  const vec3 radiance = uintBitsToFloat(imageLoad(materials, int(3u * material + 1u)).rgb);
+  lightPoints[i] = LightPoint(vec4(p, 0.5 * doubleArea * s.weightPerArea), vec4(n, 0.0), vec4(radiance, 0.0));
+
+  // The views start a little off the emitter, and their near plane as far again: rays along the
+  // emitter's plane then pass over it and its neighbours, which its front cannot light.
+  const float offset = 1e-3 * sqrt(0.5 * doubleArea) + 1e-6 * length(p);
+  const vec3 origin = p + offset * n;
+  for (uint face = 0u; face < kCubeFaces; ++face) {
+    const uint axis = face >> 1u;
+    vec3 forward = vec3(0.0), right = vec3(0.0), up = vec3(0.0);
+    forward[axis] = (face & 1u) == 0u ? 1.0 : -1.0;
+    right[axis == 2u ? 0u : axis + 1u] = 1.0;
+    up[axis == 0u ? 2u : axis - 1u] = 1.0;
+    // Wholly behind: every direction of the face's pyramid on the emitter's back.
+    const bool behind = dot(forward, n) + abs(dot(right, n)) + abs(dot(up, n)) <= 0.0;
+    lightViews[kCubeFaces * i + face] =
+        Camera(vec4(origin, behind ? -1.0 : offset), vec4(right, 0.0), vec4(up, 0.0), vec4(forward, 0.0));
+  }
+}
