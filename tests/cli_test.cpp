@@ -73,6 +73,18 @@ TEST(Render, WritesFramesAndASidecarWithPerPassTimes) {
   EXPECT_EQ(r.err.find('\r'), std::string::npos);
 }
 
+// --direct maps: the sidecar says where the direct light came from and times its pass.
+TEST(Render, DirectLightFromMapsIsNamedAndTimed) {
+  auto dir = test::scratchDir("out");
+  auto r = test::runIvgi({"render", "--frames", "0", "--size", "32x24", "--direct", "maps", "--light-samples", "8",
+                          "--shadow-map", "32", "--out", (dir / "f_%03d").string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::ifstream in(dir / "f.json");
+  auto j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["settings"]["direct"], (nlohmann::json{{"from", "maps"}, {"lightSamples", 8}, {"shadowMap", 32}}));
+  EXPECT_GT(j["frames"][0]["gpuMs"]["direct light"].get<double>(), 0.0);
+}
+
 TEST(Render, ExrCarriesEveryLayerAndPngIsDisplayReady) {
   auto dir = test::scratchDir("out");
   ASSERT_EQ(test::runIvgi({"render", "--frames", "0", "--size", "64x48", "--out", (dir / "f").string()}).status, 0);

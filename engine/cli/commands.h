@@ -44,7 +44,13 @@ struct SolverOptions {
   std::string environment;             // --env: "R,G,B", an .exr, or none; empty: the scene's own light (see below)
   uint64_t maxMemoryMiB = 0;           // --max-memory: the solver's memory budget (0: the device's)
   uint32_t tessellation = 16;          // --tessellate: iv and ar sample surfaces at least this finely
+  // --direct: where the emitters' direct light comes from: "bins" (the solver's own) or "maps"
+  // (depth maps, gi::DirectLight: --light-samples, --shadow-map).
+  std::string direct = "bins";
+  gi::DirectLightSettings maps;
 };
+// The frame's direct light from depth maps, where --direct maps asks for it (checked: SettingsError).
+std::optional<gi::DirectLightSettings> directLightSettings(const SolverOptions& options);
 
 // The tessellation `solver`'s method samples surfaces with (scene::buildGeometry): --tessellate for
 // iv and ar, 0 (the mesh as modelled) for pt and none.

@@ -64,7 +64,7 @@ int runEqualError(const BenchOptions& o) {
   // The renderer first: its settings are checked before the reference takes its time.
   const std::shared_ptr<vk::Context> device = openDevice(o.device);
   vk::Context& ctx = *device;
-  gi::FrameRenderer renderer(ctx, g, image, makeSolver(solver, ctx, s, g, tl.animation));
+  gi::FrameRenderer renderer(ctx, g, image, makeSolver(solver, ctx, s, g, tl.animation), directLightSettings(solver));
 
   // The reference: given, or rendered now with seed 0 (the measured pt runs use seed 1).
   image::RgbImage ref;
@@ -92,8 +92,8 @@ int runEqualError(const BenchOptions& o) {
   const image::ErrorMetrics ivError = image::measureError(image::radianceOf(ivFrame.channels), ref);
 
   std::printf("ivgi bench --equal-error: %s, frame %d, %ux%u\n", s.source.c_str(), o.frame, image.width, image.height);
-  const nlohmann::json settings =
-      settingsJson(solver.method, solver.iv, sampledTessellation(solver), arSettings(solver));
+  const nlohmann::json settings = settingsJson(solver.method, solver.iv, sampledTessellation(solver),
+                                               arSettings(solver), directLightSettings(solver));
   std::printf("%s:  %s; %s\n", method, deviceLine(ctx).c_str(), settings.dump().c_str());
   std::printf("pt:  %s, unlimited bounces (roulette)\n", cpuLine(o.threads).c_str());
   std::printf("reference: %s\n\n", o.reference.empty() ? ("pt " + std::to_string(o.referenceSpp) + " spp, seed 0, " +

@@ -25,7 +25,7 @@ nlohmann::json bouncesJson(const gi::IvSettings& s) {
 std::string bouncesText(const gi::IvSettings& s) { return s.bounces ? std::to_string(*s.bounces) : "auto"; }
 
 nlohmann::json settingsJson(const std::string& method, const gi::IvSettings& iv, uint32_t tessellation,
-                            const gi::ArSettings& ar) {
+                            const gi::ArSettings& ar, const std::optional<gi::DirectLightSettings>& directLight) {
   if (method == "ar")
     return {{"method", method},
             {"dirs", ar.dirs},
@@ -43,7 +43,11 @@ nlohmann::json settingsJson(const std::string& method, const gi::IvSettings& iv,
           {"bounceTolerance", iv.bounceTolerance},
           {"kappa", iv.kappa},
           {"receiverTolerance", iv.receiverTolerance ? nlohmann::json(*iv.receiverTolerance) : nlohmann::json("auto")},
-          {"tessellation", tessellation}};
+          {"tessellation", tessellation},
+          {"direct", directLight ? nlohmann::json{{"from", "maps"},
+                                                  {"lightSamples", directLight->samples},
+                                                  {"shadowMap", directLight->resolution}}
+                                 : nlohmann::json{{"from", "bins"}}}};
 }
 
 nlohmann::json solverJson(const gi::Solver* solver) {

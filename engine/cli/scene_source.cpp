@@ -23,6 +23,13 @@ scene::Scene loadScene(const SceneChoice& choice) {
   return scene::sceneFromModel(scenes::furnace({.cells = choice.cells}), "built-in furnace");
 }
 
+std::optional<gi::DirectLightSettings> directLightSettings(const SolverOptions& o) {
+  if (o.direct == "bins") return std::nullopt;
+  if (o.direct != "maps") throw SettingsError("--direct " + o.direct + ": must be bins or maps");
+  if (o.method != "iv") throw SettingsError("--direct maps: only iv takes the direct light from depth maps so far");
+  return o.maps;
+}
+
 uint32_t sampledTessellation(const SolverOptions& solver) {
   return solver.method == "iv" || solver.method == "ar" ? solver.tessellation : 0;
 }

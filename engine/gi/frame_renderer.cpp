@@ -64,9 +64,16 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
   shownIrradiance_ =
       vk::Buffer(ctx, std::max<size_t>(solver_ ? surfelCount_ : 0, 1) * sizeof(glm::vec4), Memory::Device, tally);
   view_ = vk::Buffer(ctx, sizeof(gpu::Camera), Memory::Device, tally);
-  if (directLight)
+  if (directLight) {
+    validate(*directLight, ctx);
     if (auto samples = emitterSamples(g, directLight->samples); !samples.empty())
       direct_.emplace(ctx, std::move(samples), surfelCount_, *directLight, tally);
+  }
+  if (direct_ && solver_) {
+    if (!solver_->takesDirectLight())
+      throw SettingsError("this method cannot take the direct light from depth maps yet (iv can)");
+    solver_->useDirectLight(direct_->surfelDirect());
+  }
 }
 
 FrameRenderer::~FrameRenderer() {

@@ -109,6 +109,9 @@ struct PrunePush {    // prune_bins
   uint lightCount;
   uint environmentOn;
   uint staticCapacity;  // the static leaf links the frame pass merges with
+  // 1: the emitters' direct light comes from depth maps (surfelDirect): no emitter is listed, and the
+  // light the bins credit emissive survivors is taken back from every leaf.
+  uint emittersByMaps;
 };
 struct GatherPush {  // gather
   uint maskWords;    // of a static leaf's override mask

@@ -1,8 +1,8 @@
 #version 460
 // iv's bounces, at every surfel: irradiance E interpolated from the receivers' gathered irradiance with
-// the coefficients of interpolation_weights.comp (a receiver takes its own), radiosity B = π·Le + ρ·E
-// at its leaf. Reads last bounce's radiosity only for the change, writes the next (no race); keeps
-// the irradiance's change for the tail (bounce_tail.comp).
+// the coefficients of interpolation_weights.comp (a receiver takes its own), plus the depth maps'
+// direct light (zero where the bins carry it), radiosity B = π·Le + ρ·E at its leaf. Reads last bounce's radiosity only
+// for the change, writes the next (no race); keeps the irradiance's change for the tail (bounce_tail.comp).
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 11
 #include "common/common.glsl"
@@ -18,6 +18,7 @@ layout(binding = 6, rgba32f) readonly uniform imageBuffer radiosityIn;
 layout(std430, binding = 7) writeonly buffer RadiosityOut { vec4 radiosityOut[]; };
 layout(std430, binding = 8) buffer Irradiance { vec4 irradiance[]; };
 layout(std430, binding = 13) writeonly buffer IrradianceChange { vec4 irradianceChange[]; };
+layout(binding = 14, rgba32f) readonly uniform imageBuffer surfelDirect;
 layout(std430, binding = 9) writeonly buffer BounceSums { BounceSum bounceSums[]; };  // per workgroup
 layout(std430, binding = 10) readonly buffer FrameCounters { uint frameCounters[]; };
 layout(std430, binding = 12) readonly buffer StaticCounters { uint staticCounters[]; };
@@ -50,7 +51,7 @@ BounceSum interpolate(uint s) {
     uvec2 tap = imageLoad(taps, int(s * kInterpolationTaps + t)).xy;
     e += uintBitsToFloat(tap.y) * imageLoad(gathered, int(tap.x)).rgb;
   }
-  e = max(e, vec3(0.0));  // the fit's coefficients may be negative
+  e = max(e, vec3(0.0)) + imageLoad(surfelDirect, int(s)).rgb;  // the fit's coefficients may be negative
   const uint leaf = imageLoad(leafOfSurfel, int(s)).x;
   const vec3 b = kPi * imageLoad(emission, int(s)).rgb + imageLoad(albedo, int(s)).rgb * e;
   radiosityOut[leaf] = vec4(b, 0.0);

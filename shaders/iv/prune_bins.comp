@@ -186,7 +186,8 @@ void growIntoStaticBins() {
   barrier();
 }
 
-// Emitters' light: direct where they are few enough to list (the static pass keeps the list for
+// Emitters' light: from the depth maps where they give it (PrunePush::emittersByMaps); else direct
+// where they are few enough to list (the static pass keeps the list for
 // the frames, whose moving senders may hide them), the bins then carrying only their reflected
 // light; through the bins like any sender where they are many (a wholly emissive room). Lists them
 // in `sortedEmitters` in a fixed order whatever order the atomics queued them in: the static list
@@ -194,6 +195,8 @@ void growIntoStaticBins() {
 // the static list). A static leaf whose emitters stand still queues none and sorts nothing.
 // Whether the leaf takes their light directly; `listed`: how many.
 bool sortEmitters(uint surfel, uint staticEmitterCount, out uint listed) {
+  listed = 0u;
+  if (push.emittersByMaps != 0u) return true;  // none listed, the bins' credit taken back
   uint staticListed = staticEmitterCount == kManyEmitters ? 0u : staticEmitterCount,
        emitters = staticListed + emitterCount;
   bool direct = staticEmitterCount != kManyEmitters && emitters <= (kStaticPass ? kStaticEmitters : kEmitterQueue);

@@ -181,7 +181,7 @@ void fileSender(uint slot, uint leaf, vec3 p, vec3 n, float area, uint marked) {
   if (s == leaf || dot(v.d, n) + rise <= 1e-4 * sqrt(area)) return;
   // A loop, not an if: lavapipe would run the if's atomic lane by lane, masked, for every sender,
   // and emitters are rare.
-  for (bool emitter = (marked & kEmitterBit) != 0u; emitter; emitter = false) {
+  for (bool emitter = (marked & kEmitterBit) != 0u && push.emittersByMaps == 0u; emitter; emitter = false) {
     uint queued = atomicAdd(emitterCount, 1u);
     if (queued < kEmitterQueue) emitterQueue[queued] = s;
   }

@@ -46,10 +46,6 @@ Bounces::Bounces(const vk::Context& ctx, const Hierarchy& h, const IvSettings& s
       vk::Buffer(ctx, std::max<size_t>(h.leafOfSurfel.size(), 1) * sizeof(glm::vec4), vk::Memory::Device, &allocations);
 }
 
-uint32_t Bounces::maxGathers(const IvSettings& settings) {
-  return (settings.bounces ? *settings.bounces : kMaxBounces) + 1;
-}
-
 void Bounces::pullUp(VkCommandBuffer cmd, const vk::Buffer& radiosity, bool indirect) const {
   const vk::Bindings bindings = b_.pool().with({{"radiosity", radiosity}});
   const gpu::CountPush nodes{.count = nodeCount_};
@@ -60,15 +56,17 @@ void Bounces::pullUp(VkCommandBuffer cmd, const vk::Buffer& radiosity, bool indi
 }
 
 void Bounces::recordEmission(VkCommandBuffer cmd) const {
-  emit_.dispatchItems(cmd, surfelCount_, b_.pool().with({{"radiosity", b_.nodeEmission}}),
+  emit_.dispatchItems(cmd, surfelCount_, b_.pool().with({{"radiosity", b_.radiosityA}}),
                       gpu::CountPush{.count = surfelCount_});
   pullUp(cmd, b_.nodeEmission, false);
-  vk::copyBuffer(cmd, b_.nodeEmission, b_.radiosityA);
+  pullUp(cmd, b_.radiosityA, false);
 }
 
 void Bounces::recordStart(VkCommandBuffer cmd) const {
   vk::fillBuffer(cmd, state_, 0u);
-  vk::fillBuffer(cmd, b_.irradiance, 0u);  // the first gather's change is all of it
+  // The irradiance before the first gather: the depth maps' direct light where they give it, else
+  // zeros (the first gather's change is then all of it).
+  vk::copyBuffer(cmd, b_.directLight ? *b_.directLight : b_.noDirectLight, b_.irradiance);
   vk::copyRegion(cmd, b_.receiverArgs, fullArgs_, {gpu::kArgsReceivers * sizeof(glm::uvec4), 0, sizeof(glm::uvec4)});
   vk::copyBuffer(cmd, fullArgs_, args_);
 }
@@ -80,14 +78,14 @@ vk::Bindings Bounces::gatherBindings(const vk::Buffer& in) const {
 
 void Bounces::recordEstimate(VkCommandBuffer cmd) const {
   gather_->dispatchIndirect(cmd, b_.receiverArgs, gpu::kArgsNewReceivers * sizeof(glm::uvec4),
-                            gatherBindings(b_.nodeEmission),
+                            gatherBindings(b_.radiosityA),
                             gpu::GatherPush{.maskWords = gpu::maskWordsFor(settings_.bins), .newOnly = 1u});
 }
 
 void Bounces::recordSteps(VkCommandBuffer cmd, uint32_t first, uint32_t steps) const {
   const gpu::BounceCheckPush check{.groups = interpolateGroups_,
                                    .dispatches = kBounceDispatches,
-                                   .maxGathers = maxGathers(settings_),
+                                   .maxGathers = maxGathers(),
                                    .tolerance = settings_.bounces ? -1.0f : settings_.bounceTolerance};
   const gpu::InterpolatePush surfels{.surfelCount = surfelCount_};
   for (uint32_t k = first; k < first + steps; ++k) {

@@ -34,8 +34,11 @@ class Bounces {
   // `steps` more gathers (each with its interpolation, pull-up and check), from the frame's gather
   // `first` on; radiosityA and radiosityB take turns.
   void recordSteps(VkCommandBuffer cmd, uint32_t first, uint32_t steps) const;
-  // The gathers a frame runs at most.
-  static uint32_t maxGathers(const IvSettings& settings);
+  // The gathers before the first bounce's light: 1 (the direct light's) where the bins carry the
+  // direct light, 0 where the depth maps give it.
+  uint32_t directGathers() const { return b_.directLight ? 0u : 1u; }
+  // The gathers a frame runs at most: the bounces asked for (or kMaxBounces) after the direct ones.
+  uint32_t maxGathers() const { return (settings_.bounces ? *settings_.bounces : kMaxBounces) + directGathers(); }
   // The leaf links are bound in `views` texel views (shaders/common/parted_texels.glsl): 1 or kTexelParts.
   void readTexelViews(uint32_t views);
   // After the frame's steps ran: how far the bounces got.

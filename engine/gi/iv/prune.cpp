@@ -122,7 +122,8 @@ gpu::PrunePush Prune::push(const LinkSet& set, uint32_t first, uint32_t end, boo
           .linkCapacity = set.leafLinkCapacity,
           .lightCount = b_.scene.lightCount,
           .environmentOn = b_.scene.environmentOn ? 1u : 0u,
-          .staticCapacity = staticSet_.leafLinkCapacity};
+          .staticCapacity = staticSet_.leafLinkCapacity,
+          .emittersByMaps = b_.directLight ? 1u : 0u};
 }
 
 void Prune::recordStatic(VkCommandBuffer cmd) {

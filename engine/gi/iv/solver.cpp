@@ -103,6 +103,8 @@ void IvSolver::uploadScene(const scene::Geometry& g, const std::vector<uint32_t>
   b_.radiosityA = deviceArray<glm::vec4>(ctx, nodeCount_, allocations_);
   b_.radiosityB = deviceArray<glm::vec4>(ctx, nodeCount_, allocations_);
   b_.irradiance = deviceArray<glm::vec4>(ctx, surfelCount_, allocations_);
+  b_.noDirectLight =
+      vk::makeBuffer(ctx, std::vector<glm::vec4>(surfelCount_, glm::vec4(0.0f)), vk::Memory::Device, tally);
   // What a static leaf keeps between frames; with nothing static, empty ranges and one-word stand-ins.
   const size_t masks = split ? maskWords : 0, statics = split ? surfelCount_ : 0;
   b_.staticRanges = deviceArray<gpu::LeafRange>(ctx, surfelCount_, allocations_);
@@ -163,7 +165,7 @@ void IvSolver::recordSolve(VkCommandBuffer cmd, vk::PassTimer& timer) {
 void IvSolver::recordFirstBounces(VkCommandBuffer cmd, vk::PassTimer& timer) {
   timedPass(cmd, timer, "bounces", [&] {
     bounces_.recordStart(cmd);
-    gathersRecorded_ = std::min(kFirstBounceSteps, Bounces::maxGathers(settings_));
+    gathersRecorded_ = std::min(kFirstBounceSteps, bounces_.maxGathers());
     bounces_.recordSteps(cmd, 0, gathersRecorded_);
   });
 }
@@ -194,13 +196,13 @@ bool IvSolver::wantsMorePasses() const {
   if (overflowed()) return false;  // the frame is redone
   if (solvePending_) return true;
   const gpu::BounceState s = bounces_.state();
-  return s.done == 0 && s.gathers == gathersRecorded_;
+  return s.done == 0 && s.gathers == gathersRecorded_ && gathersRecorded_ < bounces_.maxGathers();
 }
 
 void IvSolver::recordMorePasses(VkCommandBuffer cmd, vk::PassTimer& timer) {
   if (solvePending_) return recordSolve(cmd, timer);
   timedPass(cmd, timer, "bounces", [&] {
-    const uint32_t steps = std::min(kMoreBounceSteps, Bounces::maxGathers(settings_) - gathersRecorded_);
+    const uint32_t steps = std::min(kMoreBounceSteps, bounces_.maxGathers() - gathersRecorded_);
     bounces_.recordSteps(cmd, gathersRecorded_, steps);
     gathersRecorded_ += steps;
   });
@@ -208,7 +210,7 @@ void IvSolver::recordMorePasses(VkCommandBuffer cmd, vk::PassTimer& timer) {
 
 std::vector<std::pair<std::string, double>> IvSolver::frameFigures() const {
   const gpu::BounceState s = bounces_.state();
-  return {{"bounces", double(s.gathers) - 1.0},
+  return {{"bounces", double(s.gathers) - double(bounces_.directGathers())},
           {"bounceRemaining", settings_.bounces ? 0.0 : double(s.remaining)},
           {"diverged", double(s.diverged)},
           {"receivers", double(receivers_.counts().receivers)}};
