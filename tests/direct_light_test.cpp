@@ -3,6 +3,7 @@
 // without a blocker.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 
 #include "engine/gi/frame_renderer.h"
@@ -189,4 +190,29 @@ TEST(DirectLight, IvTakesTheMapsLightAndAddsTheBounces) {
               direct, total, binsTotal);
   EXPECT_GT(total, 1.5 * direct);
   EXPECT_NEAR(total / binsTotal, 1.0, 0.015);
+}
+
+// Where the emitters stand still, what cannot move is rasterized once and the moving triangles
+// each frame over it: the maps, and so every surfel's direct light, are those drawn whole, bit for
+// bit, frame after frame as the blocks move.
+TEST(DirectLight, StaticTrianglesDrawnOnceGiveTheMapsDrawnWhole) {
+  const auto model = scenes::cornellBox({.cells = 4, .animated = true, .blocks = true});
+  scene::Scene s = scene::sceneFromModel(model, "test");
+  scene::Geometry g = scene::buildGeometry(s, 8);
+  const auto moving = scene::movingInstances(s, g, 0);
+  ASSERT_TRUE(std::find(moving.begin(), moving.end(), true) != moving.end());
+  ASSERT_TRUE(std::find(moving.begin(), moving.end(), false) != moving.end());
+  const gi::DirectLightSettings settings{.samples = 16, .resolution = 64};
+  gi::FrameRenderer split(test::gpu(), g, {16, 16, 1}, nullptr, settings, moving);
+  gi::FrameRenderer whole(test::gpu(), g, {16, 16, 1}, nullptr, settings);
+  for (float time : {0.0f, 0.25f, 0.5f}) {
+    const auto pose = scene::evaluatePose(s, 0, time);
+    const auto inputs = g.frameInputs(s, pose);
+    const auto view = scene::framingCamera(scene::worldBounds(scene::animateOnHost(g, inputs)), 1.0f);
+    split.render(inputs, view);
+    whole.render(inputs, view);
+    const auto a = split.directLight()->surfelDirect().read<glm::vec4>(g.surfels.size()),
+               b = whole.directLight()->surfelDirect().read<glm::vec4>(g.surfels.size());
+    for (size_t i = 0; i < a.size(); ++i) ASSERT_EQ(a[i], b[i]) << "time " << time << ", surfel " << i;
+  }
 }

@@ -112,7 +112,8 @@ int runBench(const BenchOptions& o) {
 
   const std::shared_ptr<vk::Context> device = openDevice(o.device);
   vk::Context& ctx = *device;
-  gi::FrameRenderer renderer(ctx, g, image, makeSolver(solver, ctx, s, g, animation), directLightSettings(solver));
+  gi::FrameRenderer renderer(ctx, g, image, makeSolver(solver, ctx, s, g, animation), directLightSettings(solver),
+                             scene::movingInstances(s, g, animation));
   if (o.perProgram) renderer.timePrograms();
   const FrameCamera camera(s, g, tl, o.fps, "", {0}, float(image.width) / float(image.height));
 

@@ -64,7 +64,8 @@ int runEqualError(const BenchOptions& o) {
   // The renderer first: its settings are checked before the reference takes its time.
   const std::shared_ptr<vk::Context> device = openDevice(o.device);
   vk::Context& ctx = *device;
-  gi::FrameRenderer renderer(ctx, g, image, makeSolver(solver, ctx, s, g, tl.animation), directLightSettings(solver));
+  gi::FrameRenderer renderer(ctx, g, image, makeSolver(solver, ctx, s, g, tl.animation), directLightSettings(solver),
+                             scene::movingInstances(s, g, tl.animation));
 
   // The reference: given, or rendered now with seed 0 (the measured pt runs use seed 1).
   image::RgbImage ref;

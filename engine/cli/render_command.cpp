@@ -99,8 +99,9 @@ int runRender(const RenderOptions& o) {
     if (!solver.environment.empty()) environment = scene::Environment::parse(solver.environment);
   } else {
     ctx = openDevice(o.device);
-    renderer = std::make_unique<gi::FrameRenderer>(*ctx, g, image, makeSolver(solver, *ctx, s, g, tl.animation),
-                                                   directLightSettings(solver));
+    renderer =
+        std::make_unique<gi::FrameRenderer>(*ctx, g, image, makeSolver(solver, *ctx, s, g, tl.animation),
+                                            directLightSettings(solver), scene::movingInstances(s, g, tl.animation));
   }
   const bool geometryAnimated = scene::animationMovesGeometry(s, tl.animation);
 

@@ -67,38 +67,80 @@ std::vector<gpu::EmitterSample> emitterSamples(const scene::Geometry& g, uint32_
   return samples;
 }
 
-DirectLight::DirectLight(const vk::Context& ctx, std::vector<gpu::EmitterSample> samples, uint32_t surfelCount,
-                         const DirectLightSettings& settings, vk::Allocations* tally)
+namespace {
+
+// The triangles of `geometry` whose instance `moving` says can move (`moves`) or cannot.
+std::vector<scene::Triangle> trianglesThat(const scene::Geometry& g, const std::vector<bool>& moving, bool moves) {
+  std::vector<scene::Triangle> out;
+  for (const scene::Triangle& t : g.triangles)
+    if (moving[g.vertices[t.v0].instance] == moves) out.push_back(t);
+  return out;
+}
+
+// Whether any sample lies on a triangle that can move.
+bool emittersMove(const scene::Geometry& g, const std::vector<gpu::EmitterSample>& samples,
+                  const std::vector<bool>& moving) {
+  return std::any_of(samples.begin(), samples.end(),
+                     [&](const auto& s) { return moving[g.vertices[g.triangles[s.triangle].v0].instance]; });
+}
+
+}  // namespace
+
+DirectLight::DirectLight(const vk::Context& ctx, const scene::Geometry& g, std::vector<gpu::EmitterSample> samples,
+                         const std::vector<bool>& moving, const DirectLightSettings& settings, vk::Allocations* tally)
     : settings_(settings),
       sampleCount_(uint32_t(samples.size())),
-      surfelCount_(surfelCount),
+      surfelCount_(uint32_t(g.surfels.size())),
+      splitsStatic_(!moving.empty() && !emittersMove(g, samples, moving)),
       lightViews_(shaderProgram(ctx, "light_views")),
-      directSurfels_(shaderProgram(ctx, "direct_surfels")) {
+      directSurfels_(shaderProgram(ctx, "direct_surfels")),
+      allRaster_(ctx, splitsStatic_ ? 0 : uint32_t(g.triangles.size()), tally),
+      staticRaster_(ctx, splitsStatic_ ? uint32_t(trianglesThat(g, moving, false).size()) : 0, tally),
+      movingRaster_(ctx, splitsStatic_ ? uint32_t(trianglesThat(g, moving, true).size()) : 0, tally) {
   validate(settings, ctx);
   samples_ = vk::makeBuffer(ctx, samples, vk::Memory::Device, tally);
   points_ = vk::Buffer(ctx, sampleCount_ * sizeof(gpu::LightPoint), vk::Memory::Device, tally);
   views_ = vk::Buffer(ctx, sampleCount_ * gpu::kCubeFaces * sizeof(gpu::Camera), vk::Memory::Device, tally);
-  depth_ = vk::Buffer(
-      ctx, uint64_t(sampleCount_) * gpu::kCubeFaces * settings.resolution * settings.resolution * sizeof(uint64_t),
-      vk::Memory::Device, tally);
-  surfelDirect_ = vk::Buffer(ctx, std::max(surfelCount, 1u) * sizeof(glm::vec4), vk::Memory::Device, tally);
+  depth_ = vk::Buffer(ctx, depthBytes(settings), vk::Memory::Device, tally);
+  if (splitsStatic_) {
+    staticTriangles_ = vk::makeBuffer(ctx, trianglesThat(g, moving, false), vk::Memory::Device, tally);
+    const std::vector<scene::Triangle> movingTriangles = trianglesThat(g, moving, true);
+    movingCount_ = uint32_t(movingTriangles.size());
+    movingTriangles_ = vk::makeBuffer(ctx, movingTriangles, vk::Memory::Device, tally);
+    if (movingCount_ > 0) staticDepth_ = vk::Buffer(ctx, depthBytes(settings), vk::Memory::Device, tally);
+  }
+  surfelDirect_ = vk::Buffer(ctx, std::max(surfelCount_, 1u) * sizeof(glm::vec4), vk::Memory::Device, tally);
 }
 
-void DirectLight::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bindings& frame,
-                         const Raster& raster) const {
+void DirectLight::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bindings& frame, bool geometryMoved) {
+  if (lit_ && !geometryMoved) return;  // the surfels' direct light stands
   const vk::Bindings buffers = vk::Bindings::pool({{"emitterSamples", samples_},
                                                    {"lightPoints", points_},
                                                    {"lightViews", views_},
                                                    {"lightDepth", depth_},
                                                    {"surfelDirect", surfelDirect_}})
                                    .plus(frame);
+  const uint32_t views = sampleCount_ * gpu::kCubeFaces;
+  const glm::uvec2 size(settings_.resolution);
   timedPass(cmd, timer, "direct light", [&] {
     lightViews_.dispatchItems(cmd, sampleCount_, buffers, gpu::CountPush{.count = sampleCount_});
-    raster.record(cmd, frame, views_, sampleCount_ * gpu::kCubeFaces, glm::uvec2(settings_.resolution), depth_);
+    if (!splitsStatic_) {
+      allRaster_.record(cmd, frame, views_, views, size, depth_);
+    } else if (movingCount_ == 0) {  // nothing moves: the maps are drawn once
+      if (!staticDrawn_)
+        staticRaster_.record(cmd, frame.with({{"triangles", staticTriangles_}}), views_, views, size, depth_);
+    } else {
+      if (!staticDrawn_)
+        staticRaster_.record(cmd, frame.with({{"triangles", staticTriangles_}}), views_, views, size, staticDepth_);
+      vk::copyBuffer(cmd, staticDepth_, depth_);
+      movingRaster_.record(cmd, frame.with({{"triangles", movingTriangles_}}), views_, views, size, depth_, false);
+    }
+    staticDrawn_ = true;
     directSurfels_.dispatchItems(
         cmd, surfelCount_, buffers,
         gpu::DirectLightPush{.count = surfelCount_, .sampleCount = sampleCount_, .resolution = settings_.resolution});
   });
+  lit_ = true;
 }
 
 }  // namespace ivgi::gi

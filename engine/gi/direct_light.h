@@ -27,13 +27,16 @@ std::vector<gpu::EmitterSample> emitterSamples(const scene::Geometry& geometry, 
 
 class DirectLight {
  public:
-  // `samples` from emitterSamples(); at least one.
-  DirectLight(const vk::Context& ctx, std::vector<gpu::EmitterSample> samples, uint32_t surfelCount,
-              const DirectLightSettings& settings, vk::Allocations* tally);
+  // `samples` from emitterSamples(geometry), at least one; `moving`: per instance of `geometry`,
+  // whether the animation can move it (scene::movingInstances; empty: any may).
+  DirectLight(const vk::Context& ctx, const scene::Geometry& geometry, std::vector<gpu::EmitterSample> samples,
+              const std::vector<bool>& moving, const DirectLightSettings& settings, vk::Allocations* tally);
 
   // Places the samples, rasterizes their depth maps and lights the surfels; `frame` holds the
-  // frame's buffers (world, triangles, materials, surfels).
-  void record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bindings& frame, const Raster& raster) const;
+  // frame's buffers (world, triangles, materials, surfels). Where the emitters cannot move, what
+  // cannot move is rasterized once and each frame adds the moving triangles over it; where
+  // nothing moved since the last frame (`geometryMoved` false), nothing is redone.
+  void record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bindings& frame, bool geometryMoved);
 
   // Per surfel, its direct irradiance (rgb), after record().
   const vk::Buffer& surfelDirect() const { return surfelDirect_; }
@@ -42,8 +45,14 @@ class DirectLight {
  private:
   DirectLightSettings settings_;
   uint32_t sampleCount_, surfelCount_;
-  vk::Buffer samples_, points_, views_, depth_, surfelDirect_;
+  // The triangles the maps are drawn from: all of them, or where the emitters stand still those
+  // that can move, each frame over what cannot (`staticDepth`, drawn once).
+  bool splitsStatic_ = false, staticDrawn_ = false, lit_ = false;
+  uint32_t movingCount_ = 0;  // triangles that can move, where splitsStatic_
+  vk::Buffer samples_, points_, views_, depth_, staticDepth_, surfelDirect_;
+  vk::Buffer staticTriangles_, movingTriangles_;
   vk::Program lightViews_, directSurfels_;
+  Raster allRaster_, staticRaster_, movingRaster_;
 };
 
 }  // namespace ivgi::gi

@@ -24,7 +24,8 @@ void validate(const ImageSettings& s, const vk::Context& ctx) {
 }
 
 FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, const ImageSettings& image,
-                             std::unique_ptr<Solver> solver, const std::optional<DirectLightSettings>& directLight)
+                             std::unique_ptr<Solver> solver, const std::optional<DirectLightSettings>& directLight,
+                             const std::vector<bool>& movingInstances)
     : ctx_(ctx),
       image_(image),
       vertexCount_(uint32_t(g.vertices.size())),
@@ -67,7 +68,7 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
   if (directLight) {
     validate(*directLight, ctx);
     if (auto samples = emitterSamples(g, directLight->samples); !samples.empty())
-      direct_.emplace(ctx, std::move(samples), surfelCount_, *directLight, tally);
+      direct_.emplace(ctx, g, std::move(samples), movingInstances, *directLight, tally);
   }
   if (direct_ && solver_) {
     if (!solver_->takesDirectLight())
@@ -128,7 +129,7 @@ bool FrameRenderer::recordFrame(VkCommandBuffer cmd, const gpu::Camera& camera, 
             [&] { animate_.dispatchItems(cmd, vertexCount_, buffers, gpu::CountPush{.count = vertexCount_}); });
   timedPass(cmd, timer_, "surfels",
             [&] { surfelUpdate_.dispatchItems(cmd, surfelCount_, buffers, gpu::CountPush{.count = surfelCount_}); });
-  if (direct_) direct_->record(cmd, timer_, buffers, raster_);
+  if (direct_) direct_->record(cmd, timer_, buffers, geometryMoved);
   if (solver_) solver_->record(cmd, timer_, surfels_, geometryMoved);
   timedPass(cmd, timer_, "raster", [&] {
     vk::updateBuffer(cmd, view_, 0, sizeof camera, &camera);

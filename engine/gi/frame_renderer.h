@@ -41,10 +41,12 @@ struct FrameResult {
 class FrameRenderer {
  public:
   // `solver`: the lighting method; none renders emission only. `directLight`: light the surfels
-  // from the emitters through depth maps each frame (where something emits).
+  // from the emitters through depth maps each frame (where something emits), `movingInstances`
+  // saying which instances the animation can move (scene::movingInstances; empty: any may).
   FrameRenderer(const vk::Context& ctx, const scene::Geometry& geometry, const ImageSettings& image,
                 std::unique_ptr<Solver> solver = nullptr,
-                const std::optional<DirectLightSettings>& directLight = std::nullopt);
+                const std::optional<DirectLightSettings>& directLight = std::nullopt,
+                const std::vector<bool>& movingInstances = {});
   ~FrameRenderer();
 
   // `lights`: the punctual lights in world space; `geometryMoved`: whether the solver must refit and

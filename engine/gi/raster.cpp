@@ -21,9 +21,9 @@ Raster::Raster(const vk::Context& ctx, uint32_t triangleCount, vk::Allocations* 
 }
 
 void Raster::record(VkCommandBuffer cmd, const vk::Bindings& scene, const vk::Buffer& views, uint32_t viewCount,
-                    glm::uvec2 size, const vk::Buffer& target) const {
+                    glm::uvec2 size, const vk::Buffer& target, bool clear) const {
   const gpu::RasterPush push{.size = size, .triangleCount = triangleCount_, .viewCount = viewCount};
-  vk::fillBuffer(cmd, target, 0xFFFFFFFFu);
+  if (clear) vk::fillBuffer(cmd, target, 0xFFFFFFFFu);
   vk::fillBuffer(cmd, args_, viewCount, 2 * sizeof(uint32_t), sizeof(uint32_t));  // a slice a view
   slices_.dispatchItems(cmd, triangleCount_, scene.with({{"views", views}, {"rasterArgs", args_}}), push);
   raster_.dispatchIndirect(cmd, args_, 0, scene.with({{"views", views}, {"visibility", target}}), push);

@@ -14,9 +14,9 @@ class Raster {
 
   // Rasterizes the triangles (`world`, `triangles` from `scene`) into `target`: `viewCount` views of
   // `size` samples each, whose cameras `views` holds (a view whose near is negative is skipped and
-  // left empty).
+  // left empty). `clear`: the target emptied first; else the triangles go over what it holds.
   void record(VkCommandBuffer cmd, const vk::Bindings& scene, const vk::Buffer& views, uint32_t viewCount,
-              glm::uvec2 size, const vk::Buffer& target) const;
+              glm::uvec2 size, const vk::Buffer& target, bool clear = true) const;
 
  private:
   uint32_t triangleCount_;
