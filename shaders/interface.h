@@ -55,7 +55,7 @@ struct CountPush {
 #ifdef __cplusplus
 static_assert(sizeof(Vertex) == 64 && sizeof(Instance) == 32 && sizeof(Material) == 48 && sizeof(Surfel) == 48);
 static_assert(sizeof(NodeState) == 48 && sizeof(PunctualLight) == 64 && sizeof(RasterPush) == 16 &&
-              sizeof(ResolvePush) == 80);
+              sizeof(ResolvePush) == 96);
 #undef IVGI_CONST
 #undef IVGI_FN
 #undef IVGI_OUT

@@ -227,6 +227,7 @@ TEST(Surfels, IrradianceIsCarriedToTheVertexAlongItsFace) {
                    triangles = vk::makeBuffer(ctx, g.surfelTriangles), meshTriangles = vk::makeBuffer(ctx, g.triangles),
                    worldBuffer = vk::makeBuffer(ctx, world), surfelBuffer = vk::makeBuffer(ctx, surfels),
                    vertexSurfel = vk::makeBuffer(ctx, vertexSurfels(g)), irradiance = vk::makeBuffer(ctx, solved);
+  const vk::Buffer noDirectLight = vk::makeBuffer(ctx, std::vector<glm::vec4>(solved.size()));
   const vk::Program pass = gi::shaderProgram(ctx, "vertex_irradiance");
   const uint32_t count = uint32_t(surfels.size());
   ctx.submitAndWait([&](VkCommandBuffer cmd) {
@@ -239,6 +240,7 @@ TEST(Surfels, IrradianceIsCarriedToTheVertexAlongItsFace) {
                         {"surfels", surfelBuffer},
                         {"vertexSurfel", vertexSurfel},
                         {"surfelIrradiance", irradiance},
+                        {"surfelDirect", noDirectLight},  // read only where the pixels take it (kDirectPixels)
                         {"vertexIrradiance", out}},
                        gpu::CountPush{.count = count});
   });

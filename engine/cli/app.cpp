@@ -58,13 +58,15 @@ void addSolverOptions(CLI::App* cmd, SolverOptions& o) {
                   "frame's image depends on its number alone; 1: every frame from the emission")
       ->capture_default_str();
   cmd->add_option("--direct", o.direct,
-                  "where the emitters' direct light comes from: bins (the solver's own visibility) or maps (depth "
-                  "maps rasterized around points on the emitters; iv only, for now)")
+                  "where the emitters' direct light comes from: bins (the solver's own visibility), maps (depth "
+                  "maps rasterized around points on the emitters, at the surfels) or pixels (the maps looked up at "
+                  "every pixel too); iv only, for now")
       ->capture_default_str();
   cmd->add_option("--light-samples", o.maps.samples,
-                  "--direct maps: points over the emitters, each with its depth maps")
+                  "--direct maps or pixels: points over the emitters, each with its depth maps")
       ->capture_default_str();
-  cmd->add_option("--shadow-map", o.maps.resolution, "--direct maps: a depth map's side in texels (six a point)")
+  cmd->add_option("--shadow-map", o.maps.resolution,
+                  "--direct maps or pixels: a depth map's side in texels (six a point)")
       ->capture_default_str();
   cmd->add_option("--max-memory", o.maxMemoryMiB, "MiB the solver may allocate at most (0: what the device holds)")
       ->capture_default_str();

@@ -44,8 +44,9 @@ struct SolverOptions {
   std::string environment;             // --env: "R,G,B", an .exr, or none; empty: the scene's own light (see below)
   uint64_t maxMemoryMiB = 0;           // --max-memory: the solver's memory budget (0: the device's)
   uint32_t tessellation = 16;          // --tessellate: iv and ar sample surfaces at least this finely
-  // --direct: where the emitters' direct light comes from: "bins" (the solver's own) or "maps"
-  // (depth maps, gi::DirectLight: --light-samples, --shadow-map).
+  // --direct: where the emitters' direct light comes from: "bins" (the solver's own), "maps" (depth
+  // maps, gi::DirectLight: --light-samples, --shadow-map, at the surfels) or "pixels" (the maps
+  // looked up at every pixel too).
   std::string direct = "bins";
   gi::DirectLightSettings maps;
 };

@@ -44,7 +44,7 @@ nlohmann::json settingsJson(const std::string& method, const gi::IvSettings& iv,
           {"kappa", iv.kappa},
           {"receiverTolerance", iv.receiverTolerance ? nlohmann::json(*iv.receiverTolerance) : nlohmann::json("auto")},
           {"tessellation", tessellation},
-          {"direct", directLight ? nlohmann::json{{"from", "maps"},
+          {"direct", directLight ? nlohmann::json{{"from", directLight->perPixel ? "pixels" : "maps"},
                                                   {"lightSamples", directLight->samples},
                                                   {"shadowMap", directLight->resolution}}
                                  : nlohmann::json{{"from", "bins"}}}};

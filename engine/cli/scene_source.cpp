@@ -25,9 +25,13 @@ scene::Scene loadScene(const SceneChoice& choice) {
 
 std::optional<gi::DirectLightSettings> directLightSettings(const SolverOptions& o) {
   if (o.direct == "bins") return std::nullopt;
-  if (o.direct != "maps") throw SettingsError("--direct " + o.direct + ": must be bins or maps");
-  if (o.method != "iv") throw SettingsError("--direct maps: only iv takes the direct light from depth maps so far");
-  return o.maps;
+  if (o.direct != "maps" && o.direct != "pixels")
+    throw SettingsError("--direct " + o.direct + ": must be bins, maps or pixels");
+  if (o.method != "iv")
+    throw SettingsError("--direct " + o.direct + ": only iv takes the direct light from depth maps so far");
+  gi::DirectLightSettings maps = o.maps;
+  maps.perPixel = o.direct == "pixels";
+  return maps;
 }
 
 uint32_t sampledTessellation(const SolverOptions& solver) {

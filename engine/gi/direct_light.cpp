@@ -114,12 +114,7 @@ DirectLight::DirectLight(const vk::Context& ctx, const scene::Geometry& g, std::
 
 void DirectLight::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bindings& frame, bool geometryMoved) {
   if (lit_ && !geometryMoved) return;  // the surfels' direct light stands
-  const vk::Bindings buffers = vk::Bindings::pool({{"emitterSamples", samples_},
-                                                   {"lightPoints", points_},
-                                                   {"lightViews", views_},
-                                                   {"lightDepth", depth_},
-                                                   {"surfelDirect", surfelDirect_}})
-                                   .plus(frame);
+  const vk::Bindings buffers = vk::Bindings::pool({{"emitterSamples", samples_}}).plus(pool()).plus(frame);
   const uint32_t views = sampleCount_ * gpu::kCubeFaces;
   const glm::uvec2 size(settings_.resolution);
   timedPass(cmd, timer, "direct light", [&] {

@@ -15,6 +15,9 @@ namespace ivgi::gi {
 struct DirectLightSettings {
   uint32_t samples = 128;     // points over the emitters
   uint32_t resolution = 128;  // a depth map's side, in texels (a cube of six a sample)
+  // The image's pixels look the maps up themselves (the resolve), the vertices carrying only the
+  // rest of the irradiance; else the surfels' direct light is shown through their vertices.
+  bool perPixel = false;
 };
 // Throws SettingsError for settings no frame can use on `ctx`.
 void validate(const DirectLightSettings& settings, const vk::Context& ctx);
@@ -41,6 +44,13 @@ class DirectLight {
   // Per surfel, its direct irradiance (rgb), after record().
   const vk::Buffer& surfelDirect() const { return surfelDirect_; }
   uint32_t sampleCount() const { return sampleCount_; }
+  uint32_t resolution() const { return settings_.resolution; }
+  // The samples as the frame placed them, their views and depth maps, the surfels' direct light, by
+  // the names the shaders that look them up bind them under (direct_light.glsl).
+  vk::Bindings pool() const {
+    return vk::Bindings::pool(
+        {{"lightPoints", points_}, {"lightViews", views_}, {"lightDepth", depth_}, {"surfelDirect", surfelDirect_}});
+  }
 
  private:
   DirectLightSettings settings_;

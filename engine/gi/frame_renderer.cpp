@@ -7,6 +7,19 @@
 
 namespace ivgi::gi {
 
+namespace {
+
+// Whether a frame of `g` takes the emitters' direct light from depth maps: asked for, and something emits.
+bool directFromMaps(const scene::Geometry& g, const std::optional<DirectLightSettings>& directLight) {
+  return directLight && !emitterSamples(g, 1).empty();
+}
+// Whether its pixels look the maps up themselves.
+bool directPerPixel(const scene::Geometry& g, const std::optional<DirectLightSettings>& directLight) {
+  return directFromMaps(g, directLight) && directLight->perPixel;
+}
+
+}  // namespace
+
 void validate(const ImageSettings& s, const vk::Context& ctx) {
   const auto& lim = ctx.limits();
   const std::string size = "--size " + std::to_string(s.width) + "x" + std::to_string(s.height);
@@ -34,11 +47,13 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
       solver_(std::move(solver)),
       animate_(shaderProgram(ctx, "animate")),
       surfelUpdate_(shaderProgram(ctx, "surfels")),
-      vertexIrradiance_(shaderProgram(ctx, "vertex_irradiance")),
+      vertexIrradiance_(shaderProgram(ctx, "vertex_irradiance",
+                                      {.constants = {{"kDirectPixels", directPerPixel(g, directLight) ? 1u : 0u}}})),
       resolve_(shaderProgram(ctx, "resolve",
                              {.constants = {{"kTextured", g.textures.empty() ? 0u : 1u},
                                             {"kLit", solver_ ? 1u : 0u},
-                                            {"kColored", g.vertexColors ? 1u : 0u}}})),
+                                            {"kColored", g.vertexColors ? 1u : 0u},
+                                            {"kDirectPixels", solver_ && directPerPixel(g, directLight) ? 1u : 0u}}})),
       raster_(ctx, triangleCount_, &allocations_),
       timer_(ctx) {
   validate(image, ctx);
@@ -65,6 +80,7 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
   shownIrradiance_ =
       vk::Buffer(ctx, std::max<size_t>(solver_ ? surfelCount_ : 0, 1) * sizeof(glm::vec4), Memory::Device, tally);
   view_ = vk::Buffer(ctx, sizeof(gpu::Camera), Memory::Device, tally);
+  noDirectLight_ = vk::Buffer(ctx, 16, Memory::Device, tally);
   if (directLight) {
     validate(*directLight, ctx);
     if (auto samples = emitterSamples(g, directLight->samples); !samples.empty())
@@ -114,7 +130,12 @@ vk::Bindings FrameRenderer::pool() const {
                              {"radiance", radiance_},
                              {"albedo", albedo_},
                              {"normalDepth", normalDepth_},
-                             {"emission", emission_}});
+                             {"emission", emission_}})
+      .plus(direct_ ? direct_->pool()
+                    : vk::Bindings::pool({{"lightPoints", noDirectLight_},
+                                          {"lightViews", noDirectLight_},
+                                          {"lightDepth", noDirectLight_},
+                                          {"surfelDirect", noDirectLight_}}));
 }
 
 bool FrameRenderer::recordFrame(VkCommandBuffer cmd, const gpu::Camera& camera, bool geometryMoved) {
@@ -146,7 +167,11 @@ void FrameRenderer::recordResolve(VkCommandBuffer cmd, const gpu::Camera& camera
   timedPass(cmd, timer_, "resolve", [&] {
     if (solver_) vertexIrradiance_.dispatchItems(cmd, surfelCount_, buffers, gpu::CountPush{.count = surfelCount_});
     resolve_.dispatch(cmd, {(size.x + 7) / 8, (size.y + 7) / 8, 1}, buffers,
-                      gpu::ResolvePush{.camera = camera, .size = size, .samples = image_.samples});
+                      gpu::ResolvePush{.camera = camera,
+                                       .size = size,
+                                       .samples = image_.samples,
+                                       .lightSamples = direct_ ? direct_->sampleCount() : 0u,
+                                       .shadowMap = direct_ ? direct_->resolution() : 0u});
   });
 }
 

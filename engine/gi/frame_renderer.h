@@ -82,6 +82,7 @@ class FrameRenderer {
   // Per frame.
   vk::Buffer matrices_, morphWeights_, world_, surfels_, visibility_, unlitIrradiance_;
   vk::Buffer shownIrradiance_;  // the solver's irradiance carried to each surfel's vertex (vertex_irradiance)
+  vk::Buffer noDirectLight_;    // bound for the direct light's buffers where there is none (never read)
   vk::Buffer view_;             // the camera, the raster's one view
   vk::Buffer radiance_, albedo_, normalDepth_, emission_;  // mapped: the image channels
   std::unique_ptr<Solver> solver_;

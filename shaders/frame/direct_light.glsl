@@ -1,48 +1,49 @@
 // The direct light of the emitter samples at a point, each seen or hidden by its depth maps
-// (light_views, the raster). Expects `lightPoints`, `lightViews`, `lightDepth` (64-bit depth keys,
-// kCubeFaces views a sample) and `push` (DirectLightPush) declared before it.
+// (light_views, the raster). Expects `lightPoints`, `lightViews` and `lightDepth` (64-bit depth keys,
+// kCubeFaces views a sample, each `side` texels square) declared before it.
 
 // Texels' depth, in the view's depth along its forward axis; an empty texel is infinitely deep.
-float depthAt(uint view, ivec2 texel) {
-  const ivec2 t = clamp(texel, ivec2(0), ivec2(int(push.resolution) - 1));
-  const uint64_t key = lightDepth[(view * push.resolution + uint(t.y)) * push.resolution + uint(t.x)];
+float depthAt(uint view, ivec2 texel, uint side) {
+  const ivec2 t = clamp(texel, ivec2(0), ivec2(int(side) - 1));
+  const uint64_t key = lightDepth[(view * side + uint(t.y)) * side + uint(t.x)];
   return key == kEmptyVisibility ? 3.4e38 : keyDepth(key);
 }
 
 // The share of the four texels around the ray from emitter sample `light`'s views to the point `p` that
 // see p (bilinear weights), where `cosine` is the cosine of the ray at p's surface. A texel sees p
 // where its depth, less a bias of a texel and a half of p's own slope across it, is not nearer.
-float seenShare(uint light, vec3 p, float cosine) {
+float seenShare(uint light, vec3 p, float cosine, uint side) {
   const vec3 d = p - lightViews[kCubeFaces * light].origin.xyz, m = abs(d);
   const uint axis = m.x >= m.y && m.x >= m.z ? 0u : (m.y >= m.z ? 1u : 2u);
   const uint view = kCubeFaces * light + 2u * axis + (d[axis] < 0.0 ? 1u : 0u);
   const Camera c = lightViews[view];
   const float z = dot(d, c.forward.xyz);
-  const float size = float(push.resolution);
+  const float size = float(side);
   const vec2 at = vec2((dot(d, c.right.xyz) / z + 1.0) * 0.5 * size, (1.0 - dot(d, c.up.xyz) / z) * 0.5 * size) - 0.5;
   const ivec2 corner = ivec2(floor(at));
   const vec2 f = at - vec2(corner);
   const float slope = sqrt(max(1.0 - cosine * cosine, 0.0)) / max(cosine, 0.1);
   const float bias = 1.5 * (2.0 * z / size) * (1.0 + slope);
-  const vec4 seen =
-      vec4(depthAt(view, corner) + bias >= z, depthAt(view, corner + ivec2(1, 0)) + bias >= z,
-           depthAt(view, corner + ivec2(0, 1)) + bias >= z, depthAt(view, corner + ivec2(1, 1)) + bias >= z);
+  const vec4 seen = vec4(depthAt(view, corner, side) + bias >= z, depthAt(view, corner + ivec2(1, 0), side) + bias >= z,
+                         depthAt(view, corner + ivec2(0, 1), side) + bias >= z,
+                         depthAt(view, corner + ivec2(1, 1), side) + bias >= z);
   return mix(mix(seen.x, seen.y, f.x), mix(seen.z, seen.w, f.x), f.y);
 }
 
-// Irradiance at p (unit normal n) from every emitter sample, each a disk of the area it stands for:
-// L·A·cos θ·cos θ' / (d² + A/π), finite where p comes near it.
-vec3 directIrradiance(vec3 p, vec3 n) {
+// Irradiance at p (unit normal n) from the emitter samples first, first + stride, … of `count`, each a
+// disk of the area it stands for, L·A·cos θ·cos θ' / (d² + A/π) (finite where p comes near it),
+// times the stride: every stride-th of the stratified samples is an estimate of them all.
+vec3 directIrradiance(vec3 p, vec3 n, uint count, uint side, uint first, uint stride) {
   vec3 e = vec3(0.0);
-  for (uint i = 0u; i < push.sampleCount; ++i) {
+  for (uint i = first; i < count; i += stride) {
     const LightPoint l = lightPoints[i];
     const vec3 toLight = l.positionArea.xyz - p;
     const float d2 = dot(toLight, toLight);
     if (!(d2 > 0.0)) continue;
     const float inv = inversesqrt(d2), cosR = dot(n, toLight) * inv, cosL = -dot(l.normal.xyz, toLight) * inv;
     if (cosR <= 0.0 || cosL <= 0.0) continue;
-    const float share = seenShare(i, p, cosR);
+    const float share = seenShare(i, p, cosR, side);
     e += l.radiance.rgb * (share * l.positionArea.w * cosR * cosL / (d2 + l.positionArea.w / kPi));
   }
-  return e;
+  return e * float(stride);
 }

@@ -17,5 +17,6 @@ void main() {
   const uint i = itemIndex();
   if (i >= push.count) return;
   const Surfel s = surfels[i];
-  surfelDirect[i] = vec4(directIrradiance(s.positionArea.xyz, s.normal.xyz), 0.0);
+  surfelDirect[i] =
+      vec4(directIrradiance(s.positionArea.xyz, s.normal.xyz, push.sampleCount, push.resolution, 0u, 1u), 0.0);
 }

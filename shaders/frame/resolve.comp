@@ -19,6 +19,9 @@ layout(std430, binding = 10) writeonly buffer Emission { vec4 emissionOut[]; };
 layout(binding = 11, r32ui) readonly uniform uimageBuffer vertexSurfel;       // int, -1: none
 layout(binding = 12, rgba32f) readonly uniform imageBuffer vertexIrradiance;  // per surfel, at its vertex
 layout(binding = 13, rgba32f) readonly uniform imageBuffer colors;            // COLOR_0 per vertex
+layout(std430, binding = 14) readonly buffer LightPoints { LightPoint lightPoints[]; };
+layout(std430, binding = 15) readonly buffer LightViews { Camera lightViews[]; };
+layout(std430, binding = 16) readonly buffer LightDepth { uint64_t lightDepth[]; };
 layout(push_constant) uniform Push { ResolvePush push; };
 // False for scenes without textures: the lookups are compiled out. lavapipe runs a branch inside
 // the sample loop masked, so even untaken lookups cost a third of the pass.
@@ -28,6 +31,12 @@ layout(constant_id = 0) const bool kTextured = true;
 layout(constant_id = 1) const bool kLit = false;
 // True where some primitive has vertex colours (COLOR_0), which multiply the base colour.
 layout(constant_id = 2) const bool kColored = false;
+// True where the emitters' direct light comes from depth maps (gi::DirectLight): the vertices then
+// carry only the rest of the irradiance, and each sample adds the maps' direct light at its own
+// point, sample k of a pixel's n² taking the emitter samples k, k + n², … (interleaved: a pixel
+// takes them all).
+layout(constant_id = 3) const bool kDirectPixels = false;
+#include "direct_light.glsl"
 
 vec3 irradianceAt(uint vertex) {
   int surfel = int(imageLoad(vertexSurfel, int(vertex)).x);
@@ -71,7 +80,8 @@ void main() {
       vec3 a = positionOf(t.x), b = positionOf(t.y), c = positionOf(t.z);
       float tHit;
       vec2 bc;
-      intersectTriangle(push.camera.origin.xyz, cameraRay(push.camera, vec2(s) + 0.5, fine), a, b, c, tHit, bc);
+      const vec3 ray = cameraRay(push.camera, vec2(s) + 0.5, fine);
+      intersectTriangle(push.camera.origin.xyz, ray, a, b, c, tHit, bc);
       vec3 w = vec3(1.0 - bc.x - bc.y, bc.x, bc.y);
       vec3 n = cross(b - a, c - a);
       if ((t.w & kFlatShaded) == 0u) n = w.x * normalOf(t.x) + w.y * normalOf(t.y) + w.z * normalOf(t.z);
@@ -90,6 +100,11 @@ void main() {
       emission += emit;
       if (kLit) {
         vec3 e = w.x * irradianceAt(t.x) + w.y * irradianceAt(t.y) + w.z * irradianceAt(t.z);
+        if (kDirectPixels && len > 0.0) {
+          const uint stride = min(samples * samples, push.lightSamples), first = (sy * samples + sx) % stride;
+          e += directIrradiance(push.camera.origin.xyz + tHit * ray, n / len, push.lightSamples, push.shadowMap, first,
+                                stride);
+        }
         reflected += base * e / kPi;
       }
       normal += len > 0.0 ? n / len : vec3(0.0);

@@ -20,13 +20,23 @@ layout(binding = 5, rgba32f) readonly uniform imageBuffer surfels;      // Surfe
 layout(binding = 6, r32ui) readonly uniform uimageBuffer vertexSurfel;  // int, -1: none
 layout(binding = 7, rgba32f) readonly uniform imageBuffer surfelIrradiance;
 layout(std430, binding = 8) writeonly buffer VertexIrradiance { vec4 vertexIrradiance[]; };
+layout(binding = 9, rgba32f) readonly uniform imageBuffer surfelDirect;
+// True where the resolve adds the depth maps' direct light per pixel (resolve.comp): the vertices
+// then carry the surfels' irradiance less that direct light.
+layout(constant_id = 0) const bool kDirectPixels = false;
 layout(push_constant) uniform Push { CountPush push; };  // count: surfels
+
+// The irradiance the vertices carry: the solver's, or what the depth maps' direct light leaves of it.
+vec4 shown(int s) {
+  const vec4 e = imageLoad(surfelIrradiance, s);
+  return kDirectPixels ? vec4(e.rgb - imageLoad(surfelDirect, s).rgb, e.a) : e;
+}
 
 void main() {
   const uint s = itemIndex();
   if (s >= push.count) return;
   const uvec4 src = imageLoad(surfelSources, int(s));  // firstVertex, vertexCount, firstTriangle, triangleCount
-  const vec4 own = imageLoad(surfelIrradiance, int(s)), positionArea = imageLoad(surfels, int(3u * s));
+  const vec4 own = shown(int(s)), positionArea = imageLoad(surfels, int(3u * s));
   const vec3 c = positionArea.xyz, n = imageLoad(surfels, int(3u * s + 1u)).xyz;
   const uint vertex = imageLoad(surfelVertices, int(src.x)).x;
   const vec3 toVertex = imageLoad(world, int(2u * vertex)).xyz - c;
@@ -34,7 +44,7 @@ void main() {
   tangentFrame(n, t1, t2);
   const vec2 d = vec2(dot(toVertex, t1), dot(toVertex, t2));
   if (positionArea.w <= 0.0 || dot(d, d) == 0.0) {
-    vertexIrradiance[s] = own;
+    vertexIrradiance[s] = kDirectPixels ? vec4(max(own.rgb, vec3(0.0)), own.a) : own;
     return;
   }
   // Weighted least squares for the gradient g of each channel: Σ w (ΔE − g·o)² over the neighbours'
@@ -54,7 +64,7 @@ void main() {
       const vec2 o = vec2(dot(e, t1), dot(e, t2));
       const float w = agree * agree;
       a += w * outerProduct(o, o);
-      b += w * outerProduct(o, imageLoad(surfelIrradiance, other).rgb - own.rgb);
+      b += w * outerProduct(o, shown(other).rgb - own.rgb);
     }
   }
   // Regularised, so that neighbours in a line (a strip one surfel wide) leave the gradient across

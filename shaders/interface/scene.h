@@ -199,9 +199,13 @@ struct RasterPush {  // raster_slices, raster
 };
 struct ResolvePush {  // resolve
   Camera camera;
-  uvec2 size;    // the image in pixels
-  uint samples;  // per pixel and axis
-  uint pad;
+  uvec2 size;         // the image in pixels
+  uint samples;       // per pixel and axis
+  uint lightSamples;  // with kDirectPixels: the emitter samples (DirectLightPush::sampleCount)
+  uint shadowMap;     // and their depth maps' side
+  uint pad0;
+  uint pad1;
+  uint pad2;
 };
 struct DirectLightPush {  // direct_surfels
   uint count;             // points lit
