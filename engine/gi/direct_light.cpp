@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "engine/core/errors.h"
 #include "engine/gi/pass.h"
@@ -69,12 +70,13 @@ std::vector<gpu::EmitterSample> emitterSamples(const scene::Geometry& g, uint32_
 
 namespace {
 
-// The triangles of `geometry` whose instance `moving` says can move (`moves`) or cannot.
-std::vector<scene::Triangle> trianglesThat(const scene::Geometry& g, const std::vector<bool>& moving, bool moves) {
-  std::vector<scene::Triangle> out;
+// The triangles of `geometry` that cannot move and those that can, by their instance's `moving`.
+std::pair<std::vector<scene::Triangle>, std::vector<scene::Triangle>> byMotion(const scene::Geometry& g,
+                                                                               const std::vector<bool>& moving) {
+  std::pair<std::vector<scene::Triangle>, std::vector<scene::Triangle>> split;
   for (const scene::Triangle& t : g.triangles)
-    if (moving[g.vertices[t.v0].instance] == moves) out.push_back(t);
-  return out;
+    (moving[g.vertices[t.v0].instance] ? split.second : split.first).push_back(t);
+  return split;
 }
 
 // Whether any sample lies on a triangle that can move.
@@ -93,21 +95,22 @@ DirectLight::DirectLight(const vk::Context& ctx, const scene::Geometry& g, std::
       surfelCount_(uint32_t(g.surfels.size())),
       splitsStatic_(!moving.empty() && !emittersMove(g, samples, moving)),
       lightViews_(shaderProgram(ctx, "light_views")),
-      directSurfels_(shaderProgram(ctx, "direct_surfels")),
-      allRaster_(ctx, splitsStatic_ ? 0 : uint32_t(g.triangles.size()), tally),
-      staticRaster_(ctx, splitsStatic_ ? uint32_t(trianglesThat(g, moving, false).size()) : 0, tally),
-      movingRaster_(ctx, splitsStatic_ ? uint32_t(trianglesThat(g, moving, true).size()) : 0, tally) {
+      directSurfels_(shaderProgram(ctx, "direct_surfels")) {
   validate(settings, ctx);
   samples_ = vk::makeBuffer(ctx, samples, vk::Memory::Device, tally);
   points_ = vk::Buffer(ctx, sampleCount_ * sizeof(gpu::LightPoint), vk::Memory::Device, tally);
   views_ = vk::Buffer(ctx, sampleCount_ * gpu::kCubeFaces * sizeof(gpu::Camera), vk::Memory::Device, tally);
   depth_ = vk::Buffer(ctx, depthBytes(settings), vk::Memory::Device, tally);
   if (splitsStatic_) {
-    staticTriangles_ = vk::makeBuffer(ctx, trianglesThat(g, moving, false), vk::Memory::Device, tally);
-    const std::vector<scene::Triangle> movingTriangles = trianglesThat(g, moving, true);
-    movingCount_ = uint32_t(movingTriangles.size());
-    movingTriangles_ = vk::makeBuffer(ctx, movingTriangles, vk::Memory::Device, tally);
+    const auto [still, moves] = byMotion(g, moving);
+    staticRaster_.emplace(ctx, uint32_t(still.size()), tally);
+    movingRaster_.emplace(ctx, uint32_t(moves.size()), tally);
+    staticTriangles_ = vk::makeBuffer(ctx, still, vk::Memory::Device, tally);
+    movingTriangles_ = vk::makeBuffer(ctx, moves, vk::Memory::Device, tally);
+    movingCount_ = uint32_t(moves.size());
     if (movingCount_ > 0) staticDepth_ = vk::Buffer(ctx, depthBytes(settings), vk::Memory::Device, tally);
+  } else {
+    allRaster_.emplace(ctx, uint32_t(g.triangles.size()), tally);
   }
   surfelDirect_ = vk::Buffer(ctx, std::max(surfelCount_, 1u) * sizeof(glm::vec4), vk::Memory::Device, tally);
 }
@@ -120,15 +123,15 @@ void DirectLight::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bi
   timedPass(cmd, timer, "direct light", [&] {
     lightViews_.dispatchItems(cmd, sampleCount_, buffers, gpu::CountPush{.count = sampleCount_});
     if (!splitsStatic_) {
-      allRaster_.record(cmd, frame, views_, views, size, depth_);
+      allRaster_->record(cmd, frame, views_, views, size, depth_);
     } else if (movingCount_ == 0) {  // nothing moves: the maps are drawn once
       if (!staticDrawn_)
-        staticRaster_.record(cmd, frame.with({{"triangles", staticTriangles_}}), views_, views, size, depth_);
+        staticRaster_->record(cmd, frame.with({{"triangles", staticTriangles_}}), views_, views, size, depth_);
     } else {
       if (!staticDrawn_)
-        staticRaster_.record(cmd, frame.with({{"triangles", staticTriangles_}}), views_, views, size, staticDepth_);
+        staticRaster_->record(cmd, frame.with({{"triangles", staticTriangles_}}), views_, views, size, staticDepth_);
       vk::copyBuffer(cmd, staticDepth_, depth_);
-      movingRaster_.record(cmd, frame.with({{"triangles", movingTriangles_}}), views_, views, size, depth_, false);
+      movingRaster_->record(cmd, frame.with({{"triangles", movingTriangles_}}), views_, views, size, depth_, false);
     }
     staticDrawn_ = true;
     directSurfels_.dispatchItems(

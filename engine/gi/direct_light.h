@@ -2,6 +2,7 @@
 // Direct light from depth maps (docs/design.md §2.5): points chosen over the emissive triangles by
 // power, each with a cube of depth maps rasterized around it every frame, light the surfels (the
 // first bounce's source) with their visibility resolved by the maps, not by a solver's bins.
+#include <optional>
 #include <vector>
 
 #include "engine/gi/raster.h"
@@ -62,7 +63,7 @@ class DirectLight {
   vk::Buffer samples_, points_, views_, depth_, staticDepth_, surfelDirect_;
   vk::Buffer staticTriangles_, movingTriangles_;
   vk::Program lightViews_, directSurfels_;
-  Raster allRaster_, staticRaster_, movingRaster_;
+  std::optional<Raster> allRaster_, staticRaster_, movingRaster_;  // all, or the static and moving
 };
 
 }  // namespace ivgi::gi
