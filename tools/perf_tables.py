@@ -79,7 +79,7 @@ def fmt(ms):
 
 
 def per_pass_table(r, runs):
-    order = ["animate", "surfels", "refit", "links", "prune", "receivers", "interpolation", "bounces", "raster",
+    order = ["animate", "surfels", "direct light", "refit", "links", "prune", "receivers", "interpolation", "bounces", "raster",
              "resolve", "total"]
     columns, results = {}, {}
     for cells in (8, 26):
