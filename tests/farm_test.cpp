@@ -247,9 +247,10 @@ TEST(Shards, AKilledRunIsResumedToTheSameFrames) {
   ASSERT_TRUE(waitFor([&] { return !running(pid); }, 10));
   EXPECT_FALSE(fs::exists(out / "f_0005.png")) << "killed before the end";
   EXPECT_FALSE(hiddenFiles(out).empty()) << "the killed run's lock (and maybe a temporary) stays behind";
+  // The resume in a process of its own, as a farm would run it: the killed run and its lock are another's.
   test::Run resumed =
-      test::runIvgi({"render", "cornell", "--method", "pt", "--spp", "512", "--size", "48x36", "--frames", "0-5",
-                     "--threads", "1", "--out", (out / "f_%04d").string(), "--resume"});
+      test::runIvgiProcess({"render", "cornell", "--method", "pt", "--spp", "512", "--size", "48x36", "--frames", "0-5",
+                            "--threads", "1", "--out", (out / "f_%04d").string(), "--resume"});
   ASSERT_EQ(resumed.status, 0) << resumed.err;
   EXPECT_TRUE(hiddenFiles(out).empty()) << "left behind: " << (hiddenFiles(out).empty() ? "" : hiddenFiles(out)[0]);
   expectSameFrames(out, dir / "whole");

@@ -5,6 +5,8 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <random>
 
 #include "engine/image/frame_image.h"
@@ -143,5 +145,44 @@ TEST(ImageFiles, AFileRewrittenWithinTheSecondIsReadAsItIsNow) {
   const OIIO::ImageBuf all = image::readFloatImage(path.string());
   EXPECT_EQ(all.spec().width, 40);
   EXPECT_EQ(all.spec().nchannels, 14);
+  std::filesystem::remove(path);
+}
+
+// An EXR whose string attribute declares more bytes than the file holds (its size field set to
+// 10⁹, as the EXR fuzzer found) is refused in one line naming the attribute, before OpenEXR would
+// allocate the declared size.
+TEST(ImageFiles, AnExrAttributeLargerThanItsFileIsRefused) {
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() / ("ivgi-attribute-" + std::to_string(getpid()) + ".exr");
+  OIIO::ImageSpec spec(2, 2, 3, OIIO::TypeDesc::FLOAT);
+  spec.attribute("Software", "ivgi test");
+  const float pixels[12] = {};
+  {
+    auto out = OIIO::ImageOutput::create(path.string());
+    ASSERT_TRUE(out && out->open(path.string(), spec) && out->write_image(OIIO::TypeDesc::FLOAT, pixels));
+    out->close();
+  }
+  EXPECT_EQ(image::readFloatImage(path.string()).spec().width, 2);  // as written, it reads
+  std::string bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  const std::string key = std::string("Software") + '\0' + "string" + '\0';
+  const size_t at = bytes.find(key);
+  ASSERT_NE(at, std::string::npos);
+  const uint32_t huge = 1000000000u;
+  for (int k = 0; k < 4; ++k) bytes[at + key.size() + k] = char((huge >> (8 * k)) & 0xff);
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+  try {
+    image::readFloatImage(path.string());
+    ADD_FAILURE() << "read";
+  } catch (const std::runtime_error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find(path.string() + ": cannot read: EXR header attribute 'Software'"), std::string::npos)
+        << message;
+    EXPECT_NE(message.find("declares 1000000000 bytes"), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos);
+  }
   std::filesystem::remove(path);
 }

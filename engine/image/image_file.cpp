@@ -2,14 +2,63 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
 #include <stdexcept>
 
 namespace ivgi::image {
+
+namespace {
+
+// An EXR header's attributes (name, type, a 32-bit size, the value) each declare their value's
+// size, and OpenEXR 3.1 allocates a string attribute's declared size before reading it: a file of a
+// few hundred bytes can claim gigabytes. Walks the headers (every part's, for a multi-part file)
+// and returns why an attribute's size cannot be, or "" (also for what is not an EXR: its reader
+// judges it).
+std::string exrHeaderProblem(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::error_code ec;
+  const uint64_t fileSize = std::filesystem::file_size(path, ec);
+  unsigned char start[8];
+  if (!in || ec || !in.read(reinterpret_cast<char*>(start), 8) || start[0] != 0x76 || start[1] != 0x2f ||
+      start[2] != 0x31 || start[3] != 0x01)
+    return "";
+  const bool multiPart = (start[5] & 0x10) != 0;  // version field bit 12
+  auto readString = [&](std::string& s) {
+    s.clear();
+    for (char c; in.get(c);) {
+      if (c == '\0') return true;
+      if (s.size() == 255) return false;
+      s += c;
+    }
+    return false;
+  };
+  for (bool headerEmpty = false; !headerEmpty;) {
+    headerEmpty = true;
+    for (std::string name, type; readString(name) && !name.empty(); headerEmpty = false) {
+      unsigned char size[4];
+      if (!readString(type) || !in.read(reinterpret_cast<char*>(size), 4)) return "";
+      const int64_t declared =
+          int32_t(uint32_t(size[0]) | uint32_t(size[1]) << 8 | uint32_t(size[2]) << 16 | uint32_t(size[3]) << 24);
+      const int64_t left = int64_t(fileSize) - int64_t(in.tellg());
+      if (declared < 0 || declared > left)
+        return "EXR header attribute '" + name + "' (" + type + ") declares " + std::to_string(declared) +
+               " bytes, and the file has " + std::to_string(left) + " left";
+      in.seekg(declared, std::ios::cur);
+    }
+    if (!in || !multiPart) break;  // a single part's header ends at its first empty name
+  }
+  return "";
+}
+
+}  // namespace
 
 OIIO::ImageBuf readFloatImage(const std::string& path, const std::string& what, OIIO::TypeDesc* fileFormat) {
   auto fail = [&](const std::string& why) {
     throw std::runtime_error(path + ": cannot read" + (what.empty() ? "" : " " + what) + ": " + why);
   };
+  if (const std::string problem = exrHeaderProblem(path); !problem.empty()) fail(problem);
   auto in = OIIO::ImageInput::open(path);
   if (!in) fail(OIIO::geterror());
   OIIO::ImageSpec spec = in->spec();
