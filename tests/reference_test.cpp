@@ -204,4 +204,11 @@ TEST(BenchCli, EqualErrorReportsTheRatio) {
   EXPECT_EQ(j["solver"]["settings"]["method"], "iv");
   EXPECT_GE(j["pt"]["ladder"].size(), 1u);
   EXPECT_TRUE(j["ratio"].is_number() || j["ratioLowerBound"].is_number()) << j.dump();
+  // The same at equal FLIP, and the ladder ran until pt reached both (or its last spp).
+  EXPECT_NE(r.out.find("at equal FLIP"), std::string::npos) << r.out;
+  EXPECT_TRUE(j["ratioFlip"].is_number() || j["ratioFlipLowerBound"].is_number()) << j.dump();
+  const auto& last = j["pt"]["ladder"].back();
+  EXPECT_TRUE(last["spp"] == 64 || (last["relMSE"].get<double>() <= j["solver"]["relMSE"].get<double>() &&
+                                    last["FLIP"].get<double>() <= j["solver"]["FLIP"].get<double>()))
+      << j.dump();
 }

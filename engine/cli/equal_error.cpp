@@ -1,12 +1,14 @@
 // ivgi bench --equal-error: how much faster iv (or ar) is than the path tracer at the same error. Its time
 // is the mean GPU time of an animated frame (ar's chains: restarts and chained frames in their
-// proportion); its error the relMSE of one frame against a converged
-// pt reference; pt's time the wall-clock time, on this machine's cores, of the spp that reaches the
-// same relMSE (doubling spp with an independent seed, interpolated log-log between the two spp
-// that bracket it).
+// proportion); its error the relMSE and the FLIP of one frame against a converged pt reference;
+// pt's time the wall-clock time, on this machine's cores, of the spp that reaches the same relMSE,
+// and the same FLIP (doubling spp with an independent seed, interpolated log-log between the two
+// spp that bracket it).
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <optional>
+#include <vector>
 
 #include "engine/cli/commands.h"
 #include "engine/cli/frame_times.h"
@@ -26,6 +28,30 @@ struct PtRender {
   image::RgbImage radiance;
   double ms = 0;
 };
+
+// One spp of pt's ladder: its time and errors.
+struct Rung {
+  uint32_t spp;
+  double ms, relMse, flip;
+};
+
+// Where pt's ladder reaches `target` of `metric`: its time, log-log interpolated between the two
+// rungs that bracket it (`bracketed`), or that of the first rung where it is already below; none
+// where no rung reaches it.
+struct Crossing {
+  double ms;
+  bool bracketed;
+};
+std::optional<Crossing> crossing(const std::vector<Rung>& ladder, double Rung::*metric, double target) {
+  for (size_t k = 0; k < ladder.size(); ++k) {
+    if (ladder[k].*metric > target) continue;
+    if (k == 0) return Crossing{ladder[0].ms, false};
+    const Rung &a = ladder[k - 1], &b = ladder[k];
+    const double f = (std::log(target) - std::log(a.*metric)) / (std::log(b.*metric) - std::log(a.*metric));
+    return Crossing{std::exp(std::log(a.ms) + f * (std::log(b.ms) - std::log(a.ms))), true};
+  }
+  return std::nullopt;
+}
 
 PtRender pathTrace(const scene::Scene& s, const scene::Geometry& g, const scene::Pose& pose,
                    const std::optional<scene::Environment>& environment, const scene::CameraView& view, uint32_t width,
@@ -105,26 +131,16 @@ int runEqualError(const BenchOptions& o) {
               ivError.relMse, ivError.flip);
   std::printf("%8s %12s %12s %10s\n", "pt spp", "ms", "relMSE", "FLIP");
 
-  nlohmann::json ladder = nlohmann::json::array();
-  double ptMs = -1, prevMs = 0, prevErr = 0;
-  bool bracketed = false;
+  std::vector<Rung> ladder;
+  nlohmann::json ladderJson = nlohmann::json::array();
   for (uint32_t spp = 1; spp <= o.maxSpp; spp *= 2) {
     auto r = pathTrace(s, modelled, pose, environment, view, image.width, image.height, uint32_t(o.frame),
                        {.spp = spp, .seed = 1, .threads = o.threads});
     auto e = image::measureError(r.radiance, ref);
     std::printf("%8u %12.1f %12.5g %10.4f\n", spp, r.ms, e.relMse, e.flip);
-    ladder.push_back({{"spp", spp}, {"ms", r.ms}, {"relMSE", e.relMse}, {"FLIP", e.flip}});
-    if (e.relMse <= ivError.relMse) {
-      if (spp == 1) {
-        ptMs = r.ms;  // already below iv's error at 1 spp: the ratio is an upper bound
-      } else {        // log-log interpolation between the bracketing spp
-        double f = (std::log(ivError.relMse) - std::log(prevErr)) / (std::log(e.relMse) - std::log(prevErr));
-        ptMs = std::exp(std::log(prevMs) + f * (std::log(r.ms) - std::log(prevMs)));
-        bracketed = true;
-      }
-      break;
-    }
-    prevMs = r.ms, prevErr = e.relMse;
+    ladder.push_back({spp, r.ms, e.relMse, e.flip});
+    ladderJson.push_back({{"spp", spp}, {"ms", r.ms}, {"relMSE", e.relMse}, {"FLIP", e.flip}});
+    if (e.relMse <= ivError.relMse && e.flip <= ivError.flip) break;  // both reached
   }
   nlohmann::json result = {
       {"scene", s.source},
@@ -139,20 +155,31 @@ int runEqualError(const BenchOptions& o) {
         {"FLIP", ivError.flip},
         {"settings", settings},
         {"device", deviceJson(ctx)}}},
-      {"pt", {{"ladder", ladder}, {"device", cpuJson(o.threads)}}},
+      {"pt", {{"ladder", ladderJson}, {"device", cpuJson(o.threads)}}},
       {"reference", o.reference.empty() ? nlohmann::json({{"spp", o.referenceSpp}, {"ms", referenceMs}})
                                         : nlohmann::json(o.reference)}};
-  if (ptMs < 0) {
-    std::printf("\npt did not reach %s's relMSE within %u spp: %s is more than %.0fx faster at equal error\n", method,
-                o.maxSpp, method, prevMs / ivMs);
-    result["ratio"] = nullptr;
-    result["ratioLowerBound"] = prevMs / ivMs;
-  } else {
-    std::printf("\npt reaches %s's relMSE in %.1f ms%s: %s is %.2fx %s at equal error\n", method, ptMs,
-                bracketed ? " (interpolated)" : " (at 1 spp)", method, ptMs / ivMs,
-                ptMs >= ivMs ? "faster" : "slower (ratio < 1)");
-    result["ptMsAtEqualError"] = ptMs;
-    result["ratio"] = ptMs / ivMs;
+  std::printf("\n");
+  // At equal relMSE (the keys "ratio", "ptMsAtEqualError", "ratioLowerBound"), then at equal FLIP.
+  const struct {
+    const char* name;
+    double Rung::*metric;
+    double target;
+    std::string suffix;
+  } measures[] = {{"relMSE", &Rung::relMse, ivError.relMse, ""}, {"FLIP", &Rung::flip, ivError.flip, "Flip"}};
+  for (const auto& m : measures) {
+    const std::string msKey = m.suffix.empty() ? "ptMsAtEqualError" : "ptMsAtEqualFlip";
+    if (const auto c = crossing(ladder, m.metric, m.target)) {
+      std::printf("pt reaches %s's %s in %.1f ms%s: %s is %.2fx %s at equal %s\n", method, m.name, c->ms,
+                  c->bracketed ? " (interpolated)" : " (at 1 spp)", method, c->ms / ivMs,
+                  c->ms >= ivMs ? "faster" : "slower (ratio < 1)", m.suffix.empty() ? "error" : "FLIP");
+      result[msKey] = c->ms;
+      result["ratio" + m.suffix] = c->ms / ivMs;
+    } else {
+      std::printf("pt did not reach %s's %s within %u spp: %s is more than %.0fx faster at equal %s\n", method, m.name,
+                  o.maxSpp, method, ladder.back().ms / ivMs, m.suffix.empty() ? "error" : "FLIP");
+      result["ratio" + m.suffix] = nullptr;
+      result["ratio" + m.suffix + "LowerBound"] = ladder.back().ms / ivMs;
+    }
   }
   if (!o.json.empty()) writeJson(o.json, result);
   return ctx.validationErrors() ? 3 : 0;
