@@ -11,9 +11,9 @@ namespace ivgi::gi {
 
 namespace {
 
-// The bytes of the depth maps of `settings`: 64-bit keys, six maps a sample.
+// The bytes of the depth maps of `settings`: 32-bit depths, six maps a sample.
 uint64_t depthBytes(const DirectLightSettings& s) {
-  return uint64_t(s.samples) * gpu::kCubeFaces * s.resolution * s.resolution * sizeof(uint64_t);
+  return uint64_t(s.samples) * gpu::kCubeFaces * s.resolution * s.resolution * sizeof(uint32_t);
 }
 
 }  // namespace
@@ -103,14 +103,14 @@ DirectLight::DirectLight(const vk::Context& ctx, const scene::Geometry& g, std::
   depth_ = vk::Buffer(ctx, depthBytes(settings), vk::Memory::Device, tally);
   if (splitsStatic_) {
     const auto [still, moves] = byMotion(g, moving);
-    staticRaster_.emplace(ctx, uint32_t(still.size()), tally);
-    movingRaster_.emplace(ctx, uint32_t(moves.size()), tally);
+    staticRaster_.emplace(ctx, uint32_t(still.size()), tally, true);
+    movingRaster_.emplace(ctx, uint32_t(moves.size()), tally, true);
     staticTriangles_ = vk::makeBuffer(ctx, still, vk::Memory::Device, tally);
     movingTriangles_ = vk::makeBuffer(ctx, moves, vk::Memory::Device, tally);
     movingCount_ = uint32_t(moves.size());
     if (movingCount_ > 0) staticDepth_ = vk::Buffer(ctx, depthBytes(settings), vk::Memory::Device, tally);
   } else {
-    allRaster_.emplace(ctx, uint32_t(g.triangles.size()), tally);
+    allRaster_.emplace(ctx, uint32_t(g.triangles.size()), tally, true);
   }
   surfelDirect_ = vk::Buffer(ctx, std::max(surfelCount_, 1u) * sizeof(glm::vec4), vk::Memory::Device, tally);
 }

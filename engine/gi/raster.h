@@ -10,7 +10,9 @@ namespace ivgi::gi {
 
 class Raster {
  public:
-  Raster(const vk::Context& ctx, uint32_t triangleCount, vk::Allocations* tally);
+  // `depthOnly`: the target holds each sample's nearest depth as 32-bit float bits (depth maps);
+  // else 64-bit depth and triangle keys.
+  Raster(const vk::Context& ctx, uint32_t triangleCount, vk::Allocations* tally, bool depthOnly = false);
 
   // Rasterizes the triangles (`world`, `triangles` from `scene`) into `target`: `viewCount` views of
   // `size` samples each, whose cameras `views` holds (a view whose near is negative is skipped and
@@ -20,8 +22,10 @@ class Raster {
 
  private:
   uint32_t triangleCount_;
+  bool depthOnly_;
   vk::Program slices_, raster_;
-  vk::Buffer args_;  // the raster's dispatch, its z counted by raster_slices
+  vk::Buffer args_;    // the raster's dispatch, its z counted by raster_slices
+  vk::Buffer unused_;  // bound where the shader's other target is not written
 };
 
 }  // namespace ivgi::gi

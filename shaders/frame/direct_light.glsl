@@ -1,12 +1,12 @@
 // The direct light of the emitter samples at a point, each seen or hidden by its depth maps
-// (light_views, the raster). Expects `lightPoints`, `lightViews` and `lightDepth` (64-bit depth keys,
-// kCubeFaces views a sample, each `side` texels square) declared before it.
+// (light_views, the raster). Expects `lightPoints`, `lightViews` and `lightDepth` (depths' float
+// bits, kCubeFaces views a sample, each `side` texels square) declared before it.
 
 // Texels' depth, in the view's depth along its forward axis; an empty texel is infinitely deep.
 float depthAt(uint view, ivec2 texel, uint side) {
   const ivec2 t = clamp(texel, ivec2(0), ivec2(int(side) - 1));
-  const uint64_t key = lightDepth[(view * side + uint(t.y)) * side + uint(t.x)];
-  return key == kEmptyVisibility ? 3.4e38 : keyDepth(key);
+  const uint bits = lightDepth[(view * side + uint(t.y)) * side + uint(t.x)];
+  return bits == 0xFFFFFFFFu ? 3.4e38 : uintBitsToFloat(bits);
 }
 
 // The share of the four texels around the ray from emitter sample `light`'s views to the point `p` that

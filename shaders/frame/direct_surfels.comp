@@ -8,7 +8,7 @@ layout(local_size_x = 64) in;
 layout(std430, binding = 0) readonly buffer Surfels { Surfel surfels[]; };
 layout(std430, binding = 1) readonly buffer LightPoints { LightPoint lightPoints[]; };
 layout(std430, binding = 2) readonly buffer LightViews { Camera lightViews[]; };
-layout(std430, binding = 3) readonly buffer LightDepth { uint64_t lightDepth[]; };
+layout(std430, binding = 3) readonly buffer LightDepth { uint lightDepth[]; };
 layout(std430, binding = 4) writeonly buffer SurfelDirect { vec4 surfelDirect[]; };
 layout(push_constant) uniform Push { DirectLightPush push; };
 #include "direct_light.glsl"

@@ -15,11 +15,17 @@
 layout(local_size_x = 64) in;
 // Of each large triangle of the workgroup's 64: 64 × (tiles + rows) stays under the budget.
 layout(constant_id = 0) const int kTilesPerSlice = 448;
+// True for depth maps: the nearest depth alone (`depths`, 32 bits: non-negative floats order as their
+// bits), no triangle key (`visibility`).
+layout(constant_id = 1) const bool kDepthOnly = false;
 
 layout(binding = 0, rgba32f) readonly uniform imageBuffer world;           // WorldVertex: position, normal
 layout(binding = 1, rgba32ui) readonly uniform uimageBuffer triangles;     // Triangle
 layout(std430, binding = 2) buffer Visibility { uint64_t visibility[]; };  // view after view
-layout(std430, binding = 3) readonly buffer Views { Camera views[]; };     // a view whose near is < 0: none
+layout(std430, binding = 3) readonly buffer Views { Camera views[]; };
+layout(std430, binding = 4) buffer Depths {
+  uint depths[];
+};  // kDepthOnly: the depth's float bits     // a view whose near is < 0: none
 layout(push_constant) uniform Push { RasterPush push; };
 #include "raster_bounds.glsl"
 
@@ -35,7 +41,11 @@ void castSample(uint tri, Projected t, ivec2 px) {
   vec2 uv;
   if (!intersectTriangle(camera.origin.xyz, dir, t.a, t.b, t.c, depth, uv)) return;
   if (depth <= camera.origin.w || (camera.forward.w > 0.0 && depth > camera.forward.w)) return;
-  atomicMin(visibility[viewStart + uint(px.y) * push.size.x + uint(px.x)], packDepthKey(depth, tri));
+  const uint at = viewStart + uint(px.y) * push.size.x + uint(px.x);
+  if (kDepthOnly)
+    atomicMin(depths[at], floatBitsToUint(depth));
+  else
+    atomicMin(visibility[at], packDepthKey(depth, tri));
 }
 
 void main() {

@@ -21,7 +21,7 @@ layout(binding = 12, rgba32f) readonly uniform imageBuffer vertexIrradiance;  //
 layout(binding = 13, rgba32f) readonly uniform imageBuffer colors;            // COLOR_0 per vertex
 layout(std430, binding = 14) readonly buffer LightPoints { LightPoint lightPoints[]; };
 layout(std430, binding = 15) readonly buffer LightViews { Camera lightViews[]; };
-layout(std430, binding = 16) readonly buffer LightDepth { uint64_t lightDepth[]; };
+layout(std430, binding = 16) readonly buffer LightDepth { uint lightDepth[]; };
 layout(push_constant) uniform Push { ResolvePush push; };
 // False for scenes without textures: the lookups are compiled out. lavapipe runs a branch inside
 // the sample loop masked, so even untaken lookups cost a third of the pass.
