@@ -9,13 +9,10 @@ namespace ivgi::gi {
 
 namespace {
 
-// Whether a frame of `g` takes the emitters' direct light from depth maps: asked for, and something emits.
-bool directFromMaps(const scene::Geometry& g, const std::optional<DirectLightSettings>& directLight) {
-  return directLight && !emitterSamples(g, 1).empty();
-}
-// Whether its pixels look the maps up themselves.
-bool directPerPixel(const scene::Geometry& g, const std::optional<DirectLightSettings>& directLight) {
-  return directFromMaps(g, directLight) && directLight->perPixel;
+// Whether the pixels of a frame of `g` look the depth maps' direct light up themselves: asked for, a
+// solver to take the rest, and something emits.
+bool directPerPixel(const scene::Geometry& g, bool solver, const std::optional<DirectLightSettings>& directLight) {
+  return solver && directLight && directLight->perPixel && !emitterSamples(g, 1).empty();
 }
 
 }  // namespace
@@ -45,15 +42,16 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
       triangleCount_(uint32_t(g.triangles.size())),
       surfelCount_(uint32_t(g.surfels.size())),
       solver_(std::move(solver)),
+      directPerPixel_(directPerPixel(g, solver_ != nullptr, directLight)),
       animate_(shaderProgram(ctx, "animate")),
       surfelUpdate_(shaderProgram(ctx, "surfels")),
-      vertexIrradiance_(shaderProgram(ctx, "vertex_irradiance",
-                                      {.constants = {{"kDirectPixels", directPerPixel(g, directLight) ? 1u : 0u}}})),
+      vertexIrradiance_(
+          shaderProgram(ctx, "vertex_irradiance", {.constants = {{"kDirectPixels", directPerPixel_ ? 1u : 0u}}})),
       resolve_(shaderProgram(ctx, "resolve",
                              {.constants = {{"kTextured", g.textures.empty() ? 0u : 1u},
                                             {"kLit", solver_ ? 1u : 0u},
                                             {"kColored", g.vertexColors ? 1u : 0u},
-                                            {"kDirectPixels", solver_ && directPerPixel(g, directLight) ? 1u : 0u}}})),
+                                            {"kDirectPixels", directPerPixel_ ? 1u : 0u}}})),
       raster_(ctx, triangleCount_, &allocations_),
       timer_(ctx) {
   validate(image, ctx);
@@ -86,11 +84,8 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
     if (auto samples = emitterSamples(g, directLight->samples); !samples.empty())
       direct_.emplace(ctx, g, std::move(samples), movingInstances, *directLight, tally);
   }
-  if (direct_ && solver_) {
-    if (!solver_->takesDirectLight())
-      throw SettingsError("this method cannot take the direct light from depth maps yet (iv can)");
-    solver_->useDirectLight(direct_->surfelDirect());
-  }
+  if (direct_ && solver_ && !solver_->useDirectLight(direct_->surfelDirect()))
+    throw SettingsError("this method cannot take the direct light from depth maps yet (iv can)");
 }
 
 FrameRenderer::~FrameRenderer() {

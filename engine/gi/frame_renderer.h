@@ -86,6 +86,7 @@ class FrameRenderer {
   vk::Buffer view_;             // the camera, the raster's one view
   vk::Buffer radiance_, albedo_, normalDepth_, emission_;  // mapped: the image channels
   std::unique_ptr<Solver> solver_;
+  bool directPerPixel_;  // the resolve adds the depth maps' direct light at each sample
   vk::Program animate_, surfelUpdate_, vertexIrradiance_, resolve_;
   Raster raster_;
   std::optional<DirectLight> direct_;

@@ -23,11 +23,10 @@ class Solver {
   virtual void beginFrame(int /*frame*/) {}
   // The frame's punctual lights in world space.
   virtual void setLights(const std::vector<gpu::PunctualLight>& lights) = 0;
-  // Whether the solver can take the emitters' direct light per surfel from the frame's depth maps
-  // (gi::DirectLight), and from then on solve with it: `surfelDirect` stays valid and is rewritten
-  // each frame before record(); given before the first frame.
-  virtual bool takesDirectLight() const { return false; }
-  virtual void useDirectLight(const vk::Buffer& /*surfelDirect*/) {}
+  // Takes the emitters' direct light per surfel from the frame's depth maps (gi::DirectLight) and
+  // from then on solves with it; false where the solver cannot. `surfelDirect` stays valid and is
+  // rewritten each frame before record(); given before the first frame.
+  virtual bool useDirectLight(const vk::Buffer& /*surfelDirect*/) { return false; }
   // Records the solver's passes, each timed. `geometryMoved`: the surfels changed since the last
   // frame (or this is the first), so whatever depends on the geometry must be made again.
   virtual void record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffer& surfels, bool geometryMoved) = 0;

@@ -22,10 +22,8 @@ layout(constant_id = 1) const bool kDepthOnly = false;
 layout(binding = 0, rgba32f) readonly uniform imageBuffer world;           // WorldVertex: position, normal
 layout(binding = 1, rgba32ui) readonly uniform uimageBuffer triangles;     // Triangle
 layout(std430, binding = 2) buffer Visibility { uint64_t visibility[]; };  // view after view
-layout(std430, binding = 3) readonly buffer Views { Camera views[]; };
-layout(std430, binding = 4) buffer Depths {
-  uint depths[];
-};  // kDepthOnly: the depth's float bits     // a view whose near is < 0: none
+layout(std430, binding = 3) readonly buffer Views { Camera views[]; };     // a view whose near is < 0: none
+layout(std430, binding = 4) buffer Depths { uint depths[]; };              // kDepthOnly: the depth's float bits
 layout(push_constant) uniform Push { RasterPush push; };
 #include "raster_bounds.glsl"
 

@@ -59,7 +59,10 @@ void Bounces::recordEmission(VkCommandBuffer cmd) const {
   emit_.dispatchItems(cmd, surfelCount_, b_.pool().with({{"radiosity", b_.radiosityA}}),
                       gpu::CountPush{.count = surfelCount_});
   pullUp(cmd, b_.nodeEmission, false);
-  pullUp(cmd, b_.radiosityA, false);
+  if (b_.directLight)
+    pullUp(cmd, b_.radiosityA, false);
+  else  // the bounces start from the emission alone
+    vk::copyBuffer(cmd, b_.nodeEmission, b_.radiosityA);
 }
 
 void Bounces::recordStart(VkCommandBuffer cmd) const {

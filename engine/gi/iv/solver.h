@@ -45,8 +45,10 @@ class IvSolver final : public Solver {
   IvSolver(const vk::Context& ctx, const scene::Geometry& geometry, IvSetup setup);
 
   void setLights(const std::vector<gpu::PunctualLight>& lights) override;
-  bool takesDirectLight() const override { return true; }
-  void useDirectLight(const vk::Buffer& surfelDirect) override { b_.directLight = &surfelDirect; }
+  bool useDirectLight(const vk::Buffer& surfelDirect) override {
+    b_.directLight = &surfelDirect;
+    return true;
+  }
   void record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffer& surfels, bool geometryMoved) override;
   bool solvePending() const override { return solvePending_; }
   // Grows what overflowed; a frame that overflowed is redone.
