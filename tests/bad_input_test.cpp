@@ -190,7 +190,7 @@ TEST(BadInput, AbsurdOptions) {
   expectRenderRefused("cornell", {"--camera", "nope"}, {"no camera named 'nope'"});
   expectRenderRefused("cornell", {"--animation", "nope"}, {"no animation named 'nope'"});
   expectRenderRefused("cornell", {"--direct", "rays"}, {"--direct rays"});
-  expectRenderRefused("cornell", {"--direct", "maps", "--method", "ar"}, {"--direct maps", "only iv"});
+  expectRenderRefused("cornell", {"--direct", "maps", "--method", "pt"}, {"--direct maps", "only iv and ar"});
   expectRenderRefused("cornell", {"--direct", "maps", "--light-samples", "0"}, {"--light-samples 0"});
   expectRenderRefused("cornell", {"--direct", "maps", "--shadow-map", "1"}, {"--shadow-map 1"});
   expectRenderRefused("cornell", {"--direct", "maps", "--light-samples", "4096", "--shadow-map", "4096"},

@@ -60,7 +60,7 @@ void addSolverOptions(CLI::App* cmd, SolverOptions& o) {
   cmd->add_option("--direct", o.direct,
                   "where the emitters' direct light comes from: bins (the solver's own visibility), maps (depth "
                   "maps rasterized around points on the emitters, at the surfels) or pixels (the maps looked up at "
-                  "every pixel too); iv only, for now")
+                  "every pixel too); iv and ar")
       ->capture_default_str();
   cmd->add_option("--light-samples", o.maps.samples,
                   "--direct maps or pixels: points over the emitters, each with its depth maps")

@@ -27,8 +27,9 @@ std::optional<gi::DirectLightSettings> directLightSettings(const SolverOptions& 
   if (o.direct == "bins") return std::nullopt;
   if (o.direct != "maps" && o.direct != "pixels")
     throw SettingsError("--direct " + o.direct + ": must be bins, maps or pixels");
-  if (o.method != "iv")
-    throw SettingsError("--direct " + o.direct + ": only iv takes the direct light from depth maps so far");
+  if (o.method != "iv" && o.method != "ar")
+    throw SettingsError("--direct " + o.direct + ": only iv and ar take the direct light from depth maps (" + o.method +
+                        " computes its own)");
   gi::DirectLightSettings maps = o.maps;
   maps.perPixel = o.direct == "pixels";
   return maps;

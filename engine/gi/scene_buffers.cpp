@@ -18,6 +18,9 @@ SceneBuffers::SceneBuffers(const vk::Context& ctx, const scene::Geometry& g, con
   binTable = vk::makeBuffer(ctx, binVectorTable(bins), vk::Memory::Device, tally);
   environment = vk::makeBuffer(ctx, environmentTable(sky, bins), vk::Memory::Device, tally);
   lights = vk::Buffer(ctx, sizeof(gpu::PunctualLight), vk::Memory::Host, tally);
+  noDirectLight =
+      vk::makeBuffer(ctx, std::vector<glm::vec4>(std::max<size_t>(h.leafOfSurfel.size(), 1), glm::vec4(0.0f)),
+                     vk::Memory::Device, tally);
   nodes = vk::Buffer(ctx, nodeCount * sizeof(gpu::NodeState), vk::Memory::Device, tally);
   arrivals = vk::makeBuffer(ctx, std::vector<uint32_t>(nodeCount, 0u), vk::Memory::Device, tally);
 }
@@ -39,7 +42,8 @@ vk::Bindings SceneBuffers::pool() const {
                              {"environment", environment},
                              {"lights", lights},
                              {"nodes", nodes},
-                             {"arrivals", arrivals}});
+                             {"arrivals", arrivals},
+                             {"surfelDirect", surfelDirect()}});
 }
 
 }  // namespace ivgi::gi

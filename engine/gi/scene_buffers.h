@@ -21,8 +21,16 @@ struct SceneBuffers {
   // Per frame: the punctual lights (host-visible), and the nodes' states (gpu::NodeState, refit)
   // with the refit's arrival counts (shaders/common/climb.glsl: zero between dispatches).
   vk::Buffer lights, nodes, arrivals;
+  // Per surfel, the emitters' direct light from depth maps (engine/gi/direct_light.h) where the
+  // frame gives it (Solver::useDirectLight): the solver then transports only the light the surfels
+  // reflect. Else zeros (`noDirectLight`), the solver carrying the emitters' light itself.
+  const vk::Buffer* directLight = nullptr;
+  vk::Buffer noDirectLight;
   uint32_t nodeCount = 0, surfelCount = 0, lightCount = 0;
   bool environmentOn = false;
+
+  bool emittersByMaps() const { return directLight != nullptr; }
+  const vk::Buffer& surfelDirect() const { return directLight ? *directLight : noDirectLight; }
 
   SceneBuffers() = default;
   SceneBuffers(const vk::Context& ctx, const scene::Geometry& geometry, const Hierarchy& hierarchy, uint32_t bins,

@@ -4,7 +4,8 @@
 // cancels them where they are blocked); and its irradiance: its normal against the vector sums of
 // what its flat node and ancestors gathered (each sender along its own direction), the bins of its
 // front for what its curved ancestors gathered and the environment (Σ L·max(n·∫ω dω, 0)), and the
-// lights' exact cosines. The workgroup sums what the host judges the iteration by.
+// lights' exact cosines; where the depth maps give the emitters' direct light, that too. The workgroup sums what the
+// host judges the iteration by.
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 0
 #include "common/common.glsl"
@@ -21,6 +22,7 @@ layout(binding = 7, rgba32f) uniform imageBuffer incident;           // per surf
 layout(std430, binding = 8) buffer Irradiance { vec4 irradiance[]; };
 layout(std430, binding = 9) writeonly buffer Sums { IterationSum sums[]; };
 layout(binding = 10, rgba32f) readonly uniform imageBuffer gatheredVector;  // per node: x, y, z texels
+layout(std430, binding = 11) readonly buffer SurfelDirect { vec4 surfelDirect[]; };
 layout(push_constant) uniform Push { ArIncidentPush push; };
 
 shared vec3 partial[64];
@@ -37,7 +39,7 @@ void main() {
     uint leaf = leafOfSurfel[s], n = kDirs, bins = 6u * n * n;
     vec4 pa = nodePositionArea(leaf);
     vec3 normal = nodeNormalCone(leaf).xyz;
-    vec3 E = vec3(0.0);
+    vec3 E = push.emittersByMaps != 0u ? surfelDirect[s].rgb : vec3(0.0);
     // Every inner node's table holds what it and its ancestors gathered (ar_sum_down): the leaf's
     // and its parent's are what reaches the surfel through its tree. A curved node's ancestors are
     // curved (a node's normal cone holds its children's) and a leaf is flat, so what the curved

@@ -3,7 +3,8 @@
 // (on a radiance step; an antiradiance step keeps it) and J lets the incident light go through. A
 // surfel is flat: what it sends toward ω is exitance · cos⁺ − antiradiance · |cos| with its own
 // normal, so it keeps its exitance (area · L) and, per bin, its antiradiance times its area, and the
-// cosines are applied exactly where they are read.
+// cosines are applied exactly where they are read. Where the emitters' light comes from depth maps
+// (inside the irradiance), the emission is not sent: only the light the surfels reflect travels.
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 0
 #include "common/common.glsl"
@@ -27,7 +28,8 @@ void main() {
   float area = nodePositionArea(leaf).w;
   vec3 L = radiance[s].rgb;
   if (push.updateRadiance != 0u) {
-    L = emission[s].rgb + albedo[s].rgb * irradiance[s].rgb / kPi;
+    L = albedo[s].rgb * irradiance[s].rgb / kPi;
+    if (push.emittersByMaps == 0u) L += emission[s].rgb;
     radiance[s] = vec4(L, 0.0);
   }
   exitance[leaf] = vec4(area * L, 0.0);

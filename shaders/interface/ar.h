@@ -77,6 +77,9 @@ struct QueueArgsPush {  // queue_args
 struct ArLocalPush {  // ar_local
   uint surfelCount;
   uint updateRadiance;  // 1: reflect the incident light (a radiance step); 0: keep the radiance
+  // 1: the emitters' light comes from depth maps, inside the irradiance: the surfels send only what
+  // they reflect (their Le is not transported).
+  uint emittersByMaps;
 };
 struct ArLevelPush {  // ar_pull_up, ar_sum_down: one level of the trees' inner nodes
   uint firstInner;    // where the level starts in the inner nodes
@@ -93,6 +96,7 @@ struct ArIncidentPush {  // ar_incident
   uint sumSlot;  // where the iteration leaves its IterationSums
   uint lightCount;
   uint environmentOn;
+  uint emittersByMaps;  // 1: each surfel's irradiance adds the emitters' direct light from depth maps
   // The share ω of an iteration's step that is taken (1: all of it; less damps an iteration that
   // diverges): each surfel's incident table and irradiance go ω of the way to the new.
   float damping;

@@ -45,7 +45,9 @@ void ArIteration::record(VkCommandBuffer cmd, vk::PassTimer& timer, const ArStep
   const vk::Bindings levels = b_.pool().with({{"innerNodes", innerNodes_}});
   pass("local", [&] {
     local_.dispatchItems(cmd, surfelCount_, b_.pool(),
-                         gpu::ArLocalPush{.surfelCount = surfelCount_, .updateRadiance = step.radianceStep ? 1u : 0u});
+                         gpu::ArLocalPush{.surfelCount = surfelCount_,
+                                          .updateRadiance = step.radianceStep ? 1u : 0u,
+                                          .emittersByMaps = b_.scene.emittersByMaps() ? 1u : 0u});
     for (const NodeRange& level : innerLevels_)
       pullUp_.dispatchItems(cmd, uint64_t(level.count) * bins_, levels,
                             gpu::ArLevelPush{.firstInner = level.first, .innerCount = level.count});
@@ -70,6 +72,7 @@ void ArIteration::record(VkCommandBuffer cmd, vk::PassTimer& timer, const ArStep
                                                 .sumSlot = step.sumSlot,
                                                 .lightCount = b_.scene.lightCount,
                                                 .environmentOn = b_.scene.environmentOn ? 1u : 0u,
+                                                .emittersByMaps = b_.scene.emittersByMaps() ? 1u : 0u,
                                                 .damping = step.damping});
   });
 }

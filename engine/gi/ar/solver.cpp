@@ -162,6 +162,14 @@ void ArSolver::beginFrame(int frame) {
   redoing_ = false;
 }
 
+bool ArSolver::useDirectLight(const vk::Buffer& surfelDirect) {
+  b_.scene.directLight = &surfelDirect;
+  // The emitters' light no longer travels over links: none is taken down to the receivers' surfels.
+  b_.brightEmitters =
+      vk::makeBuffer(ctx_, std::vector<glm::vec4>(nodeCount_, glm::vec4(0.0f)), vk::Memory::Device, &allocations_);
+  return true;
+}
+
 void ArSolver::setLights(const std::vector<gpu::PunctualLight>& lights) {
   b_.scene.setLights(ctx_, lights, allocations_);
 }
@@ -197,7 +205,8 @@ void ArSolver::recordStart(VkCommandBuffer cmd, vk::PassTimer& timer) {
   timedPass(cmd, timer, "local", [&] {
     if (!warm_) {
       vk::fillBuffer(cmd, b_.incident, 0u);
-      vk::fillBuffer(cmd, b_.irradiance, 0u);
+      // The first local pass reflects the depth maps' direct light where they give it (else zeros).
+      vk::copyBuffer(cmd, b_.scene.surfelDirect(), b_.irradiance);
       vk::copyBuffer(cmd, b_.scene.emission, b_.radiance);
     } else if (redoing_) {
       vk::copyBuffer(cmd, b_.startIncident, b_.incident), vk::copyBuffer(cmd, b_.startRadiance, b_.radiance);

@@ -30,6 +30,9 @@ class ArSolver final : public Solver {
   int chainStart(int frame) const override;
   void beginFrame(int frame) override;
   void setLights(const std::vector<gpu::PunctualLight>& lights) override;
+  // The emitters' light then comes inside each surfel's irradiance; the surfels send only what they
+  // reflect.
+  bool useDirectLight(const vk::Buffer& surfelDirect) override;
   void record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffer& surfels, bool geometryMoved) override;
   bool frameMustBeRedone() override;
   bool wantsMorePasses() const override;

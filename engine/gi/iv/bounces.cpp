@@ -59,7 +59,7 @@ void Bounces::recordEmission(VkCommandBuffer cmd) const {
   emit_.dispatchItems(cmd, surfelCount_, b_.pool().with({{"radiosity", b_.radiosityA}}),
                       gpu::CountPush{.count = surfelCount_});
   pullUp(cmd, b_.nodeEmission, false);
-  if (b_.directLight)
+  if (b_.scene.emittersByMaps())
     pullUp(cmd, b_.radiosityA, false);
   else  // the bounces start from the emission alone
     vk::copyBuffer(cmd, b_.nodeEmission, b_.radiosityA);
@@ -69,7 +69,7 @@ void Bounces::recordStart(VkCommandBuffer cmd) const {
   vk::fillBuffer(cmd, state_, 0u);
   // The irradiance before the first gather: the depth maps' direct light where they give it, else
   // zeros (the first gather's change is then all of it).
-  vk::copyBuffer(cmd, b_.directLight ? *b_.directLight : b_.noDirectLight, b_.irradiance);
+  vk::copyBuffer(cmd, b_.scene.surfelDirect(), b_.irradiance);
   vk::copyRegion(cmd, b_.receiverArgs, fullArgs_, {gpu::kArgsReceivers * sizeof(glm::uvec4), 0, sizeof(glm::uvec4)});
   vk::copyBuffer(cmd, fullArgs_, args_);
 }

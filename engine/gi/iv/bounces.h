@@ -36,7 +36,7 @@ class Bounces {
   void recordSteps(VkCommandBuffer cmd, uint32_t first, uint32_t steps) const;
   // The gathers before the first bounce's light: 1 (the direct light's) where the bins carry the
   // direct light, 0 where the depth maps give it.
-  uint32_t directGathers() const { return b_.directLight ? 0u : 1u; }
+  uint32_t directGathers() const { return b_.scene.emittersByMaps() ? 0u : 1u; }
   // The gathers a frame runs at most: the bounces asked for (or kMaxBounces) after the direct ones.
   uint32_t maxGathers() const { return (settings_.bounces ? *settings_.bounces : kMaxBounces) + directGathers(); }
   // The leaf links are bound in `views` texel views (shaders/common/parted_texels.glsl): 1 or kTexelParts.

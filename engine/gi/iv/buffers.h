@@ -18,10 +18,6 @@ struct IvBuffers {
   // write the other), irradiance per surfel, and per surfel the irradiance from lights and the
   // environment.
   vk::Buffer nodeEmission, radiosityA, radiosityB, irradiance, externalLight;
-  // Per surfel, the emitters' direct light from depth maps (engine/gi/direct_light.h) where the
-  // frame gives it (directLight), which the prune then leaves out; else zeros, the bins carrying it.
-  const vk::Buffer* directLight = nullptr;
-  vk::Buffer noDirectLight;
   // Link creation's two worklists and the indirect dispatch arguments between its levels.
   vk::Buffer args, worklistA, worklistB;
   // Each leaf's surviving links (texels, past one storage binding), and per static leaf and mask
@@ -50,7 +46,6 @@ struct IvBuffers {
                                                  {"nodeEmission", nodeEmission},
                                                  {"irradiance", irradiance},
                                                  {"externalLight", externalLight},
-                                                 {"surfelDirect", directLight ? *directLight : noDirectLight},
                                                  {"args", args},
                                                  {"ranges", ranges},
                                                  {"leafLinks", leafLinks},

@@ -123,7 +123,7 @@ gpu::PrunePush Prune::push(const LinkSet& set, uint32_t first, uint32_t end, boo
           .lightCount = b_.scene.lightCount,
           .environmentOn = b_.scene.environmentOn ? 1u : 0u,
           .staticCapacity = staticSet_.leafLinkCapacity,
-          .emittersByMaps = b_.directLight ? 1u : 0u};
+          .emittersByMaps = b_.scene.emittersByMaps() ? 1u : 0u};
 }
 
 void Prune::recordStatic(VkCommandBuffer cmd) {

@@ -103,8 +103,6 @@ void IvSolver::uploadScene(const scene::Geometry& g, const std::vector<uint32_t>
   b_.radiosityA = deviceArray<glm::vec4>(ctx, nodeCount_, allocations_);
   b_.radiosityB = deviceArray<glm::vec4>(ctx, nodeCount_, allocations_);
   b_.irradiance = deviceArray<glm::vec4>(ctx, surfelCount_, allocations_);
-  b_.noDirectLight =
-      vk::makeBuffer(ctx, std::vector<glm::vec4>(surfelCount_, glm::vec4(0.0f)), vk::Memory::Device, tally);
   // What a static leaf keeps between frames; with nothing static, empty ranges and one-word stand-ins.
   const size_t masks = split ? maskWords : 0, statics = split ? surfelCount_ : 0;
   b_.staticRanges = deviceArray<gpu::LeafRange>(ctx, surfelCount_, allocations_);

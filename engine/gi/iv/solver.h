@@ -46,7 +46,7 @@ class IvSolver final : public Solver {
 
   void setLights(const std::vector<gpu::PunctualLight>& lights) override;
   bool useDirectLight(const vk::Buffer& surfelDirect) override {
-    b_.directLight = &surfelDirect;
+    b_.scene.directLight = &surfelDirect;
     return true;
   }
   void record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffer& surfels, bool geometryMoved) override;
