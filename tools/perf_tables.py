@@ -80,7 +80,7 @@ def fmt(ms):
 
 def per_pass_table(r, runs):
     order = ["animate", "surfels", "direct light", "refit", "links", "prune", "receivers", "interpolation", "bounces", "raster",
-             "resolve", "total"]
+             "direct pixels", "resolve", "total"]
     columns, results = {}, {}
     for cells in (8, 26):
         columns[cells], results[cells] = bench(r, runs, cells, 20, 3)

@@ -113,6 +113,7 @@ DirectLight::DirectLight(const vk::Context& ctx, const scene::Geometry& g, std::
     allRaster_.emplace(ctx, uint32_t(g.triangles.size()), tally, true);
   }
   surfelDirect_ = vk::Buffer(ctx, std::max(surfelCount_, 1u) * sizeof(glm::vec4), vk::Memory::Device, tally);
+  surfelUnshadowed_ = vk::Buffer(ctx, surfelDirect_.size(), vk::Memory::Device, tally);
 }
 
 void DirectLight::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bindings& frame, bool geometryMoved) {

@@ -42,15 +42,20 @@ class DirectLight {
   // nothing moved since the last frame (`geometryMoved` false), nothing is redone.
   void record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bindings& frame, bool geometryMoved);
 
-  // Per surfel, its direct irradiance (rgb), after record().
+  // Per surfel, its direct irradiance (rgb), after record(); and the same with every emitter sample
+  // seen (no shadows).
   const vk::Buffer& surfelDirect() const { return surfelDirect_; }
+  const vk::Buffer& surfelUnshadowed() const { return surfelUnshadowed_; }
   uint32_t sampleCount() const { return sampleCount_; }
   uint32_t resolution() const { return settings_.resolution; }
   // The samples as the frame placed them, their views and depth maps, the surfels' direct light, by
   // the names the shaders that look them up bind them under (direct_light.glsl).
   vk::Bindings pool() const {
-    return vk::Bindings::pool(
-        {{"lightPoints", points_}, {"lightViews", views_}, {"lightDepth", depth_}, {"surfelDirect", surfelDirect_}});
+    return vk::Bindings::pool({{"lightPoints", points_},
+                               {"lightViews", views_},
+                               {"lightDepth", depth_},
+                               {"surfelDirect", surfelDirect_},
+                               {"surfelUnshadowed", surfelUnshadowed_}});
   }
 
  private:
@@ -60,7 +65,7 @@ class DirectLight {
   // that can move, each frame over what cannot (`staticDepth`, drawn once).
   bool splitsStatic_ = false, staticDrawn_ = false, lit_ = false;
   uint32_t movingCount_ = 0;  // triangles that can move, where splitsStatic_
-  vk::Buffer samples_, points_, views_, depth_, staticDepth_, surfelDirect_;
+  vk::Buffer samples_, points_, views_, depth_, staticDepth_, surfelDirect_, surfelUnshadowed_;
   vk::Buffer staticTriangles_, movingTriangles_;
   vk::Program lightViews_, directSurfels_;
   std::optional<Raster> allRaster_, staticRaster_, movingRaster_;  // all, or the static and moving

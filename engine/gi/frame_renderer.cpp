@@ -47,6 +47,8 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
       surfelUpdate_(shaderProgram(ctx, "surfels")),
       vertexIrradiance_(
           shaderProgram(ctx, "vertex_irradiance", {.constants = {{"kDirectPixels", directPerPixel_ ? 1u : 0u}}})),
+      unshadowedToVertices_(shaderProgram(ctx, "vertex_irradiance")),
+      directPixels_(shaderProgram(ctx, "direct_pixels")),
       resolve_(shaderProgram(ctx, "resolve",
                              {.constants = {{"kTextured", g.textures.empty() ? 0u : 1u},
                                             {"kLit", solver_ ? 1u : 0u},
@@ -78,6 +80,14 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
   shownIrradiance_ =
       vk::Buffer(ctx, std::max<size_t>(solver_ ? surfelCount_ : 0, 1) * sizeof(glm::vec4), Memory::Device, tally);
   view_ = vk::Buffer(ctx, sizeof(gpu::Camera), Memory::Device, tally);
+  const uint64_t pixelLightBytes = directPerPixel_ ? pixels * sizeof(gpu::PixelLight) : 16;
+  if (pixelLightBytes > ctx.limits().maxStorageBufferRange)
+    throw SettingsError("--direct pixels at --size " + std::to_string(image.width) + "x" +
+                        std::to_string(image.height) + " needs " + std::to_string(pixelLightBytes >> 20) +
+                        " MiB for the pixels' direct light, above the device's maxStorageBufferRange (" +
+                        std::to_string(ctx.limits().maxStorageBufferRange >> 20) + " MiB)");
+  pixelLights_ = vk::Buffer(ctx, pixelLightBytes, Memory::Device, tally);
+  vertexUnshadowed_ = vk::Buffer(ctx, directPerPixel_ ? shownIrradiance_.size() : 16, Memory::Device, tally);
   noDirectLight_ = vk::Buffer(ctx, 16, Memory::Device, tally);
   if (directLight) {
     validate(*directLight, ctx);
@@ -85,7 +95,7 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
       direct_.emplace(ctx, g, std::move(samples), movingInstances, *directLight, tally);
   }
   if (direct_ && solver_ && !solver_->useDirectLight(direct_->surfelDirect()))
-    throw SettingsError("this method cannot take the direct light from depth maps yet (iv can)");
+    throw SettingsError("this method cannot take the direct light from depth maps (iv and ar can)");
 }
 
 FrameRenderer::~FrameRenderer() {
@@ -125,12 +135,15 @@ vk::Bindings FrameRenderer::pool() const {
                              {"radiance", radiance_},
                              {"albedo", albedo_},
                              {"normalDepth", normalDepth_},
-                             {"emission", emission_}})
+                             {"emission", emission_},
+                             {"pixelLights", pixelLights_},
+                             {"vertexUnshadowed", vertexUnshadowed_}})
       .plus(direct_ ? direct_->pool()
                     : vk::Bindings::pool({{"lightPoints", noDirectLight_},
                                           {"lightViews", noDirectLight_},
                                           {"lightDepth", noDirectLight_},
-                                          {"surfelDirect", noDirectLight_}}));
+                                          {"surfelDirect", noDirectLight_},
+                                          {"surfelUnshadowed", noDirectLight_}}));
 }
 
 bool FrameRenderer::recordFrame(VkCommandBuffer cmd, const gpu::Camera& camera, bool geometryMoved) {
@@ -159,14 +172,23 @@ bool FrameRenderer::recordFrame(VkCommandBuffer cmd, const gpu::Camera& camera, 
 void FrameRenderer::recordResolve(VkCommandBuffer cmd, const gpu::Camera& camera) {
   const glm::uvec2 size(image_.width, image_.height);
   const vk::Bindings buffers = pool();
+  const gpu::ResolvePush push{.camera = camera,
+                              .size = size,
+                              .samples = image_.samples,
+                              .lightSamples = direct_ ? direct_->sampleCount() : 0u,
+                              .shadowMap = direct_ ? direct_->resolution() : 0u};
+  const vk::Groups pixelGroups{(size.x + 7) / 8, (size.y + 7) / 8, 1};
+  if (directPerPixel_)
+    timedPass(cmd, timer_, "direct pixels", [&] {
+      unshadowedToVertices_.dispatchItems(
+          cmd, surfelCount_,
+          buffers.with({{"surfelIrradiance", direct_->surfelUnshadowed()}, {"vertexIrradiance", vertexUnshadowed_}}),
+          gpu::CountPush{.count = surfelCount_});
+      directPixels_.dispatch(cmd, pixelGroups, buffers, push);
+    });
   timedPass(cmd, timer_, "resolve", [&] {
     if (solver_) vertexIrradiance_.dispatchItems(cmd, surfelCount_, buffers, gpu::CountPush{.count = surfelCount_});
-    resolve_.dispatch(cmd, {(size.x + 7) / 8, (size.y + 7) / 8, 1}, buffers,
-                      gpu::ResolvePush{.camera = camera,
-                                       .size = size,
-                                       .samples = image_.samples,
-                                       .lightSamples = direct_ ? direct_->sampleCount() : 0u,
-                                       .shadowMap = direct_ ? direct_->resolution() : 0u});
+    resolve_.dispatch(cmd, pixelGroups, buffers, push);
   });
 }
 

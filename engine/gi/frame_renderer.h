@@ -82,12 +82,15 @@ class FrameRenderer {
   // Per frame.
   vk::Buffer matrices_, morphWeights_, world_, surfels_, visibility_, unlitIrradiance_;
   vk::Buffer shownIrradiance_;  // the solver's irradiance carried to each surfel's vertex (vertex_irradiance)
-  vk::Buffer noDirectLight_;    // bound for the direct light's buffers where there is none (never read)
-  vk::Buffer view_;             // the camera, the raster's one view
+  // With the direct light per pixel: the surfels' direct light unshadowed, carried to their vertices,
+  // and per pixel its share of the emitter samples' light (direct_pixels).
+  vk::Buffer vertexUnshadowed_, pixelLights_;
+  vk::Buffer noDirectLight_;  // bound for the direct light's buffers where there is none (never read)
+  vk::Buffer view_;           // the camera, the raster's one view
   vk::Buffer radiance_, albedo_, normalDepth_, emission_;  // mapped: the image channels
   std::unique_ptr<Solver> solver_;
   bool directPerPixel_;  // the resolve adds the depth maps' direct light at each sample
-  vk::Program animate_, surfelUpdate_, vertexIrradiance_, resolve_;
+  vk::Program animate_, surfelUpdate_, vertexIrradiance_, unshadowedToVertices_, directPixels_, resolve_;
   Raster raster_;
   std::optional<DirectLight> direct_;
   vk::PassTimer timer_;

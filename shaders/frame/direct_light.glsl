@@ -5,7 +5,7 @@
 // Texels' depth, in the view's depth along its forward axis; an empty texel is infinitely deep.
 float depthAt(uint view, ivec2 texel, uint side) {
   const ivec2 t = clamp(texel, ivec2(0), ivec2(int(side) - 1));
-  const uint bits = lightDepth[(view * side + uint(t.y)) * side + uint(t.x)];
+  const uint bits = imageLoad(lightDepth, int((view * side + uint(t.y)) * side + uint(t.x))).x;
   return bits == 0xFFFFFFFFu ? 3.4e38 : uintBitsToFloat(bits);
 }
 
@@ -32,9 +32,11 @@ float seenShare(uint light, vec3 p, float cosine, uint side) {
 
 // Irradiance at p (unit normal n) from the emitter samples first, first + stride, … of `count`, each a
 // disk of the area it stands for, L·A·cos θ·cos θ' / (d² + A/π) (finite where p comes near it),
-// times the stride: every stride-th of the stratified samples is an estimate of them all.
-vec3 directIrradiance(vec3 p, vec3 n, uint count, uint side, uint first, uint stride) {
+// times the stride: every stride-th of the stratified samples is an estimate of them all. And in
+// `unshadowed`, the same with every sample seen.
+vec3 directIrradiance(vec3 p, vec3 n, uint count, uint side, uint first, uint stride, out vec3 unshadowed) {
   vec3 e = vec3(0.0);
+  unshadowed = vec3(0.0);
   for (uint i = first; i < count; i += stride) {
     const LightPoint l = lightPoints[i];
     const vec3 toLight = l.positionArea.xyz - p;
@@ -42,8 +44,10 @@ vec3 directIrradiance(vec3 p, vec3 n, uint count, uint side, uint first, uint st
     if (!(d2 > 0.0)) continue;
     const float inv = inversesqrt(d2), cosR = dot(n, toLight) * inv, cosL = -dot(l.normal.xyz, toLight) * inv;
     if (cosR <= 0.0 || cosL <= 0.0) continue;
-    const float share = seenShare(i, p, cosR, side);
-    e += l.radiance.rgb * (share * l.positionArea.w * cosR * cosL / (d2 + l.positionArea.w / kPi));
+    const vec3 seen = l.radiance.rgb * (l.positionArea.w * cosR * cosL / (d2 + l.positionArea.w / kPi));
+    e += seen * seenShare(i, p, cosR, side);
+    unshadowed += seen;
   }
+  unshadowed *= float(stride);
   return e * float(stride);
 }

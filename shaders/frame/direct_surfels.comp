@@ -1,6 +1,7 @@
 #version 460
 // Direct light at the surfels: each surfel's irradiance from the emitter samples, seen or hidden by
-// their depth maps (direct_light.glsl), the source of the first bounce.
+// their depth maps (direct_light.glsl), the source of the first bounce; and the same light with
+// every emitter sample seen, which the pixels' own shadows scale (direct_pixels, resolve).
 #extension GL_GOOGLE_include_directive : require
 #include "common/common.glsl"
 layout(local_size_x = 64) in;
@@ -8,8 +9,9 @@ layout(local_size_x = 64) in;
 layout(std430, binding = 0) readonly buffer Surfels { Surfel surfels[]; };
 layout(std430, binding = 1) readonly buffer LightPoints { LightPoint lightPoints[]; };
 layout(std430, binding = 2) readonly buffer LightViews { Camera lightViews[]; };
-layout(std430, binding = 3) readonly buffer LightDepth { uint lightDepth[]; };
+layout(binding = 3, r32ui) readonly uniform uimageBuffer lightDepth;  // depths' float bits
 layout(std430, binding = 4) writeonly buffer SurfelDirect { vec4 surfelDirect[]; };
+layout(std430, binding = 5) writeonly buffer SurfelUnshadowed { vec4 surfelUnshadowed[]; };
 layout(push_constant) uniform Push { DirectLightPush push; };
 #include "direct_light.glsl"
 
@@ -17,6 +19,8 @@ void main() {
   const uint i = itemIndex();
   if (i >= push.count) return;
   const Surfel s = surfels[i];
-  surfelDirect[i] =
-      vec4(directIrradiance(s.positionArea.xyz, s.normal.xyz, push.sampleCount, push.resolution, 0u, 1u), 0.0);
+  vec3 unshadowed;
+  surfelDirect[i] = vec4(
+      directIrradiance(s.positionArea.xyz, s.normal.xyz, push.sampleCount, push.resolution, 0u, 1u, unshadowed), 0.0);
+  surfelUnshadowed[i] = vec4(unshadowed, 0.0);
 }

@@ -19,9 +19,8 @@ layout(std430, binding = 10) writeonly buffer Emission { vec4 emissionOut[]; };
 layout(binding = 11, r32ui) readonly uniform uimageBuffer vertexSurfel;       // int, -1: none
 layout(binding = 12, rgba32f) readonly uniform imageBuffer vertexIrradiance;  // per surfel, at its vertex
 layout(binding = 13, rgba32f) readonly uniform imageBuffer colors;            // COLOR_0 per vertex
-layout(std430, binding = 14) readonly buffer LightPoints { LightPoint lightPoints[]; };
-layout(std430, binding = 15) readonly buffer LightViews { Camera lightViews[]; };
-layout(std430, binding = 16) readonly buffer LightDepth { uint lightDepth[]; };
+layout(binding = 14, rgba32f) readonly uniform imageBuffer pixelLights;       // PixelLight: 3 texels a pixel
+layout(binding = 15, rgba32f) readonly uniform imageBuffer vertexUnshadowed;  // per surfel, at its vertex
 layout(push_constant) uniform Push { ResolvePush push; };
 // False for scenes without textures: the lookups are compiled out. lavapipe runs a branch inside
 // the sample loop masked, so even untaken lookups cost a third of the pass.
@@ -31,19 +30,20 @@ layout(constant_id = 0) const bool kTextured = true;
 layout(constant_id = 1) const bool kLit = false;
 // True where some primitive has vertex colours (COLOR_0), which multiply the base colour.
 layout(constant_id = 2) const bool kColored = false;
-// True where the emitters' direct light comes from depth maps (gi::DirectLight): the vertices then
-// carry only the rest of the irradiance, and each sample adds the maps' direct light at its own
-// point, sample k of a pixel's n² taking the emitter samples k, k + n², … (interleaved: a pixel
-// takes them all).
+// True where the pixels take the emitters' direct light from depth maps (gi::DirectLight): the
+// vertices then carry the rest of the irradiance and, apart, the direct light unshadowed, which each
+// sample scales by the share its neighbours on its surface see (direct_pixels).
 layout(constant_id = 3) const bool kDirectPixels = false;
-#include "direct_light.glsl"
+#include "surface_hit.glsl"
 
 vec3 irradianceAt(uint vertex) {
   int surfel = int(imageLoad(vertexSurfel, int(vertex)).x);
   return surfel >= 0 ? imageLoad(vertexIrradiance, surfel).rgb : vec3(0.0);
 }
-vec3 positionOf(uint vertex) { return imageLoad(world, int(2u * vertex)).xyz; }
-vec3 normalOf(uint vertex) { return imageLoad(world, int(2u * vertex + 1u)).xyz; }
+vec3 unshadowedAt(uint vertex) {
+  int surfel = int(imageLoad(vertexSurfel, int(vertex)).x);
+  return surfel >= 0 ? imageLoad(vertexUnshadowed, surfel).rgb : vec3(0.0);
+}
 vec2 uvOf(uint vertex) { return imageLoad(uvs, int(vertex)).xy; }
 vec3 colorOf(uint vertex) { return imageLoad(colors, int(vertex)).rgb; }
 
@@ -63,6 +63,48 @@ vec4 sampleTexture(int index, vec2 uv) {
              ay);
 }
 
+// Whether point p lies on the surface of `plane` (unit normal, n·p) whose normal is n: the normals
+// within kShadowNormalCos, p within `tolerance` of the plane.
+bool onPlane(vec4 plane, vec3 p, vec3 n, float tolerance) {
+  return dot(plane.xyz, n) >= kShadowNormalCos && abs(dot(plane.xyz, p) - plane.w) <= tolerance;
+}
+
+// Adds to `seen` and `all` the shadowed and unshadowed light of the pixels from `nearest` to
+// `farthest` pixels from px (along either axis) whose points lie on p's surface, each weighted ½
+// along an axis where it lies on the rim `rim` (> 0), else 1; whether any lay on it.
+bool sumAround(uvec2 px, vec3 p, vec3 n, float tolerance, int nearest, int farthest, int rim, inout vec3 seen,
+               inout vec3 all) {
+  bool found = false;
+  for (int dy = -farthest; dy <= farthest; ++dy)
+    for (int dx = -farthest; dx <= farthest; ++dx) {
+      const ivec2 q = ivec2(px) + ivec2(dx, dy);
+      if (max(abs(dx), abs(dy)) < nearest || any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, ivec2(push.size))))
+        continue;
+      const int at = 3 * (q.y * int(push.size.x) + q.x);
+      if (!onPlane(imageLoad(pixelLights, at + 2), p, n, tolerance)) continue;
+      const float w = (rim > 0 && abs(dx) == rim ? 0.5 : 1.0) * (rim > 0 && abs(dy) == rim ? 0.5 : 1.0);
+      seen += w * imageLoad(pixelLights, at).rgb, all += w * imageLoad(pixelLights, at + 1).rgb;
+      found = true;
+    }
+  return found;
+}
+
+// The share of the direct light that reaches point p (unit normal n) seen in pixel px, per channel:
+// over the pixels within half a block of px (shadowBlock) whose points lie on p's surface, their
+// shadowed light summed over their unshadowed. The weights (½ at the window's rim, else 1, along
+// each axis: ½, 1, 1, 1, ½ for blocks of 4) give each pixel of a block's interleaving
+// (direct_pixels) the same weight, so that on a plane the sums hold every emitter sample once. Where
+// none lies on p's surface (a sample on a thin sliver, or across an edge from its pixel's centre),
+// the next ring of pixels out.
+vec3 seenShareAround(uvec2 px, vec3 p, vec3 n, float tolerance) {
+  const int reach = int(shadowBlock(push.samples) / 2u);
+  vec3 seen = vec3(0.0), all = vec3(0.0);
+  if (!sumAround(px, p, n, tolerance, 0, reach, reach, seen, all))
+    sumAround(px, p, n, tolerance, reach + 1, reach + 1, 0, seen, all);
+  return vec3(all.r > 0.0 ? seen.r / all.r : 0.0, all.g > 0.0 ? seen.g / all.g : 0.0,
+              all.b > 0.0 ? seen.b / all.b : 0.0);
+}
+
 void main() {
   uvec2 px = gl_GlobalInvocationID.xy;
   if (px.x >= push.size.x || px.y >= push.size.y) return;
@@ -70,21 +112,17 @@ void main() {
   uvec2 fine = push.size * samples;
   vec3 albedo = vec3(0.0), normal = vec3(0.0), emission = vec3(0.0), reflected = vec3(0.0);
   float depth = 0.0, hits = 0.0;
+  // kDirectPixels: the last share found and the plane it was found for, which the pixel's other
+  // samples on that plane take as it is.
+  vec3 share = vec3(0.0);
+  vec4 sharePlane = vec4(0.0);
   for (uint sy = 0; sy < samples; ++sy)
     for (uint sx = 0; sx < samples; ++sx) {
       uvec2 s = px * samples + uvec2(sx, sy);
-      uvec2 words = imageLoad(visibility, int(s.y * fine.x + s.x)).xy;
-      uint64_t key = packUint2x32(words);
-      if (key == kEmptyVisibility) continue;
-      uvec4 t = imageLoad(triangles, int(keyId(key)));  // v0, v1, v2, material
-      vec3 a = positionOf(t.x), b = positionOf(t.y), c = positionOf(t.z);
-      float tHit;
-      vec2 bc;
-      const vec3 ray = cameraRay(push.camera, vec2(s) + 0.5, fine);
-      intersectTriangle(push.camera.origin.xyz, ray, a, b, c, tHit, bc);
-      vec3 w = vec3(1.0 - bc.x - bc.y, bc.x, bc.y);
-      vec3 n = cross(b - a, c - a);
-      if ((t.w & kFlatShaded) == 0u) n = w.x * normalOf(t.x) + w.y * normalOf(t.y) + w.z * normalOf(t.z);
+      const SurfaceHit h = surfaceHit(push.camera, s, fine);
+      if (!h.hit) continue;
+      const uvec4 t = h.triangle;
+      const vec3 w = h.weights, n = h.normal;
       float len = length(n);
       uint mi = t.w & ~kFlatShaded;
       vec3 base = uintBitsToFloat(imageLoad(materials, int(3u * mi)).rgb),
@@ -101,14 +139,20 @@ void main() {
       if (kLit) {
         vec3 e = w.x * irradianceAt(t.x) + w.y * irradianceAt(t.y) + w.z * irradianceAt(t.z);
         if (kDirectPixels && len > 0.0) {
-          const uint stride = min(samples * samples, push.lightSamples), first = (sy * samples + sx) % stride;
-          e += directIrradiance(push.camera.origin.xyz + tHit * ray, n / len, push.lightSamples, push.shadowMap, first,
-                                stride);
+          // Neighbours count within kShadowPlanePixels pixels' width of the plane, at p's distance.
+          const float pixelWidth = 2.0 * length(push.camera.up.xyz) / float(push.size.y) *
+                                   dot(h.position - push.camera.origin.xyz, push.camera.forward.xyz);
+          const float tolerance = kShadowPlanePixels * pixelWidth;
+          if (!onPlane(sharePlane, h.position, n / len, tolerance)) {
+            share = seenShareAround(px, h.position, n / len, tolerance);
+            sharePlane = vec4(n / len, dot(n / len, h.position));
+          }
+          e += (w.x * unshadowedAt(t.x) + w.y * unshadowedAt(t.y) + w.z * unshadowedAt(t.z)) * share;
         }
         reflected += base * e / kPi;
       }
       normal += len > 0.0 ? n / len : vec3(0.0);
-      depth += keyDepth(key);
+      depth += h.depth;
       hits += 1.0;
     }
   float all = float(samples * samples);

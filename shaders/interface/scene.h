@@ -207,6 +207,27 @@ struct ResolvePush {  // resolve
   uint pad1;
   uint pad2;
 };
+// --direct pixels: the pixels of each block of b × b take the emitter samples interleaved (pixel k
+// of the block the samples k, k + b², …), and each sample of the image takes its share of the light
+// seen from its neighbours on its surface within b/2 pixels (resolve.comp). b is kShadowBlock at one
+// sample a pixel, less as a pixel's samples grow (shadowBlock): the window's blur stays within
+// about a pixel's samples.
+IVGI_CONST uint kShadowBlock = 4u;
+IVGI_FN uint shadowBlock(uint samplesPerAxis) {
+  return samplesPerAxis >= kShadowBlock ? 1u : kShadowBlock / samplesPerAxis;
+}
+// A neighbour's light counts for a sample where its normal is within this cosine of the sample's
+// and the sample lies within kShadowPlanePixels pixels' width of its plane.
+IVGI_CONST float kShadowNormalCos = 0.9f;
+IVGI_CONST float kShadowPlanePixels = 2.0f;
+// Per pixel (direct_pixels): the direct light of its share of the emitter samples at the point its
+// central sample sees, with their shadows and without (rgb), and that point's plane (unit normal,
+// n·p; a zero normal: no surface).
+struct PixelLight {
+  vec4 shadowed;
+  vec4 unshadowed;
+  vec4 plane;
+};
 struct DirectLightPush {  // direct_surfels
   uint count;             // points lit
   uint sampleCount;       // emitter samples

@@ -1,0 +1,38 @@
+#version 460
+// Direct light at the pixels, first: each pixel takes its share of the emitter samples (interleaved
+// over blocks of pixels, shadowBlock) at the point its central sample sees, with their shadows
+// from the depth maps and without. The resolve then scales the light the vertices carry unshadowed
+// by the share its neighbours on the same surface see (the ratio of the two summed over them), so
+// that the shadows are the pixels' own at a fraction of the lookups.
+#extension GL_GOOGLE_include_directive : require
+#include "common/common.glsl"
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(binding = 0, rgba32f) readonly uniform imageBuffer world;        // WorldVertex: position, normal
+layout(binding = 1, rgba32ui) readonly uniform uimageBuffer triangles;  // Triangle
+layout(binding = 2, rg32ui) readonly uniform uimageBuffer visibility;   // 64-bit keys, low word first
+layout(std430, binding = 3) readonly buffer LightPoints { LightPoint lightPoints[]; };
+layout(std430, binding = 4) readonly buffer LightViews { Camera lightViews[]; };
+layout(binding = 5, r32ui) readonly uniform uimageBuffer lightDepth;  // depths' float bits
+layout(std430, binding = 6) writeonly buffer PixelLights { PixelLight pixelLights[]; };
+layout(push_constant) uniform Push { ResolvePush push; };
+#include "direct_light.glsl"
+#include "surface_hit.glsl"
+
+void main() {
+  const uvec2 px = gl_GlobalInvocationID.xy;
+  if (px.x >= push.size.x || px.y >= push.size.y) return;
+  const uint o = px.y * push.size.x + px.x;
+  const SurfaceHit h = surfaceHit(push.camera, px * push.samples + push.samples / 2u, push.size * push.samples);
+  const float len = h.hit ? length(h.normal) : 0.0;
+  if (!(len > 0.0)) {
+    pixelLights[o] = PixelLight(vec4(0.0), vec4(0.0), vec4(0.0));
+    return;
+  }
+  const vec3 n = h.normal / len;
+  const uint block = shadowBlock(push.samples), stride = min(block * block, push.lightSamples),
+             first = ((px.y % block) * block + px.x % block) % stride;
+  vec3 unshadowed;
+  const vec3 shadowed = directIrradiance(h.position, n, push.lightSamples, push.shadowMap, first, stride, unshadowed);
+  pixelLights[o] = PixelLight(vec4(shadowed, 0.0), vec4(unshadowed, 0.0), vec4(n, dot(n, h.position)));
+}
