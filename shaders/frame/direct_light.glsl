@@ -10,20 +10,22 @@ float depthAt(uint view, ivec2 texel, uint side) {
 }
 
 // The share of the four texels around the ray from emitter sample `light`'s views to the point `p` that
-// see p (bilinear weights), where `cosine` is the cosine of the ray at p's surface. A texel sees p
-// where its depth, less a bias of a texel and a half of p's own slope across it, is not nearer.
-float seenShare(uint light, vec3 p, float cosine, uint side) {
+// see p (bilinear weights; else whether the nearest texel does), where `cosine` is the cosine of the
+// ray at p's surface. A texel sees p where its depth, less a bias of a texel and a half of p's own
+// slope across it, is not nearer.
+float seenShare(uint light, vec3 p, float cosine, uint side, bool bilinear) {
+  // The cube's faces are axis-aligned (light_views): the face and where on it follow from d alone.
   const vec3 d = p - lightViews[kCubeFaces * light].origin.xyz, m = abs(d);
   const uint axis = m.x >= m.y && m.x >= m.z ? 0u : (m.y >= m.z ? 1u : 2u);
   const uint view = kCubeFaces * light + 2u * axis + (d[axis] < 0.0 ? 1u : 0u);
-  const Camera c = lightViews[view];
-  const float z = dot(d, c.forward.xyz);
+  const float z = m[axis], x = d[axis == 2u ? 0u : axis + 1u], y = d[axis == 0u ? 2u : axis - 1u];
   const float size = float(side);
-  const vec2 at = vec2((dot(d, c.right.xyz) / z + 1.0) * 0.5 * size, (1.0 - dot(d, c.up.xyz) / z) * 0.5 * size) - 0.5;
-  const ivec2 corner = ivec2(floor(at));
-  const vec2 f = at - vec2(corner);
+  const vec2 at = vec2((x / z + 1.0) * 0.5 * size, (1.0 - y / z) * 0.5 * size) - 0.5;
   const float slope = sqrt(max(1.0 - cosine * cosine, 0.0)) / max(cosine, 0.1);
   const float bias = 1.5 * (2.0 * z / size) * (1.0 + slope);
+  if (!bilinear) return depthAt(view, ivec2(floor(at + 0.5)), side) + bias >= z ? 1.0 : 0.0;
+  const ivec2 corner = ivec2(floor(at));
+  const vec2 f = at - vec2(corner);
   const vec4 seen = vec4(depthAt(view, corner, side) + bias >= z, depthAt(view, corner + ivec2(1, 0), side) + bias >= z,
                          depthAt(view, corner + ivec2(0, 1), side) + bias >= z,
                          depthAt(view, corner + ivec2(1, 1), side) + bias >= z);
@@ -33,8 +35,9 @@ float seenShare(uint light, vec3 p, float cosine, uint side) {
 // Irradiance at p (unit normal n) from the emitter samples first, first + stride, … of `count`, each a
 // disk of the area it stands for, L·A·cos θ·cos θ' / (d² + A/π) (finite where p comes near it),
 // times the stride: every stride-th of the stratified samples is an estimate of them all. And in
-// `unshadowed`, the same with every sample seen.
-vec3 directIrradiance(vec3 p, vec3 n, uint count, uint side, uint first, uint stride, out vec3 unshadowed) {
+// `unshadowed`, the same with every sample seen. `bilinear`: seenShare's.
+vec3 directIrradiance(vec3 p, vec3 n, uint count, uint side, uint first, uint stride, bool bilinear,
+                      out vec3 unshadowed) {
   vec3 e = vec3(0.0);
   unshadowed = vec3(0.0);
   for (uint i = first; i < count; i += stride) {
@@ -45,7 +48,7 @@ vec3 directIrradiance(vec3 p, vec3 n, uint count, uint side, uint first, uint st
     const float inv = inversesqrt(d2), cosR = dot(n, toLight) * inv, cosL = -dot(l.normal.xyz, toLight) * inv;
     if (cosR <= 0.0 || cosL <= 0.0) continue;
     const vec3 seen = l.radiance.rgb * (l.positionArea.w * cosR * cosL / (d2 + l.positionArea.w / kPi));
-    e += seen * seenShare(i, p, cosR, side);
+    e += seen * seenShare(i, p, cosR, side, bilinear);
     unshadowed += seen;
   }
   unshadowed *= float(stride);

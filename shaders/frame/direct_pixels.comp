@@ -33,6 +33,8 @@ void main() {
   const uint block = shadowBlock(push.samples), stride = min(block * block, push.lightSamples),
              first = ((px.y % block) * block + px.x % block) % stride;
   vec3 unshadowed;
-  const vec3 shadowed = directIrradiance(h.position, n, push.lightSamples, push.shadowMap, first, stride, unshadowed);
+  // The nearest texel: the resolve's window filters the pixels' shadows.
+  const vec3 shadowed =
+      directIrradiance(h.position, n, push.lightSamples, push.shadowMap, first, stride, false, unshadowed);
   pixelLights[o] = PixelLight(vec4(shadowed, 0.0), vec4(unshadowed, 0.0), vec4(n, dot(n, h.position)));
 }

@@ -21,6 +21,7 @@ void main() {
   const Surfel s = surfels[i];
   vec3 unshadowed;
   surfelDirect[i] = vec4(
-      directIrradiance(s.positionArea.xyz, s.normal.xyz, push.sampleCount, push.resolution, 0u, 1u, unshadowed), 0.0);
+      directIrradiance(s.positionArea.xyz, s.normal.xyz, push.sampleCount, push.resolution, 0u, 1u, true, unshadowed),
+      0.0);
   surfelUnshadowed[i] = vec4(unshadowed, 0.0);
 }
