@@ -46,12 +46,15 @@ struct SolverOptions {
   uint32_t tessellation = 16;          // --tessellate: iv and ar sample surfaces at least this finely
   // --direct: where the emitters' direct light comes from: "bins" (the solver's own), "maps" (depth
   // maps, gi::DirectLight: --light-samples, --shadow-map, at the surfels) or "pixels" (the maps
-  // looked up at every pixel too).
-  std::string direct = "bins";
+  // looked up at the pixels too); empty: pixels for iv and ar where the maps suit the emitters,
+  // else the solver's own (directLightSettings).
+  std::string direct;
   gi::DirectLightSettings maps;
 };
-// The frame's direct light from depth maps, where --direct maps asks for it (checked: SettingsError).
-std::optional<gi::DirectLightSettings> directLightSettings(const SolverOptions& options);
+// The frame's direct light from depth maps, where --direct asks for it (checked: SettingsError) or,
+// by default, where iv or ar renders emitters that the maps suit (gi::emissiveAreaShare).
+std::optional<gi::DirectLightSettings> directLightSettings(const SolverOptions& options,
+                                                           const scene::Geometry& geometry);
 
 // The tessellation `solver`'s method samples surfaces with (scene::buildGeometry): --tessellate for
 // iv and ar, 0 (the mesh as modelled) for pt and none.

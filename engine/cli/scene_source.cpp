@@ -23,15 +23,20 @@ scene::Scene loadScene(const SceneChoice& choice) {
   return scene::sceneFromModel(scenes::furnace({.cells = choice.cells}), "built-in furnace");
 }
 
-std::optional<gi::DirectLightSettings> directLightSettings(const SolverOptions& o) {
+std::optional<gi::DirectLightSettings> directLightSettings(const SolverOptions& o, const scene::Geometry& g) {
+  if (o.direct.empty()) {  // the default: the pixels' own, where the maps suit the scene's emitters
+    const bool suits = (o.method == "iv" || o.method == "ar") && !gi::emitterSamples(g, 1).empty() &&
+                       gi::emissiveAreaShare(g) <= gi::kMapsEmitterShare;
+    if (!suits) return std::nullopt;
+  }
   if (o.direct == "bins") return std::nullopt;
-  if (o.direct != "maps" && o.direct != "pixels")
+  if (!o.direct.empty() && o.direct != "maps" && o.direct != "pixels")
     throw SettingsError("--direct " + o.direct + ": must be bins, maps or pixels");
   if (o.method != "iv" && o.method != "ar")
     throw SettingsError("--direct " + o.direct + ": only iv and ar take the direct light from depth maps (" + o.method +
                         " computes its own)");
   gi::DirectLightSettings maps = o.maps;
-  maps.perPixel = o.direct == "pixels";
+  maps.perPixel = o.direct.empty() || o.direct == "pixels";
   return maps;
 }
 

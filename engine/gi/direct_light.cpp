@@ -30,6 +30,18 @@ void validate(const DirectLightSettings& s, const vk::Context& ctx) {
                         std::to_string(ctx.limits().maxStorageBufferRange >> 20) + " MiB)");
 }
 
+double emissiveAreaShare(const scene::Geometry& g) {
+  double emitting = 0, total = 0;
+  for (const scene::Triangle& tri : g.triangles) {
+    const glm::dvec3 a = g.vertices[tri.v0].position, b = g.vertices[tri.v1].position, c = g.vertices[tri.v2].position;
+    const double area = 0.5 * glm::length(glm::cross(b - a, c - a));
+    const glm::vec3 e = glm::vec3(g.materials[tri.material & ~gpu::kFlatShaded].emission);
+    total += area;
+    if (e.r > 0 || e.g > 0 || e.b > 0) emitting += area;
+  }
+  return total > 0 ? emitting / total : 0.0;
+}
+
 std::vector<gpu::EmitterSample> emitterSamples(const scene::Geometry& g, uint32_t count) {
   // Each triangle's power at rest, in the primitive's own space: only the ratios between triangles
   // matter, and the frame's weight takes the triangle's area as it is then.

@@ -29,6 +29,14 @@ void validate(const DirectLightSettings& settings, const vk::Context& ctx);
 // falls and from a second, golden-ratio sequence. Empty where nothing emits.
 std::vector<gpu::EmitterSample> emitterSamples(const scene::Geometry& geometry, uint32_t count);
 
+// The share of the surface's area (at rest) that emits. The maps suit emitters that are a small
+// part of the scene (kMapsEmitterShare): a point sample stands for its share of the emitters' area
+// and lights a receiver nearer than that share's size too little, so emitters that surround the
+// receivers (a furnace, every wall emitting) are better left to the solver's own hierarchy, which
+// takes their near field exactly.
+double emissiveAreaShare(const scene::Geometry& geometry);
+constexpr double kMapsEmitterShare = 0.1;
+
 class DirectLight {
  public:
   // `samples` from emitterSamples(geometry), at least one; `moving`: per instance of `geometry`,
