@@ -112,7 +112,7 @@ int runBench(const BenchOptions& o) {
 
   const std::shared_ptr<vk::Context> device = openDevice(o.device);
   vk::Context& ctx = *device;
-  gi::FrameRenderer renderer(ctx, g, image, makeSolver(solver, ctx, s, g, animation), directLightSettings(solver, g),
+  gi::FrameRenderer renderer(ctx, g, image, makeSolver(solver, ctx, s, g, animation), directLightSettings(solver, s, g),
                              scene::movingInstances(s, g, animation));
   if (o.perProgram) renderer.timePrograms();
   const FrameCamera camera(s, g, tl, o.fps, "", {0}, float(image.width) / float(image.height));
@@ -213,7 +213,7 @@ int runBench(const BenchOptions& o) {
               (unsigned long long)bytes, double(bytes) / (1 << 20), hostPeak);
   if (!o.json.empty()) {
     nlohmann::json settings =
-        settingsJson(solver.method, iv, solver.tessellation, arSettings(solver), directLightSettings(solver, g));
+        settingsJson(solver.method, iv, solver.tessellation, arSettings(solver), directLightSettings(solver, s, g));
     settings.update({{"width", image.width},
                      {"height", image.height},
                      {"supersample", image.samples},

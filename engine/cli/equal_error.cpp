@@ -90,8 +90,8 @@ int runEqualError(const BenchOptions& o) {
   // The renderer first: its settings are checked before the reference takes its time.
   const std::shared_ptr<vk::Context> device = openDevice(o.device);
   vk::Context& ctx = *device;
-  gi::FrameRenderer renderer(ctx, g, image, makeSolver(solver, ctx, s, g, tl.animation), directLightSettings(solver, g),
-                             scene::movingInstances(s, g, tl.animation));
+  gi::FrameRenderer renderer(ctx, g, image, makeSolver(solver, ctx, s, g, tl.animation),
+                             directLightSettings(solver, s, g), scene::movingInstances(s, g, tl.animation));
 
   // The reference: given, or rendered now with seed 0 (the measured pt runs use seed 1).
   image::RgbImage ref;
@@ -120,7 +120,7 @@ int runEqualError(const BenchOptions& o) {
 
   std::printf("ivgi bench --equal-error: %s, frame %d, %ux%u\n", s.source.c_str(), o.frame, image.width, image.height);
   const nlohmann::json settings = settingsJson(solver.method, solver.iv, sampledTessellation(solver),
-                                               arSettings(solver), directLightSettings(solver, g));
+                                               arSettings(solver), directLightSettings(solver, s, g));
   std::printf("%s:  %s; %s\n", method, deviceLine(ctx).c_str(), settings.dump().c_str());
   std::printf("pt:  %s, unlimited bounces (roulette)\n", cpuLine(o.threads).c_str());
   std::printf("reference: %s\n\n", o.reference.empty() ? ("pt " + std::to_string(o.referenceSpp) + " spp, seed 0, " +

@@ -99,9 +99,9 @@ int runRender(const RenderOptions& o) {
     if (!solver.environment.empty()) environment = scene::Environment::parse(solver.environment);
   } else {
     ctx = openDevice(o.device);
-    renderer =
-        std::make_unique<gi::FrameRenderer>(*ctx, g, image, makeSolver(solver, *ctx, s, g, tl.animation),
-                                            directLightSettings(solver, g), scene::movingInstances(s, g, tl.animation));
+    renderer = std::make_unique<gi::FrameRenderer>(*ctx, g, image, makeSolver(solver, *ctx, s, g, tl.animation),
+                                                   directLightSettings(solver, s, g),
+                                                   scene::movingInstances(s, g, tl.animation));
   }
   const bool geometryAnimated = scene::animationMovesGeometry(s, tl.animation);
 
@@ -120,7 +120,7 @@ int runRender(const RenderOptions& o) {
     if (size_t removed = image::removeDeadTemporaries(pattern.directory()))
       std::fprintf(stderr, "ivgi: removed %zu temporary files left by runs that ended\n", removed);
   json settings = settingsJson(solver.method, solver.iv, sampledTessellation(solver), arSettings(solver),
-                               directLightSettings(solver, g));
+                               directLightSettings(solver, s, g));
   settings.update({{"frames", {range.first, range.last, range.step}},
                    {"shard", {shard.index, shard.count}},
                    {"fps", o.fps},

@@ -5,6 +5,7 @@
 #include "engine/cli/commands.h"
 #include "engine/cli/options.h"
 #include "engine/scene/gltf.h"
+#include "engine/scene/lights.h"
 #include "scenes/builtin.h"
 
 namespace ivgi::cli {
@@ -23,9 +24,12 @@ scene::Scene loadScene(const SceneChoice& choice) {
   return scene::sceneFromModel(scenes::furnace({.cells = choice.cells}), "built-in furnace");
 }
 
-std::optional<gi::DirectLightSettings> directLightSettings(const SolverOptions& o, const scene::Geometry& g) {
-  if (o.direct.empty()) {  // the default: the pixels' own, where the maps suit the scene's emitters
-    const bool suits = (o.method == "iv" || o.method == "ar") && !gi::emitterSamples(g, 1).empty() &&
+std::optional<gi::DirectLightSettings> directLightSettings(const SolverOptions& o, const scene::Scene& s,
+                                                           const scene::Geometry& g) {
+  const uint32_t pointLights = scene::pointAndSpotLights(s);
+  if (o.direct.empty()) {  // the default: the pixels' own, where the maps suit the scene's lights
+    const bool suits = (o.method == "iv" || o.method == "ar") &&
+                       (pointLights > 0 || !gi::emitterSamples(g, 1).empty()) &&
                        gi::emissiveAreaShare(g) <= gi::kMapsEmitterShare;
     if (!suits) return std::nullopt;
   }
@@ -37,6 +41,7 @@ std::optional<gi::DirectLightSettings> directLightSettings(const SolverOptions& 
                         " computes its own)");
   gi::DirectLightSettings maps = o.maps;
   maps.perPixel = o.direct.empty() || o.direct == "pixels";
+  maps.punctualLights = pointLights;
   return maps;
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <utility>
 
 #include "engine/core/errors.h"
@@ -11,9 +12,9 @@ namespace ivgi::gi {
 
 namespace {
 
-// The bytes of the depth maps of `settings`: 32-bit depths, six maps a sample.
+// The bytes of the depth maps of `settings`: 32-bit depths, six maps a sample and a point light.
 uint64_t depthBytes(const DirectLightSettings& s) {
-  return uint64_t(s.samples) * gpu::kCubeFaces * s.resolution * s.resolution * sizeof(uint32_t);
+  return uint64_t(s.samples + s.punctualLights) * gpu::kCubeFaces * s.resolution * s.resolution * sizeof(uint32_t);
 }
 
 }  // namespace
@@ -109,9 +110,14 @@ DirectLight::DirectLight(const vk::Context& ctx, const scene::Geometry& g, std::
       lightViews_(shaderProgram(ctx, "light_views")),
       directSurfels_(shaderProgram(ctx, "direct_surfels")) {
   validate(settings, ctx);
+  const uint32_t points = sampleCount_ + settings.punctualLights;
+  if (points == 0) throw std::logic_error("DirectLight: nothing to light with");
+  if (samples.empty()) samples.push_back({});  // bound, never read
   samples_ = vk::makeBuffer(ctx, samples, vk::Memory::Device, tally);
-  points_ = vk::Buffer(ctx, sampleCount_ * sizeof(gpu::LightPoint), vk::Memory::Device, tally);
-  views_ = vk::Buffer(ctx, sampleCount_ * gpu::kCubeFaces * sizeof(gpu::Camera), vk::Memory::Device, tally);
+  punctual_ =
+      vk::Buffer(ctx, std::max(settings.punctualLights, 1u) * sizeof(gpu::PunctualLight), vk::Memory::Host, tally);
+  points_ = vk::Buffer(ctx, points * sizeof(gpu::LightPoint), vk::Memory::Device, tally);
+  views_ = vk::Buffer(ctx, points * gpu::kCubeFaces * sizeof(gpu::Camera), vk::Memory::Device, tally);
   depth_ = vk::Buffer(ctx, depthBytes(settings), vk::Memory::Device, tally);
   if (splitsStatic_) {
     const auto [still, moves] = byMotion(g, moving);
@@ -128,13 +134,33 @@ DirectLight::DirectLight(const vk::Context& ctx, const scene::Geometry& g, std::
   surfelUnshadowed_ = vk::Buffer(ctx, surfelDirect_.size(), vk::Memory::Device, tally);
 }
 
+void DirectLight::setLights(const std::vector<gpu::PunctualLight>& lights) {
+  std::vector<gpu::PunctualLight> points;
+  for (const gpu::PunctualLight& l : lights)
+    if (l.position.w != gpu::kLightDirectional) points.push_back(l);
+  if (points.size() != settings_.punctualLights)
+    throw std::logic_error("DirectLight: the frame brings " + std::to_string(points.size()) +
+                           " point and spot lights, the settings named " + std::to_string(settings_.punctualLights));
+  auto bytes = [](const std::vector<gpu::PunctualLight>& v) {
+    return std::vector<uint8_t>(reinterpret_cast<const uint8_t*>(v.data()),
+                                reinterpret_cast<const uint8_t*>(v.data() + v.size()));
+  };
+  if (!lit_ || bytes(points) != bytes(lights_)) lightsMoved_ = true;
+  lights_ = points;
+  if (!points.empty()) punctual_.upload(points);
+}
+
 void DirectLight::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bindings& frame, bool geometryMoved) {
-  if (lit_ && !geometryMoved) return;  // the surfels' direct light stands
-  const vk::Bindings buffers = vk::Bindings::pool({{"emitterSamples", samples_}}).plus(pool()).plus(frame);
-  const uint32_t views = sampleCount_ * gpu::kCubeFaces;
+  if (lit_ && !geometryMoved && !lightsMoved_) return;                     // the surfels' direct light stands
+  if (lightsMoved_ && settings_.punctualLights > 0) staticDrawn_ = false;  // their views moved
+  const vk::Bindings buffers =
+      vk::Bindings::pool({{"emitterSamples", samples_}, {"punctualLights", punctual_}}).plus(pool()).plus(frame);
+  const uint32_t points = sampleCount_ + settings_.punctualLights, views = points * gpu::kCubeFaces;
   const glm::uvec2 size(settings_.resolution);
   timedPass(cmd, timer, "direct light", [&] {
-    lightViews_.dispatchItems(cmd, sampleCount_, buffers, gpu::CountPush{.count = sampleCount_});
+    lightViews_.dispatchItems(
+        cmd, points, buffers,
+        gpu::LightViewsPush{.sampleCount = sampleCount_, .punctualLights = settings_.punctualLights});
     if (!splitsStatic_) {
       allRaster_->record(cmd, frame, views_, views, size, depth_);
     } else if (movingCount_ == 0) {  // nothing moves: the maps are drawn once
@@ -147,11 +173,14 @@ void DirectLight::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bi
       movingRaster_->record(cmd, frame.with({{"triangles", movingTriangles_}}), views_, views, size, depth_, false);
     }
     staticDrawn_ = true;
-    directSurfels_.dispatchItems(
-        cmd, surfelCount_, buffers,
-        gpu::DirectLightPush{.count = surfelCount_, .sampleCount = sampleCount_, .resolution = settings_.resolution});
+    directSurfels_.dispatchItems(cmd, surfelCount_, buffers,
+                                 gpu::DirectLightPush{.count = surfelCount_,
+                                                      .sampleCount = sampleCount_,
+                                                      .resolution = settings_.resolution,
+                                                      .punctualLights = settings_.punctualLights});
   });
   lit_ = true;
+  lightsMoved_ = false;
 }
 
 }  // namespace ivgi::gi

@@ -19,6 +19,9 @@ struct DirectLightSettings {
   // The image's pixels look the maps up themselves (the resolve), the vertices carrying only the
   // rest of the irradiance; else the surfels' direct light is shown through their vertices.
   bool perPixel = false;
+  // The scene's point and spot lights, which the maps light too (each frame says where they are:
+  // DirectLight::setLights); not a choice but how many the frames bring.
+  uint32_t punctualLights = 0;
 };
 // Throws SettingsError for settings no frame can use on `ctx`.
 void validate(const DirectLightSettings& settings, const vk::Context& ctx);
@@ -39,10 +42,15 @@ constexpr double kMapsEmitterShare = 0.1;
 
 class DirectLight {
  public:
-  // `samples` from emitterSamples(geometry), at least one; `moving`: per instance of `geometry`,
-  // whether the animation can move it (scene::movingInstances; empty: any may).
+  // `samples` from emitterSamples(geometry), at least one unless `settings` names point or spot
+  // lights; `moving`: per instance of `geometry`, whether the animation can move it
+  // (scene::movingInstances; empty: any may).
   DirectLight(const vk::Context& ctx, const scene::Geometry& geometry, std::vector<gpu::EmitterSample> samples,
               const std::vector<bool>& moving, const DirectLightSettings& settings, vk::Allocations* tally);
+
+  // The frame's punctual lights in world space: its point and spot lights (as many as the settings
+  // named) are lit through the maps, the directional ones left to the solver.
+  void setLights(const std::vector<gpu::PunctualLight>& lights);
 
   // Places the samples, rasterizes their depth maps and lights the surfels; `frame` holds the
   // frame's buffers (world, triangles, materials, surfels). Where the emitters cannot move, what
@@ -55,6 +63,7 @@ class DirectLight {
   const vk::Buffer& surfelDirect() const { return surfelDirect_; }
   const vk::Buffer& surfelUnshadowed() const { return surfelUnshadowed_; }
   uint32_t sampleCount() const { return sampleCount_; }
+  uint32_t punctualCount() const { return settings_.punctualLights; }
   uint32_t resolution() const { return settings_.resolution; }
   // The samples as the frame placed them, their views and depth maps, the surfels' direct light, by
   // the names the shaders that look them up bind them under (direct_light.glsl).
@@ -72,9 +81,13 @@ class DirectLight {
   // The triangles the maps are drawn from: all of them, or where the emitters stand still those
   // that can move, each frame over what cannot (`staticDepth`, drawn once).
   bool splitsStatic_ = false, staticDrawn_ = false, lit_ = false;
+  // The point and spot lights of the last frame (host-visible), and whether they moved since the
+  // maps were drawn.
+  std::vector<gpu::PunctualLight> lights_;
+  bool lightsMoved_ = true;
   uint32_t movingCount_ = 0;  // triangles that can move, where splitsStatic_
   vk::Buffer samples_, points_, views_, depth_, staticDepth_, surfelDirect_, surfelUnshadowed_;
-  vk::Buffer staticTriangles_, movingTriangles_;
+  vk::Buffer staticTriangles_, movingTriangles_, punctual_;
   vk::Program lightViews_, directSurfels_;
   std::optional<Raster> allRaster_, staticRaster_, movingRaster_;  // all, or the static and moving
 };

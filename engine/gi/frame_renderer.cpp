@@ -9,10 +9,15 @@ namespace ivgi::gi {
 
 namespace {
 
+// Whether the maps have something to light with: emitters or point and spot lights.
+bool somethingLights(const scene::Geometry& g, const DirectLightSettings& directLight) {
+  return directLight.punctualLights > 0 || !emitterSamples(g, 1).empty();
+}
+
 // Whether the pixels of a frame of `g` look the depth maps' direct light up themselves: asked for, a
-// solver to take the rest, and something emits.
+// solver to take the rest, and something lights.
 bool directPerPixel(const scene::Geometry& g, bool solver, const std::optional<DirectLightSettings>& directLight) {
-  return solver && directLight && directLight->perPixel && !emitterSamples(g, 1).empty();
+  return solver && directLight && directLight->perPixel && somethingLights(g, *directLight);
 }
 
 }  // namespace
@@ -91,8 +96,8 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
   noDirectLight_ = vk::Buffer(ctx, 16, Memory::Device, tally);
   if (directLight) {
     validate(*directLight, ctx);
-    if (auto samples = emitterSamples(g, directLight->samples); !samples.empty())
-      direct_.emplace(ctx, g, std::move(samples), movingInstances, *directLight, tally);
+    if (somethingLights(g, *directLight))
+      direct_.emplace(ctx, g, emitterSamples(g, directLight->samples), movingInstances, *directLight, tally);
   }
   if (direct_ && solver_ && !solver_->useDirectLight(direct_->surfelDirect()))
     throw SettingsError("this method cannot take the direct light from depth maps (iv and ar can)");
@@ -176,7 +181,8 @@ void FrameRenderer::recordResolve(VkCommandBuffer cmd, const gpu::Camera& camera
                               .size = size,
                               .samples = image_.samples,
                               .lightSamples = direct_ ? direct_->sampleCount() : 0u,
-                              .shadowMap = direct_ ? direct_->resolution() : 0u};
+                              .shadowMap = direct_ ? direct_->resolution() : 0u,
+                              .punctualLights = direct_ ? direct_->punctualCount() : 0u};
   const vk::Groups pixelGroups{(size.x + 7) / 8, (size.y + 7) / 8, 1};
   if (directPerPixel_)
     timedPass(cmd, timer_, "direct pixels", [&] {
@@ -199,6 +205,7 @@ FrameResult FrameRenderer::render(const scene::FrameInputs& in, const scene::Cam
   matrices_.upload(in.matrices);
   morphWeights_.upload(in.morphWeights);
   if (solver_) solver_->setLights(lights), solver_->beginFrame(frame);
+  if (direct_) direct_->setLights(lights);
   const gpu::Camera camera = scene::gpuCamera(view, float(image_.width) / float(image_.height));
   // A frame the solver could not finish (it ran out of room) is redone, relinking; one whose solver
   // has more to do (its solve after its links, bounces not converged) gets it, and the image is

@@ -22,4 +22,11 @@ std::vector<gpu::PunctualLight> worldLights(const Scene& scene, const Pose& pose
   return out;
 }
 
+uint32_t pointAndSpotLights(const Scene& scene) {
+  uint32_t count = 0;
+  for (const Node& node : scene.nodes)
+    if (node.light >= 0 && scene.lights[node.light].type != Light::Type::Directional) ++count;
+  return count;
+}
+
 }  // namespace ivgi::scene

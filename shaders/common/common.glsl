@@ -121,3 +121,16 @@ void binTaps(vec3 d, uint n, out uvec4 bins, out vec4 weights) {
                binOfCell(face, c + ivec2(1, 1), n));
   weights = vec4((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y);
 }
+
+// A unit vector in 32 bits (octahedral, 16 bits a coordinate), and back.
+uint packUnitVector(vec3 n) {
+  vec2 o = n.xy / (abs(n.x) + abs(n.y) + abs(n.z));
+  if (n.z < 0.0) o = (1.0 - abs(o.yx)) * vec2(o.x >= 0.0 ? 1.0 : -1.0, o.y >= 0.0 ? 1.0 : -1.0);
+  return packSnorm2x16(o);
+}
+vec3 unpackUnitVector(uint bits) {
+  const vec2 o = unpackSnorm2x16(bits);
+  vec3 n = vec3(o, 1.0 - abs(o.x) - abs(o.y));
+  if (n.z < 0.0) n.xy = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
+  return normalize(n);
+}

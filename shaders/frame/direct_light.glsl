@@ -32,25 +32,56 @@ float seenShare(uint light, vec3 p, float cosine, uint side, bool bilinear) {
   return mix(mix(seen.x, seen.y, f.x), mix(seen.z, seen.w, f.x), f.y);
 }
 
-// Irradiance at p (unit normal n) from the emitter samples first, first + stride, … of `count`, each a
-// disk of the area it stands for, L·A·cos θ·cos θ' / (d² + A/π) (finite where p comes near it),
-// times the stride: every stride-th of the stratified samples is an estimate of them all. And in
-// `unshadowed`, the same with every sample seen. `bilinear`: seenShare's.
-vec3 directIrradiance(vec3 p, vec3 n, uint count, uint side, uint first, uint stride, bool bilinear,
-                      out vec3 unshadowed) {
+// The light of point `i` (an emitter sample or a point or spot light) at p (unit normal n) where it
+// is seen; zero where p faces away from it or lies behind the emitter. `cosine`: the ray's at p.
+vec3 lightFrom(uint i, vec3 p, vec3 n, out float cosine) {
+  const LightPoint l = lightPoints[i];
+  cosine = 0.0;
+  if (l.cone.w == kLightPointIsPunctual) {
+    vec3 toLight;
+    float d2;
+    const float falloff =
+        lightFalloff(PunctualLight(vec4(l.positionArea.xyz, l.cone.z), l.normal, l.radiance, l.cone), p, toLight, d2);
+    if (!(falloff > 0.0) || !(d2 > 0.0)) return vec3(0.0);
+    cosine = dot(n, toLight) * inversesqrt(d2);
+    return cosine > 0.0 ? l.radiance.rgb * (falloff * cosine) : vec3(0.0);
+  }
+  const vec3 toLight = l.positionArea.xyz - p;
+  const float d2 = dot(toLight, toLight);
+  if (!(d2 > 0.0)) return vec3(0.0);
+  const float inv = inversesqrt(d2), cosL = -dot(l.normal.xyz, toLight) * inv;
+  cosine = dot(n, toLight) * inv;
+  if (cosine <= 0.0 || cosL <= 0.0) return vec3(0.0);
+  return l.radiance.rgb * (l.positionArea.w * cosine * cosL / (d2 + l.positionArea.w / kPi));
+}
+
+// Irradiance at p (unit normal n) from the emitter samples first, first + stride, … of `samples`,
+// each a disk of the area it stands for, L·A·cos θ·cos θ' / (d² + A/π) (finite where p comes near
+// it), times the stride: every stride-th of the stratified samples is an estimate of them all. And
+// in `unshadowed`, the same with every sample seen. `bilinear`: seenShare's.
+vec3 sampledIrradiance(vec3 p, vec3 n, uint samples, uint side, uint first, uint stride, bool bilinear,
+                       out vec3 unshadowed) {
   vec3 e = vec3(0.0);
   unshadowed = vec3(0.0);
-  for (uint i = first; i < count; i += stride) {
-    const LightPoint l = lightPoints[i];
-    const vec3 toLight = l.positionArea.xyz - p;
-    const float d2 = dot(toLight, toLight);
-    if (!(d2 > 0.0)) continue;
-    const float inv = inversesqrt(d2), cosR = dot(n, toLight) * inv, cosL = -dot(l.normal.xyz, toLight) * inv;
-    if (cosR <= 0.0 || cosL <= 0.0) continue;
-    const vec3 seen = l.radiance.rgb * (l.positionArea.w * cosR * cosL / (d2 + l.positionArea.w / kPi));
-    e += seen * seenShare(i, p, cosR, side, bilinear);
+  for (uint i = first; i < samples; i += stride) {
+    float cosine;
+    const vec3 seen = lightFrom(i, p, n, cosine);
+    if (cosine <= 0.0 || all(equal(seen, vec3(0.0)))) continue;
+    e += seen * seenShare(i, p, cosine, side, bilinear);
     unshadowed += seen;
   }
   unshadowed *= float(stride);
   return e * float(stride);
+}
+
+// Irradiance at p (unit normal n) from the `punctual` point and spot lights after the `samples`
+// emitter samples, each where its maps see p.
+vec3 punctualIrradiance(vec3 p, vec3 n, uint samples, uint punctual, uint side, bool bilinear) {
+  vec3 e = vec3(0.0);
+  for (uint i = samples; i < samples + punctual; ++i) {
+    float cosine;
+    const vec3 seen = lightFrom(i, p, n, cosine);
+    if (cosine > 0.0 && any(greaterThan(seen, vec3(0.0)))) e += seen * seenShare(i, p, cosine, side, bilinear);
+  }
+  return e;
 }

@@ -1,9 +1,9 @@
 #version 460
 // Direct light at the pixels, first: each pixel takes its share of the emitter samples (interleaved
 // over blocks of pixels, shadowBlock) at the point its central sample sees, with their shadows
-// from the depth maps and without. The resolve then scales the light the vertices carry unshadowed
-// by the share its neighbours on the same surface see (the ratio of the two summed over them), so
-// that the shadows are the pixels' own at a fraction of the lookups.
+// from the depth maps and without, and every point and spot light with its shadow. The resolve then scales the light
+// the vertices carry unshadowed by the share its neighbours on the same surface see (the ratio of the two summed over
+// them), so that the shadows are the pixels' own at a fraction of the lookups.
 #extension GL_GOOGLE_include_directive : require
 #include "common/common.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -29,12 +29,14 @@ void main() {
     pixelLights[o] = PixelLight(vec4(0.0), vec4(0.0), vec4(0.0));
     return;
   }
-  const vec3 n = h.normal / len;
-  const uint block = shadowBlock(push.samples), stride = min(block * block, push.lightSamples),
+  const vec3 n = h.normal / len, p = h.position;
+  const uint block = shadowBlock(push.samples), stride = max(min(block * block, push.lightSamples), 1u),
              first = ((px.y % block) * block + px.x % block) % stride;
+  // The nearest texel: the resolve's window filters the emitter samples' shadows. The point and
+  // spot lights are few: every pixel takes them all, their shadows its own.
   vec3 unshadowed;
-  // The nearest texel: the resolve's window filters the pixels' shadows.
-  const vec3 shadowed =
-      directIrradiance(h.position, n, push.lightSamples, push.shadowMap, first, stride, false, unshadowed);
-  pixelLights[o] = PixelLight(vec4(shadowed, 0.0), vec4(unshadowed, 0.0), vec4(n, dot(n, h.position)));
+  const vec3 shadowed = sampledIrradiance(p, n, push.lightSamples, push.shadowMap, first, stride, false, unshadowed);
+  const vec3 punctual = punctualIrradiance(p, n, push.lightSamples, push.punctualLights, push.shadowMap, false);
+  pixelLights[o] =
+      PixelLight(vec4(shadowed, uintBitsToFloat(packUnitVector(n))), vec4(unshadowed, dot(n, p)), vec4(punctual, 1.0));
 }

@@ -1,7 +1,8 @@
 #version 460
 // Direct light at the surfels: each surfel's irradiance from the emitter samples, seen or hidden by
-// their depth maps (direct_light.glsl), the source of the first bounce; and the same light with
-// every emitter sample seen, which the pixels' own shadows scale (direct_pixels, resolve).
+// their depth maps (direct_light.glsl), and the point and spot lights', the source of the first
+// bounce; and the emitter samples' light with every sample seen, which the pixels' own shadows
+// scale (direct_pixels, resolve).
 #extension GL_GOOGLE_include_directive : require
 #include "common/common.glsl"
 layout(local_size_x = 64) in;
@@ -20,8 +21,9 @@ void main() {
   if (i >= push.count) return;
   const Surfel s = surfels[i];
   vec3 unshadowed;
-  surfelDirect[i] = vec4(
-      directIrradiance(s.positionArea.xyz, s.normal.xyz, push.sampleCount, push.resolution, 0u, 1u, true, unshadowed),
-      0.0);
+  const vec3 p = s.positionArea.xyz, n = s.normal.xyz;
+  surfelDirect[i] = vec4(sampledIrradiance(p, n, push.sampleCount, push.resolution, 0u, 1u, true, unshadowed) +
+                             punctualIrradiance(p, n, push.sampleCount, push.punctualLights, push.resolution, true),
+                         0.0);
   surfelUnshadowed[i] = vec4(unshadowed, 0.0);
 }

@@ -1,7 +1,8 @@
 #version 460
 // Direct light, first: each emitter sample where the frame put it (its triangle's corners as the
 // animate pass left them), the area it stands for, and the cube of 90° views around it that its
-// depth maps are rasterized in. A face wholly behind the emitter is no view (near < 0).
+// depth maps are rasterized in (a face wholly behind the emitter is no view: near < 0); then each
+// point and spot light of the frame likewise, its cube around its position.
 #extension GL_GOOGLE_include_directive : require
 #include "common/common.glsl"
 layout(local_size_x = 64) in;
@@ -12,14 +13,38 @@ layout(binding = 2, rgba32ui) readonly uniform uimageBuffer materials;  // Mater
 layout(std430, binding = 3) readonly buffer EmitterSamples { EmitterSample emitterSamples[]; };
 layout(std430, binding = 4) writeonly buffer LightPoints { LightPoint lightPoints[]; };
 layout(std430, binding = 5) writeonly buffer LightViews { Camera lightViews[]; };
-layout(push_constant) uniform Push { CountPush push; };
+layout(std430, binding = 6) readonly buffer PunctualLights { PunctualLight punctualLights[]; };
+layout(push_constant) uniform Push { LightViewsPush push; };
 
 vec3 positionOf(uint vertex) { return imageLoad(world, int(2u * vertex)).xyz; }
 vec3 normalOf(uint vertex) { return imageLoad(world, int(2u * vertex + 1u)).xyz; }
 
+// The cube of views around `origin` whose near plane is `near`, each face wholly behind `front` (a
+// zero front: none) no view.
+void writeCube(uint i, vec3 origin, float near, vec3 front) {
+  for (uint face = 0u; face < kCubeFaces; ++face) {
+    const uint axis = face >> 1u;
+    vec3 forward = vec3(0.0), right = vec3(0.0), up = vec3(0.0);
+    forward[axis] = (face & 1u) == 0u ? 1.0 : -1.0;
+    right[axis == 2u ? 0u : axis + 1u] = 1.0;
+    up[axis == 0u ? 2u : axis - 1u] = 1.0;
+    // Wholly behind: every direction of the face's pyramid on the emitter's back.
+    const bool behind = front != vec3(0.0) && dot(forward, front) + abs(dot(right, front)) + abs(dot(up, front)) <= 0.0;
+    lightViews[kCubeFaces * i + face] =
+        Camera(vec4(origin, behind ? -1.0 : near), vec4(right, 0.0), vec4(up, 0.0), vec4(forward, 0.0));
+  }
+}
+
 void main() {
   const uint i = itemIndex();
-  if (i >= push.count) return;
+  if (i >= push.sampleCount + push.punctualLights) return;
+  if (i >= push.sampleCount) {
+    const PunctualLight l = punctualLights[i - push.sampleCount];
+    lightPoints[i] = LightPoint(vec4(l.position.xyz, 0.0), l.direction, l.intensity,
+                                vec4(l.cone.xy, l.position.w, kLightPointIsPunctual));
+    writeCube(i, l.position.xyz, 1e-4 * (1.0 + length(l.position.xyz)), vec3(0.0));
+    return;
+  }
   const EmitterSample s = emitterSamples[i];
   const uvec4 t = imageLoad(triangles, int(s.triangle));
   const vec3 a = positionOf(t.x), b = positionOf(t.y), c = positionOf(t.z);
@@ -32,21 +57,11 @@ void main() {
     n = -n;
   const uint material = t.w & ~kFlatShaded;
   const vec3 radiance = uintBitsToFloat(imageLoad(materials, int(3u * material + 1u)).rgb);
-  lightPoints[i] = LightPoint(vec4(p, 0.5 * doubleArea * s.weightPerArea), vec4(n, 0.0), vec4(radiance, 0.0));
+  lightPoints[i] =
+      LightPoint(vec4(p, 0.5 * doubleArea * s.weightPerArea), vec4(n, 0.0), vec4(radiance, 0.0), vec4(0.0));
 
   // The views start a little off the emitter, and their near plane as far again: rays along the
   // emitter's plane then pass over it and its neighbours, which its front cannot light.
   const float offset = 1e-3 * sqrt(0.5 * doubleArea) + 1e-6 * length(p);
-  const vec3 origin = p + offset * n;
-  for (uint face = 0u; face < kCubeFaces; ++face) {
-    const uint axis = face >> 1u;
-    vec3 forward = vec3(0.0), right = vec3(0.0), up = vec3(0.0);
-    forward[axis] = (face & 1u) == 0u ? 1.0 : -1.0;
-    right[axis == 2u ? 0u : axis + 1u] = 1.0;
-    up[axis == 0u ? 2u : axis - 1u] = 1.0;
-    // Wholly behind: every direction of the face's pyramid on the emitter's back.
-    const bool behind = dot(forward, n) + abs(dot(right, n)) + abs(dot(up, n)) <= 0.0;
-    lightViews[kCubeFaces * i + face] =
-        Camera(vec4(origin, behind ? -1.0 : offset), vec4(right, 0.0), vec4(up, 0.0), vec4(forward, 0.0));
-  }
+  writeCube(i, p + offset * n, offset, n);
 }

@@ -69,11 +69,25 @@ bool onPlane(vec4 plane, vec3 p, vec3 n, float tolerance) {
   return dot(plane.xyz, n) >= kShadowNormalCos && abs(dot(plane.xyz, p) - plane.w) <= tolerance;
 }
 
-// Adds to `seen` and `all` the shadowed and unshadowed light of the pixels from `nearest` to
-// `farthest` pixels from px (along either axis) whose points lie on p's surface, each weighted ½
-// along an axis where it lies on the rim `rim` (> 0), else 1; whether any lay on it.
+// Whether the point pixel `at` (its first texel in pixelLights) sees lies on p's surface.
+bool pixelOnPlane(int at, vec3 p, vec3 n, float tolerance) {
+  const vec4 shadowed = imageLoad(pixelLights, at), unshadowed = imageLoad(pixelLights, at + 1);
+  return imageLoad(pixelLights, at + 2).w != 0.0 &&
+         onPlane(vec4(unpackUnitVector(floatBitsToUint(shadowed.w)), unshadowed.w), p, n, tolerance);
+}
+
+// The direct light around a point on a surface: the share of the emitter samples' light that
+// reaches it (per channel) and the point and spot lights' light.
+struct DirectAround {
+  vec3 share, punctual;
+};
+
+// Adds to `seen` and `all` the emitter samples' shadowed and unshadowed light of the pixels from
+// `nearest` to `farthest` pixels from px (along either axis) whose points lie on p's surface, each
+// weighted ½ along an axis where it lies on the rim `rim` (> 0), else 1, and to `punctual` and
+// `weight` the point lights' light so weighted; whether any lay on it.
 bool sumAround(uvec2 px, vec3 p, vec3 n, float tolerance, int nearest, int farthest, int rim, inout vec3 seen,
-               inout vec3 all) {
+               inout vec3 all, inout vec3 punctual, inout float weight) {
   bool found = false;
   for (int dy = -farthest; dy <= farthest; ++dy)
     for (int dx = -farthest; dx <= farthest; ++dx) {
@@ -81,28 +95,36 @@ bool sumAround(uvec2 px, vec3 p, vec3 n, float tolerance, int nearest, int farth
       if (max(abs(dx), abs(dy)) < nearest || any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, ivec2(push.size))))
         continue;
       const int at = 3 * (q.y * int(push.size.x) + q.x);
-      if (!onPlane(imageLoad(pixelLights, at + 2), p, n, tolerance)) continue;
+      if (!pixelOnPlane(at, p, n, tolerance)) continue;
       const float w = (rim > 0 && abs(dx) == rim ? 0.5 : 1.0) * (rim > 0 && abs(dy) == rim ? 0.5 : 1.0);
       seen += w * imageLoad(pixelLights, at).rgb, all += w * imageLoad(pixelLights, at + 1).rgb;
+      punctual += w * imageLoad(pixelLights, at + 2).rgb, weight += w;
       found = true;
     }
   return found;
 }
 
-// The share of the direct light that reaches point p (unit normal n) seen in pixel px, per channel:
-// over the pixels within half a block of px (shadowBlock) whose points lie on p's surface, their
-// shadowed light summed over their unshadowed. The weights (½ at the window's rim, else 1, along
-// each axis: ½, 1, 1, 1, ½ for blocks of 4) give each pixel of a block's interleaving
-// (direct_pixels) the same weight, so that on a plane the sums hold every emitter sample once. Where
-// none lies on p's surface (a sample on a thin sliver, or across an edge from its pixel's centre),
-// the next ring of pixels out.
-vec3 seenShareAround(uvec2 px, vec3 p, vec3 n, float tolerance) {
+// The direct light around point p (unit normal n) seen in pixel px. The share: over the pixels within
+// half a block of px (shadowBlock) whose points lie on p's surface, their shadowed light summed over
+// their unshadowed. The weights (½ at the window's rim, else 1, along each axis: ½, 1, 1, 1, ½ for
+// blocks of 4) give each pixel of a block's interleaving (direct_pixels) the same weight, so that on
+// a plane the sums hold every emitter sample once. The point and spot lights, which every pixel
+// takes whole: px's own where p lies on its surface, else their weighted mean. Where no pixel lies on
+// p's surface (a sample on a thin sliver, or across an edge from its pixel's centre), the next ring
+// of pixels out.
+DirectAround directAround(uvec2 px, vec3 p, vec3 n, float tolerance) {
   const int reach = int(shadowBlock(push.samples) / 2u);
-  vec3 seen = vec3(0.0), all = vec3(0.0);
-  if (!sumAround(px, p, n, tolerance, 0, reach, reach, seen, all))
-    sumAround(px, p, n, tolerance, reach + 1, reach + 1, 0, seen, all);
-  return vec3(all.r > 0.0 ? seen.r / all.r : 0.0, all.g > 0.0 ? seen.g / all.g : 0.0,
-              all.b > 0.0 ? seen.b / all.b : 0.0);
+  vec3 seen = vec3(0.0), all = vec3(0.0), punctual = vec3(0.0);
+  float weight = 0.0;
+  const int own = 3 * int(px.y * push.size.x + px.x);
+  const bool ownOnPlane = pixelOnPlane(own, p, n, tolerance);
+  if (!sumAround(px, p, n, tolerance, 0, reach, reach, seen, all, punctual, weight))
+    sumAround(px, p, n, tolerance, reach + 1, reach + 1, 0, seen, all, punctual, weight);
+  DirectAround d;
+  d.share =
+      vec3(all.r > 0.0 ? seen.r / all.r : 0.0, all.g > 0.0 ? seen.g / all.g : 0.0, all.b > 0.0 ? seen.b / all.b : 0.0);
+  d.punctual = ownOnPlane ? imageLoad(pixelLights, own + 2).rgb : (weight > 0.0 ? punctual / weight : vec3(0.0));
+  return d;
 }
 
 void main() {
@@ -112,10 +134,10 @@ void main() {
   uvec2 fine = push.size * samples;
   vec3 albedo = vec3(0.0), normal = vec3(0.0), emission = vec3(0.0), reflected = vec3(0.0);
   float depth = 0.0, hits = 0.0;
-  // kDirectPixels: the last share found and the plane it was found for, which the pixel's other
-  // samples on that plane take as it is.
-  vec3 share = vec3(0.0);
-  vec4 sharePlane = vec4(0.0);
+  // kDirectPixels: the direct light last found around a sample and the plane it was found for, which
+  // the pixel's other samples on that plane take as it is.
+  DirectAround around = DirectAround(vec3(0.0), vec3(0.0));
+  vec4 aroundPlane = vec4(0.0);
   for (uint sy = 0; sy < samples; ++sy)
     for (uint sx = 0; sx < samples; ++sx) {
       uvec2 s = px * samples + uvec2(sx, sy);
@@ -143,11 +165,12 @@ void main() {
           const float pixelWidth = 2.0 * length(push.camera.up.xyz) / float(push.size.y) *
                                    dot(h.position - push.camera.origin.xyz, push.camera.forward.xyz);
           const float tolerance = kShadowPlanePixels * pixelWidth;
-          if (!onPlane(sharePlane, h.position, n / len, tolerance)) {
-            share = seenShareAround(px, h.position, n / len, tolerance);
-            sharePlane = vec4(n / len, dot(n / len, h.position));
+          if (!onPlane(aroundPlane, h.position, n / len, tolerance)) {
+            around = directAround(px, h.position, n / len, tolerance);
+            aroundPlane = vec4(n / len, dot(n / len, h.position));
           }
-          e += (w.x * unshadowedAt(t.x) + w.y * unshadowedAt(t.y) + w.z * unshadowedAt(t.z)) * share;
+          e += (w.x * unshadowedAt(t.x) + w.y * unshadowedAt(t.y) + w.z * unshadowedAt(t.z)) * around.share +
+               around.punctual;
         }
         reflected += base * e / kPi;
       }

@@ -96,7 +96,9 @@ struct ArIncidentPush {  // ar_incident
   uint sumSlot;  // where the iteration leaves its IterationSums
   uint lightCount;
   uint environmentOn;
-  uint emittersByMaps;  // 1: each surfel's irradiance adds the emitters' direct light from depth maps
+  // 1: each surfel's irradiance adds the emitters' and the point and spot lights' direct light from
+  // depth maps (the directional lights' stays here)
+  uint emittersByMaps;
   // The share ω of an iteration's step that is taken (1: all of it; less damps an iteration that
   // diverges): each surfel's incident table and irradiance go ω of the way to the new.
   float damping;

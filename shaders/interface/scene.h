@@ -179,13 +179,16 @@ struct EmitterSample {
   float c;
   float weightPerArea;
 };
-// An emitter sample in the frame (light_views): where it is and the area it stands for, the
-// emitter's front, its radiance (rgb).
+// A point the depth maps are drawn around, in the frame (light_views): an emitter sample (where it
+// is and the area it stands for, the emitter's front, its radiance) or a point or spot light (the
+// PunctualLight's position, direction and range, intensity, and cone with its kind in cone.z).
 struct LightPoint {
   vec4 positionArea;
   vec4 normal;
   vec4 radiance;
+  vec4 cone;  // w: kLightPointIsPunctual for a point or spot light, else 0
 };
+IVGI_CONST float kLightPointIsPunctual = 1.0f;
 // Each sample's depth maps are the faces of a cube of 90° views around it, face = 2·axis + (negative
 // ? 1 : 0) as the bins' (views 6·sample + face of the raster's target).
 IVGI_CONST uint kCubeFaces = 6u;
@@ -199,11 +202,11 @@ struct RasterPush {  // raster_slices, raster
 };
 struct ResolvePush {  // resolve
   Camera camera;
-  uvec2 size;         // the image in pixels
-  uint samples;       // per pixel and axis
-  uint lightSamples;  // with kDirectPixels: the emitter samples (DirectLightPush::sampleCount)
-  uint shadowMap;     // and their depth maps' side
-  uint pad0;
+  uvec2 size;           // the image in pixels
+  uint samples;         // per pixel and axis
+  uint lightSamples;    // with kDirectPixels: the emitter samples (DirectLightPush::sampleCount)
+  uint shadowMap;       // and their depth maps' side
+  uint punctualLights;  // the point and spot lights after them
   uint pad1;
   uint pad2;
 };
@@ -220,17 +223,22 @@ IVGI_FN uint shadowBlock(uint samplesPerAxis) {
 // and the sample lies within kShadowPlanePixels pixels' width of its plane.
 IVGI_CONST float kShadowNormalCos = 0.9f;
 IVGI_CONST float kShadowPlanePixels = 2.0f;
-// Per pixel (direct_pixels): the direct light of its share of the emitter samples at the point its
-// central sample sees, with their shadows and without (rgb), and that point's plane (unit normal,
-// n·p; a zero normal: no surface).
+// Per pixel (direct_pixels), at the point its central sample sees: the direct light of its share of
+// the emitter samples with their shadows and without (rgb), that of every point and spot light with
+// their shadows (w: 1, or 0 where the pixel sees no surface), and the point's plane: its unit
+// normal packed (packUnitVector, w of `shadowed`) and n·p (w of `unshadowed`).
 struct PixelLight {
   vec4 shadowed;
   vec4 unshadowed;
-  vec4 plane;
+  vec4 punctual;
 };
 struct DirectLightPush {  // direct_surfels
   uint count;             // points lit
   uint sampleCount;       // emitter samples
   uint resolution;        // a depth map's side in texels
-  uint pad;
+  uint punctualLights;    // the point and spot lights after the emitter samples
+};
+struct LightViewsPush {  // light_views
+  uint sampleCount;      // emitter samples
+  uint punctualLights;   // point and spot lights (`punctualLights`), after them
 };
