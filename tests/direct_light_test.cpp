@@ -33,7 +33,7 @@ struct Lit {
 Lit directLight(const tinygltf::Model& model, gi::DirectLightSettings settings) {
   scene::Scene s = scene::sceneFromModel(model, "test");
   scene::Geometry g = scene::buildGeometry(s);
-  settings.punctualLights = scene::pointAndSpotLights(s);
+  settings.punctualLights = scene::punctualLightCount(s);
   gi::FrameRenderer r(test::gpu(), g, {16, 16, 1}, nullptr, settings);
   EXPECT_NE(r.directLight(), nullptr);
   const auto pose = scene::evaluatePose(s, -1, 0.0f);
@@ -96,10 +96,14 @@ TEST(DirectLight, TheEmptyRoomGetsTheLampsIrradiance) {
 
 namespace {
 
+// What lights the plate's floor: a square lamp, a point light or the sun.
+enum class Lamp { Area, Point, Sun };
+
 // A floor 2 m square of `cells`² cells; 1 m over its centre a square lamp `lampSide` wide facing
-// down (0: a point light of intensity 1 there instead); half way between them a plate 1 mm thick
-// covering x < 0 (it reaches past the floor's edge).
-tinygltf::Model plateOverFloor(int cells, float lampSide, bool camera = false) {
+// down (Lamp::Point: a point light of intensity 1 there instead; Sun: a directional light of
+// intensity 1 shining straight down); half way between them a plate 1 mm thick covering x < 0 (it
+// reaches past the floor's edge).
+tinygltf::Model plateOverFloor(int cells, float lampSide, bool camera = false, Lamp kind = Lamp::Area) {
   scenes::GltfBuilder b;
   const int grey = b.material("grey", glm::vec3(0.5f)), lamp = b.material("lamp", glm::vec3(0.0f), glm::vec3(10.0f));
   scenes::MeshData floor, plate, light;
@@ -109,15 +113,16 @@ tinygltf::Model plateOverFloor(int cells, float lampSide, bool camera = false) {
   scenes::addQuad(light, {-h, 1, -h}, {h, 1, -h}, {h, 1, h}, {-h, 1, h}, 1, 1, {0, 0, 0});
   b.node("floor", b.mesh("floor", {{floor, grey}}));
   b.node("plate", b.mesh("plate", {{plate, grey}}));
-  if (lampSide > 0) {
+  if (kind == Lamp::Area) {
     b.node("lamp", b.mesh("lamp", {{light, lamp}}));
   } else {
     tinygltf::Light point;
-    point.type = "point";
+    point.type = kind == Lamp::Point ? "point" : "directional";
     point.color = {1, 1, 1};
     point.intensity = 1;
     b.model().lights.push_back(point);
-    const int node = b.node("lamp", -1, {0, 1, 0});
+    // A light shines along its node's -z: turned to -y.
+    const int node = b.node("lamp", -1, {0, 1, 0}, glm::angleAxis(-0.5f * 3.14159265f, glm::vec3(1, 0, 0)));
     b.model().nodes[node].extensions["KHR_lights_punctual"] =
         tinygltf::Value(tinygltf::Value::Object{{"light", tinygltf::Value(0)}});
     b.model().extensionsUsed.push_back("KHR_lights_punctual");
@@ -173,7 +178,7 @@ TEST(DirectLight, APlatesPenumbraFollowsTheExactOne) {
 // surfel the plate leaves open with I·cos θ/d², within 0.5 %, and none under the plate (but within
 // a centimetre of the shadow's edge, x = 0).
 TEST(DirectLight, APointLightsMapsGiveItsExactLight) {
-  const Lit lit = directLight(plateOverFloor(64, 0.0f), {});
+  const Lit lit = directLight(plateOverFloor(64, 0.0f, false, Lamp::Point), {});
   double worst = 0;
   int floorSurfels = 0;
   for (size_t i = 0; i < lit.surfels.size(); ++i) {
@@ -308,10 +313,28 @@ TEST(DirectLight, StaticTrianglesDrawnOnceGiveTheMapsDrawnWhole) {
   }
 }
 
+// The sun straight down over the plate: its orthographic map lights every floor surfel the plate
+// leaves open with its intensity, within 0.5 %, and none under the plate (but within a centimetre
+// of the edge).
+TEST(DirectLight, TheSunsMapGivesItsExactLight) {
+  const Lit lit = directLight(plateOverFloor(64, 0.0f, false, Lamp::Sun), {});
+  double worst = 0;
+  int floorSurfels = 0;
+  for (size_t i = 0; i < lit.surfels.size(); ++i) {
+    const glm::vec4 p = lit.surfels[i].positionArea;
+    if (std::abs(p.y) > 1e-4f || lit.surfels[i].normal.y < 0.5f || std::abs(p.x) < 0.01f) continue;
+    ++floorSurfels;
+    worst = std::max(worst, std::abs(lit.direct[i].x - (p.x < 0 ? 0.0 : 1.0)));
+  }
+  std::printf("[ direct ] the sun: %d floor surfels, worst error %.5f of its light\n", floorSurfels, worst);
+  EXPECT_GT(floorSurfels, 4000);
+  EXPECT_LT(worst, 0.005);
+}
+
 // A point light that moves between frames of a scene that does not: the maps are drawn again and
 // the surfels lit where it now is, bit for bit as a renderer that only ever saw it there.
 TEST(DirectLight, APointLightThatMovesIsDrawnAgain) {
-  scene::Scene s = scene::sceneFromModel(plateOverFloor(16, 0.0f), "test");
+  scene::Scene s = scene::sceneFromModel(plateOverFloor(16, 0.0f, false, Lamp::Point), "test");
   scene::Geometry g = scene::buildGeometry(s);
   const auto moving = scene::movingInstances(s, g, -1);
   const gi::DirectLightSettings settings{.samples = 16, .resolution = 64, .punctualLights = 1};
@@ -337,7 +360,7 @@ TEST(DirectLight, APointLightThatMovesIsDrawnAgain) {
 // its exact peak's share) lies within 2 pixels of where the exact integral puts it, on a floor of 4
 // and of 16 cells a side alike (iv's surfels no longer set it), with one sample a pixel (blocks of
 // 4 × 4 pixels sharing the emitter samples) and 4 × 4 (every pixel all of them); and so for a point
-// light in the lamp's place.
+// light in the lamp's place and for the sun.
 TEST(DirectLight, PixelsPutTheShadowsEdgeWhereTheExactLightDoes) {
   constexpr uint32_t kSize = 64;
   const float halfWidth = 0.3f * std::tan(0.6f);
@@ -349,22 +372,24 @@ TEST(DirectLight, PixelsPutTheShadowsEdgeWhereTheExactLightDoes) {
       if (light(c) >= half) return int(c);
     return int(kSize);
   };
-  for (float lampSide : {0.02f, 0.0f}) {
+  for (Lamp kind : {Lamp::Area, Lamp::Point, Lamp::Sun}) {
+    const float lampSide = kind == Lamp::Area ? 0.02f : 0.0f;
     auto exactAt = [&](uint32_t c) {
       const double x = floorX(c), d2 = x * x + 1.0;
-      return lampSide > 0 ? plateShadowIrradiance(x, 0.0, lampSide, 64) : x < 0 ? 0.0 : 1.0 / (d2 * std::sqrt(d2));
+      if (kind == Lamp::Area) return plateShadowIrradiance(x, 0.0, lampSide, 64);
+      return x < 0 ? 0.0 : kind == Lamp::Point ? 1.0 / (d2 * std::sqrt(d2)) : 1.0;
     };
     const int exact = edgeOf(exactAt);
     double peak = 0;
     for (uint32_t c = 0; c < kSize; ++c) peak = std::max(peak, exactAt(c));
     for (uint32_t cells : {4u, 16u})
       for (uint32_t samples : {1u, 4u}) {
-        const auto model = plateOverFloor(int(cells), lampSide, true);
+        const auto model = plateOverFloor(int(cells), lampSide, true, kind);
         scene::Scene s = scene::sceneFromModel(model, "test");
         scene::Geometry g = scene::buildGeometry(s, cells);
         gi::FrameRenderer r(test::gpu(), g, {kSize, kSize, samples},
                             std::make_unique<gi::IvSolver>(test::gpu(), g, gi::makeIvSetup(s, g, {.bounces = 0})),
-                            gi::DirectLightSettings{.perPixel = true, .punctualLights = scene::pointAndSpotLights(s)});
+                            gi::DirectLightSettings{.perPixel = true, .punctualLights = scene::punctualLightCount(s)});
         const auto pose = scene::evaluatePose(s, -1, 0.0f);
         const auto result = r.render(g.frameInputs(s, pose), scene::cameraView(s, pose, s.cameraNodes()[0]),
                                      scene::worldLights(s, pose));
@@ -381,7 +406,10 @@ TEST(DirectLight, PixelsPutTheShadowsEdgeWhereTheExactLightDoes) {
         std::printf(
             "[ direct ] %s, --tessellate %u --supersample %u: the shadow's edge at column %d, the exact one "
             "at %d; worst error %.4f of the peak in the penumbra, %.4f elsewhere\n",
-            lampSide > 0 ? "a lamp 2 cm wide" : "a point light", cells, samples, edge, exact, penumbra, rest);
+            kind == Lamp::Area    ? "a lamp 2 cm wide"
+            : kind == Lamp::Point ? "a point light"
+                                  : "the sun",
+            cells, samples, edge, exact, penumbra, rest);
         EXPECT_LE(std::abs(edge - exact), 2) << "--tessellate " << cells << " --supersample " << samples;
         // Out of the penumbra the light is the vertices' unshadowed light, within 2 % where the floor's
         // cells are 12.5 cm under a lamp 1 m up (with 50 cm cells, 7 %: docs/notes/direct-light.md).

@@ -52,7 +52,7 @@ struct SolverOptions {
   gi::DirectLightSettings maps;
 };
 // The frame's direct light from depth maps, where --direct asks for it (checked: SettingsError) or,
-// by default, where iv or ar renders emitters or point and spot lights that the maps suit
+// by default, where iv or ar renders emitters or punctual lights that the maps suit
 // (gi::emissiveAreaShare).
 std::optional<gi::DirectLightSettings> directLightSettings(const SolverOptions& options, const scene::Scene& scene,
                                                            const scene::Geometry& geometry);

@@ -26,7 +26,7 @@ scene::Scene loadScene(const SceneChoice& choice) {
 
 std::optional<gi::DirectLightSettings> directLightSettings(const SolverOptions& o, const scene::Scene& s,
                                                            const scene::Geometry& g) {
-  const uint32_t pointLights = scene::pointAndSpotLights(s);
+  const uint32_t pointLights = scene::punctualLightCount(s);
   if (o.direct.empty()) {  // the default: the pixels' own, where the maps suit the scene's lights
     const bool suits = (o.method == "iv" || o.method == "ar") &&
                        (pointLights > 0 || !gi::emitterSamples(g, 1).empty()) &&

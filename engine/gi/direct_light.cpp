@@ -106,9 +106,11 @@ DirectLight::DirectLight(const vk::Context& ctx, const scene::Geometry& g, std::
     : settings_(settings),
       sampleCount_(uint32_t(samples.size())),
       surfelCount_(uint32_t(g.surfels.size())),
+      vertexCount_(uint32_t(g.vertices.size())),
       splitsStatic_(!moving.empty() && !emittersMove(g, samples, moving)),
       lightViews_(shaderProgram(ctx, "light_views")),
-      directSurfels_(shaderProgram(ctx, "direct_surfels")) {
+      directSurfels_(shaderProgram(ctx, "direct_surfels")),
+      worldBounds_(shaderProgram(ctx, "world_bounds")) {
   validate(settings, ctx);
   const uint32_t points = sampleCount_ + settings.punctualLights;
   if (points == 0) throw std::logic_error("DirectLight: nothing to light with");
@@ -130,34 +132,42 @@ DirectLight::DirectLight(const vk::Context& ctx, const scene::Geometry& g, std::
   } else {
     allRaster_.emplace(ctx, uint32_t(g.triangles.size()), tally, true);
   }
+  sceneBounds_ = vk::Buffer(ctx, 6 * sizeof(uint32_t), vk::Memory::Device, tally);
   surfelDirect_ = vk::Buffer(ctx, std::max(surfelCount_, 1u) * sizeof(glm::vec4), vk::Memory::Device, tally);
   surfelUnshadowed_ = vk::Buffer(ctx, surfelDirect_.size(), vk::Memory::Device, tally);
 }
 
 void DirectLight::setLights(const std::vector<gpu::PunctualLight>& lights) {
-  std::vector<gpu::PunctualLight> points;
-  for (const gpu::PunctualLight& l : lights)
-    if (l.position.w != gpu::kLightDirectional) points.push_back(l);
-  if (points.size() != settings_.punctualLights)
-    throw std::logic_error("DirectLight: the frame brings " + std::to_string(points.size()) +
-                           " point and spot lights, the settings named " + std::to_string(settings_.punctualLights));
+  if (lights.size() != settings_.punctualLights)
+    throw std::logic_error("DirectLight: the frame brings " + std::to_string(lights.size()) +
+                           " punctual lights, the settings named " + std::to_string(settings_.punctualLights));
   auto bytes = [](const std::vector<gpu::PunctualLight>& v) {
     return std::vector<uint8_t>(reinterpret_cast<const uint8_t*>(v.data()),
                                 reinterpret_cast<const uint8_t*>(v.data() + v.size()));
   };
-  if (!lit_ || bytes(points) != bytes(lights_)) lightsMoved_ = true;
-  lights_ = points;
-  if (!points.empty()) punctual_.upload(points);
+  if (!lit_ || bytes(lights) != bytes(lights_)) lightsMoved_ = true;
+  lights_ = lights;
+  directional_ = std::any_of(lights.begin(), lights.end(),
+                             [](const gpu::PunctualLight& l) { return l.position.w == gpu::kLightDirectional; });
+  if (!lights.empty()) punctual_.upload(lights);
 }
 
 void DirectLight::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bindings& frame, bool geometryMoved) {
-  if (lit_ && !geometryMoved && !lightsMoved_) return;                     // the surfels' direct light stands
-  if (lightsMoved_ && settings_.punctualLights > 0) staticDrawn_ = false;  // their views moved
+  if (lit_ && !geometryMoved && !lightsMoved_) return;  // the surfels' direct light stands
+  // Their views moved: a light, or where a directional light's map covers the scene, the scene.
+  if ((lightsMoved_ && settings_.punctualLights > 0) || (directional_ && geometryMoved)) staticDrawn_ = false;
   const vk::Bindings buffers =
-      vk::Bindings::pool({{"emitterSamples", samples_}, {"punctualLights", punctual_}}).plus(pool()).plus(frame);
+      vk::Bindings::pool({{"emitterSamples", samples_}, {"punctualLights", punctual_}, {"sceneBounds", sceneBounds_}})
+          .plus(pool())
+          .plus(frame);
   const uint32_t points = sampleCount_ + settings_.punctualLights, views = points * gpu::kCubeFaces;
   const glm::uvec2 size(settings_.resolution);
   timedPass(cmd, timer, "direct light", [&] {
+    if (directional_) {
+      vk::fillBuffer(cmd, sceneBounds_, 0xFFFFFFFFu, 0, 3 * sizeof(uint32_t));  // min: the largest
+      vk::fillBuffer(cmd, sceneBounds_, 0u, 3 * sizeof(uint32_t), 3 * sizeof(uint32_t));
+      worldBounds_.dispatchItems(cmd, vertexCount_, buffers, gpu::CountPush{.count = vertexCount_});
+    }
     lightViews_.dispatchItems(
         cmd, points, buffers,
         gpu::LightViewsPush{.sampleCount = sampleCount_, .punctualLights = settings_.punctualLights});

@@ -19,7 +19,7 @@ struct DirectLightSettings {
   // The image's pixels look the maps up themselves (the resolve), the vertices carrying only the
   // rest of the irradiance; else the surfels' direct light is shown through their vertices.
   bool perPixel = false;
-  // The scene's point and spot lights, which the maps light too (each frame says where they are:
+  // The scene's punctual lights, which the maps light too (each frame says where they are:
   // DirectLight::setLights); not a choice but how many the frames bring.
   uint32_t punctualLights = 0;
 };
@@ -48,8 +48,7 @@ class DirectLight {
   DirectLight(const vk::Context& ctx, const scene::Geometry& geometry, std::vector<gpu::EmitterSample> samples,
               const std::vector<bool>& moving, const DirectLightSettings& settings, vk::Allocations* tally);
 
-  // The frame's punctual lights in world space: its point and spot lights (as many as the settings
-  // named) are lit through the maps, the directional ones left to the solver.
+  // The frame's punctual lights in world space (as many as the settings named), lit through the maps.
   void setLights(const std::vector<gpu::PunctualLight>& lights);
 
   // Places the samples, rasterizes their depth maps and lights the surfels; `frame` holds the
@@ -77,18 +76,20 @@ class DirectLight {
 
  private:
   DirectLightSettings settings_;
-  uint32_t sampleCount_, surfelCount_;
+  uint32_t sampleCount_, surfelCount_, vertexCount_;
+  bool directional_ = false;  // some punctual light is directional: its map covers the scene's bounds
   // The triangles the maps are drawn from: all of them, or where the emitters stand still those
   // that can move, each frame over what cannot (`staticDepth`, drawn once).
   bool splitsStatic_ = false, staticDrawn_ = false, lit_ = false;
-  // The point and spot lights of the last frame (host-visible), and whether they moved since the
+  // The punctual lights of the last frame (host-visible), and whether they moved since the
   // maps were drawn.
   std::vector<gpu::PunctualLight> lights_;
   bool lightsMoved_ = true;
   uint32_t movingCount_ = 0;  // triangles that can move, where splitsStatic_
   vk::Buffer samples_, points_, views_, depth_, staticDepth_, surfelDirect_, surfelUnshadowed_;
   vk::Buffer staticTriangles_, movingTriangles_, punctual_;
-  vk::Program lightViews_, directSurfels_;
+  vk::Buffer sceneBounds_;  // the scene's bounds in the frame (world_bounds), for directional lights
+  vk::Program lightViews_, directSurfels_, worldBounds_;
   std::optional<Raster> allRaster_, staticRaster_, movingRaster_;  // all, or the static and moving
 };
 

@@ -9,7 +9,7 @@ namespace ivgi::gi {
 
 namespace {
 
-// Whether the maps have something to light with: emitters or point and spot lights.
+// Whether the maps have something to light with: emitters or punctual lights.
 bool somethingLights(const scene::Geometry& g, const DirectLightSettings& directLight) {
   return directLight.punctualLights > 0 || !emitterSamples(g, 1).empty();
 }

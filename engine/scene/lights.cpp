@@ -1,5 +1,6 @@
 #include "engine/scene/lights.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace ivgi::scene {
@@ -22,11 +23,8 @@ std::vector<gpu::PunctualLight> worldLights(const Scene& scene, const Pose& pose
   return out;
 }
 
-uint32_t pointAndSpotLights(const Scene& scene) {
-  uint32_t count = 0;
-  for (const Node& node : scene.nodes)
-    if (node.light >= 0 && scene.lights[node.light].type != Light::Type::Directional) ++count;
-  return count;
+uint32_t punctualLightCount(const Scene& scene) {
+  return uint32_t(std::count_if(scene.nodes.begin(), scene.nodes.end(), [](const Node& n) { return n.light >= 0; }));
 }
 
 }  // namespace ivgi::scene

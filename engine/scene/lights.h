@@ -10,7 +10,7 @@
 namespace ivgi::scene {
 
 std::vector<gpu::PunctualLight> worldLights(const Scene& scene, const Pose& pose);
-// How many of them are point or spot lights (every pose has as many).
-uint32_t pointAndSpotLights(const Scene& scene);
+// How many there are (every pose has as many).
+uint32_t punctualLightCount(const Scene& scene);
 
 }  // namespace ivgi::scene

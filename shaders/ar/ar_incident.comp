@@ -62,8 +62,7 @@ void main() {
            normal.z * imageLoad(gatheredVector, int(v + 2u)).rgb;
     }
     for (uint k = 0u; k < push.lightCount; ++k) {  // radiance over the bins around the light
-      // The depth maps give the point and spot lights' direct light where they give the emitters'.
-      if (push.emittersByMaps != 0u && lights[k].position.w != kLightDirectional) continue;
+      if (push.emittersByMaps != 0u) break;        // the depth maps give the lights' direct light
       vec3 toLight;
       float dist2;
       float falloff = lightFalloff(lights[k], pa.xyz, toLight, dist2);

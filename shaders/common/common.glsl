@@ -134,3 +134,10 @@ vec3 unpackUnitVector(uint bits) {
   if (n.z < 0.0) n.xy = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
   return normalize(n);
 }
+
+// A float's bits as a uint that orders as the float does (for atomicMin and atomicMax), and back.
+uint orderedBits(float f) {
+  const uint u = floatBitsToUint(f);
+  return (u & 0x80000000u) != 0u ? ~u : u | 0x80000000u;
+}
+float fromOrderedBits(uint u) { return uintBitsToFloat((u & 0x80000000u) != 0u ? u & 0x7FFFFFFFu : ~u); }

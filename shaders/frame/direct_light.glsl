@@ -14,15 +14,32 @@ float depthAt(uint view, ivec2 texel, uint side) {
 // ray at p's surface. A texel sees p where its depth, less a bias of a texel and a half of p's own
 // slope across it, is not nearer.
 float seenShare(uint light, vec3 p, float cosine, uint side, bool bilinear) {
-  // The cube's faces are axis-aligned (light_views): the face and where on it follow from d alone.
-  const vec3 d = p - lightViews[kCubeFaces * light].origin.xyz, m = abs(d);
-  const uint axis = m.x >= m.y && m.x >= m.z ? 0u : (m.y >= m.z ? 1u : 2u);
-  const uint view = kCubeFaces * light + 2u * axis + (d[axis] < 0.0 ? 1u : 0u);
-  const float z = m[axis], x = d[axis == 2u ? 0u : axis + 1u], y = d[axis == 0u ? 2u : axis - 1u];
   const float size = float(side);
-  const vec2 at = vec2((x / z + 1.0) * 0.5 * size, (1.0 - y / z) * 0.5 * size) - 0.5;
+  uint view;
+  float z, texel;  // p's depth in the view, a texel's width there
+  vec2 at;         // p in the view's texels
+  if (lightPoints[light].cone.w == kLightPointIsPunctual && lightPoints[light].cone.z == kLightDirectional) {
+    // A directional light's one orthographic view.
+    view = kCubeFaces * light;
+    const Camera c = lightViews[view];
+    const vec3 d = p - c.origin.xyz;
+    const vec2 ndc =
+        vec2(dot(d, c.right.xyz) / dot(c.right.xyz, c.right.xyz), dot(d, c.up.xyz) / dot(c.up.xyz, c.up.xyz));
+    z = dot(d, c.forward.xyz);
+    texel = 2.0 * length(c.right.xyz) / size;
+    at = vec2((ndc.x + 1.0) * 0.5 * size, (1.0 - ndc.y) * 0.5 * size) - 0.5;
+  } else {
+    // The cube's faces are axis-aligned (light_views): the face and where on it follow from d alone.
+    const vec3 d = p - lightViews[kCubeFaces * light].origin.xyz, m = abs(d);
+    const uint axis = m.x >= m.y && m.x >= m.z ? 0u : (m.y >= m.z ? 1u : 2u);
+    view = kCubeFaces * light + 2u * axis + (d[axis] < 0.0 ? 1u : 0u);
+    z = m[axis];
+    const float x = d[axis == 2u ? 0u : axis + 1u], y = d[axis == 0u ? 2u : axis - 1u];
+    texel = 2.0 * z / size;
+    at = vec2((x / z + 1.0) * 0.5 * size, (1.0 - y / z) * 0.5 * size) - 0.5;
+  }
   const float slope = sqrt(max(1.0 - cosine * cosine, 0.0)) / max(cosine, 0.1);
-  const float bias = 1.5 * (2.0 * z / size) * (1.0 + slope);
+  const float bias = 1.5 * texel * (1.0 + slope);
   if (!bilinear) return depthAt(view, ivec2(floor(at + 0.5)), side) + bias >= z ? 1.0 : 0.0;
   const ivec2 corner = ivec2(floor(at));
   const vec2 f = at - vec2(corner);
@@ -43,7 +60,7 @@ vec3 lightFrom(uint i, vec3 p, vec3 n, out float cosine) {
     const float falloff =
         lightFalloff(PunctualLight(vec4(l.positionArea.xyz, l.cone.z), l.normal, l.radiance, l.cone), p, toLight, d2);
     if (!(falloff > 0.0) || !(d2 > 0.0)) return vec3(0.0);
-    cosine = dot(n, toLight) * inversesqrt(d2);
+    cosine = l.cone.z == kLightDirectional ? dot(n, normalize(toLight)) : dot(n, toLight) * inversesqrt(d2);
     return cosine > 0.0 ? l.radiance.rgb * (falloff * cosine) : vec3(0.0);
   }
   const vec3 toLight = l.positionArea.xyz - p;
@@ -74,7 +91,7 @@ vec3 sampledIrradiance(vec3 p, vec3 n, uint samples, uint side, uint first, uint
   return e * float(stride);
 }
 
-// Irradiance at p (unit normal n) from the `punctual` point and spot lights after the `samples`
+// Irradiance at p (unit normal n) from the `punctual` lights (point, spot, directional) after the `samples`
 // emitter samples, each where its maps see p.
 vec3 punctualIrradiance(vec3 p, vec3 n, uint samples, uint punctual, uint side, bool bilinear) {
   vec3 e = vec3(0.0);

@@ -1,7 +1,7 @@
 #version 460
 // Direct light at the pixels, first: each pixel takes its share of the emitter samples (interleaved
 // over blocks of pixels, shadowBlock) at the point its central sample sees, with their shadows
-// from the depth maps and without, and every point and spot light with its shadow. The resolve then scales the light
+// from the depth maps and without, and every punctual light with its shadow. The resolve then scales the light
 // the vertices carry unshadowed by the share its neighbours on the same surface see (the ratio of the two summed over
 // them), so that the shadows are the pixels' own at a fraction of the lookups.
 #extension GL_GOOGLE_include_directive : require

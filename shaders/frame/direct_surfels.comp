@@ -1,6 +1,6 @@
 #version 460
 // Direct light at the surfels: each surfel's irradiance from the emitter samples, seen or hidden by
-// their depth maps (direct_light.glsl), and the point and spot lights', the source of the first
+// their depth maps (direct_light.glsl), and the punctual lights', the source of the first
 // bounce; and the emitter samples' light with every sample seen, which the pixels' own shadows
 // scale (direct_pixels, resolve).
 #extension GL_GOOGLE_include_directive : require

@@ -2,7 +2,8 @@
 // Direct light, first: each emitter sample where the frame put it (its triangle's corners as the
 // animate pass left them), the area it stands for, and the cube of 90° views around it that its
 // depth maps are rasterized in (a face wholly behind the emitter is no view: near < 0); then each
-// point and spot light of the frame likewise, its cube around its position.
+// point and spot light of the frame likewise, its cube around its position; and each directional
+// light its one orthographic view along its direction over the scene's bounds (world_bounds).
 #extension GL_GOOGLE_include_directive : require
 #include "common/common.glsl"
 layout(local_size_x = 64) in;
@@ -14,6 +15,7 @@ layout(std430, binding = 3) readonly buffer EmitterSamples { EmitterSample emitt
 layout(std430, binding = 4) writeonly buffer LightPoints { LightPoint lightPoints[]; };
 layout(std430, binding = 5) writeonly buffer LightViews { Camera lightViews[]; };
 layout(std430, binding = 6) readonly buffer PunctualLights { PunctualLight punctualLights[]; };
+layout(std430, binding = 7) readonly buffer SceneBounds { uint sceneBounds[6]; };  // orderedBits
 layout(push_constant) uniform Push { LightViewsPush push; };
 
 vec3 positionOf(uint vertex) { return imageLoad(world, int(2u * vertex)).xyz; }
@@ -40,6 +42,24 @@ void main() {
   if (i >= push.sampleCount + push.punctualLights) return;
   if (i >= push.sampleCount) {
     const PunctualLight l = punctualLights[i - push.sampleCount];
+    if (l.position.w == kLightDirectional) {
+      // One view from the plane before the scene's bounding sphere, along the light; no other face.
+      const vec3 lo = vec3(fromOrderedBits(sceneBounds[0]), fromOrderedBits(sceneBounds[1]),
+                           fromOrderedBits(sceneBounds[2])),
+                 hi = vec3(fromOrderedBits(sceneBounds[3]), fromOrderedBits(sceneBounds[4]),
+                           fromOrderedBits(sceneBounds[5]));
+      const vec3 centre = 0.5 * (lo + hi), forward = normalize(l.direction.xyz);
+      const float radius = 0.5 * length(hi - lo) * 1.01 + 1e-6 * (1.0 + length(centre));
+      vec3 right, up;
+      tangentFrame(forward, right, up);
+      const vec3 origin = centre - radius * forward;
+      lightPoints[i] =
+          LightPoint(vec4(origin, 0.0), l.direction, l.intensity, vec4(l.cone.xy, l.position.w, kLightPointIsPunctual));
+      for (uint face = 0u; face < kCubeFaces; ++face)
+        lightViews[kCubeFaces * i + face] = Camera(vec4(origin, face == 0u ? 0.0 : -1.0), vec4(radius * right, 0.0),
+                                                   vec4(radius * up, kOrthographic), vec4(forward, 0.0));
+      return;
+    }
     lightPoints[i] = LightPoint(vec4(l.position.xyz, 0.0), l.direction, l.intensity,
                                 vec4(l.cone.xy, l.position.w, kLightPointIsPunctual));
     writeCube(i, l.position.xyz, 1e-4 * (1.0 + length(l.position.xyz)), vec3(0.0));

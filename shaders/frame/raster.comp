@@ -37,7 +37,7 @@ void castSample(uint tri, Projected t, ivec2 px) {
   vec3 dir = cameraRay(camera, vec2(px) + 0.5, push.size);
   float depth;
   vec2 uv;
-  if (!intersectTriangle(camera.origin.xyz, dir, t.a, t.b, t.c, depth, uv)) return;
+  if (!intersectTriangle(cameraRayOrigin(camera, vec2(px) + 0.5, push.size), dir, t.a, t.b, t.c, depth, uv)) return;
   if (depth <= camera.origin.w || (camera.forward.w > 0.0 && depth > camera.forward.w)) return;
   const uint at = viewStart + uint(px.y) * push.size.x + uint(px.x);
   if (kDepthOnly)

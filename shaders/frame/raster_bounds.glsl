@@ -4,12 +4,13 @@
 // Bounds holding at most this many samples are walked by the triangle's own invocation.
 const int kSmallBounds = 256;
 
-// Sample-space x/y of a world point at distance z (> 0) along the view's forward axis.
+// Sample-space x/y of a world point at distance z (> 0) along the view's forward axis (an
+// orthographic view's do not depend on z).
 vec2 projectAt(Camera camera, vec3 p, float z) {
   const vec3 d = p - camera.origin.xyz;
   const vec2 ndc = vec2(dot(d, camera.right.xyz) / dot(camera.right.xyz, camera.right.xyz),
                         dot(d, camera.up.xyz) / dot(camera.up.xyz, camera.up.xyz)) /
-                   z;
+                   (camera.up.w == kOrthographic ? 1.0 : z);
   return vec2((ndc.x + 1.0) * 0.5 * float(push.size.x), (1.0 - ndc.y) * 0.5 * float(push.size.y));
 }
 

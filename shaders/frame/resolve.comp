@@ -77,7 +77,7 @@ bool pixelOnPlane(int at, vec3 p, vec3 n, float tolerance) {
 }
 
 // The direct light around a point on a surface: the share of the emitter samples' light that
-// reaches it (per channel) and the point and spot lights' light.
+// reaches it (per channel) and the punctual lights' light.
 struct DirectAround {
   vec3 share, punctual;
 };
@@ -108,7 +108,7 @@ bool sumAround(uvec2 px, vec3 p, vec3 n, float tolerance, int nearest, int farth
 // half a block of px (shadowBlock) whose points lie on p's surface, their shadowed light summed over
 // their unshadowed. The weights (½ at the window's rim, else 1, along each axis: ½, 1, 1, 1, ½ for
 // blocks of 4) give each pixel of a block's interleaving (direct_pixels) the same weight, so that on
-// a plane the sums hold every emitter sample once. The point and spot lights, which every pixel
+// a plane the sums hold every emitter sample once. The punctual lights, which every pixel
 // takes whole: px's own where p lies on its surface, else their weighted mean. Where no pixel lies on
 // p's surface (a sample on a thin sliver, or across an edge from its pixel's centre), the next ring
 // of pixels out.

@@ -96,8 +96,8 @@ struct ArIncidentPush {  // ar_incident
   uint sumSlot;  // where the iteration leaves its IterationSums
   uint lightCount;
   uint environmentOn;
-  // 1: each surfel's irradiance adds the emitters' and the point and spot lights' direct light from
-  // depth maps (the directional lights' stays here)
+  // 1: each surfel's irradiance adds the emitters' and the punctual lights' direct light from depth
+  // maps
   uint emittersByMaps;
   // The share ω of an iteration's step that is taken (1: all of it; less damps an iteration that
   // diverges): each surfel's incident table and irradiance go ω of the way to the new.

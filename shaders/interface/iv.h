@@ -109,9 +109,9 @@ struct PrunePush {    // prune_bins
   uint lightCount;
   uint environmentOn;
   uint staticCapacity;  // the static leaf links the frame pass merges with
-  // 1: the emitters' and the point and spot lights' direct light comes from depth maps
-  // (surfelDirect): no emitter is listed, the light the bins credit emissive survivors is taken back
-  // from every leaf, and only directional lights are looked for in the bins.
+  // 1: the emitters' and the punctual lights' direct light comes from depth maps (surfelDirect): no
+  // emitter is listed, the light the bins credit emissive survivors is taken back from every leaf,
+  // and no light is looked for in the bins.
   uint emittersByMaps;
 };
 struct GatherPush {  // gather

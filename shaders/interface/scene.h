@@ -106,9 +106,20 @@ struct NodeState {
 
 // ---- Camera rays ----
 
+// A camera whose up.w is kOrthographic looks along forward from the plane through its origin (a
+// directional light's depth map): the ray of a sample starts at origin + ndc.x·right + ndc.y·up,
+// right and up being the view's half-extents. Else every ray starts at the origin.
+IVGI_CONST float kOrthographic = 1.0f;
+
 IVGI_FN vec3 cameraRay(Camera cam, vec2 samplePos, uvec2 size) {
+  if (cam.up.w == kOrthographic) return vec3(cam.forward);
   vec2 ndc = vec2(2.0f * samplePos.x / float(size.x) - 1.0f, 1.0f - 2.0f * samplePos.y / float(size.y));
   return vec3(cam.forward) + ndc.x * vec3(cam.right) + ndc.y * vec3(cam.up);
+}
+IVGI_FN vec3 cameraRayOrigin(Camera cam, vec2 samplePos, uvec2 size) {
+  if (cam.up.w != kOrthographic) return vec3(cam.origin);
+  vec2 ndc = vec2(2.0f * samplePos.x / float(size.x) - 1.0f, 1.0f - 2.0f * samplePos.y / float(size.y));
+  return vec3(cam.origin) + ndc.x * vec3(cam.right) + ndc.y * vec3(cam.up);
 }
 
 // ---- Textures ----
@@ -180,8 +191,9 @@ struct EmitterSample {
   float weightPerArea;
 };
 // A point the depth maps are drawn around, in the frame (light_views): an emitter sample (where it
-// is and the area it stands for, the emitter's front, its radiance) or a point or spot light (the
-// PunctualLight's position, direction and range, intensity, and cone with its kind in cone.z).
+// is and the area it stands for, the emitter's front, its radiance) or a punctual light (the
+// PunctualLight's position, direction and range, intensity, and cone with its kind in cone.z; a
+// directional light's one map is orthographic over the scene's bounds, kOrthographic).
 struct LightPoint {
   vec4 positionArea;
   vec4 normal;
@@ -206,7 +218,7 @@ struct ResolvePush {  // resolve
   uint samples;         // per pixel and axis
   uint lightSamples;    // with kDirectPixels: the emitter samples (DirectLightPush::sampleCount)
   uint shadowMap;       // and their depth maps' side
-  uint punctualLights;  // the point and spot lights after them
+  uint punctualLights;  // the punctual lights after them
   uint pad1;
   uint pad2;
 };
@@ -224,7 +236,7 @@ IVGI_FN uint shadowBlock(uint samplesPerAxis) {
 IVGI_CONST float kShadowNormalCos = 0.9f;
 IVGI_CONST float kShadowPlanePixels = 2.0f;
 // Per pixel (direct_pixels), at the point its central sample sees: the direct light of its share of
-// the emitter samples with their shadows and without (rgb), that of every point and spot light with
+// the emitter samples with their shadows and without (rgb), that of every punctual light with
 // their shadows (w: 1, or 0 where the pixel sees no surface), and the point's plane: its unit
 // normal packed (packUnitVector, w of `shadowed`) and n·p (w of `unshadowed`).
 struct PixelLight {
@@ -236,9 +248,9 @@ struct DirectLightPush {  // direct_surfels
   uint count;             // points lit
   uint sampleCount;       // emitter samples
   uint resolution;        // a depth map's side in texels
-  uint punctualLights;    // the point and spot lights after the emitter samples
+  uint punctualLights;    // the punctual lights after the emitter samples
 };
 struct LightViewsPush {  // light_views
   uint sampleCount;      // emitter samples
-  uint punctualLights;   // point and spot lights (`punctualLights`), after them
+  uint punctualLights;   // punctual lights (`punctualLights`), after them
 };

@@ -84,12 +84,11 @@ bool hidden(uint slot, uint b, uint s, float dist2, vec3 p, vec3 q) {
          hides(binAt(slot, neighbourBin(b, ivec2(-1, -1))).key, s, dist2, p, q, true);
 }
 
-// Irradiance at the receiver from the punctual lights it does not find hidden (where the depth maps
-// give the point and spot lights', the directional lights' alone).
+// Irradiance at the receiver from the punctual lights it does not find hidden (none where the
+// depth maps give their light).
 vec3 punctualLight(uint slot, vec3 p, vec3 n) {
   vec3 sum = vec3(0.0);
-  for (uint l = 0u; l < push.lightCount; ++l) {
-    if (push.emittersByMaps != 0u && lights[l].position.w != kLightDirectional) continue;
+  for (uint l = 0u; l < (push.emittersByMaps != 0u ? 0u : push.lightCount); ++l) {
     vec3 toLight;
     float dist2, falloff = lightFalloff(lights[l], p, toLight, dist2);
     float cosR = dot(n, normalize(toLight));
