@@ -85,6 +85,25 @@ TEST(Render, DirectLightFromMapsIsNamedAndTimed) {
   EXPECT_GT(j["frames"][0]["gpuMs"]["direct light"].get<double>(), 0.0);
 }
 
+// By default iv and ar take the direct light per pixel where the scene's emitters are a small part
+// of it (the Cornell box's lamp), and leave it to the solver where they surround the receivers (the
+// furnace, every wall emitting), which the sidecar names; pt traces its own.
+TEST(Render, TheDefaultDirectLightSuitsTheScene) {
+  auto directOf = [](const std::vector<std::string>& scene) {
+    auto dir = test::scratchDir("out");
+    std::vector<std::string> args = {"render"};
+    args.insert(args.end(), scene.begin(), scene.end());
+    args.insert(args.end(), {"--frames", "0", "--size", "16x12", "--out", (dir / "f_%03d").string()});
+    auto r = test::runIvgi(args);
+    EXPECT_EQ(r.status, 0) << r.err;
+    std::ifstream in(dir / "f.json");
+    return nlohmann::json::parse(in)["settings"]["direct"];
+  };
+  EXPECT_EQ(directOf({"cornell"})["from"], "pixels");
+  EXPECT_EQ(directOf({"cornell", "--method", "ar"})["from"], "pixels");
+  EXPECT_EQ(directOf({"furnace", "--cells", "4"})["from"], "bins");
+}
+
 TEST(Render, ExrCarriesEveryLayerAndPngIsDisplayReady) {
   auto dir = test::scratchDir("out");
   ASSERT_EQ(test::runIvgi({"render", "--frames", "0", "--size", "64x48", "--out", (dir / "f").string()}).status, 0);

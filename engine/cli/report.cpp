@@ -26,6 +26,10 @@ std::string bouncesText(const gi::IvSettings& s) { return s.bounces ? std::to_st
 
 nlohmann::json settingsJson(const std::string& method, const gi::IvSettings& iv, uint32_t tessellation,
                             const gi::ArSettings& ar, const std::optional<gi::DirectLightSettings>& directLight) {
+  const nlohmann::json direct = directLight ? nlohmann::json{{"from", directLight->perPixel ? "pixels" : "maps"},
+                                                             {"lightSamples", directLight->samples},
+                                                             {"shadowMap", directLight->resolution}}
+                                            : nlohmann::json{{"from", "bins"}};
   if (method == "ar")
     return {{"method", method},
             {"dirs", ar.dirs},
@@ -35,7 +39,8 @@ nlohmann::json settingsJson(const std::string& method, const gi::IvSettings& iv,
             {"iterationTolerance", ar.tolerance},
             {"scheme", gi::schemeName(ar.scheme)},
             {"restartEvery", ar.restartEvery},
-            {"tessellation", tessellation}};
+            {"tessellation", tessellation},
+            {"direct", direct}};
   return {{"method", method},
           {"bins", iv.bins},
           {"eps", iv.epsilon},
@@ -44,10 +49,7 @@ nlohmann::json settingsJson(const std::string& method, const gi::IvSettings& iv,
           {"kappa", iv.kappa},
           {"receiverTolerance", iv.receiverTolerance ? nlohmann::json(*iv.receiverTolerance) : nlohmann::json("auto")},
           {"tessellation", tessellation},
-          {"direct", directLight ? nlohmann::json{{"from", directLight->perPixel ? "pixels" : "maps"},
-                                                  {"lightSamples", directLight->samples},
-                                                  {"shadowMap", directLight->resolution}}
-                                 : nlohmann::json{{"from", "bins"}}}};
+          {"direct", direct}};
 }
 
 nlohmann::json solverJson(const gi::Solver* solver) {
