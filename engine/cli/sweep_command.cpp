@@ -57,6 +57,7 @@ std::string label(const SolverOptions& o) {
 
 struct Row {
   SolverOptions settings;
+  std::optional<gi::DirectLightSettings> direct;  // where the setting's direct light came from
   double ms = 0, msP90 = 0;
   uint64_t bytes = 0;
   image::ErrorMetrics error;
@@ -178,7 +179,8 @@ int runSweep(const SweepOptions& o) {
   const gi::Hierarchy hierarchy = gi::restPoseHierarchy(s, g);
   Progress progress("sweep", grid.size(), "setting");
   for (const auto& settings : grid) {
-    gi::FrameRenderer renderer(ctx, g, image, makeSolver(settings, ctx, s, g, tl.animation, &hierarchy));
+    const auto direct = directLightSettings(settings, s, g);
+    gi::FrameRenderer renderer(ctx, g, image, makeSolver(settings, ctx, s, g, tl.animation, &hierarchy), direct);
     std::vector<double> ms;
     gi::FrameResult last;
     for (int i = 0; i < o.warmup + o.repeats; ++i) {
@@ -189,6 +191,7 @@ int runSweep(const SweepOptions& o) {
     }
     image::sanitize(last.channels);
     Row row{settings,
+            direct,
             percentile(ms, 0.5),
             percentile(ms, 0.9),
             renderer.bytesAllocated(),
@@ -231,7 +234,7 @@ int runSweep(const SweepOptions& o) {
         << r.ms << ',' << r.msP90 << ',' << r.bytes << ',' << r.error.relMse << ',' << r.error.rmse << ','
         << r.error.psnr << ',' << r.error.maxError << ',' << r.error.flip << ',' << (r.pareto ? 1 : 0) << ",\""
         << label(st) << "\"\n";
-    nlohmann::json j = settingsJson(st.method, st.iv, st.tessellation, arSettings(st));
+    nlohmann::json j = settingsJson(st.method, st.iv, st.tessellation, arSettings(st), r.direct);
     j.update({{"medianMs", r.ms},
               {"p90Ms", r.msP90},
               {"bytes", r.bytes},
