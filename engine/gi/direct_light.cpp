@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 #include <utility>
 
@@ -15,6 +16,18 @@ namespace {
 // The bytes of the depth maps of `settings`: 32-bit depths, six maps a sample and a point light.
 uint64_t depthBytes(const DirectLightSettings& s) {
   return uint64_t(s.samples + s.punctualLights) * gpu::kCubeFaces * s.resolution * s.resolution * sizeof(uint32_t);
+}
+
+// A triangle's area at rest, in its primitive's own space.
+double restArea(const scene::Geometry& g, const scene::Triangle& tri) {
+  const glm::dvec3 a = g.vertices[tri.v0].position, b = g.vertices[tri.v1].position, c = g.vertices[tri.v2].position;
+  return 0.5 * glm::length(glm::cross(b - a, c - a));
+}
+
+// The luminance of a triangle's emission factor (zero: it does not emit).
+double emittedLuminance(const scene::Geometry& g, const scene::Triangle& tri) {
+  const glm::vec3 e = glm::vec3(g.materials[tri.material & ~gpu::kFlatShaded].emission);
+  return 0.2126 * e.r + 0.7152 * e.g + 0.0722 * e.b;
 }
 
 }  // namespace
@@ -34,11 +47,9 @@ void validate(const DirectLightSettings& s, const vk::Context& ctx) {
 double emissiveAreaShare(const scene::Geometry& g) {
   double emitting = 0, total = 0;
   for (const scene::Triangle& tri : g.triangles) {
-    const glm::dvec3 a = g.vertices[tri.v0].position, b = g.vertices[tri.v1].position, c = g.vertices[tri.v2].position;
-    const double area = 0.5 * glm::length(glm::cross(b - a, c - a));
-    const glm::vec3 e = glm::vec3(g.materials[tri.material & ~gpu::kFlatShaded].emission);
+    const double area = restArea(g, tri);
     total += area;
-    if (e.r > 0 || e.g > 0 || e.b > 0) emitting += area;
+    if (emittedLuminance(g, tri) > 0) emitting += area;
   }
   return total > 0 ? emitting / total : 0.0;
 }
@@ -49,13 +60,9 @@ std::vector<gpu::EmitterSample> emitterSamples(const scene::Geometry& g, uint32_
   std::vector<double> power(g.triangles.size(), 0.0);
   double total = 0;
   for (size_t t = 0; t < g.triangles.size(); ++t) {
-    const scene::Triangle& tri = g.triangles[t];
-    const glm::vec3 e = glm::vec3(g.materials[tri.material & ~gpu::kFlatShaded].emission);
-    const double luminance = 0.2126 * e.r + 0.7152 * e.g + 0.0722 * e.b;
+    const double luminance = emittedLuminance(g, g.triangles[t]);
     if (!(luminance > 0)) continue;
-    const glm::dvec3 a = g.vertices[tri.v0].position, b = g.vertices[tri.v1].position, c = g.vertices[tri.v2].position;
-    const double area = 0.5 * glm::length(glm::cross(b - a, c - a));
-    power[t] = area * luminance;
+    power[t] = restArea(g, g.triangles[t]) * luminance;
     total += power[t];
   }
   std::vector<gpu::EmitterSample> samples;
@@ -68,9 +75,7 @@ std::vector<gpu::EmitterSample> emitterSamples(const scene::Geometry& g, uint32_
     while (t + 1 < power.size() && (power[t] <= 0 || before + power[t] < target)) before += power[t++];
     const double u = std::clamp((target - before) / power[t], 0.0, 1.0), v = std::fmod((i + 0.5) * kGolden, 1.0);
     const double root = std::sqrt(u);  // uniform over the triangle
-    const scene::Triangle& tri = g.triangles[t];
-    const glm::dvec3 a = g.vertices[tri.v0].position, b = g.vertices[tri.v1].position, c = g.vertices[tri.v2].position;
-    const double area = 0.5 * glm::length(glm::cross(b - a, c - a));
+    const double area = restArea(g, g.triangles[t]);
     // pdf per area at rest: (power[t] / total) / area; the weight is its inverse over the count, per
     // unit of the triangle's area.
     samples.push_back({.triangle = uint32_t(t),
@@ -141,11 +146,9 @@ void DirectLight::setLights(const std::vector<gpu::PunctualLight>& lights) {
   if (lights.size() != settings_.punctualLights)
     throw std::logic_error("DirectLight: the frame brings " + std::to_string(lights.size()) +
                            " punctual lights, the settings named " + std::to_string(settings_.punctualLights));
-  auto bytes = [](const std::vector<gpu::PunctualLight>& v) {
-    return std::vector<uint8_t>(reinterpret_cast<const uint8_t*>(v.data()),
-                                reinterpret_cast<const uint8_t*>(v.data() + v.size()));
-  };
-  if (!lit_ || bytes(lights) != bytes(lights_)) lightsMoved_ = true;
+  if (!lit_ || lights.size() != lights_.size() ||
+      (!lights.empty() && std::memcmp(lights.data(), lights_.data(), lights.size() * sizeof(gpu::PunctualLight)) != 0))
+    lightsMoved_ = true;
   lights_ = lights;
   directional_ = std::any_of(lights.begin(), lights.end(),
                              [](const gpu::PunctualLight& l) { return l.position.w == gpu::kLightDirectional; });
