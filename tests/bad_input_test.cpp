@@ -195,6 +195,10 @@ TEST(BadInput, AbsurdOptions) {
   expectRenderRefused("cornell", {"--direct", "maps", "--shadow-map", "1"}, {"--shadow-map 1"});
   expectRenderRefused("cornell", {"--direct", "maps", "--light-samples", "4096", "--shadow-map", "4096"},
                       {"--light-samples 4096 with --shadow-map 4096", "maxStorageBufferRange"});
+  expectRenderRefused("cornell", {"--env", "1,1,1", "--env-directions", "5000"}, {"--env-directions 5000"});
+  expectRenderRefused(
+      "cornell", {"--env", "1,1,1", "--env-directions", "4096", "--shadow-map", "4096"},
+      {"--light-samples 128 and --env-directions 4096 with --shadow-map 4096", "maxStorageBufferRange"});
 }
 
 TEST(BadInput, EarlierFramesSurviveAFailedRun) {

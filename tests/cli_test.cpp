@@ -102,6 +102,9 @@ TEST(Render, TheDefaultDirectLightSuitsTheScene) {
   EXPECT_EQ(directOf({"cornell"})["from"], "pixels");
   EXPECT_EQ(directOf({"cornell", "--method", "ar"})["from"], "pixels");
   EXPECT_EQ(directOf({"furnace", "--cells", "4"})["from"], "bins");
+  // The environment through the solvers' bins unless asked for through the maps.
+  EXPECT_EQ(directOf({"cornell", "--env", "1,1,1"})["environmentDirections"], 0);
+  EXPECT_EQ(directOf({"cornell", "--env", "1,1,1", "--env-directions", "16"})["environmentDirections"], 16);
 }
 
 TEST(Render, ExrCarriesEveryLayerAndPngIsDisplayReady) {

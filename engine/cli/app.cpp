@@ -68,6 +68,10 @@ void addSolverOptions(CLI::App* cmd, SolverOptions& o) {
   cmd->add_option("--shadow-map", o.maps.resolution,
                   "--direct maps or pixels: a depth map's side in texels (six a point)")
       ->capture_default_str();
+  cmd->add_option("--env-directions", o.maps.environmentDirections,
+                  "--direct maps or pixels: directions toward the environment, each with a depth map over the "
+                  "scene, that light the surfels and pixels (0: the solver's bins carry the environment)")
+      ->capture_default_str();
   cmd->add_option("--max-memory", o.maxMemoryMiB, "MiB the solver may allocate at most (0: what the device holds)")
       ->capture_default_str();
   cmd->add_option("--env", o.environment, "environment light: R,G,B radiance or an equirectangular .exr");

@@ -26,10 +26,12 @@ std::string bouncesText(const gi::IvSettings& s) { return s.bounces ? std::to_st
 
 nlohmann::json settingsJson(const std::string& method, const gi::IvSettings& iv, uint32_t tessellation,
                             const gi::ArSettings& ar, const std::optional<gi::DirectLightSettings>& directLight) {
-  const nlohmann::json direct = directLight ? nlohmann::json{{"from", directLight->perPixel ? "pixels" : "maps"},
-                                                             {"lightSamples", directLight->samples},
-                                                             {"shadowMap", directLight->resolution}}
-                                            : nlohmann::json{{"from", "bins"}};
+  const nlohmann::json direct = directLight
+                                    ? nlohmann::json{{"from", directLight->perPixel ? "pixels" : "maps"},
+                                                     {"lightSamples", directLight->samples},
+                                                     {"shadowMap", directLight->resolution},
+                                                     {"environmentDirections", directLight->environmentLights().size()}}
+                                    : nlohmann::json{{"from", "bins"}};
   if (method == "ar")
     return {{"method", method},
             {"dirs", ar.dirs},

@@ -29,7 +29,8 @@ std::optional<gi::DirectLightSettings> directLightSettings(const SolverOptions& 
   const uint32_t pointLights = scene::punctualLightCount(s);
   if (o.direct.empty()) {  // the default: the pixels' own, where the maps suit the scene's lights
     const bool suits = (o.method == "iv" || o.method == "ar") &&
-                       (pointLights > 0 || !gi::emitterSamples(g, 1).empty()) &&
+                       (pointLights > 0 || !gi::emitterSamples(g, 1).empty() ||
+                        (!o.environment.empty() && o.maps.environmentDirections > 0)) &&
                        gi::emissiveAreaShare(g) <= gi::kMapsEmitterShare;
     if (!suits) return std::nullopt;
   }
@@ -42,6 +43,8 @@ std::optional<gi::DirectLightSettings> directLightSettings(const SolverOptions& 
   gi::DirectLightSettings maps = o.maps;
   maps.perPixel = o.direct.empty() || o.direct == "pixels";
   maps.punctualLights = pointLights;
+  if (!o.environment.empty() && maps.environmentDirections > 0)
+    maps.environment = scene::Environment::parse(o.environment);
   return maps;
 }
 

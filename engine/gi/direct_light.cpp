@@ -13,9 +13,15 @@ namespace ivgi::gi {
 
 namespace {
 
-// The bytes of the depth maps of `settings`: 32-bit depths, six maps a sample and a point light.
-uint64_t depthBytes(const DirectLightSettings& s) {
-  return uint64_t(s.samples + s.punctualLights) * gpu::kCubeFaces * s.resolution * s.resolution * sizeof(uint32_t);
+// The views of the depth maps of `settings` (light_views): a cube an emitter sample and a punctual
+// light, one map an environment direction.
+uint32_t viewCount(const DirectLightSettings& s, uint32_t samples, uint32_t environmentDirections) {
+  return (samples + s.punctualLights) * gpu::kCubeFaces + environmentDirections;
+}
+
+// Their bytes: 32-bit depths.
+uint64_t depthBytes(const DirectLightSettings& s, uint32_t views) {
+  return uint64_t(views) * s.resolution * s.resolution * sizeof(uint32_t);
 }
 
 // A triangle's area at rest, in its primitive's own space.
@@ -32,16 +38,24 @@ double emittedLuminance(const scene::Geometry& g, const scene::Triangle& tri) {
 
 }  // namespace
 
-void validate(const DirectLightSettings& s, const vk::Context& ctx) {
+void validate(const DirectLightSettings& s) {
   if (s.samples < 1 || s.samples > 4096)
     throw SettingsError("--light-samples " + std::to_string(s.samples) + ": must be 1 to 4096");
+  if (s.environmentDirections > 4096)
+    throw SettingsError("--env-directions " + std::to_string(s.environmentDirections) + ": must be 0 to 4096");
   if (s.resolution < 8 || s.resolution > 4096)
     throw SettingsError("--shadow-map " + std::to_string(s.resolution) + ": must be 8 to 4096");
-  if (depthBytes(s) > ctx.limits().maxStorageBufferRange)
-    throw SettingsError("--light-samples " + std::to_string(s.samples) + " with --shadow-map " +
-                        std::to_string(s.resolution) + " needs " + std::to_string(depthBytes(s) >> 20) +
-                        " MiB of depth maps, above the device's maxStorageBufferRange (" +
-                        std::to_string(ctx.limits().maxStorageBufferRange >> 20) + " MiB)");
+}
+
+std::vector<gpu::PunctualLight> DirectLightSettings::environmentLights() const {
+  std::vector<gpu::PunctualLight> lights;
+  if (!environment || environmentDirections == 0) return lights;
+  for (const scene::Environment::Direction& d : environment->sampleDirections(environmentDirections))
+    lights.push_back({.position = glm::vec4(0.0f, 0.0f, 0.0f, gpu::kLightDirectional),
+                      .direction = glm::vec4(-d.towardSky, 0.0f),
+                      .intensity = glm::vec4(d.irradiance, 0.0f),
+                      .cone = glm::vec4(0.0f)});
+  return lights;
 }
 
 double emissiveAreaShare(const scene::Geometry& g) {
@@ -110,22 +124,33 @@ DirectLight::DirectLight(const vk::Context& ctx, const scene::Geometry& g, std::
                          const std::vector<bool>& moving, const DirectLightSettings& settings, vk::Allocations* tally)
     : settings_(settings),
       sampleCount_(uint32_t(samples.size())),
+      environmentCount_(uint32_t(settings.environmentLights().size())),
+      viewCount_(viewCount(settings, sampleCount_, environmentCount_)),
       surfelCount_(uint32_t(g.surfels.size())),
       vertexCount_(uint32_t(g.vertices.size())),
       splitsStatic_(!moving.empty() && !emittersMove(g, samples, moving)),
       lightViews_(shaderProgram(ctx, "light_views")),
       directSurfels_(shaderProgram(ctx, "direct_surfels")),
       worldBounds_(shaderProgram(ctx, "world_bounds")) {
-  validate(settings, ctx);
-  const uint32_t points = sampleCount_ + settings.punctualLights;
+  validate(settings);
+  if (depthBytes(settings, viewCount_) > ctx.limits().maxStorageBufferRange)
+    throw SettingsError("--light-samples " + std::to_string(settings.samples) +
+                        (environmentCount_ > 0 ? " and --env-directions " + std::to_string(environmentCount_) : "") +
+                        " with --shadow-map " + std::to_string(settings.resolution) + " need " +
+                        std::to_string(depthBytes(settings, viewCount_) >> 20) +
+                        " MiB of depth maps, above the device's maxStorageBufferRange (" +
+                        std::to_string(ctx.limits().maxStorageBufferRange >> 20) + " MiB)");
+  const uint32_t points = sampleCount_ + environmentCount_ + settings.punctualLights;
   if (points == 0) throw std::logic_error("DirectLight: nothing to light with");
   if (samples.empty()) samples.push_back({});  // bound, never read
   samples_ = vk::makeBuffer(ctx, samples, vk::Memory::Device, tally);
-  punctual_ =
-      vk::Buffer(ctx, std::max(settings.punctualLights, 1u) * sizeof(gpu::PunctualLight), vk::Memory::Host, tally);
+  punctual_ = vk::Buffer(ctx, std::max(environmentCount_ + settings.punctualLights, 1u) * sizeof(gpu::PunctualLight),
+                         vk::Memory::Host, tally);
+  if (environmentCount_ > 0) punctual_.upload(settings.environmentLights());
+  directional_ = environmentCount_ > 0;
   points_ = vk::Buffer(ctx, points * sizeof(gpu::LightPoint), vk::Memory::Device, tally);
-  views_ = vk::Buffer(ctx, points * gpu::kCubeFaces * sizeof(gpu::Camera), vk::Memory::Device, tally);
-  depth_ = vk::Buffer(ctx, depthBytes(settings), vk::Memory::Device, tally);
+  views_ = vk::Buffer(ctx, viewCount_ * sizeof(gpu::Camera), vk::Memory::Device, tally);
+  depth_ = vk::Buffer(ctx, depthBytes(settings, viewCount_), vk::Memory::Device, tally);
   if (splitsStatic_) {
     const auto [still, moves] = byMotion(g, moving);
     staticRaster_.emplace(ctx, uint32_t(still.size()), tally, true);
@@ -133,7 +158,7 @@ DirectLight::DirectLight(const vk::Context& ctx, const scene::Geometry& g, std::
     staticTriangles_ = vk::makeBuffer(ctx, still, vk::Memory::Device, tally);
     movingTriangles_ = vk::makeBuffer(ctx, moves, vk::Memory::Device, tally);
     movingCount_ = uint32_t(moves.size());
-    if (movingCount_ > 0) staticDepth_ = vk::Buffer(ctx, depthBytes(settings), vk::Memory::Device, tally);
+    if (movingCount_ > 0) staticDepth_ = vk::Buffer(ctx, depth_.size(), vk::Memory::Device, tally);
   } else {
     allRaster_.emplace(ctx, uint32_t(g.triangles.size()), tally, true);
   }
@@ -150,9 +175,12 @@ void DirectLight::setLights(const std::vector<gpu::PunctualLight>& lights) {
       (!lights.empty() && std::memcmp(lights.data(), lights_.data(), lights.size() * sizeof(gpu::PunctualLight)) != 0))
     lightsMoved_ = true;
   lights_ = lights;
-  directional_ = std::any_of(lights.begin(), lights.end(),
-                             [](const gpu::PunctualLight& l) { return l.position.w == gpu::kLightDirectional; });
-  if (!lights.empty()) punctual_.upload(lights);
+  directional_ = environmentCount_ > 0 || std::any_of(lights.begin(), lights.end(), [](const gpu::PunctualLight& l) {
+                   return l.position.w == gpu::kLightDirectional;
+                 });
+  if (!lights.empty())
+    punctual_.upload(lights.data(), lights.size() * sizeof(gpu::PunctualLight),
+                     environmentCount_ * sizeof(gpu::PunctualLight));
 }
 
 void DirectLight::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bindings& frame, bool geometryMoved) {
@@ -163,7 +191,7 @@ void DirectLight::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bi
       vk::Bindings::pool({{"emitterSamples", samples_}, {"punctualLights", punctual_}, {"sceneBounds", sceneBounds_}})
           .plus(pool())
           .plus(frame);
-  const uint32_t points = sampleCount_ + settings_.punctualLights, views = points * gpu::kCubeFaces;
+  const uint32_t points = sampleCount_ + environmentCount_ + settings_.punctualLights, views = viewCount_;
   const glm::uvec2 size(settings_.resolution);
   timedPass(cmd, timer, "direct light", [&] {
     if (directional_) {
@@ -171,9 +199,10 @@ void DirectLight::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bi
       vk::fillBuffer(cmd, sceneBounds_, 0u, 3 * sizeof(uint32_t), 3 * sizeof(uint32_t));
       worldBounds_.dispatchItems(cmd, vertexCount_, buffers, gpu::CountPush{.count = vertexCount_});
     }
-    lightViews_.dispatchItems(
-        cmd, points, buffers,
-        gpu::LightViewsPush{.sampleCount = sampleCount_, .punctualLights = settings_.punctualLights});
+    lightViews_.dispatchItems(cmd, points, buffers,
+                              gpu::LightViewsPush{.sampleCount = sampleCount_,
+                                                  .punctualLights = environmentCount_ + settings_.punctualLights,
+                                                  .environmentDirections = environmentCount_});
     if (!splitsStatic_) {
       allRaster_->record(cmd, frame, views_, views, size, depth_);
     } else if (movingCount_ == 0) {  // nothing moves: the maps are drawn once
@@ -188,7 +217,7 @@ void DirectLight::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bi
     staticDrawn_ = true;
     directSurfels_.dispatchItems(cmd, surfelCount_, buffers,
                                  gpu::DirectLightPush{.count = surfelCount_,
-                                                      .sampleCount = sampleCount_,
+                                                      .sampleCount = sampleCount(),
                                                       .resolution = settings_.resolution,
                                                       .punctualLights = settings_.punctualLights});
   });

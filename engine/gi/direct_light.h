@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "engine/gi/raster.h"
+#include "engine/scene/environment.h"
 #include "engine/scene/geometry.h"
 #include "engine/vk/buffer.h"
 #include "engine/vk/program.h"
@@ -22,9 +23,18 @@ struct DirectLightSettings {
   // The scene's punctual lights, which the maps light too (each frame says where they are:
   // DirectLight::setLights); not a choice but how many the frames bring.
   uint32_t punctualLights = 0;
+  // The environment's light through the maps too: `environmentDirections` directions toward the
+  // sky (Environment::sampleDirections), each a directional light with its own map over the scene,
+  // sharing the pixels' interleaving with the emitter samples. None: the solver's bins carry it.
+  std::optional<scene::Environment> environment;
+  uint32_t environmentDirections = 0;
+
+  // The directions the maps light the environment from (empty where it goes through the bins).
+  std::vector<gpu::PunctualLight> environmentLights() const;
 };
-// Throws SettingsError for settings no frame can use on `ctx`.
-void validate(const DirectLightSettings& settings, const vk::Context& ctx);
+// Throws SettingsError for settings no frame can use (and the DirectLight for maps the device
+// cannot hold).
+void validate(const DirectLightSettings& settings);
 
 // `count` points over the emissive triangles of `geometry`, chosen by power (area at rest × the
 // emission's luminance), stratified: the i-th takes the triangle where the power's running sum
@@ -42,8 +52,8 @@ constexpr double kMapsEmitterShare = 0.1;
 
 class DirectLight {
  public:
-  // `samples` from emitterSamples(geometry), at least one unless `settings` names point or spot
-  // lights; `moving`: per instance of `geometry`, whether the animation can move it
+  // `samples` from emitterSamples(geometry), at least one unless `settings` names punctual lights
+  // or the environment; `moving`: per instance of `geometry`, whether the animation can move it
   // (scene::movingInstances; empty: any may).
   DirectLight(const vk::Context& ctx, const scene::Geometry& geometry, std::vector<gpu::EmitterSample> samples,
               const std::vector<bool>& moving, const DirectLightSettings& settings, vk::Allocations* tally);
@@ -58,10 +68,12 @@ class DirectLight {
   void record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bindings& frame, bool geometryMoved);
 
   // Per surfel, its direct irradiance (rgb), after record(); and the same with every emitter sample
-  // seen (no shadows).
+  // and environment direction seen (no shadows).
   const vk::Buffer& surfelDirect() const { return surfelDirect_; }
   const vk::Buffer& surfelUnshadowed() const { return surfelUnshadowed_; }
-  uint32_t sampleCount() const { return sampleCount_; }
+  // The points the pixels share out: the emitter samples, then the environment's directions.
+  uint32_t sampleCount() const { return sampleCount_ + environmentCount_; }
+  bool lightsEnvironment() const { return environmentCount_ > 0; }
   uint32_t punctualCount() const { return settings_.punctualLights; }
   uint32_t resolution() const { return settings_.resolution; }
   // The samples as the frame placed them, their views and depth maps, the surfels' direct light, by
@@ -76,8 +88,9 @@ class DirectLight {
 
  private:
   DirectLightSettings settings_;
-  uint32_t sampleCount_, surfelCount_, vertexCount_;
-  bool directional_ = false;  // some punctual light is directional: its map covers the scene's bounds
+  uint32_t sampleCount_, environmentCount_, viewCount_, surfelCount_, vertexCount_;
+  // Some light is directional (a punctual one or the environment's): its map covers the scene's bounds.
+  bool directional_ = false;
   // The triangles the maps are drawn from: all of them, or where the emitters stand still those
   // that can move, each frame over what cannot (`staticDepth`, drawn once).
   bool splitsStatic_ = false, staticDrawn_ = false, lit_ = false;
@@ -87,6 +100,7 @@ class DirectLight {
   bool lightsMoved_ = true;
   uint32_t movingCount_ = 0;  // triangles that can move, where splitsStatic_
   vk::Buffer samples_, points_, views_, depth_, staticDepth_, surfelDirect_, surfelUnshadowed_;
+  // The lights drawn with a cube or one map: the environment's directions, then the frame's lights.
   vk::Buffer staticTriangles_, movingTriangles_, punctual_;
   vk::Buffer sceneBounds_;  // the scene's bounds in the frame (world_bounds), for directional lights
   vk::Program lightViews_, directSurfels_, worldBounds_;

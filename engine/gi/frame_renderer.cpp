@@ -11,7 +11,7 @@ namespace {
 
 // Whether the maps have something to light with: emitters or punctual lights.
 bool somethingLights(const scene::Geometry& g, const DirectLightSettings& directLight) {
-  return directLight.punctualLights > 0 || !emitterSamples(g, 1).empty();
+  return directLight.punctualLights > 0 || !directLight.environmentLights().empty() || !emitterSamples(g, 1).empty();
 }
 
 // Whether the pixels of a frame of `g` look the depth maps' direct light up themselves: asked for, a
@@ -95,11 +95,11 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
   vertexUnshadowed_ = vk::Buffer(ctx, directPerPixel_ ? shownIrradiance_.size() : 16, Memory::Device, tally);
   noDirectLight_ = vk::Buffer(ctx, 16, Memory::Device, tally);
   if (directLight) {
-    validate(*directLight, ctx);
+    validate(*directLight);
     if (somethingLights(g, *directLight))
       direct_.emplace(ctx, g, emitterSamples(g, directLight->samples), movingInstances, *directLight, tally);
   }
-  if (direct_ && solver_ && !solver_->useDirectLight(direct_->surfelDirect()))
+  if (direct_ && solver_ && !solver_->useDirectLight(direct_->surfelDirect(), direct_->lightsEnvironment()))
     throw SettingsError("this method cannot take the direct light from depth maps (iv and ar can)");
 }
 

@@ -30,6 +30,11 @@ struct SceneBuffers {
   bool environmentOn = false;
 
   bool emittersByMaps() const { return directLight != nullptr; }
+  // The surfels' direct light from the maps, with the environment's (which the bins then leave out) or not.
+  void takeDirectLight(const vk::Buffer& surfelDirect, bool withEnvironment) {
+    directLight = &surfelDirect;
+    if (withEnvironment) environmentOn = false;
+  }
   const vk::Buffer& surfelDirect() const { return directLight ? *directLight : noDirectLight; }
 
   SceneBuffers() = default;

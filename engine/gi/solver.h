@@ -26,7 +26,7 @@ class Solver {
   // Takes the emitters' direct light per surfel from the frame's depth maps (gi::DirectLight) and
   // from then on solves with it; false where the solver cannot. `surfelDirect` stays valid and is
   // rewritten each frame before record(); given before the first frame.
-  virtual bool useDirectLight(const vk::Buffer& /*surfelDirect*/) { return false; }
+  virtual bool useDirectLight(const vk::Buffer& /*surfelDirect*/, bool /*withEnvironment*/) { return false; }
   // Records the solver's passes, each timed. `geometryMoved`: the surfels changed since the last
   // frame (or this is the first), so whatever depends on the geometry must be made again.
   virtual void record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffer& surfels, bool geometryMoved) = 0;

@@ -90,4 +90,57 @@ std::vector<glm::vec4> Environment::bins(uint32_t n) const {
   return out;
 }
 
+std::vector<Environment::Direction> Environment::sampleDirections(uint32_t count) const {
+  std::vector<Direction> out;
+  constexpr double kGolden = 0.6180339887498949;
+  const auto luminance = [](glm::vec3 c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; };
+  if (width_ == 0) {
+    if (!(luminance(constant_) > 0) || count == 0) return out;
+    // A Fibonacci sphere: heights evenly spaced, the azimuth turning by the golden angle.
+    for (uint32_t i = 0; i < count; ++i) {
+      const double z = 1.0 - (2.0 * i + 1.0) / count, r = std::sqrt(std::max(0.0, 1.0 - z * z)),
+                   phi = 2.0 * gpu::kPi * std::fmod(i * kGolden, 1.0);
+      out.push_back(
+          {glm::vec3(glm::dvec3(r * std::cos(phi), z, r * std::sin(phi))), constant_ * float(4.0 * gpu::kPi / count)});
+    }
+    return out;
+  }
+  // Each texel's power: luminance × its solid angle (2π/W · (cos θ0 − cos θ1) between its rows).
+  std::vector<double> power(texels_.size()), solidAngle(texels_.size());
+  double total = 0;
+  for (int y = 0; y < height_; ++y)
+    for (int x = 0; x < width_; ++x) {
+      const size_t t = size_t(y) * width_ + x;
+      solidAngle[t] = 2.0 * gpu::kPi / width_ *
+                      (std::cos(double(y) / height_ * gpu::kPi) - std::cos(double(y + 1) / height_ * gpu::kPi));
+      power[t] = luminance(texels_[t]) * solidAngle[t];
+      total += power[t];
+    }
+  if (!(total > 0) || count == 0) return out;
+  // Half the directions by power, half uniformly over the sphere: a sun that holds nearly all the
+  // power would otherwise leave a surface facing away from it a handful of directions of the sky.
+  constexpr double kByPower = 0.5;
+  for (size_t t = 0; t < power.size(); ++t)
+    power[t] = kByPower * power[t] / total + (1.0 - kByPower) * solidAngle[t] / (4.0 * gpu::kPi);
+  total = 1.0;  // the mixed shares sum to one
+  double before = 0;
+  size_t t = 0;
+  for (uint32_t i = 0; i < count; ++i) {
+    const double target = (i + 0.5) / count * total;
+    while (t + 1 < power.size() && (power[t] <= 0 || before + power[t] < target)) before += power[t++];
+    // Within the texel: across by where the target falls in its share, down by a golden-ratio step.
+    const double across = std::clamp((target - before) / power[t], 0.0, 1.0),
+                 down = std::fmod((i + 0.5) * kGolden, 1.0);
+    const double u = (double(t % width_) + across) / width_, v = (double(t / width_) + down) / height_;
+    const double phi = (u - 0.5) * 2.0 * gpu::kPi, theta = v * gpu::kPi;
+    // radiance(): u = atan2(x, -z) / 2π + ½, v = acos(y) / π.
+    const glm::dvec3 d(std::sin(theta) * std::sin(phi), std::cos(theta), -std::sin(theta) * std::cos(phi));
+    // pdf per solid angle where the direction lies: spread evenly over the texel's u and v, its
+    // share of the mixed power has the density (2π/W · π/H · sin θ) there.
+    const double pdf = power[t] / (2.0 * gpu::kPi / width_ * gpu::kPi / height_ * std::max(std::sin(theta), 1e-9));
+    out.push_back({glm::vec3(d), texels_[t] * float(1.0 / (count * pdf))});
+  }
+  return out;
+}
+
 }  // namespace ivgi::scene

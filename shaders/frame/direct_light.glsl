@@ -1,6 +1,6 @@
 // The direct light of the emitter samples at a point, each seen or hidden by its depth maps
 // (light_views, the raster). Expects `lightPoints`, `lightViews` and `lightDepth` (depths' float
-// bits, kCubeFaces views a sample, each `side` texels square) declared before it.
+// bits, each view `side` texels square) declared before it.
 
 // Texels' depth, in the view's depth along its forward axis; an empty texel is infinitely deep.
 float depthAt(uint view, ivec2 texel, uint side) {
@@ -18,9 +18,10 @@ float seenShare(uint light, vec3 p, float cosine, uint side, bool bilinear) {
   uint view;
   float z, texel;  // p's depth in the view, a texel's width there
   vec2 at;         // p in the view's texels
+  const uint first = floatBitsToUint(lightPoints[light].radiance.w);
   if (lightPoints[light].cone.w == kLightPointIsPunctual && lightPoints[light].cone.z == kLightDirectional) {
     // A directional light's one orthographic view.
-    view = kCubeFaces * light;
+    view = first;
     const Camera c = lightViews[view];
     const vec3 d = p - c.origin.xyz;
     const vec2 ndc =
@@ -30,9 +31,9 @@ float seenShare(uint light, vec3 p, float cosine, uint side, bool bilinear) {
     at = vec2((ndc.x + 1.0) * 0.5 * size, (1.0 - ndc.y) * 0.5 * size) - 0.5;
   } else {
     // The cube's faces are axis-aligned (light_views): the face and where on it follow from d alone.
-    const vec3 d = p - lightViews[kCubeFaces * light].origin.xyz, m = abs(d);
+    const vec3 d = p - lightViews[first].origin.xyz, m = abs(d);
     const uint axis = m.x >= m.y && m.x >= m.z ? 0u : (m.y >= m.z ? 1u : 2u);
-    view = kCubeFaces * light + 2u * axis + (d[axis] < 0.0 ? 1u : 0u);
+    view = first + 2u * axis + (d[axis] < 0.0 ? 1u : 0u);
     z = m[axis];
     const float x = d[axis == 2u ? 0u : axis + 1u], y = d[axis == 0u ? 2u : axis - 1u];
     texel = 2.0 * z / size;

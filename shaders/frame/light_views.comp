@@ -2,8 +2,9 @@
 // Direct light, first: each emitter sample where the frame put it (its triangle's corners as the
 // animate pass left them), the area it stands for, and the cube of 90° views around it that its
 // depth maps are rasterized in (a face wholly behind the emitter is no view: near < 0); then each
-// point and spot light of the frame likewise, its cube around its position; and each directional
-// light its one orthographic view along its direction over the scene's bounds (world_bounds).
+// direction toward the environment, and each directional light of the frame, its one orthographic
+// view along it over the scene's bounds (world_bounds); and each point and spot light its cube
+// around its position.
 #extension GL_GOOGLE_include_directive : require
 #include "common/common.glsl"
 layout(local_size_x = 64) in;
@@ -21,6 +22,12 @@ layout(push_constant) uniform Push { LightViewsPush push; };
 vec3 positionOf(uint vertex) { return imageLoad(world, int(2u * vertex)).xyz; }
 vec3 normalOf(uint vertex) { return imageLoad(world, int(2u * vertex + 1u)).xyz; }
 
+// Point i's first view: a cube an emitter sample and a punctual light, one view an environment direction.
+uint firstView(uint i) {
+  const uint e = push.sampleCount, k = push.environmentDirections;
+  return i < e ? kCubeFaces * i : (i < e + k ? kCubeFaces * e + (i - e) : kCubeFaces * (i - k) + k);
+}
+
 // The cube of views around `origin` whose near plane is `near`, each face wholly behind `front` (a
 // zero front: none) no view.
 void writeCube(uint i, vec3 origin, float near, vec3 front) {
@@ -32,7 +39,7 @@ void writeCube(uint i, vec3 origin, float near, vec3 front) {
     up[axis == 0u ? 2u : axis - 1u] = 1.0;
     // Wholly behind: every direction of the face's pyramid on the emitter's back.
     const bool behind = front != vec3(0.0) && dot(forward, front) + abs(dot(right, front)) + abs(dot(up, front)) <= 0.0;
-    lightViews[kCubeFaces * i + face] =
+    lightViews[firstView(i) + face] =
         Camera(vec4(origin, behind ? -1.0 : near), vec4(right, 0.0), vec4(up, 0.0), vec4(forward, 0.0));
   }
 }
@@ -53,15 +60,18 @@ void main() {
       vec3 right, up;
       tangentFrame(forward, right, up);
       const vec3 origin = centre - radius * forward;
-      lightPoints[i] =
-          LightPoint(vec4(origin, 0.0), l.direction, l.intensity, vec4(l.cone.xy, l.position.w, kLightPointIsPunctual));
-      for (uint face = 0u; face < kCubeFaces; ++face)
-        lightViews[kCubeFaces * i + face] = Camera(vec4(origin, face == 0u ? 0.0 : -1.0), vec4(radius * right, 0.0),
-                                                   vec4(radius * up, kOrthographic), vec4(forward, 0.0));
+      lightPoints[i] = LightPoint(vec4(origin, 0.0), l.direction, vec4(l.intensity.rgb, uintBitsToFloat(firstView(i))),
+                                  vec4(l.cone.xy, l.position.w, kLightPointIsPunctual));
+      // A punctual light's place holds a cube: the faces past the first are no view.
+      const uint faces = i < push.sampleCount + push.environmentDirections ? 1u : kCubeFaces;
+      for (uint face = 0u; face < faces; ++face)
+        lightViews[firstView(i) + face] = Camera(vec4(origin, face == 0u ? 0.0 : -1.0), vec4(radius * right, 0.0),
+                                                 vec4(radius * up, kOrthographic), vec4(forward, 0.0));
       return;
     }
-    lightPoints[i] = LightPoint(vec4(l.position.xyz, 0.0), l.direction, l.intensity,
-                                vec4(l.cone.xy, l.position.w, kLightPointIsPunctual));
+    lightPoints[i] =
+        LightPoint(vec4(l.position.xyz, 0.0), l.direction, vec4(l.intensity.rgb, uintBitsToFloat(firstView(i))),
+                   vec4(l.cone.xy, l.position.w, kLightPointIsPunctual));
     writeCube(i, l.position.xyz, 1e-4 * (1.0 + length(l.position.xyz)), vec3(0.0));
     return;
   }
@@ -77,8 +87,8 @@ void main() {
     n = -n;
   const uint material = t.w & ~kFlatShaded;
   const vec3 radiance = uintBitsToFloat(imageLoad(materials, int(3u * material + 1u)).rgb);
-  lightPoints[i] =
-      LightPoint(vec4(p, 0.5 * doubleArea * s.weightPerArea), vec4(n, 0.0), vec4(radiance, 0.0), vec4(0.0));
+  lightPoints[i] = LightPoint(vec4(p, 0.5 * doubleArea * s.weightPerArea), vec4(n, 0.0),
+                              vec4(radiance, uintBitsToFloat(firstView(i))), vec4(0.0));
 
   // The views start a little off the emitter, and their near plane as far again: rays along the
   // emitter's plane then pass over it and its neighbours, which its front cannot light.

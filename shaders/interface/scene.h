@@ -197,12 +197,12 @@ struct EmitterSample {
 struct LightPoint {
   vec4 positionArea;
   vec4 normal;
-  vec4 radiance;
-  vec4 cone;  // w: kLightPointIsPunctual for a point or spot light, else 0
+  vec4 radiance;  // w: the first of its views in the raster's target (uint bits)
+  vec4 cone;      // w: kLightPointIsPunctual for a punctual light or an environment direction, else 0
 };
 IVGI_CONST float kLightPointIsPunctual = 1.0f;
-// Each sample's depth maps are the faces of a cube of 90° views around it, face = 2·axis + (negative
-// ? 1 : 0) as the bins' (views 6·sample + face of the raster's target).
+// Each sample's and point light's depth maps are the faces of a cube of 90° views around it, face =
+// 2·axis + (negative ? 1 : 0) as the bins'; an environment direction has one orthographic view.
 IVGI_CONST uint kCubeFaces = 6u;
 
 // ---- Push constants of the frame's passes ----
@@ -246,11 +246,12 @@ struct PixelLight {
 };
 struct DirectLightPush {  // direct_surfels
   uint count;             // points lit
-  uint sampleCount;       // emitter samples
+  uint sampleCount;       // emitter samples, then the environment's directions
   uint resolution;        // a depth map's side in texels
-  uint punctualLights;    // the punctual lights after the emitter samples
+  uint punctualLights;    // the punctual lights after them
 };
-struct LightViewsPush {  // light_views
-  uint sampleCount;      // emitter samples
-  uint punctualLights;   // punctual lights (`punctualLights`), after them
+struct LightViewsPush {        // light_views
+  uint sampleCount;            // emitter samples
+  uint punctualLights;         // after them, `punctualLights`: the environment's directions, the punctual lights
+  uint environmentDirections;  // the first of those
 };

@@ -162,8 +162,8 @@ void ArSolver::beginFrame(int frame) {
   redoing_ = false;
 }
 
-bool ArSolver::useDirectLight(const vk::Buffer& surfelDirect) {
-  b_.scene.directLight = &surfelDirect;
+bool ArSolver::useDirectLight(const vk::Buffer& surfelDirect, bool withEnvironment) {
+  b_.scene.takeDirectLight(surfelDirect, withEnvironment);
   // The emitters' light no longer travels over links: none is taken down to the receivers' surfels.
   b_.brightEmitters =
       vk::makeBuffer(ctx_, std::vector<glm::vec4>(nodeCount_, glm::vec4(0.0f)), vk::Memory::Device, &allocations_);
