@@ -64,6 +64,15 @@ TEST(BadInput, MissingFile) {
   expectRenderRefused("/nonexistent/scene.gltf", {}, {"/nonexistent/scene.gltf", "no such file"});
 }
 
+// Found while writing the options fuzzer: `compare /dev/zero /dev/zero` read forever. A device or a pipe has
+// no end to read to: compare, --env and a glTF path refuse it in one line.
+TEST(BadInput, ADeviceFileIsRefusedNotReadForever) {
+  if (!fs::exists("/dev/zero")) GTEST_SKIP() << "no /dev/zero";
+  expectOneLineError(test::runIvgi({"compare", "/dev/zero", "/dev/zero"}), {"/dev/zero", "not a regular file"});
+  expectRenderRefused("cornell", {"--env", "/dev/zero"}, {"/dev/zero"});
+  expectRenderRefused("/dev/zero", {}, {"/dev/zero"});
+}
+
 TEST(BadInput, NotAGltfFile) {
   auto path = test::scratchDir("in") / "notes.gltf";
   std::ofstream(path) << "these are not the droids you are looking for\n";

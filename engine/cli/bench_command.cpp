@@ -58,9 +58,10 @@ FrameTimes timeFrames(gi::FrameRenderer& renderer, const scene::Scene& s, const 
   for (const auto& frame : programs)
     for (const vk::PassTime& p : frame) out.perProgram.try_emplace(p.pass), out.programDispatches.try_emplace(p.pass);
   for (const auto& frame : programs)
-    for (auto& [name, ms] : out.perProgram) {
+    for (auto& [program, times] : out.perProgram) {
+      const std::string& name = program;  // a lambda captures no structured binding before clang 16
       auto it = std::find_if(frame.begin(), frame.end(), [&](const vk::PassTime& p) { return p.pass == name; });
-      ms.push_back(it == frame.end() ? 0.0 : it->ms);
+      times.push_back(it == frame.end() ? 0.0 : it->ms);
       out.programDispatches[name].push_back(it == frame.end() ? 0.0 : double(it->count));
     }
   return out;

@@ -19,7 +19,9 @@ Kind kindOf(const std::string& path) {
   if (path.find('%') != std::string::npos) return Kind::Pattern;
   std::error_code ec;
   if (fs::is_directory(path, ec)) return Kind::Folder;
-  if (fs::exists(path, ec)) return Kind::File;
+  if (fs::is_regular_file(path, ec)) return Kind::File;
+  // A device or a pipe (/dev/zero) has no end to read to.
+  if (fs::exists(path, ec)) throw SettingsError(path + ": not a regular file or a folder");
   throw SettingsError(path + ": no such file or folder");
 }
 

@@ -58,6 +58,9 @@ OIIO::ImageBuf readFloatImage(const std::string& path, const std::string& what, 
   auto fail = [&](const std::string& why) {
     throw std::runtime_error(path + ": cannot read" + (what.empty() ? "" : " " + what) + ": " + why);
   };
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec))  // a device or a pipe has no end to read to
+    fail(std::filesystem::exists(path, ec) ? "not a regular file" : "no such file");
   if (const std::string problem = exrHeaderProblem(path); !problem.empty()) fail(problem);
   auto in = OIIO::ImageInput::open(path);
   if (!in) fail(OIIO::geterror());

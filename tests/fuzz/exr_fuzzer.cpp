@@ -16,7 +16,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const std::string path = "/tmp/ivgi-fuzz-" + std::to_string(getpid()) + ".exr";
   std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(data), std::streamsize(size));
   try {
-    ivgi::scene::Environment::parse(path).bins(4);
+    const auto sky = ivgi::scene::Environment::parse(path);
+    sky.bins(4);
+    sky.sampleDirections(64);
   } catch (const ivgi::scene::LoadError&) {
   }
   try {
