@@ -64,6 +64,8 @@ uint32_t sampledTessellation(const SolverOptions& solver);
 // The scene's flattened geometry, as `solver`'s method samples it; throws LoadError when there is
 // no triangle to render.
 scene::Geometry renderableGeometry(const scene::Scene& scene, const SolverOptions& solver);
+// A progress line on stderr for building a scene, shown once the build has taken two seconds.
+scene::BuildProgress buildProgress();
 
 // The light a scene without any gets: --env as given ("none": no environment); for a scene with no
 // emitter and no punctual light, a uniform white sky, said once on stderr, as glTF viewers do.

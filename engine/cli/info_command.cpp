@@ -26,7 +26,7 @@ void solveFrameZero(gi::FrameRenderer& renderer, const scene::Scene& s, const sc
 
 int runInfo(const InfoOptions& o) {
   scene::Scene s = loadScene(o.source);
-  scene::Geometry g = scene::buildGeometry(s);
+  scene::Geometry g = scene::buildGeometry(s, 0, buildProgress());
   const SolverOptions solver = withSceneLight(o.solver, s, g);
   size_t primitives = 0, morphTargets = 0, colored = 0;
   for (const auto& m : s.meshes) {

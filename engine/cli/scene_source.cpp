@@ -1,9 +1,13 @@
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
+#include <optional>
 
 #include "engine/cli/commands.h"
 #include "engine/cli/options.h"
+#include "engine/cli/progress.h"
 #include "engine/scene/gltf.h"
 #include "engine/scene/lights.h"
 #include "scenes/builtin.h"
@@ -52,9 +56,26 @@ uint32_t sampledTessellation(const SolverOptions& solver) {
   return solver.method == "iv" || solver.method == "ar" ? solver.tessellation : 0;
 }
 
+scene::BuildProgress buildProgress() {
+  struct Line {
+    std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+    std::optional<Progress> progress;
+  };
+  auto line = std::make_shared<Line>();
+  return [line](size_t built, size_t instances) {
+    if (!line->progress) {
+      if (std::chrono::steady_clock::now() - line->start < std::chrono::seconds(2)) return;
+      line->progress.emplace("scene", instances, "node");
+      line->progress->advance(built - 1, true);  // before the line: not counted for the rate
+    }
+    line->progress->advance();
+    if (built == instances) line->progress->finish();
+  };
+}
+
 scene::Geometry renderableGeometry(const scene::Scene& s, const SolverOptions& solver) {
   if (solver.tessellation > 100000) throw SettingsError("--tessellate must be 0 to 100000");
-  scene::Geometry g = scene::buildGeometry(s, sampledTessellation(solver));
+  scene::Geometry g = scene::buildGeometry(s, sampledTessellation(solver), buildProgress());
   if (g.triangles.empty()) throw scene::LoadError(s.source + ": the scene has no triangles to render");
   return g;
 }

@@ -120,7 +120,7 @@ EdgeLimits edgeLimitsOf(const Scene& scene, const Pose& rest, uint32_t tessellat
 
 }  // namespace
 
-Geometry buildGeometry(const Scene& scene, uint32_t tessellation) {
+Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildProgress& progress) {
   const Pose rest = evaluatePose(scene, -1, 0.0f);
   std::vector<uint32_t> ownerBase;
   const EdgeLimits limits = edgeLimitsOf(scene, rest, tessellation, ownerBase);
@@ -160,6 +160,12 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation) {
   g.materials.push_back({glm::vec4(1.0f), glm::vec4(0.0f), -1, -1, 0, 0});  // glTF default material
   const uint32_t defaultMaterial = uint32_t(g.materials.size() - 1);
 
+  size_t drawn = 0, built = 0;  // the nodes drawn, and those built so far
+  const std::function<void(int)> count = [&](int nodeIndex) {
+    drawn += scene.nodes[nodeIndex].mesh >= 0 ? 1 : 0;
+    for (int c : scene.nodes[nodeIndex].children) count(c);
+  };
+  for (int r : scene.roots) count(r);
   std::function<void(int)> visit = [&](int nodeIndex) {
     const Node& node = scene.nodes[nodeIndex];
     if (node.mesh >= 0) {
@@ -277,6 +283,7 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation) {
           g.surfelEmission.push_back(varies ? emissionSums[s] / areaSums[s] : material.emission);
         }
       }
+      if (progress) progress(++built, drawn);
     }
     for (int c : node.children) visit(c);
   };

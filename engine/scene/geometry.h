@@ -5,6 +5,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "engine/scene/animation.h"
@@ -60,10 +61,13 @@ struct Geometry {
   FrameInputs frameInputs(const Scene& scene, const Pose& pose) const;
 };
 
+// Told after each node drawn how many of them are built: a scene of many is long to build.
+using BuildProgress = std::function<void(size_t built, size_t instances)>;
+
 // `tessellation` N > 0: triangle edges longer than 1/N of the scene's size (the diagonal of its
 // bounds at rest), or near a smaller primitive longer than their distance to it, are split
 // (tessellation.h), so that no surface is sampled coarser than that.
-Geometry buildGeometry(const Scene& scene, uint32_t tessellation = 0);
+Geometry buildGeometry(const Scene& scene, uint32_t tessellation = 0, const BuildProgress& progress = {});
 
 // The animate pass evaluated on the host: the reference the GPU is tested against.
 std::vector<WorldVertex> animateOnHost(const Geometry& geometry, const FrameInputs& inputs);
