@@ -2,7 +2,7 @@
 # Installs every Debian package ivgi needs to build, run and test. Idempotent; safe to re-run.
 set -euo pipefail
 packages=(
-  build-essential cmake pkg-config clang-format
+  build-essential cmake pkg-config clang-format clang libclang-rt-14-dev
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
   glslang-tools libspirv-cross-c-shared-dev
   libglm-dev libtinygltf-dev libstb-dev

@@ -81,7 +81,8 @@ TEST(Render, DirectLightFromMapsIsNamedAndTimed) {
   ASSERT_EQ(r.status, 0) << r.err;
   std::ifstream in(dir / "f.json");
   auto j = nlohmann::json::parse(in);
-  EXPECT_EQ(j["settings"]["direct"], (nlohmann::json{{"from", "maps"}, {"lightSamples", 8}, {"shadowMap", 32}}));
+  EXPECT_EQ(j["settings"]["direct"],
+            (nlohmann::json{{"from", "maps"}, {"lightSamples", 8}, {"shadowMap", 32}, {"environmentDirections", 0}}));
   EXPECT_GT(j["frames"][0]["gpuMs"]["direct light"].get<double>(), 0.0);
 }
 
