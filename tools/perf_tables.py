@@ -134,8 +134,8 @@ def scaling_table(r, runs, every_most=52):
     """The animated Cornell box at more cells a side: adaptive receivers (--receiver-tol 0.4, a CPU
     device's default) against every surfel a receiver (--receiver-tol 0, a GPU's; up to `every_most`
     cells: beyond 52, a frame takes many seconds on lavapipe)."""
-    lines = ["| `--cells` | surfels | receivers | links | MiB | frame ms | fps | every surfel: frame ms |",
-             "|---|---|---|---|---|---|---|---|"]
+    lines = ["| `--cells` | surfels | receivers | links | device MiB | host peak MiB | frame ms | fps | every surfel: frame ms |",
+             "|---|---|---|---|---|---|---|---|---|"]
     for cells, frames in ((8, 10), (26, 10), (52, 5), (100, 3)):
         passes, j = bench(r, runs, cells, frames, 2, ("--receiver-tol", 0.4))
         c, s = j["counts"], j["solver"]
@@ -145,7 +145,8 @@ def scaling_table(r, runs, every_most=52):
             full, _ = bench(r, runs, cells, frames, 2, ("--receiver-tol", 0))
             every = fmt(full["total"])
         lines.append(f"| {cells} | {c['surfels']:,} | {s['receivers']:,} | {s['links']:,} | "
-                     f"{j['bytesAllocated'] / 2**20:.1f} | {fmt(total)} | {1000.0 / total:.1f} | {every} |")
+                     f"{j['bytesAllocated'] / 2**20:.1f} | {j['hostPeakMiB']:,.0f} | {fmt(total)} | {1000.0 / total:.1f} | "
+                     f"{every} |")
     return "\n".join(lines)
 
 
@@ -338,7 +339,8 @@ def real_files_table(r, runs):
             print(f"perf_tables: Blender's export failed, the room is left out:\n{export.stderr[-2000:]}", file=sys.stderr)
     else:
         print("perf_tables: no blender on PATH, the Blender room is left out", file=sys.stderr)
-    lines = ["| scene | surfels | receivers | wall clock s | relMSE against pt |", "|---|---|---|---|---|"]
+    lines = ["| scene | surfels | receivers | wall clock s | device MiB | host peak MiB | relMSE against pt |",
+             "|---|---|---|---|---|---|---|"]
     for name, path in scenes:
         if not path.exists():
             continue
@@ -355,7 +357,8 @@ def real_files_table(r, runs):
               "--threads", r.threads, "--out", base / "pt_%04d")
         error = r.json("compare", base / "iv_0000.exr", base / "pt_0000.exr")["frames"][0]["metrics"]["relMSE"]
         lines.append(f"| {name} | {sidecar['counts']['surfels']:,} | {int(sidecar['solver']['receivers']):,} | "
-                     f"{seconds:.1f} | {error:.4f} |")
+                     f"{seconds:.1f} | {sidecar['bytesAllocated'] / 2**20:,.0f} | "
+                     f"{sidecar['frames'][0]['hostPeakMiB']:,.0f} | {error:.4f} |")
     return "\n".join(lines)
 
 
