@@ -123,8 +123,9 @@ bool emittersMove(const scene::Geometry& g, const std::vector<gpu::EmitterSample
 DirectLight::DirectLight(const vk::Context& ctx, const scene::Geometry& g, std::vector<gpu::EmitterSample> samples,
                          const std::vector<bool>& moving, const DirectLightSettings& settings, vk::Allocations* tally)
     : settings_(settings),
+      environment_(settings.environmentLights()),
       sampleCount_(uint32_t(samples.size())),
-      environmentCount_(uint32_t(settings.environmentLights().size())),
+      environmentCount_(uint32_t(environment_.size())),
       viewCount_(viewCount(settings, sampleCount_, environmentCount_)),
       surfelCount_(uint32_t(g.surfels.size())),
       vertexCount_(uint32_t(g.vertices.size())),
@@ -146,7 +147,7 @@ DirectLight::DirectLight(const vk::Context& ctx, const scene::Geometry& g, std::
   samples_ = vk::makeBuffer(ctx, samples, vk::Memory::Device, tally);
   punctual_ = vk::Buffer(ctx, std::max(environmentCount_ + settings.punctualLights, 1u) * sizeof(gpu::PunctualLight),
                          vk::Memory::Host, tally);
-  if (environmentCount_ > 0) punctual_.upload(settings.environmentLights());
+  if (environmentCount_ > 0) punctual_.upload(environment_);
   directional_ = environmentCount_ > 0;
   points_ = vk::Buffer(ctx, points * sizeof(gpu::LightPoint), vk::Memory::Device, tally);
   views_ = vk::Buffer(ctx, viewCount_ * sizeof(gpu::Camera), vk::Memory::Device, tally);

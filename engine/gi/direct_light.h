@@ -88,6 +88,7 @@ class DirectLight {
 
  private:
   DirectLightSettings settings_;
+  std::vector<gpu::PunctualLight> environment_;  // settings_.environmentLights(), sampled once
   uint32_t sampleCount_, environmentCount_, viewCount_, surfelCount_, vertexCount_;
   // Some light is directional (a punctual one or the environment's): its map covers the scene's bounds.
   bool directional_ = false;
