@@ -62,14 +62,14 @@ scene::BuildProgress buildProgress() {
     std::optional<Progress> progress;
   };
   auto line = std::make_shared<Line>();
-  return [line](size_t built, size_t instances) {
+  return [line](size_t built, size_t nodes) {
     if (!line->progress) {
       if (std::chrono::steady_clock::now() - line->start < std::chrono::seconds(2)) return;
-      line->progress.emplace("scene", instances, "node");
+      line->progress.emplace("scene", nodes, "node");
       line->progress->advance(built - 1, true);  // before the line: not counted for the rate
     }
     line->progress->advance();
-    if (built == instances) line->progress->finish();
+    if (built == nodes) line->progress->finish();
   };
 }
 

@@ -8,6 +8,7 @@
 
 #include "engine/core/errors.h"
 #include "engine/gi/pass.h"
+#include "engine/image/colour.h"
 
 namespace ivgi::gi {
 
@@ -32,8 +33,7 @@ double restArea(const scene::Geometry& g, const scene::Triangle& tri) {
 
 // The luminance of a triangle's emission factor (zero: it does not emit).
 double emittedLuminance(const scene::Geometry& g, const scene::Triangle& tri) {
-  const glm::vec3 e = glm::vec3(g.materials[tri.material & ~gpu::kFlatShaded].emission);
-  return 0.2126 * e.r + 0.7152 * e.g + 0.0722 * e.b;
+  return image::luminance(glm::dvec3(glm::vec3(g.materials[tri.material & ~gpu::kFlatShaded].emission)));
 }
 
 }  // namespace

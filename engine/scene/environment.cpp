@@ -1,5 +1,6 @@
 #include "engine/scene/environment.h"
 
+#include "engine/image/colour.h"
 #include "engine/image/image_file.h"
 
 #include <OpenImageIO/imagebuf.h>
@@ -93,7 +94,7 @@ std::vector<glm::vec4> Environment::bins(uint32_t n) const {
 std::vector<Environment::Direction> Environment::sampleDirections(uint32_t count) const {
   std::vector<Direction> out;
   constexpr double kGolden = 0.6180339887498949;
-  const auto luminance = [](glm::vec3 c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; };
+  using image::luminance;
   if (width_ == 0) {
     if (!(luminance(constant_) > 0) || count == 0) return out;
     // A Fibonacci sphere: heights evenly spaced, the azimuth turning by the golden angle.

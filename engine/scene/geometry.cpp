@@ -160,12 +160,13 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
   g.materials.push_back({glm::vec4(1.0f), glm::vec4(0.0f), -1, -1, 0, 0});  // glTF default material
   const uint32_t defaultMaterial = uint32_t(g.materials.size() - 1);
 
-  size_t drawn = 0, built = 0;  // the nodes drawn, and those built so far
+  size_t drawn = 0, built = 0;  // the nodes drawn, and those built so far (counted for `progress`)
   const std::function<void(int)> count = [&](int nodeIndex) {
     drawn += scene.nodes[nodeIndex].mesh >= 0 ? 1 : 0;
     for (int c : scene.nodes[nodeIndex].children) count(c);
   };
-  for (int r : scene.roots) count(r);
+  if (progress)
+    for (int r : scene.roots) count(r);
   std::function<void(int)> visit = [&](int nodeIndex) {
     const Node& node = scene.nodes[nodeIndex];
     if (node.mesh >= 0) {

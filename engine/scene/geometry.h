@@ -62,7 +62,7 @@ struct Geometry {
 };
 
 // Told after each node drawn how many of them are built: a scene of many is long to build.
-using BuildProgress = std::function<void(size_t built, size_t instances)>;
+using BuildProgress = std::function<void(size_t built, size_t nodes)>;
 
 // `tessellation` N > 0: triangle edges longer than 1/N of the scene's size (the diagonal of its
 // bounds at rest), or near a smaller primitive longer than their distance to it, are split
