@@ -274,3 +274,40 @@ TEST(RealFiles, EveryAssimpGltfRendersOrIsRefusedInOneLine) {
   EXPECT_GE(rendered, 20);
   EXPECT_GE(refused, 15);
 }
+
+namespace {
+
+// A floor of 8×8 cells (128 triangles) drawn by `instances` nodes a millimetre apart.
+tinygltf::Model instancedFloor(int instances) {
+  scenes::MeshData floor;
+  const int cells = 8;
+  for (int z = 0; z <= cells; ++z)
+    for (int x = 0; x <= cells; ++x) floor.positions.push_back(glm::vec3(x, 0, z) / float(cells));
+  for (uint32_t z = 0; z < uint32_t(cells); ++z)
+    for (uint32_t x = 0; x < uint32_t(cells); ++x) {
+      const uint32_t v = z * (cells + 1) + x;
+      floor.indices.insert(floor.indices.end(), {v, v + cells + 1, v + 1, v + 1, v + cells + 1, v + cells + 2});
+    }
+  scenes::GltfBuilder b;
+  const int mesh = b.mesh("floor", {{floor, b.material("grey", glm::vec3(0.5f))}});
+  for (int i = 0; i < instances; ++i) b.node("floor " + std::to_string(i), mesh, glm::vec3(0, 0.001f * float(i), 0));
+  return b.finish();
+}
+
+}  // namespace
+
+// The file: the floor instanced by 100,000 nodes a millimetre apart (12.8 M triangles drawn)
+// kept `info` and `render` busy for minutes, tessellating. It is refused by what it draws, counted
+// before anything is built; a lower limit refuses what the tessellation would reach.
+TEST(BadInput, TheFloorInstancedAHundredThousandTimesIsRefusedByItsTriangles) {
+  const std::string path = writeModel(instancedFloor(100000), "floors.gltf");
+  const std::string drawn = std::to_string(uint64_t(100000) * 128);
+  expectOneLineError(test::runIvgi({"info", path}), {path, drawn + " triangles", "--max-triangles"});
+  expectRenderRefused(path, {}, {path, drawn + " triangles", "--max-triangles"});
+
+  // The Cornell box at 2 cells draws 70 triangles and tessellates (iv) into 3,616.
+  expectOneLineError(test::runIvgi({"info", "cornell", "--cells", "2", "--max-triangles", "1000"}),
+                     {"tessellate", "--max-triangles"});
+  const test::Run allowed = test::runIvgi({"info", "cornell", "--cells", "2", "--max-triangles", "3616"});
+  EXPECT_EQ(allowed.status, 0) << allowed.err;
+}

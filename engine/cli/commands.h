@@ -31,6 +31,7 @@ std::shared_ptr<vk::Context> openDevice(const DeviceChoice& choice);
 struct SceneChoice {
   std::string scene;  // a .gltf/.glb path or a built-in name; empty: the animated Cornell box
   int cells = 8;      // tessellation of the built-in scenes
+  uint64_t maxTriangles = scene::kDefaultMaxTriangles;  // drawn or tessellated, refused past it
 };
 // The scene named by `choice`, loaded and checked.
 scene::Scene loadScene(const SceneChoice& choice);
@@ -63,7 +64,7 @@ uint32_t sampledTessellation(const SolverOptions& solver);
 
 // The scene's flattened geometry, as `solver`'s method samples it; throws LoadError when there is
 // no triangle to render.
-scene::Geometry renderableGeometry(const scene::Scene& scene, const SolverOptions& solver);
+scene::Geometry renderableGeometry(const scene::Scene& scene, const SolverOptions& solver, uint64_t maxTriangles);
 // A progress line on stderr for building a scene, shown once the build has taken two seconds.
 scene::BuildProgress buildProgress();
 

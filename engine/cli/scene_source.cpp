@@ -73,9 +73,9 @@ scene::BuildProgress buildProgress() {
   };
 }
 
-scene::Geometry renderableGeometry(const scene::Scene& s, const SolverOptions& solver) {
+scene::Geometry renderableGeometry(const scene::Scene& s, const SolverOptions& solver, uint64_t maxTriangles) {
   if (solver.tessellation > 100000) throw SettingsError("--tessellate must be 0 to 100000");
-  scene::Geometry g = scene::buildGeometry(s, sampledTessellation(solver), buildProgress());
+  scene::Geometry g = scene::buildGeometry(s, sampledTessellation(solver), buildProgress(), maxTriangles);
   if (g.triangles.empty()) throw scene::LoadError(s.source + ": the scene has no triangles to render");
   return g;
 }

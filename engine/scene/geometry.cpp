@@ -115,12 +115,17 @@ EdgeLimits edgeLimitsOf(const Scene& scene, const Pose& rest, uint32_t tessellat
   EdgeLimits limits(tessellation == 0 || b.empty() ? 0.0f : glm::length(b.max - b.min) / float(tessellation));
   for (size_t owner = 0; owner < surfaces.size(); ++owner)
     limits.addSurface(uint32_t(owner), surfaces[owner].world, *surfaces[owner].indices);
+  limits.finish();
   return limits;
 }
 
 }  // namespace
 
-Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildProgress& progress) {
+Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildProgress& progress,
+                       uint64_t maxTriangles) {
+  if (const uint64_t drawn = drawnTriangles(scene); drawn > maxTriangles)
+    throw LoadError(scene.source + ": the scene draws " + std::to_string(drawn) + " triangles, more than " +
+                    std::to_string(maxTriangles) + " (--max-triangles raises the limit)");
   const Pose rest = evaluatePose(scene, -1, 0.0f);
   std::vector<uint32_t> ownerBase;
   const EdgeLimits limits = edgeLimitsOf(scene, rest, tessellation, ownerBase);
@@ -249,6 +254,10 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
           g.triangles.push_back({base + a, base + b, base + c, mat});
           for (uint32_t v : {a, b, c}) adjacent[surfelOf[v]].push_back(tri);
         }
+        if (g.triangles.size() > maxTriangles)
+          throw LoadError(scene.source + ": tessellated (--tessellate " + std::to_string(tessellation) +
+                          "), the scene reaches more than " + std::to_string(maxTriangles) +
+                          " triangles (--max-triangles raises the limit, a lower --tessellate samples coarser)");
 
         // Where albedo or emission varies over the triangles, each surfel takes their hat-weighted
         // means over its triangles, weighted by the triangles' areas.

@@ -43,4 +43,19 @@ std::optional<int> Scene::findCameraNode(const std::string& key) const {
   return std::nullopt;
 }
 
+uint64_t drawnTriangles(const Scene& scene) {
+  std::vector<uint64_t> perMesh(scene.meshes.size(), 0);
+  for (size_t m = 0; m < scene.meshes.size(); ++m)
+    for (const Primitive& p : scene.meshes[m].primitives) perMesh[m] += p.indices.size() / 3;
+  uint64_t total = 0;
+  std::vector<int> pending(scene.roots.begin(), scene.roots.end());
+  while (!pending.empty()) {  // a stack, not recursion: a chain of nodes may be long
+    const Node& node = scene.nodes[size_t(pending.back())];
+    pending.pop_back();
+    if (node.mesh >= 0) total += perMesh[size_t(node.mesh)];
+    pending.insert(pending.end(), node.children.begin(), node.children.end());
+  }
+  return total;
+}
+
 }  // namespace ivgi::scene

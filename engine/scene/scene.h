@@ -149,4 +149,8 @@ struct Scene {
 
 Scene loadGltf(const std::string& path);
 
+// The triangles the scene draws as modelled: each drawn instance's primitives, instanced nodes
+// counted as often as they are drawn.
+uint64_t drawnTriangles(const Scene& scene);
+
 }  // namespace ivgi::scene

@@ -79,6 +79,12 @@ void EdgeLimits::addSurface(uint32_t owner, const std::vector<glm::vec3>& positi
   boxes_.push_back(box);
 }
 
+void EdgeLimits::finish() {
+  for (auto& [key, boxes] : cells_)
+    std::stable_sort(boxes.begin(), boxes.end(),
+                     [&](uint32_t a, uint32_t b) { return boxes_[a].extent < boxes_[b].extent; });
+}
+
 bool EdgeLimits::tooLong(glm::vec3 p, float length, uint32_t owner) const {
   if (!(uniform_ > 0.0f)) return false;
   if (length > uniform_) return true;
@@ -93,7 +99,8 @@ bool EdgeLimits::tooLong(glm::vec3 p, float length, uint32_t owner) const {
         if (it == cells_.end()) continue;
         for (uint32_t i : it->second) {
           const Box& b = boxes_[i];
-          if (b.owner != owner && b.extent < length && glm::length(glm::clamp(p, b.lo, b.hi) - p) < length) return true;
+          if (!(b.extent < length)) break;  // the rest are larger still (finish())
+          if (b.owner != owner && glm::length(glm::clamp(p, b.lo, b.hi) - p) < length) return true;
         }
       }
   return false;

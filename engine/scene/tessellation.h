@@ -26,6 +26,9 @@ class EdgeLimits {
   explicit EdgeLimits(float uniform) : uniform_(uniform) {}
   // A surface's triangles in world space; `owner` tells surfaces apart (one per primitive drawn).
   void addSurface(uint32_t owner, const std::vector<glm::vec3>& positions, const std::vector<uint32_t>& indices);
+  // After the last surface: orders each cell's surfaces by extent, so that tooLong() stops at the
+  // first too large to ask anything of an edge (many instances overlapping would each be walked).
+  void finish();
   // Whether an edge of `length` with its middle at `p`, on `owner`'s surface, must be split.
   bool tooLong(glm::vec3 p, float length, uint32_t owner) const;
   float uniform() const { return uniform_; }
