@@ -6,11 +6,13 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <map>
 
 #include "engine/gi/frame_renderer.h"
 #include "engine/gi/hierarchy.h"
 #include "engine/gi/pass.h"
 #include "engine/scene/gltf.h"
+#include "engine/scene/planar_faces.h"
 #include "scenes/builtin.h"
 #include "scenes/gltf_builder.h"
 #include "tests/test_support.h"
@@ -487,4 +489,80 @@ TEST(Raster, SharedEdgesLeaveNoCracks) {
     for (const glm::vec4& r : frame.channels.radiance) holes += r.a < 1.0f ? 1 : 0;
     EXPECT_EQ(holes, 0u) << "samples that hit no triangle at " << size.x << "×" << size.y;
   }
+}
+
+namespace {
+
+// An n×n grid over the unit square in the plane y = 0, facing +y, with the cells `skip` left out.
+scenes::MeshData gridSquare(int n, const std::vector<glm::ivec2>& skip = {}) {
+  scenes::MeshData m;
+  for (int z = 0; z <= n; ++z)
+    for (int x = 0; x <= n; ++x) m.positions.push_back(glm::vec3(x, 0, z) / float(n));
+  for (int z = 0; z < n; ++z)
+    for (int x = 0; x < n; ++x) {
+      if (std::find(skip.begin(), skip.end(), glm::ivec2(x, z)) != skip.end()) continue;
+      const uint32_t v = uint32_t(z * (n + 1) + x), w = uint32_t(n + 1);
+      m.indices.insert(m.indices.end(), {v, v + w, v + 1, v + 1, v + w, v + w + 1});
+    }
+  return m;
+}
+
+Geometry geometryOf(const scenes::MeshData& mesh) {
+  scenes::GltfBuilder b;
+  b.node("surface", b.mesh("surface", {{mesh, b.material("grey", glm::vec3(0.5f))}}));
+  return buildGeometry(sceneFromModel(b.finish(), "planar"));
+}
+
+// Summed area vector of triangles (½ Σ cross): equal for two meshes of one oriented surface.
+glm::dvec3 areaVector(const Geometry& g, const std::vector<Triangle>& tris) {
+  glm::dvec3 sum(0.0);
+  for (const Triangle& t : tris) {
+    const glm::dvec3 a = g.vertices[t.v0].position, b = g.vertices[t.v1].position, c = g.vertices[t.v2].position;
+    sum += 0.5 * glm::cross(b - a, c - a);
+  }
+  return sum;
+}
+
+}  // namespace
+
+// The depth maps draw a surface as its shape: a grid of 128 triangles is the square's two, facing
+// as the grid did; a shape that is not convex, or has a hole, keeps its triangles.
+TEST(PlanarFaces, AGridIsDrawnAsItsSquare) {
+  const Geometry grid = geometryOf(gridSquare(8));
+  const std::vector<Triangle> faces = planarFaces(grid, grid.triangles);
+  EXPECT_EQ(faces.size(), 2u);
+  const glm::dvec3 before = areaVector(grid, grid.triangles), after = areaVector(grid, faces);
+  EXPECT_NEAR(glm::length(after - before), 0.0, 1e-6);
+  EXPECT_NEAR(before.y, 1.0, 1e-6);  // wound toward +y: the cells' winding, kept
+
+  const Geometry notch = geometryOf(gridSquare(4, {{3, 3}}));  // an L-like outline: not convex
+  EXPECT_EQ(planarFaces(notch, notch.triangles).size(), notch.triangles.size());
+  const Geometry ring = geometryOf(gridSquare(3, {{1, 1}}));  // a hole
+  EXPECT_EQ(planarFaces(ring, ring.triangles).size(), ring.triangles.size());
+}
+
+// The Cornell box at 26 cells: each face of its blocks (the moving block's are drawn into every map,
+// every frame) becomes two triangles. The red wall, whose measured corners lie out of one plane by a
+// few millimetres, keeps its grid, and so does the ceiling's ring of pieces around the lamp (a hole).
+TEST(PlanarFaces, TheCornellBlocksFacesAreTwoTrianglesEach) {
+  const Scene s = sceneFromModel(scenes::cornellBox({.cells = 26}), "cornell");
+  const Geometry g = buildGeometry(s);
+  std::map<std::string, std::vector<Triangle>> byNode;  // and primitive: the room's walls by material
+  for (const Triangle& t : g.triangles) {
+    const uint32_t instance = g.vertices[t.v0].instance;
+    byNode[s.nodes[size_t(g.instanceNode[instance])].name + " " + std::to_string(t.material & ~gpu::kFlatShaded)]
+        .push_back(t);
+  }
+  size_t blocks = 0;
+  for (const auto& [name, tris] : byNode) {
+    const std::vector<Triangle> faces = planarFaces(g, tris);
+    const glm::dvec3 before = areaVector(g, tris), after = areaVector(g, faces);
+    EXPECT_NEAR(glm::length(after - before), 0.0, 1e-6 * (1.0 + glm::length(before))) << name;
+    if (name.find("block") != std::string::npos) {
+      EXPECT_EQ(faces.size(), 10u) << name << ": five faces";
+      ++blocks;
+    }
+    if (name.find("room") != std::string::npos) EXPECT_LE(faces.size(), tris.size()) << name;
+  }
+  EXPECT_EQ(blocks, 2u);
 }

@@ -9,6 +9,7 @@
 #include "engine/core/errors.h"
 #include "engine/gi/pass.h"
 #include "engine/image/colour.h"
+#include "engine/scene/planar_faces.h"
 
 namespace ivgi::gi {
 
@@ -152,16 +153,21 @@ DirectLight::DirectLight(const vk::Context& ctx, const scene::Geometry& g, std::
   points_ = vk::Buffer(ctx, points * sizeof(gpu::LightPoint), vk::Memory::Device, tally);
   views_ = vk::Buffer(ctx, viewCount_ * sizeof(gpu::Camera), vk::Memory::Device, tally);
   depth_ = vk::Buffer(ctx, depthBytes(settings, viewCount_), vk::Memory::Device, tally);
+  // The maps draw each surface as its shape, not as finely as the surfels sample it.
   if (splitsStatic_) {
     const auto [still, moves] = byMotion(g, moving);
-    staticRaster_.emplace(ctx, uint32_t(still.size()), tally, true);
-    movingRaster_.emplace(ctx, uint32_t(moves.size()), tally, true);
-    staticTriangles_ = vk::makeBuffer(ctx, still, vk::Memory::Device, tally);
-    movingTriangles_ = vk::makeBuffer(ctx, moves, vk::Memory::Device, tally);
-    movingCount_ = uint32_t(moves.size());
+    const std::vector<scene::Triangle> stillFaces = scene::planarFaces(g, still),
+                                       movingFaces = scene::planarFaces(g, moves);
+    staticRaster_.emplace(ctx, uint32_t(stillFaces.size()), tally, true);
+    movingRaster_.emplace(ctx, uint32_t(movingFaces.size()), tally, true);
+    staticTriangles_ = vk::makeBuffer(ctx, stillFaces, vk::Memory::Device, tally);
+    movingTriangles_ = vk::makeBuffer(ctx, movingFaces, vk::Memory::Device, tally);
+    movingCount_ = uint32_t(movingFaces.size());
     if (movingCount_ > 0) staticDepth_ = vk::Buffer(ctx, depth_.size(), vk::Memory::Device, tally);
   } else {
-    allRaster_.emplace(ctx, uint32_t(g.triangles.size()), tally, true);
+    const std::vector<scene::Triangle> faces = scene::planarFaces(g, g.triangles);
+    allRaster_.emplace(ctx, uint32_t(faces.size()), tally, true);
+    allTriangles_ = vk::makeBuffer(ctx, faces, vk::Memory::Device, tally);
   }
   sceneBounds_ = vk::Buffer(ctx, 6 * sizeof(uint32_t), vk::Memory::Device, tally);
   surfelDirect_ = vk::Buffer(ctx, std::max(surfelCount_, 1u) * sizeof(glm::vec4), vk::Memory::Device, tally);
@@ -205,7 +211,7 @@ void DirectLight::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bi
                                                   .punctualLights = environmentCount_ + settings_.punctualLights,
                                                   .environmentDirections = environmentCount_});
     if (!splitsStatic_) {
-      allRaster_->record(cmd, frame, views_, views, size, depth_);
+      allRaster_->record(cmd, frame.with({{"triangles", allTriangles_}}), views_, views, size, depth_);
     } else if (movingCount_ == 0) {  // nothing moves: the maps are drawn once
       if (!staticDrawn_)
         staticRaster_->record(cmd, frame.with({{"triangles", staticTriangles_}}), views_, views, size, depth_);

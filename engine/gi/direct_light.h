@@ -92,8 +92,8 @@ class DirectLight {
   uint32_t sampleCount_, environmentCount_, viewCount_, surfelCount_, vertexCount_;
   // Some light is directional (a punctual one or the environment's): its map covers the scene's bounds.
   bool directional_ = false;
-  // The triangles the maps are drawn from: all of them, or where the emitters stand still those
-  // that can move, each frame over what cannot (`staticDepth`, drawn once).
+  // The triangles the maps are drawn from (scene::planarFaces): all of them, or where the emitters
+  // stand still those that can move, each frame over what cannot (`staticDepth`, drawn once).
   bool splitsStatic_ = false, staticDrawn_ = false, lit_ = false;
   // The punctual lights of the last frame (host-visible), and whether they moved since the
   // maps were drawn.
@@ -102,7 +102,7 @@ class DirectLight {
   uint32_t movingCount_ = 0;  // triangles that can move, where splitsStatic_
   vk::Buffer samples_, points_, views_, depth_, staticDepth_, surfelDirect_, surfelUnshadowed_;
   // The lights drawn with a cube or one map: the environment's directions, then the frame's lights.
-  vk::Buffer staticTriangles_, movingTriangles_, punctual_;
+  vk::Buffer allTriangles_, staticTriangles_, movingTriangles_, punctual_;
   vk::Buffer sceneBounds_;  // the scene's bounds in the frame (world_bounds), for directional lights
   vk::Program lightViews_, directSurfels_, worldBounds_;
   std::optional<Raster> allRaster_, staticRaster_, movingRaster_;  // all, or the static and moving
