@@ -3,14 +3,15 @@
 README.md from ivgi's own benchmarks, so that no figure is copied by hand.
 
 Usage: tools/perf_tables.py [--ivgi build/ivgi] [--runs 3] [--threads 2]
-                            [--only passes|programs|scaling|sweep|accuracy|real|ar|flicker|equal]
+                            [--only passes|programs|scaling|sweep|accuracy|real|ar|flicker|equal|size]
 
 --only regenerates one section alone: `passes` (per pass, and the README's rows of the frame time),
 `programs` (per program, with bench --per-program), `scaling` (cost against tessellation), `sweep`
 (the speed/accuracy sweep, its plot and CSV; about a quarter of an hour), `accuracy` (where iv's
 error lies, its ratio images, and the README's row of iv's error), `real` (the real files), `ar`
-(ar per --dirs, and the README's rows of ar), `flicker` (the sequences' temporal error) or `equal`
-(iv and ar against pt at equal error, and the README's rows of it). The
+(ar per --dirs, and the README's rows of ar), `flicker` (the sequences' temporal error), `equal`
+(iv and ar against pt at equal error, and the README's rows of it) or `size` (iv, ar and pt
+against the scene's size at equal error; about half an hour). The
 section then names the machine and date it was measured on, since the rest of the document may
 come from another run.
 
@@ -269,6 +270,17 @@ def accuracy_table(r):
     return "\n".join(lines), errors
 
 
+def at_equal(results, suffix, ms_key):
+    """pt's time at the solver's error and the speed-up (medians of bench --equal-error `results`),
+    or the bound where pt never got there."""
+    reached = [j for j in results if j.get("ratio" + suffix)]
+    if reached:
+        return (f"{median([j[ms_key] for j in reached]):,.0f}",
+                median([j["ratio" + suffix] for j in reached]), "")
+    bound = median([j["ratio" + suffix + "LowerBound"] for j in results])
+    return "not within the ladder", bound, "> "
+
+
 def equal_error_table(r, runs):
     reference = r.scratch / "pt_reference_0000.exr"
     r.run("render", "--method", "pt", "--spp", 4096, "--size", "320x240", "--frames", 0, "--format", "exr",
@@ -277,15 +289,6 @@ def equal_error_table(r, runs):
     lines = ["| setting | ms per frame | relMSE | pt ms at that relMSE | faster than pt by | FLIP | pt ms at that FLIP "
              "| faster than pt by |", "|---|---|---|---|---|---|---|---|"]
     ratios = {}
-
-    def at_equal(results, suffix, ms_key):
-        """pt's time at the solver's error and the speed-up, or the bound where pt never got there."""
-        reached = [j for j in results if j.get("ratio" + suffix)]
-        if reached:
-            return (f"{median([j[ms_key] for j in reached]):,.0f}",
-                    median([j["ratio" + suffix] for j in reached]), "")
-        bound = median([j["ratio" + suffix + "LowerBound"] for j in results])
-        return "not within the ladder", bound, "> "
 
     for name, extra in (("defaults", ()), ("every surfel a receiver", ("--receiver-tol", 0)),
                         ("ar, defaults", ("--method", "ar"))):
@@ -300,6 +303,42 @@ def equal_error_table(r, runs):
         lines.append(f"| {name} | {fmt(iv_ms)} | {rel:.5f} | {pt_ms} | {more}{ratio:.1f}× | {flip:.4f} | {pt_flip_ms} "
                      f"| {more_flip}{ratio_flip:.1f}× |")
     return "\n".join(lines), reference_s, ratios, reference
+
+
+SIZE_INTRO = """Each method's time against the path tracer's at the same error, as the scene grows: iv and ar
+on lavapipe, pt on the same 2 cores (`ivgi bench --equal-error`: pt renders the frame at 1, 2, 4, …
+spp until it reaches the solver's relMSE, or FLIP, and its time there is interpolated log–log).
+The animated Cornell box at 8 to 100 cells a side (frame 0 at 320×240 against pt at 4096 spp; iv and
+ar over 10 animated frames, each solved anew) and 2CylinderEngine (480×270 against pt at 1024 spp;
+its one frame solved in full). One run each."""
+ENGINE = pathlib.Path("/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb")
+
+
+def size_table(r):
+    """iv, ar and pt against the scene's size, each at the others' error: the animated Cornell box
+    at 8 to 100 cells a side (frame 0 at 320×240 against pt at 4096 spp; iv and ar timed over 10
+    animated frames, each solved anew) and 2CylinderEngine (480×270 against pt at 1024 spp; its one
+    frame, solved in full). One run each: the largest take minutes."""
+    scenes = [(f"Cornell box, `--cells {c}`", ("cornell", "--cells", c), "320x240", 4096,
+               ("--frames", 10, "--warmup", 2)) for c in (8, 26, 52, 100)]
+    if ENGINE.exists():
+        scenes.append(("2CylinderEngine.glb", (ENGINE,), "480x270", 1024, ("--frames", 1, "--warmup", 0)))
+    lines = ["| scene | surfels | method | ms per frame | relMSE | pt ms at that relMSE | faster than pt by | FLIP "
+             "| pt ms at that FLIP | faster than pt by |", "|---|---|---|---|---|---|---|---|---|---|"]
+    for k, (name, source, size, spp, frames) in enumerate(scenes):
+        print(f"size: {name}", file=sys.stderr)
+        r.run("render", *source, "--method", "pt", "--spp", spp, "--size", size, "--frames", 0, "--format", "exr",
+              "--threads", r.threads, "--out", r.scratch / f"size{k}_%04d")
+        for method in ("iv", "ar"):
+            j = r.json("bench", *source, "--method", method, "--equal-error", "--size", size, "--reference",
+                       r.scratch / f"size{k}_0000.exr", "--threads", r.threads, *frames)
+            pt_ms, ratio, more = at_equal([j], "", "ptMsAtEqualError")
+            pt_flip_ms, ratio_flip, more_flip = at_equal([j], "Flip", "ptMsAtEqualFlip")
+            sv = j["solver"]
+            lines.append(f"| {name} | {j['surfels']:,} | {method} | {fmt(sv['meanGpuMs'])} | "
+                         f"{sv['relMSE']:.5f} | {pt_ms} | {more}{ratio:.1f}× | {sv['FLIP']:.4f} | {pt_flip_ms} | "
+                         f"{more_flip}{ratio_flip:.1f}× |")
+    return "\n".join(lines)
 
 
 def flicker_table(r):
@@ -323,8 +362,7 @@ def flicker_table(r):
 def real_files_table(r, runs):
     """Files nobody here wrote, one frame at 480×270 at defaults: the median wall clock of `runs` renders
     (start-up included) and the error against pt at 1024 spp with the same light."""
-    scenes = [("2CylinderEngine.glb (assimp-testmodels)",
-               pathlib.Path("/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb"))]
+    scenes = [("2CylinderEngine.glb (assimp-testmodels)", ENGINE)]
     room = r.scratch / "room.glb"
     blender = shutil.which("blender")
     if blender:
@@ -491,6 +529,7 @@ SECTIONS = {
     "real": ("| scene | surfels | receivers |", lambda r, args: (real_files_table(r, args.runs), [])),
     "ar": ("| `--dirs` | links |", with_rows(lambda r, args: ar_table(r), lambda result: ar_rows(result[1]))),
     "flicker": ("| setting | mean relMSE of the frames |", lambda r, args: (flicker_table(r), [])),
+    "size": ("| scene | surfels | method | ms per frame |", lambda r, args: (size_table(r), [])),
     "equal": ("| setting | ms per frame | relMSE | pt ms",
               with_rows(lambda r, args: equal_error_table(r, args.runs), lambda result: equal_rows(result[2]))),
 }
@@ -547,6 +586,8 @@ def main():
         flicker = flicker_table(r)
         print("real files", file=sys.stderr)
         real = real_files_table(r, args.runs)
+        print("size", file=sys.stderr)
+        size = size_table(r)
         print("render farm", file=sys.stderr)
         farm = farm_table(r, args.threads)
 
@@ -655,6 +696,12 @@ links made, every receiver pruned), and its relMSE against pt at 1024 spp with t
 engine has none: both are lit by the default white sky).
 
 {real}
+
+## When each method pays: cost against the scene's size at equal error
+
+{SIZE_INTRO}
+
+{size}
 
 ## Render farms: a Slurm job array on one node
 

@@ -173,6 +173,9 @@ int runBench(const BenchOptions& o) {
     std::printf("; prune workgroups of %u invocations", st.pruneGroupSize);
     // The prune's work, and its rate where it ran in the measured frames.
     std::printf("\nprune work: %llu root-path senders walked in the last frame", (unsigned long long)st.sendersWalked);
+    if (st.receivers > 0)  // against the bins a receiver resolves them into (docs/notes/prune-bound.md)
+      std::printf(" (%.0f a receiver, against %u bins)", double(st.sendersWalked) / st.receivers,
+                  6 * o.solver.iv.bins * o.solver.iv.bins);
     if (!perPass["prune"].empty() && percentile(perPass["prune"], 0.5) > 0)
       std::printf(" (%.1f M/s at the median prune time)",
                   double(st.sendersWalked) / percentile(perPass["prune"], 0.5) / 1e3);

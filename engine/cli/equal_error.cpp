@@ -145,6 +145,7 @@ int runEqualError(const BenchOptions& o) {
   }
   nlohmann::json result = {
       {"scene", s.source},
+      {"surfels", g.surfels.size()},
       {"frame", o.frame},
       {"width", image.width},
       {"height", image.height},
