@@ -311,3 +311,34 @@ TEST(BadInput, TheFloorInstancedAHundredThousandTimesIsRefusedByItsTriangles) {
   const test::Run allowed = test::runIvgi({"info", "cornell", "--cells", "2", "--max-triangles", "3616"});
   EXPECT_EQ(allowed.status, 0) << allowed.err;
 }
+
+// Morph targets that share one accessor declare targets × vertices at no cost in the file: 2,000
+// targets of a 20,301-vertex grid (40.6 M deltas, a gigabyte and more as read) and a floor of 81
+// vertices with 20,000 targets drawn by 30 nodes (48.6 M as drawn) are refused before either is
+// read or sized.
+TEST(BadInput, MorphTargetsPastTheLimitAreRefusedBeforeTheyAreRead) {
+  auto withTargets = [](tinygltf::Model m, int targets) {
+    tinygltf::Primitive& p = m.meshes[0].primitives[0];
+    p.targets.assign(size_t(targets), {{"POSITION", p.attributes.at("POSITION")}});
+    m.meshes[0].weights.assign(size_t(targets), 0.0);
+    return m;
+  };
+  scenes::MeshData grid;
+  for (int z = 0; z <= 100; ++z)
+    for (int x = 0; x <= 200; ++x) grid.positions.push_back(glm::vec3(x, 0, z) * 0.01f);
+  grid.indices = {0, 201, 1};
+  scenes::GltfBuilder b;
+  b.node("grid", b.mesh("grid", {{grid, b.material("grey", glm::vec3(0.5f))}}));
+  const std::string read = writeModel(withTargets(b.finish(), 2000), "read.gltf");
+  expectOneLineError(test::runIvgi({"info", read}), {read, "40602000 deltas", "--max-morph-deltas"});
+
+  tinygltf::Model drawn = withTargets(instancedFloor(30), 20000);
+  const std::string drawnPath = writeModel(drawn, "drawn.gltf");
+  expectOneLineError(test::runIvgi({"info", drawnPath}), {drawnPath, "48600000 morph deltas", "--max-morph-deltas"});
+
+  // A small file passes at the default and is refused under a limit below what it draws.
+  const std::string small = writeModel(withTargets(instancedFloor(2), 100), "small.gltf");
+  const test::Run passes = test::runIvgi({"info", small});
+  EXPECT_EQ(passes.status, 0) << passes.err;
+  expectOneLineError(test::runIvgi({"info", small, "--max-morph-deltas", "10000"}), {"16200 morph deltas"});
+}

@@ -562,7 +562,9 @@ TEST(PlanarFaces, TheCornellBlocksFacesAreTwoTrianglesEach) {
       EXPECT_EQ(faces.size(), 10u) << name << ": five faces";
       ++blocks;
     }
-    if (name.find("room") != std::string::npos) EXPECT_LE(faces.size(), tris.size()) << name;
+    if (name.find("room") != std::string::npos) {
+      EXPECT_LE(faces.size(), tris.size()) << name;
+    }
   }
   EXPECT_EQ(blocks, 2u);
 }

@@ -48,18 +48,19 @@ class Runner:
         self.scratch = pathlib.Path(scratch)
         self.count = 0
 
-    def run(self, *args):
+    def run(self, *args, timeout=None):
+        """ivgi's output; subprocess.TimeoutExpired past `timeout` seconds."""
         command = [self.ivgi, *map(str, args)]
         print("  $", " ".join(command), file=sys.stderr, flush=True)
-        done = subprocess.run(command, env=self.env, capture_output=True, text=True)
+        done = subprocess.run(command, env=self.env, capture_output=True, text=True, timeout=timeout)
         if done.returncode != 0:
             sys.exit(f"perf_tables: {' '.join(command)} failed:\n{done.stderr}")
         return done.stdout
 
-    def json(self, *args):
+    def json(self, *args, timeout=None):
         self.count += 1
         path = self.scratch / f"result_{self.count}.json"
-        self.run(*args, "--json", path)
+        self.run(*args, "--json", path, timeout=timeout)
         return json.loads(path.read_text())
 
 
@@ -314,11 +315,25 @@ its one frame solved in full). One run each."""
 ENGINE = pathlib.Path("/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb")
 
 
+SIZE_LIMIT_S = 900  # a method's equal-error run on one scene; past it the row says so
+
+
+def size_row(name, method, j):
+    """One row of size_table from a bench --equal-error result (None: stopped at SIZE_LIMIT_S)."""
+    if j is None:
+        return f"| {name} | | {method} | stopped after {SIZE_LIMIT_S // 60} min | | | | | | |"
+    pt_ms, ratio, more = at_equal([j], "", "ptMsAtEqualError")
+    pt_flip_ms, ratio_flip, more_flip = at_equal([j], "Flip", "ptMsAtEqualFlip")
+    sv = j["solver"]
+    def times(x):  # slower than pt: two digits of the fraction
+        return f"{x:.1f}×" if x >= 1 else f"{x:.2g}×"
+    return (f"| {name} | {j['surfels']:,} | {method} | {fmt(sv['meanGpuMs'])} | {sv['relMSE']:.5f} | {pt_ms} | "
+            f"{more}{times(ratio)} | {sv['FLIP']:.4f} | {pt_flip_ms} | {more_flip}{times(ratio_flip)} |")
+
+
 def size_table(r):
-    """iv, ar and pt against the scene's size, each at the others' error: the animated Cornell box
-    at 8 to 100 cells a side (frame 0 at 320×240 against pt at 4096 spp; iv and ar timed over 10
-    animated frames, each solved anew) and 2CylinderEngine (480×270 against pt at 1024 spp; its one
-    frame, solved in full). One run each: the largest take minutes."""
+    """iv, ar and pt against the scene's size, each at the others' error (SIZE_INTRO). One run each:
+    the largest take many minutes."""
     scenes = [(f"Cornell box, `--cells {c}`", ("cornell", "--cells", c), "320x240", 4096,
                ("--frames", 10, "--warmup", 2)) for c in (8, 26, 52, 100)]
     if ENGINE.exists():
@@ -330,14 +345,12 @@ def size_table(r):
         r.run("render", *source, "--method", "pt", "--spp", spp, "--size", size, "--frames", 0, "--format", "exr",
               "--threads", r.threads, "--out", r.scratch / f"size{k}_%04d")
         for method in ("iv", "ar"):
-            j = r.json("bench", *source, "--method", method, "--equal-error", "--size", size, "--reference",
-                       r.scratch / f"size{k}_0000.exr", "--threads", r.threads, *frames)
-            pt_ms, ratio, more = at_equal([j], "", "ptMsAtEqualError")
-            pt_flip_ms, ratio_flip, more_flip = at_equal([j], "Flip", "ptMsAtEqualFlip")
-            sv = j["solver"]
-            lines.append(f"| {name} | {j['surfels']:,} | {method} | {fmt(sv['meanGpuMs'])} | "
-                         f"{sv['relMSE']:.5f} | {pt_ms} | {more}{ratio:.1f}× | {sv['FLIP']:.4f} | {pt_flip_ms} | "
-                         f"{more_flip}{ratio_flip:.1f}× |")
+            try:
+                j = r.json("bench", *source, "--method", method, "--equal-error", "--size", size, "--reference",
+                           r.scratch / f"size{k}_0000.exr", "--threads", r.threads, *frames, timeout=SIZE_LIMIT_S)
+            except subprocess.TimeoutExpired:
+                j = None
+            lines.append(size_row(name, method, j))
     return "\n".join(lines)
 
 
@@ -379,6 +392,8 @@ def real_files_table(r, runs):
         print("perf_tables: no blender on PATH, the Blender room is left out", file=sys.stderr)
     lines = ["| scene | surfels | receivers | wall clock s | device MiB | host peak MiB | relMSE against pt |",
              "|---|---|---|---|---|---|---|"]
+    if not any(name.startswith("a room") for name, _ in scenes):
+        lines += earlier_room_row()
     for name, path in scenes:
         if not path.exists():
             continue
@@ -398,6 +413,27 @@ def real_files_table(r, runs):
                      f"{seconds:.1f} | {sidecar['bytesAllocated'] / 2**20:,.0f} | "
                      f"{sidecar['frames'][0]['hostPeakMiB']:,.0f} | {error:.4f} |")
     return "\n".join(lines)
+
+
+def earlier_room_row():
+    """The Blender room's row as docs/performance.md has it, for a run that cannot export the room:
+    kept with the date it was measured on, its columns matched to this table's by their headings
+    (those it lacks: —)."""
+    doc = (DOCS / "performance.md").read_text()
+    start = doc.index("| scene | surfels | receivers |")
+    section = doc[start:doc.index("\n## ", start)]
+    table = [line for line in section.splitlines() if line.startswith("|")]
+    heads = [h.strip() for h in table[0].strip("|").split("|")]
+    rows = [[c.strip() for c in line.strip("|").split("|")] for line in table[2:]]
+    room = next((row for row in rows if row[0].startswith("a room")), None)
+    if room is None:
+        return []
+    dated = re.search(r"measured on (\d{4}-\d{2}-\d{2})", room[0]) or re.search(r"on (\d{4}-\d{2}-\d{2}):", section)
+    name = re.sub(r" \(measured on [^)]*\)$", "", room[0])
+    name += f" (measured on {dated.group(1)}: this run had no Blender)" if dated else ""
+    cells = dict(zip(heads, room))
+    wanted = ["surfels", "receivers", "wall clock s", "device MiB", "host peak MiB", "relMSE against pt"]
+    return ["| " + " | ".join([name] + [cells.get(h, "—") for h in wanted]) + " |"]
 
 
 def farm_table(r, threads):

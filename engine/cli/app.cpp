@@ -16,8 +16,12 @@ void addSceneArgument(CLI::App* cmd, SceneChoice& choice) {
                   "glTF file (.gltf/.glb) or built-in scene (cornell, furnace); default: the animated Cornell box");
   cmd->add_option("--cells", choice.cells, "tessellation of a built-in scene: cells along the Cornell box's side")
       ->capture_default_str();
-  cmd->add_option("--max-triangles", choice.maxTriangles,
+  cmd->add_option("--max-triangles", choice.limits.triangles,
                   "refuse a scene that draws more triangles than this, as modelled or tessellated")
+      ->capture_default_str()
+      ->check(CLI::Range(uint64_t(1), uint64_t(1) << 32));
+  cmd->add_option("--max-morph-deltas", choice.limits.morphDeltas,
+                  "refuse a scene whose morph targets × their vertices exceed this, as read or as drawn")
       ->capture_default_str()
       ->check(CLI::Range(uint64_t(1), uint64_t(1) << 32));
 }

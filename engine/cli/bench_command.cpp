@@ -106,7 +106,7 @@ int runBench(const BenchOptions& o) {
   gi::ImageSettings image{.samples = o.supersample};
   parseSize(o.size, image.width, image.height);
   scene::Scene s = loadScene(o.source);
-  scene::Geometry g = renderableGeometry(s, o.solver, o.source.maxTriangles);
+  scene::Geometry g = renderableGeometry(s, o.solver, o.source.limits);
   const SolverOptions solver = withSceneLight(o.solver, s, g);
   const Timeline tl = timeline(s, "", o.fps);
   const int animation = tl.animation;

@@ -29,9 +29,9 @@ struct DeviceChoice {
 std::shared_ptr<vk::Context> openDevice(const DeviceChoice& choice);
 
 struct SceneChoice {
-  std::string scene;  // a .gltf/.glb path or a built-in name; empty: the animated Cornell box
-  int cells = 8;      // tessellation of the built-in scenes
-  uint64_t maxTriangles = scene::kDefaultMaxTriangles;  // drawn or tessellated, refused past it
+  std::string scene;     // a .gltf/.glb path or a built-in name; empty: the animated Cornell box
+  int cells = 8;         // tessellation of the built-in scenes
+  scene::Limits limits;  // what a scene may declare (--max-triangles, --max-morph-deltas)
 };
 // The scene named by `choice`, loaded and checked.
 scene::Scene loadScene(const SceneChoice& choice);
@@ -64,7 +64,7 @@ uint32_t sampledTessellation(const SolverOptions& solver);
 
 // The scene's flattened geometry, as `solver`'s method samples it; throws LoadError when there is
 // no triangle to render.
-scene::Geometry renderableGeometry(const scene::Scene& scene, const SolverOptions& solver, uint64_t maxTriangles);
+scene::Geometry renderableGeometry(const scene::Scene& scene, const SolverOptions& solver, const scene::Limits& limits);
 // A progress line on stderr for building a scene, shown once the build has taken two seconds.
 scene::BuildProgress buildProgress();
 

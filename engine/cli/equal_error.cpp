@@ -75,9 +75,9 @@ int runEqualError(const BenchOptions& o) {
   gi::ImageSettings image{.samples = o.supersample};
   parseSize(o.size, image.width, image.height);
   scene::Scene s = loadScene(o.source);
-  scene::Geometry g = renderableGeometry(s, o.solver, o.source.maxTriangles);
+  scene::Geometry g = renderableGeometry(s, o.solver, o.source.limits);
   const scene::Geometry modelled =
-      renderableGeometry(s, {.method = "pt"}, o.source.maxTriangles);  // pt traces the mesh as modelled
+      renderableGeometry(s, {.method = "pt"}, o.source.limits);  // pt traces the mesh as modelled
   // The scene's own lights, or for a scene without any the default sky, for both methods.
   const SolverOptions solver = withSceneLight(o.solver, s, g);
   std::optional<scene::Environment> environment;

@@ -26,7 +26,7 @@ void solveFrameZero(gi::FrameRenderer& renderer, const scene::Scene& s, const sc
 
 int runInfo(const InfoOptions& o) {
   scene::Scene s = loadScene(o.source);
-  scene::Geometry g = scene::buildGeometry(s, 0, buildProgress(), o.source.maxTriangles);
+  scene::Geometry g = scene::buildGeometry(s, 0, buildProgress(), o.source.limits);
   const SolverOptions solver = withSceneLight(o.solver, s, g);
   size_t primitives = 0, morphTargets = 0, colored = 0;
   for (const auto& m : s.meshes) {
@@ -46,7 +46,7 @@ int runInfo(const InfoOptions& o) {
   std::printf("closed       %zu of %zu drawn instances enclose a volume\n",
               size_t(std::count(closed.begin(), closed.end(), true)), closed.size());
   if (sampledTessellation(solver) > 0) {
-    const scene::Geometry sampled = renderableGeometry(s, solver, o.source.maxTriangles);
+    const scene::Geometry sampled = renderableGeometry(s, solver, o.source.limits);
     std::printf("tessellated  %zu triangles, %zu surfels (%s, --tessellate %u)\n", sampled.triangles.size(),
                 sampled.surfels.size(), solver.method.c_str(), solver.tessellation);
   }
@@ -80,7 +80,7 @@ int runInfo(const InfoOptions& o) {
   for (const auto& w : s.warnings) std::printf("  %s\n", w.c_str());
   if (o.memory && solver.method == "ar") {
     // The tables follow from the counts alone; the links are known once the GPU made them.
-    const scene::Geometry sampled = renderableGeometry(s, solver, o.source.maxTriangles);
+    const scene::Geometry sampled = renderableGeometry(s, solver, o.source.limits);
     const gi::Hierarchy h = gi::restPoseHierarchy(s, sampled);
     const gi::ArSettings ar = arSettings(solver);
     const bool chained = ar.chained();
@@ -102,7 +102,7 @@ int runInfo(const InfoOptions& o) {
   if (o.memory && solver.method == "iv") {
     const std::shared_ptr<vk::Context> device = openDevice(o.device);
     vk::Context& ctx = *device;
-    g = renderableGeometry(s, solver, o.source.maxTriangles);
+    g = renderableGeometry(s, solver, o.source.limits);
     gi::FrameRenderer renderer(ctx, g, {16, 16, 1}, makeSolver(solver, ctx, s, g, s.animations.empty() ? -1 : 0));
     solveFrameZero(renderer, s, g);
     const auto& iv = dynamic_cast<const gi::IvSolver&>(*renderer.solver());

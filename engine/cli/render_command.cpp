@@ -84,7 +84,7 @@ int runRender(const RenderOptions& o) {
     throw scene::LoadError(s.source + ": frames " + std::to_string(range.first) + "-" + std::to_string(range.last) +
                            " lie outside " + what);
   }
-  scene::Geometry g = renderableGeometry(s, o.solver, o.source.maxTriangles);
+  scene::Geometry g = renderableGeometry(s, o.solver, o.source.limits);
   const SolverOptions solver = withSceneLight(o.solver, s, g);
   for (const auto& w : s.warnings) std::fprintf(stderr, "ivgi: warning: %s: %s\n", s.source.c_str(), w.c_str());
 

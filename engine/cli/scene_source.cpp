@@ -23,7 +23,7 @@ scene::Scene loadScene(const SceneChoice& choice) {
   const std::string& name = choice.scene.empty() ? "cornell" : choice.scene;
   auto builtins = scenes::builtinSceneNames();
   bool builtin = std::find(builtins.begin(), builtins.end(), name) != builtins.end() && !std::filesystem::exists(name);
-  if (!builtin) return scene::loadGltf(name);
+  if (!builtin) return scene::loadGltf(name, choice.limits);
   if (name == "cornell") return scene::sceneFromModel(scenes::cornellBox({.cells = choice.cells}), "built-in cornell");
   return scene::sceneFromModel(scenes::furnace({.cells = choice.cells}), "built-in furnace");
 }
@@ -73,9 +73,9 @@ scene::BuildProgress buildProgress() {
   };
 }
 
-scene::Geometry renderableGeometry(const scene::Scene& s, const SolverOptions& solver, uint64_t maxTriangles) {
+scene::Geometry renderableGeometry(const scene::Scene& s, const SolverOptions& solver, const scene::Limits& limits) {
   if (solver.tessellation > 100000) throw SettingsError("--tessellate must be 0 to 100000");
-  scene::Geometry g = scene::buildGeometry(s, sampledTessellation(solver), buildProgress(), maxTriangles);
+  scene::Geometry g = scene::buildGeometry(s, sampledTessellation(solver), buildProgress(), limits);
   if (g.triangles.empty()) throw scene::LoadError(s.source + ": the scene has no triangles to render");
   return g;
 }

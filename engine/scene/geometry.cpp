@@ -122,10 +122,15 @@ EdgeLimits edgeLimitsOf(const Scene& scene, const Pose& rest, uint32_t tessellat
 }  // namespace
 
 Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildProgress& progress,
-                       uint64_t maxTriangles) {
-  if (const uint64_t drawn = drawnTriangles(scene); drawn > maxTriangles)
-    throw LoadError(scene.source + ": the scene draws " + std::to_string(drawn) + " triangles, more than " +
-                    std::to_string(maxTriangles) + " (--max-triangles raises the limit)");
+                       const Limits& allowed) {
+  const DrawnSize size = drawnSize(scene);
+  if (size.triangles > allowed.triangles)
+    throw LoadError(scene.source + ": the scene draws " + std::to_string(size.triangles) + " triangles, more than " +
+                    std::to_string(allowed.triangles) + " (--max-triangles raises the limit)");
+  if (size.morphDeltas > allowed.morphDeltas)
+    throw LoadError(scene.source + ": the scene draws " + std::to_string(size.morphDeltas) +
+                    " morph deltas (targets × vertices, each instance), more than " +
+                    std::to_string(allowed.morphDeltas) + " (--max-morph-deltas raises the limit)");
   const Pose rest = evaluatePose(scene, -1, 0.0f);
   std::vector<uint32_t> ownerBase;
   const EdgeLimits limits = edgeLimitsOf(scene, rest, tessellation, ownerBase);
@@ -254,9 +259,9 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
           g.triangles.push_back({base + a, base + b, base + c, mat});
           for (uint32_t v : {a, b, c}) adjacent[surfelOf[v]].push_back(tri);
         }
-        if (g.triangles.size() > maxTriangles)
+        if (g.triangles.size() > allowed.triangles)
           throw LoadError(scene.source + ": tessellated (--tessellate " + std::to_string(tessellation) +
-                          "), the scene reaches more than " + std::to_string(maxTriangles) +
+                          "), the scene reaches more than " + std::to_string(allowed.triangles) +
                           " triangles (--max-triangles raises the limit, a lower --tessellate samples coarser)");
 
         // Where albedo or emission varies over the triangles, each surfel takes their hat-weighted

@@ -64,17 +64,13 @@ struct Geometry {
 // Told after each node drawn how many of them are built: a scene of many is long to build.
 using BuildProgress = std::function<void(size_t built, size_t nodes)>;
 
-// The triangles a scene may draw, as modelled and as tessellated, unless told otherwise
-// (--max-triangles): past it memory and set-up time would take a farm node down before a frame.
-constexpr uint64_t kDefaultMaxTriangles = uint64_t(1) << 23;
-
 // `tessellation` N > 0: triangle edges longer than 1/N of the scene's size (the diagonal of its
 // bounds at rest), or near a smaller primitive longer than their distance to it, are split
 // (tessellation.h), so that no surface is sampled coarser than that. Throws LoadError, before
-// allocating for them, where the scene draws more than `maxTriangles`, and where its tessellation
-// reaches more.
+// allocating for them, where the scene draws more than `limits` allow, and where its tessellation
+// reaches more triangles.
 Geometry buildGeometry(const Scene& scene, uint32_t tessellation = 0, const BuildProgress& progress = {},
-                       uint64_t maxTriangles = kDefaultMaxTriangles);
+                       const Limits& limits = {});
 
 // The animate pass evaluated on the host: the reference the GPU is tested against.
 std::vector<WorldVertex> animateOnHost(const Geometry& geometry, const FrameInputs& inputs);

@@ -45,7 +45,8 @@ const tinygltf::Value* extensionValue(const tinygltf::ExtensionMap& ext, const s
 
 class Converter {
  public:
-  Converter(const tinygltf::Model& m, const std::string& source) : m_(m), read_(m, source), source_(source) {
+  Converter(const tinygltf::Model& m, const std::string& source, const Limits& limits)
+      : m_(m), read_(m, source), source_(source), limits_(limits) {
     scene_.source = source;
   }
 
@@ -229,6 +230,12 @@ class Converter {
         if (sum > 0) w /= sum;
       }
     }
+    // Targets may share one accessor: a small file can declare targets × vertices past any memory.
+    morphDeltas_ += uint64_t(p.targets.size()) * n;
+    if (morphDeltas_ > limits_.morphDeltas)
+      read_.fail(what + ": the file's morph targets reach " + std::to_string(morphDeltas_) +
+                 " deltas (targets × vertices), more than " + std::to_string(limits_.morphDeltas) +
+                 " (--max-morph-deltas raises the limit)");
     for (size_t t = 0; t < p.targets.size(); ++t) {
       MorphTarget target;
       std::string tw = what + " morph target " + std::to_string(t);
@@ -488,16 +495,18 @@ class Converter {
   const tinygltf::Model& m_;
   AccessorReader read_;
   std::string source_;
+  Limits limits_;
+  uint64_t morphDeltas_ = 0;  // read so far
   Scene scene_;
 };
 
 }  // namespace
 
-Scene sceneFromModel(const tinygltf::Model& model, const std::string& source) {
-  return Converter(model, source).convert();
+Scene sceneFromModel(const tinygltf::Model& model, const std::string& source, const Limits& limits) {
+  return Converter(model, source, limits).convert();
 }
 
-Scene loadGltf(const std::string& path) {
+Scene loadGltf(const std::string& path, const Limits& limits) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (!fs::exists(path, ec)) throw LoadError(path + ": no such file");
@@ -530,7 +539,7 @@ Scene loadGltf(const std::string& path) {
     while (!why.empty() && why.back() == ' ') why.pop_back();
     throw LoadError(path + ": " + (binary ? "invalid .glb: " : "invalid glTF: ") + why);
   }
-  Scene scene = sceneFromModel(model, path);
+  Scene scene = sceneFromModel(model, path, limits);
   if (!warn.empty()) {
     std::replace(warn.begin(), warn.end(), '\n', ' ');
     scene.warnings.insert(scene.warnings.begin(), "tinygltf: " + warn);

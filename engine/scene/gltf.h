@@ -11,6 +11,6 @@ class Model;
 namespace ivgi::scene {
 
 // Converts an already parsed model; `source` names it in messages.
-Scene sceneFromModel(const tinygltf::Model& model, const std::string& source);
+Scene sceneFromModel(const tinygltf::Model& model, const std::string& source, const Limits& limits = {});
 
 }  // namespace ivgi::scene

@@ -43,16 +43,22 @@ std::optional<int> Scene::findCameraNode(const std::string& key) const {
   return std::nullopt;
 }
 
-uint64_t drawnTriangles(const Scene& scene) {
-  std::vector<uint64_t> perMesh(scene.meshes.size(), 0);
+DrawnSize drawnSize(const Scene& scene) {
+  std::vector<DrawnSize> perMesh(scene.meshes.size());
   for (size_t m = 0; m < scene.meshes.size(); ++m)
-    for (const Primitive& p : scene.meshes[m].primitives) perMesh[m] += p.indices.size() / 3;
-  uint64_t total = 0;
+    for (const Primitive& p : scene.meshes[m].primitives) {
+      perMesh[m].triangles += p.indices.size() / 3;
+      perMesh[m].morphDeltas += uint64_t(p.targets.size()) * p.positions.size();
+    }
+  DrawnSize total;
   std::vector<int> pending(scene.roots.begin(), scene.roots.end());
   while (!pending.empty()) {  // a stack, not recursion: a chain of nodes may be long
     const Node& node = scene.nodes[size_t(pending.back())];
     pending.pop_back();
-    if (node.mesh >= 0) total += perMesh[size_t(node.mesh)];
+    if (node.mesh >= 0) {
+      total.triangles += perMesh[size_t(node.mesh)].triangles;
+      total.morphDeltas += perMesh[size_t(node.mesh)].morphDeltas;
+    }
     pending.insert(pending.end(), node.children.begin(), node.children.end());
   }
   return total;

@@ -147,10 +147,21 @@ struct Scene {
   std::vector<int> cameraNodes() const;  // nodes carrying a camera, in traversal order
 };
 
-Scene loadGltf(const std::string& path);
+// What a scene may declare before it is refused (--max-triangles, --max-morph-deltas), checked
+// before anything is sized by it: past these, memory and set-up time would take a render-farm node
+// down before a frame.
+struct Limits {
+  uint64_t triangles = uint64_t(1) << 23;    // drawn, as modelled or as tessellated
+  uint64_t morphDeltas = uint64_t(1) << 25;  // morph targets × their vertices, as read or as drawn
+};
 
-// The triangles the scene draws as modelled: each drawn instance's primitives, instanced nodes
-// counted as often as they are drawn.
-uint64_t drawnTriangles(const Scene& scene);
+Scene loadGltf(const std::string& path, const Limits& limits = {});
+
+// What the scene draws as modelled: each drawn instance's primitives, instanced nodes counted as
+// often as they are drawn.
+struct DrawnSize {
+  uint64_t triangles = 0, morphDeltas = 0;
+};
+DrawnSize drawnSize(const Scene& scene);
 
 }  // namespace ivgi::scene
