@@ -71,7 +71,8 @@ void mergeInstance(const Geometry& g, const std::vector<Triangle>& tris, std::ve
   std::map<uint32_t, std::vector<uint32_t>> members;
   for (size_t t = 0; t < n; ++t) members[groups.find(uint32_t(t))].push_back(uint32_t(t));
 
-  for (const auto& [root, group] : members) {
+  for (const auto& member : members) {
+    const std::vector<uint32_t>& group = member.second;  // a name of its own: clang 14 captures no binding
     auto keep = [&] {
       for (uint32_t t : group) out.push_back(tris[t]);
     };
