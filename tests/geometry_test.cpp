@@ -568,3 +568,20 @@ TEST(PlanarFaces, TheCornellBlocksFacesAreTwoTrianglesEach) {
   }
   EXPECT_EQ(blocks, 2u);
 }
+
+// Found by the gltf_scene fuzzer: an edge whose middle lies past float's range (two corners near
+// 3·10³⁸) made the tessellation's neighbour test convert an infinite cell index to int, undefined
+// behaviour that the sanitized suite reports. Such a point asks nothing of its neighbours now.
+TEST(Tessellation, AnEdgePastFloatsRangeHasNoCellToConvert) {
+  scenes::MeshData near, far;
+  near.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  near.indices = {0, 1, 2};
+  far.positions = {{3e38f, 0, 0}, {3e38f, 1, 0}, {3e38f, 0, 1}};
+  far.indices = {0, 1, 2};
+  scenes::GltfBuilder b;
+  const int grey = b.material("grey", glm::vec3(0.5f));
+  b.node("near", b.mesh("near", {{near, grey}}));
+  b.node("far", b.mesh("far", {{far, grey}}));
+  const Geometry g = buildGeometry(sceneFromModel(b.finish(), "far"), 16);
+  EXPECT_EQ(g.triangles.size(), 2u);  // neither is split: the far one's edges are short, the near one alone
+}

@@ -55,6 +55,8 @@ uint32_t addMidpoint(Primitive& p, uint32_t a, uint32_t b) {
   return m;
 }
 
+bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
 uint64_t cellKey(glm::ivec3 c) {
   return (uint64_t(uint32_t(c.x)) * 0x9E3779B97F4A7C15ull) ^ (uint64_t(uint32_t(c.y)) * 0xC2B2AE3D27D4EB4Full) ^
          (uint64_t(uint32_t(c.z)) * 0x165667B19E3779F9ull);
@@ -62,7 +64,11 @@ uint64_t cellKey(glm::ivec3 c) {
 
 }  // namespace
 
-glm::ivec3 EdgeLimits::cellOf(glm::vec3 p) const { return glm::ivec3(glm::floor(p / uniform_)); }
+// Clamped into int's range: a point far outside the scene's bounds (found by fuzzing: a transform
+// that overflows) has a cell, not undefined behaviour. Callers pass finite points only.
+glm::ivec3 EdgeLimits::cellOf(glm::vec3 p) const {
+  return glm::ivec3(glm::clamp(glm::floor(p / uniform_), glm::vec3(-1e9f), glm::vec3(1e9f)));
+}
 
 void EdgeLimits::addSurface(uint32_t owner, const std::vector<glm::vec3>& positions,
                             const std::vector<uint32_t>& indices) {
@@ -70,8 +76,9 @@ void EdgeLimits::addSurface(uint32_t owner, const std::vector<glm::vec3>& positi
   Box box{positions[indices[0]], positions[indices[0]], 0.0f, owner};
   for (uint32_t i : indices) box.lo = glm::min(box.lo, positions[i]), box.hi = glm::max(box.hi, positions[i]);
   box.extent = glm::length(box.hi - box.lo);
-  // A surface at least as large as the uniform limit asks nothing finer of its neighbours.
-  if (!(box.extent < uniform_)) return;
+  // A surface at least as large as the uniform limit asks nothing finer of its neighbours; nor does
+  // one whose placed corners are not finite (an overflowing transform).
+  if (!(box.extent < uniform_) || !finite(box.lo) || !finite(box.hi)) return;
   const glm::ivec3 lo = cellOf(box.lo), hi = cellOf(box.hi);
   for (int z = lo.z; z <= hi.z; ++z)
     for (int y = lo.y; y <= hi.y; ++y)
@@ -88,6 +95,7 @@ void EdgeLimits::finish() {
 bool EdgeLimits::tooLong(glm::vec3 p, float length, uint32_t owner) const {
   if (!(uniform_ > 0.0f)) return false;
   if (length > uniform_) return true;
+  if (!finite(p)) return false;  // placed past float's range: no neighbour is nearer
   // A small surface asks for edges no longer than the larger of their distance to its bounds and
   // its extent: only those nearer than `length` can, and they reach the cells next to p's (cells
   // are `uniform_` wide).
