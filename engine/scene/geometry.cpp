@@ -14,14 +14,14 @@
 
 namespace ivgi::scene {
 
-namespace {
-
 uint64_t hashPoint(glm::vec3 p) {
   uint32_t b[3];
   std::memcpy(b, &p, 12);
   return (uint64_t(b[0]) * 0x9E3779B97F4A7C15ull) ^ (uint64_t(b[1]) * 0xC2B2AE3D27D4EB4Full) ^
          (uint64_t(b[2]) * 0x165667B19E3779F9ull);
 }
+
+namespace {
 
 // A triangle whose area is negligible against its longest edge (or that repeats a vertex) carries no
 // transport; docs/design.md §6 wants it counted and excluded.

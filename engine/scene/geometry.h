@@ -81,6 +81,9 @@ std::vector<int32_t> vertexSurfels(const Geometry& geometry);
 
 Bounds worldBounds(const std::vector<WorldVertex>& world);
 
+// A hash of a point's exact bits: vertices are welded by position through it.
+uint64_t hashPoint(glm::vec3 p);
+
 // Per instance: whether `animation` can move its world-space geometry (its node or an ancestor is
 // animated, its morph weights are, or it is skinned and the animation moves anything). The solver
 // links and prunes what cannot move once.

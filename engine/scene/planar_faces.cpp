@@ -1,7 +1,7 @@
 #include "engine/scene/planar_faces.h"
 
 #include <algorithm>
-#include <cstring>
+#include <array>
 #include <map>
 #include <numeric>
 #include <unordered_map>
@@ -15,11 +15,7 @@ struct Corners {
   std::unordered_map<uint64_t, std::vector<std::pair<glm::vec3, uint32_t>>> byHash;
   uint32_t count = 0;
   uint32_t of(glm::vec3 p) {
-    uint32_t bits[3];
-    std::memcpy(bits, &p, sizeof bits);
-    const uint64_t hash = (uint64_t(bits[0]) * 0x9E3779B97F4A7C15ull) ^ (uint64_t(bits[1]) * 0xC2B2AE3D27D4EB4Full) ^
-                          (uint64_t(bits[2]) * 0x165667B19E3779F9ull);
-    auto& list = byHash[hash];
+    auto& list = byHash[hashPoint(p)];
     for (const auto& [q, id] : list)
       if (q == p) return id;
     list.emplace_back(p, count);
