@@ -13,6 +13,9 @@ struct CornellOptions {
   int cells = 8;         // cells along the box's 0.56 m side; other faces in proportion
   bool animated = true;  // the short block slides and turns over 2 s
   bool blocks = true;    // false: the empty room
+  // glTF's metallic-roughness on the floor and the blocks (a polished floor, a metal tall block, a
+  // satin short block); the walls and the light stay Lambertian, as measured.
+  bool glossy = false;
 };
 // The Cornell box from the measured Cornell data, in metres, with its camera (yfov 39.31°).
 tinygltf::Model cornellBox(const CornellOptions& options = {});

@@ -43,13 +43,15 @@ MeshData block(const Face& top, float height, glm::vec3 centre, float cellsPerMe
 // The room's walls, its ceiling in eight pieces around the light (so that light and ceiling never
 // overlap: the lamp's piece goes to `lamp`), and the front wall where the camera looks in when `front`.
 struct RoomFaces {
-  MeshData whites, reds, greens, lamp;
+  MeshData whites, reds, greens, lamp, floor;
 };
-RoomFaces roomFaces(float cellsPerMetre, bool front) {
+// The floor goes to `floor` when `separateFloor`, else with the other whites.
+RoomFaces roomFaces(float cellsPerMetre, bool front, bool separateFloor = false) {
   const CornellLight& l = kCornellLight;
   const glm::vec3 inside = mm(278, 274, 280);
   RoomFaces r;
-  addFace(r.whites, {{mm(552.8f, 0, 0), mm(0, 0, 0), mm(0, 0, 559.2f), mm(549.6f, 0, 559.2f)}}, cellsPerMetre,
+  addFace(separateFloor ? r.floor : r.whites,
+          {{mm(552.8f, 0, 0), mm(0, 0, 0), mm(0, 0, 559.2f), mm(549.6f, 0, 559.2f)}}, cellsPerMetre,
           inside);  // floor
   addFace(r.whites, {{mm(549.6f, 0, 559.2f), mm(0, 0, 559.2f), mm(0, 548.8f, 559.2f), mm(556, 548.8f, 559.2f)}},
           cellsPerMetre, inside);  // back
@@ -93,14 +95,23 @@ tinygltf::Model cornellBox(const CornellOptions& o) {
   const CornellLight& l = kCornellLight;
   int light = b.material("light", {0.78f, 0.78f, 0.78f}, {l.radiance[0], l.radiance[1], l.radiance[2]});
 
-  RoomFaces r = roomFaces(cellsPerMetre, false);
-  int room = b.mesh("room", {{r.whites, white}, {r.reds, red}, {r.greens, green}, {r.lamp, light}});
-  b.node("room", room);
+  RoomFaces r = roomFaces(cellsPerMetre, false, o.glossy);
+  std::vector<std::pair<MeshData, int>> roomParts = {
+      {r.whites, white}, {r.reds, red}, {r.greens, green}, {r.lamp, light}};
+  int shortMaterial = white, tallMaterial = white;
+  if (o.glossy) {
+    const glm::vec3 whiteBase(0.725f, 0.71f, 0.68f);
+    roomParts.push_back({r.floor, b.glossyMaterial("polished floor", whiteBase, 0.0f, 0.2f)});
+    shortMaterial = b.glossyMaterial("satin", whiteBase, 0.0f, 0.5f);
+    tallMaterial = b.glossyMaterial("brushed aluminium", {0.91f, 0.92f, 0.92f}, 1.0f, 0.3f);
+  }
+  b.node("room", b.mesh("room", roomParts));
 
   int shortNode = -1;
   if (o.blocks) {
-    shortNode = b.node("short block", b.mesh("short block", {{shortBlock(cellsPerMetre), white}}), kShortCentre);
-    b.node("tall block", b.mesh("tall block", {{tallBlock(cellsPerMetre), white}}), kTallCentre);
+    shortNode =
+        b.node("short block", b.mesh("short block", {{shortBlock(cellsPerMetre), shortMaterial}}), kShortCentre);
+    b.node("tall block", b.mesh("tall block", {{tallBlock(cellsPerMetre), tallMaterial}}), kTallCentre);
   }
 
   // Camera: at (278, 273, -800) mm looking along +z, so turned 180° about y from glTF's -z.

@@ -80,19 +80,35 @@ int GltfBuilder::material(const std::string& name, glm::vec3 baseColor, glm::vec
   m.pbrMetallicRoughness.baseColorFactor = {baseColor.r, baseColor.g, baseColor.b, 1.0};
   m.pbrMetallicRoughness.metallicFactor = 0.0;
   m.pbrMetallicRoughness.roughnessFactor = 1.0;
+  m.extensions["KHR_materials_specular"] =
+      tinygltf::Value(tinygltf::Value::Object{{"specularFactor", tinygltf::Value(0.0)}});
+  useExtension("KHR_materials_specular");
   float strength = std::max({radiance.r, radiance.g, radiance.b});
   if (strength > 0.0f) {
     m.emissiveFactor = {radiance.r / strength, radiance.g / strength, radiance.b / strength};
     if (strength != 1.0f) {
       tinygltf::Value::Object ext{{"emissiveStrength", tinygltf::Value(double(strength))}};
       m.extensions["KHR_materials_emissive_strength"] = tinygltf::Value(ext);
-      auto& used = model_.extensionsUsed;
-      if (std::find(used.begin(), used.end(), "KHR_materials_emissive_strength") == used.end())
-        used.push_back("KHR_materials_emissive_strength");
+      useExtension("KHR_materials_emissive_strength");
     }
   }
   model_.materials.push_back(m);
   return int(model_.materials.size() - 1);
+}
+
+int GltfBuilder::glossyMaterial(const std::string& name, glm::vec3 baseColor, float metallic, float roughness) {
+  tinygltf::Material m;
+  m.name = name;
+  m.pbrMetallicRoughness.baseColorFactor = {baseColor.r, baseColor.g, baseColor.b, 1.0};
+  m.pbrMetallicRoughness.metallicFactor = metallic;
+  m.pbrMetallicRoughness.roughnessFactor = roughness;
+  model_.materials.push_back(m);
+  return int(model_.materials.size() - 1);
+}
+
+void GltfBuilder::useExtension(const std::string& name) {
+  auto& used = model_.extensionsUsed;
+  if (std::find(used.begin(), used.end(), name) == used.end()) used.push_back(name);
 }
 
 int GltfBuilder::mesh(const std::string& name, const std::vector<std::pair<MeshData, int>>& primitives) {

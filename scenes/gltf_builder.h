@@ -28,8 +28,11 @@ int cellsFor(float length, float cellsPerMetre);
 class GltfBuilder {
  public:
   GltfBuilder();
-  // Material with linear base colour and emitted radiance (split into factor and emissive strength).
+  // A Lambertian material (KHR_materials_specular with no specular layer) with linear base colour
+  // and emitted radiance (split into factor and emissive strength).
   int material(const std::string& name, glm::vec3 baseColor, glm::vec3 radiance = glm::vec3(0.0f));
+  // glTF's metallic-roughness material, its dielectric's specular layer as the core specification's.
+  int glossyMaterial(const std::string& name, glm::vec3 baseColor, float metallic, float roughness);
   int mesh(const std::string& name, const std::vector<std::pair<MeshData, int>>& primitives);
   int node(const std::string& name, int mesh = -1, glm::vec3 translation = glm::vec3(0.0f),
            glm::quat rotation = glm::quat(1, 0, 0, 0), int parent = -1);
@@ -43,6 +46,7 @@ class GltfBuilder {
 
  private:
   tinygltf::Model model_;
+  void useExtension(const std::string& name);
 };
 
 // Writes `model` to `path` (.gltf with embedded buffers, or .glb), through a temporary file.

@@ -40,6 +40,9 @@ struct CountPush {
 // the scene's data, the camera, textures, lights and the frame's passes;
 #include "interface/scene.h"
 
+// the surfaces' reflection (glTF's metallic-roughness BRDF);
+#include "interface/brdf.h"
+
 // direction bins, keys, form factors and tangent frames;
 #include "interface/bins.h"
 
@@ -53,7 +56,8 @@ struct CountPush {
 #include "interface/ar.h"
 
 #ifdef __cplusplus
-static_assert(sizeof(Vertex) == 64 && sizeof(Instance) == 32 && sizeof(Material) == 48 && sizeof(Surfel) == 48);
+static_assert(sizeof(Vertex) == 64 && sizeof(Instance) == 32 && sizeof(Material) == 16 * kMaterialTexels &&
+              sizeof(Surfel) == 48);
 static_assert(sizeof(NodeState) == 48 && sizeof(PunctualLight) == 64 && sizeof(RasterPush) == 16 &&
               sizeof(ResolvePush) == 96);
 #undef IVGI_CONST

@@ -116,7 +116,7 @@ TEST(Render, ExrCarriesEveryLayerAndPngIsDisplayReady) {
   const auto& spec = exr->spec();
   EXPECT_EQ(spec.format, OIIO_NAMESPACE::TypeDesc::FLOAT);
   for (const char* c : {"R", "G", "B", "A", "albedo.R", "albedo.G", "albedo.B", "N.X", "N.Y", "N.Z", "Z", "emission.R",
-                        "emission.G", "emission.B"})
+                        "emission.G", "emission.B", "roughness", "metallic"})
     EXPECT_GE(spec.channelindex(c), 0) << c;
   auto png = OIIO_NAMESPACE::ImageInput::open((dir / "f_0000.png").string());
   ASSERT_TRUE(png);

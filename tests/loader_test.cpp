@@ -7,6 +7,7 @@
 
 #include "engine/scene/geometry.h"
 #include "engine/scene/gltf.h"
+#include "engine/scene/texture_sampling.h"
 #include "scenes/builtin.h"
 #include "scenes/gltf_builder.h"
 #include "tests/test_support.h"
@@ -346,6 +347,83 @@ TEST(Loader, MaterialsLightsAndCameras) {
   EXPECT_EQ(lit.lights[0].type, Light::Type::Point);
   EXPECT_FLOAT_EQ(lit.lights[0].intensity, 40.0f);
   EXPECT_EQ(lit.nodes[t.node].light, 0);
+}
+
+// glTF's metallic-roughness factors, KHR_materials_specular and KHR_materials_ior: the dielectric's
+// reflectance min(((ior − 1)/(ior + 1))² × colour, 1) × factor at normal incidence, the factor at
+// grazing; a factor outside [0, 1] clamped with a warning; an index below 1 refused.
+TEST(Loader, MetallicRoughnessAndTheSpecularLayerAreRead) {
+  auto material = [](double metallic, double roughness, tinygltf::Value::Object specular, double ior) {
+    TriangleModel t;
+    tinygltf::Material& m = t.b.model().materials[0];
+    m.pbrMetallicRoughness.metallicFactor = metallic;
+    m.pbrMetallicRoughness.roughnessFactor = roughness;
+    m.extensions.clear();
+    m.extensions["KHR_materials_specular"] = tinygltf::Value(std::move(specular));
+    m.extensions["KHR_materials_ior"] = tinygltf::Value(tinygltf::Value::Object{{"ior", tinygltf::Value(ior)}});
+    t.b.model().extensionsUsed.push_back("KHR_materials_ior");
+    return t.load();
+  };
+  const tinygltf::Value::Array colour{tinygltf::Value(1.0), tinygltf::Value(0.5), tinygltf::Value(0.25)};
+  Scene s = material(0.3, 0.6,
+                     {{"specularFactor", tinygltf::Value(0.5)}, {"specularColorFactor", tinygltf::Value(colour)}}, 2.0);
+  EXPECT_TRUE(s.warnings.empty()) << s.warnings[0];
+  const Material& m = s.materials[0];
+  EXPECT_FLOAT_EQ(m.metallic, 0.3f);
+  EXPECT_FLOAT_EQ(m.roughness, 0.6f);
+  const glm::vec4 reflectance = m.dielectricReflectance();
+  EXPECT_FLOAT_EQ(reflectance.r, 0.5f / 9.0f);
+  EXPECT_FLOAT_EQ(reflectance.g, 0.25f / 9.0f);
+  EXPECT_FLOAT_EQ(reflectance.b, 0.125f / 9.0f);
+  EXPECT_FLOAT_EQ(reflectance.a, 0.5f);
+  // The core specification's dielectric: 0.04 at normal incidence, 1 at grazing.
+  EXPECT_NEAR(Material{}.dielectricReflectance().g, 0.04f, 1e-7f);
+  EXPECT_EQ(Material{}.dielectricReflectance().a, 1.0f);
+
+  s = material(1.5, -0.5, {}, 1.5);
+  EXPECT_EQ(s.materials[0].metallic, 1.0f);
+  EXPECT_EQ(s.materials[0].roughness, 0.0f);
+  ASSERT_EQ(s.warnings.size(), 2u);
+  EXPECT_NE(s.warnings[0].find("metallicFactor"), std::string::npos) << s.warnings[0];
+
+  for (double ior : {0.5, std::nan("")}) try {
+      material(0.0, 1.0, {}, ior);
+      ADD_FAILURE() << "ior " << ior << " was accepted";
+    } catch (const LoadError& e) {
+      EXPECT_NE(std::string(e.what()).find("ior"), std::string::npos) << e.what();
+    }
+}
+
+// A metallic-roughness texture holds data, not colour: its texels reach the passes as stored (128
+// of 255 is 0.502, not the sRGB curve's 0.216), through its own KHR_texture_transform, while the
+// same image read as a base colour goes through the curve.
+TEST(Loader, MetallicRoughnessTexturesAreLinear) {
+  TriangleModel t;
+  tinygltf::Image image;
+  image.width = image.height = 1, image.component = 4, image.bits = 8;
+  image.pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+  image.image = {0, 128, 255, 255};
+  t.b.model().images.push_back(image);
+  tinygltf::Texture texture;
+  texture.source = 0;
+  t.b.model().textures.push_back(texture);
+  auto& pbr = t.b.model().materials[0].pbrMetallicRoughness;
+  pbr.baseColorTexture.index = 0;
+  pbr.metallicRoughnessTexture.index = 0;
+  const tinygltf::Value::Array offset{tinygltf::Value(0.5), tinygltf::Value(0.25)};
+  pbr.metallicRoughnessTexture.extensions["KHR_texture_transform"] =
+      tinygltf::Value(tinygltf::Value::Object{{"offset", tinygltf::Value(offset)}});
+  t.b.model().extensionsUsed.push_back("KHR_texture_transform");
+  const Scene s = t.load();
+  EXPECT_EQ(s.materials[0].metallicRoughnessTransform.offset, glm::vec2(0.5f, 0.25f));
+  const Geometry g = buildGeometry(s);
+  const gpu::Material& m = g.materials[0];
+  ASSERT_GE(m.metallicRoughnessTexture, 0);
+  EXPECT_NE(m.metallicRoughnessTexture, m.baseColorTexture);
+  EXPECT_EQ(g.textures[size_t(m.metallicRoughnessTexture)].uvRowU.z, 0.5f);
+  EXPECT_NEAR(sampleTexture(g, m.metallicRoughnessTexture, glm::vec2(0.3f)).g, 128.0f / 255.0f, 1e-3f);
+  EXPECT_NEAR(sampleTexture(g, m.metallicRoughnessTexture, glm::vec2(0.3f)).b, 1.0f, 1e-3f);
+  EXPECT_NEAR(sampleTexture(g, m.baseColorTexture, glm::vec2(0.3f)).g, 0.2158f, 1e-3f);
 }
 
 TEST(Loader, MalformedAssimpModelsAreRefused) {

@@ -130,8 +130,8 @@ TEST(ImageFiles, AFileRewrittenWithinTheSecondIsReadAsItIsNow) {
   const std::filesystem::path path =
       std::filesystem::temp_directory_path() / ("ivgi-rewritten-" + std::to_string(getpid()) + ".exr");
   auto frame = [](uint32_t w, uint32_t h, float value) {
-    image::FrameChannels f{w, h, {}, {}, {}, {}};
-    for (auto* channel : {&f.radiance, &f.albedo, &f.normalDepth, &f.emission})
+    image::FrameChannels f{w, h, {}, {}, {}, {}, {}};
+    for (auto* channel : {&f.radiance, &f.albedo, &f.normalDepth, &f.emission, &f.roughnessMetallic})
       channel->assign(size_t(w) * h, glm::vec4(value, value, value, 1.0f));
     return f;
   };
@@ -144,7 +144,7 @@ TEST(ImageFiles, AFileRewrittenWithinTheSecondIsReadAsItIsNow) {
   EXPECT_EQ(now.pixels.back(), glm::vec3(0.5f));
   const OIIO::ImageBuf all = image::readFloatImage(path.string());
   EXPECT_EQ(all.spec().width, 40);
-  EXPECT_EQ(all.spec().nchannels, 14);
+  EXPECT_EQ(all.spec().nchannels, 16);
   std::filesystem::remove(path);
 }
 

@@ -16,6 +16,8 @@ void addSceneArgument(CLI::App* cmd, SceneChoice& choice) {
                   "glTF file (.gltf/.glb) or built-in scene (cornell, furnace); default: the animated Cornell box");
   cmd->add_option("--cells", choice.cells, "tessellation of a built-in scene: cells along the Cornell box's side")
       ->capture_default_str();
+  cmd->add_flag("--glossy", choice.glossy,
+                "the built-in Cornell box with a polished floor, a metal tall block and a satin short block");
   cmd->add_option("--max-triangles", choice.limits.triangles,
                   "refuse a scene that draws more triangles than this, as modelled or tessellated")
       ->capture_default_str()
@@ -142,6 +144,8 @@ int run(const std::vector<std::string>& args, vk::Context* device) {
   s->add_option("--albedo", scene.albedo, "furnace albedo")->capture_default_str();
   s->add_option("--emission", scene.emission, "furnace emitted radiance")->capture_default_str();
   s->add_flag("--static", scene.still, "Cornell box without its animation");
+  s->add_flag("--glossy", scene.glossy,
+              "Cornell box with a polished floor, a metal tall block and a satin short block");
   s->add_flag("--blocks", scene.blocks,
               "furnace: the Cornell box's room closed, with its blocks (--cells as the box's)");
 
@@ -190,7 +194,7 @@ int run(const std::vector<std::string>& args, vk::Context* device) {
                 "per-pixel rule: fail where more than this % of pixels fail")
       ->transform([](std::string v) { return v.empty() || v.back() != '%' ? v : v.substr(0, v.size() - 1); });
   c->add_option("--layers", compare.layers,
-                "per-pixel rule: layers rgb, A, albedo, N, Z, emission (comma-separated) or all")
+                "per-pixel rule: layers rgb, A, albedo, N, Z, emission, roughness, metallic (comma-separated) or all")
       ->capture_default_str();
   c->add_flag("--golden", compare.golden,
               "ivgi's own golden rule: every layer, 2 % a pixel (depth 1 %), at most 0.2 %");

@@ -31,6 +31,7 @@ std::shared_ptr<vk::Context> openDevice(const DeviceChoice& choice);
 struct SceneChoice {
   std::string scene;     // a .gltf/.glb path or a built-in name; empty: the animated Cornell box
   int cells = 8;         // tessellation of the built-in scenes
+  bool glossy = false;   // the Cornell box's glossy variant
   scene::Limits limits;  // what a scene may declare (--max-triangles, --max-morph-deltas)
 };
 // The scene named by `choice`, loaded and checked.
@@ -130,7 +131,7 @@ struct SceneOptions {
   std::string out;
   int cells = 8;
   float albedo = 0.5f, emission = 1.0f;
-  bool still = false, blocks = false;
+  bool still = false, blocks = false, glossy = false;
 };
 int runScene(const SceneOptions& options);
 

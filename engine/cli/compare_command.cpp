@@ -81,7 +81,8 @@ void check(const CompareOptions& o) {
     std::stringstream list(o.layers);
     for (std::string layer; std::getline(list, layer, ',');)
       if (std::find(image::layerNames().begin(), image::layerNames().end(), layer) == image::layerNames().end())
-        throw SettingsError("--layers '" + o.layers + "': layers are rgb, A, albedo, N, Z, emission, or all");
+        throw SettingsError("--layers '" + o.layers +
+                            "': layers are rgb, A, albedo, N, Z, emission, roughness, metallic, or all");
   }
 }
 

@@ -13,8 +13,9 @@ int runScene(const SceneOptions& o) {
   auto ext = std::filesystem::path(o.out).extension();
   if (ext != ".gltf" && ext != ".glb") throw SettingsError("--out '" + o.out + "': the file must end in .gltf or .glb");
   tinygltf::Model model;
+  if (o.glossy && o.name != "cornell") throw SettingsError("--glossy: only the built-in cornell has a glossy variant");
   if (o.name == "cornell")
-    model = scenes::cornellBox({.cells = o.cells, .animated = !o.still});
+    model = scenes::cornellBox({.cells = o.cells, .animated = !o.still, .glossy = o.glossy});
   else if (o.name == "furnace")
     model = scenes::furnace({.cells = o.cells, .albedo = o.albedo, .emission = o.emission, .blocks = o.blocks});
   else

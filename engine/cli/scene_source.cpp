@@ -23,8 +23,12 @@ scene::Scene loadScene(const SceneChoice& choice) {
   const std::string& name = choice.scene.empty() ? "cornell" : choice.scene;
   auto builtins = scenes::builtinSceneNames();
   bool builtin = std::find(builtins.begin(), builtins.end(), name) != builtins.end() && !std::filesystem::exists(name);
+  if (choice.glossy && (!builtin || name != "cornell"))
+    throw SettingsError("--glossy: only the built-in cornell has a glossy variant, not " + name);
   if (!builtin) return scene::loadGltf(name, choice.limits);
-  if (name == "cornell") return scene::sceneFromModel(scenes::cornellBox({.cells = choice.cells}), "built-in cornell");
+  if (name == "cornell")
+    return scene::sceneFromModel(scenes::cornellBox({.cells = choice.cells, .glossy = choice.glossy}),
+                                 choice.glossy ? "built-in glossy cornell" : "built-in cornell");
   return scene::sceneFromModel(scenes::furnace({.cells = choice.cells}), "built-in furnace");
 }
 

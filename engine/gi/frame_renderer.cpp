@@ -79,7 +79,7 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
   surfels_ = vk::Buffer(ctx, std::max<size_t>(surfelCount_, 1) * sizeof(scene::Surfel), Memory::Device, tally);
   const uint64_t pixels = uint64_t(image.width) * image.height;
   visibility_ = vk::Buffer(ctx, pixels * image.samples * image.samples * sizeof(uint64_t), Memory::Device, tally);
-  for (vk::Buffer* channel : {&radiance_, &albedo_, &normalDepth_, &emission_})
+  for (vk::Buffer* channel : {&radiance_, &albedo_, &normalDepth_, &emission_, &roughnessMetallic_})
     *channel = vk::Buffer(ctx, pixels * sizeof(glm::vec4), Memory::Host, tally);
   unlitIrradiance_ = vk::Buffer(ctx, 16, Memory::Device, tally);
   shownIrradiance_ =
@@ -141,6 +141,7 @@ vk::Bindings FrameRenderer::pool() const {
                              {"albedo", albedo_},
                              {"normalDepth", normalDepth_},
                              {"emission", emission_},
+                             {"roughnessMetallic", roughnessMetallic_},
                              {"pixelLights", pixelLights_},
                              {"vertexUnshadowed", vertexUnshadowed_}})
       .plus(direct_ ? direct_->pool()
@@ -237,6 +238,7 @@ FrameResult FrameRenderer::render(const scene::FrameInputs& in, const scene::Cam
   c.albedo = albedo_.read<glm::vec4>(pixels);
   c.normalDepth = normalDepth_.read<glm::vec4>(pixels);
   c.emission = emission_.read<glm::vec4>(pixels);
+  c.roughnessMetallic = roughnessMetallic_.read<glm::vec4>(pixels);
   return result;
 }
 

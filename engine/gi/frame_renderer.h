@@ -87,7 +87,7 @@ class FrameRenderer {
   vk::Buffer vertexUnshadowed_, pixelLights_;
   vk::Buffer noDirectLight_;  // bound for the direct light's buffers where there is none (never read)
   vk::Buffer view_;           // the camera, the raster's one view
-  vk::Buffer radiance_, albedo_, normalDepth_, emission_;  // mapped: the image channels
+  vk::Buffer radiance_, albedo_, normalDepth_, emission_, roughnessMetallic_;  // mapped: the image channels
   std::unique_ptr<Solver> solver_;
   bool directPerPixel_;  // the resolve adds the depth maps' direct light at each sample
   vk::Program animate_, surfelUpdate_, vertexIrradiance_, unshadowedToVertices_, directPixels_, resolve_;

@@ -18,7 +18,7 @@ std::vector<int> layerChannels(const OIIO::ImageSpec& spec, const std::string& l
   std::vector<std::string> names;
   if (layer.empty())
     names = {"R", "G", "B"};
-  else if (layer == "A" || layer == "Z")
+  else if (layer == "A" || layer == "Z" || layer == "roughness" || layer == "metallic")
     names = {layer};
   else if (layer == "N")
     names = {"N.X", "N.Y", "N.Z"};
@@ -53,8 +53,8 @@ std::vector<LayerDifference> compareLayers(const std::string& testFile, const st
     for (size_t p = 0; p < pixels; ++p)
       for (int c : rc) magnitude[p] = std::max(magnitude[p], std::abs(rp[p * rs.nchannels + c]));
     float largest = pixels ? *std::max_element(magnitude.begin(), magnitude.end()) : 0.0f;
-    bool colour =
-        tol.layer.empty() || tol.layer == "albedo" || tol.layer == "emission" || tol.layer == "N" || tol.layer == "A";
+    // Layers whose values lie in [0, 1] (or ±1): their tolerance is of that range however dark the image.
+    bool colour = tol.layer != "Z";
     LayerDifference d;
     d.layer = tol.layer.empty() ? "RGB" : tol.layer;
     if (tol.perPixel && pixels > 0) {
@@ -88,7 +88,7 @@ std::vector<LayerDifference> compareLayers(const std::string& testFile, const st
 }
 
 const std::vector<std::string>& layerNames() {
-  static const std::vector<std::string> names = {"rgb", "A", "albedo", "N", "Z", "emission"};
+  static const std::vector<std::string> names = {"rgb", "A", "albedo", "N", "Z", "emission", "roughness", "metallic"};
   return names;
 }
 
@@ -105,8 +105,9 @@ std::vector<LayerTolerance> goldenTolerances() {
   // the radiance, of the pixel's own value; at most 0.2 % of the pixels beyond it: a moved object, a
   // shifted view or a 5 % change of a layer fails, while a handful of silhouette pixels may flip
   // between CPUs.
-  return {{"", 0.02f, 0.002f, true}, {"A", 0.02f, 0.002f}, {"albedo", 0.02f, 0.002f},
-          {"N", 0.02f, 0.002f},      {"Z", 0.01f, 0.002f}, {"emission", 0.02f, 0.002f}};
+  return {{"", 0.02f, 0.002f, true},    {"A", 0.02f, 0.002f},       {"albedo", 0.02f, 0.002f},
+          {"N", 0.02f, 0.002f},         {"Z", 0.01f, 0.002f},       {"emission", 0.02f, 0.002f},
+          {"roughness", 0.02f, 0.002f}, {"metallic", 0.02f, 0.002f}};
 }
 
 }  // namespace ivgi::image

@@ -16,7 +16,7 @@ namespace OIIO = OIIO_NAMESPACE;
 
 size_t sanitize(FrameChannels& frame) {
   size_t replaced = 0;
-  for (auto* channel : {&frame.radiance, &frame.albedo, &frame.normalDepth, &frame.emission})
+  for (auto* channel : {&frame.radiance, &frame.albedo, &frame.normalDepth, &frame.emission, &frame.roughnessMetallic})
     for (auto& v : *channel)
       for (int c = 0; c < 4; ++c)
         if (!std::isfinite(v[c])) v[c] = 0.0f, ++replaced;
@@ -58,9 +58,9 @@ Provenance readProvenance(const std::string& path) {
 }
 
 void writeExr(const std::string& path, const FrameChannels& f, const Provenance& provenance) {
-  const char* names[] = {"R",   "G",   "B",   "A", "albedo.R",   "albedo.G",   "albedo.B",
-                         "N.X", "N.Y", "N.Z", "Z", "emission.R", "emission.G", "emission.B"};
-  const int channels = 14;
+  const char* names[] = {"R",   "G",   "B", "A",          "albedo.R",   "albedo.G",   "albedo.B",  "N.X",
+                         "N.Y", "N.Z", "Z", "emission.R", "emission.G", "emission.B", "roughness", "metallic"};
+  const int channels = 16;
   OIIO::ImageSpec spec(int(f.width), int(f.height), channels, OIIO::TypeDesc::FLOAT);
   spec.channelnames.assign(names, names + channels);
   spec.alpha_channel = 3;
@@ -75,7 +75,8 @@ void writeExr(const std::string& path, const FrameChannels& f, const Provenance&
   for (size_t i = 0; i < size_t(f.width) * f.height; ++i) {
     float* p = &pixels[i * channels];
     const glm::vec4 &r = f.radiance[i], &a = f.albedo[i], &n = f.normalDepth[i], &e = f.emission[i];
-    float row[] = {r.r, r.g, r.b, r.a, a.r, a.g, a.b, n.x, n.y, n.z, n.w, e.r, e.g, e.b};
+    const glm::vec4 m = f.roughnessMetallic.empty() ? glm::vec4(0.0f) : f.roughnessMetallic[i];
+    float row[] = {r.r, r.g, r.b, r.a, a.r, a.g, a.b, n.x, n.y, n.z, n.w, e.r, e.g, e.b, m.r, m.g};
     std::copy(row, row + channels, p);
   }
   writeWith(path, spec, OIIO::TypeDesc::FLOAT, pixels.data());

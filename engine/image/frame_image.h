@@ -11,10 +11,11 @@ namespace ivgi::image {
 
 struct FrameChannels {
   uint32_t width = 0, height = 0;
-  std::vector<glm::vec4> radiance;     // rgb, a = coverage
-  std::vector<glm::vec4> albedo;       // rgb
-  std::vector<glm::vec4> normalDepth;  // world normal, w = depth along the view axis (0: background)
-  std::vector<glm::vec4> emission;     // rgb
+  std::vector<glm::vec4> radiance;           // rgb, a = coverage
+  std::vector<glm::vec4> albedo;             // rgb
+  std::vector<glm::vec4> normalDepth;        // world normal, w = depth along the view axis (0: background)
+  std::vector<glm::vec4> emission;           // rgb
+  std::vector<glm::vec4> roughnessMetallic;  // r: roughness, g: metallic (glTF's factors × texture)
 };
 
 // Replaces NaN/Inf by 0 (a solver bug must never reach a file); returns how many values it replaced.
@@ -38,7 +39,8 @@ struct Provenance {
 // What `path`'s header says; empty where it says nothing (another program's file).
 Provenance readProvenance(const std::string& path);
 
-// Channels R G B A, albedo.R/G/B, N.X/Y/Z, Z, emission.R/G/B, 32-bit float, ZIP compression.
+// Channels R G B A, albedo.R/G/B, N.X/Y/Z, Z, emission.R/G/B, roughness, metallic, 32-bit float, ZIP
+// compression.
 void writeExr(const std::string& path, const FrameChannels& frame, const Provenance& provenance = {});
 // radiance × 2^exposure, tone mapped, sRGB encoded, 8-bit RGB.
 void writePng(const std::string& path, const FrameChannels& frame, const DisplaySettings& display);

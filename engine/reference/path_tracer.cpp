@@ -11,6 +11,7 @@
 
 #include "engine/core/errors.h"
 #include "engine/scene/lights.h"
+#include "engine/scene/specular_albedo.h"
 #include "engine/scene/texture_sampling.h"
 
 namespace ivgi::reference {
@@ -46,13 +47,59 @@ uint64_t mix64(uint64_t z) {  // splitmix64's finaliser
 float luminance(glm::vec3 c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
 float maxComponent(glm::vec3 c) { return std::max(c.r, std::max(c.g, c.b)); }
 
-// Cosine-weighted direction around the unit normal n.
-glm::vec3 cosineDirection(glm::vec3 n, float u1, float u2) {
-  float r = std::sqrt(u1), phi = 2.0f * kPi * u2;
-  glm::vec3 t = std::abs(n.x) > 0.5f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
-  glm::vec3 b1 = glm::normalize(glm::cross(t, n)), b2 = glm::cross(n, b1);
-  return r * std::cos(phi) * b1 + r * std::sin(phi) * b2 + std::sqrt(std::max(0.0f, 1.0f - u1)) * n;
-}
+// An orthonormal frame whose z is the unit normal n: where the BRDF's directions are expressed.
+struct ShadingFrame {
+  glm::vec3 b1, b2, n;
+  explicit ShadingFrame(glm::vec3 normal) : n(normal) {
+    glm::vec3 t = std::abs(n.x) > 0.5f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
+    b1 = glm::normalize(glm::cross(t, n)), b2 = glm::cross(n, b1);
+  }
+  glm::vec3 toLocal(glm::vec3 d) const { return {glm::dot(d, b1), glm::dot(d, b2), glm::dot(d, n)}; }
+  glm::vec3 toWorld(glm::vec3 d) const { return d.x * b1 + d.y * b2 + d.z * n; }
+  // A cosine-weighted direction.
+  glm::vec3 cosineDirection(float u1, float u2) const {
+    float r = std::sqrt(u1), phi = 2.0f * kPi * u2;
+    return r * std::cos(phi) * b1 + r * std::sin(phi) * b2 + std::sqrt(std::max(0.0f, 1.0f - u1)) * n;
+  }
+};
+
+// How a surface reflects light arriving from wi toward wo (world directions, unit), and how its
+// sampling picks wi: the diffuse base by cosine, the specular lobe by its visible normals, one or
+// the other by gpu::specularChance.
+struct Reflection {
+  const gpu::SurfaceBrdf& m;
+  ShadingFrame frame;
+  glm::vec3 localWo;
+  bool lambertian;
+  scene::LayerAlbedo layer;
+  float specularChance = 0.0f;
+
+  Reflection(const gpu::SurfaceBrdf& material, glm::vec3 normal, glm::vec3 out)
+      : m(material), frame(normal), localWo(frame.toLocal(out)), lambertian(gpu::isLambertian(material)) {
+    if (lambertian) return;
+    layer = scene::LayerAlbedo(m, localWo.z);
+    specularChance = gpu::specularChance(m, localWo.z, layer.towardView);
+  }
+
+  glm::vec3 f(glm::vec3 wi) const {
+    if (lambertian) return glm::vec3(m.base) / kPi;
+    const glm::vec3 l = frame.toLocal(wi);
+    return gpu::evalBrdf(m, l, localWo, layer.baseWeight(m, l.z));
+  }
+  float pdf(glm::vec3 wi) const {
+    const float cosine = std::max(glm::dot(frame.n, wi), 0.0f) / kPi;
+    if (lambertian) return cosine;
+    return (1.0f - specularChance) * cosine +
+           specularChance * gpu::visibleNormalPdf(frame.toLocal(wi), localWo, m.alpha);
+  }
+  glm::vec3 sample(Rng& rng) const {
+    const bool specular = specularChance >= 1.0f || (specularChance > 0.0f && rng.uniform() < specularChance);
+    const float u2 = rng.uniform(), u1 = rng.uniform();
+    if (!specular) return frame.cosineDirection(u1, u2);
+    const glm::vec3 h = gpu::sampleVisibleNormal(localWo, m.alpha, u1, u2);
+    return frame.toWorld(2.0f * glm::dot(localWo, h) * h - localWo);
+  }
+};
 
 // Power heuristic (β = 2) weight of a strategy with density a against one with density b.
 float powerHeuristic(float a, float b) { return a * a / (a * a + b * b); }
@@ -74,7 +121,9 @@ struct PathTracer::Impl {
     uint32_t triangle;
     float t;
     glm::vec3 position, shadingNormal, geometricNormal;  // normals unit, not oriented
-    glm::vec3 base, emission;
+    gpu::SurfaceBrdf brdf;
+    glm::vec3 emission;
+    float roughness;  // as the file gives it (brdf.alpha is its square, clamped)
   };
 
   explicit Impl(PathScene scene) : s(std::move(scene)), g(*s.geometry) {
@@ -182,7 +231,14 @@ struct PathTracer::Impl {
     const gpu::Material& m = g.materials[tr.material & ~gpu::kFlatShaded];
     glm::vec2 uv = w.x * g.uvs[tr.v0] + w.y * g.uvs[tr.v1] + w.z * g.uvs[tr.v2];
     const glm::vec4 color = w.x * g.colors[tr.v0] + w.y * g.colors[tr.v1] + w.z * g.colors[tr.v2];
-    x.base = glm::vec3(m.baseColor) * glm::vec3(color) * glm::vec3(scene::sampleTexture(g, m.baseColorTexture, uv));
+    const glm::vec3 base =
+        glm::vec3(m.baseColor) * glm::vec3(color) * glm::vec3(scene::sampleTexture(g, m.baseColorTexture, uv));
+    const glm::vec4 metallicRoughness = scene::sampleTexture(g, m.metallicRoughnessTexture, uv);
+    x.brdf.base = glm::vec4(base, 0.0f);
+    x.brdf.specular = m.specular;
+    x.brdf.metallic = m.metallic * metallicRoughness.b;
+    x.roughness = m.roughness * metallicRoughness.g;
+    x.brdf.alpha = gpu::alphaOf(x.roughness);
     x.emission = glm::vec3(m.emission) * glm::vec3(scene::sampleTexture(g, m.emissiveTexture, uv));
     return x;
   }
@@ -192,17 +248,19 @@ struct PathTracer::Impl {
     return glm::dot(front[x.triangle], out) > 0.0f ? x.emission : glm::vec3(0.0f);
   }
 
-  // Radiance reflected at x towards `out` (unit) with albedo `base`: the path from x on.
-  glm::vec3 reflected(Surface x, glm::vec3 out, glm::vec3 base, Rng& rng, const PathSettings& settings) const {
+  // Radiance reflected at x towards `out` (unit): the path from x on.
+  glm::vec3 reflected(Surface x, glm::vec3 out, Rng& rng, const PathSettings& settings) const {
     glm::vec3 radiance(0.0f), throughput(1.0f);
     for (int vertex = 0;; ++vertex) {
       // Orient both normals to the side the path arrives from: surfaces reflect on both sides.
       glm::vec3 ng = x.geometricNormal, ns = x.shadingNormal;
       if (glm::dot(ng, out) < 0.0f) ng = -ng, ns = -ns;
       if (glm::dot(ns, ng) <= 0.0f) ns = ng;
-      if (maxComponent(base) <= 0.0f) break;
+      const bool lambertian = gpu::isLambertian(x.brdf);
+      if (lambertian && maxComponent(glm::vec3(x.brdf.base)) <= 0.0f) break;
+      if (!lambertian && glm::dot(ns, out) <= 0.0f) ns = ng;  // the specular lobe needs the view above its normal
+      const Reflection reflection(x.brdf, ns, out);
       glm::vec3 origin = x.position + epsilon * ng;
-      glm::vec3 f = base / kPi;
 
       // Next-event estimation: one point on the emitters, every punctual light.
       if (!emitters.empty()) {
@@ -219,8 +277,9 @@ struct PathTracer::Impl {
           glm::vec3 wi = toY / dist;
           float cosX = glm::dot(ns, wi), cosY = glm::dot(front[tri], -wi);
           if (cosX > 0.0f && cosY > 0.0f && glm::dot(ng, wi) > 0.0f && !occluded(origin, wi, dist * (1.0f - 1e-4f))) {
-            float pdfLight = lightPdfArea[tri] * d2 / cosY, pdfBsdf = cosX / kPi;
-            radiance += throughput * f * y.emission * (cosX / pdfLight * powerHeuristic(pdfLight, pdfBsdf));
+            float pdfLight = lightPdfArea[tri] * d2 / cosY, pdfBsdf = reflection.pdf(wi);
+            radiance +=
+                throughput * reflection.f(wi) * y.emission * (cosX / pdfLight * powerHeuristic(pdfLight, pdfBsdf));
           }
         }
       }
@@ -232,14 +291,16 @@ struct PathTracer::Impl {
         float cosX = glm::dot(ns, wi);
         if (cosX <= 0.0f || glm::dot(ng, wi) <= 0.0f) continue;
         float tfar = light.position.w == 0.0f ? kInfinity : std::sqrt(dist2) * (1.0f - 1e-4f);
-        if (!occluded(origin, wi, tfar)) radiance += throughput * f * glm::vec3(light.intensity) * (cosX * falloff);
+        if (!occluded(origin, wi, tfar))
+          radiance += throughput * reflection.f(wi) * glm::vec3(light.intensity) * (cosX * falloff);
       }
 
       // BSDF sampling: the next vertex, and emission or environment found on the way (MIS weighted).
-      glm::vec3 wi = cosineDirection(ns, rng.uniform(), rng.uniform());
-      float cosX = glm::dot(ns, wi);
-      if (cosX <= 0.0f || glm::dot(ng, wi) <= 0.0f) break;
-      throughput *= base;  // f · cos / pdf with pdf = cos / π
+      glm::vec3 wi = reflection.sample(rng);
+      float cosX = glm::dot(ns, wi), pdfBsdf = reflection.pdf(wi);
+      if (cosX <= 0.0f || glm::dot(ng, wi) <= 0.0f || !(pdfBsdf > 0.0f)) break;
+      // f · cos / pdf: for a Lambertian surface (pdf = cos / π) the base colour itself.
+      throughput *= lambertian ? glm::vec3(x.brdf.base) : reflection.f(wi) * (cosX / pdfBsdf);
       auto next = intersect(origin, wi, 0.0f, kInfinity);
       if (!next) {
         if (s.environment) radiance += throughput * s.environment->radiance(wi);
@@ -249,7 +310,7 @@ struct PathTracer::Impl {
       if (maxComponent(le) > 0.0f) {
         float cosY = std::abs(glm::dot(front[next->triangle], wi));
         float pdfLight = cosY > 0.0f ? lightPdfArea[next->triangle] * next->t * next->t / cosY : 0.0f;
-        radiance += throughput * le * (pdfLight > 0.0f ? powerHeuristic(cosX / kPi, pdfLight) : 1.0f);
+        radiance += throughput * le * (pdfLight > 0.0f ? powerHeuristic(pdfBsdf, pdfLight) : 1.0f);
       }
       if (settings.bounces >= 0 && vertex >= settings.bounces) break;
       if (vertex >= 2) {  // Russian roulette, unbiased: survivors carry 1/q
@@ -259,7 +320,6 @@ struct PathTracer::Impl {
       }
       x = *next;
       out = -wi;
-      base = x.base;
     }
     return radiance;
   }
@@ -292,6 +352,7 @@ image::FrameChannels PathTracer::render(const scene::CameraView& view, uint32_t 
   out.albedo.assign(pixels, glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
   out.normalDepth.assign(pixels, glm::vec4(0.0f));
   out.emission.assign(pixels, glm::vec4(0.0f));
+  out.roughnessMetallic.assign(pixels, glm::vec4(0.0f));
   const gpu::Camera cam = scene::gpuCamera(view, float(width) / float(height));
   const glm::vec3 eye(cam.origin);
   const float zfar = cam.forward.w > 0.0f ? cam.forward.w : kInfinity;
@@ -302,6 +363,7 @@ image::FrameChannels PathTracer::render(const scene::CameraView& view, uint32_t 
       size_t at = size_t(y) * width + x;
       Rng rng(mix64(frameSeed ^ at), at);
       glm::vec3 radiance(0.0f), albedo(0.0f), normal(0.0f), emission(0.0f);
+      glm::vec2 roughnessMetallic(0.0f);
       float depth = 0.0f, hits = 0.0f;
       for (uint32_t i = 0; i < settings.spp; ++i) {
         glm::vec2 s = glm::vec2(float(x), float(y)) + glm::vec2(rng.uniform(), rng.uniform());
@@ -311,8 +373,9 @@ image::FrameChannels PathTracer::render(const scene::CameraView& view, uint32_t 
         auto hit = im.intersect(eye, d, cam.origin.w, zfar);
         if (!hit) continue;
         glm::vec3 out = -glm::normalize(d);
-        radiance += im.emitted(*hit, out) + im.reflected(*hit, out, hit->base, rng, settings);
-        albedo += hit->base, normal += hit->shadingNormal, emission += hit->emission;
+        radiance += im.emitted(*hit, out) + im.reflected(*hit, out, rng, settings);
+        albedo += glm::vec3(hit->brdf.base), roughnessMetallic += glm::vec2(hit->roughness, hit->brdf.metallic);
+        normal += hit->shadingNormal, emission += hit->emission;
         depth += hit->t, hits += 1.0f;
       }
       float n = float(settings.spp);
@@ -321,6 +384,7 @@ image::FrameChannels PathTracer::render(const scene::CameraView& view, uint32_t 
       float len = glm::length(normal);
       out.normalDepth[at] = glm::vec4(len > 0.0f ? normal / len : glm::vec3(0.0f), hits > 0.0f ? depth / hits : 0.0f);
       out.emission[at] = glm::vec4(emission / n, 0.0f);
+      out.roughnessMetallic[at] = glm::vec4(roughnessMetallic / n, 0.0f, 0.0f);
     }
     if (rowsDone) rowsDone->fetch_add(1);
   };
@@ -341,9 +405,10 @@ glm::vec3 PathTracer::irradiance(glm::vec3 p, glm::vec3 n, uint32_t samples, con
   const Impl& im = *impl_;
   Rng rng(mix64(uint64_t(settings.seed) << 32 ^ 0x9e3779b97f4a7c15ull), 7);
   // A white Lambertian point reflects E/π: estimate that and scale back.
-  Impl::Surface x{0, 0.0f, p, glm::normalize(n), glm::normalize(n), glm::vec3(1.0f), glm::vec3(0.0f)};
+  const gpu::SurfaceBrdf white{glm::vec4(1.0f), glm::vec4(0.0f), 0.0f, 1.0f, 0.0f, 0.0f};
+  Impl::Surface x{0, 0.0f, p, glm::normalize(n), glm::normalize(n), white, glm::vec3(0.0f), 1.0f};
   glm::vec3 sum(0.0f);
-  for (uint32_t i = 0; i < samples; ++i) sum += im.reflected(x, x.geometricNormal, glm::vec3(1.0f), rng, settings);
+  for (uint32_t i = 0; i < samples; ++i) sum += im.reflected(x, x.geometricNormal, rng, settings);
   return kPi * sum / float(samples);
 }
 

@@ -1,10 +1,10 @@
 #pragma once
 // The reference (docs/design.md §2.3): an Embree CPU path tracer over the same world-space triangles,
-// materials, lights and camera as the GPU methods. Lambertian surfaces (reflecting on both sides),
-// emitters radiating from their front side, next-event estimation on emissive triangles and punctual
-// lights combined with BSDF sampling by multiple importance sampling, environment light, Russian
-// roulette. Each pixel's samples come from its own seeded stream, so the image does not depend on the
-// thread count.
+// materials, lights and camera as the GPU methods. glTF's metallic-roughness BRDF
+// (shaders/interface/brdf.h; surfaces reflect on both sides), emitters radiating from their front side, next-event
+// estimation on emissive triangles and punctual lights combined with BSDF sampling by multiple importance sampling,
+// environment light, Russian roulette. Each pixel's samples come from its own seeded stream, so the image does not
+// depend on the thread count.
 #include <glm/glm.hpp>
 
 #include <atomic>

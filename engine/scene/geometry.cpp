@@ -6,6 +6,7 @@
 #include <functional>
 #include <glm/gtc/constants.hpp>
 #include <glm/gtc/packing.hpp>
+#include <map>
 #include <unordered_map>
 
 #include "engine/image/colour.h"
@@ -47,6 +48,33 @@ glm::vec3 transformNormal(const glm::mat4& m, glm::vec3 n) {
 // mesh under a detailed texture takes the texture's mean where its vertices would each pick a texel.
 // Sampled at the centroids of the triangle's n² equal sub-triangles, about four a texel the
 // triangle covers (at most 32² a triangle).
+// Texture t's texels, decoded once here to linear RGBA16F so that a lookup only unpacks (the sRGB
+// curve per texel fetch cost lavapipe more than the rest of the resolve pass), and its record.
+void appendTexture(Geometry& g, const Texture& t, bool srgb) {
+  const uint32_t wrap = uint32_t(t.wrapS) | uint32_t(t.wrapT) << 16;
+  g.textures.push_back({uint32_t(g.texels.size() / 2), uint32_t(t.width), uint32_t(t.height), wrap,
+                        glm::vec4(TextureTransform{}.rowU(), 0.0f), glm::vec4(TextureTransform{}.rowV(), 0.0f)});
+  auto decode = [srgb](uint8_t c) { return srgb ? image::srgbToLinear(c / 255.0f) : c / 255.0f; };
+  for (size_t p = 0; p < t.rgba.size() / 4; ++p) {
+    const uint8_t* c = &t.rgba[4 * p];
+    g.texels.push_back(glm::packHalf2x16(glm::vec2(decode(c[0]), decode(c[1]))));
+    g.texels.push_back(glm::packHalf2x16(glm::vec2(decode(c[2]), c[3] / 255.0f)));
+  }
+}
+
+gpu::Material gpuMaterial(const Material& m, int baseColorTexture, int emissiveTexture, int metallicRoughnessTexture) {
+  gpu::Material out{};
+  out.baseColor = m.baseColor;
+  out.emission = glm::vec4(m.emissive * m.emissiveStrength, 0.0f);
+  out.specular = m.dielectricReflectance();
+  out.baseColorTexture = baseColorTexture;
+  out.emissiveTexture = emissiveTexture;
+  out.metallicRoughnessTexture = metallicRoughnessTexture;
+  out.metallic = m.metallic;
+  out.roughness = m.roughness;
+  return out;
+}
+
 struct CornerMeans {
   glm::vec4 albedo[3], emission[3];
 };
@@ -141,20 +169,16 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
     g.skinJointBase.push_back(matrices);
     matrices += uint32_t(skin.joints.size());
   }
-  for (const auto& t : scene.textures) {
-    uint32_t wrap = uint32_t(t.wrapS) | uint32_t(t.wrapT) << 16;
-    g.textures.push_back({uint32_t(g.texels.size() / 2), uint32_t(t.width), uint32_t(t.height), wrap,
-                          glm::vec4(TextureTransform{}.rowU(), 0.0f), glm::vec4(TextureTransform{}.rowV(), 0.0f)});
-    // Decoded once here to linear RGBA16F, so that a lookup only unpacks: the sRGB curve per texel
-    // fetch cost lavapipe more than the rest of the resolve pass.
-    for (size_t p = 0; p < t.rgba.size() / 4; ++p) {
-      const uint8_t* c = &t.rgba[4 * p];
-      glm::vec4 linear(image::srgbToLinear(c[0] / 255.0f), image::srgbToLinear(c[1] / 255.0f),
-                       image::srgbToLinear(c[2] / 255.0f), c[3] / 255.0f);
-      g.texels.push_back(glm::packHalf2x16(glm::vec2(linear.r, linear.g)));
-      g.texels.push_back(glm::packHalf2x16(glm::vec2(linear.b, linear.a)));
-    }
-  }
+  for (const auto& t : scene.textures) appendTexture(g, t, true);
+  // Data textures (metallic-roughness) are stored as they are, without the sRGB curve: a copy of
+  // their own where a texture is read both ways.
+  std::map<int, int> linearCopies;
+  auto linearTexels = [&](int texture) {
+    if (texture < 0) return texture;
+    auto [at, added] = linearCopies.try_emplace(texture, int(g.textures.size()));
+    if (added) appendTexture(g, scene.textures[size_t(texture)], false);
+    return at->second;
+  };
   // A reference with a KHR_texture_transform reads the texture's texels through a record of its own.
   auto transformed = [&](int texture, const TextureTransform& transform) {
     if (texture < 0 || transform.identity()) return texture;
@@ -164,10 +188,10 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
     return int(g.textures.size() - 1);
   };
   for (const auto& m : scene.materials)
-    g.materials.push_back({m.baseColor, glm::vec4(m.emissive * m.emissiveStrength, 0.0f),
-                           transformed(m.baseColorTexture, m.baseColorTransform),
-                           transformed(m.emissiveTexture, m.emissiveTransform), 0, 0});
-  g.materials.push_back({glm::vec4(1.0f), glm::vec4(0.0f), -1, -1, 0, 0});  // glTF default material
+    g.materials.push_back(gpuMaterial(
+        m, transformed(m.baseColorTexture, m.baseColorTransform), transformed(m.emissiveTexture, m.emissiveTransform),
+        transformed(linearTexels(m.metallicRoughnessTexture), m.metallicRoughnessTransform)));
+  g.materials.push_back(gpuMaterial(Material{}, -1, -1, -1));  // glTF default material
   const uint32_t defaultMaterial = uint32_t(g.materials.size() - 1);
 
   size_t drawn = 0, built = 0;  // the nodes drawn, and those built so far (counted for `progress`)

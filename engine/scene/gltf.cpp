@@ -18,7 +18,8 @@ namespace ivgi::scene {
 
 namespace {
 
-const std::set<std::string> kSupportedExtensions = {"KHR_lights_punctual", "KHR_materials_emissive_strength",
+const std::set<std::string> kSupportedExtensions = {"KHR_lights_punctual",   "KHR_materials_emissive_strength",
+                                                    "KHR_materials_ior",     "KHR_materials_specular",
                                                     "KHR_mesh_quantization", "KHR_texture_transform"};
 
 // The first extension the model requires that ivgi does not read, or none.
@@ -147,11 +148,11 @@ class Converter {
           textureReference(pbr.baseColorTexture, out.baseColorTransform, "material '" + m.name + "' base colour");
       out.emissiveTexture =
           textureReference(m.emissiveTexture, out.emissiveTransform, "material '" + m.name + "' emission");
-      out.metallicRoughnessTexture =
-          textureIndex(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
-                       "material '" + m.name + "' metallic-roughness");
-      out.metallic = float(pbr.metallicFactor);
-      out.roughness = float(pbr.roughnessFactor);
+      out.metallicRoughnessTexture = textureReference(pbr.metallicRoughnessTexture, out.metallicRoughnessTransform,
+                                                      "material '" + m.name + "' metallic-roughness");
+      out.metallic = unitFactor(pbr.metallicFactor, m.name, "metallicFactor");
+      out.roughness = unitFactor(pbr.roughnessFactor, m.name, "roughnessFactor");
+      specular(m, out);
       out.doubleSided = m.doubleSided;
       // Every method takes a surface as opaque: a cut-out or blended one would block what it lets through.
       if (m.alphaMode == "MASK" || m.alphaMode == "BLEND")
@@ -163,6 +164,43 @@ class Converter {
         read_.fail("material '" + m.name + "' has a non-finite or negative factor");
       scene_.materials.push_back(out);
     }
+  }
+
+  // A factor the specification bounds to [0, 1]: one outside is clamped into it, with a warning.
+  float unitFactor(double value, const std::string& material, const std::string& key) {
+    if (!std::isfinite(value)) read_.fail("material '" + material + "': " + key + " is not a finite number");
+    if (value < 0.0 || value > 1.0)
+      warn("material '" + material + "': " + key + " " + std::to_string(value) + " is clamped to [0, 1]");
+    return float(std::clamp(value, 0.0, 1.0));
+  }
+
+  // KHR_materials_specular's factor and colour and KHR_materials_ior's index, folded into the
+  // dielectric's reflectance at normal incidence and at grazing (Material::specular).
+  void specular(const tinygltf::Material& m, Material& out) {
+    const std::string what = "material '" + m.name + "'";
+    auto number = [&](const tinygltf::Value& v, const std::string& key) {
+      if (!v.IsNumber() || !std::isfinite(v.GetNumberAsDouble()))
+        read_.fail(what + ": " + key + " is not a finite number");
+      return v.GetNumberAsDouble();
+    };
+    if (auto* v = extensionValue(m.extensions, "KHR_materials_ior", "ior")) {
+      const double ior = number(*v, "KHR_materials_ior ior");
+      if (ior != 0.0 && ior < 1.0) read_.fail(what + ": KHR_materials_ior ior " + std::to_string(ior) + " is below 1");
+      out.ior = float(ior);
+    }
+    if (auto* v = extensionValue(m.extensions, "KHR_materials_specular", "specularFactor"))
+      out.specular = unitFactor(number(*v, "specularFactor"), m.name, "specularFactor");
+    if (auto* v = extensionValue(m.extensions, "KHR_materials_specular", "specularColorFactor")) {
+      if (!v->IsArray() || v->ArrayLen() != 3) read_.fail(what + ": specularColorFactor is not three numbers");
+      for (int c = 0; c < 3; ++c) {
+        const double x = number(v->Get(c), "specularColorFactor");
+        if (x < 0.0) read_.fail(what + ": specularColorFactor is negative");
+        out.specularColor[c] = float(std::min(x, 3.4e38));
+      }
+    }
+    for (const char* texture : {"specularTexture", "specularColorTexture"})
+      if (extensionValue(m.extensions, "KHR_materials_specular", texture))
+        warn(what + ": KHR_materials_specular " + texture + " is not supported; its factor alone is used");
   }
 
   // COLOR_0: RGB or RGBA, floats or normalized unsigned bytes or shorts (the glTF spec's choices).

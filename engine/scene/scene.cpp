@@ -16,6 +16,12 @@ glm::vec3 TextureTransform::rowV() const {
   return {-std::sin(rotation) * scale.x, std::cos(rotation) * scale.y, offset.y};
 }
 
+glm::vec4 Material::dielectricReflectance() const {
+  const float r = (ior - 1.0f) / (ior + 1.0f);
+  const glm::vec3 f0 = glm::min(r * r * specularColor, glm::vec3(1.0f)) * specular;
+  return {f0, specular};
+}
+
 std::optional<int> Scene::findAnimation(const std::string& key) const {
   for (size_t i = 0; i < animations.size(); ++i)
     if (animations[i].name == key) return int(i);

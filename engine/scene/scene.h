@@ -44,8 +44,15 @@ struct Material {
   float emissiveStrength = 1.0f;  // KHR_materials_emissive_strength
   int emissiveTexture = -1;
   TextureTransform emissiveTransform;
-  float metallic = 1.0f, roughness = 1.0f;  // kept for later solvers
-  int metallicRoughnessTexture = -1;
+  float metallic = 1.0f, roughness = 1.0f;  // in [0, 1]
+  int metallicRoughnessTexture = -1;        // linear: G roughness, B metallic
+  TextureTransform metallicRoughnessTransform;
+  float specular = 1.0f;          // KHR_materials_specular: the dielectric's specular weight
+  glm::vec3 specularColor{1.0f};  // and its reflectance's colour
+  float ior = 1.5f;               // KHR_materials_ior (0: the reflectance is the colour itself)
+  // The dielectric's Fresnel reflectance at normal incidence (rgb) and at grazing (a), as glTF's
+  // KHR_materials_specular defines them.
+  glm::vec4 dielectricReflectance() const;
   bool doubleSided = false;
 };
 

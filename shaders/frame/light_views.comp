@@ -86,7 +86,7 @@ void main() {
       dot((1.0 - s.b - s.c) * normalOf(t.x) + s.b * normalOf(t.y) + s.c * normalOf(t.z), n) < 0.0)
     n = -n;
   const uint material = t.w & ~kFlatShaded;
-  const vec3 radiance = uintBitsToFloat(imageLoad(materials, int(3u * material + 1u)).rgb);
+  const vec3 radiance = uintBitsToFloat(imageLoad(materials, int(kMaterialTexels * material + 1u)).rgb);
   lightPoints[i] = LightPoint(vec4(p, 0.5 * doubleArea * s.weightPerArea), vec4(n, 0.0),
                               vec4(radiance, uintBitsToFloat(firstView(i))), vec4(0.0));
 

@@ -1,6 +1,6 @@
 #version 460
 // The resolve pass: per output pixel, average its samples' channels (albedo, normal, depth,
-// emission, radiance) from the visibility buffer.
+// emission, roughness and metallic, radiance) from the visibility buffer.
 #extension GL_GOOGLE_include_directive : require
 #include "common/common.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -21,6 +21,7 @@ layout(binding = 12, rgba32f) readonly uniform imageBuffer vertexIrradiance;  //
 layout(binding = 13, rgba32f) readonly uniform imageBuffer colors;            // COLOR_0 per vertex
 layout(binding = 14, rgba32f) readonly uniform imageBuffer pixelLights;       // PixelLight: 3 texels a pixel
 layout(binding = 15, rgba32f) readonly uniform imageBuffer vertexUnshadowed;  // per surfel, at its vertex
+layout(std430, binding = 16) writeonly buffer RoughnessMetallic { vec4 roughnessMetallic[]; };
 layout(push_constant) uniform Push { ResolvePush push; };
 // False for scenes without textures: the lookups are compiled out. lavapipe runs a branch inside
 // the sample loop masked, so even untaken lookups cost a third of the pass.
@@ -133,6 +134,7 @@ void main() {
   uint samples = push.samples;
   uvec2 fine = push.size * samples;
   vec3 albedo = vec3(0.0), normal = vec3(0.0), emission = vec3(0.0), reflected = vec3(0.0);
+  vec2 roughMetal = vec2(0.0);
   float depth = 0.0, hits = 0.0;
   // kDirectPixels: the direct light last found around a sample and the plane it was found for, which
   // the pixel's other samples on that plane take as it is.
@@ -147,16 +149,20 @@ void main() {
       const vec3 w = h.weights, n = h.normal;
       float len = length(n);
       uint mi = t.w & ~kFlatShaded;
-      vec3 base = uintBitsToFloat(imageLoad(materials, int(3u * mi)).rgb),
-           emit = uintBitsToFloat(imageLoad(materials, int(3u * mi + 1u)).rgb);
+      vec3 base = uintBitsToFloat(imageLoad(materials, int(kMaterialTexels * mi)).rgb),
+           emit = uintBitsToFloat(imageLoad(materials, int(kMaterialTexels * mi + 1u)).rgb);
+      vec2 metalRough = uintBitsToFloat(imageLoad(materials, int(kMaterialTexels * mi + 4u)).xy);
       if (kColored) base *= w.x * colorOf(t.x) + w.y * colorOf(t.y) + w.z * colorOf(t.z);
       if (kTextured) {
         vec2 uv = w.x * uvOf(t.x) + w.y * uvOf(t.y) + w.z * uvOf(t.z);
-        ivec2 textures = ivec2(imageLoad(materials, int(3u * mi + 2u)).xy);  // base colour, emissive; -1: none
+        // base colour, emissive, metallic-roughness; -1: none
+        ivec3 textures = ivec3(imageLoad(materials, int(kMaterialTexels * mi + 3u)).xyz);
         base *= sampleTexture(textures.x, uv).rgb;
         emit *= sampleTexture(textures.y, uv).rgb;
+        metalRough *= sampleTexture(textures.z, uv).bg;
       }
       albedo += base;
+      roughMetal += metalRough.yx;
       emission += emit;
       if (kLit) {
         vec3 e = w.x * irradianceAt(t.x) + w.y * irradianceAt(t.y) + w.z * irradianceAt(t.z);
@@ -185,4 +191,5 @@ void main() {
   albedoOut[o] = vec4(albedo / all, 1.0);
   normalDepth[o] = vec4(nlen > 0.0 ? normal / nlen : vec3(0.0), hits > 0.0 ? depth / hits : 0.0);
   emissionOut[o] = vec4(emission / all, 0.0);
+  roughnessMetallic[o] = vec4(roughMetal / all, 0.0, 0.0);
 }

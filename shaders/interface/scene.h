@@ -33,14 +33,24 @@ struct Triangle {
   uint material;  // material index | kFlatShaded when the primitive has no normals
 };
 IVGI_CONST uint kFlatShaded = 0x80000000u;
+// glTF's metallic-roughness material (interface/brdf.h evaluates it); read by the passes as
+// kMaterialTexels RGBA32 texels.
 struct Material {
   vec4 baseColor;
   vec4 emission;  // rgb: emissive factor × strength (radiance)
+  // rgb: the dielectric's reflectance at normal incidence (0.04, or KHR_materials_ior's, times
+  // KHR_materials_specular's colour and factor); a: at grazing incidence (the specular factor).
+  vec4 specular;
   int baseColorTexture;
   int emissiveTexture;
+  int metallicRoughnessTexture;  // linear texels: G roughness, B metallic
   int pad0;
-  int pad1;
+  float metallic;
+  float roughness;  // perceptual: the distribution's α is its square
+  float pad1;
+  float pad2;
 };
+IVGI_CONST uint kMaterialTexels = 5u;
 struct Texture {
   uint offset;  // in texels; each texel is linear RGBA as two packHalf2x16 words
   uint width;

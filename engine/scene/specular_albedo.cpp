@@ -1,0 +1,82 @@
+#include "engine/scene/specular_albedo.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ivgi::scene {
+
+namespace {
+
+constexpr int kSize = int(gpu::kAlbedoTableSize);
+constexpr int kStrata = 64;  // visible normals per node along each of their two coordinates
+
+// (A, B) at one node: the mean over stratified visible normals of G2/G1 (the estimator of the
+// specular lobe's albedo when its normals are drawn from D_v), split by Schlick's weight.
+glm::vec2 integrate(float mu, float roughness) {
+  const glm::vec3 v(std::sqrt(std::max(0.0f, 1.0f - mu * mu)), 0.0f, mu);
+  const float alpha = gpu::alphaOf(roughness), a2 = alpha * alpha;
+  glm::dvec2 sum(0.0);
+  for (int i = 0; i < kStrata; ++i)
+    for (int k = 0; k < kStrata; ++k) {
+      const glm::vec3 h = gpu::sampleVisibleNormal(v, alpha, (i + 0.5f) / kStrata, (k + 0.5f) / kStrata);
+      const float vh = glm::dot(v, h);
+      const glm::vec3 l = 2.0f * vh * h - v;
+      if (l.z <= 0.0f || vh <= 0.0f) continue;
+      const double g = 4.0 * gpu::smithVisibility(l.z, v.z, a2) * l.z * v.z / gpu::smithG1(v.z, a2);
+      const double w = gpu::schlickWeight(vh);
+      sum += glm::dvec2((1.0 - w) * g, w * g);
+    }
+  return glm::vec2(sum / double(kStrata * kStrata));
+}
+
+}  // namespace
+
+SpecularAlbedo::SpecularAlbedo() {
+  values_.resize(size_t(kSize) * kSize + kSize);
+  for (int j = 0; j < kSize; ++j) {
+    glm::dvec2 mean(0.0);  // 2 ∫ E μ dμ = 4 ∫ E s³ ds with μ = s²
+    for (int i = 0; i < kSize; ++i) {
+      const double s = (i + 0.5) / kSize;
+      const double t = double(j) / double(kSize - 1);
+      values_[size_t(j) * kSize + i] = integrate(float(s * s), float(t * t));
+      mean += 4.0 * glm::dvec2(values_[size_t(j) * kSize + i]) * (s * s * s) / double(kSize);
+    }
+    values_[size_t(kSize) * kSize + j] = glm::vec2(mean);
+  }
+}
+
+const SpecularAlbedo& SpecularAlbedo::table() {
+  static const SpecularAlbedo computed;
+  return computed;
+}
+
+glm::vec2 SpecularAlbedo::at(float mu, float roughness) const {
+  const float x = std::clamp(std::sqrt(std::max(mu, 0.0f)) * kSize - 0.5f, 0.0f, float(kSize - 1));
+  const float y = std::sqrt(std::clamp(roughness, 0.0f, 1.0f)) * float(kSize - 1);
+  const int x0 = std::min(int(x), kSize - 2), y0 = std::min(int(y), kSize - 2);
+  const float fx = x - float(x0), fy = y - float(y0);
+  auto node = [&](int i, int j) { return values_[size_t(j) * kSize + i]; };
+  return glm::mix(glm::mix(node(x0, y0), node(x0 + 1, y0), fx), glm::mix(node(x0, y0 + 1), node(x0 + 1, y0 + 1), fx),
+                  fy);
+}
+
+glm::vec2 SpecularAlbedo::meanAt(float roughness) const {
+  const float y = std::sqrt(std::clamp(roughness, 0.0f, 1.0f)) * float(kSize - 1);
+  const int y0 = std::min(int(y), kSize - 2);
+  const glm::vec2* means = &values_[size_t(kSize) * kSize];
+  return glm::mix(means[y0], means[y0 + 1], y - float(y0));
+}
+
+LayerAlbedo::LayerAlbedo(const gpu::SurfaceBrdf& m, float cosView) {
+  const SpecularAlbedo& t = SpecularAlbedo::table();
+  const float roughness = std::sqrt(m.alpha);
+  towardView = gpu::layerAlbedo(m, t.at(cosView, roughness));
+  mean = gpu::layerAlbedo(m, t.meanAt(roughness));
+}
+
+float LayerAlbedo::baseWeight(const gpu::SurfaceBrdf& m, float cosLight) const {
+  const float towardLight = gpu::layerAlbedo(m, SpecularAlbedo::table().at(cosLight, std::sqrt(m.alpha)));
+  return gpu::baseWeight(towardLight, towardView, mean);
+}
+
+}  // namespace ivgi::scene

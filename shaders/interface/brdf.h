@@ -1,0 +1,131 @@
+// glTF 2.0's metallic-roughness BRDF (the specification's Appendix B, with KHR_materials_specular
+// and KHR_materials_ior folded into the dielectric's reflectance): a Lambertian base under a
+// Trowbridge–Reitz (GGX) specular layer with Smith's height-correlated masking-shadowing and
+// Schlick's Fresnel, mixed with the metal's by `metallic`. Directions are unit vectors in a frame
+// whose z is the shading normal, pointing away from the surface.
+//
+// One departure from the appendix: its dielectric weighs the base by 1 − F(v·h), the Fresnel of
+// each light's half vector, which reflects more than arrives at grazing views (a white surface of
+// roughness 0.25 returns 1.13 of a uniform sky at 72°, 1.43 at 89°). Here the base is weighed as an
+// energy-conserving, reciprocal layer (Kulla and Conty 2017's form): (1 − E(μ_l))(1 − E(μ_v)) /
+// (1 − Ē), E the specular layer's directional albedo and Ē its cosine-weighted mean, from a table
+// (engine/scene/specular_albedo.h), so that a white surface returns at most what arrives, as in
+// Cycles' and OpenPBR's layering.
+// Part of shaders/interface.h, which includes it inside its namespace and language macros.
+
+// The smallest α (roughness²) the distribution is evaluated at: below it D's peak exceeds what a
+// float holds, and a mirror needs a delta lobe that no method here models.
+IVGI_CONST float kMinAlpha = 1e-3f;
+
+IVGI_FN float alphaOf(float roughness) { return max(roughness * roughness, kMinAlpha); }
+
+// The Trowbridge–Reitz distribution of normals at cos θ_h = nh, with a2 = α².
+IVGI_FN float ggxD(float nh, float a2) {
+  if (nh <= 0.0f) return 0.0f;
+  const float d = nh * nh * (a2 - 1.0f) + 1.0f;
+  return a2 / (kPi * d * d);
+}
+
+// Smith's masking of one direction at cos θ = c.
+IVGI_FN float smithG1(float c, float a2) { return 2.0f * c / (c + sqrt(a2 + (1.0f - a2) * c * c)); }
+
+// G2 / (4 nl nv) with the height-correlated G2: the specular BRDF is V · D.
+IVGI_FN float smithVisibility(float nl, float nv, float a2) {
+  if (nl <= 0.0f || nv <= 0.0f) return 0.0f;
+  return 0.5f / (nl * sqrt(nv * nv * (1.0f - a2) + a2) + nv * sqrt(nl * nl * (1.0f - a2) + a2));
+}
+
+IVGI_FN float schlickWeight(float vh) {
+  const float m = clamp(1.0f - abs(vh), 0.0f, 1.0f);
+  const float m2 = m * m;
+  return m2 * m2 * m;
+}
+
+// One surface point's material, textures applied.
+struct SurfaceBrdf {
+  vec4 base;      // rgb: base colour
+  vec4 specular;  // the dielectric's Fresnel: rgb at normal incidence, a at grazing (Material::specular)
+  float metallic;
+  float alpha;  // alphaOf(roughness)
+  float pad0;
+  float pad1;
+};
+
+// The dielectric's Fresnel (rgb) at cos θ = vh between the view and the half vector.
+IVGI_FN vec3 dielectricFresnel(SurfaceBrdf m, float vh) {
+  const vec3 f0 = vec3(m.specular.x, m.specular.y, m.specular.z);
+  return f0 + (vec3(m.specular.w) - f0) * schlickWeight(vh);
+}
+IVGI_FN vec3 metalFresnel(SurfaceBrdf m, float vh) {
+  const vec3 f0 = vec3(m.base.x, m.base.y, m.base.z);
+  return f0 + (vec3(1.0f) - f0) * schlickWeight(vh);
+}
+IVGI_FN float maxOf(vec3 v) { return max(v.x, max(v.y, v.z)); }
+
+// The specular layer's directional albedo is linear in the Fresnel's two ends: with the table's
+// (A, B) = ∫ ((1 − w), w) · D · V · cos θ_l dω_l at a direction and roughness (w: Schlick's weight),
+// E = F0 · A + F90 · B; taken at the largest channel of F0, as KHR_materials_specular's mix does.
+IVGI_FN float layerAlbedo(SurfaceBrdf m, vec2 table) {
+  return maxOf(vec3(m.specular.x, m.specular.y, m.specular.z)) * table.x + m.specular.w * table.y;
+}
+
+// The weight of the dielectric's base under its specular layer, from the layer's albedo toward
+// l and v and its mean Ē: 1 wherever the layer reflects nothing.
+IVGI_FN float baseWeight(float albedoL, float albedoV, float albedoMean) {
+  return (1.0f - albedoL) * (1.0f - albedoV) / max(1.0f - albedoMean, 1e-6f);
+}
+
+// f(l, v): the radiance reflected toward v per unit irradiance from l (both above the surface:
+// z > 0), the dielectric's base weighed by `weight` (baseWeight()).
+IVGI_FN vec3 evalBrdf(SurfaceBrdf m, vec3 l, vec3 v, float weight) {
+  if (l.z <= 0.0f || v.z <= 0.0f) return vec3(0.0f);
+  const vec3 h = normalize(l + v);
+  const float vh = dot(v, h), a2 = m.alpha * m.alpha;
+  const float specular = ggxD(h.z, a2) * smithVisibility(l.z, v.z, a2);
+  const vec3 fd = dielectricFresnel(m, vh);
+  const vec3 base = vec3(m.base.x, m.base.y, m.base.z);
+  const vec3 dielectric = weight * base / kPi + fd * specular;
+  const vec3 metal = metalFresnel(m, vh) * specular;
+  return mix(dielectric, metal, m.metallic);
+}
+
+// Whether the material reflects only diffusely (a Lambertian base, no specular layer).
+IVGI_FN bool isLambertian(SurfaceBrdf m) {
+  return m.metallic <= 0.0f && m.specular.w <= 0.0f && maxOf(vec3(m.specular.x, m.specular.y, m.specular.z)) <= 0.0f;
+}
+
+// The specular albedo table (engine/scene/specular_albedo.h): kAlbedoTableSize directions, cos θ
+// at ((i + ½) / size)² (denser toward grazing, where the albedo turns fastest), by
+// kAlbedoTableSize roughnesses at (j / (size − 1))² (denser toward smooth, likewise).
+IVGI_CONST uint kAlbedoTableSize = 32u;
+
+// A normal of the distribution as seen from v (Dupuy and Benyoub 2023, "Sampling visible GGX
+// normals with spherical caps"): reflecting v about it samples the specular lobe in proportion to
+// D_v(h) = G1(v) max(0, v·h) D(h) / v.z.
+IVGI_FN vec3 sampleVisibleNormal(vec3 v, float alpha, float u1, float u2) {
+  const vec3 vs = normalize(vec3(alpha * v.x, alpha * v.y, v.z));  // the view in the unit-roughness space
+  const float phi = 2.0f * kPi * u1;
+  const float z = (1.0f - u2) * (1.0f + vs.z) - vs.z;
+  const float sinTheta = sqrt(clamp(1.0f - z * z, 0.0f, 1.0f));
+  const vec3 hs = vec3(sinTheta * cos(phi), sinTheta * sin(phi), z) + vs;
+  return normalize(vec3(alpha * hs.x, alpha * hs.y, max(hs.z, 0.0f)));
+}
+
+// The density (per solid angle) of l = reflect(-v, h) with h from sampleVisibleNormal.
+IVGI_FN float visibleNormalPdf(vec3 l, vec3 v, float alpha) {
+  if (l.z <= 0.0f || v.z <= 0.0f) return 0.0f;
+  const vec3 h = normalize(l + v);
+  const float a2 = alpha * alpha;
+  return smithG1(v.z, a2) * ggxD(h.z, a2) / (4.0f * v.z);
+}
+
+// The chance of sampling the specular lobe rather than the diffuse base, from their reflectances
+// toward v (the layer's albedo `albedoV`, the metal's Fresnel at v): 0 for a Lambertian surface,
+// 1 for a metal.
+IVGI_FN float specularChance(SurfaceBrdf m, float nv, float albedoV) {
+  const vec3 base = vec3(m.base.x, m.base.y, m.base.z);
+  const float specular = mix(albedoV, maxOf(metalFresnel(m, nv)), m.metallic);
+  const float diffuse = (1.0f - m.metallic) * (1.0f - albedoV) * maxOf(base);
+  const float total = specular + diffuse;
+  return total > 0.0f ? specular / total : 0.0f;
+}
