@@ -9,7 +9,7 @@
 
 #include "engine/reference/path_tracer.h"
 #include "engine/scene/gltf.h"
-#include "engine/scene/specular_albedo.h"
+#include "engine/scene/reflectance.h"
 #include "scenes/gltf_builder.h"
 #include "shaders/interface.h"
 
@@ -68,14 +68,14 @@ struct Reference {
   glm::dvec3 directionalAlbedo(double cosView) const {
     const glm::dvec3 v(std::sqrt(1.0 - cosView * cosView), 0.0, cosView);
     glm::dvec3 sum(0.0);
-    constexpr int nu = 400, nphi = 200;
+    constexpr int nu = 200, nphi = 100;
     for (int i = 0; i < nu; ++i)
       for (int k = 0; k < nphi; ++k) {
         const double u = (i + 0.5) / nu, phi = 2.0 * kPi * (k + 0.5) / nphi, r = std::sqrt(u);
         const glm::dvec3 l(r * std::cos(phi), r * std::sin(phi), std::sqrt(1.0 - u));
         sum += diffuse(l, v) * kPi / double(nu * nphi);  // f cos / (cos / π)
       }
-    constexpr int nxi = 2000, nh = 400;
+    constexpr int nxi = 1000, nh = 200;
     const double a = alpha(), a2 = a * a;
     for (int i = 0; i < nxi; ++i)
       for (int k = 0; k < nh; ++k) {
@@ -183,6 +183,27 @@ TEST(Brdf, ReflectsNoMoreEnergyThanItReceives) {
   const Reference lambertian{{.f0 = glm::dvec3(0.0), .f90 = 0.0}}, mirror{{.metallic = 1.0, .roughness = 0.05}};
   EXPECT_NEAR(lambertian.directionalAlbedo(0.6).x, 1.0, 1e-4);
   EXPECT_NEAR(mirror.directionalAlbedo(0.8).x, 1.0, 2e-3);
+}
+
+// What a diffuse solver takes of a glossy surface: the fraction of uniform light it reflects toward
+// a direction (per pixel) and over the hemisphere (per surfel), against the integrated lobe.
+TEST(Brdf, ReflectanceIsTheIntegratedAlbedo) {
+  const scene::SpecularAlbedo& table = scene::SpecularAlbedo::table();
+  for (const Params& p : kMaterials) {
+    const Reference ref{p};
+    glm::dvec3 mean(0.0);  // 2 ∫ E(μ) μ dμ, midpoints
+    constexpr int n = 16;
+    for (int i = 0; i < n; ++i) {
+      const double mu = (i + 0.5) / n;
+      const glm::dvec3 albedo = ref.directionalAlbedo(mu);
+      mean += 2.0 * albedo * mu / double(n);
+      const glm::vec3 got = table.reflectance(brdfOf(p), float(mu));
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(got[c], albedo[c], 0.01 * albedo[c] + 1e-3) << "roughness " << p.roughness << " cos " << mu;
+    }
+    const glm::vec3 got = table.meanReflectance(brdfOf(p));
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], mean[c], 0.01 * mean[c]) << "roughness " << p.roughness;
+  }
 }
 
 // White furnaces: a plane of one material under a uniform sky of radiance 1, seen at a few angles

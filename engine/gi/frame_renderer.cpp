@@ -1,5 +1,7 @@
 #include "engine/gi/frame_renderer.h"
 
+#include "engine/scene/reflectance.h"
+
 #include <algorithm>
 
 #include "engine/core/errors.h"
@@ -53,12 +55,16 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
       vertexIrradiance_(
           shaderProgram(ctx, "vertex_irradiance", {.constants = {{"kDirectPixels", directPerPixel_ ? 1u : 0u}}})),
       unshadowedToVertices_(shaderProgram(ctx, "vertex_irradiance")),
-      directPixels_(shaderProgram(ctx, "direct_pixels")),
+      directPixels_(shaderProgram(ctx, "direct_pixels",
+                                  {.constants = {{"kTextured", g.textures.empty() ? 0u : 1u},
+                                                 {"kColored", g.vertexColors ? 1u : 0u},
+                                                 {"kGlossy", g.glossyMaterials ? 1u : 0u}}})),
       resolve_(shaderProgram(ctx, "resolve",
                              {.constants = {{"kTextured", g.textures.empty() ? 0u : 1u},
                                             {"kLit", solver_ ? 1u : 0u},
                                             {"kColored", g.vertexColors ? 1u : 0u},
-                                            {"kDirectPixels", directPerPixel_ ? 1u : 0u}}})),
+                                            {"kDirectPixels", directPerPixel_ ? 1u : 0u},
+                                            {"kGlossy", g.glossyMaterials ? 1u : 0u}}})),
       raster_(ctx, triangleCount_, &allocations_),
       timer_(ctx) {
   validate(image, ctx);
@@ -72,6 +78,7 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
   surfelSources_ = upload(g.surfels), surfelVertices_ = upload(g.surfelVertices),
   surfelTriangles_ = upload(g.surfelTriangles);
   vertexSurfel_ = upload(scene::vertexSurfels(g));
+  specularAlbedo_ = upload(g.glossyMaterials ? scene::SpecularAlbedo::table().values() : std::vector<glm::vec2>(1));
 
   matrices_ = vk::Buffer(ctx, 0, Memory::Host, tally);  // sized on the first frame
   morphWeights_ = vk::Buffer(ctx, std::max<uint32_t>(g.morphWeightCount, 1) * sizeof(float), Memory::Host, tally);
@@ -92,6 +99,10 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
                         " MiB for the pixels' direct light, above the device's maxStorageBufferRange (" +
                         std::to_string(ctx.limits().maxStorageBufferRange >> 20) + " MiB)");
   pixelLights_ = vk::Buffer(ctx, pixelLightBytes, Memory::Device, tally);
+  // Two texels a pixel (direct_pixels): its lobe's reflection of the emitter samples and of the
+  // punctual lights. Smaller than pixelLights, so within the range the check above allowed.
+  pixelSpecular_ = vk::Buffer(ctx, directPerPixel_ && g.glossyMaterials ? pixels * 2 * sizeof(glm::vec4) : 16,
+                              Memory::Device, tally);
   vertexUnshadowed_ = vk::Buffer(ctx, directPerPixel_ ? shownIrradiance_.size() : 16, Memory::Device, tally);
   noDirectLight_ = vk::Buffer(ctx, 16, Memory::Device, tally);
   if (directLight) {
@@ -142,6 +153,8 @@ vk::Bindings FrameRenderer::pool() const {
                              {"normalDepth", normalDepth_},
                              {"emission", emission_},
                              {"roughnessMetallic", roughnessMetallic_},
+                             {"specularAlbedo", specularAlbedo_},
+                             {"pixelSpecular", pixelSpecular_},
                              {"pixelLights", pixelLights_},
                              {"vertexUnshadowed", vertexUnshadowed_}})
       .plus(direct_ ? direct_->pool()

@@ -77,7 +77,8 @@ class FrameRenderer {
   uint32_t vertexCount_, triangleCount_, surfelCount_;
   vk::Allocations allocations_;  // before the buffers, which count themselves into it
   // Scene data, uploaded once.
-  vk::Buffer vertices_, instances_, morphDeltas_, triangles_, uvs_, colors_, materials_, textures_, texels_;
+  vk::Buffer vertices_, instances_, morphDeltas_, triangles_, uvs_, colors_, materials_, textures_, texels_,
+      specularAlbedo_, pixelSpecular_;
   vk::Buffer surfelSources_, surfelVertices_, surfelTriangles_, vertexSurfel_;
   // Per frame.
   vk::Buffer matrices_, morphWeights_, world_, surfels_, visibility_, unlitIrradiance_;

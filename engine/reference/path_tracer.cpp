@@ -11,7 +11,7 @@
 
 #include "engine/core/errors.h"
 #include "engine/scene/lights.h"
-#include "engine/scene/specular_albedo.h"
+#include "engine/scene/reflectance.h"
 #include "engine/scene/texture_sampling.h"
 
 namespace ivgi::reference {
@@ -234,11 +234,8 @@ struct PathTracer::Impl {
     const glm::vec3 base =
         glm::vec3(m.baseColor) * glm::vec3(color) * glm::vec3(scene::sampleTexture(g, m.baseColorTexture, uv));
     const glm::vec4 metallicRoughness = scene::sampleTexture(g, m.metallicRoughnessTexture, uv);
-    x.brdf.base = glm::vec4(base, 0.0f);
-    x.brdf.specular = m.specular;
-    x.brdf.metallic = m.metallic * metallicRoughness.b;
+    x.brdf = scene::surfaceBrdf(m, base, metallicRoughness);
     x.roughness = m.roughness * metallicRoughness.g;
-    x.brdf.alpha = gpu::alphaOf(x.roughness);
     x.emission = glm::vec3(m.emission) * glm::vec3(scene::sampleTexture(g, m.emissiveTexture, uv));
     return x;
   }

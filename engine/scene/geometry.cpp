@@ -10,6 +10,7 @@
 #include <unordered_map>
 
 #include "engine/image/colour.h"
+#include "engine/scene/reflectance.h"
 #include "engine/scene/tessellation.h"
 #include "engine/scene/texture_sampling.h"
 
@@ -75,6 +76,13 @@ gpu::Material gpuMaterial(const Material& m, int baseColorTexture, int emissiveT
   return out;
 }
 
+// What a diffuse solver's surface reflects of uniform light, where its base colour is `base` and
+// its texture coordinates `uv`: the base colour itself where the material is Lambertian.
+glm::vec4 solverAlbedo(const Geometry& g, const gpu::Material& m, glm::vec4 base, glm::vec2 uv) {
+  const gpu::SurfaceBrdf brdf = surfaceBrdf(m, glm::vec3(base), sampleTexture(g, m.metallicRoughnessTexture, uv));
+  return gpu::isLambertian(brdf) ? base : glm::vec4(SpecularAlbedo::table().meanReflectance(brdf), base.a);
+}
+
 struct CornerMeans {
   glm::vec4 albedo[3], emission[3];
 };
@@ -83,7 +91,7 @@ int samplesAcross(const Geometry& g, const gpu::Material& m, const glm::vec2 uv[
   const float uvArea =
       0.5f * std::abs((uv[1].x - uv[0].x) * (uv[2].y - uv[0].y) - (uv[2].x - uv[0].x) * (uv[1].y - uv[0].y));
   float texels = 0.0f;  // covered, through the reference's transform (its determinant scales the area)
-  for (int t : {m.baseColorTexture, m.emissiveTexture}) {
+  for (int t : {m.baseColorTexture, m.emissiveTexture, m.metallicRoughnessTexture}) {
     if (t < 0) continue;
     const gpu::Texture& x = g.textures[size_t(t)];
     const float scale = std::abs(x.uvRowU.x * x.uvRowV.y - x.uvRowU.y * x.uvRowV.x);
@@ -99,9 +107,10 @@ CornerMeans cornerMeans(const Geometry& g, const gpu::Material& m, const glm::ve
   auto add = [&](float s, float t) {  // barycentric (1 − s − t, s, t), s and t in units of 1/n
     const glm::vec3 w(1.0f - (s + t) / float(n), s / float(n), t / float(n));
     const glm::vec2 at = w.x * uv[0] + w.y * uv[1] + w.z * uv[2];
-    const glm::vec4 albedo = m.baseColor * (w.x * color[0] + w.y * color[1] + w.z * color[2]) *
-                             sampleTexture(g, m.baseColorTexture, at),
+    const glm::vec4 base = m.baseColor * (w.x * color[0] + w.y * color[1] + w.z * color[2]) *
+                           sampleTexture(g, m.baseColorTexture, at),
                     emission = m.emission * sampleTexture(g, m.emissiveTexture, at);
+    const glm::vec4 albedo = solverAlbedo(g, m, base, at);
     for (int k = 0; k < 3; ++k) out.albedo[k] += w[k] * albedo, out.emission[k] += w[k] * emission;
   };
   for (int i = 0; i < n; ++i)
@@ -233,6 +242,8 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
                                      glm::vec4(t.normals.empty() ? glm::vec3(0) : t.normals[v], 0)});
 
         const gpu::Material& material = g.materials[p.material >= 0 ? p.material : defaultMaterial];
+        g.glossyMaterials |=
+            material.metallic > 0.0f || material.specular.a > 0.0f || gpu::maxOf(glm::vec3(material.specular)) > 0.0f;
         for (uint32_t v = 0; v < n; ++v) {
           Vertex gv{};
           gv.position = p.positions[v];
@@ -290,7 +301,9 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
 
         // Where albedo or emission varies over the triangles, each surfel takes their hat-weighted
         // means over its triangles, weighted by the triangles' areas.
-        const bool varies = material.baseColorTexture >= 0 || material.emissiveTexture >= 0 || !p.colors.empty();
+        const bool varies = material.baseColorTexture >= 0 || material.emissiveTexture >= 0 ||
+                            material.metallicRoughnessTexture >= 0 || !p.colors.empty();
+        const glm::vec4 uniformAlbedo = solverAlbedo(g, material, material.baseColor, glm::vec2(0.0f));
         std::vector<glm::vec4> albedoSums(varies ? welded.size() : 0, glm::vec4(0.0f)),
             emissionSums(albedoSums.size(), glm::vec4(0.0f));
         std::vector<float> areaSums(albedoSums.size(), 0.0f);
@@ -318,7 +331,7 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
           for (uint32_t v : welded[s]) g.surfelVertices.push_back(base + v);
           g.surfelTriangles.insert(g.surfelTriangles.end(), adjacent[s].begin(), adjacent[s].end());
           g.surfels.push_back(src);
-          g.surfelAlbedo.push_back(varies ? albedoSums[s] / areaSums[s] : material.baseColor);
+          g.surfelAlbedo.push_back(varies ? albedoSums[s] / areaSums[s] : uniformAlbedo);
           g.surfelEmission.push_back(varies ? emissionSums[s] / areaSums[s] : material.emission);
         }
       }

@@ -44,6 +44,7 @@ struct Geometry {
   std::vector<MorphDelta> morphDeltas;
   std::vector<Triangle> triangles;
   std::vector<gpu::Material> materials;  // last one: the glTF default material
+  bool glossyMaterials = false;          // some drawn material is not Lambertian
   std::vector<gpu::Texture> textures;
   std::vector<uint32_t> texels;  // linear RGBA as two packHalf2x16 words per texel
   std::vector<SurfelSource> surfels;

@@ -51,26 +51,67 @@ float seenShare(uint light, vec3 p, float cosine, uint side, bool bilinear) {
 }
 
 // The light of point `i` (an emitter sample or a point or spot light) at p (unit normal n) where it
-// is seen; zero where p faces away from it or lies behind the emitter. `cosine`: the ray's at p.
-vec3 lightFrom(uint i, vec3 p, vec3 n, out float cosine) {
+// is seen; zero where p faces away from it or lies behind the emitter. `cosine`: the ray's at p;
+// `toward`: the unit direction from p to the light.
+vec3 lightFrom(uint i, vec3 p, vec3 n, out float cosine, out vec3 toward) {
   const LightPoint l = lightPoints[i];
   cosine = 0.0;
+  toward = n;
   if (l.cone.w == kLightPointIsPunctual) {
     vec3 toLight;
     float d2;
     const float falloff =
         lightFalloff(PunctualLight(vec4(l.positionArea.xyz, l.cone.z), l.normal, l.radiance, l.cone), p, toLight, d2);
     if (!(falloff > 0.0) || !(d2 > 0.0)) return vec3(0.0);
-    cosine = l.cone.z == kLightDirectional ? dot(n, normalize(toLight)) : dot(n, toLight) * inversesqrt(d2);
+    toward = l.cone.z == kLightDirectional ? normalize(toLight) : toLight * inversesqrt(d2);
+    cosine = dot(n, toward);
     return cosine > 0.0 ? l.radiance.rgb * (falloff * cosine) : vec3(0.0);
   }
   const vec3 toLight = l.positionArea.xyz - p;
   const float d2 = dot(toLight, toLight);
   if (!(d2 > 0.0)) return vec3(0.0);
   const float inv = inversesqrt(d2), cosL = -dot(l.normal.xyz, toLight) * inv;
+  toward = toLight * inv;
   cosine = dot(n, toLight) * inv;
   if (cosine <= 0.0 || cosL <= 0.0) return vec3(0.0);
   return l.radiance.rgb * (l.positionArea.w * cosine * cosL / (d2 + l.positionArea.w / kPi));
+}
+
+// What a surface reflects toward the camera of the light of points first, first + stride, … before
+// `end`, each where its maps see p, through its specular lobe (kGlossy): the material and the view
+// (unit, away from the surface) in the tangent frame of n.
+struct Lobe {
+  bool glossy;  // false: nothing reflected (a Lambertian surface, or none asked)
+  SurfaceBrdf brdf;
+  vec3 t1, t2, n, view;
+};
+Lobe noLobe(vec3 n) { return Lobe(false, SurfaceBrdf(vec4(0.0), vec4(0.0), 0.0, 1.0, 0.0, 0.0), n, n, n, n); }
+vec3 lobeOf(Lobe lobe, vec3 toward) {
+  const vec3 l = vec3(dot(toward, lobe.t1), dot(toward, lobe.t2), dot(toward, lobe.n));
+  return evalBrdf(lobe.brdf, l, lobe.view, 0.0);  // weight 0: the lobe alone, not the base
+}
+
+// Light at p (unit normal n) from points first, first + stride, … before `end`, each where its maps
+// see p (`bilinear`: seenShare's), times `scale`; in `unshadowed` the same with every point seen,
+// and in `reflected` what `lobe` reflects of the seen light.
+vec3 lightAt(vec3 p, vec3 n, uint first, uint end, uint stride, float scale, uint side, bool bilinear, Lobe lobe,
+             out vec3 unshadowed, out vec3 reflected) {
+  vec3 e = vec3(0.0);
+  unshadowed = vec3(0.0);
+  reflected = vec3(0.0);
+  for (uint i = first; i < end; i += stride) {
+    float cosine;
+    vec3 toward;
+    const vec3 seen = lightFrom(i, p, n, cosine, toward);
+    if (cosine <= 0.0 || all(equal(seen, vec3(0.0)))) continue;
+    const vec3 lit = seen * seenShare(i, p, cosine, side, bilinear);
+    e += lit;
+    unshadowed += seen;
+    if (lobe.glossy) reflected += lobeOf(lobe, toward) * lit;
+  }
+  unshadowed *= scale;
+  reflected *= scale;
+  return e * scale;
 }
 
 // Irradiance at p (unit normal n) from the emitter samples first, first + stride, … of `samples`,
@@ -79,27 +120,13 @@ vec3 lightFrom(uint i, vec3 p, vec3 n, out float cosine) {
 // in `unshadowed`, the same with every sample seen. `bilinear`: seenShare's.
 vec3 sampledIrradiance(vec3 p, vec3 n, uint samples, uint side, uint first, uint stride, bool bilinear,
                        out vec3 unshadowed) {
-  vec3 e = vec3(0.0);
-  unshadowed = vec3(0.0);
-  for (uint i = first; i < samples; i += stride) {
-    float cosine;
-    const vec3 seen = lightFrom(i, p, n, cosine);
-    if (cosine <= 0.0 || all(equal(seen, vec3(0.0)))) continue;
-    e += seen * seenShare(i, p, cosine, side, bilinear);
-    unshadowed += seen;
-  }
-  unshadowed *= float(stride);
-  return e * float(stride);
+  vec3 reflected;
+  return lightAt(p, n, first, samples, stride, float(stride), side, bilinear, noLobe(n), unshadowed, reflected);
 }
 
 // Irradiance at p (unit normal n) from the `punctual` lights (point, spot, directional) after the `samples`
 // emitter samples, each where its maps see p.
 vec3 punctualIrradiance(vec3 p, vec3 n, uint samples, uint punctual, uint side, bool bilinear) {
-  vec3 e = vec3(0.0);
-  for (uint i = samples; i < samples + punctual; ++i) {
-    float cosine;
-    const vec3 seen = lightFrom(i, p, n, cosine);
-    if (cosine > 0.0 && any(greaterThan(seen, vec3(0.0)))) e += seen * seenShare(i, p, cosine, side, bilinear);
-  }
-  return e;
+  vec3 unshadowed, reflected;
+  return lightAt(p, n, samples, samples + punctual, 1u, 1.0, side, bilinear, noLobe(n), unshadowed, reflected);
 }

@@ -3,7 +3,9 @@
 // over blocks of pixels, shadowBlock) at the point its central sample sees, with their shadows
 // from the depth maps and without, and every punctual light with its shadow. The resolve then scales the light
 // the vertices carry unshadowed by the share its neighbours on the same surface see (the ratio of the two summed over
-// them), so that the shadows are the pixels' own at a fraction of the lookups.
+// them), so that the shadows are the pixels' own at a fraction of the lookups. Where the pixel's
+// material is glossy (kGlossy), also what its specular lobe reflects of that light toward the
+// camera, which the resolve averages over the same neighbours.
 #extension GL_GOOGLE_include_directive : require
 #include "common/common.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -15,9 +17,21 @@ layout(std430, binding = 3) readonly buffer LightPoints { LightPoint lightPoints
 layout(std430, binding = 4) readonly buffer LightViews { Camera lightViews[]; };
 layout(binding = 5, r32ui) readonly uniform uimageBuffer lightDepth;  // depths' float bits
 layout(std430, binding = 6) writeonly buffer PixelLights { PixelLight pixelLights[]; };
+layout(binding = 7, rgba32ui) readonly uniform uimageBuffer materials;  // Material
+layout(binding = 8, rg32f) readonly uniform imageBuffer uvs;
+layout(binding = 9, rgba32f) readonly uniform imageBuffer colors;  // COLOR_0 per vertex
+layout(std430, binding = 10) readonly buffer Textures { Texture textures[]; };
+layout(std430, binding = 11) readonly buffer Texels { uint texels[]; };
+// Per pixel: the lobe's reflection of its share of the emitter samples, then of the punctual lights.
+layout(std430, binding = 12) writeonly buffer PixelSpecular { vec4 pixelSpecular[]; };
 layout(push_constant) uniform Push { ResolvePush push; };
+// As the resolve's: some material has a texture; some primitive has COLOR_0; some material is glossy.
+layout(constant_id = 0) const bool kTextured = true;
+layout(constant_id = 1) const bool kColored = false;
+layout(constant_id = 2) const bool kGlossy = false;
 #include "direct_light.glsl"
 #include "surface_hit.glsl"
+#include "surface_material.glsl"
 
 void main() {
   const uvec2 px = gl_GlobalInvocationID.xy;
@@ -27,6 +41,7 @@ void main() {
   const float len = h.hit ? length(h.normal) : 0.0;
   if (!(len > 0.0)) {
     pixelLights[o] = PixelLight(vec4(0.0), vec4(0.0), vec4(0.0));
+    if (kGlossy) pixelSpecular[2u * o] = pixelSpecular[2u * o + 1u] = vec4(0.0);
     return;
   }
   const vec3 n = h.normal / len, p = h.position;
@@ -34,9 +49,20 @@ void main() {
              first = ((px.y % block) * block + px.x % block) % stride;
   // The nearest texel: the resolve's window filters the emitter samples' shadows. The point and
   // spot lights are few: every pixel takes them all, their shadows its own.
-  vec3 unshadowed;
-  const vec3 shadowed = sampledIrradiance(p, n, push.lightSamples, push.shadowMap, first, stride, false, unshadowed);
-  const vec3 punctual = punctualIrradiance(p, n, push.lightSamples, push.punctualLights, push.shadowMap, false);
+  Lobe lobe = noLobe(n);
+  if (kGlossy) {
+    lobe.brdf = materialAt(h.triangle, h.weights).brdf;
+    lobe.glossy = !isLambertian(lobe.brdf);
+    tangentFrame(n, lobe.t1, lobe.t2);
+    const vec3 v = normalize(push.camera.origin.xyz - p);
+    lobe.view = vec3(dot(v, lobe.t1), dot(v, lobe.t2), abs(dot(v, n)));
+  }
+  vec3 unshadowed, unused, specular, punctualSpecular;
+  const vec3 shadowed =
+      lightAt(p, n, first, push.lightSamples, stride, float(stride), push.shadowMap, false, lobe, unshadowed, specular);
+  const vec3 punctual = lightAt(p, n, push.lightSamples, push.lightSamples + push.punctualLights, 1u, 1.0,
+                                push.shadowMap, false, lobe, unused, punctualSpecular);
+  if (kGlossy) pixelSpecular[2u * o] = vec4(specular, 0.0), pixelSpecular[2u * o + 1u] = vec4(punctualSpecular, 0.0);
   pixelLights[o] =
       PixelLight(vec4(shadowed, uintBitsToFloat(packUnitVector(n))), vec4(unshadowed, dot(n, p)), vec4(punctual, 1.0));
 }

@@ -22,6 +22,8 @@ layout(binding = 13, rgba32f) readonly uniform imageBuffer colors;            //
 layout(binding = 14, rgba32f) readonly uniform imageBuffer pixelLights;       // PixelLight: 3 texels a pixel
 layout(binding = 15, rgba32f) readonly uniform imageBuffer vertexUnshadowed;  // per surfel, at its vertex
 layout(std430, binding = 16) writeonly buffer RoughnessMetallic { vec4 roughnessMetallic[]; };
+layout(std430, binding = 17) readonly buffer SpecularAlbedo { vec2 specularAlbedo[]; };  // (A, B), brdf.h
+layout(binding = 18, rgba32f) readonly uniform imageBuffer pixelSpecular;  // 2 texels a pixel (direct_pixels)
 layout(push_constant) uniform Push { ResolvePush push; };
 // False for scenes without textures: the lookups are compiled out. lavapipe runs a branch inside
 // the sample loop masked, so even untaken lookups cost a third of the pass.
@@ -35,7 +37,19 @@ layout(constant_id = 2) const bool kColored = false;
 // vertices then carry the rest of the irradiance and, apart, the direct light unshadowed, which each
 // sample scales by the share its neighbours on its surface see (direct_pixels).
 layout(constant_id = 3) const bool kDirectPixels = false;
+// True where some material is not Lambertian: a lit sample then reflects what its material does of
+// uniform light toward the camera (brdf.h's reflectanceOf), not its base colour.
+layout(constant_id = 4) const bool kGlossy = false;
 #include "surface_hit.glsl"
+#include "surface_material.glsl"
+
+// The table's (A, B) (specularAlbedo, brdf.h's layout) toward cos θ = mu for the material, bilinear.
+vec2 specularAlbedoAt(SurfaceBrdf m, float mu) {
+  const vec4 cell = albedoTableCell(mu, sqrt(m.alpha));
+  const uint at = uint(cell.y) * kAlbedoTableSize + uint(cell.x);
+  return mix(mix(specularAlbedo[at], specularAlbedo[at + 1u], cell.z),
+             mix(specularAlbedo[at + kAlbedoTableSize], specularAlbedo[at + kAlbedoTableSize + 1u], cell.z), cell.w);
+}
 
 vec3 irradianceAt(uint vertex) {
   int surfel = int(imageLoad(vertexSurfel, int(vertex)).x);
@@ -45,25 +59,6 @@ vec3 unshadowedAt(uint vertex) {
   int surfel = int(imageLoad(vertexSurfel, int(vertex)).x);
   return surfel >= 0 ? imageLoad(vertexUnshadowed, surfel).rgb : vec3(0.0);
 }
-vec2 uvOf(uint vertex) { return imageLoad(uvs, int(vertex)).xy; }
-vec3 colorOf(uint vertex) { return imageLoad(colors, int(vertex)).rgb; }
-
-vec4 texel(Texture t, int x, int y) {
-  uint at = 2u * (t.offset + uint(y) * t.width + uint(x));
-  return vec4(unpackHalf2x16(texels[at]), unpackHalf2x16(texels[at + 1u]));
-}
-
-vec4 sampleTexture(int index, vec2 uv) {
-  if (index < 0) return vec4(1.0);
-  Texture t = textures[index];
-  if (t.width == 0u || t.height == 0u) return vec4(1.0);
-  uv = transformedUv(t, uv);
-  float ax, ay;
-  ivec2 xs = texelPair(uv.x, int(t.width), t.wrap & 0xffffu, ax), ys = texelPair(uv.y, int(t.height), t.wrap >> 16, ay);
-  return mix(mix(texel(t, xs.x, ys.x), texel(t, xs.y, ys.x), ax), mix(texel(t, xs.x, ys.y), texel(t, xs.y, ys.y), ax),
-             ay);
-}
-
 // Whether point p lies on the surface of `plane` (unit normal, n·p) whose normal is n: the normals
 // within kShadowNormalCos, p within `tolerance` of the plane.
 bool onPlane(vec4 plane, vec3 p, vec3 n, float tolerance) {
@@ -78,17 +73,23 @@ bool pixelOnPlane(int at, vec3 p, vec3 n, float tolerance) {
 }
 
 // The direct light around a point on a surface: the share of the emitter samples' light that
-// reaches it (per channel) and the punctual lights' light.
+// reaches it (per channel), the punctual lights' light, and (kGlossy) what the specular lobe
+// reflects of both toward the camera.
 struct DirectAround {
-  vec3 share, punctual;
+  vec3 share, punctual, specular;
 };
 
-// Adds to `seen` and `all` the emitter samples' shadowed and unshadowed light of the pixels from
-// `nearest` to `farthest` pixels from px (along either axis) whose points lie on p's surface, each
-// weighted ½ along an axis where it lies on the rim `rim` (> 0), else 1, and to `punctual` and
-// `weight` the point lights' light so weighted; whether any lay on it.
-bool sumAround(uvec2 px, vec3 p, vec3 n, float tolerance, int nearest, int farthest, int rim, inout vec3 seen,
-               inout vec3 all, inout vec3 punctual, inout float weight) {
+// Sums over pixels of the direct light they found (direct_pixels): the emitter samples' shadowed and
+// unshadowed light, the punctual lights', and the lobe's reflections of the two (kGlossy).
+struct LightSums {
+  vec3 seen, all, punctual, specular, punctualSpecular;
+  float weight;
+};
+
+// Adds to `sums` those of the pixels from `nearest` to `farthest` pixels from px (along either
+// axis) whose points lie on p's surface, each weighted ½ along an axis where it lies on the rim
+// `rim` (> 0), else 1; whether any lay on it.
+bool sumAround(uvec2 px, vec3 p, vec3 n, float tolerance, int nearest, int farthest, int rim, inout LightSums sums) {
   bool found = false;
   for (int dy = -farthest; dy <= farthest; ++dy)
     for (int dx = -farthest; dx <= farthest; ++dx) {
@@ -98,8 +99,13 @@ bool sumAround(uvec2 px, vec3 p, vec3 n, float tolerance, int nearest, int farth
       const int at = 3 * (q.y * int(push.size.x) + q.x);
       if (!pixelOnPlane(at, p, n, tolerance)) continue;
       const float w = (rim > 0 && abs(dx) == rim ? 0.5 : 1.0) * (rim > 0 && abs(dy) == rim ? 0.5 : 1.0);
-      seen += w * imageLoad(pixelLights, at).rgb, all += w * imageLoad(pixelLights, at + 1).rgb;
-      punctual += w * imageLoad(pixelLights, at + 2).rgb, weight += w;
+      sums.seen += w * imageLoad(pixelLights, at).rgb, sums.all += w * imageLoad(pixelLights, at + 1).rgb;
+      sums.punctual += w * imageLoad(pixelLights, at + 2).rgb, sums.weight += w;
+      if (kGlossy) {
+        const int lobe = 2 * (q.y * int(push.size.x) + q.x);
+        sums.specular += w * imageLoad(pixelSpecular, lobe).rgb;
+        sums.punctualSpecular += w * imageLoad(pixelSpecular, lobe + 1).rgb;
+      }
       found = true;
     }
   return found;
@@ -110,21 +116,26 @@ bool sumAround(uvec2 px, vec3 p, vec3 n, float tolerance, int nearest, int farth
 // their unshadowed. The weights (½ at the window's rim, else 1, along each axis: ½, 1, 1, 1, ½ for
 // blocks of 4) give each pixel of a block's interleaving (direct_pixels) the same weight, so that on
 // a plane the sums hold every emitter sample once. The punctual lights, which every pixel
-// takes whole: px's own where p lies on its surface, else their weighted mean. Where no pixel lies on
+// takes whole: px's own where p lies on its surface, else their weighted mean. The lobe's
+// reflection of the emitter samples: the weighted mean of the pixels' (each an estimate from its
+// share of the samples); of the punctual lights: as their light. Where no pixel lies on
 // p's surface (a sample on a thin sliver, or across an edge from its pixel's centre), the next ring
 // of pixels out.
 DirectAround directAround(uvec2 px, vec3 p, vec3 n, float tolerance) {
   const int reach = int(shadowBlock(push.samples) / 2u);
-  vec3 seen = vec3(0.0), all = vec3(0.0), punctual = vec3(0.0);
-  float weight = 0.0;
-  const int own = 3 * int(px.y * push.size.x + px.x);
+  LightSums s = LightSums(vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), 0.0);
+  const int ownPixel = int(px.y * push.size.x + px.x), own = 3 * ownPixel;
   const bool ownOnPlane = pixelOnPlane(own, p, n, tolerance);
-  if (!sumAround(px, p, n, tolerance, 0, reach, reach, seen, all, punctual, weight))
-    sumAround(px, p, n, tolerance, reach + 1, reach + 1, 0, seen, all, punctual, weight);
+  if (!sumAround(px, p, n, tolerance, 0, reach, reach, s)) sumAround(px, p, n, tolerance, reach + 1, reach + 1, 0, s);
   DirectAround d;
-  d.share =
-      vec3(all.r > 0.0 ? seen.r / all.r : 0.0, all.g > 0.0 ? seen.g / all.g : 0.0, all.b > 0.0 ? seen.b / all.b : 0.0);
-  d.punctual = ownOnPlane ? imageLoad(pixelLights, own + 2).rgb : (weight > 0.0 ? punctual / weight : vec3(0.0));
+  d.share = vec3(s.all.r > 0.0 ? s.seen.r / s.all.r : 0.0, s.all.g > 0.0 ? s.seen.g / s.all.g : 0.0,
+                 s.all.b > 0.0 ? s.seen.b / s.all.b : 0.0);
+  const float weight = max(s.weight, 1e-30);  // 0 only where every sum is
+  d.punctual = ownOnPlane ? imageLoad(pixelLights, own + 2).rgb : (s.weight > 0.0 ? s.punctual / s.weight : vec3(0.0));
+  d.specular = vec3(0.0);
+  if (kGlossy)
+    d.specular = s.specular / weight +
+                 (ownOnPlane ? imageLoad(pixelSpecular, 2 * ownPixel + 1).rgb : s.punctualSpecular / weight);
   return d;
 }
 
@@ -138,7 +149,7 @@ void main() {
   float depth = 0.0, hits = 0.0;
   // kDirectPixels: the direct light last found around a sample and the plane it was found for, which
   // the pixel's other samples on that plane take as it is.
-  DirectAround around = DirectAround(vec3(0.0), vec3(0.0));
+  DirectAround around = DirectAround(vec3(0.0), vec3(0.0), vec3(0.0));
   vec4 aroundPlane = vec4(0.0);
   for (uint sy = 0; sy < samples; ++sy)
     for (uint sx = 0; sx < samples; ++sx) {
@@ -148,24 +159,13 @@ void main() {
       const uvec4 t = h.triangle;
       const vec3 w = h.weights, n = h.normal;
       float len = length(n);
-      uint mi = t.w & ~kFlatShaded;
-      vec3 base = uintBitsToFloat(imageLoad(materials, int(kMaterialTexels * mi)).rgb),
-           emit = uintBitsToFloat(imageLoad(materials, int(kMaterialTexels * mi + 1u)).rgb);
-      vec2 metalRough = uintBitsToFloat(imageLoad(materials, int(kMaterialTexels * mi + 4u)).xy);
-      if (kColored) base *= w.x * colorOf(t.x) + w.y * colorOf(t.y) + w.z * colorOf(t.z);
-      if (kTextured) {
-        vec2 uv = w.x * uvOf(t.x) + w.y * uvOf(t.y) + w.z * uvOf(t.z);
-        // base colour, emissive, metallic-roughness; -1: none
-        ivec3 textures = ivec3(imageLoad(materials, int(kMaterialTexels * mi + 3u)).xyz);
-        base *= sampleTexture(textures.x, uv).rgb;
-        emit *= sampleTexture(textures.y, uv).rgb;
-        metalRough *= sampleTexture(textures.z, uv).bg;
-      }
+      const SurfaceMaterial m = materialAt(t, w);
+      const vec3 base = m.brdf.base.rgb;
       albedo += base;
-      roughMetal += metalRough.yx;
-      emission += emit;
+      emission += m.emission;
+      roughMetal += vec2(m.roughness, m.brdf.metallic);
       if (kLit) {
-        vec3 e = w.x * irradianceAt(t.x) + w.y * irradianceAt(t.y) + w.z * irradianceAt(t.z);
+        vec3 e = w.x * irradianceAt(t.x) + w.y * irradianceAt(t.y) + w.z * irradianceAt(t.z), direct = vec3(0.0);
         if (kDirectPixels && len > 0.0) {
           // Neighbours count within kShadowPlanePixels pixels' width of the plane, at p's distance.
           const float pixelWidth = 2.0 * length(push.camera.up.xyz) / float(push.size.y) *
@@ -175,10 +175,19 @@ void main() {
             around = directAround(px, h.position, n / len, tolerance);
             aroundPlane = vec4(n / len, dot(n / len, h.position));
           }
-          e += (w.x * unshadowedAt(t.x) + w.y * unshadowedAt(t.y) + w.z * unshadowedAt(t.z)) * around.share +
-               around.punctual;
+          direct = (w.x * unshadowedAt(t.x) + w.y * unshadowedAt(t.y) + w.z * unshadowedAt(t.z)) * around.share +
+                   around.punctual;
         }
-        reflected += base * e / kPi;
+        if (kGlossy && !isLambertian(m.brdf) && len > 0.0) {
+          // The base reflects all the light as it does uniform light; the lobe the direct light as
+          // direct_pixels found it toward the camera, the rest as if it arrived evenly.
+          const float mu = abs(dot(n / len, normalize(push.camera.origin.xyz - h.position)));
+          const vec2 table = specularAlbedoAt(m.brdf, mu);
+          reflected += baseReflectanceOf(m.brdf, table) * (e + direct) / kPi +
+                       lobeReflectanceOf(m.brdf, table) * e / kPi + around.specular;
+        } else {
+          reflected += base * (e + direct) / kPi;
+        }
       }
       normal += len > 0.0 ? n / len : vec3(0.0);
       depth += h.depth;

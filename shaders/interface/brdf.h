@@ -9,7 +9,7 @@
 // roughness 0.25 returns 1.13 of a uniform sky at 72°, 1.43 at 89°). Here the base is weighed as an
 // energy-conserving, reciprocal layer (Kulla and Conty 2017's form): (1 − E(μ_l))(1 − E(μ_v)) /
 // (1 − Ē), E the specular layer's directional albedo and Ē its cosine-weighted mean, from a table
-// (engine/scene/specular_albedo.h), so that a white surface returns at most what arrives, as in
+// (engine/scene/reflectance.h), so that a white surface returns at most what arrives, as in
 // Cycles' and OpenPBR's layering.
 // Part of shaders/interface.h, which includes it inside its namespace and language macros.
 
@@ -94,10 +94,36 @@ IVGI_FN bool isLambertian(SurfaceBrdf m) {
   return m.metallic <= 0.0f && m.specular.w <= 0.0f && maxOf(vec3(m.specular.x, m.specular.y, m.specular.z)) <= 0.0f;
 }
 
-// The specular albedo table (engine/scene/specular_albedo.h): kAlbedoTableSize directions, cos θ
+// The specular albedo table (engine/scene/reflectance.h): kAlbedoTableSize directions, cos θ
 // at ((i + ½) / size)² (denser toward grazing, where the albedo turns fastest), by
 // kAlbedoTableSize roughnesses at (j / (size − 1))² (denser toward smooth, likewise).
 IVGI_CONST uint kAlbedoTableSize = 32u;
+
+// Where the table holds (A, B) toward cos θ = mu at a roughness: the first of the four nodes
+// along each axis (x, y) and the weights of the second (z, w).
+IVGI_FN vec4 albedoTableCell(float mu, float roughness) {
+  const float last = float(kAlbedoTableSize - 1u);
+  const float x = clamp(sqrt(max(mu, 0.0f)) * float(kAlbedoTableSize) - 0.5f, 0.0f, last);
+  const float y = sqrt(clamp(roughness, 0.0f, 1.0f)) * last;
+  const float x0 = min(floor(x), last - 1.0f), y0 = min(floor(y), last - 1.0f);
+  return vec4(x0, y0, x - x0, y - y0);
+}
+
+// The fraction of uniform incident light a surface reflects: toward a direction, with the table's
+// (A, B) there; over the hemisphere, with their means. The diffuse base returns ρ (1 − E) of it
+// (its weight's mean over the light is exactly 1 − E toward the view), the layer its albedo.
+// Split in two: what the diffuse base reflects, and what the specular lobe does.
+IVGI_FN vec3 baseReflectanceOf(SurfaceBrdf m, vec2 table) {
+  return (1.0f - m.metallic) * (1.0f - layerAlbedo(m, table)) * vec3(m.base.x, m.base.y, m.base.z);
+}
+IVGI_FN vec3 lobeReflectanceOf(SurfaceBrdf m, vec2 table) {
+  const vec3 layer = vec3(m.specular.x, m.specular.y, m.specular.z) * table.x + vec3(m.specular.w * table.y);
+  const vec3 metal = vec3(m.base.x, m.base.y, m.base.z) * table.x + vec3(table.y);
+  return mix(layer, metal, m.metallic);
+}
+IVGI_FN vec3 reflectanceOf(SurfaceBrdf m, vec2 table) {
+  return baseReflectanceOf(m, table) + lobeReflectanceOf(m, table);
+}
 
 // A normal of the distribution as seen from v (Dupuy and Benyoub 2023, "Sampling visible GGX
 // normals with spherical caps"): reflecting v about it samples the specular lobe in proportion to

@@ -1,4 +1,4 @@
-#include "engine/scene/specular_albedo.h"
+#include "engine/scene/reflectance.h"
 
 #include <algorithm>
 #include <cmath>
@@ -51,20 +51,34 @@ const SpecularAlbedo& SpecularAlbedo::table() {
 }
 
 glm::vec2 SpecularAlbedo::at(float mu, float roughness) const {
-  const float x = std::clamp(std::sqrt(std::max(mu, 0.0f)) * kSize - 0.5f, 0.0f, float(kSize - 1));
-  const float y = std::sqrt(std::clamp(roughness, 0.0f, 1.0f)) * float(kSize - 1);
-  const int x0 = std::min(int(x), kSize - 2), y0 = std::min(int(y), kSize - 2);
-  const float fx = x - float(x0), fy = y - float(y0);
-  auto node = [&](int i, int j) { return values_[size_t(j) * kSize + i]; };
-  return glm::mix(glm::mix(node(x0, y0), node(x0 + 1, y0), fx), glm::mix(node(x0, y0 + 1), node(x0 + 1, y0 + 1), fx),
-                  fy);
+  const glm::vec4 c = gpu::albedoTableCell(mu, roughness);
+  const size_t x0 = size_t(c.x), y0 = size_t(c.y);
+  auto node = [&](size_t i, size_t j) { return values_[j * kSize + i]; };
+  return glm::mix(glm::mix(node(x0, y0), node(x0 + 1, y0), c.z), glm::mix(node(x0, y0 + 1), node(x0 + 1, y0 + 1), c.z),
+                  c.w);
 }
 
 glm::vec2 SpecularAlbedo::meanAt(float roughness) const {
-  const float y = std::sqrt(std::clamp(roughness, 0.0f, 1.0f)) * float(kSize - 1);
-  const int y0 = std::min(int(y), kSize - 2);
+  const glm::vec4 c = gpu::albedoTableCell(1.0f, roughness);
   const glm::vec2* means = &values_[size_t(kSize) * kSize];
-  return glm::mix(means[y0], means[y0 + 1], y - float(y0));
+  return glm::mix(means[size_t(c.y)], means[size_t(c.y) + 1], c.w);
+}
+
+glm::vec3 SpecularAlbedo::reflectance(const gpu::SurfaceBrdf& m, float mu) const {
+  return gpu::reflectanceOf(m, at(mu, std::sqrt(m.alpha)));
+}
+
+glm::vec3 SpecularAlbedo::meanReflectance(const gpu::SurfaceBrdf& m) const {
+  return gpu::reflectanceOf(m, meanAt(std::sqrt(m.alpha)));
+}
+
+gpu::SurfaceBrdf surfaceBrdf(const gpu::Material& m, glm::vec3 base, glm::vec4 metallicRoughness) {
+  gpu::SurfaceBrdf out{};
+  out.base = glm::vec4(base, 0.0f);
+  out.specular = m.specular;
+  out.metallic = m.metallic * metallicRoughness.b;
+  out.alpha = gpu::alphaOf(m.roughness * metallicRoughness.g);
+  return out;
 }
 
 LayerAlbedo::LayerAlbedo(const gpu::SurfaceBrdf& m, float cosView) {

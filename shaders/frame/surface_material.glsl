@@ -1,0 +1,51 @@
+// The material at a point the camera's raster hit (resolve, direct_pixels): base colour (factor ×
+// texture × vertex colour), emission, and glTF's metallic-roughness (brdf.h). Expects `materials`,
+// `uvs`, `colors`, `textures` and `texels` declared before it, and the constants kTextured (some
+// material has a texture) and kColored (some primitive has COLOR_0).
+
+vec2 uvOf(uint vertex) { return imageLoad(uvs, int(vertex)).xy; }
+vec3 colorOf(uint vertex) { return imageLoad(colors, int(vertex)).rgb; }
+
+vec4 texel(Texture t, int x, int y) {
+  uint at = 2u * (t.offset + uint(y) * t.width + uint(x));
+  return vec4(unpackHalf2x16(texels[at]), unpackHalf2x16(texels[at + 1u]));
+}
+
+vec4 sampleTexture(int index, vec2 uv) {
+  if (index < 0) return vec4(1.0);
+  Texture t = textures[index];
+  if (t.width == 0u || t.height == 0u) return vec4(1.0);
+  uv = transformedUv(t, uv);
+  float ax, ay;
+  ivec2 xs = texelPair(uv.x, int(t.width), t.wrap & 0xffffu, ax), ys = texelPair(uv.y, int(t.height), t.wrap >> 16, ay);
+  return mix(mix(texel(t, xs.x, ys.x), texel(t, xs.y, ys.x), ax), mix(texel(t, xs.x, ys.y), texel(t, xs.y, ys.y), ax),
+             ay);
+}
+
+struct SurfaceMaterial {
+  SurfaceBrdf brdf;  // base colour, the dielectric's reflectance, metallic, α
+  vec3 emission;
+  float roughness;  // as the file gives it (brdf.alpha is its square, clamped)
+};
+
+// The material of triangle t (v0, v1, v2, material | kFlatShaded) at barycentric weights w.
+SurfaceMaterial materialAt(uvec4 t, vec3 w) {
+  const uint mi = t.w & ~kFlatShaded;
+  SurfaceMaterial m;
+  vec3 base = uintBitsToFloat(imageLoad(materials, int(kMaterialTexels * mi)).rgb);
+  m.emission = uintBitsToFloat(imageLoad(materials, int(kMaterialTexels * mi + 1u)).rgb);
+  const vec4 specular = uintBitsToFloat(imageLoad(materials, int(kMaterialTexels * mi + 2u)));
+  vec2 metalRough = uintBitsToFloat(imageLoad(materials, int(kMaterialTexels * mi + 4u)).xy);
+  if (kColored) base *= w.x * colorOf(t.x) + w.y * colorOf(t.y) + w.z * colorOf(t.z);
+  if (kTextured) {
+    const vec2 uv = w.x * uvOf(t.x) + w.y * uvOf(t.y) + w.z * uvOf(t.z);
+    // base colour, emissive, metallic-roughness; -1: none
+    const ivec3 maps = ivec3(imageLoad(materials, int(kMaterialTexels * mi + 3u)).xyz);
+    base *= sampleTexture(maps.x, uv).rgb;
+    m.emission *= sampleTexture(maps.y, uv).rgb;
+    metalRough *= sampleTexture(maps.z, uv).bg;
+  }
+  m.roughness = metalRough.y;
+  m.brdf = SurfaceBrdf(vec4(base, 0.0), specular, metalRough.x, alphaOf(metalRough.y), 0.0, 0.0);
+  return m;
+}
