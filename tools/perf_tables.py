@@ -3,15 +3,16 @@
 README.md from ivgi's own benchmarks, so that no figure is copied by hand.
 
 Usage: tools/perf_tables.py [--ivgi build/ivgi] [--runs 3] [--threads 2]
-                            [--only passes|programs|scaling|sweep|accuracy|real|ar|flicker|equal|size]
+                            [--only passes|programs|scaling|sweep|accuracy|real|ar|flicker|equal|size|glossy]
 
 --only regenerates one section alone: `passes` (per pass, and the README's rows of the frame time),
 `programs` (per program, with bench --per-program), `scaling` (cost against tessellation), `sweep`
 (the speed/accuracy sweep, its plot and CSV; about a quarter of an hour), `accuracy` (where iv's
 error lies, its ratio images, and the README's row of iv's error), `real` (the real files), `ar`
 (ar per --dirs, and the README's rows of ar), `flicker` (the sequences' temporal error), `equal`
-(iv and ar against pt at equal error, and the README's rows of it) or `size` (iv, ar and pt
-against the scene's size at equal error; about half an hour). The
+(iv and ar against pt at equal error, and the README's rows of it), `size` (iv, ar and pt
+against the scene's size at equal error; about half an hour) or `glossy` (the glossy Cornell box
+against pt; about five minutes). The
 section then names the machine and date it was measured on, since the rest of the document may
 come from another run.
 
@@ -271,6 +272,41 @@ def accuracy_table(r):
     return "\n".join(lines), errors
 
 
+def glossy_table(r, runs):
+    """The glossy Cornell box (`--glossy`: a polished floor, a metal tall block, a satin short block)
+    at --cells 26, 320×240, frame 0 against pt at 4096 spp: iv and ar at one sample a pixel and at
+    4×4, with the region furthest off (tools/cornell_regions.py) and the metal block's front; and
+    the animated frame's median GPU time against the same box's diffuse frame."""
+    reference = r.scratch / "pt_glossy_0000.exr"
+    r.run("render", "cornell", "--glossy", "--cells", 26, "--method", "pt", "--spp", 4096, "--size", "320x240",
+          "--frames", 0, "--format", "exr", "--threads", r.threads, "--out", r.scratch / "pt_glossy_%04d")
+    lines = ["| method | relMSE, 1 sample a pixel | relMSE, 4×4 | FLIP, 4×4 | region furthest off, 4×4 | "
+             "tall (metal) block's front, 4×4 | ms a frame: glossy / diffuse |",
+             "|---|---|---|---|---|---|---|"]
+    for method in ("iv", "ar"):
+        metrics, regions = {}, {}
+        for samples in (1, 4):
+            out = r.scratch / f"glossy_{method}_{samples}"
+            r.run("render", "cornell", "--glossy", "--cells", 26, "--method", method, "--size", "320x240",
+                  "--supersample", samples, "--frames", 0, "--format", "exr", "--out", out / "f_%04d")
+            metrics[samples] = r.json("compare", out / "f_0000.exr", reference)["frames"][0]["metrics"]
+            figures = out / "regions.json"
+            subprocess.run(["/usr/bin/python3", str(ROOT / "tools/cornell_regions.py"), str(out / "f_0000.exr"),
+                            str(reference), "--json", str(figures)], check=True, capture_output=True)
+            regions[samples] = json.loads(figures.read_text())["regions"]
+        worst = max(regions[4].items(), key=lambda item: abs(item[1]["ratio"] - 1.0))
+        ms = {}
+        for variant in (("--glossy",), ()):
+            ms[variant] = median([r.json("bench", "cornell", *variant, "--cells", 26, "--size", "320x240", "--method",
+                                         method, "--frames", 10, "--warmup", 3)["passes"]["total"]["medianMs"]
+                                  for _ in range(runs)])
+        lines.append(f"| {method} | {metrics[1]['relMSE']:.4f} | {metrics[4]['relMSE']:.4f} | "
+                     f"{metrics[4]['FLIP']:.3f} | {worst[0]}: {worst[1]['ratio']:.3f} | "
+                     f"{regions[4]['tall block, front']['ratio']:.3f} | "
+                     f"{fmt(ms[('--glossy',)])} / {fmt(ms[()])} ({ms[('--glossy',)] / ms[()]:.2f}×) |")
+    return "\n".join(lines)
+
+
 def at_equal(results, suffix, ms_key):
     """pt's time at the solver's error and the speed-up (medians of bench --equal-error `results`),
     or the bound where pt never got there."""
@@ -312,6 +348,12 @@ spp until it reaches the solver's relMSE, or FLIP, and its time there is interpo
 The animated Cornell box at 8 to 100 cells a side (frame 0 at 320×240 against pt at 4096 spp; iv and
 ar over 10 animated frames, each solved anew) and 2CylinderEngine (480×270 against pt at 1024 spp;
 its one frame solved in full). One run each."""
+GLOSSY_INTRO = """`ivgi render cornell --glossy --cells 26 --size 320x240 --supersample S --frames 0` (the
+polished floor at roughness 0.2, the metal tall block at 0.3, the satin short block at 0.5; the
+walls Lambertian) against pt at 4096 spp, with `tools/cornell_regions.py`'s regions; and `ivgi
+bench cornell [--glossy] --cells 26 --size 320x240 --frames 10 --warmup 3` for the animated frame's
+cost. iv and ar draw the direct light's highlights per pixel and reflect the indirect light as if it
+arrived evenly: the metal block mirrors the box's open front, which pt shows dark and they do not."""
 ENGINE = pathlib.Path("/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb")
 
 
@@ -565,6 +607,7 @@ SECTIONS = {
     "real": ("| scene | surfels | receivers |", lambda r, args: (real_files_table(r, args.runs), [])),
     "ar": ("| `--dirs` | links |", with_rows(lambda r, args: ar_table(r), lambda result: ar_rows(result[1]))),
     "flicker": ("| setting | mean relMSE of the frames |", lambda r, args: (flicker_table(r), [])),
+    "glossy": ("| method | relMSE, 1 sample a pixel |", lambda r, args: (glossy_table(r, args.runs), [])),
     "size": ("| scene | surfels | method | ms per frame |", lambda r, args: (size_table(r), [])),
     "equal": ("| setting | ms per frame | relMSE | pt ms",
               with_rows(lambda r, args: equal_error_table(r, args.runs), lambda result: equal_rows(result[2]))),
@@ -620,6 +663,8 @@ def main():
         accuracy, errors = accuracy_table(r)
         print("flicker", file=sys.stderr)
         flicker = flicker_table(r)
+        print("glossy", file=sys.stderr)
+        glossy = glossy_table(r, args.runs)
         print("real files", file=sys.stderr)
         real = real_files_table(r, args.runs)
         print("size", file=sys.stderr)
@@ -724,6 +769,12 @@ The animated Cornell box's frames 0–11 at `--cells 26`, 160×120, against pt a
 frame-to-frame change, where the surfaces stay put; pt's own noise is in both figures).
 
 {flicker}
+
+## Glossy surfaces
+
+{GLOSSY_INTRO}
+
+{glossy}
 
 ## Real files
 
