@@ -36,6 +36,17 @@ struct TriangleModel {
     node = b.node("triangle", b.mesh("triangle", {{m, b.material("grey", glm::vec3(0.5f))}}));
   }
   tinygltf::Primitive& primitive() { return b.model().meshes[0].primitives[0]; }
+  // A 1×1 texture of one RGBA texel, as texture 0.
+  void addTexel(std::vector<unsigned char> rgba) {
+    tinygltf::Image image;
+    image.width = image.height = 1, image.component = 4, image.bits = 8;
+    image.pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+    image.image = std::move(rgba);
+    b.model().images.push_back(image);
+    tinygltf::Texture texture;
+    texture.source = 0;
+    b.model().textures.push_back(texture);
+  }
   Scene load() { return sceneFromModel(b.finish(), "constructed.gltf"); }
 };
 
@@ -179,14 +190,7 @@ TEST(Loader, VertexColorsInEveryFormTheSpecAllows) {
 TEST(Loader, TextureTransformsAreRead) {
   auto withTransform = [](tinygltf::Value::Object transform) {
     TriangleModel t;
-    tinygltf::Image image;
-    image.width = image.height = 1, image.component = 4, image.bits = 8;
-    image.pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
-    image.image = {255, 255, 255, 255};
-    t.b.model().images.push_back(image);
-    tinygltf::Texture texture;
-    texture.source = 0;
-    t.b.model().textures.push_back(texture);
+    t.addTexel({255, 255, 255, 255});
     auto& info = t.b.model().materials[0].pbrMetallicRoughness.baseColorTexture;
     info.index = 0;
     info.extensions["KHR_texture_transform"] = tinygltf::Value(std::move(transform));
@@ -399,14 +403,7 @@ TEST(Loader, MetallicRoughnessAndTheSpecularLayerAreRead) {
 // same image read as a base colour goes through the curve.
 TEST(Loader, MetallicRoughnessTexturesAreLinear) {
   TriangleModel t;
-  tinygltf::Image image;
-  image.width = image.height = 1, image.component = 4, image.bits = 8;
-  image.pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
-  image.image = {0, 128, 255, 255};
-  t.b.model().images.push_back(image);
-  tinygltf::Texture texture;
-  texture.source = 0;
-  t.b.model().textures.push_back(texture);
+  t.addTexel({0, 128, 255, 255});
   auto& pbr = t.b.model().materials[0].pbrMetallicRoughness;
   pbr.baseColorTexture.index = 0;
   pbr.metallicRoughnessTexture.index = 0;
