@@ -37,8 +37,9 @@ layout(constant_id = 2) const bool kColored = false;
 // vertices then carry the rest of the irradiance and, apart, the direct light unshadowed, which each
 // sample scales by the share its neighbours on its surface see (direct_pixels).
 layout(constant_id = 3) const bool kDirectPixels = false;
-// True where some material is not Lambertian: a lit sample then reflects what its material does of
-// uniform light toward the camera (brdf.h's reflectanceOf), not its base colour.
+// True where some material is not Lambertian: a lit glossy sample then reflects the direct light
+// through its lobe (direct_pixels' sums, kDirectPixels) and the rest as its material reflects
+// uniform light toward the camera (brdf.h's base and lobe reflectances), not by its base colour.
 layout(constant_id = 4) const bool kGlossy = false;
 #include "surface_hit.glsl"
 #include "surface_material.glsl"
