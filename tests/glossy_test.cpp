@@ -2,6 +2,7 @@
 // each light's reflection through the material's lobe), against the path tracer.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -14,13 +15,15 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// A metal floor (4 m square, roughness 0.25) under a point light 1 m above its centre, seen from
-// 2 m away at 26.6° down, so that the light's highlight lies in the middle of the image.
-fs::path metalFloorUnderALamp() {
+// A floor (4 m square; by default metal of roughness 0.25) under a point light 1 m above its
+// centre, seen from 2 m away at 26.6° down, so that the light's highlight lies in the middle of
+// the image.
+fs::path metalFloorUnderALamp(float metallic = 1.0f, float roughness = 0.25f, const std::string& name = "metal-floor") {
   scenes::GltfBuilder b;
   scenes::MeshData floor;
   scenes::addQuad(floor, {-2, 0, -2}, {2, 0, -2}, {2, 0, 2}, {-2, 0, 2}, 8, 8, {0, 1, 0});
-  b.node("floor", b.mesh("floor", {{floor, b.glossyMaterial("metal", glm::vec3(0.9f, 0.7f, 0.5f), 1.0f, 0.25f)}}));
+  b.node("floor",
+         b.mesh("floor", {{floor, b.glossyMaterial("metal", glm::vec3(0.9f, 0.7f, 0.5f), metallic, roughness)}}));
   tinygltf::Light point;
   point.type = "point";
   point.color = {1, 1, 1};
@@ -31,7 +34,7 @@ fs::path metalFloorUnderALamp() {
       tinygltf::Value(tinygltf::Value::Object{{"light", tinygltf::Value(0)}});
   b.model().extensionsUsed.push_back("KHR_lights_punctual");
   b.camera("camera", 0.9f, 0.01f, {0, 1, 2}, glm::angleAxis(-std::atan(0.5f), glm::vec3(1, 0, 0)));
-  const fs::path file = test::scratchDir("metal-floor") / "metal-floor.gltf";
+  const fs::path file = test::scratchDir(name) / (name + ".gltf");
   scenes::writeModel(b.finish(), file.string());
   return file;
 }
@@ -58,5 +61,31 @@ TEST(Glossy, APointLightsHighlightIsWherePtPutsIt) {
                 error.flip, image.pixels[brightest].g, pt.pixels[brightest].g);
     EXPECT_LT(error.relMse, 0.01) << method;
     EXPECT_NEAR(image.pixels[brightest].g, pt.pixels[brightest].g, 0.05 * pt.pixels[brightest].g) << method;
+  }
+}
+
+// The extremes of the factors: a mirror (roughness 0, drawn at the clamp's 0.032), the roughest
+// metal and a smooth dielectric give finite images in every method, no value replaced.
+TEST(Glossy, AMirrorAndTheRoughestSurfacesRenderFinitely) {
+  struct Case {
+    float metallic, roughness;
+  };
+  for (const Case c : {Case{1.0f, 0.0f}, Case{1.0f, 1.0f}, Case{0.0f, 0.0f}}) {
+    const std::string name = "floor-" + std::to_string(int(c.metallic)) + "-" + std::to_string(int(c.roughness));
+    const fs::path scene = metalFloorUnderALamp(c.metallic, c.roughness, name);
+    for (const char* method : {"pt", "iv", "ar"}) {
+      const fs::path out = test::scratchDir(name + method);
+      std::vector<std::string> args = {"render",   scene.string(), "--method", method,
+                                       "--size",   "48x36",        "--frames", "0",
+                                       "--format", "exr",          "--out",    (out / "f").string()};
+      if (std::string(method) == "pt") args.insert(args.end(), {"--spp", "4"});
+      const test::Run r = test::runIvgi(args);
+      EXPECT_EQ(r.status, 0) << name << " " << method << ": " << r.err;
+      EXPECT_EQ(r.err.find("non-finite"), std::string::npos) << name << " " << method << ": " << r.err;
+      const std::vector<float> red = test::channelOf(out / "f_0000.exr", "R");
+      ASSERT_FALSE(red.empty()) << name << " " << method;
+      for (float v : red) ASSERT_TRUE(std::isfinite(v) && v >= 0.0f) << name << " " << method;
+      EXPECT_GT(*std::max_element(red.begin(), red.end()), 0.0f) << name << " " << method << ": a lit floor";
+    }
   }
 }
