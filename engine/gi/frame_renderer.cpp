@@ -1,11 +1,10 @@
 #include "engine/gi/frame_renderer.h"
 
-#include "engine/scene/reflectance.h"
-
 #include <algorithm>
 
 #include "engine/core/errors.h"
 #include "engine/gi/pass.h"
+#include "engine/scene/reflectance.h"
 
 namespace ivgi::gi {
 

@@ -97,7 +97,7 @@ struct Reflection {
     const float u2 = rng.uniform(), u1 = rng.uniform();
     if (!specular) return frame.cosineDirection(u1, u2);
     const glm::vec3 h = gpu::sampleVisibleNormal(localWo, m.alpha, u1, u2);
-    return frame.toWorld(2.0f * glm::dot(localWo, h) * h - localWo);
+    return frame.toWorld(glm::reflect(-localWo, h));
   }
 };
 

@@ -43,12 +43,6 @@ glm::vec3 transformNormal(const glm::mat4& m, glm::vec3 n) {
   return len > 0.0f ? r / len : glm::vec3(0.0f);
 }
 
-// What a surfel reflects and emits where it varies over its triangles (a texture, vertex colours):
-// the means of albedo and emission over each triangle weighted by a corner's barycentric coordinate
-// (its hat function: the weight with which the resolve spreads the corner's light), so that a coarse
-// mesh under a detailed texture takes the texture's mean where its vertices would each pick a texel.
-// Sampled at the centroids of the triangle's n² equal sub-triangles, about four a texel the
-// triangle covers (at most 32² a triangle).
 // Texture t's texels, decoded once here to linear RGBA16F so that a lookup only unpacks (the sRGB
 // curve per texel fetch cost lavapipe more than the rest of the resolve pass), and its record.
 void appendTexture(Geometry& g, const Texture& t, bool srgb) {
@@ -63,6 +57,7 @@ void appendTexture(Geometry& g, const Texture& t, bool srgb) {
   }
 }
 
+// The passes' record of material m, with the texture records it reads.
 gpu::Material gpuMaterial(const Material& m, int baseColorTexture, int emissiveTexture, int metallicRoughnessTexture) {
   gpu::Material out{};
   out.baseColor = m.baseColor;
@@ -83,6 +78,12 @@ glm::vec4 solverAlbedo(const Geometry& g, const gpu::Material& m, glm::vec4 base
   return gpu::isLambertian(brdf) ? base : glm::vec4(SpecularAlbedo::table().meanReflectance(brdf), base.a);
 }
 
+// What a surfel reflects and emits where it varies over its triangles (a texture, vertex colours):
+// the means of albedo and emission over each triangle weighted by a corner's barycentric coordinate
+// (its hat function: the weight with which the resolve spreads the corner's light), so that a coarse
+// mesh under a detailed texture takes the texture's mean where its vertices would each pick a texel.
+// Sampled at the centroids of the triangle's n² equal sub-triangles, about four a texel the
+// triangle covers (at most 32² a triangle).
 struct CornerMeans {
   glm::vec4 albedo[3], emission[3];
 };
@@ -242,8 +243,7 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
                                      glm::vec4(t.normals.empty() ? glm::vec3(0) : t.normals[v], 0)});
 
         const gpu::Material& material = g.materials[p.material >= 0 ? p.material : defaultMaterial];
-        g.glossyMaterials |=
-            material.metallic > 0.0f || material.specular.a > 0.0f || gpu::maxOf(glm::vec3(material.specular)) > 0.0f;
+        g.glossyMaterials |= !gpu::isLambertian(surfaceBrdf(material, glm::vec3(material.baseColor), glm::vec4(1.0f)));
         for (uint32_t v = 0; v < n; ++v) {
           Vertex gv{};
           gv.position = p.positions[v];

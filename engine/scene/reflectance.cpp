@@ -20,7 +20,7 @@ glm::vec2 integrate(float mu, float roughness) {
     for (int k = 0; k < kStrata; ++k) {
       const glm::vec3 h = gpu::sampleVisibleNormal(v, alpha, (i + 0.5f) / kStrata, (k + 0.5f) / kStrata);
       const float vh = glm::dot(v, h);
-      const glm::vec3 l = 2.0f * vh * h - v;
+      const glm::vec3 l = glm::reflect(-v, h);
       if (l.z <= 0.0f || vh <= 0.0f) continue;
       const double g = 4.0 * gpu::smithVisibility(l.z, v.z, a2) * l.z * v.z / gpu::smithG1(v.z, a2);
       const double w = gpu::schlickWeight(vh);
