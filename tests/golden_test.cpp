@@ -86,11 +86,18 @@ TEST(Golden, TexturedSkinnedFox) {
                                         "160x120", "--method", "none"});
 }
 
-// The iv solver's images: the Cornell box (area light, interreflection), and the morph cube lit by
-// a constant environment.
+// The iv solver's images: the Cornell box (area light, interreflection), its glossy variant, and the
+// morph cube lit by a constant environment.
 TEST(Golden, IvCornellBox) {
   expectMatchesGolden("iv_cornell_f0012",
                       {"cornell", "--cells", "6", "--bins", "8", "--size", "128x96", "--frames", "12"});
+}
+
+// The glossy box, animated: the metal block and the polished floor reflect the direct light per
+// pixel and the indirect light through iv's links.
+TEST(Golden, IvGlossyCornellBox) {
+  expectMatchesGolden("iv_glossy_cornell_f0012",
+                      {"cornell", "--glossy", "--cells", "6", "--bins", "8", "--size", "128x96", "--frames", "12"});
 }
 
 TEST(Golden, IvMorphCubeUnderEnvironment) {

@@ -1,14 +1,37 @@
 #include "engine/gi/bins.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <mutex>
+#include <set>
 
 #include "shaders/interface.h"
 
 namespace ivgi::gi {
 
 float meanBinSolidAngle(uint32_t n) { return 4.0f * gpu::kPi / float(6 * n * n); }
+float senderBinSpread(uint32_t n) { return meanBinSolidAngle(n) / (4.0f * gpu::kPi); }
+float tableBinSpread(uint32_t n) { return meanBinSolidAngle(n) / 4.0f; }
+
+void noteUnresolvedRoughness(const scene::Geometry& g, float spread, const char* method, const std::string& option) {
+  float smoothest = 1.0f;
+  bool glossy = false;
+  for (const gpu::SurfaceBrdf& m : g.surfelBrdf)
+    if (!gpu::isLambertian(m)) smoothest = std::min(smoothest, m.alpha), glossy = true;
+  if (!glossy || smoothest * smoothest >= spread) return;
+  char line[320];
+  std::snprintf(line, sizeof line,
+                "ivgi: %s: glossy surfaces of roughness %.2g are smoother than the %.2g that %s resolve: their "
+                "reflections of the indirect light are drawn as of roughness %.2g (a larger %s resolves finer)\n",
+                method, std::sqrt(smoothest), roughnessOfSpread(spread), option.c_str(), roughnessOfSpread(spread),
+                option.substr(0, option.find(' ')).c_str());
+  static std::mutex mutex;
+  static std::set<std::string> said;  // once a process: a bench or a sweep makes many solvers
+  const std::lock_guard lock(mutex);
+  if (said.insert(line).second) std::fputs(line, stderr);
+}
 
 namespace {
 

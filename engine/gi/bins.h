@@ -1,7 +1,9 @@
 #pragma once
 // Host tables of the cube-map direction bins (docs/design.md §5), computed here because GLSL's atan
 // is not exact enough for solid angles.
+#include <cmath>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -9,6 +11,7 @@
 #include <optional>
 
 #include "engine/scene/environment.h"
+#include "engine/scene/geometry.h"
 
 namespace ivgi::gi {
 
@@ -18,6 +21,19 @@ const std::vector<glm::vec4>& binVectorTable(uint32_t n);
 
 // The solid angle of an average bin of 6·n²: 4π/(6n²) (link creation's κ counts in it).
 float meanBinSolidAngle(uint32_t n);
+
+// The least spread (per-axis angular variance, brdf.h's widenedLobe) of the directions a method's
+// bins tell apart, n a side, and the roughness whose lobe spreads that far. iv's bins keep one
+// sender each: a bin spreads as a disk of its solid angle, Ω/(4π). ar's tables are written and read
+// between bins (binTaps): a sender spreads as a tent a bin wide either way (w²/6, w² = Ω) and as
+// the bin itself (w²/12), Ω/4 in all.
+float senderBinSpread(uint32_t n);
+float tableBinSpread(uint32_t n);
+inline float roughnessOfSpread(float spread) { return std::sqrt(std::sqrt(spread)); }
+// Says on stderr, once, where some glossy surface is smoother than `spread` resolves: its lobe's
+// reflections of the indirect light are drawn at that roughness (`method`: "iv"; `option`: what
+// resolves finer, "--bins 16").
+void noteUnresolvedRoughness(const scene::Geometry& g, float spread, const char* method, const std::string& option);
 
 // The environment's radiance per bin, or one zero for none (a buffer is never empty).
 std::vector<glm::vec4> environmentTable(const std::optional<scene::Environment>& environment, uint32_t n);

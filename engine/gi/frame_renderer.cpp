@@ -49,11 +49,13 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
       surfelCount_(uint32_t(g.surfels.size())),
       solver_(std::move(solver)),
       directPerPixel_(directPerPixel(g, solver_ != nullptr, directLight)),
+      reflections_(g.glossyMaterials && solver_ && solver_->reflectsLobes()),
       animate_(shaderProgram(ctx, "animate")),
       surfelUpdate_(shaderProgram(ctx, "surfels")),
       vertexIrradiance_(
           shaderProgram(ctx, "vertex_irradiance", {.constants = {{"kDirectPixels", directPerPixel_ ? 1u : 0u}}})),
       unshadowedToVertices_(shaderProgram(ctx, "vertex_irradiance")),
+      lobesToVertices_(shaderProgram(ctx, "vertex_irradiance")),
       directPixels_(shaderProgram(ctx, "direct_pixels",
                                   {.constants = {{"kTextured", g.textures.empty() ? 0u : 1u},
                                                  {"kColored", g.vertexColors ? 1u : 0u},
@@ -63,7 +65,8 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
                                             {"kLit", solver_ ? 1u : 0u},
                                             {"kColored", g.vertexColors ? 1u : 0u},
                                             {"kDirectPixels", directPerPixel_ ? 1u : 0u},
-                                            {"kGlossy", g.glossyMaterials ? 1u : 0u}}})),
+                                            {"kGlossy", g.glossyMaterials ? 1u : 0u},
+                                            {"kReflections", reflections_ ? 1u : 0u}}})),
       raster_(ctx, triangleCount_, &allocations_),
       timer_(ctx) {
   validate(image, ctx);
@@ -103,6 +106,8 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
   pixelSpecular_ = vk::Buffer(ctx, directPerPixel_ && g.glossyMaterials ? pixels * 2 * sizeof(glm::vec4) : 16,
                               Memory::Device, tally);
   vertexUnshadowed_ = vk::Buffer(ctx, directPerPixel_ ? shownIrradiance_.size() : 16, Memory::Device, tally);
+  surfelLobe_ = vk::Buffer(ctx, reflections_ ? shownIrradiance_.size() : 16, Memory::Device, tally);
+  vertexLobe_ = vk::Buffer(ctx, reflections_ ? shownIrradiance_.size() : 16, Memory::Device, tally);
   noDirectLight_ = vk::Buffer(ctx, 16, Memory::Device, tally);
   if (directLight) {
     validate(*directLight);
@@ -155,7 +160,8 @@ vk::Bindings FrameRenderer::pool() const {
                              {"specularAlbedo", specularAlbedo_},
                              {"pixelSpecular", pixelSpecular_},
                              {"pixelLights", pixelLights_},
-                             {"vertexUnshadowed", vertexUnshadowed_}})
+                             {"vertexUnshadowed", vertexUnshadowed_},
+                             {"vertexLobe", vertexLobe_}})
       .plus(direct_ ? direct_->pool()
                     : vk::Bindings::pool({{"lightPoints", noDirectLight_},
                                           {"lightViews", noDirectLight_},
@@ -205,6 +211,14 @@ void FrameRenderer::recordResolve(VkCommandBuffer cmd, const gpu::Camera& camera
           gpu::CountPush{.count = surfelCount_});
       directPixels_.dispatch(cmd, pixelGroups, buffers, push);
     });
+  if (reflections_) {
+    solver_->recordReflections(cmd, timer_, glm::vec3(camera.origin), surfelLobe_);
+    timedPass(cmd, timer_, "reflections", [&] {
+      lobesToVertices_.dispatchItems(
+          cmd, surfelCount_, buffers.with({{"surfelIrradiance", surfelLobe_}, {"vertexIrradiance", vertexLobe_}}),
+          gpu::CountPush{.count = surfelCount_});
+    });
+  }
   timedPass(cmd, timer_, "resolve", [&] {
     if (solver_) vertexIrradiance_.dispatchItems(cmd, surfelCount_, buffers, gpu::CountPush{.count = surfelCount_});
     resolve_.dispatch(cmd, pixelGroups, buffers, push);

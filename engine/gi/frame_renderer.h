@@ -86,12 +86,17 @@ class FrameRenderer {
   // With the direct light per pixel: the surfels' direct light unshadowed, carried to their vertices,
   // and per pixel its share of the emitter samples' light (direct_pixels).
   vk::Buffer vertexUnshadowed_, pixelLights_;
+  // Where the solver reflects the glossy lobes (reflections_): per surfel what its lobe reflects of
+  // the indirect light toward the camera, and that carried to its vertex.
+  vk::Buffer surfelLobe_, vertexLobe_;
   vk::Buffer noDirectLight_;  // bound for the direct light's buffers where there is none (never read)
   vk::Buffer view_;           // the camera, the raster's one view
   vk::Buffer radiance_, albedo_, normalDepth_, emission_, roughnessMetallic_;  // mapped: the image channels
   std::unique_ptr<Solver> solver_;
   bool directPerPixel_;  // the resolve adds the depth maps' direct light at each sample
-  vk::Program animate_, surfelUpdate_, vertexIrradiance_, unshadowedToVertices_, directPixels_, resolve_;
+  bool reflections_;     // the solver reflects the indirect light through the glossy lobes
+  vk::Program animate_, surfelUpdate_, vertexIrradiance_, unshadowedToVertices_, lobesToVertices_, directPixels_,
+      resolve_;
   Raster raster_;
   std::optional<DirectLight> direct_;
   vk::PassTimer timer_;

@@ -1,6 +1,7 @@
 #include "engine/gi/scene_buffers.h"
 
 #include "engine/gi/bins.h"
+#include "engine/scene/reflectance.h"
 
 namespace ivgi::gi {
 
@@ -8,7 +9,8 @@ SceneBuffers::SceneBuffers(const vk::Context& ctx, const scene::Geometry& g, con
                            const std::optional<scene::Environment>& sky, vk::Allocations& allocations)
     : nodeCount(uint32_t(h.nodes.size())),
       surfelCount(uint32_t(h.leafOfSurfel.size())),
-      environmentOn(sky.has_value()) {
+      environmentOn(sky.has_value()),
+      glossy(g.glossyMaterials) {
   vk::Allocations* tally = &allocations;
   const size_t nodeCount = std::max<size_t>(h.nodes.size(), 1);
   tree = vk::makeBuffer(ctx, h.nodes, vk::Memory::Device, tally);
@@ -17,6 +19,9 @@ SceneBuffers::SceneBuffers(const vk::Context& ctx, const scene::Geometry& g, con
   emission = vk::makeBuffer(ctx, g.surfelEmission, vk::Memory::Device, tally);
   binTable = vk::makeBuffer(ctx, binVectorTable(bins), vk::Memory::Device, tally);
   environment = vk::makeBuffer(ctx, environmentTable(sky, bins), vk::Memory::Device, tally);
+  surfelBrdf = vk::makeBuffer(ctx, glossy ? g.surfelBrdf : std::vector<gpu::SurfaceBrdf>(1), vk::Memory::Device, tally);
+  specularAlbedo = vk::makeBuffer(ctx, glossy ? scene::SpecularAlbedo::table().values() : std::vector<glm::vec2>(1),
+                                  vk::Memory::Device, tally);
   lights = vk::Buffer(ctx, sizeof(gpu::PunctualLight), vk::Memory::Host, tally);
   noDirectLight =
       vk::makeBuffer(ctx, std::vector<glm::vec4>(std::max<size_t>(h.leafOfSurfel.size(), 1), glm::vec4(0.0f)),
@@ -43,7 +48,9 @@ vk::Bindings SceneBuffers::pool() const {
                              {"lights", lights},
                              {"nodes", nodes},
                              {"arrivals", arrivals},
-                             {"surfelDirect", surfelDirect()}});
+                             {"surfelDirect", surfelDirect()},
+                             {"surfelBrdf", surfelBrdf},
+                             {"specularAlbedo", specularAlbedo}});
 }
 
 }  // namespace ivgi::gi

@@ -18,6 +18,10 @@ struct SceneBuffers {
   // Uploaded once: the trees (gpu::TreeNode), each surfel's leaf, the surfels' albedo and emission
   // (Le), per bin ∫ω dω and its solid angle (binVectorTable), the environment's radiance per bin.
   vk::Buffer tree, leafOfSurfel, albedo, emission, binTable, environment;
+  // Where some material is glossy (else one-element stand-ins): each surfel's BRDF
+  // (Geometry::surfelBrdf) and the specular albedo table (engine/scene/reflectance.h), for what the
+  // lobes reflect of the indirect light.
+  vk::Buffer surfelBrdf, specularAlbedo;
   // Per frame: the punctual lights (host-visible), and the nodes' states (gpu::NodeState, refit)
   // with the refit's arrival counts (shaders/common/climb.glsl: zero between dispatches).
   vk::Buffer lights, nodes, arrivals;
@@ -28,6 +32,7 @@ struct SceneBuffers {
   vk::Buffer noDirectLight;
   uint32_t nodeCount = 0, surfelCount = 0, lightCount = 0;
   bool environmentOn = false;
+  bool glossy = false;  // some material is not Lambertian
 
   bool emittersByMaps() const { return directLight != nullptr; }
   // The surfels' direct light from the maps, with the environment's (which the bins then leave out) or not.

@@ -43,6 +43,13 @@ class Solver {
   virtual void recordMorePasses(VkCommandBuffer, vk::PassTimer&) {}
   // What the sidecar records of the solver per frame (e.g. its bounces).
   virtual std::vector<std::pair<std::string, double>> frameFigures() const { return {}; }
+  // Whether the solver reflects the indirect light through the glossy surfels' lobes
+  // (recordReflections); where it does not, the resolve reflects it as if it arrived evenly.
+  virtual bool reflectsLobes() const { return false; }
+  // Once the irradiance is final: per surfel into `lobes` (rgb, w unused), the radiance each glossy
+  // surfel's specular lobe reflects toward `eye` of the light of the other surfaces (not the
+  // emitters' direct light, which the depth maps give per pixel); zero at the others.
+  virtual void recordReflections(VkCommandBuffer, vk::PassTimer&, glm::vec3 /*eye*/, const vk::Buffer& /*lobes*/) {}
   // Irradiance per surfel (rgba32f, w unused), read by the resolve pass.
   virtual const vk::Buffer& irradiance() const = 0;
   // Device memory the solver holds.

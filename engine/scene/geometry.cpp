@@ -85,7 +85,8 @@ glm::vec4 solverAlbedo(const Geometry& g, const gpu::Material& m, glm::vec4 base
 // Sampled at the centroids of the triangle's n² equal sub-triangles, about four a texel the
 // triangle covers (at most 32² a triangle).
 struct CornerMeans {
-  glm::vec4 albedo[3], emission[3];
+  glm::vec4 albedo[3], emission[3], base[3];
+  glm::vec2 metallicRoughness[3];  // the texture's factors (B, G)
 };
 
 int samplesAcross(const Geometry& g, const gpu::Material& m, const glm::vec2 uv[3]) {
@@ -111,8 +112,11 @@ CornerMeans cornerMeans(const Geometry& g, const gpu::Material& m, const glm::ve
     const glm::vec4 base = m.baseColor * (w.x * color[0] + w.y * color[1] + w.z * color[2]) *
                            sampleTexture(g, m.baseColorTexture, at),
                     emission = m.emission * sampleTexture(g, m.emissiveTexture, at);
+    const glm::vec4 metalRough = sampleTexture(g, m.metallicRoughnessTexture, at);
     const glm::vec4 albedo = solverAlbedo(g, m, base, at);
-    for (int k = 0; k < 3; ++k) out.albedo[k] += w[k] * albedo, out.emission[k] += w[k] * emission;
+    for (int k = 0; k < 3; ++k)
+      out.albedo[k] += w[k] * albedo, out.emission[k] += w[k] * emission, out.base[k] += w[k] * base,
+          out.metallicRoughness[k] += w[k] * glm::vec2(metalRough.b, metalRough.g);
   };
   for (int i = 0; i < n; ++i)
     for (int j = 0; i + j < n; ++j) {
@@ -121,7 +125,8 @@ CornerMeans cornerMeans(const Geometry& g, const gpu::Material& m, const glm::ve
     }
   // Each corner's weights sum to n²/3 over the n² samples.
   const float norm = 3.0f / float(n * n);
-  for (int k = 0; k < 3; ++k) out.albedo[k] *= norm, out.emission[k] *= norm;
+  for (int k = 0; k < 3; ++k)
+    out.albedo[k] *= norm, out.emission[k] *= norm, out.base[k] *= norm, out.metallicRoughness[k] *= norm;
   return out;
 }
 
@@ -305,7 +310,8 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
                             material.metallicRoughnessTexture >= 0 || !p.colors.empty();
         const glm::vec4 uniformAlbedo = solverAlbedo(g, material, material.baseColor, glm::vec2(0.0f));
         std::vector<glm::vec4> albedoSums(varies ? welded.size() : 0, glm::vec4(0.0f)),
-            emissionSums(albedoSums.size(), glm::vec4(0.0f));
+            emissionSums(albedoSums.size(), glm::vec4(0.0f)), baseSums(albedoSums.size(), glm::vec4(0.0f));
+        std::vector<glm::vec2> metalRoughSums(albedoSums.size(), glm::vec2(0.0f));
         std::vector<float> areaSums(albedoSums.size(), 0.0f);
         for (size_t t = firstTriangle; varies && t < g.triangles.size(); ++t) {
           const uint32_t corner[3] = {g.triangles[t].v0 - base, g.triangles[t].v1 - base, g.triangles[t].v2 - base};
@@ -320,6 +326,7 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
           for (int k = 0; k < 3; ++k) {
             const uint32_t s = surfelOf[corner[k]];
             albedoSums[s] += area * means.albedo[k], emissionSums[s] += area * means.emission[k];
+            baseSums[s] += area * means.base[k], metalRoughSums[s] += area * means.metallicRoughness[k];
             areaSums[s] += area;
           }
         }
@@ -333,6 +340,10 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
           g.surfels.push_back(src);
           g.surfelAlbedo.push_back(varies ? albedoSums[s] / areaSums[s] : uniformAlbedo);
           g.surfelEmission.push_back(varies ? emissionSums[s] / areaSums[s] : material.emission);
+          const glm::vec2 metalRough = varies ? metalRoughSums[s] / areaSums[s] : glm::vec2(1.0f);
+          g.surfelBrdf.push_back(surfaceBrdf(material,
+                                             glm::vec3(varies ? baseSums[s] / areaSums[s] : material.baseColor),
+                                             glm::vec4(0.0f, metalRough.y, metalRough.x, 0.0f)));
         }
       }
       if (progress) progress(++built, drawn);

@@ -52,6 +52,9 @@ struct Geometry {
   // static: base colour × COLOR_0 × texture (emission: emissive × texture), each triangle's
   // hat-weighted mean over the surfel's triangles
   std::vector<glm::vec4> surfelAlbedo, surfelEmission;
+  // The material's BRDF at each surfel (its base colour and metallic-roughness means as above), for
+  // what its specular lobe reflects of the indirect light
+  std::vector<gpu::SurfaceBrdf> surfelBrdf;
 
   uint32_t degenerateTriangles = 0;
   uint32_t nodeCount = 0;

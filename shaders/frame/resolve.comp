@@ -24,6 +24,7 @@ layout(binding = 15, rgba32f) readonly uniform imageBuffer vertexUnshadowed;  //
 layout(std430, binding = 16) writeonly buffer RoughnessMetallic { vec4 roughnessMetallic[]; };
 layout(std430, binding = 17) readonly buffer SpecularAlbedo { vec2 specularAlbedo[]; };  // (A, B), brdf.h
 layout(binding = 18, rgba32f) readonly uniform imageBuffer pixelSpecular;  // 2 texels a pixel (direct_pixels)
+layout(binding = 19, rgba32f) readonly uniform imageBuffer vertexLobe;     // per surfel, at its vertex
 layout(push_constant) uniform Push { ResolvePush push; };
 // False for scenes without textures: the lookups are compiled out. lavapipe runs a branch inside
 // the sample loop masked, so even untaken lookups cost a third of the pass.
@@ -41,16 +42,14 @@ layout(constant_id = 3) const bool kDirectPixels = false;
 // through its lobe (direct_pixels' sums, kDirectPixels) and the rest as its material reflects
 // uniform light toward the camera (brdf.h's base and lobe reflectances), not by its base colour.
 layout(constant_id = 4) const bool kGlossy = false;
+// True where the solver reflects the indirect light through the glossy surfels' lobes toward the
+// camera (Solver::recordReflections): a glossy sample's lobe then takes that, carried to the
+// vertices and across the triangle, instead of the indirect light as if it arrived evenly.
+layout(constant_id = 5) const bool kReflections = false;
 #include "surface_hit.glsl"
 #include "surface_material.glsl"
 
-// The table's (A, B) (specularAlbedo, brdf.h's layout) toward cos θ = mu for the material, bilinear.
-vec2 specularAlbedoAt(SurfaceBrdf m, float mu) {
-  const vec4 cell = albedoTableCell(mu, sqrt(m.alpha));
-  const uint at = uint(cell.y) * kAlbedoTableSize + uint(cell.x);
-  return mix(mix(specularAlbedo[at], specularAlbedo[at + 1u], cell.z),
-             mix(specularAlbedo[at + kAlbedoTableSize], specularAlbedo[at + kAlbedoTableSize + 1u], cell.z), cell.w);
-}
+#include "common/specular_albedo.glsl"
 
 vec3 irradianceAt(uint vertex) {
   int surfel = int(imageLoad(vertexSurfel, int(vertex)).x);
@@ -59,6 +58,10 @@ vec3 irradianceAt(uint vertex) {
 vec3 unshadowedAt(uint vertex) {
   int surfel = int(imageLoad(vertexSurfel, int(vertex)).x);
   return surfel >= 0 ? imageLoad(vertexUnshadowed, surfel).rgb : vec3(0.0);
+}
+vec3 lobeAt(uint vertex) {
+  int surfel = int(imageLoad(vertexSurfel, int(vertex)).x);
+  return surfel >= 0 ? imageLoad(vertexLobe, surfel).rgb : vec3(0.0);
 }
 // Whether point p lies on the surface of `plane` (unit normal, n·p) whose normal is n: the normals
 // within kShadowNormalCos, p within `tolerance` of the plane.
@@ -181,11 +184,13 @@ void main() {
         }
         if (kGlossy && !isLambertian(m.brdf) && len > 0.0) {
           // The base reflects all the light as it does uniform light; the lobe the direct light as
-          // direct_pixels found it toward the camera, the rest as if it arrived evenly.
+          // direct_pixels found it toward the camera, the rest as the solver's reflections give it
+          // or as if it arrived evenly.
           const float mu = abs(dot(n / len, normalize(push.camera.origin.xyz - h.position)));
           const vec2 table = specularAlbedoAt(m.brdf, mu);
-          reflected += baseReflectanceOf(m.brdf, table) * (e + direct) / kPi +
-                       lobeReflectanceOf(m.brdf, table) * e / kPi + around.specular;
+          const vec3 indirect = kReflections ? w.x * lobeAt(t.x) + w.y * lobeAt(t.y) + w.z * lobeAt(t.z)
+                                             : lobeReflectanceOf(m.brdf, table) * e / kPi;
+          reflected += baseReflectanceOf(m.brdf, table) * (e + direct) / kPi + indirect + around.specular;
         } else {
           reflected += base * (e + direct) / kPi;
         }

@@ -125,6 +125,16 @@ IVGI_FN vec3 reflectanceOf(SurfaceBrdf m, vec2 table) {
   return baseReflectanceOf(m, table) + lobeReflectanceOf(m, table);
 }
 
+// The specular lobe of m reflecting light whose directions spread around the one it is evaluated
+// at (a sender's extent, a bin's) with per-axis angular variance `spread` (rad²): the distribution
+// convolved with that spread, as Gaussians matched at their peaks add. GGX's slopes near its peak
+// spread as α²/4 per axis, and the half vector turns half as far as the light, so α'² = α² + spread.
+// A disk of solid angle Ω spreads Ω/(4π).
+IVGI_FN SurfaceBrdf widenedLobe(SurfaceBrdf m, float spread) {
+  m.alpha = min(sqrt(m.alpha * m.alpha + max(spread, 0.0f)), 1.0f);
+  return m;
+}
+
 // A normal of the distribution as seen from v (Dupuy and Benyoub 2023, "Sampling visible GGX
 // normals with spherical caps"): reflecting v about it samples the specular lobe in proportion to
 // D_v(h) = G1(v) max(0, v·h) D(h) / v.z.

@@ -232,6 +232,13 @@ struct ResolvePush {  // resolve
   uint pad1;
   uint pad2;
 };
+struct LobePush {  // reflect_links, ar_reflect
+  vec4 eye;        // the camera's origin
+  uint surfelCount;
+  uint maskWords;     // iv: of a static leaf's override mask
+  float leastSpread;  // the least spread (brdf.h's widenedLobe) the method's directions resolve
+  uint pad;
+};
 // --direct pixels: the pixels of each block of b × b take the emitter samples interleaved (pixel k
 // of the block the samples k, k + b², …), and each sample of the image takes its share of the light
 // seen from its neighbours on its surface within b/2 pixels (resolve.comp). b is kShadowBlock at one

@@ -22,6 +22,7 @@ layout(binding = 10, r32ui) readonly uniform uimageBuffer overrides;            
 layout(std430, binding = 11) readonly buffer FrameCounters { uint frameCounters[]; };
 layout(std430, binding = 12) readonly buffer StaticCounters { uint staticCounters[]; };
 layout(push_constant) uniform Push { GatherPush push; };
+#include "receiver_links.glsl"
 
 void main() {
   const uint first = push.newOnly != 0u ? receiverCounts[kReceiverRound] : 0u;
@@ -39,9 +40,7 @@ void main() {
   uvec2 staticRange = imageLoad(staticRanges, int(s)).xy;
   for (uint i = staticRange.x; i < staticRange.x + staticRange.y; ++i) {
     uvec2 link = loadParted(staticLinks, i).xy;
-    uint bin = staticBinOf(loadParted(staticBins, i).x);
-    uint overridden = imageLoad(overrides, int(s * push.maskWords + bin / 32u)).x & (1u << (bin & 31u));
-    if (overridden == 0u) g += uintBitsToFloat(link.y) * imageLoad(radiosityIn, int(link.x)).rgb;
+    if (staticLinkStands(s, i, push.maskWords)) g += uintBitsToFloat(link.y) * imageLoad(radiosityIn, int(link.x)).rgb;
   }
   gathered[s] = vec4(g, 0.0);
   // The largest estimate, for the receivers' refinement (non-negative float bits order as integers;

@@ -59,7 +59,8 @@ ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy h
       sortSenders_(shaderProgram(ctx, "ar_sort_senders", {.constants = {{"kDirs", settings.dirs}}})),
       sortLongSenders_(shaderProgram(ctx, "ar_sort_long_senders", {.constants = {{"kDirs", settings.dirs}}})),
       queueArgs_(shaderProgram(ctx, "queue_args")),
-      orderReceivers_(shaderProgram(ctx, "ar_order_receivers")) {
+      orderReceivers_(shaderProgram(ctx, "ar_order_receivers")),
+      reflect_(shaderProgram(ctx, "ar_reflect", {.constants = {{"kDirs", settings.dirs}}})) {
   const uint32_t n = settings_.dirs, bins = 6 * n * n;
   // A receiver's senders are sorted by a key of a link's kind (0 to kArPieces) above its sender's node.
   static_assert(gpu::kArPieces < (1u << (31 - gpu::kArKindShift)));
@@ -84,6 +85,7 @@ ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy h
         std::to_string(std::max(1u, uint32_t(n / std::sqrt(over)))) + " would fit (the tables grow as N^2)");
   vk::Allocations* tally = &allocations_;
   b_.scene = SceneBuffers(ctx, g, hierarchy_, n, settings_.environment, allocations_);
+  noteUnresolvedRoughness(g, tableBinSpread(n), "ar", "--dirs " + std::to_string(n));
   b_.brightEmitters = vk::makeBuffer(ctx, brightEmitters(hierarchy_, g.surfelEmission), vk::Memory::Device, tally);
   b_.args = vk::Buffer(ctx, 4 * sizeof(glm::uvec4), vk::Memory::Device, tally);
   b_.gathered = vk::Buffer(ctx, uint64_t(nodeCount_) * bins * sizeof(glm::vec4), vk::Memory::Device, tally);
@@ -389,6 +391,15 @@ void ArSolver::frameStands() {
   solved_ = diverged_ ? -1 : frame_;
   cap_ = 0;
   frameDamping_ = damping_, damping_ = 1.0f;
+}
+
+void ArSolver::recordReflections(VkCommandBuffer cmd, vk::PassTimer& timer, glm::vec3 eye, const vk::Buffer& lobes) {
+  timedPass(cmd, timer, "reflections", [&] {
+    reflect_.dispatchItems(
+        cmd, surfelCount_, b_.pool().with({{"surfelLobe", lobes}}),
+        gpu::LobePush{
+            .eye = glm::vec4(eye, 1.0f), .surfelCount = surfelCount_, .leastSpread = tableBinSpread(settings_.dirs)});
+  });
 }
 
 std::vector<std::pair<std::string, double>> ArSolver::frameFigures() const {

@@ -39,6 +39,8 @@ class ArSolver final : public Solver {
   void recordMorePasses(VkCommandBuffer cmd, vk::PassTimer& timer) override;
   void frameStands() override;
   std::vector<std::pair<std::string, double>> frameFigures() const override;
+  bool reflectsLobes() const override { return b_.scene.glossy; }
+  void recordReflections(VkCommandBuffer cmd, vk::PassTimer& timer, glm::vec3 eye, const vk::Buffer& lobes) override;
   const vk::Buffer& irradiance() const override { return b_.irradiance; }
   uint64_t allocatedBytes() const override { return allocations_.bytes(); }
 
@@ -91,7 +93,7 @@ class ArSolver final : public Solver {
   Refit refit_;
   LinkCreation linkCreation_;
   ArIteration iteration_;
-  vk::Program sortSenders_, sortLongSenders_, queueArgs_, orderReceivers_;
+  vk::Program sortSenders_, sortLongSenders_, queueArgs_, orderReceivers_, reflect_;
   uint32_t sumGroups_ = 0;
   // Dispatches of the global pass an iteration, each walking chunkLinks() links of a list; more
   // where a frame found a longer list (it is redone).

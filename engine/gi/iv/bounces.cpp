@@ -1,5 +1,6 @@
 #include "engine/gi/iv/bounces.h"
 
+#include "engine/gi/bins.h"
 #include "engine/gi/pass.h"
 
 namespace ivgi::gi {
@@ -16,7 +17,7 @@ constexpr uint32_t kPullUpArgs = 2, kBounceDispatches = 3;
 }  // namespace
 
 Bounces::Bounces(const vk::Context& ctx, const Hierarchy& h, const IvSettings& settings, const IvBuffers& b,
-                 const LinkSet& staticSet, const LinkSet& frameSet, vk::Allocations& allocations)
+                 const LinkSet& staticSet, const LinkSet& frameSet, bool glossy, vk::Allocations& allocations)
     : ctx_(ctx),
       settings_(settings),
       b_(b),
@@ -29,7 +30,7 @@ Bounces::Bounces(const vk::Context& ctx, const Hierarchy& h, const IvSettings& s
       pullUp_(shaderProgram(ctx, "pull_up")),
       check_(shaderProgram(ctx, "bounce_check")),
       tail_(shaderProgram(ctx, "bounce_tail")) {
-  makeGather();
+  makeLinkReaders();
   // The dispatch sizes of a whole bounce: the gather over the receivers (set each frame from how
   // many there are), the interpolation at every surfel, the pull-up over every node; and the
   // tail's, none until the check says otherwise.
@@ -44,6 +45,7 @@ Bounces::Bounces(const vk::Context& ctx, const Hierarchy& h, const IvSettings& s
   state_ = vk::Buffer(ctx, sizeof(gpu::BounceState), vk::Memory::Host, &allocations);
   change_ =
       vk::Buffer(ctx, std::max<size_t>(h.leafOfSurfel.size(), 1) * sizeof(glm::vec4), vk::Memory::Device, &allocations);
+  receiverLobe_ = vk::Buffer(ctx, glossy ? change_.size() : 16, vk::Memory::Device, &allocations);
 }
 
 void Bounces::pullUp(VkCommandBuffer cmd, const vk::Buffer& radiosity, bool indirect) const {
@@ -113,14 +115,30 @@ void Bounces::recordSteps(VkCommandBuffer cmd, uint32_t first, uint32_t steps) c
   }
 }
 
-void Bounces::makeGather() {
-  gather_.emplace(ctx_, "gather", shaderCode("gather"), vk::Specialization{.constants = {{"texelViews", texelViews_}}});
+void Bounces::recordReflections(VkCommandBuffer cmd, glm::vec3 eye, const vk::Buffer& lobes) const {
+  const gpu::LobePush push{.eye = glm::vec4(eye, 1.0f),
+                           .surfelCount = surfelCount_,
+                           .maskWords = gpu::maskWordsFor(settings_.bins),
+                           .leastSpread = senderBinSpread(settings_.bins)};
+  const vk::Bindings bindings = b_.pool().plus(vk::Bindings::pool({{"radiosityA", b_.radiosityA},
+                                                                   {"radiosityB", b_.radiosityB},
+                                                                   {"bounceStates", state_},
+                                                                   {"receiverLobe", receiverLobe_}}));
+  reflectReceivers_->dispatchIndirect(cmd, b_.receiverArgs, gpu::kArgsReceivers * sizeof(glm::uvec4), bindings, push);
+  reflectSurfels_->dispatchItems(cmd, surfelCount_, bindings.with({{"surfelLobe", lobes}}), push);
+}
+
+void Bounces::makeLinkReaders() {
+  const vk::Specialization views{.constants = {{"texelViews", texelViews_}}};
+  gather_.emplace(ctx_, "gather", shaderCode("gather"), views);
+  reflectReceivers_.emplace(ctx_, "reflect_receivers", shaderCode("reflect_receivers"), views);
+  reflectSurfels_.emplace(ctx_, "reflect_surfels", shaderCode("reflect_surfels"), views);
 }
 
 void Bounces::readTexelViews(uint32_t views) {
   if (views == texelViews_) return;
   texelViews_ = views;
-  makeGather();
+  makeLinkReaders();
 }
 
 }  // namespace ivgi::gi

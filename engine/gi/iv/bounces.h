@@ -19,9 +19,10 @@ namespace ivgi::gi {
 
 class Bounces {
  public:
-  // Records into the solver's buffers `b`, over the links of its two sets.
+  // Records into the solver's buffers `b`, over the links of its two sets; `glossy`: some surface
+  // is glossy (recordReflections has work).
   Bounces(const vk::Context& ctx, const Hierarchy& h, const IvSettings& settings, const IvBuffers& b,
-          const LinkSet& staticSet, const LinkSet& frameSet, vk::Allocations& allocations);
+          const LinkSet& staticSet, const LinkSet& frameSet, bool glossy, vk::Allocations& allocations);
   // π·Le into nodeEmission at the leaves, pulled up, and copied to radiosityA (where bounces start).
   void recordEmission(VkCommandBuffer cmd) const;
   // The frame's first gather comes next, over the receivers listed.
@@ -39,6 +40,10 @@ class Bounces {
   uint32_t directGathers() const { return b_.scene.emittersByMaps() ? 0u : 1u; }
   // The gathers a frame runs at most: the bounces asked for (or kMaxBounces) after the direct ones.
   uint32_t maxGathers() const { return (settings_.bounces ? *settings_.bounces : kMaxBounces) + directGathers(); }
+  // After the bounces, per surfel into `lobes`: what each glossy surfel's specular lobe reflects
+  // toward `eye` of the light its receivers' links bring (shaders/iv/lobe_links.glsl), found at the
+  // receivers and interpolated to the surfels.
+  void recordReflections(VkCommandBuffer cmd, glm::vec3 eye, const vk::Buffer& lobes) const;
   // The leaf links are bound in `views` texel views (shaders/common/parted_texels.glsl): 1 or kTexelParts.
   void readTexelViews(uint32_t views);
   // After the frame's steps ran: how far the bounces got.
@@ -48,7 +53,7 @@ class Bounces {
   void pullUp(VkCommandBuffer cmd, const vk::Buffer& radiosity, bool indirect) const;
   // The gather's buffers, reading the radiosity `in`.
   vk::Bindings gatherBindings(const vk::Buffer& in) const;
-  void makeGather();  // for texelViews_
+  void makeLinkReaders();  // for texelViews_
 
   const vk::Context& ctx_;
   const IvSettings& settings_;
@@ -57,10 +62,12 @@ class Bounces {
   const uint32_t surfelCount_, nodeCount_;
   vk::Program emit_, interpolate_, pullUp_, check_, tail_;
   uint32_t texelViews_ = 1;
-  std::optional<vk::Program> gather_;  // made again for more texel views
+  // The passes that read the links: made again for more texel views.
+  std::optional<vk::Program> gather_, reflectReceivers_, reflectSurfels_;
   uint32_t interpolateGroups_;
   vk::Buffer sums_, state_, fullArgs_, args_;  // per gather workgroup; the state; dispatch sizes, full and next
   vk::Buffer change_;                          // per surfel, the irradiance's change at the last gather
+  vk::Buffer receiverLobe_;                    // per surfel, at receivers: what reflect_receivers found
 };
 
 }  // namespace ivgi::gi

@@ -46,7 +46,7 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, IvSetup set
       refit_(ctx),
       links_(ctx),
       prune_(ctx, settings_, surfelCount_, b_, staticSet_, frameSet_),
-      bounces_(ctx, setup_.hierarchy, settings_, b_, staticSet_, frameSet_, allocations_),
+      bounces_(ctx, setup_.hierarchy, settings_, b_, staticSet_, frameSet_, g.glossyMaterials, allocations_),
       receivers_(ctx, setup_.hierarchy, settings_, b_, allocations_),
       room_(ctx, settings_, b_, staticSet_, frameSet_, allocations_) {
   const Hierarchy& h = setup_.hierarchy;
@@ -80,6 +80,7 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, IvSetup set
   });
   room_.guess(leafMoves, nodeCount_);
   readLeafLinkViews();
+  noteUnresolvedRoughness(g, senderBinSpread(settings_.bins), "iv", "--bins " + std::to_string(settings_.bins));
 }
 
 void IvSolver::readLeafLinkViews() {
@@ -204,6 +205,10 @@ void IvSolver::recordMorePasses(VkCommandBuffer cmd, vk::PassTimer& timer) {
     bounces_.recordSteps(cmd, gathersRecorded_, steps);
     gathersRecorded_ += steps;
   });
+}
+
+void IvSolver::recordReflections(VkCommandBuffer cmd, vk::PassTimer& timer, glm::vec3 eye, const vk::Buffer& lobes) {
+  timedPass(cmd, timer, "reflections", [&] { bounces_.recordReflections(cmd, eye, lobes); });
 }
 
 std::vector<std::pair<std::string, double>> IvSolver::frameFigures() const {

@@ -1,0 +1,86 @@
+// What a glossy surfel's specular lobe reflects toward the eye of the light a receiver's links
+// bring (reflect_receivers, reflect_surfels). The links keep the nearest sender per direction:
+// each sender's radiosity, less its emission (the depth maps give the emitters' direct light per
+// pixel), arrives along the sender's own direction, through the lobe widened by the sender's
+// extent and at least a bin's (between the bins' senders lies what the bins did not keep). The
+// light from outside the links (the environment through empty bins) is reflected as if it arrived
+// evenly. Declares what it reads at bindings 0 to 16; a pass adds its own after them.
+
+layout(binding = 1, r32ui) readonly uniform uimageBuffer leafOfSurfel;
+layout(binding = 2, rg32ui) readonly uniform uimageBuffer ranges;                  // LeafRange
+layout(binding = 3, rg32ui) readonly uniform uimageBuffer leafLinks[kTexelParts];  // LeafLink
+layout(binding = 4, rg32ui) readonly uniform uimageBuffer staticRanges;            // LeafRange
+layout(binding = 5, rg32ui) readonly uniform uimageBuffer staticLinks[kTexelParts];
+layout(binding = 6, r32ui) readonly uniform uimageBuffer staticBins[kTexelParts];  // StaticBin
+layout(binding = 7, r32ui) readonly uniform uimageBuffer overrides;                // per leaf and mask word
+layout(binding = 8, rgba32f) readonly uniform imageBuffer externalLight;
+layout(binding = 9, rgba32f) readonly uniform imageBuffer radiosityA;  // the bounces' two solutions
+layout(binding = 10, rgba32f) readonly uniform imageBuffer radiosityB;
+layout(binding = 11, rgba32f) readonly uniform imageBuffer nodeEmission;  // π·Le per node
+layout(std430, binding = 12) readonly buffer BounceStates { BounceState state; };
+layout(std430, binding = 13) readonly buffer SurfelBrdf { SurfaceBrdf surfelBrdf[]; };
+layout(std430, binding = 14) readonly buffer SpecularAlbedo { vec2 specularAlbedo[]; };
+layout(push_constant) uniform Push { LobePush push; };
+#include "common/specular_albedo.glsl"
+#include "receiver_links.glsl"
+
+// A surfel's lobe: its material, its point, its tangent frame and the view in it.
+struct Lobe {
+  SurfaceBrdf brdf;
+  vec3 x, t1, t2, n, view;
+  vec3 evenShare;  // what it reflects toward the view of light arriving evenly, over π
+  bool seen;       // glossy, and the eye in front of it
+};
+
+Lobe lobeOf(uint s) {
+  Lobe lobe;
+  lobe.brdf = surfelBrdf[s];
+  const uint leaf = imageLoad(leafOfSurfel, int(s)).x;
+  lobe.x = nodePositionArea(leaf).xyz, lobe.n = nodeNormalCone(leaf).xyz;
+  const vec3 toEye = push.eye.xyz - lobe.x;
+  const float nv = dot(lobe.n, toEye);
+  lobe.seen = !isLambertian(lobe.brdf) && nv > 0.0;
+  tangentFrame(lobe.n, lobe.t1, lobe.t2);
+  lobe.view = lobe.seen ? normalize(vec3(dot(toEye, lobe.t1), dot(toEye, lobe.t2), nv)) : vec3(0.0, 0.0, 1.0);
+  lobe.evenShare = lobeReflectanceOf(lobe.brdf, specularAlbedoAt(lobe.brdf, lobe.view.z)) / kPi;
+  return lobe;
+}
+
+// What the lobe reflects of the light of sender q, which gives the receiver irradiance f times its
+// radiosity: its emission's share in `emitted`, the rest through the lobe.
+vec3 reflectedFrom(Lobe lobe, uint q, float f, inout vec3 emitted) {
+  const vec3 emission = imageLoad(nodeEmission, int(q)).rgb;
+  // The bounces' last solution is the buffer its count picks (Bounces::solution()).
+  const vec4 radiosity = state.gathers % 2u == 1u ? imageLoad(radiosityB, int(q)) : imageLoad(radiosityA, int(q));
+  emitted += f * emission;
+  const vec4 positionArea = nodePositionArea(q), cone = nodeNormalCone(q);
+  const vec3 d = positionArea.xyz - lobe.x;
+  const float d2 = dot(d, d);
+  if (!(d2 > 0.0)) return vec3(0.0);
+  const vec3 l = d * inversesqrt(d2);
+  // Its solid angle from the surfel (a disk's on its axis, finite when near; a curved sender faces it).
+  const float facing = cone.w >= 0.5 * kPi ? 1.0 : max(dot(cone.xyz, -l), 0.0);
+  const float solidAngle = min(positionArea.w * facing / (d2 + positionArea.w / kPi), 2.0 * kPi);
+  const SurfaceBrdf widened = widenedLobe(lobe.brdf, max(solidAngle / (4.0 * kPi), push.leastSpread));
+  const vec3 lt = vec3(dot(l, lobe.t1), dot(l, lobe.t2), dot(l, lobe.n));
+  // weight 0: the lobe alone, not the base
+  return f * max(radiosity.rgb - emission, vec3(0.0)) * evalBrdf(widened, lt, lobe.view, 0.0);
+}
+
+// What the lobe reflects of the light receiver r's links and its external light bring.
+vec3 reflectedAt(Lobe lobe, uint r) {
+  vec3 reflected = vec3(0.0), emitted = vec3(0.0);
+  const uvec2 range = imageLoad(ranges, int(r)).xy;
+  for (uint i = range.x; i < range.x + range.y; ++i) {
+    const uvec2 link = loadParted(leafLinks, i).xy;
+    reflected += reflectedFrom(lobe, link.x, uintBitsToFloat(link.y), emitted);
+  }
+  const uvec2 staticRange = imageLoad(staticRanges, int(r)).xy;
+  for (uint i = staticRange.x; i < staticRange.x + staticRange.y; ++i) {
+    const uvec2 link = loadParted(staticLinks, i).xy;
+    if (staticLinkStands(r, i, push.maskWords))
+      reflected += reflectedFrom(lobe, link.x, uintBitsToFloat(link.y), emitted);
+  }
+  // The external light gives back what it took of the emitters' credit in the bins.
+  return reflected + lobe.evenShare * max(imageLoad(externalLight, int(r)).rgb + emitted, vec3(0.0));
+}

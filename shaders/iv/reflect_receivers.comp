@@ -1,0 +1,27 @@
+#version 460
+// iv's reflections, first at the receivers: what each glossy receiver's lobe reflects toward the
+// eye of the light its links bring (lobe_links.glsl), over what its lobe reflects of light arriving
+// evenly (per channel), so that a neighbour of a like roughness takes it for its own material
+// (reflect_surfels). Its α beside it; −1 where it reflects nothing toward the eye.
+#extension GL_GOOGLE_include_directive : require
+#define NODE_TEXELS 0
+#include "common/common.glsl"
+#include "common/parted_texels.glsl"
+layout(local_size_x = kReceiverGroup) in;
+
+#include "lobe_links.glsl"
+layout(binding = 15, r32ui) readonly uniform uimageBuffer receivers;
+layout(std430, binding = 16) readonly buffer ReceiverCounts { uint receiverCounts[]; };
+layout(std430, binding = 17) writeonly buffer ReceiverLobe { vec4 receiverLobe[]; };  // per surfel
+
+void main() {
+  const uint k = itemIndex();
+  if (k >= receiverCounts[kReceiverCount]) return;
+  const uint s = imageLoad(receivers, int(k)).x;
+  const Lobe lobe = lobeOf(s);
+  if (!lobe.seen) {
+    receiverLobe[s] = vec4(0.0, 0.0, 0.0, -1.0);
+    return;
+  }
+  receiverLobe[s] = vec4(reflectedAt(lobe, s) / max(kPi * lobe.evenShare, vec3(1e-4)), lobe.brdf.alpha);
+}
