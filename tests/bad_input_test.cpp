@@ -8,6 +8,7 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <tuple>
 
 #include "scenes/builtin.h"
 #include "scenes/gltf_builder.h"
@@ -131,6 +132,40 @@ TEST(BadInput, AccessorCountFarPastItsDataIsRefusedBeforeAnythingIsSized) {
     std::string path = writeModel(m, "huge.gltf");
     auto r = test::runIvgi({"info", path});
     expectOneLineError(r, {path, "POSITION", "past the end of buffer view"});
+  }
+}
+
+// A PNG and a JPEG whose headers declare 100,000² and 60,000² pixels (a few dozen bytes each):
+// refused by their headers, before their pixels are allocated (stb_image had answered "Unknown image
+// format" to the PNG).
+TEST(BadInput, AnImageDeclaringMorePixelsThanTheLimitIsRefusedBeforeItIsDecoded) {
+  const fs::path dir = test::scratchDir("huge_image");
+  auto bigEndian = [](uint32_t v, int bytes) {
+    std::string s;
+    for (int k = bytes - 1; k >= 0; --k) s += char(v >> (8 * k) & 255);
+    return s;
+  };
+  // The PNG's chunks carry no valid CRCs: nothing reads past the header.
+  const std::string png = "\x89PNG\r\n\x1a\n" + bigEndian(13, 4) + "IHDR" + bigEndian(100000, 4) +
+                          bigEndian(100000, 4) + std::string("\x08\x02\x00\x00\x00", 5) + bigEndian(0, 4);
+  // The JPEG: start of image, an APP0 segment to skip, a baseline start of frame (height, width).
+  const std::string jpeg = std::string("\xFF\xD8\xFF\xE0", 4) + bigEndian(6, 2) + "JFIF" + std::string("\xFF\xC0", 2) +
+                           bigEndian(17, 2) + std::string("\x08", 1) + bigEndian(60000, 2) + bigEndian(60000, 2) +
+                           std::string("\x03", 1);
+  for (const auto& [file, bytes, size] :
+       {std::tuple{"huge.png", png, "100000x100000"}, std::tuple{"huge.jpg", jpeg, "60000x60000"}}) {
+    std::ofstream(dir / file, std::ios::binary) << bytes;
+    tinygltf::Model m = triangleModel();
+    tinygltf::Image image;
+    image.uri = file;
+    m.images.push_back(image);
+    tinygltf::Texture texture;
+    texture.source = 0;
+    m.textures.push_back(texture);
+    m.materials[0].pbrMetallicRoughness.baseColorTexture.index = 0;
+    const std::string path = (dir / (std::string(file) + ".gltf")).string();
+    scenes::writeModel(m, path);
+    expectOneLineError(test::runIvgi({"info", path}), {path, "image 0", size, "--max-texels"});
   }
 }
 

@@ -6,6 +6,7 @@
 #include <exception>
 
 #include "engine/cli/commands.h"
+#include "engine/core/notes.h"
 
 namespace ivgi::cli {
 
@@ -20,6 +21,10 @@ void addSceneArgument(CLI::App* cmd, SceneChoice& choice) {
                 "the built-in Cornell box with a polished floor, a metal tall block and a satin short block");
   cmd->add_option("--max-triangles", choice.limits.triangles,
                   "refuse a scene that draws more triangles than this, as modelled or tessellated")
+      ->capture_default_str()
+      ->check(CLI::Range(uint64_t(1), uint64_t(1) << 32));
+  cmd->add_option("--max-texels", choice.limits.texels,
+                  "refuse a scene with an image of more pixels than this, as its header declares, before decoding it")
       ->capture_default_str()
       ->check(CLI::Range(uint64_t(1), uint64_t(1) << 32));
   cmd->add_option("--max-morph-deltas", choice.limits.morphDeltas,
@@ -90,6 +95,7 @@ void addSolverOptions(CLI::App* cmd, SolverOptions& o) {
 }  // namespace
 
 int run(const std::vector<std::string>& args, vk::Context* device) {
+  forgetNotes();
   CLI::App app{"ivgi " IVGI_VERSION
                ": global illumination of animated glTF scenes with implicit visibility, on Vulkan compute"};
   app.require_subcommand(1);

@@ -5,8 +5,8 @@
 #include <cstdio>
 #include <map>
 #include <mutex>
-#include <set>
 
+#include "engine/core/notes.h"
 #include "shaders/interface.h"
 
 namespace ivgi::gi {
@@ -27,10 +27,7 @@ void noteUnresolvedRoughness(const scene::Geometry& g, float spread, const char*
                 "reflections of the indirect light are drawn as of roughness %.2g (a larger %s resolves finer)\n",
                 method, std::sqrt(smoothest), roughnessOfSpread(spread), option.c_str(), roughnessOfSpread(spread),
                 option.substr(0, option.find(' ')).c_str());
-  static std::mutex mutex;
-  static std::set<std::string> said;  // once a process: a bench or a sweep makes many solvers
-  const std::lock_guard lock(mutex);
-  if (said.insert(line).second) std::fputs(line, stderr);
+  noteOnce(line);
 }
 
 namespace {

@@ -30,7 +30,7 @@ float meanBinSolidAngle(uint32_t n);
 float senderBinSpread(uint32_t n);
 float tableBinSpread(uint32_t n);
 inline float roughnessOfSpread(float spread) { return std::sqrt(std::sqrt(spread)); }
-// Says on stderr, once, where some glossy surface is smoother than `spread` resolves: its lobe's
+// Says on stderr, once a command (noteOnce), where some glossy surface is smoother than `spread` resolves: its lobe's
 // reflections of the indirect light are drawn at that roughness (`method`: "iv"; `option`: what
 // resolves finer, "--bins 16").
 void noteUnresolvedRoughness(const scene::Geometry& g, float spread, const char* method, const std::string& option);

@@ -538,6 +538,55 @@ class Converter {
   Scene scene_;
 };
 
+// The size a PNG's or JPEG's header declares, read without decoding: stb_image cannot tell it past
+// a gigabyte of pixels, and OpenImageIO's PNG reader has libpng print its complaints to stderr.
+// nullopt where the bytes are neither, or end before the size.
+std::optional<glm::uvec2> declaredSize(const unsigned char* bytes, size_t size) {
+  auto bigEndian = [&](size_t at, int count) {
+    uint32_t v = 0;
+    for (int k = 0; k < count; ++k) v = v << 8 | bytes[at + size_t(k)];
+    return v;
+  };
+  if (size >= 24 && std::memcmp(bytes, "\x89PNG\r\n\x1a\n", 8) == 0 && std::memcmp(bytes + 12, "IHDR", 4) == 0)
+    return glm::uvec2(bigEndian(16, 4), bigEndian(20, 4));
+  if (size < 4 || bytes[0] != 0xFF || bytes[1] != 0xD8) return std::nullopt;
+  // JPEG: the segments after the start of image, each FF, its marker, and a length that counts
+  // itself, up to a start of frame (C0 to CF but for C4, C8 and CC), which holds height and width.
+  for (size_t at = 2; at + 4 <= size && bytes[at] == 0xFF;) {
+    const unsigned marker = bytes[at + 1];
+    if (marker == 0xFF) {  // fill bytes
+      ++at;
+      continue;
+    }
+    const bool frame = marker >= 0xC0 && marker <= 0xCF && marker != 0xC4 && marker != 0xC8 && marker != 0xCC;
+    if (frame)
+      return at + 9 <= size ? std::optional(glm::uvec2(bigEndian(at + 7, 2), bigEndian(at + 5, 2))) : std::nullopt;
+    at += 2 + bigEndian(at + 2, 2);
+  }
+  return std::nullopt;
+}
+
+// tinygltf's image decoding (stb_image), after a look at the image's header: an image that
+// declares more pixels than the limit is refused before its pixels are allocated.
+struct ImageLimit {
+  uint64_t texels;
+  std::string refusal;  // set where an image was refused
+};
+
+bool decodeImageWithinLimit(tinygltf::Image* image, int index, std::string* err, std::string* warn, int width,
+                            int height, const unsigned char* bytes, int size, void* user) {
+  auto& limit = *static_cast<ImageLimit*>(user);
+  if (const auto declared = declaredSize(bytes, size_t(std::max(size, 0)));
+      declared && uint64_t(declared->x) * uint64_t(declared->y) > limit.texels) {
+    limit.refusal = "image " + std::to_string(index) + " declares " + std::to_string(declared->x) + "x" +
+                    std::to_string(declared->y) + " pixels, more than --max-texels " + std::to_string(limit.texels) +
+                    " allows";
+    if (err) *err += limit.refusal;
+    return false;
+  }
+  return tinygltf::LoadImageData(image, index, err, warn, width, height, bytes, size, nullptr);
+}
+
 }  // namespace
 
 Scene sceneFromModel(const tinygltf::Model& model, const std::string& source, const Limits& limits) {
@@ -557,10 +606,13 @@ Scene loadGltf(const std::string& path, const Limits& limits) {
   in.close();
 
   tinygltf::TinyGLTF loader;
+  ImageLimit imageLimit{limits.texels, {}};
+  loader.SetImageLoader(&decodeImageWithinLimit, &imageLimit);
   tinygltf::Model model;
   std::string err, warn;
   bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
                    : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+  if (!imageLimit.refusal.empty()) throw LoadError(path + ": " + imageLimit.refusal);
   if (!ok || !err.empty()) {
     // A file that needs an extension ivgi does not read (Draco's compressed meshes, say) often fails
     // tinygltf's checks for that reason: say so rather than what tinygltf tripped on.

@@ -154,12 +154,13 @@ struct Scene {
   std::vector<int> cameraNodes() const;  // nodes carrying a camera, in traversal order
 };
 
-// What a scene may declare before it is refused (--max-triangles, --max-morph-deltas), checked
-// before anything is sized by it: past these, memory and set-up time would take a render-farm node
-// down before a frame.
+// What a scene may declare before it is refused (--max-triangles, --max-morph-deltas,
+// --max-texels), checked before anything is sized by it: past these, memory and set-up time would
+// take a render-farm node down before a frame.
 struct Limits {
   uint64_t triangles = uint64_t(1) << 23;    // drawn, as modelled or as tessellated
   uint64_t morphDeltas = uint64_t(1) << 25;  // morph targets × their vertices, as read or as drawn
+  uint64_t texels = uint64_t(1) << 26;       // of one image, as its header declares (8192²)
 };
 
 Scene loadGltf(const std::string& path, const Limits& limits = {});
