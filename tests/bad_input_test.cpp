@@ -169,6 +169,29 @@ TEST(BadInput, AnImageDeclaringMorePixelsThanTheLimitIsRefusedBeforeItIsDecoded)
   }
 }
 
+// Found by the glTF fuzzer (build-fuzz/crash-bd5f06da…): an image in a buffer view that reaches
+// past its buffer. tinygltf hands the image decoder the view's bytes without checking them against
+// the buffer, and stb_image read past its end (a heap overflow under AddressSanitizer).
+TEST(BadInput, AnImagesBufferViewPastItsBufferIsRefusedBeforeItIsDecoded) {
+  tinygltf::Model m = triangleModel();
+  tinygltf::BufferView view;
+  view.buffer = 0;
+  view.byteOffset = 0;
+  view.byteLength = m.buffers[0].data.size() + 4096;
+  m.bufferViews.push_back(view);
+  tinygltf::Image image;
+  image.bufferView = int(m.bufferViews.size()) - 1;
+  image.mimeType = "image/png";
+  m.images.push_back(image);
+  tinygltf::Texture texture;
+  texture.source = 0;
+  m.textures.push_back(texture);
+  m.materials[0].pbrMetallicRoughness.baseColorTexture.index = 0;
+  const std::string path = writeModel(m, "image-view.gltf");
+  expectOneLineError(test::runIvgi({"info", path}),
+                     {path, "image 0's buffer view", "reaches past the end of buffer 0"});
+}
+
 TEST(BadInput, BufferViewOutOfRange) {
   tinygltf::Model m = triangleModel();
   auto& view = m.bufferViews[m.accessors[m.meshes[0].primitives[0].attributes["POSITION"]].bufferView];

@@ -566,22 +566,35 @@ std::optional<glm::uvec2> declaredSize(const unsigned char* bytes, size_t size) 
   return std::nullopt;
 }
 
-// tinygltf's image decoding (stb_image), after a look at the image's header: an image that
-// declares more pixels than the limit is refused before its pixels are allocated.
-struct ImageLimit {
+// tinygltf's image decoding (stb_image), after two checks it does not make: an image in a buffer
+// view must lie within its buffer (tinygltf hands the decoder the view's bytes unchecked), and an
+// image that declares more pixels than the limit is refused before its pixels are allocated.
+struct ImageChecks {
+  const tinygltf::Model& model;  // being loaded: its buffers and views are read before its images
   uint64_t texels;
   std::string refusal;  // set where an image was refused
 };
 
-bool decodeImageWithinLimit(tinygltf::Image* image, int index, std::string* err, std::string* warn, int width,
-                            int height, const unsigned char* bytes, int size, void* user) {
-  auto& limit = *static_cast<ImageLimit*>(user);
-  if (const auto declared = declaredSize(bytes, size_t(std::max(size, 0)));
-      declared && uint64_t(declared->x) * uint64_t(declared->y) > limit.texels) {
-    limit.refusal = "image " + std::to_string(index) + " declares " + std::to_string(declared->x) + "x" +
-                    std::to_string(declared->y) + " pixels, more than --max-texels " + std::to_string(limit.texels) +
-                    " allows";
-    if (err) *err += limit.refusal;
+bool decodeCheckedImage(tinygltf::Image* image, int index, std::string* err, std::string* warn, int width, int height,
+                        const unsigned char* bytes, int size, void* user) {
+  auto& checks = *static_cast<ImageChecks*>(user);
+  const std::string name = "image " + std::to_string(index);
+  if (image->bufferView >= 0) {  // tinygltf checked that the view and its buffer exist
+    const tinygltf::BufferView& view = checks.model.bufferViews[size_t(image->bufferView)];
+    const size_t held = checks.model.buffers[size_t(view.buffer)].data.size();
+    if (view.byteOffset > held || view.byteLength > held - view.byteOffset)
+      checks.refusal = name + "'s buffer view " + std::to_string(image->bufferView) +
+                       " reaches past the end of buffer " + std::to_string(view.buffer) + " (" + std::to_string(held) +
+                       " bytes)";
+  }
+  if (checks.refusal.empty()) {  // the bytes may be read
+    const auto declared = declaredSize(bytes, size_t(std::max(size, 0)));
+    if (declared && uint64_t(declared->x) * uint64_t(declared->y) > checks.texels)
+      checks.refusal = name + " declares " + std::to_string(declared->x) + "x" + std::to_string(declared->y) +
+                       " pixels, more than --max-texels " + std::to_string(checks.texels) + " allows";
+  }
+  if (!checks.refusal.empty()) {
+    if (err) *err += checks.refusal;
     return false;
   }
   return tinygltf::LoadImageData(image, index, err, warn, width, height, bytes, size, nullptr);
@@ -606,13 +619,13 @@ Scene loadGltf(const std::string& path, const Limits& limits) {
   in.close();
 
   tinygltf::TinyGLTF loader;
-  ImageLimit imageLimit{limits.texels, {}};
-  loader.SetImageLoader(&decodeImageWithinLimit, &imageLimit);
   tinygltf::Model model;
+  ImageChecks imageChecks{model, limits.texels, {}};
+  loader.SetImageLoader(&decodeCheckedImage, &imageChecks);
   std::string err, warn;
   bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
                    : loader.LoadASCIIFromFile(&model, &err, &warn, path);
-  if (!imageLimit.refusal.empty()) throw LoadError(path + ": " + imageLimit.refusal);
+  if (!imageChecks.refusal.empty()) throw LoadError(path + ": " + imageChecks.refusal);
   if (!ok || !err.empty()) {
     // A file that needs an extension ivgi does not read (Draco's compressed meshes, say) often fails
     // tinygltf's checks for that reason: say so rather than what tinygltf tripped on.
