@@ -4,7 +4,8 @@
 // pixel), arrives along the sender's own direction, through the lobe widened by the sender's
 // extent and at least a bin's (between the bins' senders lies what the bins did not keep). The
 // light from outside the links (the environment through empty bins) is reflected as if it arrived
-// evenly. Declares what it reads at bindings 0 to 16; a pass adds its own after them.
+// evenly. Declares what it reads at bindings 1 to 14 (0: the nodes, NODE_TEXELS); a pass adds its
+// own after them.
 
 layout(binding = 1, r32ui) readonly uniform uimageBuffer leafOfSurfel;
 layout(binding = 2, rg32ui) readonly uniform uimageBuffer ranges;                  // LeafRange
