@@ -186,3 +186,45 @@ TEST(ImageFiles, AnExrAttributeLargerThanItsFileIsRefused) {
   }
   std::filesystem::remove(path);
 }
+
+// Found by the EXR fuzzer (build-fuzz/oom-c013e586…): 21 bytes that OpenImageIO's WebP reader took
+// for a 12143×8261 image, allocating 400 MB at open and 1.6 GB of floats after it, 2 GB before it
+// failed. The readers take OpenEXR, PNG and JPEG alone, by their first bytes, and refuse an image
+// that declares more than 2^28 values before allocating it.
+TEST(ImageFiles, AnotherFormatOrAnImageDeclaringTooMuchIsRefusedBeforeItIsRead) {
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() / ("ivgi-format-" + std::to_string(getpid()) + ".exr");
+  const unsigned char found[21] = {0x2f, 0x6e, 0x2f, 0x11, 0x18, 0x23, 0x75, 0x31, 0x6c, 0x6c, 0x11,
+                                   0x11, 0x11, 0x1b, 0x00, 0x00, 0x00, 0x00, 0x00, 0x01, 0x00};
+  auto bigEndian = [](uint32_t v) {
+    return std::string{char(v >> 24), char(v >> 16 & 255), char(v >> 8 & 255), char(v & 255)};
+  };
+  auto crc32 = [](const std::string& data) {  // PNG's chunk CRC (libpng checks the header's)
+    uint32_t c = 0xFFFFFFFFu;
+    for (unsigned char byte : data) {
+      c ^= byte;
+      for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xEDB88320u & (0u - (c & 1u)));
+    }
+    return c ^ 0xFFFFFFFFu;
+  };
+  auto chunk = [&](const std::string& typeAndData) {
+    return bigEndian(uint32_t(typeAndData.size() - 4)) + typeAndData + bigEndian(crc32(typeAndData));
+  };
+  // Its header, and an empty IDAT for libpng's reading of the header to stop at.
+  const std::string png =
+      "\x89PNG\r\n\x1a\n" +
+      chunk("IHDR" + bigEndian(100000) + bigEndian(100000) + std::string("\x08\x02\x00\x00\x00", 5)) + chunk("IDAT") +
+      chunk("IEND");
+  for (const auto& [bytes, why] :
+       {std::pair{std::string(reinterpret_cast<const char*>(found), sizeof found), "not an OpenEXR, PNG or JPEG image"},
+        std::pair{png, "declares 100000x100000 pixels of 3 channels"}}) {
+    std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+    try {
+      image::readFloatImage(path.string());
+      ADD_FAILURE() << "read: " << why;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
+    }
+  }
+  std::filesystem::remove(path);
+}

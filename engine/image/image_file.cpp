@@ -52,6 +52,23 @@ std::string exrHeaderProblem(const std::string& path) {
   return "";
 }
 
+// The formats ivgi reads images in, by their first bytes: OpenEXR, PNG and JPEG. OpenImageIO would
+// otherwise try every reader it has on a file its name's reader refuses, and some decode at open
+// (its WebP reader took 21 bytes for a 12143×8261 image and allocated 400 MB before it failed).
+bool readableFormat(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  unsigned char b[4] = {};
+  if (!in.read(reinterpret_cast<char*>(b), 4)) return false;
+  const bool exr = b[0] == 0x76 && b[1] == 0x2f && b[2] == 0x31 && b[3] == 0x01;
+  const bool png = b[0] == 0x89 && b[1] == 'P' && b[2] == 'N' && b[3] == 'G';
+  const bool jpeg = b[0] == 0xFF && b[1] == 0xD8 && b[2] == 0xFF;
+  return exr || png || jpeg;
+}
+
+// The most values (pixels × channels) an image may declare: 2^28, a gigabyte as float. ivgi's own
+// 4K EXR, with every layer, holds about 160 M.
+constexpr uint64_t kMostValues = uint64_t(1) << 28;
+
 }  // namespace
 
 OIIO::ImageBuf readFloatImage(const std::string& path, const std::string& what, OIIO::TypeDesc* fileFormat) {
@@ -61,11 +78,15 @@ OIIO::ImageBuf readFloatImage(const std::string& path, const std::string& what, 
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))  // a device or a pipe has no end to read to
     fail(std::filesystem::exists(path, ec) ? "not a regular file" : "no such file");
+  if (!readableFormat(path)) fail("not an OpenEXR, PNG or JPEG image");
   if (const std::string problem = exrHeaderProblem(path); !problem.empty()) fail(problem);
   auto in = OIIO::ImageInput::open(path);
   if (!in) fail(OIIO::geterror());
   OIIO::ImageSpec spec = in->spec();
   if (spec.width < 1 || spec.height < 1 || spec.depth != 1 || spec.nchannels < 1) fail("not a 2D image");
+  if (uint64_t(spec.width) * uint64_t(spec.height) * uint64_t(spec.nchannels) > kMostValues)
+    fail("it declares " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + " pixels of " +
+         std::to_string(spec.nchannels) + " channels, more than the 2^28 values ivgi reads");
   if (fileFormat) *fileFormat = spec.format;
   spec.set_format(OIIO::TypeDesc::FLOAT);
   spec.channelformats.clear();
