@@ -1,5 +1,7 @@
 #include "engine/image/image_file.h"
 
+#include "engine/image/image_header.h"
+
 #include <OpenImageIO/imageio.h>
 
 #include <cstdint>
@@ -11,9 +13,6 @@ namespace ivgi::image {
 
 namespace {
 
-// Whether the first four bytes are OpenEXR's magic number.
-bool exrMagic(const unsigned char* b) { return b[0] == 0x76 && b[1] == 0x2f && b[2] == 0x31 && b[3] == 0x01; }
-
 // An EXR header's attributes (name, type, a 32-bit size, the value) each declare their value's
 // size, and OpenEXR 3.1 allocates a string attribute's declared size before reading it: a file of a
 // few hundred bytes can claim gigabytes. Walks the headers (every part's, for a multi-part file)
@@ -24,7 +23,7 @@ std::string exrHeaderProblem(const std::string& path) {
   std::error_code ec;
   const uint64_t fileSize = std::filesystem::file_size(path, ec);
   unsigned char start[8];
-  if (!in || ec || !in.read(reinterpret_cast<char*>(start), 8) || !exrMagic(start)) return "";
+  if (!in || ec || !in.read(reinterpret_cast<char*>(start), 8) || formatOf(start) != ImageFormat::OpenExr) return "";
   const bool multiPart = (start[5] & 0x10) != 0;  // version field bit 12
   auto readString = [&](std::string& s) {
     s.clear();
@@ -60,10 +59,7 @@ bool readableFormat(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   unsigned char b[4] = {};
   if (!in.read(reinterpret_cast<char*>(b), 4)) return false;
-  const bool exr = exrMagic(b);
-  const bool png = b[0] == 0x89 && b[1] == 'P' && b[2] == 'N' && b[3] == 'G';
-  const bool jpeg = b[0] == 0xFF && b[1] == 0xD8 && b[2] == 0xFF;
-  return exr || png || jpeg;
+  return formatOf(b) != ImageFormat::Unknown;
 }
 
 // The most values (pixels × channels) an image may declare: 2^28, a gigabyte as float. ivgi's own

@@ -12,6 +12,7 @@
 #include <optional>
 #include <set>
 
+#include "engine/image/image_header.h"
 #include "engine/scene/gltf_accessors.h"
 
 namespace ivgi::scene {
@@ -538,34 +539,6 @@ class Converter {
   Scene scene_;
 };
 
-// The size a PNG's or JPEG's header declares, read without decoding: stb_image cannot tell it past
-// a gigabyte of pixels, and OpenImageIO's PNG reader has libpng print its complaints to stderr.
-// nullopt where the bytes are neither, or end before the size.
-std::optional<glm::uvec2> declaredSize(const unsigned char* bytes, size_t size) {
-  auto bigEndian = [&](size_t at, int count) {
-    uint32_t v = 0;
-    for (int k = 0; k < count; ++k) v = v << 8 | bytes[at + size_t(k)];
-    return v;
-  };
-  if (size >= 24 && std::memcmp(bytes, "\x89PNG\r\n\x1a\n", 8) == 0 && std::memcmp(bytes + 12, "IHDR", 4) == 0)
-    return glm::uvec2(bigEndian(16, 4), bigEndian(20, 4));
-  if (size < 4 || bytes[0] != 0xFF || bytes[1] != 0xD8) return std::nullopt;
-  // JPEG: the segments after the start of image, each FF, its marker, and a length that counts
-  // itself, up to a start of frame (C0 to CF but for C4, C8 and CC), which holds height and width.
-  for (size_t at = 2; at + 4 <= size && bytes[at] == 0xFF;) {
-    const unsigned marker = bytes[at + 1];
-    if (marker == 0xFF) {  // fill bytes
-      ++at;
-      continue;
-    }
-    const bool frame = marker >= 0xC0 && marker <= 0xCF && marker != 0xC4 && marker != 0xC8 && marker != 0xCC;
-    if (frame)
-      return at + 9 <= size ? std::optional(glm::uvec2(bigEndian(at + 7, 2), bigEndian(at + 5, 2))) : std::nullopt;
-    at += 2 + bigEndian(at + 2, 2);
-  }
-  return std::nullopt;
-}
-
 // tinygltf's image decoding (stb_image), after two checks it does not make: an image in a buffer
 // view must lie within its buffer (tinygltf hands the decoder the view's bytes unchecked), and an
 // image that declares more pixels than the limit is refused before its pixels are allocated.
@@ -588,9 +561,9 @@ bool decodeCheckedImage(tinygltf::Image* image, int index, std::string* err, std
                        " bytes)";
   }
   if (checks.refusal.empty()) {  // the bytes may be read
-    const auto declared = declaredSize(bytes, size_t(std::max(size, 0)));
-    if (declared && uint64_t(declared->x) * uint64_t(declared->y) > checks.texels)
-      checks.refusal = name + " declares " + std::to_string(declared->x) + "x" + std::to_string(declared->y) +
+    const auto declared = ivgi::image::declaredSize({bytes, size_t(std::max(size, 0))});
+    if (declared && uint64_t(declared->width) * uint64_t(declared->height) > checks.texels)
+      checks.refusal = name + " declares " + std::to_string(declared->width) + "x" + std::to_string(declared->height) +
                        " pixels, more than --max-texels " + std::to_string(checks.texels) + " allows";
   }
   if (!checks.refusal.empty()) {
