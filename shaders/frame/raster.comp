@@ -57,7 +57,7 @@ void main() {
   barrier();
   const uint tri = itemIndex();
   if (tri < push.triangleCount) {
-    const Projected t = projected(camera, tri);
+    const Projected t = projected(camera, cornersOf(tri));
     if (isLarge(t))
       large[atomicAdd(largeCount, 1u)] = tri;
     else if (slice == 0u)  // empty bounds walk nothing
@@ -70,7 +70,7 @@ void main() {
   const ivec2 lane = ivec2(lid & 7u, lid >> 3u);
   for (uint k = 0u; k < largeCount; ++k) {
     const uint tri = large[k];
-    const Projected t = projected(camera, tri);
+    const Projected t = projected(camera, cornersOf(tri));
     const Slicing s = slicing(t, kTilesPerSlice);
     const int z = int(slice), rowBlock = z / s.columnBlocks, columnBlock = z - rowBlock * s.columnBlocks;
     const ivec2 first = t.lo + 8 * ivec2(s.columns * columnBlock, s.rows * rowBlock),

@@ -3,6 +3,8 @@
 
 // Bounds holding at most this many samples are walked by the triangle's own invocation.
 const int kSmallBounds = 256;
+// Samples of slack around a triangle's projected bounds: float rounding there is far below it.
+const float kBoundsSlack = 1.0 / 16.0;
 
 // Sample-space x/y of a world point at distance z (> 0) along the view's forward axis (an
 // orthographic view's do not depend on z).
@@ -14,7 +16,28 @@ vec2 projectAt(Camera camera, vec3 p, float z) {
   return vec2((ndc.x + 1.0) * 0.5 * float(push.size.x), (1.0 - ndc.y) * 0.5 * float(push.size.y));
 }
 
-// Triangle `tri`'s corners and its screen bounds (empty: nothing of it on screen).
+// A triangle's corners, read once for every view they are projected into.
+struct Corners {
+  vec3 a, b, c;
+};
+Corners cornersOf(uint tri) {
+  const uvec4 v = imageLoad(triangles, int(tri));
+  return Corners(imageLoad(world, int(2u * v.x)).xyz, imageLoad(world, int(2u * v.y)).xyz,
+                 imageLoad(world, int(2u * v.z)).xyz);
+}
+
+// The samples whose centres (x + 0.5) lie within sample-space bounds [mn, mx], widened by
+// kBoundsSlack for the rounding between the projection and the ray test that decides: a triangle
+// smaller than a sample mostly walks none. Empty (hi < lo) where nothing of them is on screen.
+void boundsOf(vec2 mn, vec2 mx, out ivec2 lo, out ivec2 hi) {
+  const vec2 far = vec2(push.size) + 2.0;  // past it, bounds convert to int safely and stay off screen
+  lo = max(ivec2(0), ivec2(ceil(clamp(mn - 0.5 - kBoundsSlack, vec2(-2.0), far))));
+  hi = min(ivec2(push.size) - 1, ivec2(floor(clamp(mx - 0.5 + kBoundsSlack, vec2(-2.0), far))));
+  if (mx.x < -1.0 || mx.y < -1.0 || mn.x > float(push.size.x) + 1.0 || mn.y > float(push.size.y) + 1.0)
+    hi = ivec2(-1);  // off screen, or wholly behind the near plane (mn > mx)
+}
+
+// A triangle's corners and its screen bounds (empty: nothing of it on screen).
 struct Projected {
   vec3 a, b, c;
   ivec2 lo, hi;
@@ -22,11 +45,9 @@ struct Projected {
 // The bounds are those of the part of the triangle beyond the near plane (the triangle clipped by
 // it), so that a triangle reaching behind the camera walks only what it can cover, and one wholly
 // behind walks nothing.
-Projected projected(Camera camera, uint tri) {
+Projected projected(Camera camera, Corners k) {
   Projected t;
-  uvec4 v = imageLoad(triangles, int(tri));
-  t.a = imageLoad(world, int(2u * v.x)).xyz, t.b = imageLoad(world, int(2u * v.y)).xyz,
-  t.c = imageLoad(world, int(2u * v.z)).xyz;
+  t.a = k.a, t.b = k.b, t.c = k.c;
   const vec3 corner[3] = vec3[3](t.a, t.b, t.c);
   const float near = camera.origin.w;
   float z[3];
@@ -43,11 +64,7 @@ Projected projected(Camera camera, uint tri) {
       mn = min(mn, s), mx = max(mx, s);
     }
   }
-  const vec2 far = vec2(push.size) + 2.0;  // past it, bounds convert to int safely and stay off screen
-  t.lo = max(ivec2(0), ivec2(clamp(floor(mn), vec2(-2.0), far)) - 1);
-  t.hi = min(ivec2(push.size) - 1, ivec2(clamp(ceil(mx), vec2(-2.0), far)));
-  if (mx.x < -1.0 || mx.y < -1.0 || mn.x > float(push.size.x) + 1.0 || mn.y > float(push.size.y) + 1.0)
-    t.hi = ivec2(-1);  // off screen, or wholly behind the near plane (mn > mx)
+  boundsOf(mn, mx, t.lo, t.hi);
   return t;
 }
 
