@@ -346,8 +346,9 @@ SIZE_INTRO = """Each method's time against the path tracer's at the same error, 
 on lavapipe, pt on the same 2 cores (`ivgi bench --equal-error`: pt renders the frame at 1, 2, 4, …
 spp until it reaches the solver's relMSE, or FLIP, and its time there is interpolated log–log).
 The animated Cornell box at 8 to 100 cells a side (frame 0 at 320×240 against pt at 4096 spp; iv and
-ar over 10 animated frames, each solved anew) and 2CylinderEngine (480×270 against pt at 1024 spp;
-its one frame solved in full). One run each."""
+ar over 10 animated frames, each solved anew), the Blender room (tools/scenes/blender_room.py:
+frame 0 at 480×270 against pt at 1024 spp; 10 frames of Suzanne turning, after 2 not measured)
+and 2CylinderEngine (480×270 against pt at 1024 spp; its one frame solved in full). One run each."""
 GLOSSY_INTRO = """`ivgi render cornell --glossy --cells 26 --size 320x240 --supersample S --frames 0` (the
 polished floor at roughness 0.2, the metal tall block at 0.3, the satin short block at 0.5; the
 walls Lambertian) against pt at 4096 spp, with `tools/cornell_regions.py`'s regions; and `ivgi
@@ -379,6 +380,9 @@ def size_table(r):
     the largest take many minutes."""
     scenes = [(f"Cornell box, `--cells {c}`", ("cornell", "--cells", c), "320x240", 4096,
                ("--frames", 10, "--warmup", 2)) for c in (8, 26, 52, 100)]
+    room = blender_room(r)
+    if room:
+        scenes.append(("the Blender room (Suzanne turning)", (room,), "480x270", 1024, ("--frames", 10, "--warmup", 2)))
     if ENGINE.exists():
         scenes.append(("2CylinderEngine.glb", (ENGINE,), "480x270", 1024, ("--frames", 1, "--warmup", 0)))
     lines = ["| scene | surfels | method | ms per frame | relMSE | pt ms at that relMSE | faster than pt by | FLIP "
@@ -419,20 +423,9 @@ def real_files_table(r, runs):
     """Files nobody here wrote, one frame at 480×270 at defaults: the median wall clock of `runs` renders
     (start-up included) and the error against pt at 1024 spp with the same light."""
     scenes = [("2CylinderEngine.glb (assimp-testmodels)", ENGINE)]
-    room = r.scratch / "room.glb"
-    blender = shutil.which("blender")
-    if blender:
-        # Blender's Python takes its modules from the python3 first on PATH: a pyenv or conda one
-        # lacks the numpy its glTF exporter needs, so it runs with the system's PATH.
-        export = subprocess.run([blender, "--background", "--factory-startup", "--python-exit-code", "1", "--python",
-                                 ROOT / "tools/scenes/blender_room.py", "--", room],
-                                capture_output=True, text=True, env={**os.environ, "PATH": "/usr/bin:/bin"})
-        if export.returncode == 0 and room.exists():
-            scenes.append(("a room written by Blender 3.4's glTF exporter (tools/scenes/blender_room.py)", room))
-        else:
-            print(f"perf_tables: Blender's export failed, the room is left out:\n{export.stderr[-2000:]}", file=sys.stderr)
-    else:
-        print("perf_tables: no blender on PATH, the Blender room is left out", file=sys.stderr)
+    room = blender_room(r)
+    if room:
+        scenes.append((ROOM_NAME, room))
     lines = ["| scene | surfels | receivers | wall clock s | device MiB | host peak MiB | relMSE against pt |",
              "|---|---|---|---|---|---|---|"]
     if not any(name.startswith("a room") for name, _ in scenes):
@@ -456,6 +449,29 @@ def real_files_table(r, runs):
                      f"{seconds:.1f} | {sidecar['bytesAllocated'] / 2**20:,.0f} | "
                      f"{sidecar['frames'][0]['hostPeakMiB']:,.0f} | {error:.4f} |")
     return "\n".join(lines)
+
+
+ROOM_NAME = "a room written by Blender 3.4's glTF exporter (tools/scenes/blender_room.py)"
+
+
+def blender_room(r):
+    """The room exported by Debian's blender into the scratch folder (once), or None without it."""
+    room = r.scratch / "room.glb"
+    if room.exists():
+        return room
+    blender = shutil.which("blender")
+    if not blender:
+        print("perf_tables: no blender on PATH, the Blender room is left out", file=sys.stderr)
+        return None
+    # Blender's Python takes its modules from the python3 first on PATH: a pyenv or conda one lacks
+    # the numpy its glTF exporter needs, so it runs with the system's PATH.
+    export = subprocess.run([blender, "--background", "--factory-startup", "--python-exit-code", "1", "--python",
+                             ROOT / "tools/scenes/blender_room.py", "--", room],
+                            capture_output=True, text=True, env={**os.environ, "PATH": "/usr/bin:/bin"})
+    if export.returncode != 0 or not room.exists():
+        print(f"perf_tables: Blender's export failed, the room is left out:\n{export.stderr[-2000:]}", file=sys.stderr)
+        return None
+    return room
 
 
 def earlier_room_row():

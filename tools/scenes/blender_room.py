@@ -1,5 +1,5 @@
 """Builds a room in Blender and writes it with Blender's own glTF exporter: white walls (albedo 0.7),
-a subdivided Suzanne, a sphere, a torus and an emissive panel in the ceiling, and a camera. It is
+a subdivided Suzanne turning once in 2 s, a sphere, a torus and an emissive panel in the ceiling, and a camera. It is
 the kind of file ivgi's users export themselves (about 36,000 vertices); benchmarks and
 tools/perf_tables.py render it.
 
@@ -47,6 +47,21 @@ def paint(obj, colour_of):
     obj.data.color_attributes.active_color = attribute
 
 
+def turn(obj, seconds):
+    """Keys `obj` to turn once about the vertical axis in `seconds`, evenly, from its pose now."""
+    scene = bpy.context.scene
+    frames = round(seconds * scene.render.fps)
+    scene.frame_start, scene.frame_end = 0, frames  # the exporter writes frame f at f / fps seconds
+    start = obj.rotation_euler.z
+    for frame, angle in ((0, start), (frames, start + 2 * math.pi)):
+        obj.rotation_euler.z = angle
+        obj.keyframe_insert("rotation_euler", index=2, frame=frame)
+    for curve in obj.animation_data.action.fcurves:
+        for key in curve.keyframe_points:
+            key.interpolation = "LINEAR"
+    obj.rotation_euler.z = start
+
+
 def main(out, vertex_colours):
     bpy.ops.wm.read_factory_settings(use_empty=True)
     white = material("walls", (0.7, 0.7, 0.7))
@@ -72,6 +87,7 @@ def main(out, vertex_colours):
     sub = monkey.modifiers.new("subdivision", "SUBSURF")
     sub.levels = sub.render_levels = 3
     monkey.data.materials.append(material("suzanne", (0.8, 0.45, 0.2)))
+    turn(monkey, seconds=2.0)
 
     bpy.ops.mesh.primitive_uv_sphere_add(segments=64, ring_count=32, radius=0.45, location=(0.9, -0.3, 0.45))
     bpy.ops.object.shade_smooth()
