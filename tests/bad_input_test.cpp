@@ -135,6 +135,22 @@ TEST(BadInput, AccessorCountFarPastItsDataIsRefusedBeforeAnythingIsSized) {
   }
 }
 
+// A buffer declaring 4 GiB over a 48-byte file (docs/notes/extremes.md): refused by its size against
+// the file's, before anything is allocated for it.
+TEST(BadInput, ABufferDeclaringFourGibibytesOverASmallFileIsRefused) {
+  const fs::path dir = test::scratchDir("huge_buffer");
+  std::ofstream(dir / "small.bin", std::ios::binary) << std::string(48, '\0');
+  const std::string path = (dir / "huge.gltf").string();
+  std::ofstream(path) << R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+    "nodes": [{"mesh": 0}], "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                   "min": [0, 0, 0], "max": [0, 0, 0]}],
+    "bufferViews": [{"buffer": 0, "byteLength": 36}],
+    "buffers": [{"uri": "small.bin", "byteLength": 4294967296}]})";
+  expectOneLineError(test::runIvgi({"info", path}), {path, "4294967296"});
+  expectRenderRefused(path, {}, {path, "4294967296"});
+}
+
 // A PNG and a JPEG whose headers declare 100,000² and 60,000² pixels (a few dozen bytes each):
 // refused by their headers, before their pixels are allocated (stb_image had answered "Unknown image
 // format" to the PNG).
