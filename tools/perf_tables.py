@@ -11,10 +11,9 @@ Usage: tools/perf_tables.py [--ivgi build/ivgi] [--runs 3] [--threads 2]
 error lies, its ratio images, and the README's row of iv's error), `real` (the real files), `ar`
 (ar per --dirs, and the README's rows of ar), `flicker` (the sequences' temporal error), `equal`
 (iv and ar against pt at equal error, and the README's rows of it), `size` (iv, ar and pt
-against the scene's size at equal error; about half an hour) or `glossy` (the glossy Cornell box
-against pt; about five minutes). The
-section then names the machine and date it was measured on, since the rest of the document may
-come from another run.
+against the scene's size at equal error, the Blender room among them; about 45 minutes) or
+`glossy` (the glossy Cornell box against pt; about five minutes). The section then names the
+machine and date it was measured on, since the rest of the document may come from another run.
 
 Every timing is the median over --runs runs of `ivgi bench` (each itself a median over frames),
 with LP_NUM_THREADS set to --threads for lavapipe and pt on as many threads. The equal-error runs
