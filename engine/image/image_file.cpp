@@ -13,18 +13,24 @@ namespace ivgi::image {
 
 namespace {
 
-// An EXR header's attributes (name, type, a 32-bit size, the value) each declare their value's
-// size, and OpenEXR 3.1 allocates a string attribute's declared size before reading it: a file of a
-// few hundred bytes can claim gigabytes. Walks the headers (every part's, for a multi-part file)
-// and returns why an attribute's size cannot be, or "" (also for what is not an EXR: its reader
-// judges it).
-std::string exrHeaderProblem(const std::string& path) {
+// Why the file's header must not reach OpenImageIO, or "", from one read of its start:
+// - Formats: ivgi reads images in OpenEXR, PNG and JPEG alone, told by their first bytes. OpenImageIO
+//   would otherwise try every reader it has on a file its name's reader refuses, and some decode at
+//   open (its WebP reader took 21 bytes for a 12143×8261 image and allocated 400 MB before it failed).
+// - An EXR header's attributes (name, type, a 32-bit size, the value) each declare their value's
+//   size, and OpenEXR 3.1 allocates a string attribute's declared size before reading it: a file of
+//   a few hundred bytes can claim gigabytes. The headers are walked (every part's, for a multi-part
+//   file) for an attribute's size that cannot be.
+std::string headerProblem(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
+  unsigned char start[8] = {};
+  in.read(reinterpret_cast<char*>(start), 8);
+  const ImageFormat format = formatOf(std::span<const unsigned char>(start, size_t(in.gcount())));
+  if (format == ImageFormat::Unknown) return "not an OpenEXR, PNG or JPEG image";
   std::error_code ec;
   const uint64_t fileSize = std::filesystem::file_size(path, ec);
-  unsigned char start[8];
-  if (!in || ec || !in.read(reinterpret_cast<char*>(start), 8) || formatOf(start) != ImageFormat::OpenExr) return "";
-  const bool multiPart = (start[5] & 0x10) != 0;  // version field bit 12
+  if (format != ImageFormat::OpenExr || !in || ec) return "";  // OpenEXR's reader judges a short one
+  const bool multiPart = (start[5] & 0x10) != 0;               // version field bit 12
   auto readString = [&](std::string& s) {
     s.clear();
     for (char c; in.get(c);) {
@@ -52,16 +58,6 @@ std::string exrHeaderProblem(const std::string& path) {
   return "";
 }
 
-// The formats ivgi reads images in, by their first bytes: OpenEXR, PNG and JPEG. OpenImageIO would
-// otherwise try every reader it has on a file its name's reader refuses, and some decode at open
-// (its WebP reader took 21 bytes for a 12143×8261 image and allocated 400 MB before it failed).
-bool readableFormat(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  unsigned char b[4] = {};
-  if (!in.read(reinterpret_cast<char*>(b), 4)) return false;
-  return formatOf(b) != ImageFormat::Unknown;
-}
-
 // The most values (pixels × channels) an image may declare: 2^28, a gigabyte as float. ivgi's own
 // 4K EXR, with every layer, holds about 160 M.
 constexpr uint64_t kMostValues = uint64_t(1) << 28;
@@ -75,8 +71,7 @@ OIIO::ImageBuf readFloatImage(const std::string& path, const std::string& what, 
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))  // a device or a pipe has no end to read to
     fail(std::filesystem::exists(path, ec) ? "not a regular file" : "no such file");
-  if (!readableFormat(path)) fail("not an OpenEXR, PNG or JPEG image");
-  if (const std::string problem = exrHeaderProblem(path); !problem.empty()) fail(problem);
+  if (const std::string problem = headerProblem(path); !problem.empty()) fail(problem);
   auto in = OIIO::ImageInput::open(path);
   if (!in) fail(OIIO::geterror());
   OIIO::ImageSpec spec = in->spec();
