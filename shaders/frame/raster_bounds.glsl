@@ -16,7 +16,7 @@ vec2 projectAt(Camera camera, vec3 p, float z) {
   return vec2((ndc.x + 1.0) * 0.5 * float(push.size.x), (1.0 - ndc.y) * 0.5 * float(push.size.y));
 }
 
-// A triangle's corners, read once for every view they are projected into.
+// A triangle's corners, from the world vertices.
 struct Corners {
   vec3 a, b, c;
 };
