@@ -8,7 +8,7 @@ packages=(
   libglm-dev libtinygltf-dev libstb-dev
   libopenimageio-dev openimageio-tools
   libcli11-dev nlohmann-json3-dev
-  libembree-dev python3 python3-matplotlib
+  libembree-dev libmeshoptimizer-dev python3 python3-matplotlib
   libgtest-dev libgmock-dev libbenchmark-dev
   assimp-testmodels
   slurm-wlm munge

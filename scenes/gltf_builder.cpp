@@ -170,6 +170,21 @@ int GltfBuilder::camera(const std::string& name, float yfov, float znear, glm::v
   return n;
 }
 
+int GltfBuilder::light(const std::string& name, const std::string& type, float intensity, glm::vec3 position,
+                       glm::quat rotation) {
+  tinygltf::Light l;
+  l.name = name;
+  l.type = type;
+  l.color = {1, 1, 1};
+  l.intensity = intensity;
+  model_.lights.push_back(l);
+  const int n = node(name, -1, position, rotation);
+  model_.nodes[n].extensions["KHR_lights_punctual"] =
+      tinygltf::Value(tinygltf::Value::Object{{"light", tinygltf::Value(int(model_.lights.size() - 1))}});
+  useExtension("KHR_lights_punctual");
+  return n;
+}
+
 void GltfBuilder::animate(const std::string& name, int node, const std::string& path, const std::vector<float>& times,
                           const std::vector<float>& values, const std::string& interpolation) {
   auto it = std::find_if(model_.animations.begin(), model_.animations.end(), [&](auto& a) { return a.name == name; });

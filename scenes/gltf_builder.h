@@ -37,6 +37,10 @@ class GltfBuilder {
   int node(const std::string& name, int mesh = -1, glm::vec3 translation = glm::vec3(0.0f),
            glm::quat rotation = glm::quat(1, 0, 0, 0), int parent = -1);
   int camera(const std::string& name, float yfov, float znear, glm::vec3 position, glm::quat rotation);
+  // A KHR_lights_punctual light of white `intensity` ("point", "spot" or "directional", which
+  // shines along its node's -z) on a node of its own; returns the node.
+  int light(const std::string& name, const std::string& type, float intensity, glm::vec3 position,
+            glm::quat rotation = glm::quat(1, 0, 0, 0));
   // One channel animating `path` ("translation", "rotation", "scale") of `node`; values per key.
   void animate(const std::string& animation, int node, const std::string& path, const std::vector<float>& times,
                const std::vector<float>& values, const std::string& interpolation = "LINEAR");

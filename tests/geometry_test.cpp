@@ -7,11 +7,13 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <numbers>
 
 #include "engine/gi/frame_renderer.h"
 #include "engine/gi/hierarchy.h"
 #include "engine/gi/pass.h"
 #include "engine/scene/gltf.h"
+#include "engine/scene/map_meshes.h"
 #include "engine/scene/planar_faces.h"
 #include "scenes/builtin.h"
 #include "scenes/gltf_builder.h"
@@ -567,6 +569,42 @@ TEST(PlanarFaces, TheCornellBlocksFacesAreTwoTrianglesEach) {
     }
   }
   EXPECT_EQ(blocks, 2u);
+}
+
+// A smooth sphere of 16,000 triangles, and one with hills and hollows, drawn for the maps at each
+// level of the ladder: no more triangles the coarser the level (a hundredth at the coarsest), every vertex of the
+// surface as modelled within the level's error of the simplified surface (the one-sided distance that moves a shadow's
+// edge), and drawn exactly where the error asked for is under the finest level's.
+TEST(MapMeshes, ASphereIsDrawnWithinEachLevelsError) {
+  for (bool bumps : {false, true}) {
+    const Geometry g = geometryOf(test::uvSphere(64, bumps));
+    MapMeshes meshes(g, g.triangles);
+    ASSERT_EQ(meshes.parts().size(), 1u);
+    const MapMeshes::Part& sphere = meshes.parts()[0];
+    EXPECT_NEAR(sphere.radius, bumps ? 1.15 : 1.0, 0.03);       // about the mean of its vertices
+    EXPECT_EQ(meshes.draw({0.0f}).size(), g.triangles.size());  // curved: planarFaces merges nothing
+    EXPECT_EQ(meshes.draw({1e-7f}).size(), g.triangles.size());
+    size_t coarser = g.triangles.size();
+    for (int k = 6; k >= MapMeshes::kCoarsestLevel; --k) {
+      const float error = std::ldexp(sphere.radius, -k);
+      ASSERT_EQ(MapMeshes::levelWithin(sphere, error), k);
+      const std::vector<Triangle> drawn = meshes.draw({error});
+      double farthest = 0.0;
+      for (size_t v = 0; v < g.vertices.size(); v += 5) {
+        double nearest = 1e30;
+        for (const Triangle& t : drawn)
+          nearest = std::min(nearest, distanceToTriangle(g.vertices[v].position, g.vertices[t.v0].position,
+                                                         g.vertices[t.v1].position, g.vertices[t.v2].position));
+        farthest = std::max(farthest, nearest);
+      }
+      std::printf("[ maps   ] %s, level %d (error %.4f): %zu triangles, its vertices at most %.4f off\n",
+                  bumps ? "hills" : "sphere", k, error, drawn.size(), farthest);
+      EXPECT_LE(drawn.size(), coarser) << "level " << k;
+      EXPECT_LE(farthest, error) << "level " << k;
+      coarser = drawn.size();
+    }
+    EXPECT_LT(coarser, g.triangles.size() / 100);
+  }
 }
 
 // Found by the gltf_scene fuzzer: an edge whose middle lies past float's range (two corners near

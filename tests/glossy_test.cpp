@@ -25,15 +25,7 @@ fs::path metalFloorUnderALamp(float metallic = 1.0f, float roughness = 0.25f, co
   scenes::addQuad(floor, {-2, 0, -2}, {2, 0, -2}, {2, 0, 2}, {-2, 0, 2}, 8, 8, {0, 1, 0});
   b.node("floor",
          b.mesh("floor", {{floor, b.glossyMaterial("metal", glm::vec3(0.9f, 0.7f, 0.5f), metallic, roughness)}}));
-  tinygltf::Light point;
-  point.type = "point";
-  point.color = {1, 1, 1};
-  point.intensity = 4;
-  b.model().lights.push_back(point);
-  const int lamp = b.node("lamp", -1, {0, 1, 0});
-  b.model().nodes[lamp].extensions["KHR_lights_punctual"] =
-      tinygltf::Value(tinygltf::Value::Object{{"light", tinygltf::Value(0)}});
-  b.model().extensionsUsed.push_back("KHR_lights_punctual");
+  b.light("lamp", "point", 4.0f, {0, 1, 0});
   b.camera("camera", 0.9f, 0.01f, {0, 1, 2}, glm::angleAxis(-std::atan(0.5f), glm::vec3(1, 0, 0)));
   const fs::path file = test::scratchDir(name) / (name + ".gltf");
   scenes::writeModel(b.finish(), file.string());

@@ -443,15 +443,7 @@ tinygltf::Model pointLightOverFloor(bool blocked) {
   std::vector<std::pair<scenes::MeshData, int>> parts = {{floor, grey}};
   if (blocked) parts.insert(parts.end(), {{under, black}, {over, black}});
   b.node("scene", b.mesh("scene", parts));
-  tinygltf::Light point;
-  point.type = "point";
-  point.color = {1, 1, 1};
-  point.intensity = 1;
-  b.model().lights.push_back(point);
-  int lamp = b.node("lamp", -1, {0, 1, 0});
-  b.model().nodes[lamp].extensions["KHR_lights_punctual"] =
-      tinygltf::Value(tinygltf::Value::Object{{"light", tinygltf::Value(0)}});
-  b.model().extensionsUsed.push_back("KHR_lights_punctual");
+  b.light("lamp", "point", 1.0f, {0, 1, 0});
   return b.finish();
 }
 

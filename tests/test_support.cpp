@@ -4,9 +4,11 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <memory>
+#include <numbers>
 #include <sstream>
 
 #include <OpenImageIO/imagebuf.h>
@@ -209,6 +211,26 @@ std::filesystem::path renderExr(const std::string& name, const std::vector<std::
   auto r = runIvgi(all);
   EXPECT_EQ(r.status, 0) << r.err;
   return dir / "f_0000.exr";
+}
+
+scenes::MeshData uvSphere(int rings, bool bumps) {
+  scenes::MeshData m;
+  const int segments = 2 * rings;
+  for (int i = 0; i <= rings; ++i)
+    for (int j = 0; j <= segments; ++j) {
+      const double theta = std::numbers::pi * i / rings, phi = 2.0 * std::numbers::pi * j / segments;
+      const double r = bumps ? 1.0 + 0.15 * std::sin(5.0 * theta) * std::sin(5.0 * phi) : 1.0;
+      m.positions.push_back(
+          glm::vec3(r * std::sin(theta) * std::cos(phi), r * std::cos(theta), r * std::sin(theta) * std::sin(phi)));
+    }
+  const uint32_t w = uint32_t(segments + 1);
+  for (int i = 0; i < rings; ++i)
+    for (int j = 0; j < segments; ++j) {
+      const uint32_t v = uint32_t(i) * w + uint32_t(j);
+      if (i > 0) m.indices.insert(m.indices.end(), {v, v + 1, v + w});
+      if (i + 1 < rings) m.indices.insert(m.indices.end(), {v + 1, v + w + 1, v + w});
+    }
+  return m;
 }
 
 }  // namespace ivgi::test

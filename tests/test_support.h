@@ -13,6 +13,7 @@
 #include "engine/gi/frame_renderer.h"
 #include "engine/gi/iv/solver.h"
 #include "engine/vk/context.h"
+#include "scenes/gltf_builder.h"
 
 namespace tinygltf {
 class Model;
@@ -75,5 +76,10 @@ std::filesystem::path scratchDir(const std::string& name);
 // Renders `args` (frame 0 unless they name --frames) as EXR into scratchDir(name) and returns the
 // path of frame 0's file; a failed run fails the test.
 std::filesystem::path renderExr(const std::string& name, const std::vector<std::string>& args);
+
+// A sphere of radius 1 about the origin, `rings` × 2·`rings` quads (the poles' as triangles), its
+// seam's vertices doubled as a texture's seam doubles them; with `bumps`, its radius 1 + 0.15 ·
+// sin(5θ)·sin(5φ), hills and hollows.
+scenes::MeshData uvSphere(int rings, bool bumps = false);
 
 }  // namespace ivgi::test

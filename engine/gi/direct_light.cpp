@@ -119,7 +119,61 @@ bool emittersMove(const scene::Geometry& g, const std::vector<gpu::EmitterSample
                      [&](const auto& s) { return moving[g.vertices[g.triangles[s.triangle].v0].instance]; });
 }
 
+// The largest factor by which m stretches a length: its largest singular value, the root of mᵀm's
+// largest eigenvalue (the closed form of a symmetric 3×3's eigenvalues).
+double largestStretch(const glm::dmat3& m) {
+  const glm::dmat3 a = glm::transpose(m) * m;
+  const double offDiagonal = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
+  if (offDiagonal == 0.0) return std::sqrt(std::max({a[0][0], a[1][1], a[2][2]}));
+  const double q = (a[0][0] + a[1][1] + a[2][2]) / 3.0;
+  const double p = std::sqrt(((a[0][0] - q) * (a[0][0] - q) + (a[1][1] - q) * (a[1][1] - q) +
+                              (a[2][2] - q) * (a[2][2] - q) + 2.0 * offDiagonal) /
+                             6.0);
+  const double r = std::clamp(glm::determinant((a - q * glm::dmat3(1.0)) / p) / 2.0, -1.0, 1.0);
+  return std::sqrt(std::max(q + 2.0 * p * std::cos(std::acos(r) / 3.0), 0.0));
+}
+
+// A cube face's narrowest texel, at its corner, subtends this many radians times the map's side:
+// along x at (1, 1, 1), the step 2/side in the face's plane turns the ray by (2/side)·√2/3.
+constexpr double kNarrowestTexel = 2.0 * 1.41421356 / 3.0;
+
+// A part of the maps' meshes where the frame puts it: the sphere around it in world space, and how
+// much its matrix stretches lengths at most and (a lower bound) at least.
+struct PlacedPart {
+  glm::dvec3 centre;
+  double radius, stretch, leastStretch;
+};
+
+PlacedPart placed(const scene::MapMeshes::Part& part, const glm::mat4& matrix) {
+  const glm::dmat3 m(matrix);
+  const double stretch = largestStretch(m);
+  return {glm::dvec3(matrix * glm::vec4(part.centre, 1.0f)), part.radius * stretch, stretch,
+          stretch > 0.0 ? std::abs(glm::determinant(m)) / (stretch * stretch) : 0.0};
+}
+
 }  // namespace
+
+DirectLight::Layer::Layer(const vk::Context& ctx, scene::MapMeshes m, vk::Allocations* tally)
+    : meshes(std::move(m)),
+      drawn(meshes.draw({})),
+      triangles(vk::makeBuffer(ctx, drawn, vk::Memory::Device, tally)),
+      raster(ctx, uint32_t(meshes.exactCount()), tally, true) {}
+
+bool DirectLight::Layer::choose(const std::vector<float>& errors) {
+  std::vector<scene::Triangle> now = meshes.draw(errors);
+  if (now.size() == drawn.size() &&
+      (now.empty() || std::memcmp(now.data(), drawn.data(), now.size() * sizeof(scene::Triangle)) == 0))
+    return false;
+  drawn = std::move(now);
+  if (!drawn.empty()) triangles.upload(drawn);
+  raster.setTriangleCount(uint32_t(drawn.size()));
+  return true;
+}
+
+void DirectLight::Layer::record(VkCommandBuffer cmd, const vk::Bindings& frame, const vk::Buffer& views,
+                                uint32_t viewCount, glm::uvec2 size, const vk::Buffer& target, bool clear) const {
+  raster.record(cmd, frame.with({{"triangles", triangles}}), views, viewCount, size, target, clear);
+}
 
 DirectLight::DirectLight(const vk::Context& ctx, const scene::Geometry& g, std::vector<gpu::EmitterSample> samples,
                          const std::vector<bool>& moving, const DirectLightSettings& settings, vk::Allocations* tally)
@@ -156,25 +210,25 @@ DirectLight::DirectLight(const vk::Context& ctx, const scene::Geometry& g, std::
   // The maps draw each surface as its shape, not as finely as the surfels sample it.
   if (splitsStatic_) {
     const auto [still, moves] = byMotion(g, moving);
-    const std::vector<scene::Triangle> stillFaces = scene::planarFaces(g, still),
-                                       movingFaces = scene::planarFaces(g, moves);
-    staticRaster_.emplace(ctx, uint32_t(stillFaces.size()), tally, true);
-    movingRaster_.emplace(ctx, uint32_t(movingFaces.size()), tally, true);
-    staticTriangles_ = vk::makeBuffer(ctx, stillFaces, vk::Memory::Device, tally);
-    movingTriangles_ = vk::makeBuffer(ctx, movingFaces, vk::Memory::Device, tally);
-    movingCount_ = uint32_t(movingFaces.size());
-    if (movingCount_ > 0) staticDepth_ = vk::Buffer(ctx, depth_.size(), vk::Memory::Device, tally);
+    still_.emplace(ctx, scene::MapMeshes(g, still), tally);
+    moving_.emplace(ctx, scene::MapMeshes(g, moves), tally);
+    if (!moves.empty()) staticDepth_ = vk::Buffer(ctx, depth_.size(), vk::Memory::Device, tally);
   } else {
-    const std::vector<scene::Triangle> faces = scene::planarFaces(g, g.triangles);
-    allRaster_.emplace(ctx, uint32_t(faces.size()), tally, true);
-    allTriangles_ = vk::makeBuffer(ctx, faces, vk::Memory::Device, tally);
+    all_.emplace(ctx, scene::MapMeshes(g, g.triangles), tally);
+  }
+  instances_ = g.instances;
+  for (uint32_t i = 0; i < sampleCount_; ++i) {
+    const gpu::EmitterSample& s = samples[i];
+    const scene::Triangle& t = g.triangles[s.triangle];
+    const glm::vec3 a = g.vertices[t.v0].position, b = g.vertices[t.v1].position, c = g.vertices[t.v2].position;
+    samplePlaces_.emplace_back(g.vertices[t.v0].instance, a + s.b * (b - a) + s.c * (c - a));
   }
   sceneBounds_ = vk::Buffer(ctx, 6 * sizeof(uint32_t), vk::Memory::Device, tally);
   surfelDirect_ = vk::Buffer(ctx, std::max(surfelCount_, 1u) * sizeof(glm::vec4), vk::Memory::Device, tally);
   surfelUnshadowed_ = vk::Buffer(ctx, surfelDirect_.size(), vk::Memory::Device, tally);
 }
 
-void DirectLight::setLights(const std::vector<gpu::PunctualLight>& lights) {
+void DirectLight::setFrame(const scene::FrameInputs& pose, const std::vector<gpu::PunctualLight>& lights) {
   if (lights.size() != settings_.punctualLights)
     throw std::logic_error("DirectLight: the frame brings " + std::to_string(lights.size()) +
                            " punctual lights, the settings named " + std::to_string(settings_.punctualLights));
@@ -188,6 +242,63 @@ void DirectLight::setLights(const std::vector<gpu::PunctualLight>& lights) {
   if (!lights.empty())
     punctual_.upload(lights.data(), lights.size() * sizeof(gpu::PunctualLight),
                      environmentCount_ * sizeof(gpu::PunctualLight));
+  chooseMeshes(pose.matrices);
+}
+
+void DirectLight::chooseMeshes(const std::vector<glm::mat4>& matrices) {
+  // The cubes' origins: the emitter samples and the point and spot lights. An emitter that bends
+  // (skinned or morphed) is placed by the GPU alone, so then every part is drawn exactly.
+  std::vector<glm::dvec3> origins;
+  bool placedAll = true;
+  for (const auto& [instance, p] : samplePlaces_) {
+    const gpu::Instance& inst = instances_[instance];
+    placedAll = placedAll && !inst.skinned && inst.morphTargets == 0;
+    if (placedAll) origins.emplace_back(matrices[inst.matrix] * glm::vec4(p, 1.0f));
+  }
+  for (const gpu::PunctualLight& l : lights_)
+    if (l.position.w != gpu::kLightDirectional) origins.emplace_back(glm::vec3(l.position));
+
+  std::vector<Layer*> layers;
+  for (std::optional<Layer>* layer : {&all_, &still_, &moving_})
+    if (*layer) layers.push_back(&**layer);
+  std::vector<std::vector<PlacedPart>> placedParts;
+  // A lower bound of the radius of the scene's bounds, which a directional light's map spans
+  // (light_views): the box holds every rigid part's centre (a mean of its vertices) and its vertices.
+  scene::Bounds centres;
+  double sceneRadius = 0.0;
+  for (const Layer* layer : layers) {
+    std::vector<PlacedPart>& placedLayer = placedParts.emplace_back();
+    for (const scene::MapMeshes::Part& part : layer->meshes.parts()) {
+      const PlacedPart& q = placedLayer.emplace_back(placed(part, matrices[instances_[part.instance].matrix]));
+      if (!part.rigid) continue;  // a joint's matrix, not the part's: never simplified, and left out of the bound
+      centres.add(glm::vec3(q.centre));
+      sceneRadius = std::max(sceneRadius, 0.5 * part.radius * q.leastStretch);
+    }
+  }
+  if (!centres.empty()) sceneRadius = std::max(sceneRadius, 0.5 * double(glm::length(centres.max - centres.min)));
+
+  // A part's maps cannot resolve less than a texel where it is nearest to a light: its surface is
+  // drawn within half the narrowest texel there (a cube's at its nearest origin, a directional
+  // map's anywhere), which the lookup's bias (direct_light.glsl) also covers.
+  const double side = settings_.resolution;
+  for (size_t l = 0; l < layers.size(); ++l) {
+    std::vector<float> errors;
+    for (const PlacedPart& q : placedParts[l]) {
+      double world = q.radius;  // coarser draws the same (MapMeshes::kCoarsestLevel)
+      for (const glm::dvec3& o : origins)
+        world = std::min(world, 0.5 * kNarrowestTexel * std::max(glm::length(o - q.centre) - q.radius, 0.0) / side);
+      if (directional_) world = std::min(world, sceneRadius / side);
+      errors.push_back(settings_.simplifiedMeshes && placedAll && q.stretch > 0.0 ? float(world / q.stretch) : 0.0f);
+    }
+    if (layers[l]->choose(errors) && still_ && layers[l] == &*still_) staticDrawn_ = false;
+  }
+}
+
+std::pair<size_t, size_t> DirectLight::trianglesDrawn() const {
+  std::pair<size_t, size_t> drawn{0, 0};
+  for (const std::optional<Layer>* layer : {&all_, &still_, &moving_})
+    if (*layer) drawn.first += (*layer)->drawn.size(), drawn.second += (*layer)->meshes.triangleCount();
+  return drawn;
 }
 
 void DirectLight::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bindings& frame, bool geometryMoved) {
@@ -210,16 +321,14 @@ void DirectLight::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bi
                               gpu::LightViewsPush{.sampleCount = sampleCount_,
                                                   .punctualLights = environmentCount_ + settings_.punctualLights,
                                                   .environmentDirections = environmentCount_});
-    if (!splitsStatic_) {
-      allRaster_->record(cmd, frame.with({{"triangles", allTriangles_}}), views_, views, size, depth_);
-    } else if (movingCount_ == 0) {  // nothing moves: the maps are drawn once
-      if (!staticDrawn_)
-        staticRaster_->record(cmd, frame.with({{"triangles", staticTriangles_}}), views_, views, size, depth_);
+    if (all_) {
+      all_->record(cmd, frame, views_, views, size, depth_);
+    } else if (moving_->meshes.exactCount() == 0) {  // nothing moves: the maps are drawn once
+      if (!staticDrawn_) still_->record(cmd, frame, views_, views, size, depth_);
     } else {
-      if (!staticDrawn_)
-        staticRaster_->record(cmd, frame.with({{"triangles", staticTriangles_}}), views_, views, size, staticDepth_);
+      if (!staticDrawn_) still_->record(cmd, frame, views_, views, size, staticDepth_);
       vk::copyBuffer(cmd, staticDepth_, depth_);
-      movingRaster_->record(cmd, frame.with({{"triangles", movingTriangles_}}), views_, views, size, depth_, false);
+      moving_->record(cmd, frame, views_, views, size, depth_, false);
     }
     staticDrawn_ = true;
     directSurfels_.dispatchItems(cmd, surfelCount_, buffers,

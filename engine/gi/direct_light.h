@@ -8,6 +8,7 @@
 #include "engine/gi/raster.h"
 #include "engine/scene/environment.h"
 #include "engine/scene/geometry.h"
+#include "engine/scene/map_meshes.h"
 #include "engine/vk/buffer.h"
 #include "engine/vk/program.h"
 #include "engine/vk/timer.h"
@@ -17,11 +18,14 @@ namespace ivgi::gi {
 struct DirectLightSettings {
   uint32_t samples = 128;     // points over the emitters
   uint32_t resolution = 128;  // a depth map's side, in texels (a cube of six a sample)
+  // Each rigid instance drawn into the maps as simplified as their texels allow (scene::MapMeshes);
+  // false: as modelled, for comparison.
+  bool simplifiedMeshes = true;
   // The image's pixels look the maps up themselves (the resolve), the vertices carrying only the
   // rest of the irradiance; else the surfels' direct light is shown through their vertices.
   bool perPixel = false;
   // The scene's punctual lights, which the maps light too (each frame says where they are:
-  // DirectLight::setLights); not a choice but how many the frames bring.
+  // DirectLight::setFrame); not a choice but how many the frames bring.
   uint32_t punctualLights = 0;
   // The environment's light through the maps too: `environmentDirections` directions toward the
   // sky (Environment::sampleDirections), each a directional light with its own map over the scene,
@@ -58,8 +62,10 @@ class DirectLight {
   DirectLight(const vk::Context& ctx, const scene::Geometry& geometry, std::vector<gpu::EmitterSample> samples,
               const std::vector<bool>& moving, const DirectLightSettings& settings, vk::Allocations* tally);
 
-  // The frame's punctual lights in world space (as many as the settings named), lit through the maps.
-  void setLights(const std::vector<gpu::PunctualLight>& lights);
+  // The frame: its pose (where the emitter samples and the instances are) and its punctual lights
+  // in world space (as many as the settings named), lit through the maps. Each instance is drawn
+  // into the maps as simplified as the nearest light point's texels allow (mapErrors).
+  void setFrame(const scene::FrameInputs& pose, const std::vector<gpu::PunctualLight>& lights);
 
   // Places the samples, rasterizes their depth maps and lights the surfels; `frame` holds the
   // frame's buffers (world, triangles, materials, surfels). Where the emitters cannot move, what
@@ -76,6 +82,8 @@ class DirectLight {
   bool lightsEnvironment() const { return environmentCount_ > 0; }
   uint32_t punctualCount() const { return settings_.punctualLights; }
   uint32_t resolution() const { return settings_.resolution; }
+  // The triangles the maps were last drawn from, of those of the scene they stand for.
+  std::pair<size_t, size_t> trianglesDrawn() const;
   // The samples as the frame placed them, their views and depth maps, the surfels' direct light, by
   // the names the shaders that look them up bind them under (direct_light.glsl).
   vk::Bindings pool() const {
@@ -87,25 +95,46 @@ class DirectLight {
   }
 
  private:
+  // Draws each part of the layers as simplified as the maps allow at the frame's `matrices`.
+  void chooseMeshes(const std::vector<glm::mat4>& matrices);
+
+  // The triangles one raster draws into the maps: its instances' meshes, the triangles drawn of them
+  // (chosen each frame), and the buffer that holds those.
+  struct Layer {
+    Layer(const vk::Context& ctx, scene::MapMeshes meshes, vk::Allocations* tally);
+    // Draws each part within `errors` (MapMeshes::draw); true where that changed the triangles.
+    bool choose(const std::vector<float>& errors);
+    void record(VkCommandBuffer cmd, const vk::Bindings& frame, const vk::Buffer& views, uint32_t viewCount,
+                glm::uvec2 size, const vk::Buffer& target, bool clear = true) const;
+
+    scene::MapMeshes meshes;
+    std::vector<scene::Triangle> drawn;
+    vk::Buffer triangles;
+    Raster raster;
+  };
+
   DirectLightSettings settings_;
   std::vector<gpu::PunctualLight> environment_;  // settings_.environmentLights(), sampled once
   uint32_t sampleCount_, environmentCount_, viewCount_, surfelCount_, vertexCount_;
   // Some light is directional (a punctual one or the environment's): its map covers the scene's bounds.
   bool directional_ = false;
-  // The triangles the maps are drawn from (scene::planarFaces): all of them, or where the emitters
-  // stand still those that can move, each frame over what cannot (`staticDepth`, drawn once).
+  // The maps are drawn from all the triangles (`all_`), or where the emitters stand still from those
+  // that can move (`moving_`) each frame over those that cannot (`still_`, into `staticDepth`,
+  // drawn again only where their lights or their triangles change).
   bool splitsStatic_ = false, staticDrawn_ = false, lit_ = false;
   // The punctual lights of the last frame (host-visible), and whether they moved since the
   // maps were drawn.
   std::vector<gpu::PunctualLight> lights_;
   bool lightsMoved_ = true;
-  uint32_t movingCount_ = 0;  // triangles that can move, where splitsStatic_
+  // Per emitter sample, its instance and its place in its primitive's space (the pose places it).
+  std::vector<std::pair<uint32_t, glm::vec3>> samplePlaces_;
+  std::vector<gpu::Instance> instances_;
   vk::Buffer samples_, points_, views_, depth_, staticDepth_, surfelDirect_, surfelUnshadowed_;
   // The lights drawn with a cube or one map: the environment's directions, then the frame's lights.
-  vk::Buffer allTriangles_, staticTriangles_, movingTriangles_, punctual_;
+  vk::Buffer punctual_;
   vk::Buffer sceneBounds_;  // the scene's bounds in the frame (world_bounds), for directional lights
   vk::Program lightViews_, directSurfels_, worldBounds_;
-  std::optional<Raster> allRaster_, staticRaster_, movingRaster_;  // all, or the static and moving
+  std::optional<Layer> all_, still_, moving_;
 };
 
 }  // namespace ivgi::gi

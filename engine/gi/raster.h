@@ -14,6 +14,9 @@ class Raster {
   // else 64-bit depth and triangle keys.
   Raster(const vk::Context& ctx, uint32_t triangleCount, vk::Allocations* tally, bool depthOnly = false);
 
+  // The triangles the next records draw: the first `count` of the scene's, at most as many as made for.
+  void setTriangleCount(uint32_t count);
+
   // Rasterizes the triangles (`world`, `triangles` from `scene`) into `target`: `viewCount` views of
   // `size` samples each, whose cameras `views` holds (a view whose near is negative is skipped and
   // left empty). `clear`: the target emptied first; else the triangles go over what it holds.
@@ -21,10 +24,10 @@ class Raster {
               glm::uvec2 size, const vk::Buffer& target, bool clear = true) const;
 
  private:
-  uint32_t triangleCount_;
+  uint32_t capacity_, triangleCount_;
   bool depthOnly_;
   vk::Program slices_, raster_;
-  vk::Buffer args_;    // the raster's dispatch, its z counted by raster_slices
+  vk::Buffer args_;    // the raster's dispatch: its x and y for the triangles, its z counted by raster_slices
   vk::Buffer unused_;  // bound where the shader's other target is not written
 };
 

@@ -1,0 +1,175 @@
+#include "engine/scene/map_meshes.h"
+
+#include <meshoptimizer.h>
+
+#include <algorithm>
+#include <cmath>
+#include <tuple>
+#include <utility>
+
+#include "engine/scene/planar_faces.h"
+
+namespace ivgi::scene {
+
+double distanceToTriangle(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b, glm::dvec3 c) {
+  const glm::dvec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
+  if (d1 <= 0 && d2 <= 0) return glm::length(ap);
+  const glm::dvec3 bp = p - b;
+  const double d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
+  if (d3 >= 0 && d4 <= d3) return glm::length(bp);
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return glm::length(p - (a + ab * (d1 / (d1 - d3))));
+  const glm::dvec3 cp = p - c;
+  const double d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
+  if (d6 >= 0 && d5 <= d6) return glm::length(cp);
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return glm::length(p - (a + ac * (d2 / (d2 - d6))));
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0)
+    return glm::length(p - (b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)))));
+  const double denom = 1.0 / (va + vb + vc);
+  return glm::length(p - (a + ab * (vb * denom) + ac * (vc * denom)));
+}
+
+namespace {
+
+// A part of `triangles`, all of one instance.
+MapMeshes::Part partOf(const Geometry& g, uint32_t instance, const std::vector<Triangle>& triangles) {
+  MapMeshes::Part part;
+  part.instance = instance;
+  part.rigid = !g.instances[instance].skinned && g.instances[instance].morphTargets == 0;
+  part.exact = planarFaces(g, triangles);
+  part.material = triangles.front().material;
+  // Vertices of one position are one corner, so the simplification may collapse across the seams
+  // of normals and texture coordinates, which the maps do not draw.
+  std::map<std::tuple<float, float, float>, uint32_t> welded;
+  glm::dvec3 sum(0.0);
+  for (const Triangle& t : triangles)
+    for (uint32_t v : {t.v0, t.v1, t.v2}) {
+      const glm::vec3 p = g.vertices[v].position;
+      const auto [at, added] = welded.try_emplace({p.x, p.y, p.z}, uint32_t(part.positions.size()));
+      if (added) part.positions.push_back(p), part.vertexAt.push_back(v), sum += glm::dvec3(p);
+      part.corners.push_back(at->second);
+    }
+  part.centre = glm::vec3(sum / double(part.positions.size()));
+  for (const glm::vec3& p : part.positions) part.radius = std::max(part.radius, glm::length(p - part.centre));
+  return part;
+}
+
+// A level asks for a smaller error by this factor while its result is too far, at most
+// kMostAsks times, then draws its part exactly.
+constexpr float kSmallerAsk = 0.70710678f;
+constexpr int kMostAsks = 8;
+
+// The farthest any of `positions` lies from the triangles `corners` makes of them, where that is
+// within `reach`; past it, some distance past it. The triangles are found through a grid of cells
+// as wide as a triangle's bounds on average (and no narrower than `reach`), each listing those
+// whose bounds, widened by `reach`, overlap it: a vertex needs only its own cell's.
+double farthestVertex(const std::vector<glm::vec3>& positions, const std::vector<uint32_t>& corners, float reach) {
+  const size_t triangles = corners.size() / 3;
+  std::vector<Bounds> boxes(triangles);
+  Bounds bounds;
+  double widths = 0.0;
+  for (size_t t = 0; t < triangles; ++t) {
+    for (size_t k = 0; k < 3; ++k) boxes[t].add(positions[corners[3 * t + k]]);
+    widths += glm::length(boxes[t].max - boxes[t].min);
+  }
+  for (const glm::vec3& p : positions) bounds.add(p);
+  const double cell = std::max({double(reach), widths / double(std::max<size_t>(triangles, 1)),
+                                double(glm::length(bounds.max - bounds.min)) / 1024.0});
+  const glm::dvec3 lo = glm::dvec3(bounds.min) - double(reach);
+  const glm::ivec3 cells = glm::ivec3(glm::dvec3(bounds.max - bounds.min) / cell) + 3;
+  auto cellOf = [&](glm::dvec3 p) {
+    return glm::clamp(glm::ivec3(glm::floor((p - lo) / cell)), glm::ivec3(0), cells - 1);
+  };
+  auto key = [&](glm::ivec3 c) {
+    return (uint64_t(c.z) * uint64_t(cells.y) + uint64_t(c.y)) * uint64_t(cells.x) + uint64_t(c.x);
+  };
+  std::vector<std::pair<uint64_t, uint32_t>> listed;  // (cell, triangle), sorted by cell
+  for (uint32_t t = 0; t < triangles; ++t) {
+    const glm::ivec3 from = cellOf(glm::dvec3(boxes[t].min) - double(reach)),
+                     to = cellOf(glm::dvec3(boxes[t].max) + double(reach));
+    for (int z = from.z; z <= to.z; ++z)
+      for (int y = from.y; y <= to.y; ++y)
+        for (int x = from.x; x <= to.x; ++x) listed.emplace_back(key({x, y, z}), t);
+  }
+  std::sort(listed.begin(), listed.end());
+  double farthest = 0.0;
+  for (const glm::vec3& p : positions) {
+    double nearest = 2.0 * reach + 1e-30;  // past the reach: no triangle listed is nearer
+    const uint64_t at = key(cellOf(glm::dvec3(p)));
+    for (auto it = std::lower_bound(listed.begin(), listed.end(), std::make_pair(at, 0u));
+         it != listed.end() && it->first == at; ++it) {
+      const uint32_t* c = &corners[3 * size_t(it->second)];
+      nearest = std::min(nearest, distanceToTriangle(p, positions[c[0]], positions[c[1]], positions[c[2]]));
+    }
+    farthest = std::max(farthest, nearest);
+  }
+  return farthest;
+}
+
+}  // namespace
+
+MapMeshes::MapMeshes(const Geometry& g, const std::vector<Triangle>& triangles) : triangleCount_(triangles.size()) {
+  std::map<uint32_t, std::vector<Triangle>> byInstance;
+  for (const Triangle& t : triangles) byInstance[g.vertices[t.v0].instance].push_back(t);
+  for (const auto& [instance, tris] : byInstance) {
+    parts_.push_back(partOf(g, instance, tris));
+    exactCount_ += parts_.back().exact.size();
+  }
+}
+
+int MapMeshes::levelWithin(const Part& part, float error) {
+  if (!part.rigid || !(error > 0.0f) || !(part.radius > 0.0f)) return kFinestLevel + 1;
+  // The least k with radius × 2^-k ≤ error.
+  const int k = int(std::ceil(std::log2(double(part.radius) / double(error))));
+  return std::clamp(k, kCoarsestLevel, kFinestLevel + 1);
+}
+
+const std::vector<Triangle>& MapMeshes::level(Part& part, int k) {
+  auto [at, added] = part.levels.try_emplace(k);
+  if (!added) return at->second;
+  const float error = std::ldexp(part.radius, -k);
+  // meshoptimizer judges a collapse by the distances to the planes around the collapsed vertex, and
+  // a curved surface's sag between the kept vertices can go past that: each level's result is
+  // measured, and asked for again with a smaller error while a vertex lies farther than the level's
+  // error from it. meshoptimizer takes the error relative to its own measure of the mesh's size.
+  const float scale = meshopt_simplifyScale(&part.positions[0].x, part.positions.size(), sizeof(glm::vec3));
+  std::vector<uint32_t> kept(part.corners.size());
+  float asked = error;
+  for (int tries = 0;; ++tries, asked *= kSmallerAsk) {
+    kept.resize(part.corners.size());
+    kept.resize(meshopt_simplify(kept.data(), part.corners.data(), part.corners.size(), &part.positions[0].x,
+                                 part.positions.size(), sizeof(glm::vec3), 0, scale > 0.0f ? asked / scale : 0.0f));
+    const double far = kept.size() == part.corners.size() ? 0.0 : farthestVertex(part.positions, kept, error);
+    if (kept.size() == part.corners.size() || far <= error) break;
+    if (tries == kMostAsks) {
+      kept = part.corners;
+      break;
+    }
+  }
+  std::vector<Triangle>& simplified = at->second;
+  for (size_t i = 0; i + 2 < kept.size(); i += 3)
+    simplified.push_back(
+        {part.vertexAt[kept[i]], part.vertexAt[kept[i + 1]], part.vertexAt[kept[i + 2]], part.material});
+  return simplified;
+}
+
+std::vector<Triangle> MapMeshes::draw(const std::vector<float>& errors) {
+  std::vector<Triangle> out;
+  out.reserve(exactCount_);
+  for (size_t p = 0; p < parts_.size(); ++p) {
+    Part& part = parts_[p];
+    const int k = levelWithin(part, p < errors.size() ? errors[p] : 0.0f);
+    const std::vector<Triangle>* drawn = &part.exact;
+    if (k <= kFinestLevel) {
+      const std::vector<Triangle>& simplified = level(part, k);
+      if (simplified.size() < part.exact.size()) drawn = &simplified;
+    }
+    out.insert(out.end(), drawn->begin(), drawn->end());
+  }
+  return out;
+}
+
+}  // namespace ivgi::scene
