@@ -64,8 +64,9 @@ constexpr int kMostAsks = 8;
 
 // The farthest any of `positions` lies from the triangles `corners` makes of them, where that is
 // within `reach`; past it, some distance past it. The triangles are found through a grid of cells
-// as wide as a triangle's bounds on average (and no narrower than `reach`), each listing those
-// whose bounds, widened by `reach`, overlap it: a vertex needs only its own cell's.
+// as wide as a triangle's bounds on average (no narrower than `reach`, and wider where the
+// listings would pass 64 a triangle), each listing those whose bounds, widened by `reach`, overlap
+// it: a vertex needs only its own cell's.
 double farthestVertex(const std::vector<glm::vec3>& positions, const std::vector<uint32_t>& corners, float reach) {
   const size_t triangles = corners.size() / 3;
   std::vector<Bounds> boxes(triangles);
@@ -76,9 +77,20 @@ double farthestVertex(const std::vector<glm::vec3>& positions, const std::vector
     widths += glm::length(boxes[t].max - boxes[t].min);
   }
   for (const glm::vec3& p : positions) bounds.add(p);
-  const double cell = std::max({double(reach), widths / double(std::max<size_t>(triangles, 1)),
-                                double(glm::length(bounds.max - bounds.min)) / 1024.0});
   const glm::dvec3 lo = glm::dvec3(bounds.min) - double(reach);
+  double cell = std::max({double(reach), widths / double(std::max<size_t>(triangles, 1)),
+                          double(glm::length(bounds.max - bounds.min)) / 1024.0});
+  // Wider cells where a few large triangles among many small ones would be listed in too many.
+  auto listings = [&](double side) {
+    double count = 0.0;
+    for (const Bounds& box : boxes) {
+      const glm::dvec3 from = glm::floor((glm::dvec3(box.min) - double(reach) - lo) / side),
+                       to = glm::floor((glm::dvec3(box.max) + double(reach) - lo) / side);
+      count += (to.x - from.x + 1.0) * (to.y - from.y + 1.0) * (to.z - from.z + 1.0);
+    }
+    return count;
+  };
+  while (listings(cell) > 64.0 * double(triangles) + double(1 << 20)) cell *= 2.0;
   const glm::ivec3 cells = glm::ivec3(glm::dvec3(bounds.max - bounds.min) / cell) + 3;
   auto cellOf = [&](glm::dvec3 p) {
     return glm::clamp(glm::ivec3(glm::floor((p - lo) / cell)), glm::ivec3(0), cells - 1);
