@@ -64,7 +64,7 @@ class DirectLight {
 
   // The frame: its pose (where the emitter samples and the instances are) and its punctual lights
   // in world space (as many as the settings named), lit through the maps. Each instance is drawn
-  // into the maps as simplified as the nearest light point's texels allow (mapErrors).
+  // into the maps as simplified as the nearest light point's texels allow (chooseMeshes).
   void setFrame(const scene::FrameInputs& pose, const std::vector<gpu::PunctualLight>& lights);
 
   // Places the samples, rasterizes their depth maps and lights the surfels; `frame` holds the
