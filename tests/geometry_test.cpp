@@ -571,6 +571,19 @@ TEST(PlanarFaces, TheCornellBlocksFacesAreTwoTrianglesEach) {
   EXPECT_EQ(blocks, 2u);
 }
 
+// The farthest every `stride`-th vertex of `g` lies from `drawn`, by brute force.
+double farthestVertex(const Geometry& g, const std::vector<Triangle>& drawn, size_t stride) {
+  double farthest = 0.0;
+  for (size_t v = 0; v < g.vertices.size(); v += stride) {
+    double nearest = 1e30;
+    for (const Triangle& t : drawn)
+      nearest = std::min(nearest, distanceToTriangle(g.vertices[v].position, g.vertices[t.v0].position,
+                                                     g.vertices[t.v1].position, g.vertices[t.v2].position));
+    farthest = std::max(farthest, nearest);
+  }
+  return farthest;
+}
+
 // A smooth sphere of 16,000 triangles, and one with hills and hollows, drawn for the maps at each
 // level of the ladder: no more triangles the coarser the level (a hundredth at the coarsest), every vertex of the
 // surface as modelled within the level's error of the simplified surface (the one-sided distance that moves a shadow's
@@ -589,14 +602,7 @@ TEST(MapMeshes, ASphereIsDrawnWithinEachLevelsError) {
       const float error = std::ldexp(sphere.radius, -k);
       ASSERT_EQ(MapMeshes::levelWithin(sphere, error), k);
       const std::vector<Triangle> drawn = meshes.draw({error});
-      double farthest = 0.0;
-      for (size_t v = 0; v < g.vertices.size(); v += 5) {
-        double nearest = 1e30;
-        for (const Triangle& t : drawn)
-          nearest = std::min(nearest, distanceToTriangle(g.vertices[v].position, g.vertices[t.v0].position,
-                                                         g.vertices[t.v1].position, g.vertices[t.v2].position));
-        farthest = std::max(farthest, nearest);
-      }
+      const double farthest = farthestVertex(g, drawn, 5);
       std::printf("[ maps   ] %s, level %d (error %.4f): %zu triangles, its vertices at most %.4f off\n",
                   bumps ? "hills" : "sphere", k, error, drawn.size(), farthest);
       EXPECT_LE(drawn.size(), coarser) << "level " << k;
@@ -623,14 +629,7 @@ TEST(MapMeshes, APanelWithABoltIsSimplifiedWithinItsError) {
   ASSERT_EQ(meshes.parts().size(), 1u);
   const float error = std::ldexp(meshes.parts()[0].radius, -12);  // a fifth of the bolt's radius
   const std::vector<Triangle> drawn = meshes.draw({error});
-  double farthest = 0.0;
-  for (size_t v = 0; v < g.vertices.size(); v += 7) {
-    double nearest = 1e30;
-    for (const Triangle& t : drawn)
-      nearest = std::min(nearest, distanceToTriangle(g.vertices[v].position, g.vertices[t.v0].position,
-                                                     g.vertices[t.v1].position, g.vertices[t.v2].position));
-    farthest = std::max(farthest, nearest);
-  }
+  const double farthest = farthestVertex(g, drawn, 7);
   std::printf("[ maps   ] panel and bolt at %.2e: %zu of %zu triangles, its vertices at most %.2e off\n", error,
               drawn.size(), g.triangles.size(), farthest);
   EXPECT_LT(drawn.size(), g.triangles.size() / 4);
