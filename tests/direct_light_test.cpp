@@ -40,8 +40,7 @@ Lit directLight(const tinygltf::Model& model, gi::DirectLightSettings settings) 
   EXPECT_NE(r.directLight(), nullptr);
   const auto pose = scene::evaluatePose(s, -1, 0.0f);
   const auto inputs = g.frameInputs(s, pose);
-  r.render(inputs, scene::framingCamera(scene::worldBounds(scene::animateOnHost(g, inputs)), 1.0f),
-           scene::worldLights(s, pose));
+  r.render(inputs, test::framing(g, inputs), scene::worldLights(s, pose));
   return {r.surfels(), g.surfelEmission, r.directLight()->surfelDirect().read<glm::vec4>(g.surfels.size())};
 }
 
@@ -337,7 +336,7 @@ SolverLit litWithMaps(const tinygltf::Model& model, const SolverFor& solverFor, 
   gi::FrameRenderer r(test::gpu(), g, {16, 16, 1}, solverFor(s, g), maps ? std::optional(mapSettings) : std::nullopt);
   const auto pose = scene::evaluatePose(s, -1, 0.0f);
   const auto inputs = g.frameInputs(s, pose);
-  r.render(inputs, scene::framingCamera(scene::worldBounds(scene::animateOnHost(g, inputs)), 1.0f));
+  r.render(inputs, test::framing(g, inputs));
   const size_t n = g.surfels.size();
   return {r.solver()->irradiance().read<glm::vec4>(n),
           maps ? r.directLight()->surfelDirect().read<glm::vec4>(n) : std::vector<glm::vec4>(n), r.surfels()};
@@ -454,7 +453,7 @@ TEST(DirectLight, StaticTrianglesDrawnOnceGiveTheMapsDrawnWhole) {
   for (float time : {0.0f, 0.25f, 0.5f}) {
     const auto pose = scene::evaluatePose(s, 0, time);
     const auto inputs = g.frameInputs(s, pose);
-    const auto view = scene::framingCamera(scene::worldBounds(scene::animateOnHost(g, inputs)), 1.0f);
+    const auto view = test::framing(g, inputs);
     split.render(inputs, view);
     whole.render(inputs, view);
     const auto a = split.directLight()->surfelDirect().read<glm::vec4>(g.surfels.size()),
@@ -471,10 +470,9 @@ TEST(DirectLight, StaticTrianglesDrawnOnceGiveTheMapsDrawnWhole) {
 TEST(DirectLight, ASmoothBallIsDrawnSimplifiedWithItsShadowInPlace) {
   scenes::GltfBuilder b;
   const int grey = b.material("grey", glm::vec3(0.5f));
-  scenes::MeshData floor, ball = test::uvSphere(96);
-  scenes::addQuad(floor, {-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}, 64, 64, {0, 1, 0});
   constexpr float kBall = 0.2f, kHeight = 0.5f;
-  for (glm::vec3& p : ball.positions) p = kBall * p + glm::vec3(0.0f, kHeight, 0.0f);
+  scenes::MeshData floor, ball = test::ball(96, kBall, {0.0f, kHeight, 0.0f});
+  scenes::addQuad(floor, {-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}, 64, 64, {0, 1, 0});
   b.node("floor", b.mesh("floor", {{floor, grey}}));
   b.node("ball", b.mesh("ball", {{ball, grey}}));
   b.light("lamp", "point", 1.0f, {0, 1, 0});
@@ -484,7 +482,7 @@ TEST(DirectLight, ASmoothBallIsDrawnSimplifiedWithItsShadowInPlace) {
   scene::Geometry g = scene::buildGeometry(s);
   const auto pose = scene::evaluatePose(s, -1, 0.0f);
   const auto inputs = g.frameInputs(s, pose);
-  const auto view = scene::framingCamera(scene::worldBounds(scene::animateOnHost(g, inputs)), 1.0f);
+  const auto view = test::framing(g, inputs);
   std::vector<std::vector<glm::vec4>> direct;
   for (bool simplified : {true, false}) {
     const gi::DirectLightSettings settings{.samples = 1, .simplifiedMeshes = simplified, .punctualLights = 1};
@@ -528,7 +526,7 @@ TEST(DirectLight, APointLightThatMovesIsDrawnAgain) {
   const gi::DirectLightSettings settings{.samples = 16, .resolution = 64, .punctualLights = 1};
   const auto pose = scene::evaluatePose(s, -1, 0.0f);
   const auto inputs = g.frameInputs(s, pose);
-  const auto view = scene::framingCamera(scene::worldBounds(scene::animateOnHost(g, inputs)), 1.0f);
+  const auto view = test::framing(g, inputs);
   std::vector<gpu::PunctualLight> there = scene::worldLights(s, pose), elsewhere = there;
   elsewhere[0].position += glm::vec4(0.3f, 0.0f, 0.1f, 0.0f);
   gi::FrameRenderer moved(test::gpu(), g, {16, 16, 1}, nullptr, settings, moving);

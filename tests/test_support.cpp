@@ -14,6 +14,7 @@
 #include <OpenImageIO/imagebuf.h>
 
 #include "engine/cli/app.h"
+#include "engine/scene/gltf.h"
 #include "scenes/builtin.h"
 
 namespace ivgi::test {
@@ -231,6 +232,24 @@ scenes::MeshData uvSphere(int rings, bool bumps) {
       if (i + 1 < rings) m.indices.insert(m.indices.end(), {v + 1, v + w + 1, v + w});
     }
   return m;
+}
+
+scenes::MeshData ball(int rings, float radius, glm::vec3 centre) {
+  scenes::MeshData m = uvSphere(rings);
+  for (glm::vec3& p : m.positions) p = radius * p + centre;
+  return m;
+}
+
+AtRest atRest(const tinygltf::Model& model, const std::string& name) {
+  AtRest r{.scene = scene::sceneFromModel(model, name)};
+  r.geometry = scene::buildGeometry(r.scene);
+  r.pose = scene::evaluatePose(r.scene, -1, 0.0f);
+  r.inputs = r.geometry.frameInputs(r.scene, r.pose);
+  return r;
+}
+
+scene::CameraView framing(const scene::Geometry& geometry, const scene::FrameInputs& inputs) {
+  return scene::framingCamera(scene::worldBounds(scene::animateOnHost(geometry, inputs)), 1.0f);
 }
 
 }  // namespace ivgi::test

@@ -81,5 +81,19 @@ std::filesystem::path renderExr(const std::string& name, const std::vector<std::
 // seam's vertices doubled as a texture's seam doubles them; with `bumps`, its radius 1 + 0.15 ·
 // sin(5θ)·sin(5φ), hills and hollows.
 scenes::MeshData uvSphere(int rings, bool bumps = false);
+// uvSphere(rings) of radius `radius` about `centre`.
+scenes::MeshData ball(int rings, float radius, glm::vec3 centre);
+
+// A model's scene at rest (no animation, time 0): its geometry as modelled, the pose and its inputs.
+struct AtRest {
+  scene::Scene scene;
+  scene::Geometry geometry;
+  scene::Pose pose;
+  scene::FrameInputs inputs;
+};
+AtRest atRest(const tinygltf::Model& model, const std::string& name);
+
+// A camera (aspect 1) framing the geometry as `inputs` place it.
+scene::CameraView framing(const scene::Geometry& geometry, const scene::FrameInputs& inputs);
 
 }  // namespace ivgi::test

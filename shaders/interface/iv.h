@@ -29,17 +29,22 @@ IVGI_CONST uint kEmitterQueue = 256u;
 IVGI_CONST uint kStaticEmitters = 64u;
 IVGI_CONST uint kManyEmitters = 0xFFFFFFFFu;  // a static leaf's emitters that did not fit its list
 // What a static leaf keeps of its static survivors between frames (prune_bins.comp): the
-// environment through its static bins, the emission those bins credited (taken back where its
-// emitters' direct light stands for it), the proximity of what they show, and how many emitters it
-// lists (kManyEmitters: too many to list).
+// environment through its static bins and that light's rotation gradient (columns r, g, b), the
+// emission those bins credited (taken back where its emitters' direct light stands for it), the
+// proximity of what they show, and how many emitters it lists (kManyEmitters: too many to list).
 struct StaticLeaf {
   vec4 environment;
+  vec4 environmentTurn[3];
   vec4 correction;
   float proximity;
   uint emitterCount;
   uint pad0;
   uint pad1;
 };
+// Per surfel, the prune's light from outside the links (the environment through the empty bins, the
+// lights the bins carry) and the rotation gradient of its environment's part: kExternalTexels
+// texels, the light then the gradient's columns r, g, b.
+IVGI_CONST uint kExternalTexels = 4u;
 
 // Mask words of a leaf's 6·N² bins, one bit a bin.
 IVGI_FN uint maskWordsFor(uint n) { return (6u * n * n + 31u) / 32u; }
@@ -114,10 +119,11 @@ struct PrunePush {    // prune_bins
   // and no light is looked for in the bins.
   uint emittersByMaps;
 };
-struct GatherPush {  // gather
-  uint maskWords;    // of a static leaf's override mask
-  uint newOnly;      // 1: the round's new receivers; 0: every receiver listed
-  uint pad;
+struct GatherPush {     // gather
+  uint maskWords;       // of a static leaf's override mask
+  uint newOnly;         // 1: the round's new receivers; 0: every receiver listed
+  uint emittersByMaps;  // 1: the depth maps give the emitters' light (left out of the gradient)
+  float largestBin;     // solid angle of the largest direction bin, about (2/N)²
 };
 struct ReceiverArgsPush {  // receiver_args
   uint mode;               // kArgsStartRound | kArgsListed

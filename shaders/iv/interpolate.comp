@@ -1,8 +1,9 @@
 #version 460
-// iv's bounces, at every surfel: irradiance E interpolated from the receivers' gathered irradiance with
-// the coefficients of interpolation_weights.comp (a receiver takes its own), plus the depth maps'
-// direct light (zero where the bins carry it), radiosity B = π·Le + ρ·E at its leaf. Reads last bounce's radiosity only
-// for the change, writes the next (no race); keeps the irradiance's change for the tail (bounce_tail.comp).
+// iv's bounces, at every surfel: irradiance E interpolated from the receivers' gathered irradiance
+// with the coefficients of interpolation_weights.comp (a receiver takes its own), each turned to the
+// surfel's normal by its rotation gradient, plus the depth maps' direct light (zero where the bins
+// carry it), radiosity B = π·Le + ρ·E at its leaf. Reads last bounce's radiosity only for the
+// change, writes the next (no race); keeps the irradiance's change for the tail (bounce_tail.comp).
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 11
 #include "common/common.glsl"
@@ -19,10 +20,12 @@ layout(std430, binding = 7) writeonly buffer RadiosityOut { vec4 radiosityOut[];
 layout(std430, binding = 8) buffer Irradiance { vec4 irradiance[]; };
 layout(std430, binding = 13) writeonly buffer IrradianceChange { vec4 irradianceChange[]; };
 layout(binding = 14, rgba32f) readonly uniform imageBuffer surfelDirect;
+layout(binding = 15, rgba32f) readonly uniform imageBuffer rotationGradients;         // 3 a surfel: r, g, b
 layout(std430, binding = 9) writeonly buffer BounceSums { BounceSum bounceSums[]; };  // per workgroup
 layout(std430, binding = 10) readonly buffer FrameCounters { uint frameCounters[]; };
 layout(std430, binding = 12) readonly buffer StaticCounters { uint staticCounters[]; };
 layout(push_constant) uniform Push { InterpolatePush push; };
+#include "turned_irradiance.glsl"
 
 shared BounceSum partial[64];
 
@@ -46,13 +49,14 @@ BounceSum interpolate(uint s) {
   if (s >= push.surfelCount || (frameCounters[kCounterOverflow] | staticCounters[kCounterOverflow]) != 0u)
     return BounceSum(0.0, 0.0);
   const uint count = imageLoad(tapCounts, int(s)).x;
+  const uint leaf = imageLoad(leafOfSurfel, int(s)).x;
+  const vec3 n = nodeNormalCone(leaf).xyz;
   vec3 e = vec3(0.0);
   for (uint t = 0u; t < count; ++t) {
     uvec2 tap = imageLoad(taps, int(s * kInterpolationTaps + t)).xy;
-    e += uintBitsToFloat(tap.y) * imageLoad(gathered, int(tap.x)).rgb;
+    e += uintBitsToFloat(tap.y) * turnedIrradiance(tap.x, n);
   }
   e = max(e, vec3(0.0)) + imageLoad(surfelDirect, int(s)).rgb;  // the fit's coefficients may be negative
-  const uint leaf = imageLoad(leafOfSurfel, int(s)).x;
   const vec3 b = kPi * imageLoad(emission, int(s)).rgb + imageLoad(albedo, int(s)).rgb * e;
   radiosityOut[leaf] = vec4(b, 0.0);
   irradianceChange[s] = vec4(e - irradiance[s].rgb, 0.0);

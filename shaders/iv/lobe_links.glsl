@@ -83,5 +83,5 @@ vec3 reflectedAt(Lobe lobe, uint r) {
       reflected += reflectedFrom(lobe, link.x, uintBitsToFloat(link.y), emitted);
   }
   // The external light gives back what it took of the emitters' credit in the bins.
-  return reflected + lobe.evenShare * max(imageLoad(externalLight, int(r)).rgb + emitted, vec3(0.0));
+  return reflected + lobe.evenShare * max(imageLoad(externalLight, int(kExternalTexels * r)).rgb + emitted, vec3(0.0));
 }

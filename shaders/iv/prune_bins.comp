@@ -250,9 +250,12 @@ void reserveSurvivors(uint surfel) {
 // static entry, its form factor for the covered part (gaps closed), its proximity (`near`: for a
 // merging leaf, the change from its static share). Where the emitters' light is direct, the light
 // the bins credit emissive survivors is taken back (`emitterLight`). A merging leaf's environment
-// changes only in the bins it touched: this frame's minus its static share (`environmentChange`).
-void writeSurvivors(Leaf leaf, bool direct, inout vec3 emitterLight, out vec3 environmentChange, out float near) {
+// changes only in the bins it touched: this frame's minus its static share (`environmentChange`,
+// and of its rotation gradient `turnChange`).
+void writeSurvivors(Leaf leaf, bool direct, inout vec3 emitterLight, out vec3 environmentChange, out mat3 turnChange,
+                    out float near) {
   environmentChange = vec3(0.0);
+  turnChange = mat3(0.0);
   near = 0.0;
   const vec3 n = leaf.n;
   const float radius = sqrt(leaf.area / kPi);
@@ -287,21 +290,33 @@ void writeSurvivors(Leaf leaf, bool direct, inout vec3 emitterLight, out vec3 en
           emitterLight += uintBitsToFloat(link.y) * emitted(link.x);
         }
       }
-      if (merging && push.environmentOn != 0u)
+      if (merging && push.environmentOn != 0u) {
         environmentChange += environmentThrough(n, b, covered) - environmentThrough(n, b, staticCovered);
+        turnChange += environmentTurnThrough(n, b, covered) - environmentTurnThrough(n, b, staticCovered);
+      }
     }
   }
 }
 
 // Sums the leaf's light from outside the links (the environment through its empty bins above the
-// horizon, the emitters' direct light, the punctual lights) and its proximity over the workgroup in
-// a fixed order, and stores them: the static pass for the frames, the frame pass per surfel.
-void sumExternalLight(Leaf leaf, bool direct, vec3 emitterLight, vec3 environmentChange, float near) {
+// horizon, with its rotation gradient; the emitters' direct light, the punctual lights) and its
+// proximity over the workgroup in a fixed order, and stores them: the static pass for the frames,
+// the frame pass per surfel.
+void sumExternalLight(Leaf leaf, bool direct, vec3 emitterLight, vec3 environmentChange, mat3 turnChange, float near) {
   const uint surfel = leaf.surfel;
   vec3 env = environmentChange;
+  mat3 turn = turnChange;
   if (push.environmentOn != 0u && leaf.area > 0.0 && !merging)
-    for (uint b = lid; b < kBinCount; b += kGroupSize)
-      env += environmentThrough(leaf.n, b, closedCoverage(slot, b, loadCoverage(slot, b), false, leaf.n));
+    for (uint b = lid; b < kBinCount; b += kGroupSize) {
+      const uint covered = closedCoverage(slot, b, loadCoverage(slot, b), false, leaf.n);
+      env += environmentThrough(leaf.n, b, covered);
+      turn += environmentTurnThrough(leaf.n, b, covered);
+    }
+  if (push.environmentOn != 0u)
+    for (uint c = 0u; c < 3u; ++c) {
+      turn[c] = sumPartials(lid, turn[c]);
+      barrier();
+    }
   if (kStaticPass) {
     vec3 correction = sumPartials(lid, emitterLight);
     barrier();
@@ -313,12 +328,16 @@ void sumExternalLight(Leaf leaf, bool direct, vec3 emitterLight, vec3 environmen
   if (lid == 0u) {
     if (kStaticPass) {
       staticLeaves[surfel].environment = vec4(sum, 0.0);
+      for (uint c = 0u; c < 3u; ++c) staticLeaves[surfel].environmentTurn[c] = vec4(turn[c], 0.0);
       staticLeaves[surfel].proximity = near;
     } else {
       if (merging)
         sum += staticLeaves[surfel].environment.rgb + (direct ? staticLeaves[surfel].correction.rgb : vec3(0.0));
       if (leaf.area > 0.0) sum += punctualLight(slot, leaf.p, leaf.n);
-      externalLight[surfel] = vec4(sum, 0.0);
+      externalLight[kExternalTexels * surfel] = vec4(sum, 0.0);
+      for (uint c = 0u; c < 3u; ++c)
+        externalLight[kExternalTexels * surfel + 1u + c] =
+            vec4(turn[c] + (merging ? staticLeaves[surfel].environmentTurn[c].xyz : vec3(0.0)), 0.0);
       proximity[surfel] = merging ? staticLeaves[surfel].proximity + near : near;
     }
   }
@@ -382,11 +401,12 @@ void main() {
     for (uint w = lid; w < kMaskWords; w += kGroupSize) wordStart[w] = bitCount(mask[w]);
     barrier();
     vec3 emitterLight = emittersLight(leaf, direct, emitters), environmentChange;
+    mat3 turnChange;
     reserveSurvivors(surfel);
     barrier();
     float near;
-    writeSurvivors(leaf, direct, emitterLight, environmentChange, near);
-    sumExternalLight(leaf, direct, emitterLight, environmentChange, near);
+    writeSurvivors(leaf, direct, emitterLight, environmentChange, turnChange, near);
+    sumExternalLight(leaf, direct, emitterLight, environmentChange, turnChange, near);
     resetFiledBins();
   }
   // Cut short by lavapipe's loop budget (common/common.glsl), every leaf after the one it ran out

@@ -127,6 +127,14 @@ float survivorFormFactor(vec3 n, uint sender, uint b, uint covered) {
   return facing ? max(dot(n, bin.xyz), 0.0) * coveredFraction(covered) / kPi : 0.0;
 }
 
+// How environmentThrough changes as the normal turns: columns r, g, b, each the turn's axis weighed
+// (∫ n × ω dω over the bin, times its radiance and uncovered part; 0 below the horizon).
+mat3 environmentTurnThrough(vec3 n, uint b, uint covered) {
+  vec4 bin = imageLoad(binTable, int(b));
+  if (!(dot(n, bin.xyz) > 0.0)) return mat3(0.0);
+  return outerProduct(cross(n, bin.xyz), imageLoad(environment, int(b)).rgb * (1.0 - coveredFraction(covered)));
+}
+
 // Environment radiance through the uncovered part of bin b, cosine-weighted (0 below the horizon).
 vec3 environmentThrough(vec3 n, uint b, uint covered) {
   vec4 bin = imageLoad(binTable, int(b));

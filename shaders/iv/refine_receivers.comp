@@ -7,8 +7,9 @@
 //   and occluders; after Ward's irradiance cache);
 // - its radius against the largest a cell may have (a shadow's edge between samples spaced wider
 //   might go unseen);
-// - its sample against the prediction from the other samples nearby of its level or coarser, over
-//   --receiver-tol of its own irradiance (against a share of the largest where it is darker).
+// - its sample against the prediction from the other samples nearby of its level or coarser (each
+//   turned to its normal by its rotation gradient), over --receiver-tol of its own irradiance
+//   (against a share of the largest where it is darker).
 // A child whose need passes kRefineFrom is refined: the next round's candidate. The last workgroup
 // starts the next round.
 #extension GL_GOOGLE_include_directive : require
@@ -29,10 +30,12 @@ layout(std430, binding = 9) buffer Needs { float needs[]; };                   /
 layout(std430, binding = 10) readonly buffer LevelStarts { uint levelStarts[]; };
 layout(binding = 11, r32f) readonly uniform imageBuffer presences;  // 0 where not sampled
 layout(std430, binding = 13) writeonly buffer ReceiverArgs { uvec4 receiverArgs[]; };
+layout(binding = 14, rgba32f) readonly uniform imageBuffer rotationGradients;  // 3 a surfel: r, g, b
 layout(push_constant) uniform Push { ReceiverPush push; };
 #include "receiver_args.glsl"
 
 #include "receivers.glsl"
+#include "turned_irradiance.glsl"
 
 float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
 
@@ -115,7 +118,7 @@ float lightNeed(uint c, uint s, float floorValue, uvec2 level, bool listed) {
   fitCoefficients(false);  // linear: the sample left out, a quadratic through the rest swings
   float prediction = 0.0;
   for (uint t = 0u; t < tapCount; ++t)
-    prediction += tapWeight[t] * luminance(imageLoad(gathered, int(tapReceiver[t])).rgb);
+    prediction += tapWeight[t] * luminance(turnedIrradiance(tapReceiver[t], query.n));
   const float value = luminance(imageLoad(gathered, int(s)).rgb);
   return abs(max(prediction, 0.0) - value) / max(push.tolerance * max(value, floorValue), 1e-30);
 }

@@ -81,10 +81,16 @@ vk::Bindings Bounces::gatherBindings(const vk::Buffer& in) const {
       {{"radiosityIn", in}, {"frameCounters", frameSet_.counters}, {"staticCounters", staticSet_.counters}});
 }
 
+gpu::GatherPush Bounces::gatherPush(uint32_t newOnly) const {
+  return {.maskWords = gpu::maskWordsFor(settings_.bins),
+          .newOnly = newOnly,
+          .emittersByMaps = b_.scene.emittersByMaps() ? 1u : 0u,
+          .largestBin = 4.0f / float(settings_.bins * settings_.bins)};
+}
+
 void Bounces::recordEstimate(VkCommandBuffer cmd) const {
   gather_->dispatchIndirect(cmd, b_.receiverArgs, gpu::kArgsNewReceivers * sizeof(glm::uvec4),
-                            gatherBindings(b_.radiosityA),
-                            gpu::GatherPush{.maskWords = gpu::maskWordsFor(settings_.bins), .newOnly = 1u});
+                            gatherBindings(b_.radiosityA), gatherPush(1u));
 }
 
 void Bounces::recordSteps(VkCommandBuffer cmd, uint32_t first, uint32_t steps) const {
@@ -96,8 +102,7 @@ void Bounces::recordSteps(VkCommandBuffer cmd, uint32_t first, uint32_t steps) c
   for (uint32_t k = first; k < first + steps; ++k) {
     const vk::Buffer& in = solution(k);
     const vk::Buffer& out = solution(k + 1);
-    gather_->dispatchIndirect(cmd, args_, 0, gatherBindings(in),
-                              gpu::GatherPush{.maskWords = gpu::maskWordsFor(settings_.bins), .newOnly = 0u});
+    gather_->dispatchIndirect(cmd, args_, 0, gatherBindings(in), gatherPush(0u));
     interpolate_.dispatchIndirect(cmd, args_, sizeof(glm::uvec4),
                                   b_.pool().with({{"radiosityIn", in},
                                                   {"radiosityOut", out},

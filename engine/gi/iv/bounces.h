@@ -53,6 +53,7 @@ class Bounces {
   void pullUp(VkCommandBuffer cmd, const vk::Buffer& radiosity, bool indirect) const;
   // The gather's buffers, reading the radiosity `in`.
   vk::Bindings gatherBindings(const vk::Buffer& in) const;
+  gpu::GatherPush gatherPush(uint32_t newOnly) const;
   void makeLinkReaders();  // for texelViews_
 
   const vk::Context& ctx_;

@@ -16,7 +16,7 @@ struct IvBuffers {
   vk::Buffer nodeFlags;
   // Per frame: emitted radiosity π·Le per node (pulled up), radiosity per node (bounces read one and
   // write the other), irradiance per surfel, and per surfel the irradiance from lights and the
-  // environment.
+  // environment with the environment's rotation gradient (gpu::kExternalTexels).
   vk::Buffer nodeEmission, radiosityA, radiosityB, irradiance, externalLight;
   // Link creation's two worklists and the indirect dispatch arguments between its levels.
   vk::Buffer args, worklistA, worklistB;
@@ -33,11 +33,12 @@ struct IvBuffers {
   // on, its need, presence and role, and the reach of the supports at and below it; where each
   // level starts. The receivers listed this frame, their counters and the dispatch sizes they need,
   // the refinement's two candidate lists. Per surfel: its support radius (kNotReceiver: not a
-  // receiver), how near what it sees is, the irradiance gathered (at receivers) and the
-  // interpolation's taps. The groups of neighbouring surfels, each surfel's group, and per group the
-  // sampled nodes whose receivers may weigh for its surfels.
+  // receiver), how near what it sees is, the irradiance gathered (at receivers) and its first
+  // bounce's rotation gradient (three vec4: r, g, b), and the interpolation's taps. The groups of
+  // neighbouring surfels, each surfel's group, and per group the sampled nodes whose receivers may
+  // weigh for its surfels.
   vk::Buffer representatives, skip, levelStarts, receivers, receiverCounts, receiverArgs, receiverRadius;
-  vk::Buffer candidatesA, candidatesB, reach, gathered, tapCounts, taps, proximity;
+  vk::Buffer candidatesA, candidatesB, reach, gathered, rotationGradients, tapCounts, taps, proximity;
   vk::Buffer needs, presences, roles, groups, groupOfSurfel, neighbourCounts, neighbours;
 
   // Every buffer above by the name the shaders bind it under.
@@ -75,6 +76,7 @@ struct IvBuffers {
                                                  {"receiverRadius", receiverRadius},
                                                  {"reach", reach},
                                                  {"gathered", gathered},
+                                                 {"rotationGradients", rotationGradients},
                                                  {"tapCounts", tapCounts},
                                                  {"taps", taps},
                                                  {"proximity", proximity}}));

@@ -51,6 +51,7 @@ Receivers::Receivers(const vk::Context& ctx, const Hierarchy& h, const IvSetting
   b.tapCounts = vk::deviceArray<uint32_t>(ctx, surfels, allocations);
   b.taps = vk::deviceArray<gpu::InterpolationTap>(ctx, surfels * gpu::kInterpolationTaps, allocations);
   b.gathered = vk::deviceArray<glm::vec4>(ctx, surfels, allocations);
+  b.rotationGradients = vk::deviceArray<glm::vec4>(ctx, 3 * surfels, allocations);
   b.proximity = vk::deviceArray<float>(ctx, surfels, allocations);
   const bool refines = !everySurfel();
   b.candidatesA = vk::deviceArray<uint32_t>(ctx, refines ? nodes : 0, allocations);
@@ -112,6 +113,7 @@ void Receivers::makeEverySurfelReceiver(const vk::Context& ctx, IvBuffers& b) co
   b.receivers.upload(all);
   b.taps.upload(own);
   b.tapCounts.upload(std::vector<uint32_t>(surfelCount_, 1u));
+  b.rotationGradients.upload(std::vector<glm::vec4>(3 * size_t(surfelCount_), glm::vec4(0.0f)));  // never turned
   std::vector<uint32_t> counts(gpu::kReceiverSlots, 0u);
   counts[gpu::kReceiverCount] = surfelCount_;
   b.receiverCounts.upload(counts);
@@ -127,6 +129,7 @@ void Receivers::recordStart(VkCommandBuffer cmd) const {
   vk::fillBuffer(cmd, b_.receiverRadius, gpu::kNotReceiver);
   vk::fillBuffer(cmd, b_.needs, 0u);
   vk::fillBuffer(cmd, b_.presences, 0u);
+  vk::fillBuffer(cmd, b_.rotationGradients, 0u);  // a fill (interpolation_weights) has no estimate
   vk::copyBuffer(cmd, roots_, b_.candidatesA);
 }
 

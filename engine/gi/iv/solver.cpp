@@ -99,7 +99,7 @@ void IvSolver::uploadScene(const scene::Geometry& g, const std::vector<uint32_t>
   b_.args = vk::Buffer(ctx, 4 * sizeof(glm::uvec4), vk::Memory::Device, tally);
   for (LinkSet* set : {&staticSet_, &frameSet_}) set->allocateLists(ctx, nodeCount_, tally);
   b_.ranges = deviceArray<gpu::LeafRange>(ctx, surfelCount_, allocations_);
-  b_.externalLight = deviceArray<glm::vec4>(ctx, surfelCount_, allocations_);
+  b_.externalLight = deviceArray<glm::vec4>(ctx, gpu::kExternalTexels * surfelCount_, allocations_);
   b_.nodeEmission = deviceArray<glm::vec4>(ctx, nodeCount_, allocations_);
   b_.radiosityA = deviceArray<glm::vec4>(ctx, nodeCount_, allocations_);
   b_.radiosityB = deviceArray<glm::vec4>(ctx, nodeCount_, allocations_);
