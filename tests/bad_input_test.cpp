@@ -156,11 +156,7 @@ TEST(BadInput, ABufferDeclaringFourGibibytesOverASmallFileIsRefused) {
 // format" to the PNG).
 TEST(BadInput, AnImageDeclaringMorePixelsThanTheLimitIsRefusedBeforeItIsDecoded) {
   const fs::path dir = test::scratchDir("huge_image");
-  auto bigEndian = [](uint32_t v, int bytes) {
-    std::string s;
-    for (int k = bytes - 1; k >= 0; --k) s += char(v >> (8 * k) & 255);
-    return s;
-  };
+  using test::bigEndian;
   // The PNG's chunks carry no valid CRCs: nothing reads past the header.
   const std::string png = "\x89PNG\r\n\x1a\n" + bigEndian(13, 4) + "IHDR" + bigEndian(100000, 4) +
                           bigEndian(100000, 4) + std::string("\x08\x02\x00\x00\x00", 5) + bigEndian(0, 4);

@@ -12,6 +12,7 @@
 #include "engine/image/frame_image.h"
 #include "engine/image/image_file.h"
 #include "engine/image/metrics.h"
+#include "tests/test_support.h"
 
 using namespace ivgi;
 
@@ -196,9 +197,7 @@ TEST(ImageFiles, AnotherFormatOrAnImageDeclaringTooMuchIsRefusedBeforeItIsRead) 
       std::filesystem::temp_directory_path() / ("ivgi-format-" + std::to_string(getpid()) + ".exr");
   const unsigned char found[21] = {0x2f, 0x6e, 0x2f, 0x11, 0x18, 0x23, 0x75, 0x31, 0x6c, 0x6c, 0x11,
                                    0x11, 0x11, 0x1b, 0x00, 0x00, 0x00, 0x00, 0x00, 0x01, 0x00};
-  auto bigEndian = [](uint32_t v) {
-    return std::string{char(v >> 24), char(v >> 16 & 255), char(v >> 8 & 255), char(v & 255)};
-  };
+  using test::bigEndian;
   auto crc32 = [](const std::string& data) {  // PNG's chunk CRC (libpng checks the header's)
     uint32_t c = 0xFFFFFFFFu;
     for (unsigned char byte : data) {

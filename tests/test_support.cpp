@@ -214,6 +214,12 @@ std::filesystem::path renderExr(const std::string& name, const std::vector<std::
   return dir / "f_0000.exr";
 }
 
+std::string bigEndian(uint32_t v, int bytes) {
+  std::string s;
+  for (int k = bytes - 1; k >= 0; --k) s += char(v >> (8 * k) & 255);
+  return s;
+}
+
 scenes::MeshData uvSphere(int rings, bool bumps) {
   scenes::MeshData m;
   const int segments = 2 * rings;

@@ -70,6 +70,9 @@ tinygltf::Model scaled(tinygltf::Model model, float factor);
 // channel cannot be read.
 std::vector<float> channelOf(const std::filesystem::path& exr, const std::string& name);
 
+// `v`'s low `bytes` bytes, most significant first (file headers written by hand).
+std::string bigEndian(uint32_t v, int bytes = 4);
+
 // A fresh, empty folder for one test.
 std::filesystem::path scratchDir(const std::string& name);
 
