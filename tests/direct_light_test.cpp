@@ -476,12 +476,7 @@ TEST(DirectLight, ASmoothBallIsDrawnSimplifiedWithItsShadowInPlace) {
   b.node("floor", b.mesh("floor", {{floor, grey}}));
   b.node("ball", b.mesh("ball", {{ball, grey}}));
   b.light("lamp", "point", 1.0f, {0, 1, 0});
-  const tinygltf::Model model = b.finish();
-
-  scene::Scene s = scene::sceneFromModel(model, "ball");
-  scene::Geometry g = scene::buildGeometry(s);
-  const auto pose = scene::evaluatePose(s, -1, 0.0f);
-  const auto inputs = g.frameInputs(s, pose);
+  const auto [s, g, pose, inputs] = test::atRest(b.finish(), "ball");
   const auto view = test::framing(g, inputs);
   std::vector<std::vector<glm::vec4>> direct;
   for (bool simplified : {true, false}) {

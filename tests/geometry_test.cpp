@@ -619,8 +619,7 @@ TEST(MapMeshes, ASphereIsDrawnWithinEachLevelsError) {
 // the panel's two took 2.3·10⁷ listings (the test's peak 660 MB); widened to 64 listings a
 // triangle, 145 MB.
 TEST(MapMeshes, APanelWithABoltIsSimplifiedWithinItsError) {
-  scenes::MeshData part = test::uvSphere(64);
-  for (glm::vec3& p : part.positions) p = 1e-3f * p + glm::vec3(0.5f, 0.3f, 0.5f);
+  scenes::MeshData part = test::ball(64, 1e-3f, {0.5f, 0.3f, 0.5f});
   const uint32_t base = uint32_t(part.positions.size());
   part.positions.insert(part.positions.end(), {{0, 0, 0}, {1, 0.5f, 0}, {1, 1, 1}, {0, 0.5f, 1}});
   part.indices.insert(part.indices.end(), {base, base + 1, base + 2, base, base + 2, base + 3});
