@@ -32,9 +32,43 @@ double restArea(const scene::Geometry& g, const scene::Triangle& tri) {
   return 0.5 * glm::length(glm::cross(b - a, c - a));
 }
 
-// The luminance of a triangle's emission factor (zero: it does not emit).
+// The luminance of a triangle's mean emission, its texture's included (zero: it does not emit).
 double emittedLuminance(const scene::Geometry& g, const scene::Triangle& tri) {
-  return image::luminance(glm::dvec3(glm::vec3(g.materials[tri.material & ~gpu::kFlatShaded].emission)));
+  const std::vector<scene::EmissionCell> cells = scene::emissionCells(g, tri);
+  double sum = 0;
+  for (const scene::EmissionCell& c : cells) sum += image::luminance(glm::dvec3(c.emission));
+  return cells.empty() ? 0.0 : sum / double(cells.size());
+}
+
+// A part of the emitters the points are spread over by power: a triangle's emission cell, with its
+// area and power at rest, in the primitive's own space (only the ratios between them matter, and
+// the frame's weight takes the triangle's area as it is then).
+struct PoweredCell {
+  uint32_t triangle;
+  scene::EmissionCell cell;
+  double area, triangleArea, power;
+};
+
+// A textured triangle's cells share its power by their emission, an eighth of it spread evenly
+// over them: a cell whose centre looks up black may still hold texels that glow, and the points
+// must reach every point that emits (the estimate stays unbiased).
+constexpr double kEvenShare = 0.125;
+
+std::vector<PoweredCell> poweredCells(const scene::Geometry& g) {
+  std::vector<PoweredCell> out;
+  for (size_t t = 0; t < g.triangles.size(); ++t) {
+    const std::vector<scene::EmissionCell> cells = scene::emissionCells(g, g.triangles[t]);
+    if (cells.empty()) continue;
+    const double area = restArea(g, g.triangles[t]), cellArea = area / double(cells.size());
+    double mean = 0;
+    for (const scene::EmissionCell& c : cells) mean += image::luminance(glm::dvec3(c.emission)) / double(cells.size());
+    for (const scene::EmissionCell& c : cells) {
+      const double luminance = image::luminance(glm::dvec3(c.emission));
+      const double share = cells.size() == 1 ? luminance : (1.0 - kEvenShare) * luminance + kEvenShare * mean;
+      if (share > 0) out.push_back({uint32_t(t), c, cellArea, area, cellArea * share});
+    }
+  }
+  return out;
 }
 
 }  // namespace
@@ -70,33 +104,30 @@ double emissiveAreaShare(const scene::Geometry& g) {
 }
 
 std::vector<gpu::EmitterSample> emitterSamples(const scene::Geometry& g, uint32_t count) {
-  // Each triangle's power at rest, in the primitive's own space: only the ratios between triangles
-  // matter, and the frame's weight takes the triangle's area as it is then.
-  std::vector<double> power(g.triangles.size(), 0.0);
+  const std::vector<PoweredCell> cells = poweredCells(g);
   double total = 0;
-  for (size_t t = 0; t < g.triangles.size(); ++t) {
-    const double luminance = emittedLuminance(g, g.triangles[t]);
-    if (!(luminance > 0)) continue;
-    power[t] = restArea(g, g.triangles[t]) * luminance;
-    total += power[t];
-  }
+  for (const PoweredCell& c : cells) total += c.power;
   std::vector<gpu::EmitterSample> samples;
   if (!(total > 0) || count == 0) return samples;
   constexpr double kGolden = 0.6180339887498949;
-  double before = 0;  // the power of the triangles before t
-  size_t t = 0;
+  double before = 0;  // the power of the cells before k
+  size_t k = 0;
   for (uint32_t i = 0; i < count; ++i) {
     const double target = (i + 0.5) / count * total;
-    while (t + 1 < power.size() && (power[t] <= 0 || before + power[t] < target)) before += power[t++];
-    const double u = std::clamp((target - before) / power[t], 0.0, 1.0), v = std::fmod((i + 0.5) * kGolden, 1.0);
-    const double root = std::sqrt(u);  // uniform over the triangle
-    const double area = restArea(g, g.triangles[t]);
-    // pdf per area at rest: (power[t] / total) / area; the weight is its inverse over the count, per
+    while (k + 1 < cells.size() && before + cells[k].power < target) before += cells[k++].power;
+    const PoweredCell& c = cells[k];
+    const double u = std::clamp((target - before) / c.power, 0.0, 1.0), v = std::fmod((i + 0.5) * kGolden, 1.0);
+    const double root = std::sqrt(u);  // uniform over the cell
+    const glm::dvec2 p0 = c.cell.corners[0], p1 = c.cell.corners[1], p2 = c.cell.corners[2];
+    const glm::dvec2 at = p0 + root * (1 - v) * (p1 - p0) + root * v * (p2 - p0);
+    const float b = float(at.x), cw = float(at.y);
+    // pdf per area at rest: (power / total) / area; the weight is its inverse over the count, per
     // unit of the triangle's area.
-    samples.push_back({.triangle = uint32_t(t),
-                       .b = float(root * (1 - v)),
-                       .c = float(root * v),
-                       .weightPerArea = float(total / (power[t] / area) / count / area)});
+    samples.push_back({.triangle = c.triangle,
+                       .b = b,
+                       .c = cw,
+                       .weightPerArea = float(total / (c.power / c.area) / count / c.triangleArea),
+                       .radiance = glm::vec4(scene::emissionAt(g, g.triangles[c.triangle], b, cw), 0.0f)});
   }
   return samples;
 }

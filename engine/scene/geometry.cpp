@@ -103,11 +103,24 @@ int samplesAcross(const Geometry& g, const gpu::Material& m, const glm::vec2 uv[
   return n > 4.0f ? (n < 32.0f ? int(std::ceil(n)) : 32) : 4;
 }
 
+// Calls at(w, turn) with the barycentric weights w of the centroids of a triangle's n² equal
+// sub-triangles; turn is 1 where one points like the triangle, -1 where it points the other way.
+template <class At>
+void subTriangleCentroids(int n, At&& at) {
+  auto centroid = [&](float s, float t, float turn) {
+    at(glm::vec3(1.0f - (s + t) / float(n), s / float(n), t / float(n)), turn);
+  };
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; i + j < n; ++j) {
+      centroid(float(i) + 1.0f / 3.0f, float(j) + 1.0f / 3.0f, 1.0f);
+      if (i + j + 2 <= n) centroid(float(i) + 2.0f / 3.0f, float(j) + 2.0f / 3.0f, -1.0f);
+    }
+}
+
 CornerMeans cornerMeans(const Geometry& g, const gpu::Material& m, const glm::vec2 uv[3], const glm::vec4 color[3]) {
   const int n = samplesAcross(g, m, uv);
   CornerMeans out{};
-  auto add = [&](float s, float t) {  // barycentric (1 − s − t, s, t), s and t in units of 1/n
-    const glm::vec3 w(1.0f - (s + t) / float(n), s / float(n), t / float(n));
+  auto add = [&](glm::vec3 w, float) {
     const glm::vec2 at = w.x * uv[0] + w.y * uv[1] + w.z * uv[2];
     const glm::vec4 base = m.baseColor * (w.x * color[0] + w.y * color[1] + w.z * color[2]) *
                            sampleTexture(g, m.baseColorTexture, at),
@@ -118,11 +131,7 @@ CornerMeans cornerMeans(const Geometry& g, const gpu::Material& m, const glm::ve
       out.albedo[k] += w[k] * albedo, out.emission[k] += w[k] * emission, out.base[k] += w[k] * base,
           out.metallicRoughness[k] += w[k] * glm::vec2(metalRough.b, metalRough.g);
   };
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; i + j < n; ++j) {
-      add(float(i) + 1.0f / 3.0f, float(j) + 1.0f / 3.0f);                      // pointing like the triangle
-      if (i + j + 2 <= n) add(float(i) + 2.0f / 3.0f, float(j) + 2.0f / 3.0f);  // pointing the other way
-    }
+  subTriangleCentroids(n, add);
   // Each corner's weights sum to n²/3 over the n² samples.
   const float norm = 3.0f / float(n * n);
   for (int k = 0; k < 3; ++k)
@@ -537,6 +546,34 @@ std::vector<bool> closedInstances(const Geometry& g) {
     closed[i] = holeArea <= 1e-3 * area[i];
   }
   return closed;
+}
+
+glm::vec3 emissionAt(const Geometry& g, const Triangle& t, float b, float c) {
+  const gpu::Material& m = g.materials[t.material & ~gpu::kFlatShaded];
+  if (m.emission == glm::vec4(0.0f)) return glm::vec3(0.0f);
+  const glm::vec2 uv = (1.0f - b - c) * g.uvs[t.v0] + b * g.uvs[t.v1] + c * g.uvs[t.v2];
+  return glm::vec3(m.emission * sampleTexture(g, m.emissiveTexture, uv));
+}
+
+std::vector<EmissionCell> emissionCells(const Geometry& g, const Triangle& t) {
+  const gpu::Material& m = g.materials[t.material & ~gpu::kFlatShaded];
+  if (m.emission == glm::vec4(0.0f)) return {};
+  if (m.emissiveTexture < 0) return {{{glm::vec2(0, 0), glm::vec2(1, 0), glm::vec2(0, 1)}, glm::vec3(m.emission)}};
+  const glm::vec2 uv[3] = {g.uvs[t.v0], g.uvs[t.v1], g.uvs[t.v2]};
+  const int n = samplesAcross(g, m, uv);
+  std::vector<EmissionCell> cells;
+  cells.reserve(size_t(n * n));
+  subTriangleCentroids(n, [&](glm::vec3 w, float turn) {
+    // The corner at the right angle lies a third of a step back from the centroid along both legs.
+    const glm::vec2 centroid(w.y, w.z);
+    const float step = turn / float(n);
+    const glm::vec2 origin = centroid - glm::vec2(step / 3.0f);
+    EmissionCell cell{{origin, origin + glm::vec2(step, 0.0f), origin + glm::vec2(0.0f, step)}, glm::vec3(0.0f)};
+    for (glm::vec2 at : {centroid, cell.corners[0], cell.corners[1], cell.corners[2]})
+      cell.emission += 0.25f * emissionAt(g, t, at.x, at.y);
+    cells.push_back(cell);
+  });
+  return cells;
 }
 
 }  // namespace ivgi::scene

@@ -85,6 +85,21 @@ std::vector<int32_t> vertexSurfels(const Geometry& geometry);
 
 Bounds worldBounds(const std::vector<WorldVertex>& world);
 
+// A triangle's emission (emissive factor × texture, linear) at barycentric weights b, c of its
+// corners v1, v2.
+glm::vec3 emissionAt(const Geometry& g, const Triangle& t, float b, float c);
+
+// The parts of an emitting triangle its light is sampled by: where a texture varies its emission,
+// its n² equal sub-triangles (about four a texel, as the surfels' means take it), else the whole
+// triangle; each with its corners' barycentric weights (b, c) and the mean of its emission at its
+// centroid and corners (what the points spread over it go by). None where the triangle does not
+// emit.
+struct EmissionCell {
+  glm::vec2 corners[3];
+  glm::vec3 emission;
+};
+std::vector<EmissionCell> emissionCells(const Geometry& g, const Triangle& t);
+
 // A hash of a point's exact bits: vertices are welded by position through it.
 uint64_t hashPoint(glm::vec3 p);
 

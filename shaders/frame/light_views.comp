@@ -11,12 +11,11 @@ layout(local_size_x = 64) in;
 
 layout(binding = 0, rgba32f) readonly uniform imageBuffer world;        // WorldVertex: position, normal
 layout(binding = 1, rgba32ui) readonly uniform uimageBuffer triangles;  // Triangle
-layout(binding = 2, rgba32ui) readonly uniform uimageBuffer materials;  // Material: base colour, emission, textures
-layout(std430, binding = 3) readonly buffer EmitterSamples { EmitterSample emitterSamples[]; };
-layout(std430, binding = 4) writeonly buffer LightPoints { LightPoint lightPoints[]; };
-layout(std430, binding = 5) writeonly buffer LightViews { Camera lightViews[]; };
-layout(std430, binding = 6) readonly buffer PunctualLights { PunctualLight punctualLights[]; };
-layout(std430, binding = 7) readonly buffer SceneBounds { uint sceneBounds[6]; };  // orderedBits
+layout(std430, binding = 2) readonly buffer EmitterSamples { EmitterSample emitterSamples[]; };
+layout(std430, binding = 3) writeonly buffer LightPoints { LightPoint lightPoints[]; };
+layout(std430, binding = 4) writeonly buffer LightViews { Camera lightViews[]; };
+layout(std430, binding = 5) readonly buffer PunctualLights { PunctualLight punctualLights[]; };
+layout(std430, binding = 6) readonly buffer SceneBounds { uint sceneBounds[6]; };  // orderedBits
 layout(push_constant) uniform Push { LightViewsPush push; };
 
 vec3 positionOf(uint vertex) { return imageLoad(world, int(2u * vertex)).xyz; }
@@ -85,10 +84,8 @@ void main() {
   if ((t.w & kFlatShaded) == 0u &&
       dot((1.0 - s.b - s.c) * normalOf(t.x) + s.b * normalOf(t.y) + s.c * normalOf(t.z), n) < 0.0)
     n = -n;
-  const uint material = t.w & ~kFlatShaded;
-  const vec3 radiance = uintBitsToFloat(imageLoad(materials, int(kMaterialTexels * material + 1u)).rgb);
   lightPoints[i] = LightPoint(vec4(p, 0.5 * doubleArea * s.weightPerArea), vec4(n, 0.0),
-                              vec4(radiance, uintBitsToFloat(firstView(i))), vec4(0.0));
+                              vec4(s.radiance.rgb, uintBitsToFloat(firstView(i))), vec4(0.0));
 
   // The views start a little off the emitter, and their near plane as far again: rays along the
   // emitter's plane then pass over it and its neighbours, which its front cannot light.

@@ -192,13 +192,14 @@ IVGI_FN float lightFalloff(PunctualLight light, vec3 p, IVGI_OUT(vec3) toLight, 
 // ---- Direct light from depth maps (engine/gi/direct_light.h) ----
 
 // A point chosen on an emissive triangle by power: the triangle, the barycentric weights of its
-// corners b and c, and 1 / (samples × the triangle's probability), which times the triangle's area
-// in the frame is the area the point stands for.
+// corners b and c, 1 / (samples × the triangle's probability), which times the triangle's area in
+// the frame is the area the point stands for, and the emission there (the texture's, rgb).
 struct EmitterSample {
   uint triangle;
   float b;
   float c;
   float weightPerArea;
+  vec4 radiance;
 };
 // A point the depth maps are drawn around, in the frame (light_views): an emitter sample (where it
 // is and the area it stands for, the emitter's front, its radiance) or a punctual light (the

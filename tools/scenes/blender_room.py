@@ -7,7 +7,12 @@ With --vertex-colours the left wall is painted red and the right wall green, and
 gradient from bottom to top, in colour attributes on white materials: the exporter writes them as
 COLOR_0, which glTF multiplies into the base colour.
 
-Usage: blender --background --factory-startup --python tools/scenes/blender_room.py -- OUT.glb [--vertex-colours]
+With --textured-panel the panel's emission comes from an image texture that glows only in six bars
+(29 % of it; the rest black), at a strength that keeps its power near the plain panel's:
+the exporter writes it as emissiveTexture, as a sign or a screen would come.
+
+Usage: blender --background --factory-startup --python tools/scenes/blender_room.py -- OUT.glb
+       [--vertex-colours] [--textured-panel]
 Needs Debian's blender (not installed by ci/install-deps.sh: the tests do not use it).
 """
 import math
@@ -27,6 +32,29 @@ def material(name, colour, emission=None, strength=0.0):
         bsdf.inputs["Emission"].default_value = (*emission, 1.0)
         bsdf.inputs["Emission Strength"].default_value = strength
     return m
+
+
+def glowing_bars(name, width=128, height=64):
+    """An image, packed into the file, black but for six white bars (29 % of its texels)."""
+    image = bpy.data.images.new(name, width, height, alpha=False)
+    pixels = [0.0] * (4 * width * height)
+    for k, (x0, x1) in enumerate([(8, 20), (28, 34), (42, 60), (70, 76), (84, 100), (108, 118)]):
+        y0, y1 = (12, 52) if k % 2 == 0 else (20, 44)
+        for y in range(y0, y1):
+            for x in range(x0, x1):
+                pixels[4 * (y * width + x):4 * (y * width + x) + 3] = (1.0, 1.0, 1.0)
+    for i in range(3, len(pixels), 4):
+        pixels[i] = 1.0
+    image.pixels = pixels
+    image.pack()
+    return image
+
+
+def textured_emission(m, image):
+    """Links an image texture into `m`'s emission colour."""
+    node = m.node_tree.nodes.new("ShaderNodeTexImage")
+    node.image = image
+    m.node_tree.links.new(node.outputs["Color"], m.node_tree.nodes["Principled BSDF"].inputs["Emission"])
 
 
 def plane(name, location, rotation, size, cuts, mat, scale=(1.0, 1.0, 1.0)):
@@ -62,7 +90,7 @@ def turn(obj, seconds):
     obj.rotation_euler.z = start
 
 
-def main(out, vertex_colours):
+def main(out, vertex_colours, textured_panel):
     bpy.ops.wm.read_factory_settings(use_empty=True)
     white = material("walls", (0.7, 0.7, 0.7))
     # A 4 m × 4 m room, 3 m high, floor at z = 0 (Blender's up is +z; the exporter turns it to +y).
@@ -76,8 +104,10 @@ def main(out, vertex_colours):
     if vertex_colours:  # the walls' albedo 0.7 times these
         paint(left, lambda p: (1.0, 0.15, 0.15))
         paint(right, lambda p: (0.15, 1.0, 0.15))
-    panel = plane("panel", (0, 0, h - 0.01), (math.pi, 0, 0), 1.0, 1,
-                  material("panel", (0.0, 0.0, 0.0), (1.0, 0.95, 0.85), 12.0))
+    panel_material = material("panel", (0.0, 0.0, 0.0), (1.0, 0.95, 0.85), 40.0 if textured_panel else 12.0)
+    if textured_panel:
+        textured_emission(panel_material, glowing_bars("bars"))
+    panel = plane("panel", (0, 0, h - 0.01), (math.pi, 0, 0), 1.0, 1, panel_material)
     panel.scale = (1.0, 0.6, 1.0)
 
     bpy.ops.mesh.primitive_monkey_add(size=1.2, location=(-0.6, 0.4, 0.9), rotation=(0, 0, math.radians(20)))
@@ -114,4 +144,4 @@ def main(out, vertex_colours):
 
 if __name__ == "__main__":
     args = sys.argv[sys.argv.index("--") + 1:]
-    main(args[0], "--vertex-colours" in args[1:])
+    main(args[0], "--vertex-colours" in args[1:], "--textured-panel" in args[1:])
