@@ -41,9 +41,10 @@ struct DirectLightSettings {
 void validate(const DirectLightSettings& settings);
 
 // `count` points over the emissive triangles of `geometry`, chosen by power (area at rest × the
-// emission's luminance), stratified: the i-th takes the triangle where the power's running sum
-// crosses (i + ½)/count, and its place in the triangle from where in the triangle's share that
-// falls and from a second, golden-ratio sequence. Empty where nothing emits.
+// emission's luminance, its texture's included: scene::emissionCells), stratified: the i-th takes
+// the cell where the power's running sum crosses (i + ½)/count, and its place in the cell from
+// where in the cell's share that falls and from a second, golden-ratio sequence; each glows with
+// the emission where it lies. Empty where nothing emits.
 std::vector<gpu::EmitterSample> emitterSamples(const scene::Geometry& geometry, uint32_t count);
 
 // The share of the surface's area (at rest) that emits. The maps suit emitters that are a small
