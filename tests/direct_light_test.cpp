@@ -104,8 +104,10 @@ enum class Lamp { Area, Point, Sun, None };
 // A floor 2 m square of `cells`² cells; 1 m over its centre a square lamp `lampSide` wide facing
 // down (Lamp::Point: a point light of intensity 1 there instead; Sun: a directional light of
 // intensity 1 shining straight down; None: no light); half way between them a plate 1 mm thick
-// covering x < 0 (x from -1.5 to 0, z from -1.5 to 1.5: it reaches past the floor's edge).
-tinygltf::Model plateOverFloor(int cells, float lampSide, bool camera = false, Lamp kind = Lamp::Area) {
+// covering x < 0 (x from -1.5 to 0, z from -1.5 to 1.5: it reaches past the floor's edge); with
+// `farMarker`, a small box that far off, which makes the scene that large.
+tinygltf::Model plateOverFloor(int cells, float lampSide, bool camera = false, Lamp kind = Lamp::Area,
+                               float farMarker = 0.0f) {
   scenes::GltfBuilder b;
   const int grey = b.material("grey", glm::vec3(0.5f)), lamp = b.material("lamp", glm::vec3(0.0f), glm::vec3(10.0f));
   scenes::MeshData floor, plate, light;
@@ -115,6 +117,11 @@ tinygltf::Model plateOverFloor(int cells, float lampSide, bool camera = false, L
   scenes::addQuad(light, {-h, 1, -h}, {h, 1, -h}, {h, 1, h}, {-h, 1, h}, 1, 1, {0, 0, 0});
   b.node("floor", b.mesh("floor", {{floor, grey}}));
   b.node("plate", b.mesh("plate", {{plate, grey}}));
+  if (farMarker > 0.0f) {  // a box 10 cm wide that far off along x and z: the scene grows that large
+    scenes::MeshData marker;
+    scenes::addBox(marker, {farMarker, 0.05f, farMarker}, glm::vec3(0.05f), 1);
+    b.node("marker", b.mesh("marker", {{marker, grey}}));
+  }
   if (kind == Lamp::Area) {
     b.node("lamp", b.mesh("lamp", {{light, lamp}}));
   } else if (kind != Lamp::None) {
@@ -682,4 +689,36 @@ TEST(DirectLight, PixelsPutTheShadowsEdgeWhereTheExactLightDoes) {
         }
       }
   }
+}
+
+// The sun straight down over the plate, in a scene made 600 m wide by a small box far off: the
+// sun's map over the scene has texels of about 7 m, yet at the pixels its cascades around the
+// camera (0.3 m over the floor, 64 pixels across 41 cm) put the shadow's edge within 2 pixels of
+// the exact one, and the light out of the edge's 4 pixels within 2 % of the sun's.
+TEST(DirectLight, ASunsShadowIsSharpNearTheCameraInALargeScene) {
+  constexpr uint32_t kSize = 64;
+  const auto model = plateOverFloor(16, 0.0f, true, Lamp::Sun, 300.0f);
+  scene::Scene s = scene::sceneFromModel(model, "test");
+  scene::Geometry g = scene::buildGeometry(s, 16);
+  gi::FrameRenderer r(test::gpu(), g, {kSize, kSize, 1},
+                      std::make_unique<gi::IvSolver>(test::gpu(), g, gi::makeIvSetup(s, g, {.bounces = 0})),
+                      gi::DirectLightSettings{.perPixel = true, .punctualLights = 1});
+  const auto pose = scene::evaluatePose(s, -1, 0.0f);
+  const auto result =
+      r.render(g.frameInputs(s, pose), scene::cameraView(s, pose, s.cameraNodes()[0]), scene::worldLights(s, pose));
+  // Along the middle row, the light shown (radiance = 0.5 E / π, the sun's E = 1); the exact edge
+  // at x = 0 lies between columns 31 and 32.
+  int edge = int(kSize);
+  double worst = 0;
+  for (uint32_t c = 0; c < kSize; ++c) {
+    const double shown = result.channels.radiance[(kSize / 2) * kSize + c].x * std::numbers::pi / 0.5;
+    if (edge == int(kSize) && shown >= 0.5) edge = int(c);
+    if (std::abs(int(c) - 32) > 4) worst = std::max(worst, std::abs(shown - (c >= 32 ? 1.0 : 0.0)));
+  }
+  std::printf(
+      "[ direct ] the sun over a scene 600 m wide: the shadow's edge at column %d, the exact one at 32; "
+      "worst error %.4f of the sun's light out of the edge\n",
+      edge, worst);
+  EXPECT_LE(std::abs(edge - 32), 2);
+  EXPECT_LE(worst, 0.02);
 }

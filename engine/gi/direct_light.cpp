@@ -259,7 +259,8 @@ DirectLight::DirectLight(const vk::Context& ctx, const scene::Geometry& g, std::
   surfelUnshadowed_ = vk::Buffer(ctx, surfelDirect_.size(), vk::Memory::Device, tally);
 }
 
-void DirectLight::setFrame(const scene::FrameInputs& pose, const std::vector<gpu::PunctualLight>& lights) {
+void DirectLight::setFrame(const scene::FrameInputs& pose, const std::vector<gpu::PunctualLight>& lights,
+                           const gpu::Camera& camera) {
   if (lights.size() != settings_.punctualLights)
     throw std::logic_error("DirectLight: the frame brings " + std::to_string(lights.size()) +
                            " punctual lights, the settings named " + std::to_string(settings_.punctualLights));
@@ -273,10 +274,34 @@ void DirectLight::setFrame(const scene::FrameInputs& pose, const std::vector<gpu
   if (!lights.empty())
     punctual_.upload(lights.data(), lights.size() * sizeof(gpu::PunctualLight),
                      environmentCount_ * sizeof(gpu::PunctualLight));
-  chooseMeshes(pose.matrices);
+  chooseMeshes(pose.matrices, camera);
 }
 
-void DirectLight::chooseMeshes(const std::vector<glm::mat4>& matrices) {
+namespace {
+
+// The spheres a directional light's cascades cover: the camera's view from its origin out to
+// distances spaced evenly in their logarithm between its near plane and the far side of the scene
+// (whose own map is the next step), each the sphere around the view's slice up to there; those as
+// large as the scene are left out.
+std::vector<glm::vec4> cascadeSpheres(const gpu::Camera& camera, glm::dvec3 sceneCentre, double sceneRadius) {
+  const glm::dvec3 origin(camera.origin), forward(camera.forward);
+  const double far = glm::length(origin - sceneCentre) + sceneRadius,
+               near = std::max(double(camera.origin.w), far * 1e-5);
+  // A slice [0, d] of the view lies within d·spread of the point d/2 along it.
+  const double spread = std::sqrt(glm::dot(glm::dvec3(camera.right), glm::dvec3(camera.right)) +
+                                  glm::dot(glm::dvec3(camera.up), glm::dvec3(camera.up)) + 0.25);
+  std::vector<glm::vec4> spheres;
+  for (uint32_t k = 1; k <= gpu::kCascades && far > near; ++k) {
+    const double d = near * std::pow(far / near, double(k) / double(gpu::kCascades + 1));
+    if (d * spread >= sceneRadius) break;
+    spheres.emplace_back(glm::vec3(origin + 0.5 * d * forward), float(d * spread));
+  }
+  return spheres;
+}
+
+}  // namespace
+
+void DirectLight::chooseMeshes(const std::vector<glm::mat4>& matrices, const gpu::Camera& camera) {
   // The cubes' origins: the emitter samples and the point and spot lights. An emitter that bends
   // (skinned or morphed) is placed by the GPU alone, so then every part is drawn exactly.
   std::vector<glm::dvec3> origins;
@@ -307,6 +332,13 @@ void DirectLight::chooseMeshes(const std::vector<glm::mat4>& matrices) {
     }
   }
   if (!centres.empty()) sceneRadius = std::max(sceneRadius, 0.5 * double(glm::length(centres.max - centres.min)));
+  std::vector<glm::vec4> cascades;
+  if (settings_.perPixel && !centres.empty() &&
+      std::any_of(lights_.begin(), lights_.end(),
+                  [](const gpu::PunctualLight& l) { return l.position.w == gpu::kLightDirectional; }))
+    cascades = cascadeSpheres(camera, 0.5 * glm::dvec3(centres.min + centres.max), sceneRadius);
+  if (cascades != cascades_) lightsMoved_ = true;
+  cascades_ = cascades;
 
   // A part's maps cannot resolve less than a texel where it is nearest to a light: its surface is
   // drawn within half the narrowest texel there (a cube's at its nearest origin, a directional
@@ -319,6 +351,9 @@ void DirectLight::chooseMeshes(const std::vector<glm::mat4>& matrices) {
       for (const glm::dvec3& o : origins)
         world = std::min(world, 0.5 * kNarrowestTexel * std::max(glm::length(o - q.centre) - q.radius, 0.0) / side);
       if (directional_) world = std::min(world, sceneRadius / side);
+      for (const glm::vec4& c : cascades_)
+        if (glm::length(glm::dvec3(c) - q.centre) <= double(c.w) + q.radius)
+          world = std::min(world, double(c.w) / side);
       errors.push_back(settings_.simplifiedMeshes && placedAll && q.stretch > 0.0 ? float(world / q.stretch) : 0.0f);
     }
     if (layers[l]->choose(errors) && still_ && layers[l] == &*still_) staticDrawn_ = false;
@@ -348,10 +383,13 @@ void DirectLight::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bi
       vk::fillBuffer(cmd, sceneBounds_, 0u, 3 * sizeof(uint32_t), 3 * sizeof(uint32_t));
       worldBounds_.dispatchItems(cmd, vertexCount_, buffers, gpu::CountPush{.count = vertexCount_});
     }
-    lightViews_.dispatchItems(cmd, points, buffers,
-                              gpu::LightViewsPush{.sampleCount = sampleCount_,
-                                                  .punctualLights = environmentCount_ + settings_.punctualLights,
-                                                  .environmentDirections = environmentCount_});
+    gpu::LightViewsPush push{.sampleCount = sampleCount_,
+                             .punctualLights = environmentCount_ + settings_.punctualLights,
+                             .environmentDirections = environmentCount_,
+                             .cascadeCount = uint32_t(cascades_.size()),
+                             .side = settings_.resolution};
+    std::copy(cascades_.begin(), cascades_.end(), push.cascades);
+    lightViews_.dispatchItems(cmd, points, buffers, push);
     if (all_) {
       all_->record(cmd, frame, views_, views, size, depth_);
     } else if (moving_->meshes.exactCount() == 0) {  // nothing moves: the maps are drawn once

@@ -63,10 +63,12 @@ class DirectLight {
   DirectLight(const vk::Context& ctx, const scene::Geometry& geometry, std::vector<gpu::EmitterSample> samples,
               const std::vector<bool>& moving, const DirectLightSettings& settings, vk::Allocations* tally);
 
-  // The frame: its pose (where the emitter samples and the instances are) and its punctual lights
-  // in world space (as many as the settings named), lit through the maps. Each instance is drawn
+  // The frame: its pose (where the emitter samples and the instances are), its punctual lights in
+  // world space (as many as the settings named), lit through the maps, and the camera (where the
+  // pixels look a directional light's maps up, its cascades lie around it). Each instance is drawn
   // into the maps as simplified as the nearest light point's texels allow (chooseMeshes).
-  void setFrame(const scene::FrameInputs& pose, const std::vector<gpu::PunctualLight>& lights);
+  void setFrame(const scene::FrameInputs& pose, const std::vector<gpu::PunctualLight>& lights,
+                const gpu::Camera& camera);
 
   // Places the samples, rasterizes their depth maps and lights the surfels; `frame` holds the
   // frame's buffers (world, triangles, materials, surfels). Where the emitters cannot move, what
@@ -96,8 +98,9 @@ class DirectLight {
   }
 
  private:
-  // Draws each part of the layers as simplified as the maps allow at the frame's `matrices`.
-  void chooseMeshes(const std::vector<glm::mat4>& matrices);
+  // Draws each part of the layers as simplified as the maps allow at the frame's `matrices`, and
+  // places a directional light's cascades around `camera`.
+  void chooseMeshes(const std::vector<glm::mat4>& matrices, const gpu::Camera& camera);
 
   // The triangles one raster draws into the maps: its instances' meshes, the triangles drawn of them
   // (chosen each frame), and the buffer that holds those.
@@ -127,6 +130,9 @@ class DirectLight {
   // maps were drawn.
   std::vector<gpu::PunctualLight> lights_;
   bool lightsMoved_ = true;
+  // Where the pixels look a directional punctual light up: the spheres its cascades cover, nested
+  // around the camera, finest first (none without one, or where the pixels do not look the maps up).
+  std::vector<glm::vec4> cascades_;
   // Per emitter sample, its instance and its place in its primitive's space (the pose places it).
   std::vector<std::pair<uint32_t, glm::vec3>> samplePlaces_;
   std::vector<gpu::Instance> instances_;

@@ -232,8 +232,8 @@ FrameResult FrameRenderer::render(const scene::FrameInputs& in, const scene::Cam
   matrices_.upload(in.matrices);
   morphWeights_.upload(in.morphWeights);
   if (solver_) solver_->setLights(lights), solver_->beginFrame(frame);
-  if (direct_) direct_->setFrame(in, lights);
   const gpu::Camera camera = scene::gpuCamera(view, float(image_.width) / float(image_.height));
+  if (direct_) direct_->setFrame(in, lights, camera);
   // A frame the solver could not finish (it ran out of room) is redone, relinking; one whose solver
   // has more to do (its solve after its links, bounces not converged) gets it, and the image is
   // resolved again.

@@ -9,26 +9,48 @@ float depthAt(uint view, ivec2 texel, uint side) {
   return bits == 0xFFFFFFFFu ? 3.4e38 : uintBitsToFloat(bits);
 }
 
+// How the maps are looked up: at the pixels, the nearest texel (the resolve's window filters the
+// emitter samples' shadows) and a directional light's finest cascade around the camera that holds
+// the point; at the surfels, the four texels' bilinear share and the maps over the scene alone (their
+// light does not depend on the camera).
+const uint kPixelLookup = 0u, kSurfelLookup = 1u;
+
+// Where p lies in orthographic view `view`: in its texels, its depth, and a texel's width.
+void orthographicAt(uint view, vec3 p, float size, out vec2 at, out float z, out float texel) {
+  const Camera c = lightViews[view];
+  const vec3 d = p - c.origin.xyz;
+  const vec2 ndc =
+      vec2(dot(d, c.right.xyz) / dot(c.right.xyz, c.right.xyz), dot(d, c.up.xyz) / dot(c.up.xyz, c.up.xyz));
+  z = dot(d, c.forward.xyz);
+  texel = 2.0 * length(c.right.xyz) / size;
+  at = vec2((ndc.x + 1.0) * 0.5 * size, (1.0 - ndc.y) * 0.5 * size) - 0.5;
+}
+
 // The share of the four texels around the ray from emitter sample `light`'s views to the point `p` that
-// see p (bilinear weights; else whether the nearest texel does), where `cosine` is the cosine of the
-// ray at p's surface. A texel sees p where its depth, less a bias of a texel and a half of p's own
-// slope across it, is not nearer.
-float seenShare(uint light, vec3 p, float cosine, uint side, bool bilinear) {
+// see p (kSurfelLookup: bilinear weights; kPixelLookup: whether the nearest texel does), where
+// `cosine` is the cosine of the ray at p's surface. A texel sees p where its depth, less a bias of a
+// texel and a half of p's own slope across it, is not nearer.
+float seenShare(uint light, vec3 p, float cosine, uint side, uint lookup) {
   const float size = float(side);
   uint view;
   float z, texel;  // p's depth in the view, a texel's width there
   vec2 at;         // p in the view's texels
   const uint first = floatBitsToUint(lightPoints[light].radiance.w);
   if (lightPoints[light].cone.w == kLightPointIsPunctual && lightPoints[light].cone.z == kLightDirectional) {
-    // A directional light's one orthographic view.
+    // A directional light's orthographic view over the scene, or at a pixel the finest of its
+    // cascades whose texels around p (and the bias's reach) lie within it.
     view = first;
-    const Camera c = lightViews[view];
-    const vec3 d = p - c.origin.xyz;
-    const vec2 ndc =
-        vec2(dot(d, c.right.xyz) / dot(c.right.xyz, c.right.xyz), dot(d, c.up.xyz) / dot(c.up.xyz, c.up.xyz));
-    z = dot(d, c.forward.xyz);
-    texel = 2.0 * length(c.right.xyz) / size;
-    at = vec2((ndc.x + 1.0) * 0.5 * size, (1.0 - ndc.y) * 0.5 * size) - 0.5;
+    orthographicAt(view, p, size, at, z, texel);
+    const uint cascades = lookup == kPixelLookup ? uint(lightPoints[light].positionArea.w) : 0u;
+    for (uint k = 1u; k <= cascades; ++k) {
+      vec2 atK;
+      float zK, texelK;
+      orthographicAt(first + k, p, size, atK, zK, texelK);
+      if (all(greaterThanEqual(atK, vec2(2.0))) && all(lessThanEqual(atK, vec2(size - 3.0)))) {
+        view = first + k, at = atK, z = zK, texel = texelK;
+        break;
+      }
+    }
   } else {
     // The cube's faces are axis-aligned (light_views): the face and where on it follow from d alone.
     const vec3 d = p - lightViews[first].origin.xyz, m = abs(d);
@@ -41,7 +63,7 @@ float seenShare(uint light, vec3 p, float cosine, uint side, bool bilinear) {
   }
   const float slope = sqrt(max(1.0 - cosine * cosine, 0.0)) / max(cosine, 0.1);
   const float bias = 1.5 * texel * (1.0 + slope);
-  if (!bilinear) return depthAt(view, ivec2(floor(at + 0.5)), side) + bias >= z ? 1.0 : 0.0;
+  if (lookup == kPixelLookup) return depthAt(view, ivec2(floor(at + 0.5)), side) + bias >= z ? 1.0 : 0.0;
   const ivec2 corner = ivec2(floor(at));
   const vec2 f = at - vec2(corner);
   const vec4 seen = vec4(depthAt(view, corner, side) + bias >= z, depthAt(view, corner + ivec2(1, 0), side) + bias >= z,
@@ -92,9 +114,9 @@ vec3 lobeOf(Lobe lobe, vec3 toward) {
 }
 
 // Light at p (unit normal n) from points first, first + stride, … before `end`, each where its maps
-// see p (`bilinear`: seenShare's), times `scale`; in `unshadowed` the same with every point seen,
+// see p (`lookup`: seenShare's), times `scale`; in `unshadowed` the same with every point seen,
 // and in `reflected` what `lobe` reflects of the seen light.
-vec3 lightAt(vec3 p, vec3 n, uint first, uint end, uint stride, float scale, uint side, bool bilinear, Lobe lobe,
+vec3 lightAt(vec3 p, vec3 n, uint first, uint end, uint stride, float scale, uint side, uint lookup, Lobe lobe,
              out vec3 unshadowed, out vec3 reflected) {
   vec3 e = vec3(0.0);
   unshadowed = vec3(0.0);
@@ -104,7 +126,7 @@ vec3 lightAt(vec3 p, vec3 n, uint first, uint end, uint stride, float scale, uin
     vec3 toward;
     const vec3 seen = lightFrom(i, p, n, cosine, toward);
     if (cosine <= 0.0 || all(equal(seen, vec3(0.0)))) continue;
-    const vec3 lit = seen * seenShare(i, p, cosine, side, bilinear);
+    const vec3 lit = seen * seenShare(i, p, cosine, side, lookup);
     e += lit;
     unshadowed += seen;
     if (lobe.glossy) reflected += lobeOf(lobe, toward) * lit;
@@ -114,19 +136,18 @@ vec3 lightAt(vec3 p, vec3 n, uint first, uint end, uint stride, float scale, uin
   return e * scale;
 }
 
-// Irradiance at p (unit normal n) from the emitter samples first, first + stride, … of `samples`,
-// each a disk of the area it stands for, L·A·cos θ·cos θ' / (d² + A/π) (finite where p comes near
-// it), times the stride: every stride-th of the stratified samples is an estimate of them all. And
-// in `unshadowed`, the same with every sample seen. `bilinear`: seenShare's.
-vec3 sampledIrradiance(vec3 p, vec3 n, uint samples, uint side, uint first, uint stride, bool bilinear,
-                       out vec3 unshadowed) {
+// Irradiance at a surfel's p (unit normal n) from the emitter samples first, first + stride, … of
+// `samples`, each a disk of the area it stands for, L·A·cos θ·cos θ' / (d² + A/π) (finite where p
+// comes near it), times the stride: every stride-th of the stratified samples is an estimate of them
+// all. And in `unshadowed`, the same with every sample seen.
+vec3 sampledIrradiance(vec3 p, vec3 n, uint samples, uint side, uint first, uint stride, out vec3 unshadowed) {
   vec3 reflected;
-  return lightAt(p, n, first, samples, stride, float(stride), side, bilinear, noLobe(n), unshadowed, reflected);
+  return lightAt(p, n, first, samples, stride, float(stride), side, kSurfelLookup, noLobe(n), unshadowed, reflected);
 }
 
-// Irradiance at p (unit normal n) from the `punctual` lights (point, spot, directional) after the `samples`
-// emitter samples, each where its maps see p.
-vec3 punctualIrradiance(vec3 p, vec3 n, uint samples, uint punctual, uint side, bool bilinear) {
+// Irradiance at a surfel's p (unit normal n) from the `punctual` lights (point, spot, directional)
+// after the `samples` emitter samples, each where its maps see p.
+vec3 punctualIrradiance(vec3 p, vec3 n, uint samples, uint punctual, uint side) {
   vec3 unshadowed, reflected;
-  return lightAt(p, n, samples, samples + punctual, 1u, 1.0, side, bilinear, noLobe(n), unshadowed, reflected);
+  return lightAt(p, n, samples, samples + punctual, 1u, 1.0, side, kSurfelLookup, noLobe(n), unshadowed, reflected);
 }

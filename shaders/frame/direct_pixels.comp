@@ -58,10 +58,10 @@ void main() {
     lobe.view = vec3(dot(v, lobe.t1), dot(v, lobe.t2), abs(dot(v, n)));
   }
   vec3 unshadowed, unused, specular, punctualSpecular;
-  const vec3 shadowed =
-      lightAt(p, n, first, push.lightSamples, stride, float(stride), push.shadowMap, false, lobe, unshadowed, specular);
+  const vec3 shadowed = lightAt(p, n, first, push.lightSamples, stride, float(stride), push.shadowMap, kPixelLookup,
+                                lobe, unshadowed, specular);
   const vec3 punctual = lightAt(p, n, push.lightSamples, push.lightSamples + push.punctualLights, 1u, 1.0,
-                                push.shadowMap, false, lobe, unused, punctualSpecular);
+                                push.shadowMap, kPixelLookup, lobe, unused, punctualSpecular);
   if (kGlossy) pixelSpecular[2u * o] = vec4(specular, 0.0), pixelSpecular[2u * o + 1u] = vec4(punctualSpecular, 0.0);
   pixelLights[o] =
       PixelLight(vec4(shadowed, uintBitsToFloat(packUnitVector(n))), vec4(unshadowed, dot(n, p)), vec4(punctual, 1.0));

@@ -22,8 +22,8 @@ void main() {
   const Surfel s = surfels[i];
   vec3 unshadowed;
   const vec3 p = s.positionArea.xyz, n = s.normal.xyz;
-  surfelDirect[i] = vec4(sampledIrradiance(p, n, push.sampleCount, push.resolution, 0u, 1u, true, unshadowed) +
-                             punctualIrradiance(p, n, push.sampleCount, push.punctualLights, push.resolution, true),
+  surfelDirect[i] = vec4(sampledIrradiance(p, n, push.sampleCount, push.resolution, 0u, 1u, unshadowed) +
+                             punctualIrradiance(p, n, push.sampleCount, push.punctualLights, push.resolution),
                          0.0);
   surfelUnshadowed[i] = vec4(unshadowed, 0.0);
 }

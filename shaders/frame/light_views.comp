@@ -3,8 +3,8 @@
 // animate pass left them), the area it stands for, and the cube of 90° views around it that its
 // depth maps are rasterized in (a face wholly behind the emitter is no view: near < 0); then each
 // direction toward the environment, and each directional light of the frame, its one orthographic
-// view along it over the scene's bounds (world_bounds); and each point and spot light its cube
-// around its position.
+// view along it over the scene's bounds (world_bounds), and a directional punctual light its
+// cascades around the camera; and each point and spot light its cube around its position.
 #extension GL_GOOGLE_include_directive : require
 #include "common/common.glsl"
 layout(local_size_x = 64) in;
@@ -59,13 +59,31 @@ void main() {
       vec3 right, up;
       tangentFrame(forward, right, up);
       const vec3 origin = centre - radius * forward;
-      lightPoints[i] = LightPoint(vec4(origin, 0.0), l.direction, vec4(l.intensity.rgb, uintBitsToFloat(firstView(i))),
-                                  vec4(l.cone.xy, l.position.w, kLightPointIsPunctual));
-      // A punctual light's place holds a cube: the faces past the first are no view.
-      const uint faces = i < push.sampleCount + push.environmentDirections ? 1u : kCubeFaces;
-      for (uint face = 0u; face < faces; ++face)
-        lightViews[firstView(i) + face] = Camera(vec4(origin, face == 0u ? 0.0 : -1.0), vec4(radius * right, 0.0),
-                                                 vec4(radius * up, kOrthographic), vec4(forward, 0.0));
+      // A punctual light's place holds a cube: past the first face, its cascades (none for an
+      // environment direction, which has one view), and the faces past those no view.
+      const bool punctual = i >= push.sampleCount + push.environmentDirections;
+      const uint cascades = punctual ? push.cascadeCount : 0u;
+      lightPoints[i] =
+          LightPoint(vec4(origin, float(cascades)), l.direction, vec4(l.intensity.rgb, uintBitsToFloat(firstView(i))),
+                     vec4(l.cone.xy, l.position.w, kLightPointIsPunctual));
+      lightViews[firstView(i)] =
+          Camera(vec4(origin, 0.0), vec4(radius * right, 0.0), vec4(radius * up, kOrthographic), vec4(forward, 0.0));
+      for (uint face = 1u; face < (punctual ? kCubeFaces : 1u); ++face) {
+        if (face > cascades) {
+          lightViews[firstView(i) + face] = Camera(vec4(origin, -1.0), vec4(radius * right, 0.0),
+                                                   vec4(radius * up, kOrthographic), vec4(forward, 0.0));
+          continue;
+        }
+        // Its sphere's centre moved across the light by whole texels (the maps of a moving camera
+        // then hold still on the scene), drawn from before the scene's bounds.
+        const vec4 sphere = push.cascades[face - 1u];
+        const float texel = 2.0 * sphere.w / float(push.side);
+        const vec2 across = floor(vec2(dot(sphere.xyz, right), dot(sphere.xyz, up)) / texel + 0.5) * texel;
+        const vec3 c = across.x * right + across.y * up + dot(sphere.xyz, forward) * forward;
+        lightViews[firstView(i) + face] =
+            Camera(vec4(c - (radius + distance(c, centre)) * forward, 0.0), vec4(sphere.w * right, 0.0),
+                   vec4(sphere.w * up, kOrthographic), vec4(forward, 0.0));
+      }
       return;
     }
     lightPoints[i] =

@@ -268,8 +268,14 @@ struct DirectLightPush {  // direct_surfels
   uint resolution;        // a depth map's side in texels
   uint punctualLights;    // the punctual lights after them
 };
+// A directional light's maps nested around the camera for the pixels, past its map over the scene:
+// the spare faces of its cube.
+IVGI_CONST uint kCascades = kCubeFaces - 1u;
 struct LightViewsPush {        // light_views
   uint sampleCount;            // emitter samples
   uint punctualLights;         // after them, `punctualLights`: the environment's directions, the punctual lights
   uint environmentDirections;  // the first of those
+  uint cascadeCount;           // cascades a directional punctual light has (0 to kCascades)
+  vec4 cascades[kCascades];    // the spheres they cover, finest first: centre, radius
+  uint side;                   // a map's side in texels
 };
