@@ -232,23 +232,11 @@ tinygltf::Model framedFloor() {
   const int material = b.material("framed", glm::vec3(1.0f));
   b.node("floor", b.mesh("floor", {{floor, material}}));
   tinygltf::Model m = b.finish();
-  tinygltf::Image image;
-  image.width = image.height = 8, image.component = 4, image.bits = 8;
-  image.pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
-  for (int y = 0; y < 8; ++y)
-    for (int x = 0; x < 8; ++x) {
-      const uint8_t v = (x == 0 || y == 0 || x == 7 || y == 7) ? 255 : 0;
-      image.image.insert(image.image.end(), {v, v, v, 255});
-    }
-  image.mimeType = "image/png";
-  m.images.push_back(image);
   tinygltf::Sampler clamp;
   clamp.wrapS = clamp.wrapT = TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE;
   m.samplers.push_back(clamp);
-  tinygltf::Texture texture;
-  texture.source = 0, texture.sampler = 0;
-  m.textures.push_back(texture);
-  m.materials[size_t(material)].pbrMetallicRoughness.baseColorTexture.index = 0;
+  m.materials[size_t(material)].pbrMetallicRoughness.baseColorTexture.index = test::addGreyTexture(
+      m, 8, [](int x, int y) { return x == 0 || y == 0 || x == 7 || y == 7 ? 255 : 0; }, 0);
   return m;
 }
 
@@ -307,21 +295,10 @@ tinygltf::Model tiledCornellBox() {
   tinygltf::Material tiles = m.materials[0];
   tiles.name = "tiles";
   tiles.pbrMetallicRoughness.baseColorFactor = {1.0, 1.0, 1.0, 1.0};
-  tiles.pbrMetallicRoughness.baseColorTexture.index = int(m.textures.size());
+  tiles.pbrMetallicRoughness.baseColorTexture.index = test::addGreyTexture(m, 8, [](int x, int y) {
+    return x == 0 || y == 0 || x == 7 || y == 7 ? 243 : 124;  // sRGB for 0.9 and 0.2
+  });
   m.materials.push_back(tiles);
-  tinygltf::Image image;
-  image.width = image.height = 8, image.component = 4, image.bits = 8;
-  image.pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
-  for (int y = 0; y < 8; ++y)
-    for (int x = 0; x < 8; ++x) {
-      const uint8_t v = (x == 0 || y == 0 || x == 7 || y == 7) ? 243 : 124;  // sRGB for 0.9 and 0.2
-      image.image.insert(image.image.end(), {v, v, v, 255});
-    }
-  image.mimeType = "image/png";
-  m.images.push_back(image);
-  tinygltf::Texture texture;
-  texture.source = int(m.images.size() - 1);
-  m.textures.push_back(texture);
   tinygltf::Primitive& room = m.meshes[0].primitives[0];  // the white walls, floor and ceiling
   room.material = int(m.materials.size() - 1);
   // addQuad's coordinates run from 0 to 1 over a face's 8 cells: 8 times them puts a tile in a cell.

@@ -205,20 +205,9 @@ tinygltf::Model glowingPatchLampOverFloor() {
   b.node("floor", b.mesh("floor", {{floor, grey}}));
   b.node("lamp", b.mesh("lamp", {{light, lamp}}));
   tinygltf::Model m = b.finish();
-  tinygltf::Image image;
-  image.width = image.height = 8, image.component = 4, image.bits = 8;
-  image.pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
-  for (int y = 0; y < 8; ++y)
-    for (int x = 0; x < 8; ++x) {
-      const uint8_t v = x >= 1 && x < 3 && y >= 3 && y < 5 ? 255 : 0;
-      image.image.insert(image.image.end(), {v, v, v, 255});
-    }
-  image.mimeType = "image/png";
-  m.images.push_back(image);
-  tinygltf::Texture texture;
-  texture.source = int(m.images.size() - 1);
-  m.textures.push_back(texture);
-  m.materials[size_t(lamp)].emissiveTexture.index = int(m.textures.size() - 1);
+  const int texture =
+      test::addGreyTexture(m, 8, [](int x, int y) { return x >= 1 && x < 3 && y >= 3 && y < 5 ? 255 : 0; });
+  m.materials[size_t(lamp)].emissiveTexture.index = texture;
   return m;
 }
 

@@ -220,6 +220,23 @@ std::string bigEndian(uint32_t v, int bytes) {
   return s;
 }
 
+int addGreyTexture(tinygltf::Model& model, int side, const std::function<uint8_t(int x, int y)>& grey, int sampler) {
+  tinygltf::Image image;
+  image.width = image.height = side, image.component = 4, image.bits = 8;
+  image.pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+  for (int y = 0; y < side; ++y)
+    for (int x = 0; x < side; ++x) {
+      const uint8_t v = grey(x, y);
+      image.image.insert(image.image.end(), {v, v, v, 255});
+    }
+  image.mimeType = "image/png";
+  model.images.push_back(image);
+  tinygltf::Texture texture;
+  texture.source = int(model.images.size() - 1), texture.sampler = sampler;
+  model.textures.push_back(texture);
+  return int(model.textures.size() - 1);
+}
+
 scenes::MeshData uvSphere(int rings, bool bumps) {
   scenes::MeshData m;
   const int segments = 2 * rings;

@@ -73,6 +73,11 @@ std::vector<float> channelOf(const std::filesystem::path& exr, const std::string
 // `v`'s low `bytes` bytes, most significant first (file headers written by hand).
 std::string bigEndian(uint32_t v, int bytes = 4);
 
+// Adds to `model` a grey image `side` texels square, each texel's sRGB byte grey(x, y) (y down),
+// and a texture of it through sampler `sampler` (-1: glTF's default); its texture index.
+int addGreyTexture(tinygltf::Model& model, int side, const std::function<uint8_t(int x, int y)>& grey,
+                   int sampler = -1);
+
 // A fresh, empty folder for one test.
 std::filesystem::path scratchDir(const std::string& name);
 
