@@ -541,6 +541,46 @@ TEST(DirectLight, StaticTrianglesDrawnOnceGiveTheMapsDrawnWhole) {
   }
 }
 
+// Under the sun, where a moving box widens the scene's bounds and so moves the sun's map, the maps
+// of what cannot move are drawn again in the sun's views alone (a lamp's cube stands): each frame
+// the surfels' light is that of the maps drawn whole, bit for bit, frame after frame.
+TEST(DirectLight, TheSunsViewsAloneAreDrawnAgainWhereTheSceneMoves) {
+  scenes::GltfBuilder b;
+  const int grey = b.material("grey", glm::vec3(0.5f)), lamp = b.material("lamp", glm::vec3(0.0f), glm::vec3(10.0f));
+  scenes::MeshData floor, plate, light, box;
+  scenes::addQuad(floor, {-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}, 16, 16, {0, 1, 0});
+  scenes::addBox(plate, {-0.4f, 0.5f, 0.0f}, {0.3f, 0.01f, 0.3f}, 1);
+  scenes::addQuad(light, {-0.1f, 1.5f, -0.1f}, {0.1f, 1.5f, -0.1f}, {0.1f, 1.5f, 0.1f}, {-0.1f, 1.5f, 0.1f}, 1, 1,
+                  {0, 0, 0});
+  scenes::addBox(box, {0.0f, 0.0f, 0.0f}, glm::vec3(0.1f), 1);
+  b.node("floor", b.mesh("floor", {{floor, grey}}));
+  b.node("plate", b.mesh("plate", {{plate, grey}}));
+  b.node("lamp", b.mesh("lamp", {{light, lamp}}));
+  const int moving = b.node("box", b.mesh("box", {{box, grey}}), {0.4f, 0.3f, 0.0f});
+  b.animate("box moves", moving, "translation", {0.0f, 1.0f}, {0.4f, 0.3f, 0.0f, 3.0f, 0.3f, 0.0f});
+  b.light("sun", "directional", 2.0f, {0, 3, 0}, glm::angleAxis(-1.2f, glm::vec3(1, 0, 0.3f) / 1.044f));
+  scene::Scene s = scene::sceneFromModel(b.finish(), "test");
+  scene::Geometry g = scene::buildGeometry(s, 8);
+  const gi::DirectLightSettings settings{.samples = 8, .resolution = 64, .punctualLights = 1};
+  gi::FrameRenderer split(test::gpu(), g, {16, 16, 1}, nullptr, settings, scene::movingInstances(s, g, 0));
+  gi::FrameRenderer whole(test::gpu(), g, {16, 16, 1}, nullptr, settings);
+  for (float time : {0.0f, 0.5f, 1.0f}) {
+    const auto pose = scene::evaluatePose(s, 0, time);
+    const auto inputs = g.frameInputs(s, pose);
+    const auto view = test::framing(g, inputs);
+    split.render(inputs, view, scene::worldLights(s, pose));
+    whole.render(inputs, view, scene::worldLights(s, pose));
+    const auto a = split.directLight()->surfelDirect().read<glm::vec4>(g.surfels.size()),
+               c = whole.directLight()->surfelDirect().read<glm::vec4>(g.surfels.size());
+    int sunlit = 0;
+    for (size_t i = 0; i < a.size(); ++i) {
+      ASSERT_EQ(a[i], c[i]) << "time " << time << ", surfel " << i;
+      sunlit += a[i].x > 1.0f ? 1 : 0;
+    }
+    EXPECT_GT(sunlit, 100) << "time " << time;
+  }
+}
+
 // A ball 40 cm wide, modelled in 9,000 triangles, half a metre over a floor of 64 cells a side,
 // under a point light 1 m over the floor: the maps draw the ball in under a quarter of its
 // triangles, and the floor's light differs from the maps drawn as modelled by over 1 % of the

@@ -202,8 +202,9 @@ bool DirectLight::Layer::choose(const std::vector<float>& errors) {
 }
 
 void DirectLight::Layer::record(VkCommandBuffer cmd, const vk::Bindings& frame, const vk::Buffer& views,
-                                uint32_t viewCount, glm::uvec2 size, const vk::Buffer& target, bool clear) const {
-  raster.record(cmd, frame.with({{"triangles", triangles}}), views, viewCount, size, target, clear);
+                                uint32_t viewCount, glm::uvec2 size, const vk::Buffer& target, bool clear,
+                                uint32_t firstView) const {
+  raster.record(cmd, frame.with({{"triangles", triangles}}), views, viewCount, size, target, clear, firstView);
 }
 
 DirectLight::DirectLight(const vk::Context& ctx, const scene::Geometry& g, std::vector<gpu::EmitterSample> samples,
@@ -360,6 +361,17 @@ void DirectLight::chooseMeshes(const std::vector<glm::mat4>& matrices, const gpu
   }
 }
 
+std::vector<std::pair<uint64_t, uint64_t>> DirectLight::directionalViewRanges() const {
+  // The views: a cube each emitter sample, one each environment direction, a cube each punctual
+  // light (light_views' firstView).
+  std::vector<std::pair<uint64_t, uint64_t>> ranges;
+  if (environmentCount_ > 0) ranges.emplace_back(uint64_t(gpu::kCubeFaces) * sampleCount_, environmentCount_);
+  for (size_t j = 0; j < lights_.size(); ++j)
+    if (lights_[j].position.w == gpu::kLightDirectional)
+      ranges.emplace_back(gpu::kCubeFaces * (sampleCount_ + j) + environmentCount_, gpu::kCubeFaces);
+  return ranges;
+}
+
 std::pair<size_t, size_t> DirectLight::trianglesDrawn() const {
   std::pair<size_t, size_t> drawn{0, 0};
   for (const std::optional<Layer>* layer : {&all_, &still_, &moving_})
@@ -369,8 +381,10 @@ std::pair<size_t, size_t> DirectLight::trianglesDrawn() const {
 
 void DirectLight::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bindings& frame, bool geometryMoved) {
   if (lit_ && !geometryMoved && !lightsMoved_) return;  // the surfels' direct light stands
-  // Their views moved: a light, or where a directional light's map covers the scene, the scene.
-  if ((lightsMoved_ && settings_.punctualLights > 0) || (directional_ && geometryMoved)) staticDrawn_ = false;
+  // Their views moved: a light; or where a directional light's map covers the scene and the scene
+  // moved, that light's views alone.
+  if (lightsMoved_ && settings_.punctualLights > 0) staticDrawn_ = false;
+  const bool directionalMoved = directional_ && geometryMoved;
   const vk::Bindings buffers =
       vk::Bindings::pool({{"emitterSamples", samples_}, {"punctualLights", punctual_}, {"sceneBounds", sceneBounds_}})
           .plus(pool())
@@ -393,9 +407,17 @@ void DirectLight::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bi
     if (all_) {
       all_->record(cmd, frame, views_, views, size, depth_);
     } else if (moving_->meshes.exactCount() == 0) {  // nothing moves: the maps are drawn once
-      if (!staticDrawn_) still_->record(cmd, frame, views_, views, size, depth_);
+      if (!staticDrawn_ || directionalMoved) still_->record(cmd, frame, views_, views, size, depth_);
     } else {
-      if (!staticDrawn_) still_->record(cmd, frame, views_, views, size, staticDepth_);
+      if (!staticDrawn_) {
+        still_->record(cmd, frame, views_, views, size, staticDepth_);
+      } else if (directionalMoved) {
+        const uint64_t viewBytes = uint64_t(size.x) * size.y * sizeof(uint32_t);
+        for (const auto& [first, count] : directionalViewRanges()) {
+          vk::fillBuffer(cmd, staticDepth_, 0xFFFFFFFFu, first * viewBytes, count * viewBytes);  // empty
+          still_->record(cmd, frame, views_, uint32_t(count), size, staticDepth_, false, uint32_t(first));
+        }
+      }
       vk::copyBuffer(cmd, staticDepth_, depth_);
       moving_->record(cmd, frame, views_, views, size, depth_, false);
     }

@@ -98,6 +98,10 @@ class DirectLight {
   }
 
  private:
+  // The views of the directional lights (the environment's directions, the punctual ones): each
+  // range's first view and how many.
+  std::vector<std::pair<uint64_t, uint64_t>> directionalViewRanges() const;
+
   // Draws each part of the layers as simplified as the maps allow at the frame's `matrices`, and
   // places a directional light's cascades around `camera`.
   void chooseMeshes(const std::vector<glm::mat4>& matrices, const gpu::Camera& camera);
@@ -109,7 +113,7 @@ class DirectLight {
     // Draws each part within `errors` (MapMeshes::draw); true where that changed the triangles.
     bool choose(const std::vector<float>& errors);
     void record(VkCommandBuffer cmd, const vk::Bindings& frame, const vk::Buffer& views, uint32_t viewCount,
-                glm::uvec2 size, const vk::Buffer& target, bool clear = true) const;
+                glm::uvec2 size, const vk::Buffer& target, bool clear = true, uint32_t firstView = 0) const;
 
     scene::MapMeshes meshes;
     std::vector<scene::Triangle> drawn;

@@ -33,8 +33,9 @@ void Raster::setTriangleCount(uint32_t count) {
 }
 
 void Raster::record(VkCommandBuffer cmd, const vk::Bindings& scene, const vk::Buffer& views, uint32_t viewCount,
-                    glm::uvec2 size, const vk::Buffer& target, bool clear) const {
-  const gpu::RasterPush push{.size = size, .triangleCount = triangleCount_, .viewCount = viewCount};
+                    glm::uvec2 size, const vk::Buffer& target, bool clear, uint32_t firstView) const {
+  const gpu::RasterPush push{
+      .size = size, .triangleCount = triangleCount_, .viewCount = viewCount, .firstView = firstView};
   if (clear) vk::fillBuffer(cmd, target, 0xFFFFFFFFu);
   const vk::Groups groups = raster_.groupsFor(triangleCount_, 64);
   const uint32_t args[3] = {groups.x, groups.y, viewCount};  // a slice a view, until raster_slices counts

@@ -18,10 +18,11 @@ class Raster {
   void setTriangleCount(uint32_t count);
 
   // Rasterizes the triangles (`world`, `triangles` from `scene`) into `target`: `viewCount` views of
-  // `size` samples each, whose cameras `views` holds (a view whose near is negative is skipped and
-  // left empty). `clear`: the target emptied first; else the triangles go over what it holds.
+  // `size` samples each from `firstView` on, whose cameras `views` holds (a view whose near is
+  // negative is skipped and left empty). `clear`: the whole target emptied first; else the triangles
+  // go over what it holds.
   void record(VkCommandBuffer cmd, const vk::Bindings& scene, const vk::Buffer& views, uint32_t viewCount,
-              glm::uvec2 size, const vk::Buffer& target, bool clear = true) const;
+              glm::uvec2 size, const vk::Buffer& target, bool clear = true, uint32_t firstView = 0) const;
 
  private:
   uint32_t capacity_, triangleCount_;

@@ -47,8 +47,8 @@ void castSample(uint tri, Projected t, ivec2 px) {
 }
 
 void main() {
-  const uint slices = gl_NumWorkGroups.z / push.viewCount, view = gl_WorkGroupID.z / slices,
-             slice = gl_WorkGroupID.z - view * slices;
+  const uint slices = gl_NumWorkGroups.z / push.viewCount, drawn = gl_WorkGroupID.z / slices,
+             slice = gl_WorkGroupID.z - drawn * slices, view = push.firstView + drawn;
   camera = views[view];
   if (camera.origin.w < 0.0) return;  // the whole workgroup: no view
   viewStart = view * push.size.x * push.size.y;

@@ -74,8 +74,8 @@ void main() {
   for (uint base = 0u; base < push.viewCount; base += 64u) {
     if (lid == 0u) largeViewCount = 0u;
     barrier();
-    const uint view = base + lid;
-    if (view < push.viewCount && mayHoldLargeBounds(views[view], lo, hi))
+    const uint view = push.firstView + base + lid;
+    if (base + lid < push.viewCount && mayHoldLargeBounds(views[view], lo, hi))
       largeViews[atomicAdd(largeViewCount, 1u)] = view;
     barrier();
     for (uint n = 0u; has && n < largeViewCount; ++n) {

@@ -221,7 +221,8 @@ IVGI_CONST uint kCubeFaces = 6u;
 struct RasterPush {  // raster_slices, raster
   uvec2 size;        // a view's image in samples
   uint triangleCount;
-  uint viewCount;
+  uint viewCount;  // the views drawn, from `firstView` on (the target's other views are left as they are)
+  uint firstView;
 };
 struct ResolvePush {  // resolve
   Camera camera;
