@@ -729,12 +729,16 @@ TEST(DirectLight, ASunsShadowIsSharpNearTheCameraInALargeScene) {
   const auto model = plateOverFloor(16, 0.0f, true, Lamp::Sun, 300.0f);
   scene::Scene s = scene::sceneFromModel(model, "test");
   scene::Geometry g = scene::buildGeometry(s, 16);
-  gi::FrameRenderer r(test::gpu(), g, {kSize, kSize, 1},
-                      std::make_unique<gi::IvSolver>(test::gpu(), g, gi::makeIvSetup(s, g, {.bounces = 0})),
-                      gi::DirectLightSettings{.perPixel = true, .punctualLights = 1});
+  const auto moving = scene::movingInstances(s, g, -1);  // none: the maps of the scene drawn once
+  auto renderer = [&] {
+    return gi::FrameRenderer(test::gpu(), g, {kSize, kSize, 1},
+                             std::make_unique<gi::IvSolver>(test::gpu(), g, gi::makeIvSetup(s, g, {.bounces = 0})),
+                             gi::DirectLightSettings{.perPixel = true, .punctualLights = 1}, moving);
+  };
+  gi::FrameRenderer r = renderer();
   const auto pose = scene::evaluatePose(s, -1, 0.0f);
-  const auto result =
-      r.render(g.frameInputs(s, pose), scene::cameraView(s, pose, s.cameraNodes()[0]), scene::worldLights(s, pose));
+  const auto camera = scene::cameraView(s, pose, s.cameraNodes()[0]);
+  const auto result = r.render(g.frameInputs(s, pose), camera, scene::worldLights(s, pose));
   // Along the middle row, the light shown (radiance = 0.5 E / π, the sun's E = 1); the exact edge
   // at x = 0 lies between columns 31 and 32.
   int edge = int(kSize);
@@ -750,4 +754,13 @@ TEST(DirectLight, ASunsShadowIsSharpNearTheCameraInALargeScene) {
       edge, worst);
   EXPECT_LE(std::abs(edge - 32), 2);
   EXPECT_LE(worst, 0.02);
+  // The camera moves 5 cm and the cascades with it (the sun's views alone drawn again): the image
+  // is a fresh renderer's there, bit for bit.
+  scene::CameraView moved = camera;
+  moved.origin += glm::vec3(0.05f, 0.0f, 0.0f);
+  const auto again = r.render(g.frameInputs(s, pose), moved, scene::worldLights(s, pose), false);
+  gi::FrameRenderer fresh = renderer();
+  const auto there = fresh.render(g.frameInputs(s, pose), moved, scene::worldLights(s, pose));
+  EXPECT_EQ(again.channels.radiance, there.channels.radiance);
+  EXPECT_NE(again.channels.radiance, result.channels.radiance);
 }

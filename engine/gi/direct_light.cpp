@@ -32,12 +32,16 @@ double restArea(const scene::Geometry& g, const scene::Triangle& tri) {
   return 0.5 * glm::length(glm::cross(b - a, c - a));
 }
 
-// The luminance of a triangle's mean emission, its texture's included (zero: it does not emit).
-double emittedLuminance(const scene::Geometry& g, const scene::Triangle& tri) {
-  const std::vector<scene::EmissionCell> cells = scene::emissionCells(g, tri);
+// The mean luminance of a triangle's emission cells (zero: it does not emit).
+double meanLuminance(const std::vector<scene::EmissionCell>& cells) {
   double sum = 0;
   for (const scene::EmissionCell& c : cells) sum += image::luminance(glm::dvec3(c.emission));
   return cells.empty() ? 0.0 : sum / double(cells.size());
+}
+
+// The luminance of a triangle's mean emission, its texture's included (zero: it does not emit).
+double emittedLuminance(const scene::Geometry& g, const scene::Triangle& tri) {
+  return meanLuminance(scene::emissionCells(g, tri));
 }
 
 // A part of the emitters the points are spread over by power: a triangle's emission cell, with its
@@ -60,8 +64,7 @@ std::vector<PoweredCell> poweredCells(const scene::Geometry& g) {
     const std::vector<scene::EmissionCell> cells = scene::emissionCells(g, g.triangles[t]);
     if (cells.empty()) continue;
     const double area = restArea(g, g.triangles[t]), cellArea = area / double(cells.size());
-    double mean = 0;
-    for (const scene::EmissionCell& c : cells) mean += image::luminance(glm::dvec3(c.emission)) / double(cells.size());
+    const double mean = meanLuminance(cells);
     for (const scene::EmissionCell& c : cells) {
       const double luminance = image::luminance(glm::dvec3(c.emission));
       const double share = cells.size() == 1 ? luminance : (1.0 - kEvenShare) * luminance + kEvenShare * mean;
@@ -338,7 +341,7 @@ void DirectLight::chooseMeshes(const std::vector<glm::mat4>& matrices, const gpu
       std::any_of(lights_.begin(), lights_.end(),
                   [](const gpu::PunctualLight& l) { return l.position.w == gpu::kLightDirectional; }))
     cascades = cascadeSpheres(camera, 0.5 * glm::dvec3(centres.min + centres.max), sceneRadius);
-  if (cascades != cascades_) lightsMoved_ = true;
+  if (cascades != cascades_) cascadesMoved_ = true;
   cascades_ = cascades;
 
   // A part's maps cannot resolve less than a texel where it is nearest to a light: its surface is
@@ -380,11 +383,11 @@ std::pair<size_t, size_t> DirectLight::trianglesDrawn() const {
 }
 
 void DirectLight::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bindings& frame, bool geometryMoved) {
-  if (lit_ && !geometryMoved && !lightsMoved_) return;  // the surfels' direct light stands
-  // Their views moved: a light; or where a directional light's map covers the scene and the scene
-  // moved, that light's views alone.
+  if (lit_ && !geometryMoved && !lightsMoved_ && !cascadesMoved_) return;  // the surfels' direct light stands
+  // Their views moved: a light's; or where a directional light's map covers the scene and the
+  // scene moved, or its cascades followed the camera, that light's alone.
   if (lightsMoved_ && settings_.punctualLights > 0) staticDrawn_ = false;
-  const bool directionalMoved = directional_ && geometryMoved;
+  const bool directionalMoved = (directional_ && geometryMoved) || cascadesMoved_;
   const vk::Bindings buffers =
       vk::Bindings::pool({{"emitterSamples", samples_}, {"punctualLights", punctual_}, {"sceneBounds", sceneBounds_}})
           .plus(pool())
@@ -404,20 +407,22 @@ void DirectLight::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bi
                              .side = settings_.resolution};
     std::copy(cascades_.begin(), cascades_.end(), push.cascades);
     lightViews_.dispatchItems(cmd, points, buffers, push);
+    // What cannot move, into `target`: all of its views, or the directional lights' alone.
+    auto drawStill = [&](const vk::Buffer& target) {
+      if (!staticDrawn_) return still_->record(cmd, frame, views_, views, size, target);
+      if (!directionalMoved) return;
+      const uint64_t viewBytes = uint64_t(size.x) * size.y * sizeof(uint32_t);
+      for (const auto& [first, count] : directionalViewRanges()) {
+        vk::fillBuffer(cmd, target, 0xFFFFFFFFu, first * viewBytes, count * viewBytes);  // empty
+        still_->record(cmd, frame, views_, uint32_t(count), size, target, false, uint32_t(first));
+      }
+    };
     if (all_) {
       all_->record(cmd, frame, views_, views, size, depth_);
     } else if (moving_->meshes.exactCount() == 0) {  // nothing moves: the maps are drawn once
-      if (!staticDrawn_ || directionalMoved) still_->record(cmd, frame, views_, views, size, depth_);
+      drawStill(depth_);
     } else {
-      if (!staticDrawn_) {
-        still_->record(cmd, frame, views_, views, size, staticDepth_);
-      } else if (directionalMoved) {
-        const uint64_t viewBytes = uint64_t(size.x) * size.y * sizeof(uint32_t);
-        for (const auto& [first, count] : directionalViewRanges()) {
-          vk::fillBuffer(cmd, staticDepth_, 0xFFFFFFFFu, first * viewBytes, count * viewBytes);  // empty
-          still_->record(cmd, frame, views_, uint32_t(count), size, staticDepth_, false, uint32_t(first));
-        }
-      }
+      drawStill(staticDepth_);
       vk::copyBuffer(cmd, staticDepth_, depth_);
       moving_->record(cmd, frame, views_, views, size, depth_, false);
     }
@@ -429,7 +434,7 @@ void DirectLight::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bi
                                                       .punctualLights = settings_.punctualLights});
   });
   lit_ = true;
-  lightsMoved_ = false;
+  lightsMoved_ = cascadesMoved_ = false;
 }
 
 }  // namespace ivgi::gi

@@ -137,6 +137,7 @@ class DirectLight {
   // Where the pixels look a directional punctual light up: the spheres its cascades cover, nested
   // around the camera, finest first (none without one, or where the pixels do not look the maps up).
   std::vector<glm::vec4> cascades_;
+  bool cascadesMoved_ = false;  // since the maps were drawn
   // Per emitter sample, its instance and its place in its primitive's space (the pose places it).
   std::vector<std::pair<uint32_t, glm::vec3>> samplePlaces_;
   std::vector<gpu::Instance> instances_;
