@@ -36,10 +36,10 @@ std::optional<gi::DirectLightSettings> directLightSettings(const SolverOptions& 
                                                            const scene::Geometry& g) {
   const uint32_t pointLights = scene::punctualLightCount(s);
   if (o.direct.empty()) {  // the default: the pixels' own, where the maps suit the scene's lights
-    const bool suits = (o.method == "iv" || o.method == "ar") &&
-                       (pointLights > 0 || !gi::emitterSamples(g, 1).empty() ||
-                        (!o.environment.empty() && o.maps.environmentDirections > 0)) &&
-                       gi::emissiveAreaShare(g) <= gi::kMapsEmitterShare;
+    const bool suits =
+        (o.method == "iv" || o.method == "ar") &&
+        (pointLights > 0 || gi::emits(g) || (!o.environment.empty() && o.maps.environmentDirections > 0)) &&
+        gi::emissiveAreaShare(g) <= gi::kMapsEmitterShare;
     if (!suits) return std::nullopt;
   }
   if (o.direct == "bins") return std::nullopt;

@@ -68,7 +68,7 @@ std::vector<PoweredCell> poweredCells(const scene::Geometry& g) {
     for (const scene::EmissionCell& c : cells) {
       const double luminance = image::luminance(glm::dvec3(c.emission));
       const double share = cells.size() == 1 ? luminance : (1.0 - kEvenShare) * luminance + kEvenShare * mean;
-      if (share > 0) out.push_back({uint32_t(t), c, cellArea, area, cellArea * share});
+      if (cellArea * share > 0) out.push_back({uint32_t(t), c, cellArea, area, cellArea * share});
     }
   }
   return out;
@@ -104,6 +104,11 @@ double emissiveAreaShare(const scene::Geometry& g) {
     if (emittedLuminance(g, tri) > 0) emitting += area;
   }
   return total > 0 ? emitting / total : 0.0;
+}
+
+bool emits(const scene::Geometry& g) {
+  return std::any_of(g.triangles.begin(), g.triangles.end(),
+                     [&](const scene::Triangle& t) { return restArea(g, t) > 0 && emittedLuminance(g, t) > 0; });
 }
 
 std::vector<gpu::EmitterSample> emitterSamples(const scene::Geometry& g, uint32_t count) {

@@ -46,6 +46,8 @@ void validate(const DirectLightSettings& settings);
 // where in the cell's share that falls and from a second, golden-ratio sequence; each glows with
 // the emission where it lies. Empty where nothing emits.
 std::vector<gpu::EmitterSample> emitterSamples(const scene::Geometry& geometry, uint32_t count);
+// Whether some triangle emits (emitterSamples would give points), found without placing any.
+bool emits(const scene::Geometry& geometry);
 
 // The share of the surface's area (at rest) that emits. The maps suit emitters that are a small
 // part of the scene (kMapsEmitterShare): a point sample stands for its share of the emitters' area

@@ -12,7 +12,7 @@ namespace {
 
 // Whether the maps have something to light with: emitters or punctual lights.
 bool somethingLights(const scene::Geometry& g, const DirectLightSettings& directLight) {
-  return directLight.punctualLights > 0 || !directLight.environmentLights().empty() || !emitterSamples(g, 1).empty();
+  return directLight.punctualLights > 0 || !directLight.environmentLights().empty() || emits(g);
 }
 
 // Whether the pixels of a frame of `g` look the depth maps' direct light up themselves: asked for, a

@@ -66,12 +66,12 @@ void main() {
       lightPoints[i] =
           LightPoint(vec4(origin, float(cascades)), l.direction, vec4(l.intensity.rgb, uintBitsToFloat(firstView(i))),
                      vec4(l.cone.xy, l.position.w, kLightPointIsPunctual));
-      lightViews[firstView(i)] =
+      const Camera scene =
           Camera(vec4(origin, 0.0), vec4(radius * right, 0.0), vec4(radius * up, kOrthographic), vec4(forward, 0.0));
+      lightViews[firstView(i)] = scene;
       for (uint face = 1u; face < (punctual ? kCubeFaces : 1u); ++face) {
         if (face > cascades) {
-          lightViews[firstView(i) + face] = Camera(vec4(origin, -1.0), vec4(radius * right, 0.0),
-                                                   vec4(radius * up, kOrthographic), vec4(forward, 0.0));
+          lightViews[firstView(i) + face] = Camera(vec4(origin, -1.0), scene.right, scene.up, scene.forward);
           continue;
         }
         // Its sphere's centre moved across the light by whole texels (the maps of a moving camera

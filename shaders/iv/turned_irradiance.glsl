@@ -1,7 +1,6 @@
 // A receiver's gathered irradiance turned to another normal by its estimate's rotation gradient
-// (gather.comp),
-// shared by the interpolation and the receivers' refinement. The including shader declares
-// gathered, rotationGradients and leafOfSurfel as texel buffers, and the node texels.
+// (gather.comp), shared by the interpolation and the receivers' refinement. The including shader
+// declares gathered, rotationGradients and leafOfSurfel as texel buffers, and the node texels.
 
 // Receiver r's irradiance turned to normal n: G + (n_r × n)·∇G per channel (at its own normal, G).
 vec3 turnedIrradiance(uint r, vec3 n) {
