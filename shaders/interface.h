@@ -58,7 +58,7 @@ struct CountPush {
 #ifdef __cplusplus
 static_assert(sizeof(Vertex) == 64 && sizeof(Instance) == 32 && sizeof(Material) == 16 * kMaterialTexels &&
               sizeof(Surfel) == 48);
-static_assert(sizeof(NodeState) == 48 && sizeof(PunctualLight) == 64 && sizeof(RasterPush) == 20 &&
+static_assert(sizeof(NodeState) == 48 && sizeof(PunctualLight) == 64 && sizeof(RasterPush) == 24 &&
               sizeof(ResolvePush) == 96);
 #undef IVGI_CONST
 #undef IVGI_FN

@@ -192,11 +192,11 @@ PlacedPart placed(const scene::MapMeshes::Part& part, const glm::mat4& matrix) {
 
 }  // namespace
 
-DirectLight::Layer::Layer(const vk::Context& ctx, scene::MapMeshes m, vk::Allocations* tally)
+DirectLight::Layer::Layer(const vk::Context& ctx, scene::MapMeshes m, uint32_t viewCount, vk::Allocations* tally)
     : meshes(std::move(m)),
       drawn(meshes.draw({})),
       triangles(vk::makeBuffer(ctx, drawn, vk::Memory::Device, tally)),
-      raster(ctx, uint32_t(meshes.exactCount()), tally, true) {}
+      raster(ctx, uint32_t(meshes.exactCount()), tally, true, viewCount) {}
 
 bool DirectLight::Layer::choose(const std::vector<float>& errors) {
   std::vector<scene::Triangle> now = meshes.draw(errors);
@@ -212,7 +212,8 @@ bool DirectLight::Layer::choose(const std::vector<float>& errors) {
 void DirectLight::Layer::record(VkCommandBuffer cmd, const vk::Bindings& frame, const vk::Buffer& views,
                                 uint32_t viewCount, glm::uvec2 size, const vk::Buffer& target, bool clear,
                                 uint32_t firstView) const {
-  raster.record(cmd, frame.with({{"triangles", triangles}}), views, viewCount, size, target, clear, firstView);
+  raster.record(cmd, vk::Bindings::pool({{"triangles", triangles}}).plus(frame), views, viewCount, size, target, clear,
+                firstView);
 }
 
 DirectLight::DirectLight(const vk::Context& ctx, const scene::Geometry& g, std::vector<gpu::EmitterSample> samples,
@@ -250,11 +251,11 @@ DirectLight::DirectLight(const vk::Context& ctx, const scene::Geometry& g, std::
   // The maps draw each surface as its shape, not as finely as the surfels sample it.
   if (splitsStatic_) {
     const auto [still, moves] = byMotion(g, moving);
-    still_.emplace(ctx, scene::MapMeshes(g, still), tally);
-    moving_.emplace(ctx, scene::MapMeshes(g, moves), tally);
+    still_.emplace(ctx, scene::MapMeshes(g, still), viewCount_, tally);
+    moving_.emplace(ctx, scene::MapMeshes(g, moves), viewCount_, tally);
     if (!moves.empty()) staticDepth_ = vk::Buffer(ctx, depth_.size(), vk::Memory::Device, tally);
   } else {
-    all_.emplace(ctx, scene::MapMeshes(g, g.triangles), tally);
+    all_.emplace(ctx, scene::MapMeshes(g, g.triangles), viewCount_, tally);
   }
   instances_ = g.instances;
   for (uint32_t i = 0; i < sampleCount_; ++i) {
@@ -385,6 +386,10 @@ std::pair<size_t, size_t> DirectLight::trianglesDrawn() const {
   for (const std::optional<Layer>* layer : {&all_, &still_, &moving_})
     if (*layer) drawn.first += (*layer)->drawn.size(), drawn.second += (*layer)->meshes.triangleCount();
   return drawn;
+}
+
+std::pair<uint32_t, uint32_t> DirectLight::movingViewsDrawn() const {
+  return {moving_ && moving_->meshes.exactCount() > 0 ? moving_->raster.viewsDrawn() : 0u, viewCount_};
 }
 
 void DirectLight::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bindings& frame, bool geometryMoved) {

@@ -89,6 +89,11 @@ class DirectLight {
   uint32_t resolution() const { return settings_.resolution; }
   // The triangles the maps were last drawn from, of those of the scene they stand for.
   std::pair<size_t, size_t> trianglesDrawn() const;
+  // Of the maps' views, those the moving triangles were last drawn into (read back; none where
+  // nothing moves), and how many the maps hold.
+  std::pair<uint32_t, uint32_t> movingViewsDrawn() const;
+  // The depth maps, view after view (resolution² floats each).
+  const vk::Buffer& depthMaps() const { return depth_; }
   // The samples as the frame placed them, their views and depth maps, the surfels' direct light, by
   // the names the shaders that look them up bind them under (direct_light.glsl).
   vk::Bindings pool() const {
@@ -111,7 +116,7 @@ class DirectLight {
   // The triangles one raster draws into the maps: its instances' meshes, the triangles drawn of them
   // (chosen each frame), and the buffer that holds those.
   struct Layer {
-    Layer(const vk::Context& ctx, scene::MapMeshes meshes, vk::Allocations* tally);
+    Layer(const vk::Context& ctx, scene::MapMeshes meshes, uint32_t viewCount, vk::Allocations* tally);
     // Draws each part within `errors` (MapMeshes::draw); true where that changed the triangles.
     bool choose(const std::vector<float>& errors);
     void record(VkCommandBuffer cmd, const vk::Bindings& frame, const vk::Buffer& views, uint32_t viewCount,

@@ -15,13 +15,19 @@ constexpr uint32_t kTilesPerSlice = 448;
 
 }  // namespace
 
-Raster::Raster(const vk::Context& ctx, uint32_t triangleCount, vk::Allocations* tally, bool depthOnly)
+Raster::Raster(const vk::Context& ctx, uint32_t triangleCount, vk::Allocations* tally, bool depthOnly,
+               uint32_t maxViews)
     : capacity_(triangleCount),
       triangleCount_(triangleCount),
+      maxViews_(maxViews),
       depthOnly_(depthOnly),
+      bounds_(shaderProgram(ctx, "drawn_bounds")),
+      views_(shaderProgram(ctx, "drawn_views")),
       slices_(shaderProgram(ctx, "raster_slices", {.constants = {{"kTilesPerSlice", kTilesPerSlice}}})),
       raster_(shaderProgram(ctx, "raster",
                             {.constants = {{"kTilesPerSlice", kTilesPerSlice}, {"kDepthOnly", depthOnly ? 1u : 0u}}})) {
+  box_ = vk::Buffer(ctx, 6 * sizeof(uint32_t), vk::Memory::Device, tally);
+  drawnViews_ = vk::Buffer(ctx, (1 + uint64_t(maxViews)) * sizeof(uint32_t), vk::Memory::Device, tally);
   args_ = vk::Buffer(ctx, 3 * sizeof(uint32_t), vk::Memory::Device, tally);
   unused_ = vk::Buffer(ctx, 16, vk::Memory::Device, tally);
 }
@@ -34,16 +40,32 @@ void Raster::setTriangleCount(uint32_t count) {
 
 void Raster::record(VkCommandBuffer cmd, const vk::Bindings& scene, const vk::Buffer& views, uint32_t viewCount,
                     glm::uvec2 size, const vk::Buffer& target, bool clear, uint32_t firstView) const {
-  const gpu::RasterPush push{
-      .size = size, .triangleCount = triangleCount_, .viewCount = viewCount, .firstView = firstView};
+  if (viewCount > maxViews_)
+    throw std::logic_error("Raster: " + std::to_string(viewCount) + " views, made for " + std::to_string(maxViews_));
+  const bool cull = viewCount > 1;  // one view is the camera's, which sees the scene
+  const gpu::RasterPush push{.size = size,
+                             .triangleCount = triangleCount_,
+                             .viewCount = viewCount,
+                             .firstView = firstView,
+                             .cull = cull ? 1u : 0u};
   if (clear) vk::fillBuffer(cmd, target, 0xFFFFFFFFu);
   const vk::Groups groups = raster_.groupsFor(triangleCount_, 64);
-  const uint32_t args[3] = {groups.x, groups.y, viewCount};  // a slice a view, until raster_slices counts
+  const uint32_t args[3] = {groups.x, groups.y, 0};  // z: the views drawn (drawn_views), their slices (raster_slices)
   vk::updateBuffer(cmd, args_, 0, sizeof args, args);
-  slices_.dispatchItems(cmd, triangleCount_, scene.with({{"views", views}, {"rasterArgs", args_}}), push);
+  const vk::Bindings buffers =
+      vk::Bindings::pool({{"views", views}, {"drawnBox", box_}, {"drawnViews", drawnViews_}, {"rasterArgs", args_}})
+          .plus(scene);
+  if (cull) {
+    vk::fillBuffer(cmd, box_, 0xFFFFFFFFu, 0, 3 * sizeof(uint32_t));  // min: the largest
+    vk::fillBuffer(cmd, box_, 0u, 3 * sizeof(uint32_t), 3 * sizeof(uint32_t));
+    bounds_.dispatchItems(cmd, triangleCount_, buffers, push);
+  }
+  views_.dispatch(cmd, {}, buffers, push);
+  slices_.dispatchItems(cmd, triangleCount_, buffers, push);
   const vk::Buffer &keys = depthOnly_ ? unused_ : target, &depths = depthOnly_ ? target : unused_;
-  raster_.dispatchIndirect(cmd, args_, 0, scene.with({{"views", views}, {"visibility", keys}, {"depths", depths}}),
-                           push);
+  raster_.dispatchIndirect(cmd, args_, 0, buffers.with({{"visibility", keys}, {"depths", depths}}), push);
 }
+
+uint32_t Raster::viewsDrawn() const { return drawnViews_.read<uint32_t>(1)[0]; }
 
 }  // namespace ivgi::gi

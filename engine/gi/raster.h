@@ -1,7 +1,9 @@
 #pragma once
-// The raster (shaders/frame/raster_slices.comp, raster.comp): the nearest triangle at every sample of
-// one or more views, as 64-bit depth and triangle keys, the views one after another in the target.
-// The camera's view is one; a light's depth maps are the faces of a cube around each of its samples.
+// The raster (shaders/frame/drawn_bounds.comp, drawn_views.comp, raster_slices.comp, raster.comp):
+// the nearest triangle at every sample of one or more views, as 64-bit depth and triangle keys, the
+// views one after another in the target. The camera's view is one; a light's depth maps are the
+// faces of a cube around each of its samples. Where it draws many views, those that the triangles'
+// bounding box cannot reach are left out.
 #include "engine/vk/buffer.h"
 #include "engine/vk/program.h"
 #include "shaders/interface.h"
@@ -11,8 +13,9 @@ namespace ivgi::gi {
 class Raster {
  public:
   // `depthOnly`: the target holds each sample's nearest depth as 32-bit float bits (depth maps);
-  // else 64-bit depth and triangle keys.
-  Raster(const vk::Context& ctx, uint32_t triangleCount, vk::Allocations* tally, bool depthOnly = false);
+  // else 64-bit depth and triangle keys. `maxViews`: the most views one record draws.
+  Raster(const vk::Context& ctx, uint32_t triangleCount, vk::Allocations* tally, bool depthOnly = false,
+         uint32_t maxViews = 1);
 
   // The triangles the next records draw: the first `count` of the scene's, at most as many as made for.
   void setTriangleCount(uint32_t count);
@@ -24,12 +27,17 @@ class Raster {
   void record(VkCommandBuffer cmd, const vk::Bindings& scene, const vk::Buffer& views, uint32_t viewCount,
               glm::uvec2 size, const vk::Buffer& target, bool clear = true, uint32_t firstView = 0) const;
 
+  // How many views the last record drew into (read back; for tests).
+  uint32_t viewsDrawn() const;
+
  private:
-  uint32_t capacity_, triangleCount_;
+  uint32_t capacity_, triangleCount_, maxViews_;
   bool depthOnly_;
-  vk::Program slices_, raster_;
-  vk::Buffer args_;    // the raster's dispatch: its x and y for the triangles, its z counted by raster_slices
-  vk::Buffer unused_;  // bound where the shader's other target is not written
+  vk::Program bounds_, views_, slices_, raster_;
+  vk::Buffer box_;         // the triangles' bounding box (drawn_bounds)
+  vk::Buffer drawnViews_;  // how many views are drawn, then which (drawn_views)
+  vk::Buffer args_;        // the raster's dispatch: its x and y for the triangles, its z counted by raster_slices
+  vk::Buffer unused_;      // bound where the shader's other target is not written
 };
 
 }  // namespace ivgi::gi

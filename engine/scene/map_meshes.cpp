@@ -34,13 +34,26 @@ double distanceToTriangle(glm::dvec3 p, glm::dvec3 a, glm::dvec3 b, glm::dvec3 c
 
 namespace {
 
+// The maps' raster takes triangles 64 to a workgroup and judges each workgroup's bounds against a
+// light's views: triangles listed in meshoptimizer's spatial order (of their centres along a
+// Morton curve) keep each workgroup's bounds to a patch of the surface, which few views reach.
+void sortSpatially(std::vector<uint32_t>& corners, const float* positions, size_t count, size_t stride) {
+  std::vector<uint32_t> sorted(corners.size());
+  meshopt_spatialSortTriangles(sorted.data(), corners.data(), corners.size(), positions, count, stride);
+  corners = std::move(sorted);
+}
+
 // A part of `triangles`, all of one instance.
 MapMeshes::Part partOf(const Geometry& g, uint32_t instance, const std::vector<Triangle>& triangles) {
   MapMeshes::Part part;
   part.instance = instance;
   part.rigid = !g.instances[instance].skinned && g.instances[instance].morphTargets == 0;
-  part.exact = planarFaces(g, triangles);
   part.material = triangles.front().material;
+  std::vector<uint32_t> exact;
+  for (const Triangle& t : planarFaces(g, triangles)) exact.insert(exact.end(), {t.v0, t.v1, t.v2});
+  sortSpatially(exact, &g.vertices[0].position.x, g.vertices.size(), sizeof(Vertex));
+  for (size_t i = 0; i < exact.size(); i += 3)
+    part.exact.push_back({exact[i], exact[i + 1], exact[i + 2], part.material});
   // Vertices of one position are one corner, so the simplification may collapse across the seams
   // of normals and texture coordinates, which the maps do not draw.
   std::map<std::tuple<float, float, float>, uint32_t> welded;
@@ -161,6 +174,7 @@ const std::vector<Triangle>& MapMeshes::level(Part& part, int k) {
       break;
     }
   }
+  sortSpatially(kept, &part.positions[0].x, part.positions.size(), sizeof(glm::vec3));
   std::vector<Triangle>& simplified = at->second;
   for (size_t i = 0; i + 2 < kept.size(); i += 3)
     simplified.push_back(

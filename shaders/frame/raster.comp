@@ -1,7 +1,7 @@
 #version 460
-// The raster pass: each invocation takes a triangle and projects it into one view (a camera, or a
-// face of a light's cube of depth maps): workgroups z are the views, each in as many slices as the
-// largest bounds need. One whose screen bounds
+// The raster pass, last: each invocation takes a triangle and projects it into one view (a camera,
+// or a face of a light's cube of depth maps): workgroups z are the views drawn_views listed, each in
+// as many slices as the largest bounds need (raster_slices). One whose screen bounds
 // hold at most kSmallBounds samples it walks itself, sample by sample; the workgroup walks each
 // larger one together, in 8×8 tiles (no integer division in the loops: lavapipe divides one lane
 // at a time). At every sample the camera ray through its centre is cast and the nearest hit kept
@@ -22,8 +22,10 @@ layout(constant_id = 1) const bool kDepthOnly = false;
 layout(binding = 0, rgba32f) readonly uniform imageBuffer world;           // WorldVertex: position, normal
 layout(binding = 1, rgba32ui) readonly uniform uimageBuffer triangles;     // Triangle
 layout(std430, binding = 2) buffer Visibility { uint64_t visibility[]; };  // view after view
-layout(std430, binding = 3) readonly buffer Views { Camera views[]; };     // a view whose near is < 0: none
-layout(std430, binding = 4) buffer Depths { uint depths[]; };              // kDepthOnly: the depth's float bits
+layout(std430, binding = 3) readonly buffer Views { Camera views[]; };
+layout(std430, binding = 4) buffer Depths { uint depths[]; };  // kDepthOnly: the depth's float bits
+// The views drawn (drawn_views): their count, then each one's index in `views`.
+layout(std430, binding = 5) readonly buffer DrawnViews { uint drawnViews[]; };
 layout(push_constant) uniform Push { RasterPush push; };
 #include "raster_bounds.glsl"
 
@@ -47,10 +49,9 @@ void castSample(uint tri, Projected t, ivec2 px) {
 }
 
 void main() {
-  const uint slices = gl_NumWorkGroups.z / push.viewCount, drawn = gl_WorkGroupID.z / slices,
-             slice = gl_WorkGroupID.z - drawn * slices, view = push.firstView + drawn;
+  const uint slices = gl_NumWorkGroups.z / drawnViews[0], drawn = gl_WorkGroupID.z / slices,
+             slice = gl_WorkGroupID.z - drawn * slices, view = drawnViews[1u + drawn];
   camera = views[view];
-  if (camera.origin.w < 0.0) return;  // the whole workgroup: no view
   viewStart = view * push.size.x * push.size.y;
   const uint lid = gl_LocalInvocationID.x;
   if (lid == 0u) largeCount = 0u;

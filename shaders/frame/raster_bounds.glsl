@@ -1,21 +1,9 @@
-// A triangle's bounds in a view and how the rasteriser walks them (raster.comp, raster_slices.comp).
-// Expects `world`, `triangles`, `views` and `push` (RasterPush) declared before it.
+// A triangle's bounds in a view and how the rasteriser walks them (raster.comp, raster_slices.comp,
+// drawn_bounds.comp). Expects `world`, `triangles` and `push` (RasterPush) declared before it.
+#include "view_bounds.glsl"
 
 // Bounds holding at most this many samples are walked by the triangle's own invocation.
 const int kSmallBounds = 256;
-// Samples of slack around a triangle's projected bounds: float rounding there is far below it.
-const float kBoundsSlack = 1.0 / 16.0;
-
-// Sample-space x/y of a world point at distance z (> 0) along the view's forward axis (an
-// orthographic view's do not depend on z).
-vec2 projectAt(Camera camera, vec3 p, float z) {
-  const vec3 d = p - camera.origin.xyz;
-  const vec2 ndc = vec2(dot(d, camera.right.xyz) / dot(camera.right.xyz, camera.right.xyz),
-                        dot(d, camera.up.xyz) / dot(camera.up.xyz, camera.up.xyz)) /
-                   (camera.up.w == kOrthographic ? 1.0 : z);
-  return vec2((ndc.x + 1.0) * 0.5 * float(push.size.x), (1.0 - ndc.y) * 0.5 * float(push.size.y));
-}
-
 // A triangle's corners, from the world vertices.
 struct Corners {
   vec3 a, b, c;
@@ -24,17 +12,6 @@ Corners cornersOf(uint tri) {
   const uvec4 v = imageLoad(triangles, int(tri));
   return Corners(imageLoad(world, int(2u * v.x)).xyz, imageLoad(world, int(2u * v.y)).xyz,
                  imageLoad(world, int(2u * v.z)).xyz);
-}
-
-// The samples whose centres (x + 0.5) lie within sample-space bounds [mn, mx], widened by
-// kBoundsSlack for the rounding between the projection and the ray test that decides: a triangle
-// smaller than a sample mostly walks none. Empty (hi < lo) where nothing of them is on screen.
-void boundsOf(vec2 mn, vec2 mx, out ivec2 lo, out ivec2 hi) {
-  const vec2 far = vec2(push.size) + 2.0;  // past it, bounds convert to int safely and stay off screen
-  lo = max(ivec2(0), ivec2(ceil(clamp(mn - 0.5 - kBoundsSlack, vec2(-2.0), far))));
-  hi = min(ivec2(push.size) - 1, ivec2(floor(clamp(mx - 0.5 + kBoundsSlack, vec2(-2.0), far))));
-  if (mx.x < -1.0 || mx.y < -1.0 || mn.x > float(push.size.x) + 1.0 || mn.y > float(push.size.y) + 1.0)
-    hi = ivec2(-1);  // off screen, or wholly behind the near plane (mn > mx)
 }
 
 // A triangle's corners and its screen bounds (empty: nothing of it on screen).
@@ -88,4 +65,22 @@ Slicing slicing(Projected t, int tilesPerSlice) {
 bool isLarge(Projected t) {
   const ivec2 extent = t.hi - t.lo + 1;
   return all(greaterThan(extent, ivec2(0))) && extent.x * extent.y > kSmallBounds;
+}
+
+// The box around the workgroup's triangles (min x, y, z, max x, y, z as orderedBits). Every
+// invocation calls it (it holds barriers); `has`: whether k is a triangle.
+shared uint groupBox[6];
+void gatherGroupBox(bool has, Corners k, out vec3 lo, out vec3 hi) {
+  const uint lid = gl_LocalInvocationID.x;
+  if (lid < 6u) groupBox[lid] = lid < 3u ? 0xFFFFFFFFu : 0u;
+  barrier();
+  if (has)
+    for (int axis = 0; axis < 3; ++axis) {
+      atomicMin(groupBox[axis], orderedBits(min(k.a[axis], min(k.b[axis], k.c[axis]))));
+      atomicMax(groupBox[3 + axis], orderedBits(max(k.a[axis], max(k.b[axis], k.c[axis]))));
+    }
+  barrier();
+  lo = vec3(fromOrderedBits(groupBox[0]), fromOrderedBits(groupBox[1]), fromOrderedBits(groupBox[2]));
+  hi = vec3(fromOrderedBits(groupBox[3]), fromOrderedBits(groupBox[4]), fromOrderedBits(groupBox[5]));
+  if (groupBox[0] > groupBox[3]) lo = vec3(3.4e38), hi = vec3(-3.4e38);  // no triangle
 }

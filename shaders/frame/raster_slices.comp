@@ -1,8 +1,9 @@
 #version 460
-// The raster pass, first: how many workgroups in z the raster needs, the slices of the largest
-// triangle bounds in any of its views (raster.comp walks at most kTilesPerSlice tiles of a
-// triangle in one workgroup), times the views. Counted for the image's size instead, a finely
-// supersampled frame of small triangles would start tens of idle workgroups for every 64 triangles.
+// The raster pass, second: how many workgroups in z the raster needs, the slices of the largest
+// triangle bounds in any of the views drawn_views listed (raster.comp walks at most kTilesPerSlice
+// tiles of a triangle in one workgroup), times those views. Counted for the image's size instead, a
+// finely supersampled frame of small triangles would start tens of idle workgroups for every 64
+// triangles.
 #extension GL_GOOGLE_include_directive : require
 #include "common/common.glsl"
 layout(local_size_x = 64) in;
@@ -12,52 +13,22 @@ layout(binding = 0, rgba32f) readonly uniform imageBuffer world;        // World
 layout(binding = 1, rgba32ui) readonly uniform uimageBuffer triangles;  // Triangle
 // The raster's VkDispatchIndirectCommand (x, y as the triangles need; z: the views, raised here).
 layout(std430, binding = 2) buffer RasterArgs { uint rasterArgs[]; };
-layout(std430, binding = 3) readonly buffer Views { Camera views[]; };  // a view whose near is < 0: none
+layout(std430, binding = 3) readonly buffer Views { Camera views[]; };
+layout(std430, binding = 4) readonly buffer DrawnViews { uint drawnViews[]; };  // the count, then the views
 layout(push_constant) uniform Push { RasterPush push; };
 #include "raster_bounds.glsl"
 
-shared uint groupBox[6];     // min x, y, z, max x, y, z as orderedBits
 shared uint largeViews[64];  // of the views judged together, those that may hold large bounds
 shared uint largeViewCount;
 
-// The box around the workgroup's triangles. Every invocation calls it (it holds barriers); `has`:
-// whether k is a triangle.
-void gatherGroupBox(bool has, Corners k, out vec3 lo, out vec3 hi) {
-  const uint lid = gl_LocalInvocationID.x;
-  if (lid < 6u) groupBox[lid] = lid < 3u ? 0xFFFFFFFFu : 0u;
-  barrier();
-  if (has)
-    for (int axis = 0; axis < 3; ++axis) {
-      atomicMin(groupBox[axis], orderedBits(min(k.a[axis], min(k.b[axis], k.c[axis]))));
-      atomicMax(groupBox[3 + axis], orderedBits(max(k.a[axis], max(k.b[axis], k.c[axis]))));
-    }
-  barrier();
-  lo = vec3(fromOrderedBits(groupBox[0]), fromOrderedBits(groupBox[1]), fromOrderedBits(groupBox[2]));
-  hi = vec3(fromOrderedBits(groupBox[3]), fromOrderedBits(groupBox[4]), fromOrderedBits(groupBox[5]));
-  if (groupBox[0] > groupBox[3]) lo = vec3(3.4e38), hi = vec3(-3.4e38);  // no triangle
-}
-
-// Whether any triangle in the box [lo, hi] may have large bounds in `camera`'s view. Where the whole
-// box lies beyond the near plane, a triangle in it projects within the box's projection (a convex
-// hull in front of the camera projects to the hull of its corners' projections), so neither is
-// on screen and large where the box's bounds are not. One across the near plane may hold them.
+// Whether any triangle in the box [lo, hi] may have large bounds in `camera`'s view: one across the
+// near plane may; else a triangle in it is on screen and large only where the box's bounds are.
 bool mayHoldLargeBounds(Camera camera, vec3 lo, vec3 hi) {
-  if (camera.origin.w < 0.0 || lo.x > hi.x) return false;  // no view, or no triangle
-  vec2 mn = vec2(3.4e38), mx = vec2(-3.4e38);
-  uint beyond = 0u;  // corners beyond the near plane
-  for (int i = 0; i < 8; ++i) {
-    const vec3 p = vec3((i & 1) != 0 ? hi.x : lo.x, (i & 2) != 0 ? hi.y : lo.y, (i & 4) != 0 ? hi.z : lo.z);
-    const float z = dot(p - camera.origin.xyz, camera.forward.xyz);
-    if (z > camera.origin.w) {
-      const vec2 s = projectAt(camera, p, z);
-      mn = min(mn, s), mx = max(mx, s), ++beyond;
-    }
-  }
-  if (beyond < 8u) return beyond > 0u;  // wholly behind the near plane: nothing of it in view
+  bool across;
   ivec2 blo, bhi;
-  boundsOf(mn, mx, blo, bhi);
+  if (!boxInView(camera, lo, hi, across, blo, bhi)) return false;
   const ivec2 extent = bhi - blo + 1;
-  return all(greaterThan(extent, ivec2(0))) && extent.x * extent.y > kSmallBounds;
+  return across || extent.x * extent.y > kSmallBounds;
 }
 
 void main() {
@@ -71,11 +42,12 @@ void main() {
   // 64 views at a time, each judged by one invocation for the whole workgroup: a triangle is
   // projected only into the views where its group's box may hold large bounds, listed (a loop over
   // every view, even one that does nothing, costs lavapipe more than the projections it saves).
-  for (uint base = 0u; base < push.viewCount; base += 64u) {
+  const uint listed = drawnViews[0];
+  for (uint base = 0u; base < listed; base += 64u) {
     if (lid == 0u) largeViewCount = 0u;
     barrier();
-    const uint view = push.firstView + base + lid;
-    if (base + lid < push.viewCount && mayHoldLargeBounds(views[view], lo, hi))
+    const uint view = base + lid < listed ? drawnViews[1u + base + lid] : 0u;
+    if (base + lid < listed && mayHoldLargeBounds(views[view], lo, hi))
       largeViews[atomicAdd(largeViewCount, 1u)] = view;
     barrier();
     for (uint n = 0u; has && n < largeViewCount; ++n) {
@@ -86,5 +58,5 @@ void main() {
     }
     barrier();  // before the next views' judging
   }
-  if (slices > 1u) atomicMax(rasterArgs[2], slices * push.viewCount);
+  if (slices > 1u) atomicMax(rasterArgs[2], slices * listed);
 }

@@ -218,11 +218,12 @@ IVGI_CONST uint kCubeFaces = 6u;
 
 // ---- Push constants of the frame's passes ----
 
-struct RasterPush {  // raster_slices, raster
+struct RasterPush {  // drawn_bounds, drawn_views, raster_slices, raster
   uvec2 size;        // a view's image in samples
   uint triangleCount;
   uint viewCount;  // the views drawn, from `firstView` on (the target's other views are left as they are)
   uint firstView;
+  uint cull;  // 1: drawn_views lists only the views that the triangles' box reaches
 };
 struct ResolvePush {  // resolve
   Camera camera;

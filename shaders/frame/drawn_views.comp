@@ -1,0 +1,44 @@
+#version 460
+// The raster pass, first: the views it draws, in order, and its dispatch's z (raster_slices raises
+// it where large triangles need slices). Of the views from `firstView` on, those that are views at
+// all; where many are drawn (`cull`), only those that the drawn triangles' box reaches
+// (drawn_bounds), so that a moving object drawn over the still maps starts no workgroups in the
+// cube faces that cannot see it. One workgroup.
+#extension GL_GOOGLE_include_directive : require
+#include "common/common.glsl"
+layout(local_size_x = 64) in;
+
+layout(std430, binding = 0) readonly buffer Views { Camera views[]; };  // a view whose near is < 0: none
+layout(std430, binding = 1) readonly buffer DrawnBox { uint drawnBox[6]; };
+layout(std430, binding = 2) writeonly buffer DrawnViews { uint drawnViews[]; };  // the count, then the views
+layout(std430, binding = 3) writeonly buffer RasterArgs { uint rasterArgs[]; };
+layout(push_constant) uniform Push { RasterPush push; };
+#include "view_bounds.glsl"
+
+shared bool drawnHere[64];
+
+void main() {
+  const uint lid = gl_LocalInvocationID.x;
+  const vec3 lo = vec3(fromOrderedBits(drawnBox[0]), fromOrderedBits(drawnBox[1]), fromOrderedBits(drawnBox[2])),
+             hi = vec3(fromOrderedBits(drawnBox[3]), fromOrderedBits(drawnBox[4]), fromOrderedBits(drawnBox[5]));
+  const bool empty = drawnBox[0] > drawnBox[3];  // no triangle
+  uint listed = 0u;
+  // 64 views at a time, judged one an invocation, listed in order by the first.
+  for (uint base = 0u; base < push.viewCount; base += 64u) {
+    const uint view = push.firstView + base + lid;
+    bool drawn = false;
+    if (base + lid < push.viewCount) {
+      bool across;
+      ivec2 blo, bhi;
+      drawn = views[view].origin.w >= 0.0 &&
+              (push.cull == 0u || (!empty && boxInView(views[view], lo, hi, across, blo, bhi)));
+    }
+    drawnHere[lid] = drawn;
+    barrier();
+    if (lid == 0u)
+      for (uint t = 0u; t < 64u; ++t)
+        if (drawnHere[t]) drawnViews[1u + listed++] = push.firstView + base + t;
+    barrier();
+  }
+  if (lid == 0u) drawnViews[0] = listed, rasterArgs[2] = listed;
+}
