@@ -59,7 +59,7 @@ struct CountPush {
 static_assert(sizeof(Vertex) == 64 && sizeof(Instance) == 32 && sizeof(Material) == 16 * kMaterialTexels &&
               sizeof(Surfel) == 48);
 static_assert(sizeof(NodeState) == 48 && sizeof(PunctualLight) == 64 && sizeof(RasterPush) == 24 &&
-              sizeof(ResolvePush) == 96);
+              sizeof(DirectLightPush) == 80 && sizeof(ResolvePush) == 96);
 #undef IVGI_CONST
 #undef IVGI_FN
 #undef IVGI_OUT

@@ -552,10 +552,62 @@ TEST(DirectLight, StaticTrianglesDrawnOnceGiveTheMapsDrawnWhole) {
       seeing += std::any_of(wholeDepths.begin() + v * side, wholeDepths.begin() + (v + 1) * side,
                             [](uint32_t d) { return d != 0xFFFFFFFFu; });
     EXPECT_EQ(seeing, 5 * views / 6) << "time " << time;
-    const uint32_t drawn = split.directLight()->movingViewsDrawn().first;
-    std::printf("[ direct ] time %.2f: the moving block drawn into %u of the maps' %zu views\n", time, drawn, views);
+    const uint32_t drawn = split.directLight()->movingViewsDrawn().first, lit = split.directLight()->surfelsLit();
+    std::printf("[ direct ] time %.2f: the moving block drawn into %u of the maps' %zu views; %u of %zu surfels lit\n",
+                time, drawn, views, lit, a.size());
     EXPECT_GT(drawn, 0u);
     EXPECT_LT(2 * drawn, views);
+    EXPECT_EQ(whole.directLight()->surfelsLit(), a.size());
+    if (time == 0.0f)
+      EXPECT_EQ(lit, a.size());  // the first frame lights every surfel
+    else
+      EXPECT_LT(lit, a.size());
+  }
+}
+
+// A ball that moves fast between a lamp and a floor: each frame relights only the surfels whose
+// lookups the ball can reach, now or where the maps last drew it, and every surfel's light is that
+// of the maps drawn whole and every surfel lit, bit for bit, as its shadow and penumbra sweep over
+// the floor.
+TEST(DirectLight, AMovingShadowRelightsOnlyTheSurfelsItCanReach) {
+  scenes::GltfBuilder b;
+  const int grey = b.material("grey", glm::vec3(0.5f)), lamp = b.material("lamp", glm::vec3(0.0f), glm::vec3(10.0f));
+  scenes::MeshData floor, light, ball = test::ball(24, 0.1f, glm::vec3(0.0f));
+  scenes::addQuad(floor, {-2, 0, -2}, {2, 0, -2}, {2, 0, 2}, {-2, 0, 2}, 48, 48, {0, 1, 0});
+  scenes::addQuad(light, {-0.2f, 1.5f, -0.2f}, {0.2f, 1.5f, -0.2f}, {0.2f, 1.5f, 0.2f}, {-0.2f, 1.5f, 0.2f}, 1, 1,
+                  {0, -1, 0});
+  b.node("floor", b.mesh("floor", {{floor, grey}}));
+  b.node("lamp", b.mesh("lamp", {{light, lamp}}));
+  const int moving = b.node("ball", b.mesh("ball", {{ball, grey}}), {-0.6f, 0.6f, 0.0f});
+  b.animate("ball moves", moving, "translation", {0.0f, 1.0f}, {-0.6f, 0.6f, 0.0f, 0.6f, 0.6f, 0.2f});
+  scene::Scene s = scene::sceneFromModel(b.finish(), "test");
+  scene::Geometry g = scene::buildGeometry(s, 8);
+  const gi::DirectLightSettings settings{.samples = 16, .resolution = 256};
+  gi::FrameRenderer split(test::gpu(), g, {16, 16, 1}, nullptr, settings, scene::movingInstances(s, g, 0));
+  gi::FrameRenderer whole(test::gpu(), g, {16, 16, 1}, nullptr, settings);
+  std::vector<glm::vec4> before;
+  for (float time : {0.0f, 0.2f, 0.4f, 0.6f, 0.8f}) {
+    const auto pose = scene::evaluatePose(s, 0, time);
+    const auto inputs = g.frameInputs(s, pose);
+    const auto view = test::framing(g, inputs);
+    split.render(inputs, view);
+    whole.render(inputs, view);
+    const auto a = split.directLight()->surfelDirect().read<glm::vec4>(g.surfels.size()),
+               c = whole.directLight()->surfelDirect().read<glm::vec4>(g.surfels.size());
+    size_t changed = 0;
+    for (size_t i = 0; i < a.size(); ++i) {
+      ASSERT_EQ(a[i], c[i]) << "time " << time << ", surfel " << i;
+      changed += !before.empty() && c[i] != before[i] ? 1 : 0;
+    }
+    before = c;
+    const uint32_t lit = split.directLight()->surfelsLit();
+    std::printf("[ direct ] time %.1f: %u of %zu surfels lit, %zu changed\n", time, lit, a.size(), changed);
+    if (time == 0.0f) {
+      EXPECT_EQ(lit, a.size());
+    } else {
+      EXPECT_GT(changed, 500u) << "time " << time;  // the shadow moved
+      EXPECT_LT(lit, a.size() * 3 / 5) << "time " << time;
+    }
   }
 }
 

@@ -212,6 +212,12 @@ int runBench(const BenchOptions& o) {
                   damped, *std::min_element(damping.begin(), damping.end()),
                   std::count(diverged.begin(), diverged.end(), 1.0));
   }
+  if (const gi::DirectLight* direct = renderer.directLight()) {
+    // Where only moving objects were drawn again, the surfels whose light they can have changed.
+    const auto [drawn, views] = direct->movingViewsDrawn();
+    std::printf("\ndirect light: the last frame lit %u of %zu surfels", direct->surfelsLit(), g.surfels.size());
+    if (drawn > 0) std::printf(" and drew the moving objects into %u of the maps' %u views", drawn, views);
+  }
   const double hostPeak = hostPeakMiB();
   std::printf("\nbytes allocated: %llu (%.1f MiB) on the device; host peak %.1f MiB resident\n",
               (unsigned long long)bytes, double(bytes) / (1 << 20), hostPeak);

@@ -267,6 +267,7 @@ DirectLight::DirectLight(const vk::Context& ctx, const scene::Geometry& g, std::
   sceneBounds_ = vk::Buffer(ctx, 6 * sizeof(uint32_t), vk::Memory::Device, tally);
   surfelDirect_ = vk::Buffer(ctx, std::max(surfelCount_, 1u) * sizeof(glm::vec4), vk::Memory::Device, tally);
   surfelUnshadowed_ = vk::Buffer(ctx, surfelDirect_.size(), vk::Memory::Device, tally);
+  surfelsLit_ = vk::Buffer(ctx, sizeof(uint32_t), vk::Memory::Device, tally);
 }
 
 void DirectLight::setFrame(const scene::FrameInputs& pose, const std::vector<gpu::PunctualLight>& lights,
@@ -309,6 +310,17 @@ std::vector<glm::vec4> cascadeSpheres(const gpu::Camera& camera, glm::dvec3 scen
   return spheres;
 }
 
+// A sphere around spheres (centre, radius; a point's radius is 0): centred on their box, out to the
+// farthest.
+glm::vec4 sphereAround(const std::vector<glm::dvec4>& spheres) {
+  scene::Bounds box;
+  for (const glm::dvec4& s : spheres) box.add(glm::vec3(glm::dvec3(s) - s.w)), box.add(glm::vec3(glm::dvec3(s) + s.w));
+  const glm::dvec3 centre = 0.5 * (glm::dvec3(box.min) + glm::dvec3(box.max));
+  double radius = 0.0;
+  for (const glm::dvec4& s : spheres) radius = std::max(radius, glm::length(glm::dvec3(s) - centre) + s.w);
+  return glm::vec4(glm::vec3(centre), float(radius));
+}
+
 }  // namespace
 
 void DirectLight::chooseMeshes(const std::vector<glm::mat4>& matrices, const gpu::Camera& camera) {
@@ -342,6 +354,20 @@ void DirectLight::chooseMeshes(const std::vector<glm::mat4>& matrices, const gpu
     }
   }
   if (!centres.empty()) sceneRadius = std::max(sceneRadius, 0.5 * double(glm::length(centres.max - centres.min)));
+  // The spheres that bound what a frame changes of the surfels' light: around the cubes' origins,
+  // where all are placed, and around the moving parts, where all are rigid.
+  std::vector<glm::dvec4> movingParts;
+  double widest = 0.0;  // the largest part's radius, past any emitter triangle's
+  for (size_t l = 0; l < layers.size(); ++l)
+    for (size_t k = 0; k < placedParts[l].size(); ++k) {
+      const PlacedPart& q = placedParts[l][k];
+      widest = std::max(widest, q.radius);
+      if (layers[l] == &*moving_) movingParts.emplace_back(q.centre, q.radius);
+    }
+  if (moving_ && std::any_of(moving_->meshes.parts().begin(), moving_->meshes.parts().end(),
+                             [](const scene::MapMeshes::Part& part) { return !part.rigid; }))
+    movingParts.clear();  // a joint's matrix does not place its part
+  placeChanges(placedAll ? origins : std::vector<glm::dvec3>{}, movingParts, widest);
   std::vector<glm::vec4> cascades;
   if (settings_.perPixel && !centres.empty() &&
       std::any_of(lights_.begin(), lights_.end(),
@@ -388,6 +414,22 @@ std::pair<size_t, size_t> DirectLight::trianglesDrawn() const {
   return drawn;
 }
 
+void DirectLight::placeChanges(const std::vector<glm::dvec3>& origins, const std::vector<glm::dvec4>& movingParts,
+                               double widest) {
+  lightsSphere_.reset();
+  movingSphere_.reset();
+  if (origins.empty() || movingParts.empty() || directional_) return;
+  std::vector<glm::dvec4> points;
+  for (const glm::dvec3& o : origins) points.emplace_back(o, 0.0);
+  glm::vec4 lights = sphereAround(points);
+  // The cubes' origins stand off their samples by up to a thousandth of a triangle's size (light_views).
+  lights.w += float(2e-3 * widest + 1e-6 * (glm::length(glm::vec3(lights)) + lights.w));
+  lightsSphere_ = lights;
+  movingSphere_ = sphereAround(movingParts);
+}
+
+uint32_t DirectLight::surfelsLit() const { return litChangedOnly_ ? surfelsLit_.read<uint32_t>(1)[0] : surfelCount_; }
+
 std::pair<uint32_t, uint32_t> DirectLight::movingViewsDrawn() const {
   return {moving_ && moving_->meshes.exactCount() > 0 ? moving_->raster.viewsDrawn() : 0u, viewCount_};
 }
@@ -427,21 +469,30 @@ void DirectLight::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bi
         still_->record(cmd, frame, views_, uint32_t(count), size, target, false, uint32_t(first));
       }
     };
+    // Where only moving objects are drawn again over still maps, under the same lights, the surfels
+    // they cannot shade keep their light.
+    litChangedOnly_ = false;
     if (all_) {
       all_->record(cmd, frame, views_, views, size, depth_);
     } else if (moving_->meshes.exactCount() == 0) {  // nothing moves: the maps are drawn once
       drawStill(depth_);
     } else {
+      litChangedOnly_ = staticDrawn_ && !lightsMoved_ && lightsSphere_ && movingSphere_ && drawnSphere_;
       drawStill(staticDepth_);
       vk::copyBuffer(cmd, staticDepth_, depth_);
       moving_->record(cmd, frame, views_, views, size, depth_, false);
     }
     staticDrawn_ = true;
-    directSurfels_.dispatchItems(cmd, surfelCount_, buffers,
-                                 gpu::DirectLightPush{.count = surfelCount_,
-                                                      .sampleCount = sampleCount(),
-                                                      .resolution = settings_.resolution,
-                                                      .punctualLights = settings_.punctualLights});
+    gpu::DirectLightPush lit{.count = surfelCount_,
+                             .sampleCount = sampleCount(),
+                             .resolution = settings_.resolution,
+                             .punctualLights = settings_.punctualLights};
+    if (litChangedOnly_) {
+      lit.lights = *lightsSphere_, lit.moved[0] = *movingSphere_, lit.moved[1] = *drawnSphere_, lit.changed = 1;
+      vk::fillBuffer(cmd, surfelsLit_, 0u);
+    }
+    directSurfels_.dispatchItems(cmd, surfelCount_, buffers.with({{"surfelsLit", surfelsLit_}}), lit);
+    drawnSphere_ = movingSphere_;
   });
   lit_ = true;
   lightsMoved_ = cascadesMoved_ = false;

@@ -92,6 +92,9 @@ class DirectLight {
   // Of the maps' views, those the moving triangles were last drawn into (read back; none where
   // nothing moves), and how many the maps hold.
   std::pair<uint32_t, uint32_t> movingViewsDrawn() const;
+  // How many surfels the last frame that drew the maps lit again (read back): every one, or where only
+  // moving objects were drawn again, those whose light they can have changed.
+  uint32_t surfelsLit() const;
   // The depth maps, view after view (resolution² floats each).
   const vk::Buffer& depthMaps() const { return depth_; }
   // The samples as the frame placed them, their views and depth maps, the surfels' direct light, by
@@ -112,6 +115,10 @@ class DirectLight {
   // Draws each part of the layers as simplified as the maps allow at the frame's `matrices`, and
   // places a directional light's cascades around `camera`.
   void chooseMeshes(const std::vector<glm::mat4>& matrices, const gpu::Camera& camera);
+  // The spheres around the maps' origins and the moving objects (lightsSphere_, movingSphere_), from
+  // the cubes' `origins` and the moving parts' spheres as placed (none of either: unknown); `widest`,
+  // the largest part's radius.
+  void placeChanges(const std::vector<glm::dvec3>& origins, const std::vector<glm::dvec4>& movingParts, double widest);
 
   // The triangles one raster draws into the maps: its instances' meshes, the triangles drawn of them
   // (chosen each frame), and the buffer that holds those.
@@ -145,10 +152,16 @@ class DirectLight {
   // around the camera, finest first (none without one, or where the pixels do not look the maps up).
   std::vector<glm::vec4> cascades_;
   bool cascadesMoved_ = false;  // since the maps were drawn
+  // Spheres around the maps' origins and around the moving objects in this frame and where the
+  // maps last drew them (none where the host cannot place them: a bending emitter or object, or a
+  // directional light), which bound the surfels whose light a frame must find again.
+  std::optional<glm::vec4> lightsSphere_, movingSphere_, drawnSphere_;
+  // The surfels lit by the last frame that drew the maps: all (`surfelsLit_` unused) or those counted.
+  bool litChangedOnly_ = false;
   // Per emitter sample, its instance and its place in its primitive's space (the pose places it).
   std::vector<std::pair<uint32_t, glm::vec3>> samplePlaces_;
   std::vector<gpu::Instance> instances_;
-  vk::Buffer samples_, points_, views_, depth_, staticDepth_, surfelDirect_, surfelUnshadowed_;
+  vk::Buffer samples_, points_, views_, depth_, staticDepth_, surfelDirect_, surfelUnshadowed_, surfelsLit_;
   // The lights drawn with a cube or one map: the environment's directions, then the frame's lights.
   vk::Buffer punctual_;
   vk::Buffer sceneBounds_;  // the scene's bounds in the frame (world_bounds), for directional lights

@@ -2,7 +2,8 @@
 // Direct light at the surfels: each surfel's irradiance from the emitter samples, seen or hidden by
 // their depth maps (direct_light.glsl), and the punctual lights', the source of the first
 // bounce; and the emitter samples' light with every sample seen, which the pixels' own shadows
-// scale (direct_pixels, resolve).
+// scale (direct_pixels, resolve). Where only moving objects were drawn again over still maps, a
+// surfel whose lookups they cannot reach keeps its light (DirectLightPush::changed).
 #extension GL_GOOGLE_include_directive : require
 #include "common/common.glsl"
 layout(local_size_x = 64) in;
@@ -13,8 +14,27 @@ layout(std430, binding = 2) readonly buffer LightViews { Camera lightViews[]; };
 layout(binding = 3, r32ui) readonly uniform uimageBuffer lightDepth;  // depths' float bits
 layout(std430, binding = 4) writeonly buffer SurfelDirect { vec4 surfelDirect[]; };
 layout(std430, binding = 5) writeonly buffer SurfelUnshadowed { vec4 surfelUnshadowed[]; };
+layout(std430, binding = 6) buffer SurfelsLit { uint surfelsLit; };  // with `changed`: how many are lit again
 layout(push_constant) uniform Push { DirectLightPush push; };
 #include "direct_light.glsl"
+
+// Texels either side of a lookup's direction whose depths it may read (the bilinear four, and
+// a margin).
+const float kLookupTexels = 3.0;
+
+// Whether anything within sphere `m` can change p's light: whether it comes within a lookup's reach
+// of a segment from p to a point of the lights' sphere. Those segments fill the cone from p around
+// that sphere, up to its far side; a cube's texel spans at most 2 / side of the distance from its
+// origin (at a face's centre).
+bool reachedBy(vec4 m, vec3 p) {
+  const vec3 toLights = push.lights.xyz - p, toMoved = m.xyz - p;
+  const float dl = length(toLights), dm = length(toMoved), far = dl + push.lights.w;
+  const float r = m.w + kLookupTexels * 2.0 / float(push.resolution) * far;
+  if (dm <= r || dl <= push.lights.w) return true;  // p within either sphere
+  if (dm - r > far) return false;                   // beyond every light
+  const float between = acos(clamp(dot(toLights, toMoved) / (dl * dm), -1.0, 1.0));
+  return between <= asin(push.lights.w / dl) + asin(r / dm);
+}
 
 void main() {
   const uint i = itemIndex();
@@ -22,6 +42,10 @@ void main() {
   const Surfel s = surfels[i];
   vec3 unshadowed;
   const vec3 p = s.positionArea.xyz, n = s.normal.xyz;
+  if (push.changed != 0u) {
+    if (!reachedBy(push.moved[0], p) && !reachedBy(push.moved[1], p)) return;
+    atomicAdd(surfelsLit, 1u);
+  }
   surfelDirect[i] = vec4(sampledIrradiance(p, n, push.sampleCount, push.resolution, 0u, 1u, unshadowed) +
                              punctualIrradiance(p, n, push.sampleCount, push.punctualLights, push.resolution),
                          0.0);

@@ -269,6 +269,13 @@ struct DirectLightPush {  // direct_surfels
   uint sampleCount;       // emitter samples, then the environment's directions
   uint resolution;        // a depth map's side in texels
   uint punctualLights;    // the punctual lights after them
+  // With `changed` set, only the surfels whose light the moving objects can have changed are lit
+  // again, the rest keep theirs: the maps' origins lie within `lights` and the moving objects within
+  // `moved[0]` now and `moved[1]` when last drawn (spheres: centre, radius).
+  vec4 lights;
+  vec4 moved[2];
+  uint changed;
+  uint pad0, pad1, pad2;
 };
 // A directional light's maps nested around the camera for the pixels, past its map over the scene:
 // the spare faces of its cube.
