@@ -516,6 +516,24 @@ TEST(DirectLight, TheSolversTakeTheSkyFromTheMapsOnce) {
   EXPECT_LT(std::abs(ar - iv), std::abs(arBins - iv));
 }
 
+namespace {
+
+// Renders time `time` of animation 0 with a renderer that splits what moves from what stands
+// (`split`) and one that draws the maps whole; the surfels' direct light of each.
+std::pair<std::vector<glm::vec4>, std::vector<glm::vec4>> renderBoth(const scene::Scene& s, const scene::Geometry& g,
+                                                                     float time, gi::FrameRenderer& split,
+                                                                     gi::FrameRenderer& whole) {
+  const auto pose = scene::evaluatePose(s, 0, time);
+  const auto inputs = g.frameInputs(s, pose);
+  const auto view = test::framing(g, inputs);
+  split.render(inputs, view, scene::worldLights(s, pose));
+  whole.render(inputs, view, scene::worldLights(s, pose));
+  return {split.directLight()->surfelDirect().read<glm::vec4>(g.surfels.size()),
+          whole.directLight()->surfelDirect().read<glm::vec4>(g.surfels.size())};
+}
+
+}  // namespace
+
 // Where the emitters stand still, what cannot move is rasterized once and the moving triangles
 // each frame over it, in the views their bounds reach alone: the maps, and so every surfel's direct
 // light, are those drawn whole, bit for bit, frame after frame as the blocks move, though the
@@ -531,13 +549,7 @@ TEST(DirectLight, StaticTrianglesDrawnOnceGiveTheMapsDrawnWhole) {
   gi::FrameRenderer split(test::gpu(), g, {16, 16, 1}, nullptr, settings, moving);
   gi::FrameRenderer whole(test::gpu(), g, {16, 16, 1}, nullptr, settings);
   for (float time : {0.0f, 0.25f, 0.5f}) {
-    const auto pose = scene::evaluatePose(s, 0, time);
-    const auto inputs = g.frameInputs(s, pose);
-    const auto view = test::framing(g, inputs);
-    split.render(inputs, view);
-    whole.render(inputs, view);
-    const auto a = split.directLight()->surfelDirect().read<glm::vec4>(g.surfels.size()),
-               b = whole.directLight()->surfelDirect().read<glm::vec4>(g.surfels.size());
+    const auto [a, b] = renderBoth(s, g, time, split, whole);
     for (size_t i = 0; i < a.size(); ++i) ASSERT_EQ(a[i], b[i]) << "time " << time << ", surfel " << i;
     const size_t texels = split.directLight()->depthMaps().size() / sizeof(uint32_t);
     const auto splitDepths = split.directLight()->depthMaps().read<uint32_t>(texels),
@@ -587,13 +599,7 @@ TEST(DirectLight, AMovingShadowRelightsOnlyTheSurfelsItCanReach) {
   gi::FrameRenderer whole(test::gpu(), g, {16, 16, 1}, nullptr, settings);
   std::vector<glm::vec4> before;
   for (float time : {0.0f, 0.2f, 0.4f, 0.6f, 0.8f}) {
-    const auto pose = scene::evaluatePose(s, 0, time);
-    const auto inputs = g.frameInputs(s, pose);
-    const auto view = test::framing(g, inputs);
-    split.render(inputs, view);
-    whole.render(inputs, view);
-    const auto a = split.directLight()->surfelDirect().read<glm::vec4>(g.surfels.size()),
-               c = whole.directLight()->surfelDirect().read<glm::vec4>(g.surfels.size());
+    const auto [a, c] = renderBoth(s, g, time, split, whole);
     size_t changed = 0;
     for (size_t i = 0; i < a.size(); ++i) {
       ASSERT_EQ(a[i], c[i]) << "time " << time << ", surfel " << i;
@@ -635,13 +641,7 @@ TEST(DirectLight, TheSunsViewsAloneAreDrawnAgainWhereTheSceneMoves) {
   gi::FrameRenderer split(test::gpu(), g, {16, 16, 1}, nullptr, settings, scene::movingInstances(s, g, 0));
   gi::FrameRenderer whole(test::gpu(), g, {16, 16, 1}, nullptr, settings);
   for (float time : {0.0f, 0.5f, 1.0f}) {
-    const auto pose = scene::evaluatePose(s, 0, time);
-    const auto inputs = g.frameInputs(s, pose);
-    const auto view = test::framing(g, inputs);
-    split.render(inputs, view, scene::worldLights(s, pose));
-    whole.render(inputs, view, scene::worldLights(s, pose));
-    const auto a = split.directLight()->surfelDirect().read<glm::vec4>(g.surfels.size()),
-               c = whole.directLight()->surfelDirect().read<glm::vec4>(g.surfels.size());
+    const auto [a, c] = renderBoth(s, g, time, split, whole);
     int sunlit = 0;
     for (size_t i = 0; i < a.size(); ++i) {
       ASSERT_EQ(a[i], c[i]) << "time " << time << ", surfel " << i;
