@@ -362,7 +362,7 @@ void DirectLight::chooseMeshes(const std::vector<glm::mat4>& matrices, const gpu
     for (size_t k = 0; k < placedParts[l].size(); ++k) {
       const PlacedPart& q = placedParts[l][k];
       widest = std::max(widest, q.radius);
-      if (layers[l] == &*moving_) movingParts.emplace_back(q.centre, q.radius);
+      if (moving_ && layers[l] == &*moving_) movingParts.emplace_back(q.centre, q.radius);
     }
   if (moving_ && std::any_of(moving_->meshes.parts().begin(), moving_->meshes.parts().end(),
                              [](const scene::MapMeshes::Part& part) { return !part.rigid; }))
