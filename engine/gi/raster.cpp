@@ -21,13 +21,13 @@ Raster::Raster(const vk::Context& ctx, uint32_t triangleCount, vk::Allocations* 
       triangleCount_(triangleCount),
       maxViews_(maxViews),
       depthOnly_(depthOnly),
-      bounds_(shaderProgram(ctx, "drawn_bounds")),
-      views_(shaderProgram(ctx, "drawn_views")),
+      drawnBounds_(shaderProgram(ctx, "drawn_bounds")),
+      drawnViews_(shaderProgram(ctx, "drawn_views")),
       slices_(shaderProgram(ctx, "raster_slices", {.constants = {{"kTilesPerSlice", kTilesPerSlice}}})),
       raster_(shaderProgram(ctx, "raster",
                             {.constants = {{"kTilesPerSlice", kTilesPerSlice}, {"kDepthOnly", depthOnly ? 1u : 0u}}})) {
   box_ = vk::Buffer(ctx, 6 * sizeof(uint32_t), vk::Memory::Device, tally);
-  drawnViews_ = vk::Buffer(ctx, (1 + uint64_t(maxViews)) * sizeof(uint32_t), vk::Memory::Device, tally);
+  viewList_ = vk::Buffer(ctx, (1 + uint64_t(maxViews)) * sizeof(uint32_t), vk::Memory::Device, tally);
   args_ = vk::Buffer(ctx, 3 * sizeof(uint32_t), vk::Memory::Device, tally);
   unused_ = vk::Buffer(ctx, 16, vk::Memory::Device, tally);
 }
@@ -53,19 +53,19 @@ void Raster::record(VkCommandBuffer cmd, const vk::Bindings& scene, const vk::Bu
   const uint32_t args[3] = {groups.x, groups.y, 0};  // z: the views drawn (drawn_views), their slices (raster_slices)
   vk::updateBuffer(cmd, args_, 0, sizeof args, args);
   const vk::Bindings buffers =
-      vk::Bindings::pool({{"views", views}, {"drawnBox", box_}, {"drawnViews", drawnViews_}, {"rasterArgs", args_}})
+      vk::Bindings::pool({{"views", views}, {"drawnBox", box_}, {"drawnViews", viewList_}, {"rasterArgs", args_}})
           .plus(scene);
   if (cull) {
     vk::fillBuffer(cmd, box_, 0xFFFFFFFFu, 0, 3 * sizeof(uint32_t));  // min: the largest
     vk::fillBuffer(cmd, box_, 0u, 3 * sizeof(uint32_t), 3 * sizeof(uint32_t));
-    bounds_.dispatchItems(cmd, triangleCount_, buffers, push);
+    drawnBounds_.dispatchItems(cmd, triangleCount_, buffers, push);
   }
-  views_.dispatch(cmd, {}, buffers, push);
+  drawnViews_.dispatch(cmd, {}, buffers, push);
   slices_.dispatchItems(cmd, triangleCount_, buffers, push);
   const vk::Buffer &keys = depthOnly_ ? unused_ : target, &depths = depthOnly_ ? target : unused_;
   raster_.dispatchIndirect(cmd, args_, 0, buffers.with({{"visibility", keys}, {"depths", depths}}), push);
 }
 
-uint32_t Raster::viewsDrawn() const { return drawnViews_.read<uint32_t>(1)[0]; }
+uint32_t Raster::viewsDrawn() const { return viewList_.read<uint32_t>(1)[0]; }
 
 }  // namespace ivgi::gi

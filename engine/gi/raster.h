@@ -33,11 +33,11 @@ class Raster {
  private:
   uint32_t capacity_, triangleCount_, maxViews_;
   bool depthOnly_;
-  vk::Program bounds_, views_, slices_, raster_;
-  vk::Buffer box_;         // the triangles' bounding box (drawn_bounds)
-  vk::Buffer drawnViews_;  // how many views are drawn, then which (drawn_views)
-  vk::Buffer args_;        // the raster's dispatch: its x and y for the triangles, its z counted by raster_slices
-  vk::Buffer unused_;      // bound where the shader's other target is not written
+  vk::Program drawnBounds_, drawnViews_, slices_, raster_;
+  vk::Buffer box_;       // the triangles' bounding box (drawn_bounds)
+  vk::Buffer viewList_;  // how many views are drawn, then which (drawn_views)
+  vk::Buffer args_;      // the raster's dispatch: its x and y for the triangles, its z counted by raster_slices
+  vk::Buffer unused_;    // bound where the shader's other target is not written
 };
 
 }  // namespace ivgi::gi

@@ -141,3 +141,8 @@ uint orderedBits(float f) {
   return (u & 0x80000000u) != 0u ? ~u : u | 0x80000000u;
 }
 float fromOrderedBits(uint u) { return uintBitsToFloat((u & 0x80000000u) != 0u ? u & 0x7FFFFFFFu : ~u); }
+// A box kept as six orderedBits (min x, y, z, max x, y, z), as floats.
+void fromOrderedBox(uint box[6], out vec3 lo, out vec3 hi) {
+  lo = vec3(fromOrderedBits(box[0]), fromOrderedBits(box[1]), fromOrderedBits(box[2]));
+  hi = vec3(fromOrderedBits(box[3]), fromOrderedBits(box[4]), fromOrderedBits(box[5]));
+}

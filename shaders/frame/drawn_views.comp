@@ -19,8 +19,8 @@ shared bool drawnHere[64];
 
 void main() {
   const uint lid = gl_LocalInvocationID.x;
-  const vec3 lo = vec3(fromOrderedBits(drawnBox[0]), fromOrderedBits(drawnBox[1]), fromOrderedBits(drawnBox[2])),
-             hi = vec3(fromOrderedBits(drawnBox[3]), fromOrderedBits(drawnBox[4]), fromOrderedBits(drawnBox[5]));
+  vec3 lo, hi;
+  fromOrderedBox(drawnBox, lo, hi);
   const bool empty = drawnBox[0] > drawnBox[3];  // no triangle
   uint listed = 0u;
   // 64 views at a time, judged one an invocation, listed in order by the first: 65 rounds a 64

@@ -50,10 +50,8 @@ void main() {
     const PunctualLight l = punctualLights[i - push.sampleCount];
     if (l.position.w == kLightDirectional) {
       // One view from the plane before the scene's bounding sphere, along the light; no other face.
-      const vec3 lo = vec3(fromOrderedBits(sceneBounds[0]), fromOrderedBits(sceneBounds[1]),
-                           fromOrderedBits(sceneBounds[2])),
-                 hi = vec3(fromOrderedBits(sceneBounds[3]), fromOrderedBits(sceneBounds[4]),
-                           fromOrderedBits(sceneBounds[5]));
+      vec3 lo, hi;
+      fromOrderedBox(sceneBounds, lo, hi);
       const vec3 centre = 0.5 * (lo + hi), forward = normalize(l.direction.xyz);
       const float radius = 0.5 * length(hi - lo) * 1.01 + 1e-6 * (1.0 + length(centre));
       vec3 right, up;

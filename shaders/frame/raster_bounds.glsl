@@ -80,7 +80,6 @@ void gatherGroupBox(bool has, Corners k, out vec3 lo, out vec3 hi) {
       atomicMax(groupBox[3 + axis], orderedBits(max(k.a[axis], max(k.b[axis], k.c[axis]))));
     }
   barrier();
-  lo = vec3(fromOrderedBits(groupBox[0]), fromOrderedBits(groupBox[1]), fromOrderedBits(groupBox[2]));
-  hi = vec3(fromOrderedBits(groupBox[3]), fromOrderedBits(groupBox[4]), fromOrderedBits(groupBox[5]));
+  fromOrderedBox(groupBox, lo, hi);
   if (groupBox[0] > groupBox[3]) lo = vec3(3.4e38), hi = vec3(-3.4e38);  // no triangle
 }
