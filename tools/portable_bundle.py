@@ -5,8 +5,9 @@ driver but without ivgi's Debian libraries (a GPU machine that runs tools/gpu_ta
 Usage: tools/portable_bundle.py [--ivgi build/ivgi] --out DIR
 Then, there: LD_LIBRARY_PATH=DIR/lib DIR/ivgi ...
 
-The libraries ivgi calls are copied (OpenImageIO and its EXR and PNG readers and writers,
-tinygltf, SPIRV-Cross, TBB). The rest of what they link, the codecs of formats ivgi never reads or
+The libraries ivgi links are copied (OpenImageIO and its EXR and PNG readers and writers,
+tinygltf, SPIRV-Cross, meshoptimizer, TBB), whatever they are: a stub in their place would answer
+ivgi's own calls with zeros. The rest of what they link, the codecs of formats ivgi never reads or
 writes, and Embree, would bring hundreds of MB; each becomes a stub of the same name defining, with
 their versions, the symbols the bundle imports from it. A codec's functions return a pointer to
 zeros (OpenImageIO calls some at start-up: registrations, version strings); Embree's stop the
@@ -101,7 +102,7 @@ def main():
             if name in seen or name in THE_MACHINES:
                 continue
             seen.add(name)
-            if name in COPIED:
+            if name in COPIED or (path == args.ivgi and name not in TRAPPING):
                 shutil.copy(LIBDIR / name, lib / name)
                 todo.append(LIBDIR / name)
             else:
