@@ -509,6 +509,10 @@ std::pair<double, gi::IvStats> splitAgainstFullRelink(const tinygltf::Model& mod
     const gi::IvStats splitStats = test::ivSolver(split).stats(), fullStats = test::ivSolver(full).stats();
     EXPECT_GT(splitStats.sendersWalked, 0u);
     EXPECT_EQ(splitStats.sendersWalked + splitStats.staticSendersWalked, fullStats.sendersWalked) << "t = " << t;
+    // Of the frame's, the static leaves walk the moving block's senders, the block its whole root paths.
+    EXPECT_GT(splitStats.mergedSendersWalked, 0u);
+    EXPECT_LT(splitStats.mergedSendersWalked, splitStats.sendersWalked);
+    EXPECT_EQ(fullStats.mergedSendersWalked, 0u) << "with nothing static, nothing merges";
     for (size_t i = 0; i < a.size() && i < b.size(); ++i)
       for (int c = 0; c < 3; ++c) {
         EXPECT_TRUE(std::isfinite(a[i][c])) << "surfel " << i;

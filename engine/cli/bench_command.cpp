@@ -180,7 +180,10 @@ int runBench(const BenchOptions& o) {
       std::printf(" (%.1f M/s at the median prune time)",
                   double(st.sendersWalked) / percentile(perPass["prune"], 0.5) / 1e3);
     if (st.staticSendersWalked)
-      std::printf(", %llu in the static pass (once)", (unsigned long long)st.staticSendersWalked);
+      std::printf(
+          ", %llu of them by the static leaves, against the moving senders alone; %llu in the static pass "
+          "(once)",
+          (unsigned long long)st.mergedSendersWalked, (unsigned long long)st.staticSendersWalked);
     if (const auto& b = times.solverFigures["bounces"]; !b.empty())
       std::printf("\nbounces: median %.0f a frame (%.0f to %.0f)%s", percentile(b, 0.5),
                   *std::min_element(b.begin(), b.end()), *std::max_element(b.begin(), b.end()),

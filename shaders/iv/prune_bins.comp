@@ -117,6 +117,11 @@ struct Leaf {
   float area;
 };
 
+// Adds n to the 64-bit count whose low word is counters[at].
+void countWalked(uint at, uint n) {
+  if (atomicAdd(counters[at], n) > 0xFFFFFFFFu - n) atomicAdd(counters[at + 1u], 1u);
+}
+
 // Gathers the leaf's root path (the senders linked to it and to each of its ancestors), a chunk at a
 // time, into shared memory, and files each chunk in one pass: a CPU device runs the filing code,
 // lanes masked, on every round of a subgroup however few of its lanes have a sender, and ancestor
@@ -138,8 +143,10 @@ void fileRootPath(Leaf leaf) {
       }
     }
     barrier();
-    if (lid == 0u && atomicAdd(counters[kCounterSendersWalked], listed) > 0xFFFFFFFFu - listed)
-      atomicAdd(counters[kCounterSendersWalked + 1u], 1u);
+    if (lid == 0u) {
+      countWalked(kCounterSendersWalked, listed);
+      if (merging) countWalked(kCounterMergedWalked, listed);
+    }
     for (uint j = lid; j < listed; j += kGroupSize)
       fileSender(slot, leaf.node, leaf.p, leaf.n, leaf.area, pathChunk[j]);
     barrier();

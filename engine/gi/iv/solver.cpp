@@ -254,12 +254,12 @@ IvStats IvSolver::stats() const {
     const std::vector<uint32_t> c = set->readCounters();
     s.links += c[gpu::kCounterLinks];
     s.leafLinks += c[gpu::kCounterLeafLinks];
-    const uint64_t walked = uint64_t(c[gpu::kCounterSendersWalked + 1]) << 32 | c[gpu::kCounterSendersWalked];
+    const auto count64 = [&c](uint32_t at) { return uint64_t(c[at + 1]) << 32 | c[at]; };
     if (set == &staticSet_)
       s.staticLinks = c[gpu::kCounterLinks], s.staticLeafLinks = c[gpu::kCounterLeafLinks],
-      s.staticSendersWalked = walked;
+      s.staticSendersWalked = count64(gpu::kCounterSendersWalked);
     else
-      s.sendersWalked = walked;
+      s.sendersWalked = count64(gpu::kCounterSendersWalked), s.mergedSendersWalked = count64(gpu::kCounterMergedWalked);
   }
   s.bytes = allocatedBytes();
   const gpu::BounceState bounces = bounces_.state();
