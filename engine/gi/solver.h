@@ -27,8 +27,10 @@ class Solver {
   // from then on solves with it; false where the solver cannot. `surfelDirect` stays valid and is
   // rewritten each frame before record(); given before the first frame.
   virtual bool useDirectLight(const vk::Buffer& /*surfelDirect*/, bool /*withEnvironment*/) { return false; }
-  // Records the solver's passes, each timed. `geometryMoved`: the surfels changed since the last
-  // frame (or this is the first), so whatever depends on the geometry must be made again.
+  // Records the solver's passes, each timed. `geometryMoved`: the surfels or the lights changed
+  // since the last frame (or this is the first), so whatever depends on them must be made again.
+  // Where nothing moved, the last frame's solution is what solving again would give: the solvers
+  // record nothing and it stands.
   virtual void record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffer& surfels, bool geometryMoved) = 0;
   // Whether record() left the solve to recordMorePasses() (the image is resolved after it).
   virtual bool solvePending() const { return false; }

@@ -182,6 +182,9 @@ uint32_t ArSolver::iterationLimit() const {
 }
 
 void ArSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffer& surfels, bool geometryMoved) {
+  reused_ = !geometryMoved && linked_ && standing_;
+  if (reused_) return;
+  shownWarm_ = warm_;
   vk::fillBuffer(cmd, b_.gatherFlags, 0u);
   if (geometryMoved || !linked_) {
     timedPass(cmd, timer, "refit", [&] { refit_.record(cmd, b_.scene, surfels); });
@@ -321,6 +324,7 @@ bool ArSolver::diverging(std::ptrdiff_t fresh) const {
 }
 
 bool ArSolver::wantsMorePasses() const {
+  if (reused_) return false;
   for (const LinkSet* set : {&staticSet_, &frameSet_})
     if (set->readCounters()[gpu::kCounterOverflow] != 0) return false;  // the frame is redone
   if (b_.gatherFlags.read<uint32_t>(1)[0] != 0) return false;           // a list too long: see frameMustBeRedone
@@ -348,7 +352,7 @@ uint32_t ArSolver::nextSteps() const {
 }
 
 bool ArSolver::frameMustBeRedone() {
-  redoing_ = mustRedo();
+  redoing_ = !reused_ && mustRedo();
   if (redoing_) ++framesRedone_;
   return redoing_;
 }
@@ -383,6 +387,11 @@ bool ArSolver::mustRedo() {
 }
 
 void ArSolver::frameStands() {
+  if (reused_) {  // the solution shown is still the frame's that solved it: its figures too
+    solved_ = diverged_ ? -1 : frame_;
+    return;
+  }
+  standing_ = true;
   if (damping_ < 1.0f && !diverged_)
     std::fprintf(stderr,
                  "ivgi: ar: the iteration diverges undamped (the irradiance changed by %.3g of itself at iteration "
@@ -404,7 +413,7 @@ void ArSolver::recordReflections(VkCommandBuffer cmd, vk::PassTimer& timer, glm:
 
 std::vector<std::pair<std::string, double>> ArSolver::frameFigures() const {
   return {{"iterations", double(recorded_)},
-          {"warm", warm_ ? 1.0 : 0.0},
+          {"warm", shownWarm_ ? 1.0 : 0.0},
           {"residual", residuals_.empty() ? 0.0 : double(residuals_.back())},
           {"diverged", diverged_ ? 1.0 : 0.0},
           {"damping", double(frameDamping_)}};

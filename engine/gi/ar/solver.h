@@ -104,6 +104,10 @@ class ArSolver final : public Solver {
   // redone starts again from what it started from, kept in `b_.start*`.
   int frame_ = -1, solved_ = -1;
   bool warm_ = false, redoing_ = false;
+  // A frame stood since the links were made (diverged or not), and nothing moved since: this
+  // frame shows that frame's solution (record() recorded nothing).
+  bool standing_ = false, reused_ = false;
+  bool shownWarm_ = false;  // whether the solution shown started from the frame before it
   // The frame's iterations: recorded, judged (their sums read), and whether they are done.
   uint32_t recorded_ = 0;
   mutable uint32_t judged_ = 0;

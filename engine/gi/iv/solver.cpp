@@ -121,11 +121,8 @@ void IvSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
   const Hierarchy& h = setup_.hierarchy;
   linkStatic_ = false;
   solvePending_ = geometryMoved || !linked_;
-  if (!solvePending_) {
-    timedPass(cmd, timer, "bounces", [&] { bounces_.recordEmission(cmd); });
-    recordFirstBounces(cmd, timer);
-    return;
-  }
+  reused_ = !solvePending_;
+  if (reused_) return;
   linkStatic_ = splitsStatic() && !staticLinked_;
   timedPass(cmd, timer, "refit", [&] {
     refit_.record(cmd, b_.scene, surfels);
@@ -192,7 +189,7 @@ bool IvSolver::overflowed() const {
 }
 
 bool IvSolver::wantsMorePasses() const {
-  if (overflowed()) return false;  // the frame is redone
+  if (reused_ || overflowed()) return false;  // nothing ran, or the frame is redone
   if (solvePending_) return true;
   const gpu::BounceState s = bounces_.state();
   return s.done == 0 && s.gathers == gathersRecorded_ && gathersRecorded_ < bounces_.maxGathers();
@@ -232,6 +229,7 @@ bool IvSolver::frameMustBeRedone() {
 }
 
 void IvSolver::frameStands() {
+  if (reused_) return;
   room_.releaseUnused(staticLinked_);
   roomProven_ = true;
   if (const gpu::BounceState s = bounces_.state(); s.diverged)
