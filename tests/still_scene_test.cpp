@@ -1,6 +1,7 @@
 // A scene whose animation moves nothing that lights it (a camera's flight through a still scene):
 // after the first frame the solvers record nothing, and each frame shows the first frame's
-// solution, which is bit for bit what solving it again from the start gives.
+// solution, which is bit for bit what solving it again from the start gives. A sun's cascades
+// follow the camera, for the pixels alone: the surfels' light stands.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -15,6 +16,7 @@
 #include "engine/scene/gltf.h"
 #include "engine/scene/lights.h"
 #include "scenes/builtin.h"
+#include "scenes/gltf_builder.h"
 #include "tests/test_support.h"
 
 namespace ivgi {
@@ -22,41 +24,67 @@ namespace {
 
 using MakeSolver = std::function<std::unique_ptr<gi::Solver>(const scene::Scene&, const scene::Geometry&)>;
 
-// Renders three frames of the still Cornell box from a camera that moves, by a renderer told that
+// A sun over a floor with a box on it, and a camera looking down at them.
+tinygltf::Model sunOverABox() {
+  scenes::GltfBuilder b;
+  const int grey = b.material("grey", glm::vec3(0.6f));
+  scenes::MeshData floor, box;
+  scenes::addQuad(floor, {-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}, 8, 8, {0, 1, 0});
+  scenes::addBox(box, {0.0f, 0.25f, 0.0f}, glm::vec3(0.25f), 2);
+  b.node("floor", b.mesh("floor", {{floor, grey}}));
+  b.node("box", b.mesh("box", {{box, grey}}));
+  b.light("sun", "directional", 2.0f, {0, 2, 0}, glm::angleAxis(-1.2f, glm::vec3(1, 0, 0)));
+  b.camera("down", 1.2f, 0.01f, {0, 1.5f, 0.5f}, glm::angleAxis(-1.3f, glm::vec3(1, 0, 0)));
+  return b.finish();
+}
+
+// Renders three frames of the still `model` from a camera that moves, by a renderer told that
 // nothing moved after the first frame (`kept`) and one told each frame that everything did
 // (`solved`, made by `makeSolved`); each frame's images must match bit for bit, and `kept`'s later
-// frames time only the frame renderer's own passes.
-void stillFramesShowTheFirstSolution(const MakeSolver& makeKept, const MakeSolver& makeSolved) {
-  const scene::Scene s = scene::sceneFromModel(scenes::cornellBox({.cells = 6}), "test");
+// frames time only what depends on the view (the direct light where `cascades` follow the camera):
+// the posed vertices, the surfels and the solution stand.
+void stillFramesShowWhatSolvingGives(const tinygltf::Model& model, const gi::DirectLightSettings& maps,
+                                     const MakeSolver& makeKept, const MakeSolver& makeSolved, bool cascades) {
+  const scene::Scene s = scene::sceneFromModel(model, "test");
   const scene::Geometry g = scene::buildGeometry(s);
   const scene::Pose pose = scene::evaluatePose(s, -1, 0.0f);
   const gi::ImageSettings image{40, 30, 1};
-  const gi::DirectLightSettings maps{.samples = 16, .resolution = 64, .perPixel = true};
-  gi::FrameRenderer kept(test::gpu(), g, image, makeKept(s, g), maps);
-  gi::FrameRenderer solved(test::gpu(), g, image, makeSolved(s, g), maps);
-  const std::set<std::string> framePasses = {"animate",       "surfels",     "direct light", "raster",
-                                             "direct pixels", "reflections", "resolve"};
+  const auto still = scene::movingInstances(s, g, -1);
+  gi::FrameRenderer kept(test::gpu(), g, image, makeKept(s, g), maps, still);
+  gi::FrameRenderer solved(test::gpu(), g, image, makeSolved(s, g), maps, still);
+  const std::set<std::string> viewPasses = {"direct light", "raster", "direct pixels", "reflections", "resolve"};
   scene::CameraView view = scene::cameraView(s, pose, s.cameraNodes()[0]);
   for (int frame = 0; frame < 3; ++frame) {
-    const auto a = kept.render(g.frameInputs(s, pose), view, scene::worldLights(s, pose), frame == 0, frame);
-    const auto b = solved.render(g.frameInputs(s, pose), view, scene::worldLights(s, pose), true, frame);
+    const auto lights = scene::worldLights(s, pose);
+    const auto a = kept.render(g.frameInputs(s, pose), view, lights, frame == 0, frame);
+    const auto b = solved.render(g.frameInputs(s, pose), view, lights, true, frame);
     ASSERT_EQ(a.channels.radiance.size(), b.channels.radiance.size());
     EXPECT_EQ(std::memcmp(a.channels.radiance.data(), b.channels.radiance.data(),
                           a.channels.radiance.size() * sizeof(glm::vec4)),
               0)
         << "frame " << frame;
-    bool solverRan = false;
-    for (const auto& p : a.passTimes) solverRan = solverRan || !framePasses.count(p.pass);
-    EXPECT_EQ(solverRan, frame == 0) << "frame " << frame;
+    bool posedOrSolved = false, mapsDrawn = false;
+    for (const auto& p : a.passTimes)
+      posedOrSolved = posedOrSolved || !viewPasses.count(p.pass), mapsDrawn = mapsDrawn || p.pass == "direct light";
+    EXPECT_EQ(posedOrSolved, frame == 0) << "frame " << frame;
+    EXPECT_EQ(mapsDrawn, frame == 0 || cascades) << "frame " << frame;
     view.origin += glm::vec3(0.05f, 0.02f, 0.0f);  // the view-dependent passes run on
   }
+}
+
+// The still Cornell box, and the sun over a box, whose cascades follow the camera.
+void stillFramesShowWhatSolvingGives(const MakeSolver& kept, const MakeSolver& solved) {
+  stillFramesShowWhatSolvingGives(scenes::cornellBox({.cells = 6}), {.samples = 16, .resolution = 64, .perPixel = true},
+                                  kept, solved, false);
+  stillFramesShowWhatSolvingGives(sunOverABox(), {.resolution = 64, .perPixel = true, .punctualLights = 1}, kept,
+                                  solved, true);
 }
 
 TEST(StillScene, IvShowsTheFirstFramesBounces) {
   const MakeSolver iv = [](const scene::Scene& s, const scene::Geometry& g) -> std::unique_ptr<gi::Solver> {
     return std::make_unique<gi::IvSolver>(test::gpu(), g, gi::makeIvSetup(s, g, gi::IvSettings{.bins = 8}, -1));
   };
-  stillFramesShowTheFirstSolution(iv, iv);
+  stillFramesShowWhatSolvingGives(iv, iv);
 }
 
 TEST(StillScene, ArShowsTheFirstFramesSolution) {
@@ -70,7 +98,7 @@ TEST(StillScene, ArShowsTheFirstFramesSolution) {
                                             moves);
     };
   };
-  stillFramesShowTheFirstSolution(ar(16), ar(1));
+  stillFramesShowWhatSolvingGives(ar(16), ar(1));
 }
 
 }  // namespace

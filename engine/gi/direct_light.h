@@ -75,7 +75,8 @@ class DirectLight {
   // Places the samples, rasterizes their depth maps and lights the surfels; `frame` holds the
   // frame's buffers (world, triangles, materials, surfels). Where the emitters cannot move, what
   // cannot move is rasterized once and each frame adds the moving triangles over it; where
-  // nothing moved since the last frame (`geometryMoved` false), nothing is redone.
+  // nothing moved since the last frame (`geometryMoved` false), nothing is redone but a sun's
+  // cascades where they followed the camera.
   void record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bindings& frame, bool geometryMoved);
 
   // Per surfel, its direct irradiance (rgb), after record(); and the same with every emitter sample

@@ -178,10 +178,13 @@ bool FrameRenderer::recordFrame(VkCommandBuffer cmd, const gpu::Camera& camera, 
     programTimer_->reset(cmd);
     ctx_.timeDispatches(&*programTimer_);
   }
-  timedPass(cmd, timer_, "animate",
-            [&] { animate_.dispatchItems(cmd, vertexCount_, buffers, gpu::CountPush{.count = vertexCount_}); });
-  timedPass(cmd, timer_, "surfels",
-            [&] { surfelUpdate_.dispatchItems(cmd, surfelCount_, buffers, gpu::CountPush{.count = surfelCount_}); });
+  if (geometryMoved || !posed_) {  // else the posed vertices and the surfels stand from the frame before
+    timedPass(cmd, timer_, "animate",
+              [&] { animate_.dispatchItems(cmd, vertexCount_, buffers, gpu::CountPush{.count = vertexCount_}); });
+    timedPass(cmd, timer_, "surfels",
+              [&] { surfelUpdate_.dispatchItems(cmd, surfelCount_, buffers, gpu::CountPush{.count = surfelCount_}); });
+    posed_ = true;
+  }
   if (direct_) direct_->record(cmd, timer_, buffers, geometryMoved);
   if (solver_) solver_->record(cmd, timer_, surfels_, geometryMoved);
   timedPass(cmd, timer_, "raster", [&] {

@@ -95,6 +95,7 @@ class FrameRenderer {
   std::unique_ptr<Solver> solver_;
   bool directPerPixel_;  // the resolve adds the depth maps' direct light at each sample
   bool reflections_;     // the solver reflects the indirect light through the glossy lobes
+  bool posed_ = false;   // a frame posed the vertices and the surfels
   vk::Program animate_, surfelUpdate_, vertexIrradiance_, unshadowedToVertices_, lobesToVertices_, directPixels_,
       resolve_;
   Raster raster_;
