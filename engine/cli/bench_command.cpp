@@ -140,7 +140,8 @@ int runBench(const BenchOptions& o) {
   std::printf(
       "frames: %d measured after %d warm-up%s\n\n", o.frames, o.warmup,
       moving ? ""
-             : " (static geometry: refit, links and pruning ran once, in the first warm-up frame or the first frame)");
+             : " (nothing moves: the scene was posed and solved once, in the first warm-up frame or the first frame; "
+               "the frames after it redo what depends on the view)");
   std::printf("%-10s %10s %10s\n", "pass", "median ms", "p90 ms");
   nlohmann::json summary = nlohmann::json::object();
   order.push_back("total");
