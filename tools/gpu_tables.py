@@ -3,7 +3,7 @@
 Vulkan device ivgi picks (a discrete GPU before an integrated one, before lavapipe).
 
 Usage: tools/gpu_tables.py [--ivgi build/ivgi] [--runs 3] [--references DIR] [--scenes FILE ...]
-                           [--out docs/performance-gpu.md]
+                           [--out docs/performance-gpu.md] [--only TITLE]
 
 Only the GPU solvers run here; pt is not timed. Errors are measured against pt references rendered
 beforehand, wherever, into --references: `cornell26_pt_0000.exr` (the animated Cornell box at
@@ -135,6 +135,56 @@ def animated_table(r, scenes, runs):
     return "\n".join(lines)
 
 
+def later_sections(r, args):
+    """The sections after the per-pass one: (title, intro, a function that measures the table)."""
+    return (
+        ("Per program: where a frame's time goes", PROGRAMS_INTRO, lambda: programs_table(r, args.runs)),
+        ("Real files", "One frame at 480×270 at the defaults (iv: every surfel a receiver), and iv with "
+         "adaptive receivers (`--receiver-tol 0.4`, lavapipe's default); the wall clock is the median "
+         "of the runs' renders; the engine is lit by the default white sky.",
+         lambda: real_files_table(r, args.scenes, args.references, args.runs)),
+        ("Real files, frame after frame",
+         "`ivgi bench FILE --size 480x270 --frames 10 --warmup 2 --method M` at the defaults: the "
+         "frames after the first, where what stands still is kept from frame to frame (the engine "
+         "has no animation: its frames redo what depends on the view).",
+         lambda: animated_table(r, args.scenes, args.runs)),
+        ("ar on the animated Cornell box",
+         "`ivgi bench cornell --cells 26 --size 320x240 --method ar --dirs N`, 6 frames after a warm-up "
+         "frame each from the emission (`--restart-every 1`), and the default chains over the 48 frames "
+         "of the animation; frame 0's relMSE against pt at 4096 spp.",
+         lambda: ar_table(r, args.runs, args.references)),
+        ("Speed against accuracy",
+         "`ivgi sweep cornell --cells 26 --reference REF --supersample 4 --method iv,ar --bins 8,16,24,32 "
+         "--receiver-tol 0,0.2,0.4 --dirs 2,4,8 --repeats 3`: frame 0 at 320×240, 4×4 samples a pixel, "
+         "against the pt reference at 4096 spp, as in performance.md.",
+         lambda: sweep_table(r, args.references, args.out.parent / "sweep_cornell_gpu.png")),
+        ("iv's cost against the scene's tessellation",
+         "As in performance.md: frames after 2 warm-up frames, with adaptive receivers "
+         "(`--receiver-tol 0.4`) and with every surfel a receiver (`--receiver-tol 0`, the default "
+         "here).", lambda: scaling_table(r, args.runs, every_most=100)))
+
+
+def machine_line(device):
+    return (f"Vulkan device {device['name']} ({device['type']}), driver {device['driver']} "
+            f"{device.get('driverInfo', '')}; CPU {cpu_name()}, {os.cpu_count()} cores")
+
+
+def regenerate_section(r, args):
+    """Measures the section titled args.only again and puts it in place of its table in args.out."""
+    title, intro, make = next(t for t in later_sections(r, args) if t[0] == args.only)
+    body = f"## {title}\n\n{intro}\n\n{make()}"
+    device = r.json("render", "cornell", "--method", "none", "--size", "16x12", "--frames", 0, "--format", "exr",
+                    "--out", r.scratch / "device_%04d")["device"]
+    doc = args.out.read_text()
+    start = doc.index(f"## {title}\n")
+    end = doc.find("\n## ", start)
+    end = len(doc.rstrip("\n")) if end < 0 else end
+    note = (f"This section alone was regenerated (`tools/gpu_tables.py --only '{title}'`) on "
+            f"{datetime.date.today().isoformat()}: {machine_line(device)}.")
+    args.out.write_text(doc[:start] + body + "\n\n" + note + "\n" + doc[end:].rstrip("\n") + "\n")
+    print(f"wrote the section '{title}' of {args.out}", file=sys.stderr)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--ivgi", default=ROOT / "build/ivgi")
@@ -142,12 +192,11 @@ def main():
     parser.add_argument("--references", type=pathlib.Path, default=pathlib.Path("gpu-references"))
     parser.add_argument("--scenes", type=pathlib.Path, nargs="*", default=[])
     parser.add_argument("--out", type=pathlib.Path, default=DOCS / "performance-gpu.md")
+    parser.add_argument("--only", help="the title of a section after the first: measure it alone into --out")
     args = parser.parse_args()
     sections = []
 
     def write(device):
-        machine = (f"Vulkan device {device['name']} ({device['type']}), driver {device['driver']} "
-                   f"{device.get('driverInfo', '')}; CPU {cpu_name()}, {os.cpu_count()} cores")
         body = "\n\n".join(sections)
         args.out.write_text(f"""# Performance on a GPU
 
@@ -157,7 +206,7 @@ around each pass), medians over {args.runs} runs of `ivgi bench`, each itself th
 frames after warm-up frames. Errors are against pt references rendered beforehand with the same
 settings (`--references`): pt is not run on this machine.
 
-Machine: {machine}.
+Machine: {machine_line(device)}.
 
 {body}
 """)
@@ -167,37 +216,15 @@ Machine: {machine}.
         # seldom Debian's, whose matplotlib ivgi looks for first.
         os.environ.setdefault("IVGI_PYTHON", sys.executable)
         r = Runner(args.ivgi, os.cpu_count(), scratch)
+        if args.only:
+            return regenerate_section(r, args)
         passes, device, _ = per_pass_table(r, args.runs)
         rel = cornell_error(r, args.references)
         sections.append("## iv, per pass: the animated Cornell box\n\n`ivgi bench cornell --cells N --size 320x240 "
                         "--frames 20 --warmup 3` at the defaults (on a GPU, every surfel a receiver). relMSE of "
                         f"frame 0 at `--cells 26` against pt at 4096 spp: {error(rel)}.\n\n{passes}")
         write(device)
-        for title, intro, make in (
-                ("Per program: where a frame's time goes", PROGRAMS_INTRO, lambda: programs_table(r, args.runs)),
-                ("Real files", "One frame at 480×270 at the defaults (iv: every surfel a receiver), and iv with "
-                 "adaptive receivers (`--receiver-tol 0.4`, lavapipe's default); the wall clock is the median "
-                 "of the runs' renders; the engine is lit by the default white sky.",
-                 lambda: real_files_table(r, args.scenes, args.references, args.runs)),
-                ("Real files, frame after frame",
-                 "`ivgi bench FILE --size 480x270 --frames 10 --warmup 2 --method M` at the defaults: the "
-                 "frames after the first, where what stands still is kept from frame to frame (the engine "
-                 "has no animation).",
-                 lambda: animated_table(r, args.scenes, args.runs)),
-                ("ar on the animated Cornell box",
-                 "`ivgi bench cornell --cells 26 --size 320x240 --method ar --dirs N`, 6 frames after a warm-up "
-                 "frame each from the emission (`--restart-every 1`), and the default chains over the 48 frames "
-                 "of the animation; frame 0's relMSE against pt at 4096 spp.",
-                 lambda: ar_table(r, args.runs, args.references)),
-                ("Speed against accuracy",
-                 "`ivgi sweep cornell --cells 26 --reference REF --supersample 4 --method iv,ar --bins 8,16,24,32 "
-                 "--receiver-tol 0,0.2,0.4 --dirs 2,4,8 --repeats 3`: frame 0 at 320×240, 4×4 samples a pixel, "
-                 "against the pt reference at 4096 spp, as in performance.md.",
-                 lambda: sweep_table(r, args.references, args.out.parent / "sweep_cornell_gpu.png")),
-                ("iv's cost against the scene's tessellation",
-                 "As in performance.md: frames after 2 warm-up frames, with adaptive receivers "
-                 "(`--receiver-tol 0.4`) and with every surfel a receiver (`--receiver-tol 0`, the default "
-                 "here).", lambda: scaling_table(r, args.runs, every_most=100))):
+        for title, intro, make in later_sections(r, args):
             print(title, file=sys.stderr, flush=True)
             sections.append(f"## {title}\n\n{intro}\n\n{make()}")
             write(device)
