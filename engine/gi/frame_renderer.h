@@ -49,9 +49,10 @@ class FrameRenderer {
                 const std::vector<bool>& movingInstances = {});
   ~FrameRenderer();
 
-  // `lights`: the punctual lights in world space; `geometryMoved`: whether the solver must refit and
-  // relink (false only for static geometry after the first frame); `frame`: the frame's number, for
-  // a solver that chains frames (Solver::chainStart; negative: none).
+  // `lights`: the punctual lights in world space; `geometryMoved`: whether the geometry or the lights
+  // moved since the last frame (false only where nothing does, after the first frame: the posed
+  // surfels and the solution then stand); `frame`: the frame's number, for a solver that chains
+  // frames (Solver::chainStart; negative: none).
   FrameResult render(const scene::FrameInputs& inputs, const scene::CameraView& view,
                      const std::vector<gpu::PunctualLight>& lights = {}, bool geometryMoved = true, int frame = -1);
   const Solver* solver() const { return solver_.get(); }
