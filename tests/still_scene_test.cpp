@@ -68,6 +68,9 @@ void stillFramesShowWhatSolvingGives(const tinygltf::Model& model, const gi::Dir
       posedOrSolved = posedOrSolved || !viewPasses.count(p.pass), mapsDrawn = mapsDrawn || p.pass == "direct light";
     EXPECT_EQ(posedOrSolved, frame == 0) << "frame " << frame;
     EXPECT_EQ(mapsDrawn, frame == 0 || cascades) << "frame " << frame;
+    if (frame > 0 && cascades) {
+      EXPECT_EQ(kept.directLight()->surfelsLit(), 0u) << "the cascades alone were drawn";
+    }
     view.origin += glm::vec3(0.05f, 0.02f, 0.0f);  // the view-dependent passes run on
   }
 }

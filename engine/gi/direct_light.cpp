@@ -428,7 +428,10 @@ void DirectLight::placeChanges(const std::vector<glm::dvec3>& origins, const std
   movingSphere_ = sphereAround(movingParts);
 }
 
-uint32_t DirectLight::surfelsLit() const { return litChangedOnly_ ? surfelsLit_.read<uint32_t>(1)[0] : surfelCount_; }
+uint32_t DirectLight::surfelsLit() const {
+  if (!surfelsRelit_) return 0;
+  return litChangedOnly_ ? surfelsLit_.read<uint32_t>(1)[0] : surfelCount_;
+}
 
 std::pair<uint32_t, uint32_t> DirectLight::movingViewsDrawn() const {
   return {moving_ && moving_->meshes.exactCount() > 0 ? moving_->raster.viewsDrawn() : 0u, viewCount_};
@@ -438,7 +441,7 @@ void DirectLight::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bi
   if (lit_ && !geometryMoved && !lightsMoved_ && !cascadesMoved_) return;  // the surfels' direct light stands
   // The surfels look a directional light up in its view over the scene, not in the cascades: where
   // only those followed the camera, the maps are drawn again for the pixels alone.
-  const bool surfelsRelit = !lit_ || geometryMoved || lightsMoved_;
+  surfelsRelit_ = !lit_ || geometryMoved || lightsMoved_;
   // Their views moved: a light's; or where a directional light's map covers the scene and the
   // scene moved, or its cascades followed the camera, that light's alone.
   if (lightsMoved_ && settings_.punctualLights > 0) staticDrawn_ = false;
@@ -494,7 +497,8 @@ void DirectLight::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bi
       lit.lights = *lightsSphere_, lit.moved[0] = *movingSphere_, lit.moved[1] = *drawnSphere_, lit.changed = 1;
       vk::fillBuffer(cmd, surfelsLit_, 0u);
     }
-    if (surfelsRelit) directSurfels_.dispatchItems(cmd, surfelCount_, buffers.with({{"surfelsLit", surfelsLit_}}), lit);
+    if (surfelsRelit_)
+      directSurfels_.dispatchItems(cmd, surfelCount_, buffers.with({{"surfelsLit", surfelsLit_}}), lit);
     drawnSphere_ = movingSphere_;
   });
   lit_ = true;

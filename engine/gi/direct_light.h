@@ -157,8 +157,9 @@ class DirectLight {
   // maps last drew them (none where the host cannot place them: a bending emitter or object, or a
   // directional light), which bound the surfels whose light a frame must find again.
   std::optional<glm::vec4> lightsSphere_, movingSphere_, drawnSphere_;
-  // The surfels lit by the last frame that drew the maps: all (`surfelsLit_` unused) or those counted.
-  bool litChangedOnly_ = false;
+  // The surfels lit by the last frame that drew the maps: none (a sun's cascades alone were drawn),
+  // all (`surfelsLit_` unused) or those counted.
+  bool surfelsRelit_ = false, litChangedOnly_ = false;
   // Per emitter sample, its instance and its place in its primitive's space (the pose places it).
   std::vector<std::pair<uint32_t, glm::vec3>> samplePlaces_;
   std::vector<gpu::Instance> instances_;

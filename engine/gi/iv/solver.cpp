@@ -217,6 +217,7 @@ std::vector<std::pair<std::string, double>> IvSolver::frameFigures() const {
 }
 
 bool IvSolver::frameMustBeRedone() {
+  if (reused_) return false;  // nothing ran
   const LinkRoom::Overflow overflow = room_.grow();
   if (!overflow.any) return false;
   roomProven_ = false;
