@@ -27,8 +27,8 @@ import tempfile
 import time
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
-from perf_tables import (DOCS, PROGRAMS_INTRO, ROOT, Runner, cpu_name, fmt, median, per_pass_table,  # noqa: E402
-                         programs_table, scaling_table, sweep_markdown)
+from perf_tables import (DOCS, PROGRAMS_INTRO, ROOT, Runner, cpu_name, device_of, fmt, median,  # noqa: E402
+                         per_pass_table, programs_table, replace_section, scaling_table, sweep_markdown)
 
 
 def relmse(r, test, reference):
@@ -173,15 +173,9 @@ def regenerate_section(r, args):
     """Measures the section titled args.only again and puts it in place of its table in args.out."""
     title, intro, make = next(t for t in later_sections(r, args) if t[0] == args.only)
     body = f"## {title}\n\n{intro}\n\n{make()}"
-    device = r.json("render", "cornell", "--method", "none", "--size", "16x12", "--frames", 0, "--format", "exr",
-                    "--out", r.scratch / "device_%04d")["device"]
-    doc = args.out.read_text()
-    start = doc.index(f"## {title}\n")
-    end = doc.find("\n## ", start)
-    end = len(doc.rstrip("\n")) if end < 0 else end
     note = (f"This section alone was regenerated (`tools/gpu_tables.py --only '{title}'`) on "
-            f"{datetime.date.today().isoformat()}: {machine_line(device)}.")
-    args.out.write_text(doc[:start] + body + "\n\n" + note + "\n" + doc[end:].rstrip("\n") + "\n")
+            f"{datetime.date.today().isoformat()}: {machine_line(device_of(r))}.")
+    replace_section(args.out, f"## {title}\n", body, note)
     print(f"wrote the section '{title}' of {args.out}", file=sys.stderr)
 
 

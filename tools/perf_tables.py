@@ -630,6 +630,22 @@ SECTIONS = {
 }
 
 
+def device_of(r):
+    """The Vulkan device `r`'s ivgi renders on, as its sidecar names it."""
+    return r.json("render", "cornell", "--method", "none", "--size", "16x12", "--frames", 0, "--format", "exr",
+                  "--out", r.scratch / "device_%04d")["device"]
+
+
+def replace_section(path, marker, body, note):
+    """Puts `body`, then `note`, in place of the section of `path` that starts at `marker` (up to the
+    next section, or the end)."""
+    doc = path.read_text()
+    start = doc.index(marker)
+    end = doc.find("\n## ", start)
+    end = len(doc.rstrip("\n")) if end < 0 else end
+    path.write_text(doc[:start] + body + "\n\n" + note + "\n" + doc[end:].rstrip("\n") + "\n")
+
+
 def regenerate_section(args):
     """--only SECTION: that section's body in docs/performance.md (and the README headline rows it
     feeds), with a line naming the machine and date it was measured on."""
@@ -637,15 +653,11 @@ def regenerate_section(args):
     with tempfile.TemporaryDirectory(prefix="ivgi-perf-") as scratch:
         r = Runner(args.ivgi, args.threads, scratch)
         body, rows = make(r, args)
-        device = r.json("render", "cornell", "--method", "none", "--size", "16x12", "--frames", 0, "--format", "exr",
-                        "--out", r.scratch / "device_%04d")["device"]
+        device = device_of(r)
     path = DOCS / "performance.md"
-    doc = path.read_text()
-    start = doc.index(marker)
-    end = doc.index("\n## ", start)
     note = (f"This section alone was regenerated (`tools/perf_tables.py --only {args.only}`) on "
             f"{datetime.date.today().isoformat()}: {machine_line(device, args.threads)}.")
-    path.write_text(doc[:start] + body + "\n\n" + note + "\n" + doc[end:])
+    replace_section(path, marker, body, note)
     if rows:
         readme = ROOT / "README.md"
         readme.write_text(replace_rows(readme.read_text(), rows))
