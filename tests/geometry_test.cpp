@@ -245,6 +245,7 @@ TEST(Surfels, IrradianceIsCarriedToTheVertexAlongItsFace) {
                         {"vertexSurfel", vertexSurfel},
                         {"surfelIrradiance", irradiance},
                         {"surfelDirect", noDirectLight},  // read only where the pixels take it (kDirectPixels)
+                        {"shownSurfels", noDirectLight},  // read only for the reflections (kShownOnly)
                         {"vertexIrradiance", out}},
                        gpu::CountPush{.count = count});
   });

@@ -5,9 +5,18 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <functional>
+#include <memory>
 #include <string>
 
+#include "engine/gi/ar/solver.h"
+#include "engine/gi/iv/solver.h"
 #include "engine/image/metrics.h"
+#include "engine/scene/camera.h"
+#include "engine/scene/gltf.h"
+#include "engine/scene/lights.h"
+#include "scenes/builtin.h"
 #include "scenes/gltf_builder.h"
 #include "tests/test_support.h"
 
@@ -32,7 +41,68 @@ fs::path metalFloorUnderALamp(float metallic = 1.0f, float roughness = 0.25f, co
   return file;
 }
 
+using MakeSolver = std::function<std::unique_ptr<gi::Solver>(const scene::Scene&, const scene::Geometry&)>;
+
+// The reflections are computed only at the surfels the image reads (mark_shown, mark_fit, iv's
+// mark_taps). A narrow view into the still glossy box, moving from frame to frame, must show bit for
+// bit what reflecting at every surfel shows, while most surfels go unmarked: a surfel left out that
+// the image reads would show a fresh renderer's empty buffer or a frame before's reflection.
+void reflectionsOnlyWhereShown(const MakeSolver& make, bool receivers) {
+  const scene::Scene s =
+      scene::sceneFromModel(scenes::cornellBox({.cells = 6, .animated = false, .glossy = true}), "test");
+  const scene::Geometry g = scene::buildGeometry(s);
+  const scene::Pose pose = scene::evaluatePose(s, -1, 0.0f);
+  const gi::ImageSettings image{40, 30, 2};
+  const gi::DirectLightSettings maps{.samples = 16, .resolution = 64, .perPixel = true};
+  const auto still = scene::movingInstances(s, g, -1);
+  gi::FrameRenderer marked(test::gpu(), g, image, make(s, g), maps, still);
+  gi::FrameRenderer every(test::gpu(), g, image, make(s, g), maps, still);
+  every.reflectEverySurfel();
+  scene::CameraView view = scene::cameraView(s, pose, s.cameraNodes()[0]);
+  view.yfov *= 0.4f;  // the blocks and the floor before them
+  for (int frame = 0; frame < 3; ++frame) {
+    const auto lights = scene::worldLights(s, pose);
+    const auto a = marked.render(g.frameInputs(s, pose), view, lights, frame == 0, frame);
+    const auto b = every.render(g.frameInputs(s, pose), view, lights, frame == 0, frame);
+    ASSERT_EQ(a.channels.radiance.size(), b.channels.radiance.size());
+    EXPECT_EQ(std::memcmp(a.channels.radiance.data(), b.channels.radiance.data(),
+                          a.channels.radiance.size() * sizeof(glm::vec4)),
+              0)
+        << "frame " << frame;
+    const std::vector<uint32_t> shown = marked.shownSurfels();
+    const auto marks = [&](uint32_t bit) {
+      return std::count_if(shown.begin(), shown.end(), [&](uint32_t m) { return (m & bit) != 0; });
+    };
+    EXPECT_GT(marks(gpu::kShownVertex), 0) << "frame " << frame;
+    EXPECT_GE(marks(gpu::kShownFit), marks(gpu::kShownVertex)) << "frame " << frame;
+    EXPECT_LT(2 * marks(gpu::kShownFit), long(shown.size())) << "frame " << frame << ": most of the box is out of view";
+    EXPECT_EQ(marks(gpu::kShownTap) > 0, receivers) << "frame " << frame;
+    view.origin += glm::vec3(0.04f, 0.02f, 0.0f);
+    view.forward = glm::normalize(view.forward + glm::vec3(-0.05f, 0.0f, 0.0f));
+    view.right = glm::normalize(glm::cross(view.forward, view.up));
+    view.up = glm::cross(view.right, view.forward);
+  }
+}
+
 }  // namespace
+
+TEST(Glossy, IvReflectsOnlyWhatTheImageShows) {
+  reflectionsOnlyWhereShown(
+      [](const scene::Scene& s, const scene::Geometry& g) -> std::unique_ptr<gi::Solver> {
+        return std::make_unique<gi::IvSolver>(test::gpu(), g, gi::makeIvSetup(s, g, gi::IvSettings{.bins = 8}, -1));
+      },
+      true);
+}
+
+TEST(Glossy, ArReflectsOnlyWhatTheImageShows) {
+  reflectionsOnlyWhereShown(
+      [](const scene::Scene& s, const scene::Geometry& g) -> std::unique_ptr<gi::Solver> {
+        gi::Hierarchy h = gi::restPoseHierarchy(s, g);
+        std::vector<bool> moves = gi::movingRoots(h, s, g, -1);
+        return std::make_unique<gi::ArSolver>(test::gpu(), g, std::move(h), gi::ArSettings{}, moves);
+      },
+      false);
+}
 
 // The highlight of a point light on a rough metal: iv and ar reflect it per pixel as the path
 // tracer does (nothing else lights the floor, so only the pixels' sampling differs); the diffuse

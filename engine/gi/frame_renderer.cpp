@@ -55,7 +55,9 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
       vertexIrradiance_(
           shaderProgram(ctx, "vertex_irradiance", {.constants = {{"kDirectPixels", directPerPixel_ ? 1u : 0u}}})),
       unshadowedToVertices_(shaderProgram(ctx, "vertex_irradiance")),
-      lobesToVertices_(shaderProgram(ctx, "vertex_irradiance")),
+      lobesToVertices_(shaderProgram(ctx, "vertex_irradiance", {.constants = {{"kShownOnly", 1u}}})),
+      markShown_(shaderProgram(ctx, "mark_shown")),
+      markFit_(shaderProgram(ctx, "mark_fit")),
       directPixels_(shaderProgram(ctx, "direct_pixels",
                                   {.constants = {{"kTextured", g.textures.empty() ? 0u : 1u},
                                                  {"kColored", g.vertexColors ? 1u : 0u},
@@ -108,6 +110,7 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
   vertexUnshadowed_ = vk::Buffer(ctx, directPerPixel_ ? shownIrradiance_.size() : 16, Memory::Device, tally);
   surfelLobe_ = vk::Buffer(ctx, reflections_ ? shownIrradiance_.size() : 16, Memory::Device, tally);
   vertexLobe_ = vk::Buffer(ctx, reflections_ ? shownIrradiance_.size() : 16, Memory::Device, tally);
+  shownSurfels_ = vk::Buffer(ctx, reflections_ ? shownIrradiance_.size() / 4 : 16, Memory::Device, tally);
   noDirectLight_ = vk::Buffer(ctx, 16, Memory::Device, tally);
   if (directLight) {
     validate(*directLight);
@@ -161,7 +164,8 @@ vk::Bindings FrameRenderer::pool() const {
                              {"pixelSpecular", pixelSpecular_},
                              {"pixelLights", pixelLights_},
                              {"vertexUnshadowed", vertexUnshadowed_},
-                             {"vertexLobe", vertexLobe_}})
+                             {"vertexLobe", vertexLobe_},
+                             {"shownSurfels", shownSurfels_}})
       .plus(direct_ ? direct_->pool()
                     : vk::Bindings::pool({{"lightPoints", noDirectLight_},
                                           {"lightViews", noDirectLight_},
@@ -215,7 +219,17 @@ void FrameRenderer::recordResolve(VkCommandBuffer cmd, const gpu::Camera& camera
       directPixels_.dispatch(cmd, pixelGroups, buffers, push);
     });
   if (reflections_) {
-    solver_->recordReflections(cmd, timer_, glm::vec3(camera.origin), surfelLobe_);
+    timedPass(cmd, timer_, "reflections", [&] {
+      if (reflectEverySurfel_) {
+        vk::fillBuffer(cmd, shownSurfels_, ~0u);
+        return;
+      }
+      vk::fillBuffer(cmd, shownSurfels_, 0u);
+      const uint32_t samples = size.x * size.y * image_.samples * image_.samples;
+      markShown_.dispatchItems(cmd, samples, buffers, gpu::CountPush{.count = samples});
+      markFit_.dispatchItems(cmd, surfelCount_, buffers, gpu::CountPush{.count = surfelCount_});
+    });
+    solver_->recordReflections(cmd, timer_, glm::vec3(camera.origin), shownSurfels_, surfelLobe_);
     timedPass(cmd, timer_, "reflections", [&] {
       lobesToVertices_.dispatchItems(
           cmd, surfelCount_, buffers.with({{"surfelIrradiance", surfelLobe_}, {"vertexIrradiance", vertexLobe_}}),
@@ -273,6 +287,9 @@ FrameResult FrameRenderer::render(const scene::FrameInputs& in, const scene::Cam
 
 std::vector<scene::WorldVertex> FrameRenderer::worldVertices() const {
   return world_.read<scene::WorldVertex>(vertexCount_);
+}
+std::vector<uint32_t> FrameRenderer::shownSurfels() const {
+  return reflections_ ? shownSurfels_.read<uint32_t>(surfelCount_) : std::vector<uint32_t>{};
 }
 std::vector<scene::Surfel> FrameRenderer::surfels() const { return surfels_.read<scene::Surfel>(surfelCount_); }
 

@@ -66,6 +66,10 @@ class FrameRenderer {
   // From the next frame on, every dispatch is timed on its own too (a timestamp before and after
   // each), by program: FrameResult::programTimes.
   void timePrograms();
+  // For tests: the reflections at every surfel, not only where the image reads them (mark_shown).
+  void reflectEverySurfel() { reflectEverySurfel_ = true; }
+  // After a frame with reflections: per surfel, what its image read of them (gpu's kShown bits).
+  std::vector<uint32_t> shownSurfels() const;
 
  private:
   // The frame's passes; false where the solver left its solve for later and the resolve with it.
@@ -90,6 +94,7 @@ class FrameRenderer {
   // Where the solver reflects the glossy lobes (reflections_): per surfel what its lobe reflects of
   // the indirect light toward the camera, and that carried to its vertex.
   vk::Buffer surfelLobe_, vertexLobe_;
+  vk::Buffer shownSurfels_;   // and per surfel what the image reads of those (gpu's kShown bits)
   vk::Buffer noDirectLight_;  // bound for the direct light's buffers where there is none (never read)
   vk::Buffer view_;           // the camera, the raster's one view
   vk::Buffer radiance_, albedo_, normalDepth_, emission_, roughnessMetallic_;  // mapped: the image channels
@@ -97,8 +102,9 @@ class FrameRenderer {
   bool directPerPixel_;  // the resolve adds the depth maps' direct light at each sample
   bool reflections_;     // the solver reflects the indirect light through the glossy lobes
   bool posed_ = false;   // a frame posed the vertices and the surfels
-  vk::Program animate_, surfelUpdate_, vertexIrradiance_, unshadowedToVertices_, lobesToVertices_, directPixels_,
-      resolve_;
+  bool reflectEverySurfel_ = false;
+  vk::Program animate_, surfelUpdate_, vertexIrradiance_, unshadowedToVertices_, lobesToVertices_, markShown_, markFit_,
+      directPixels_, resolve_;
   Raster raster_;
   std::optional<DirectLight> direct_;
   vk::PassTimer timer_;

@@ -2,7 +2,8 @@
 // ar, once its iterations are done: what each glossy surfel's specular lobe reflects toward the
 // eye of its incident light (ar_incident's table: the radiance averaged over each bin, less the
 // emitters' direct light where the depth maps give it), bin by bin through the lobe widened by
-// what the tables blur (written and read between bins, binTaps). Zero at the other surfels.
+// what the tables blur (written and read between bins, binTaps). Zero at the other surfels the
+// image reads (kShownFit); the rest are left as they were, never read.
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 0
 #include "common/common.glsl"
@@ -14,11 +15,12 @@ layout(binding = 2, rgba32f) readonly uniform imageBuffer binTable;  // per bin 
 layout(binding = 3, rgba32f) readonly uniform imageBuffer incident;  // per surfel and bin
 layout(std430, binding = 4) readonly buffer SurfelBrdf { SurfaceBrdf surfelBrdf[]; };
 layout(std430, binding = 5) writeonly buffer SurfelLobe { vec4 surfelLobe[]; };  // rgb radiance
+layout(std430, binding = 6) readonly buffer ShownSurfels { uint shownSurfels[]; };
 layout(push_constant) uniform Push { LobePush push; };
 
 void main() {
   const uint s = itemIndex();
-  if (s >= push.surfelCount) return;
+  if (s >= push.surfelCount || (shownSurfels[s] & kShownFit) == 0u) return;
   const SurfaceBrdf m = surfelBrdf[s];
   const uint leaf = leafOfSurfel[s];
   const vec3 x = nodePositionArea(leaf).xyz, n = nodeNormalCone(leaf).xyz, toEye = push.eye.xyz - x;

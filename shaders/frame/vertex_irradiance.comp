@@ -24,6 +24,9 @@ layout(binding = 9, rgba32f) readonly uniform imageBuffer surfelDirect;
 // True where the resolve adds the depth maps' direct light per pixel (resolve.comp): the vertices
 // then carry the surfels' irradiance less that direct light.
 layout(constant_id = 0) const bool kDirectPixels = false;
+// True where only the vertices the image shows are read (the reflections: mark_shown).
+layout(constant_id = 1) const bool kShownOnly = false;
+layout(std430, binding = 10) readonly buffer ShownSurfels { uint shownSurfels[]; };
 layout(push_constant) uniform Push { CountPush push; };  // count: surfels
 
 // The irradiance the vertices carry: the solver's, or what the depth maps' direct light leaves of it.
@@ -34,7 +37,7 @@ vec4 shown(int s) {
 
 void main() {
   const uint s = itemIndex();
-  if (s >= push.count) return;
+  if (s >= push.count || (kShownOnly && (shownSurfels[s] & kShownVertex) == 0u)) return;
   const uvec4 src = imageLoad(surfelSources, int(s));  // firstVertex, vertexCount, firstTriangle, triangleCount
   const vec4 own = shown(int(s)), positionArea = imageLoad(surfels, int(3u * s));
   const vec3 c = positionArea.xyz, n = imageLoad(surfels, int(3u * s + 1u)).xyz;

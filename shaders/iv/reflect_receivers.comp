@@ -2,7 +2,8 @@
 // iv's reflections, first at the receivers: what each glossy receiver's lobe reflects toward the
 // eye of the light its links bring (lobe_links.glsl), over what its lobe reflects of light arriving
 // evenly (per channel), so that a neighbour of a like roughness takes it for its own material
-// (reflect_surfels). Its α beside it; −1 where it reflects nothing toward the eye.
+// (reflect_surfels). Its α beside it; −1 where it reflects nothing toward the eye. Only at the
+// receivers the image reads (mark_taps): the others' values are left as they were, never read.
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 0
 #include "common/common.glsl"
@@ -13,11 +14,13 @@ layout(local_size_x = kReceiverGroup) in;
 layout(binding = 15, r32ui) readonly uniform uimageBuffer receivers;
 layout(std430, binding = 16) readonly buffer ReceiverCounts { uint receiverCounts[]; };
 layout(std430, binding = 17) writeonly buffer ReceiverLobe { vec4 receiverLobe[]; };  // per surfel
+layout(std430, binding = 18) readonly buffer ShownSurfels { uint shownSurfels[]; };
 
 void main() {
   const uint k = itemIndex();
   if (k >= receiverCounts[kReceiverCount]) return;
   const uint s = imageLoad(receivers, int(k)).x;
+  if ((shownSurfels[s] & kShownTap) == 0u) return;
   const Lobe lobe = lobeOf(s);
   if (!lobe.seen) {
     receiverLobe[s] = vec4(0.0, 0.0, 0.0, -1.0);

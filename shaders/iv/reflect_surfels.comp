@@ -3,7 +3,7 @@
 // taps) as its irradiance is. A receiver whose lobe is of a like roughness gives what it found
 // (reflect_receivers) for the surfel's material; any other, what the surfel's own lobe reflects of
 // its links (lobe_links.glsl). The resolve carries each surfel's value to its vertex and across its
-// triangles.
+// triangles. Only at the surfels the image reads (kShownFit).
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 0
 #include "common/common.glsl"
@@ -15,13 +15,14 @@ layout(binding = 15, r32ui) readonly uniform uimageBuffer tapCounts;
 layout(binding = 16, rg32ui) readonly uniform uimageBuffer taps;                  // InterpolationTap
 layout(binding = 17, rgba32f) readonly uniform imageBuffer receiverLobe;          // per surfel
 layout(std430, binding = 18) writeonly buffer SurfelLobe { vec4 surfelLobe[]; };  // rgb radiance
+layout(std430, binding = 19) readonly buffer ShownSurfels { uint shownSurfels[]; };
 
 // The roughnesses whose lobes one stands for the other's: α within this share of each other.
 const float kLikeAlpha = 0.1;
 
 void main() {
   const uint s = itemIndex();
-  if (s >= push.surfelCount) return;
+  if (s >= push.surfelCount || (shownSurfels[s] & kShownFit) == 0u) return;
   const Lobe lobe = lobeOf(s);
   vec3 sum = vec3(0.0);
   const uint count = lobe.seen ? imageLoad(tapCounts, int(s)).x : 0u;

@@ -40,7 +40,8 @@ class ArSolver final : public Solver {
   void frameStands() override;
   std::vector<std::pair<std::string, double>> frameFigures() const override;
   bool reflectsLobes() const override { return b_.scene.glossy; }
-  void recordReflections(VkCommandBuffer cmd, vk::PassTimer& timer, glm::vec3 eye, const vk::Buffer& lobes) override;
+  void recordReflections(VkCommandBuffer cmd, vk::PassTimer& timer, glm::vec3 eye, const vk::Buffer& shown,
+                         const vk::Buffer& lobes) override;
   const vk::Buffer& irradiance() const override { return b_.irradiance; }
   uint64_t allocatedBytes() const override { return allocations_.bytes(); }
 

@@ -120,7 +120,8 @@ void Bounces::recordSteps(VkCommandBuffer cmd, uint32_t first, uint32_t steps) c
   }
 }
 
-void Bounces::recordReflections(VkCommandBuffer cmd, glm::vec3 eye, const vk::Buffer& lobes) const {
+void Bounces::recordReflections(VkCommandBuffer cmd, glm::vec3 eye, const vk::Buffer& shown,
+                                const vk::Buffer& lobes) const {
   const gpu::LobePush push{.eye = glm::vec4(eye, 1.0f),
                            .surfelCount = surfelCount_,
                            .maskWords = gpu::maskWordsFor(settings_.bins),
@@ -128,7 +129,9 @@ void Bounces::recordReflections(VkCommandBuffer cmd, glm::vec3 eye, const vk::Bu
   const vk::Bindings bindings = b_.pool().plus(vk::Bindings::pool({{"radiosityA", b_.radiosityA},
                                                                    {"radiosityB", b_.radiosityB},
                                                                    {"bounceStates", state_},
-                                                                   {"receiverLobe", receiverLobe_}}));
+                                                                   {"receiverLobe", receiverLobe_},
+                                                                   {"shownSurfels", shown}}));
+  markTaps_->dispatchItems(cmd, surfelCount_, bindings, push);
   reflectReceivers_->dispatchIndirect(cmd, b_.receiverArgs, gpu::kArgsReceivers * sizeof(glm::uvec4), bindings, push);
   reflectSurfels_->dispatchItems(cmd, surfelCount_, bindings.with({{"surfelLobe", lobes}}), push);
 }
@@ -136,6 +139,7 @@ void Bounces::recordReflections(VkCommandBuffer cmd, glm::vec3 eye, const vk::Bu
 void Bounces::makeLinkReaders() {
   const vk::Specialization views{.constants = {{"texelViews", texelViews_}}};
   gather_.emplace(ctx_, "gather", shaderCode("gather"), views);
+  markTaps_.emplace(ctx_, "mark_taps", shaderCode("mark_taps"), views);
   reflectReceivers_.emplace(ctx_, "reflect_receivers", shaderCode("reflect_receivers"), views);
   reflectSurfels_.emplace(ctx_, "reflect_surfels", shaderCode("reflect_surfels"), views);
 }

@@ -42,8 +42,9 @@ class Bounces {
   uint32_t maxGathers() const { return (settings_.bounces ? *settings_.bounces : kMaxBounces) + directGathers(); }
   // After the bounces, per surfel into `lobes`: what each glossy surfel's specular lobe reflects
   // toward `eye` of the light its receivers' links bring (shaders/iv/lobe_links.glsl), found at the
-  // receivers and interpolated to the surfels.
-  void recordReflections(VkCommandBuffer cmd, glm::vec3 eye, const vk::Buffer& lobes) const;
+  // receivers and interpolated to the surfels; only at those `shown` marks kShownFit, through the
+  // receivers it then marks kShownTap (mark_taps).
+  void recordReflections(VkCommandBuffer cmd, glm::vec3 eye, const vk::Buffer& shown, const vk::Buffer& lobes) const;
   // The leaf links are bound in `views` texel views (shaders/common/parted_texels.glsl): 1 or kTexelParts.
   void readTexelViews(uint32_t views);
   // After the frame's steps ran: how far the bounces got.
@@ -64,7 +65,7 @@ class Bounces {
   vk::Program emit_, interpolate_, pullUp_, check_, tail_;
   uint32_t texelViews_ = 1;
   // The passes that read the links: made again for more texel views.
-  std::optional<vk::Program> gather_, reflectReceivers_, reflectSurfels_;
+  std::optional<vk::Program> gather_, markTaps_, reflectReceivers_, reflectSurfels_;
   uint32_t interpolateGroups_;
   vk::Buffer sums_, state_, fullArgs_, args_;  // per gather workgroup; the state; dispatch sizes, full and next
   vk::Buffer change_;                          // per surfel, the irradiance's change at the last gather

@@ -204,8 +204,9 @@ void IvSolver::recordMorePasses(VkCommandBuffer cmd, vk::PassTimer& timer) {
   });
 }
 
-void IvSolver::recordReflections(VkCommandBuffer cmd, vk::PassTimer& timer, glm::vec3 eye, const vk::Buffer& lobes) {
-  timedPass(cmd, timer, "reflections", [&] { bounces_.recordReflections(cmd, eye, lobes); });
+void IvSolver::recordReflections(VkCommandBuffer cmd, vk::PassTimer& timer, glm::vec3 eye, const vk::Buffer& shown,
+                                 const vk::Buffer& lobes) {
+  timedPass(cmd, timer, "reflections", [&] { bounces_.recordReflections(cmd, eye, shown, lobes); });
 }
 
 std::vector<std::pair<std::string, double>> IvSolver::frameFigures() const {
