@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <semaphore>
 #include <span>
+#include <thread>
 #include <vector>
 
 #include "engine/vk/timer.h"
@@ -12,6 +14,22 @@
 namespace ivgi::vk {
 
 namespace {
+
+// A turn of the worker threads that compile pipelines: as many at once as the host has cores (each
+// compilation holds a compiler's memory).
+class CompilerTurn {
+ public:
+  CompilerTurn() { turns().acquire(); }
+  ~CompilerTurn() { turns().release(); }
+  CompilerTurn(const CompilerTurn&) = delete;
+  CompilerTurn& operator=(const CompilerTurn&) = delete;
+
+ private:
+  static std::counting_semaphore<>& turns() {
+    static std::counting_semaphore<> t(std::max<std::ptrdiff_t>(1, std::thread::hardware_concurrency()));
+    return t;
+  }
+};
 
 // The view format of an imageBuffer's declared format, and the bytes of one texel.
 struct TexelFormat {
@@ -225,20 +243,25 @@ std::shared_ptr<Program::Compiled> Program::compile(std::span<const uint32_t> co
   pli.pPushConstantRanges = &range;
   check(vkCreatePipelineLayout(ctx.device(), &pli, nullptr, &c->layout), "vkCreatePipelineLayout");
 
-  VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-  ci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
-  ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-  ci.stage.module = c->module;
-  ci.stage.pName = "main";
-  VkSpecializationInfo info{uint32_t(entries.size()), entries.data(), values.size() * 4, values.data()};
-  if (!entries.empty()) ci.stage.pSpecializationInfo = &info;
-  ci.layout = c->layout;
-  check(vkCreateComputePipelines(ctx.device(), VK_NULL_HANDLE, 1, &ci, nullptr, &c->pipeline),
-        "vkCreateComputePipelines");
+  // The task writes c->pipeline alone, and ~Compiled waits for it, so `c` outlives it.
+  c->ready = std::async(std::launch::async, [c = c.get(), entries = std::move(entries), values = std::move(values)] {
+               const CompilerTurn turn;
+               VkComputePipelineCreateInfo ci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+               ci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+               ci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+               ci.stage.module = c->module;
+               ci.stage.pName = "main";
+               VkSpecializationInfo info{uint32_t(entries.size()), entries.data(), values.size() * 4, values.data()};
+               if (!entries.empty()) ci.stage.pSpecializationInfo = &info;
+               ci.layout = c->layout;
+               check(vkCreateComputePipelines(c->device, VK_NULL_HANDLE, 1, &ci, nullptr, &c->pipeline),
+                     "vkCreateComputePipelines");
+             }).share();
   return c;
 }
 
 Program::Compiled::~Compiled() {
+  if (ready.valid()) ready.wait();
   vkDestroyPipeline(device, pipeline, nullptr);
   vkDestroyPipelineLayout(device, layout, nullptr);
   vkDestroyDescriptorSetLayout(device, setLayout, nullptr);
@@ -313,6 +336,7 @@ bool Program::bind(VkCommandBuffer cmd, const Bindings& bindings, const void* pu
       w.pBufferInfo = &infos[i];
     }
   }
+  compiled_->ready.get();
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, compiled_->pipeline);
   if (n) ctx_.cmdPushDescriptorSet(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, compiled_->layout, 0, n, writes.data());
   if (compiled_->pushBytes)

@@ -8,6 +8,7 @@
 // Every dispatch ends with a barrier (buffer.h): what it wrote is what the next command reads.
 #include <vulkan/vulkan.h>
 
+#include <future>
 #include <initializer_list>
 #include <memory>
 #include <span>
@@ -138,13 +139,16 @@ class Program {
     uint32_t parts = 1;  // an imageBuffer array: that many views of one buffer
   };
   // The pipeline compiled from the shader and specialization, with what reflection found: shared by
-  // every Program of them on one context (Context::shared).
+  // every Program of them on one context (Context::shared). The pipeline is compiled on a worker
+  // thread (the driver's compiler is most of a run's start-up), `ready` once it is; the first
+  // dispatch waits for it.
   struct Compiled {
     VkDevice device = VK_NULL_HANDLE;
     VkShaderModule module = VK_NULL_HANDLE;
     VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
     VkPipelineLayout layout = VK_NULL_HANDLE;
     VkPipeline pipeline = VK_NULL_HANDLE;
+    std::shared_future<void> ready;  // rethrows the compilation's error
     std::vector<Slot> slots;
     uint32_t texelViews = 1;  // the views of an imageBuffer array the shader reads (parted_texels.glsl)
     uint32_t pushBytes = 0;
