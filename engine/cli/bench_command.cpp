@@ -173,7 +173,10 @@ int runBench(const BenchOptions& o) {
     if (st.framesRedone) std::printf("; %u frame(s) redone with more room for links or loop rounds", st.framesRedone);
     std::printf("; prune workgroups of %u invocations", st.pruneGroupSize);
     // The prune's work, and its rate where it ran in the measured frames.
-    std::printf("\nprune work: %llu root-path senders walked in the last frame", (unsigned long long)st.sendersWalked);
+    // A still scene's measured frames keep the first frame's solution: its counts are that frame's.
+    std::printf(
+        "\nprune work: %llu root-path senders walked in the last frame%s", (unsigned long long)st.sendersWalked,
+        perPass["prune"].empty() ? " that pruned (a warm-up frame: the measured frames kept its solution)" : "");
     if (st.receivers > 0)  // against the bins a receiver resolves them into (docs/notes/prune-bound.md)
       std::printf(" (%.0f a receiver, against %u bins)", double(st.sendersWalked) / st.receivers,
                   6 * o.solver.iv.bins * o.solver.iv.bins);
