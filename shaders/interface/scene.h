@@ -240,8 +240,9 @@ struct ResolvePush {  // resolve
 IVGI_CONST uint kShownVertex = 1u;  // at a vertex of a triangle some sample of the image hits
 IVGI_CONST uint kShownFit = 2u;     // read by such a vertex's fit (vertex_irradiance), itself included
 IVGI_CONST uint kShownTap = 4u;     // iv: a receiver whose reflection a kShownFit surfel interpolates
-struct LobePush {                   // reflect_receivers, reflect_surfels, mark_taps, ar_reflect
-  vec4 eye;                         // the camera's origin
+
+struct LobePush {  // reflect_receivers, reflect_surfels, mark_taps, ar_reflect
+  vec4 eye;        // the camera's origin
   uint surfelCount;
   uint maskWords;     // iv: of a static leaf's override mask
   float leastSpread;  // the least spread (brdf.h's widenedLobe) the method's directions resolve
