@@ -110,7 +110,8 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
   vertexUnshadowed_ = vk::Buffer(ctx, directPerPixel_ ? shownIrradiance_.size() : 16, Memory::Device, tally);
   surfelLobe_ = vk::Buffer(ctx, reflections_ ? shownIrradiance_.size() : 16, Memory::Device, tally);
   vertexLobe_ = vk::Buffer(ctx, reflections_ ? shownIrradiance_.size() : 16, Memory::Device, tally);
-  shownSurfels_ = vk::Buffer(ctx, reflections_ ? shownIrradiance_.size() / 4 : 16, Memory::Device, tally);
+  shownSurfels_ =
+      vk::Buffer(ctx, reflections_ ? std::max<size_t>(surfelCount_, 1) * sizeof(uint32_t) : 16, Memory::Device, tally);
   noDirectLight_ = vk::Buffer(ctx, 16, Memory::Device, tally);
   if (directLight) {
     validate(*directLight);
