@@ -130,6 +130,44 @@ TEST(Glossy, APointLightsHighlightIsWherePtPutsIt) {
   }
 }
 
+// A white wall beside a metal floor (roughness 0.25) that mirrors a point light onto it. The light
+// the floor throws up grows toward the wall's foot, nearer the lamp's mirror image: the glossy
+// leaves send what their lobes reflect of the direct light along the lobe
+// (shaders/common/sender_lobes.glsl). Sent evenly over the floor's hemisphere, as a diffuse floor
+// sends it, the wall's foot came out 4 % (iv) and 6 % (ar) brighter than its upper part, against
+// pt's 25 %.
+TEST(Glossy, AMetalFloorThrowsTheLampsLightUpTheWall) {
+  scenes::GltfBuilder b;
+  scenes::MeshData floor, wall;
+  scenes::addQuad(floor, {-2, 0, -2}, {2, 0, -2}, {2, 0, 2}, {-2, 0, 2}, 16, 16, {0, 1, 0});
+  scenes::addQuad(wall, {1.5f, 0, 2}, {1.5f, 0, -2}, {1.5f, 2, -2}, {1.5f, 2, 2}, 16, 8, {-1, 0, 0});
+  b.node("floor", b.mesh("floor", {{floor, b.glossyMaterial("metal", glm::vec3(0.9f), 1.0f, 0.25f)}}));
+  b.node("wall", b.mesh("wall", {{wall, b.material("white", glm::vec3(0.8f))}}));
+  b.light("lamp", "point", 4.0f, {-1, 1, 0});
+  b.camera("camera", 0.6f, 0.01f, {-1.8f, 1.2f, 0}, glm::angleAxis(-0.5f * gpu::kPi, glm::vec3(0, 1, 0)));
+  const fs::path scene = test::scratchDir("lobe-wall") / "lobe-wall.gltf";
+  scenes::writeModel(b.finish(), scene.string());
+  // Rows 8 to 47 of the 48 see the wall alone (the sky above it).
+  const auto rowsMean = [](const image::RgbImage& im, uint32_t first, uint32_t end) {
+    double sum = 0.0;
+    for (uint32_t y = first; y < end; ++y)
+      for (uint32_t x = 0; x < im.width; ++x) sum += im.pixels[size_t(y) * im.width + x].g;
+    return sum / (im.width * (end - first));
+  };
+  const auto pt = image::readLinearRgb(
+      test::renderExr("pt", {scene.string(), "--method", "pt", "--spp", "64", "--size", "64x48"}).string());
+  const double ptRise = rowsMean(pt, 36, 48) / rowsMean(pt, 8, 20), ptMean = rowsMean(pt, 8, 48);
+  for (const char* method : {"iv", "ar"}) {
+    const auto image =
+        image::readLinearRgb(test::renderExr(method, {scene.string(), "--method", method, "--size", "64x48"}).string());
+    const double rise = rowsMean(image, 36, 48) / rowsMean(image, 8, 20), mean = rowsMean(image, 8, 48);
+    std::printf("[ glossy ] the wall, %s: foot over upper part %.3f, pt %.3f; mean %.4f, pt %.4f\n", method, rise,
+                ptRise, mean, ptMean);
+    EXPECT_NEAR(rise, ptRise, 0.05 * ptRise) << method;
+    EXPECT_NEAR(mean, ptMean, 0.1 * ptMean) << method;
+  }
+}
+
 // The extremes of the factors: a mirror (roughness 0, drawn at the clamp's 0.032), the roughest
 // metal and a smooth dielectric give finite images in every method, no value replaced; iv and ar
 // say once that they reflect the smooth ones' surroundings blurred.

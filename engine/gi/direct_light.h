@@ -83,6 +83,9 @@ class DirectLight {
   // and environment direction seen (no shadows).
   const vk::Buffer& surfelDirect() const { return surfelDirect_; }
   const vk::Buffer& surfelUnshadowed() const { return surfelUnshadowed_; }
+  // Where some material is glossy, per surfel: the luminance-weighted mean direction its direct
+  // light arrives from (shaders/frame/direct_surfels.comp); else one element.
+  const vk::Buffer& surfelArrival() const { return surfelArrival_; }
   // The points the pixels share out: the emitter samples, then the environment's directions.
   uint32_t sampleCount() const { return sampleCount_ + environmentCount_; }
   bool lightsEnvironment() const { return environmentCount_ > 0; }
@@ -105,7 +108,8 @@ class DirectLight {
                                {"lightViews", views_},
                                {"lightDepth", depth_},
                                {"surfelDirect", surfelDirect_},
-                               {"surfelUnshadowed", surfelUnshadowed_}});
+                               {"surfelUnshadowed", surfelUnshadowed_},
+                               {"surfelArrival", surfelArrival_}});
   }
 
  private:
@@ -163,7 +167,8 @@ class DirectLight {
   // Per emitter sample, its instance and its place in its primitive's space (the pose places it).
   std::vector<std::pair<uint32_t, glm::vec3>> samplePlaces_;
   std::vector<gpu::Instance> instances_;
-  vk::Buffer samples_, points_, views_, depth_, staticDepth_, surfelDirect_, surfelUnshadowed_, surfelsLit_;
+  vk::Buffer samples_, points_, views_, depth_, staticDepth_, surfelDirect_, surfelUnshadowed_, surfelArrival_,
+      surfelsLit_;
   // The lights drawn with a cube or one map: the environment's directions, then the frame's lights.
   vk::Buffer punctual_;
   vk::Buffer sceneBounds_;  // the scene's bounds in the frame (world_bounds), for directional lights

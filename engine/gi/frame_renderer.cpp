@@ -118,7 +118,8 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
     if (somethingLights(g, *directLight))
       direct_.emplace(ctx, g, emitterSamples(g, directLight->samples), movingInstances, *directLight, tally);
   }
-  if (direct_ && solver_ && !solver_->useDirectLight(direct_->surfelDirect(), direct_->lightsEnvironment()))
+  if (direct_ && solver_ &&
+      !solver_->useDirectLight(direct_->surfelDirect(), direct_->surfelArrival(), direct_->lightsEnvironment()))
     throw SettingsError("this method cannot take the direct light from depth maps (iv and ar can)");
 }
 

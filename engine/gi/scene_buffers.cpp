@@ -22,6 +22,8 @@ SceneBuffers::SceneBuffers(const vk::Context& ctx, const scene::Geometry& g, con
   surfelBrdf = vk::makeBuffer(ctx, glossy ? g.surfelBrdf : std::vector<gpu::SurfaceBrdf>(1), vk::Memory::Device, tally);
   specularAlbedo = vk::makeBuffer(ctx, glossy ? scene::SpecularAlbedo::table().values() : std::vector<glm::vec2>(1),
                                   vk::Memory::Device, tally);
+  senderLobes = vk::makeBuffer(ctx, std::vector<glm::vec4>(glossy ? 2 * nodeCount : 1, glm::vec4(0.0f)),
+                               vk::Memory::Device, tally);
   lights = vk::Buffer(ctx, sizeof(gpu::PunctualLight), vk::Memory::Host, tally);
   noDirectLight =
       vk::makeBuffer(ctx, std::vector<glm::vec4>(std::max<size_t>(h.leafOfSurfel.size(), 1), glm::vec4(0.0f)),
@@ -49,8 +51,10 @@ vk::Bindings SceneBuffers::pool() const {
                              {"nodes", nodes},
                              {"arrivals", arrivals},
                              {"surfelDirect", surfelDirect()},
+                             {"surfelArrival", surfelArrival()},
                              {"surfelBrdf", surfelBrdf},
-                             {"specularAlbedo", specularAlbedo}});
+                             {"specularAlbedo", specularAlbedo},
+                             {"senderLobes", senderLobes}});
 }
 
 }  // namespace ivgi::gi

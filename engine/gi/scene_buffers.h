@@ -22,13 +22,20 @@ struct SceneBuffers {
   // (Geometry::surfelBrdf) and the specular albedo table (engine/scene/reflectance.h), for what the
   // lobes reflect of the indirect light.
   vk::Buffer surfelBrdf, specularAlbedo;
+  // Per node, where some material is glossy (else one element): what a glossy leaf sends along its
+  // lobe (shaders/common/send_lobe.glsl), written each frame by the solver; zeros elsewhere, and
+  // inner nodes, never written, send evenly.
+  vk::Buffer senderLobes;
   // Per frame: the punctual lights (host-visible), and the nodes' states (gpu::NodeState, refit)
   // with the refit's arrival counts (shaders/common/climb.glsl: zero between dispatches).
   vk::Buffer lights, nodes, arrivals;
   // Per surfel, the emitters' direct light from depth maps (engine/gi/direct_light.h) where the
   // frame gives it (Solver::useDirectLight): the solver then transports only the light the surfels
   // reflect. Else zeros (`noDirectLight`), the solver carrying the emitters' light itself.
+  // With it, where some material is glossy, the mean direction it arrives from
+  // (DirectLight::surfelArrival).
   const vk::Buffer* directLight = nullptr;
+  const vk::Buffer* directArrival = nullptr;
   vk::Buffer noDirectLight;
   uint32_t nodeCount = 0, surfelCount = 0, lightCount = 0;
   bool environmentOn = false;
@@ -36,11 +43,13 @@ struct SceneBuffers {
 
   bool emittersByMaps() const { return directLight != nullptr; }
   // The surfels' direct light from the maps, with the environment's (which the bins then leave out) or not.
-  void takeDirectLight(const vk::Buffer& surfelDirect, bool withEnvironment) {
+  void takeDirectLight(const vk::Buffer& surfelDirect, const vk::Buffer& surfelArrival, bool withEnvironment) {
     directLight = &surfelDirect;
+    directArrival = &surfelArrival;
     if (withEnvironment) environmentOn = false;
   }
   const vk::Buffer& surfelDirect() const { return directLight ? *directLight : noDirectLight; }
+  const vk::Buffer& surfelArrival() const { return directArrival ? *directArrival : noDirectLight; }
 
   SceneBuffers() = default;
   SceneBuffers(const vk::Context& ctx, const scene::Geometry& geometry, const Hierarchy& hierarchy, uint32_t bins,

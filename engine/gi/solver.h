@@ -24,9 +24,13 @@ class Solver {
   // The frame's punctual lights in world space.
   virtual void setLights(const std::vector<gpu::PunctualLight>& lights) = 0;
   // Takes the emitters' direct light per surfel from the frame's depth maps (gi::DirectLight) and
-  // from then on solves with it; false where the solver cannot. `surfelDirect` stays valid and is
-  // rewritten each frame before record(); given before the first frame.
-  virtual bool useDirectLight(const vk::Buffer& /*surfelDirect*/, bool /*withEnvironment*/) { return false; }
+  // from then on solves with it; false where the solver cannot. `surfelDirect` and `surfelArrival`
+  // (the light's mean direction, DirectLight::surfelArrival) stay valid and are rewritten each frame
+  // before record(); given before the first frame.
+  virtual bool useDirectLight(const vk::Buffer& /*surfelDirect*/, const vk::Buffer& /*surfelArrival*/,
+                              bool /*withEnvironment*/) {
+    return false;
+  }
   // Records the solver's passes, each timed. `geometryMoved`: the surfels or the lights changed
   // since the last frame (or this is the first), so whatever depends on them must be made again.
   // Where nothing moved, the last frame's solution is what solving again would give: the solvers

@@ -206,6 +206,8 @@ std::shared_ptr<Program::Compiled> Program::compile(std::span<const uint32_t> co
   for (const auto& [name, value] : specialization.constants) {
     Reflection::Constant* k = constant(name);
     if (!k) throw VulkanError("shader " + name_ + " has no specialization constant named '" + std::string(name) + "'");
+    if (std::any_of(entries.begin(), entries.end(), [&](const auto& e) { return e.constantID == k->id; }))
+      throw VulkanError("shader " + name_ + ": specialization constant '" + std::string(name) + "' given twice");
     specialize(k->id, value);
     k->value = value;
   }

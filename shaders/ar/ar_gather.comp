@@ -33,7 +33,11 @@ layout(std430, binding = 13) readonly buffer GatherOrder { uint gatherOrder[]; }
 // kArFlagChunks where a receiver's list was longer than the chunks recorded walked (the frame is
 // redone in more).
 layout(std430, binding = 14) buffer GatherFlags { uint gatherFlags[]; };
+layout(std430, binding = 15) readonly buffer SpecularAlbedo { vec2 specularAlbedo[]; };
 layout(push_constant) uniform Push { ArGatherPush push; };
+#include "common/specular_albedo.glsl"
+#define SENDER_LOBES 16
+#include "common/sender_lobes.glsl"
 
 // The bins around a direction (binTaps) with their bilinear weights, and each bin's ∫ω dω (xyz)
 // and solid angle (w), loaded once for every use of the direction.
@@ -103,15 +107,16 @@ void deposit(vec4 nr, vec3 dir, Taps t, vec3 sent, float binShare) {
    (weights).w * imageLoad(table, int((base) + (taps).w)).rgb)
 
 // The radiance surfel sender s (its surfel, normal) sends along unit `dir` (from the receiver to
-// it; its taps t): from its front its own, and from either side less the antiradiance, the light
-// that reached it from beyond, read between the bins on its far side.
-vec3 surfelRadiance(uint surfel, uint bins, vec4 ns, vec3 dir, Taps t) {
+// it; its taps t): from its front its own with what its lobe sends beyond it (`lobe`), and from
+// either side less the antiradiance, the light that reached it from beyond, read between the bins
+// on its far side.
+vec3 surfelRadiance(uint surfel, uint bins, vec4 ns, vec3 dir, Taps t, vec3 lobe) {
   vec3 through = READ_TAPS(incident, surfel * bins, t.bins, keepSide(ns, dir, t));
-  return (dot(ns.xyz, -dir) > 0.0 ? imageLoad(radiance, int(surfel)).rgb : vec3(0.0)) - through;
+  return (dot(ns.xyz, -dir) > 0.0 ? imageLoad(radiance, int(surfel)).rgb + lobe : vec3(0.0)) - through;
 }
 
-// Adds what sender node s sends over its link to the receiver (at pr, its normal and cone nr).
-void gatherLink(uint s, vec3 pr, vec4 nr) {
+// Adds what sender node s sends over its link to the receiver (at pr, its normal and cone nr, its area).
+void gatherLink(uint s, vec3 pr, vec4 nr, float receiverArea) {
   uint n = kDirs, bins = 6u * n * n;
   vec4 ps = nodePositionArea(s);
   vec3 d = ps.xyz - pr;
@@ -139,6 +144,11 @@ void gatherLink(uint s, vec3 pr, vec4 nr) {
   vec3 sideA, sideB;
   senderSides(s, ns, sideA, sideB);
   float pieceArea = ps.w / float(pieces * pieces);
+  // What its lobe sends beyond its radiance toward the receiver, spread over the receiver's extent
+  // and at least what the tables resolve (a bin's solid angle over 4: engine/gi/bins.h's
+  // tableBinSpread).
+  const float receiverExtent = receiverArea / (dist2 + receiverArea / kPi);
+  const vec3 lobe = excessToward(s, pr, receiverExtent, kPi / float(6u * n * n)) / kPi;
   for (uint j = 0u; j < pieces * pieces; ++j) {
     vec2 at = (vec2(j % pieces, j / pieces) + 0.5) / float(pieces) * 2.0 - 1.0;
     vec3 q = d + at.x * sideA + at.y * sideB;
@@ -152,7 +162,7 @@ void gatherLink(uint s, vec3 pr, vec4 nr) {
     float binOmega = imageLoad(binTable, int(binOf(dir, kDirs))).w;
     const Taps taps = tapsOf(dir);
     float binShare = omega > binOmega ? binOmega / omega : 1.0;
-    deposit(nr, dir, taps, surfelRadiance(t.w, bins, ns, dir, taps) * omega, binShare);
+    deposit(nr, dir, taps, surfelRadiance(t.w, bins, ns, dir, taps, lobe) * omega, binShare);
   }
 }
 
@@ -166,7 +176,9 @@ void main() {
   uint from = push.chunk * push.chunkLinks, to = min(end, from + push.chunkLinks);
   if (push.chunk + 1u == push.chunks && end > to) atomicOr(gatherFlags[0], kArFlagChunks);
   if (push.chunk > 0u && from >= end) return;
-  vec3 pr = nodePositionArea(r).xyz;
+  const vec4 receiverAt = nodePositionArea(r);
+  const vec3 pr = receiverAt.xyz;
+  const float receiverArea = receiverAt.w;
   vec4 nr = nodeNormalCone(r);
   tableBase = r * kBins;
   vectorX = vectorY = vectorZ = vec3(0.0);
@@ -184,7 +196,7 @@ void main() {
   }
   for (uint k = from; k < to; ++k) {
     uint s = k < fixedCount ? imageLoad(staticSenders, int(fixedFirst + k)).x : imageLoad(senders, int(first + k)).x;
-    gatherLink(s & ~kEmitterBit, pr, nr);
+    gatherLink(s & ~kEmitterBit, pr, nr, receiverArea);
   }
   for (uint b = 0u; kTableHere && b < kBins; ++b) imageStore(gathered, int(tableBase + b), vec4(gatheredHere[b], 0.0));
   imageStore(gatheredVector, int(3u * r), vec4(vectorX, 0.0));

@@ -5,6 +5,10 @@
 // normal, so it keeps its exitance (area · L) and, per bin, its antiradiance times its area, and the
 // cosines are applied exactly where they are read. Where the emitters' light comes from depth maps
 // (inside the irradiance), the emission is not sent: only the light the surfels reflect travels.
+// A glossy leaf sends what its lobe reflects of that direct light along the lobe
+// (common/send_lobe.glsl): toward each bin in front of it, the lobe's excess over that light sent
+// evenly, taken off its antiradiance there, so that the clusters' tables carry it; a surfel sender
+// adds it itself (ar_gather).
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 0
 #include "common/common.glsl"
@@ -19,7 +23,21 @@ layout(std430, binding = 5) buffer Radiance { vec4 radiance[]; };
 layout(binding = 6, rgba32f) readonly uniform imageBuffer incident;          // per surfel and bin (looking)
 layout(binding = 7, rgba32f) writeonly uniform imageBuffer intensity;        // per node and bin (travel)
 layout(std430, binding = 8) writeonly buffer Exitance { vec4 exitance[]; };  // per node, area · L
+layout(std430, binding = 9) readonly buffer SurfelDirect { vec4 surfelDirect[]; };
+layout(std430, binding = 10) readonly buffer SurfelArrival { vec4 surfelArrival[]; };
+layout(std430, binding = 11) readonly buffer SurfelBrdf { SurfaceBrdf surfelBrdf[]; };
+layout(std430, binding = 12) readonly buffer SpecularAlbedo { vec2 specularAlbedo[]; };
+layout(std430, binding = 13) writeonly buffer SenderLobes { vec4 senderLobes[]; };
 layout(push_constant) uniform Push { ArLocalPush push; };
+layout(constant_id = 28) const bool kSenderLobes = false;  // the scene has glossy materials
+#include "common/send_lobe.glsl"
+#include "common/sender_lobes.glsl"
+#include "common/specular_albedo.glsl"
+
+// π·f(l, w)/a(l) of the leaf's lobe (send_lobe.glsl's `lobe` and `light`) toward a bin's centre w.
+float lobeWeight(vec4 lobe, vec4 light, vec3 n, vec3 w, float binSolidAngle) {
+  return excessAlong(vec4(1.0, 1.0, 1.0, lobe.w), light.xyz, light.w, n, w, binSolidAngle, 0.0).x + 1.0;
+}
 
 void main() {
   uint s = itemIndex();
@@ -33,9 +51,27 @@ void main() {
     radiance[s] = vec4(L, 0.0);
   }
   exitance[leaf] = vec4(area * L, 0.0);
+  vec4 lobe = vec4(0.0), light = vec4(0.0);
+  const vec3 n = nodeNormalCone(leaf).xyz;
+  if (kSenderLobes) sendLobe(s, leaf, n, lobe, light);
+  // The lobe's weight π·f/a toward each bin in front (lobeWeight), scaled so that over the bins it
+  // sends all of S: taken at the bins' centres, a lobe about as wide as a bin sums to more or less
+  // than it holds as its peak lies on a centre or between them.
+  const float binSolidAngle = 4.0 * kPi / float(bins);
+  float weightSum = 0.0;
+  for (uint c = 0u; kSenderLobes && lobe.w > 0.0 && c < bins; ++c) {
+    const vec3 w = normalize(binDirection(c, kDirs));
+    weightSum += lobeWeight(lobe, light, n, w, binSolidAngle) * max(dot(n, w), 0.0) * binSolidAngle;
+  }
+  const float scale = weightSum > 0.0 ? kPi / weightSum : 0.0;
   for (uint c = 0u; c < bins; ++c) {
     // Antiradiance toward c: the light that arrived travelling along c, from the opposite bin.
     vec3 through = imageLoad(incident, int(s * bins + oppositeBin(c, kDirs))).rgb;
+    if (kSenderLobes && lobe.w > 0.0) {
+      const vec3 w = normalize(binDirection(c, kDirs));
+      // Less the lobe's excess over S sent evenly (radiance), toward the bins in front.
+      if (dot(n, w) > 0.0) through -= lobe.rgb * (scale * lobeWeight(lobe, light, n, w, binSolidAngle) - 1.0) / kPi;
+    }
     imageStore(intensity, int(leaf * bins + c), vec4(area * through, 0.0));
   }
 }

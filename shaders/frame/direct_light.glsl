@@ -115,12 +115,16 @@ vec3 lobeOf(Lobe lobe, vec3 toward) {
 
 // Light at p (unit normal n) from points first, first + stride, … before `end`, each where its maps
 // see p (`lookup`: seenShare's), times `scale`; in `unshadowed` the same with every point seen,
-// and in `reflected` what `lobe` reflects of the seen light.
+// in `reflected` what `lobe` reflects of the seen light, and in `arrival` the seen light's
+// directions weighed by its luminance (xyz) and that luminance (w), unscaled; in `footprint` the
+// solid angle a disk of area `area` facing n at p spans from the lights, weighed likewise.
 vec3 lightAt(vec3 p, vec3 n, uint first, uint end, uint stride, float scale, uint side, uint lookup, Lobe lobe,
-             out vec3 unshadowed, out vec3 reflected) {
+             out vec3 unshadowed, out vec3 reflected, out vec4 arrival, float area, out float footprint) {
   vec3 e = vec3(0.0);
   unshadowed = vec3(0.0);
   reflected = vec3(0.0);
+  arrival = vec4(0.0);
+  footprint = 0.0;
   for (uint i = first; i < end; i += stride) {
     float cosine;
     vec3 toward;
@@ -129,6 +133,12 @@ vec3 lightAt(vec3 p, vec3 n, uint first, uint end, uint stride, float scale, uin
     const vec3 lit = seen * seenShare(i, p, cosine, side, lookup);
     e += lit;
     unshadowed += seen;
+    const float luminance = dot(lit, vec3(0.2126, 0.7152, 0.0722));
+    arrival += luminance * vec4(toward, 1.0);
+    const bool directional =
+        lightPoints[i].cone.w == kLightPointIsPunctual && lightPoints[i].cone.z == kLightDirectional;
+    const vec3 fromLight = lightPoints[i].positionArea.xyz - p;
+    if (area > 0.0 && !directional) footprint += luminance * area * cosine / (dot(fromLight, fromLight) + area / kPi);
     if (lobe.glossy) reflected += lobeOf(lobe, toward) * lit;
   }
   unshadowed *= scale;
@@ -139,15 +149,19 @@ vec3 lightAt(vec3 p, vec3 n, uint first, uint end, uint stride, float scale, uin
 // Irradiance at a surfel's p (unit normal n) from the emitter samples first, first + stride, … of
 // `samples`, each a disk of the area it stands for, L·A·cos θ·cos θ' / (d² + A/π) (finite where p
 // comes near it), times the stride: every stride-th of the stratified samples is an estimate of them
-// all. And in `unshadowed`, the same with every sample seen.
-vec3 sampledIrradiance(vec3 p, vec3 n, uint samples, uint side, uint first, uint stride, out vec3 unshadowed) {
+// all. And in `unshadowed`, the same with every sample seen; in `arrival` and `footprint`, lightAt's.
+vec3 sampledIrradiance(vec3 p, vec3 n, uint samples, uint side, uint first, uint stride, out vec3 unshadowed,
+                       out vec4 arrival, float area, out float footprint) {
   vec3 reflected;
-  return lightAt(p, n, first, samples, stride, float(stride), side, kSurfelLookup, noLobe(n), unshadowed, reflected);
+  return lightAt(p, n, first, samples, stride, float(stride), side, kSurfelLookup, noLobe(n), unshadowed, reflected,
+                 arrival, area, footprint);
 }
 
 // Irradiance at a surfel's p (unit normal n) from the `punctual` lights (point, spot, directional)
-// after the `samples` emitter samples, each where its maps see p.
-vec3 punctualIrradiance(vec3 p, vec3 n, uint samples, uint punctual, uint side) {
+// after the `samples` emitter samples, each where its maps see p; in `arrival` and `footprint`, lightAt's.
+vec3 punctualIrradiance(vec3 p, vec3 n, uint samples, uint punctual, uint side, out vec4 arrival, float area,
+                        out float footprint) {
   vec3 unshadowed, reflected;
-  return lightAt(p, n, samples, samples + punctual, 1u, 1.0, side, kSurfelLookup, noLobe(n), unshadowed, reflected);
+  return lightAt(p, n, samples, samples + punctual, 1u, 1.0, side, kSurfelLookup, noLobe(n), unshadowed, reflected,
+                 arrival, area, footprint);
 }

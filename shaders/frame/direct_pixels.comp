@@ -58,10 +58,12 @@ void main() {
     lobe.view = vec3(dot(v, lobe.t1), dot(v, lobe.t2), abs(dot(v, n)));
   }
   vec3 unshadowed, unused, specular, punctualSpecular;
+  vec4 arrival;  // unused
+  float footprint;
   const vec3 shadowed = lightAt(p, n, first, push.lightSamples, stride, float(stride), push.shadowMap, kPixelLookup,
-                                lobe, unshadowed, specular);
+                                lobe, unshadowed, specular, arrival, 0.0, footprint);
   const vec3 punctual = lightAt(p, n, push.lightSamples, push.lightSamples + push.punctualLights, 1u, 1.0,
-                                push.shadowMap, kPixelLookup, lobe, unused, punctualSpecular);
+                                push.shadowMap, kPixelLookup, lobe, unused, punctualSpecular, arrival, 0.0, footprint);
   if (kGlossy) pixelSpecular[2u * o] = vec4(specular, 0.0), pixelSpecular[2u * o + 1u] = vec4(punctualSpecular, 0.0);
   pixelLights[o] =
       PixelLight(vec4(shadowed, uintBitsToFloat(packUnitVector(n))), vec4(unshadowed, dot(n, p)), vec4(punctual, 1.0));

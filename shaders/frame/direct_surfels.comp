@@ -3,7 +3,9 @@
 // their depth maps (direct_light.glsl), and the punctual lights', the source of the first
 // bounce; and the emitter samples' light with every sample seen, which the pixels' own shadows
 // scale (direct_pixels, resolve). Where only moving objects were drawn again over still maps, a
-// surfel whose lookups they cannot reach keeps its light (DirectLightPush::changed).
+// surfel whose lookups they cannot reach keeps its light (DirectLightPush::changed). With
+// kArrivals (a glossy scene), the mean direction the light arrives from, for the lobes that send
+// it on (shaders/common/sender_lobes.glsl).
 #extension GL_GOOGLE_include_directive : require
 #include "common/common.glsl"
 layout(local_size_x = 64) in;
@@ -15,6 +17,11 @@ layout(binding = 3, r32ui) readonly uniform uimageBuffer lightDepth;  // depths'
 layout(std430, binding = 4) writeonly buffer SurfelDirect { vec4 surfelDirect[]; };
 layout(std430, binding = 5) writeonly buffer SurfelUnshadowed { vec4 surfelUnshadowed[]; };
 layout(std430, binding = 6) buffer SurfelsLit { uint surfelsLit; };  // with `changed`: how many are lit again
+// The luminance-weighted means of the unit directions toward the seen light (xyz: its length is 1
+// where all of it arrives from one direction, less as it spreads) and of the solid angle the
+// surfel's disk spans from the lights (w).
+layout(std430, binding = 7) writeonly buffer SurfelArrival { vec4 surfelArrival[]; };
+layout(constant_id = 0) const bool kArrivals = false;
 layout(push_constant) uniform Push { DirectLightPush push; };
 #include "direct_light.glsl"
 
@@ -46,8 +53,18 @@ void main() {
     if (!reachedBy(push.moved[0], p) && !reachedBy(push.moved[1], p)) return;
     atomicAdd(surfelsLit, 1u);
   }
-  surfelDirect[i] = vec4(sampledIrradiance(p, n, push.sampleCount, push.resolution, 0u, 1u, unshadowed) +
-                             punctualIrradiance(p, n, push.sampleCount, push.punctualLights, push.resolution),
-                         0.0);
+  vec4 sampled, punctual;
+  float sampledFootprint, punctualFootprint;
+  const float area = kArrivals ? s.positionArea.w : 0.0;
+  surfelDirect[i] = vec4(
+      sampledIrradiance(p, n, push.sampleCount, push.resolution, 0u, 1u, unshadowed, sampled, area, sampledFootprint) +
+          punctualIrradiance(p, n, push.sampleCount, push.punctualLights, push.resolution, punctual, area,
+                             punctualFootprint),
+      0.0);
   surfelUnshadowed[i] = vec4(unshadowed, 0.0);
+  if (kArrivals) {
+    const vec4 arrival = sampled + punctual;
+    surfelArrival[i] =
+        arrival.w > 0.0 ? vec4(arrival.xyz, sampledFootprint + punctualFootprint) / arrival.w : vec4(0.0);
+  }
 }

@@ -119,11 +119,12 @@ struct PrunePush {    // prune_bins
   // and no light is looked for in the bins.
   uint emittersByMaps;
 };
-struct GatherPush {     // gather
+struct GatherPush {     // gather, lobe_excess
   uint maskWords;       // of a static leaf's override mask
   uint newOnly;         // 1: the round's new receivers; 0: every receiver listed
   uint emittersByMaps;  // 1: the depth maps give the emitters' light (left out of the gradient)
   float largestBin;     // solid angle of the largest direction bin, about (2/N)²
+  float leastSpread;    // the least spread (brdf.h's widenedLobe) the bins resolve (sender_lobes.glsl)
 };
 struct ReceiverArgsPush {  // receiver_args
   uint mode;               // kArgsStartRound | kArgsListed

@@ -9,6 +9,8 @@
 // what turns; the later bounces' light, smoother, is taken as it is.
 // Emitters are left out of the gradient where the depth maps give their light; the environment
 // through the empty bins comes with the light from outside the links (prune_bins.comp).
+// Glossy leaves send what their lobes reflect of the direct light along the lobes: the irradiance
+// that adds, the same every bounce, lobe_excess.comp found (kSenderLobes).
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 13
 #include "common/common.glsl"
@@ -32,7 +34,9 @@ layout(binding = 14, r32ui) readonly uniform uimageBuffer leafOfSurfel;
 layout(binding = 15, rgba32f) readonly uniform imageBuffer nodeEmission;
 layout(binding = 17, rgba32f) readonly uniform imageBuffer binTable;
 layout(std430, binding = 16) writeonly buffer RotationGradients { vec4 rotationGradients[]; };  // 3 a surfel: r, g, b
+layout(binding = 18, rgba32f) readonly uniform imageBuffer lobeExcess;  // per surfel, at receivers
 layout(push_constant) uniform Push { GatherPush push; };
+layout(constant_id = 28) const bool kSenderLobes = false;  // the scene has glossy materials
 #include "receiver_links.glsl"
 
 // Adds the turn `axis` (n × ω times F/cos θ) of a link to a sender of radiosity b.
@@ -66,6 +70,7 @@ void main() {
   const uint s = imageLoad(receivers, int(k)).x;
   uvec2 range = imageLoad(ranges, int(s)).xy, staticRange = imageLoad(staticRanges, int(s)).xy;
   vec3 g = imageLoad(externalLight, int(kExternalTexels * s)).rgb;
+  if (kSenderLobes) g += imageLoad(lobeExcess, int(s)).rgb;
   for (uint i = range.x; i < range.x + range.y; ++i) {
     uvec2 link = loadParted(leafLinks, i).xy;
     g += uintBitsToFloat(link.y) * imageLoad(radiosityIn, int(link.x)).rgb;

@@ -1,10 +1,11 @@
 // What a glossy surfel's specular lobe reflects toward the eye of the light a receiver's links
 // bring (reflect_receivers, reflect_surfels). The links keep the nearest sender per direction:
 // each sender's radiosity, less its emission (the depth maps give the emitters' direct light per
-// pixel), arrives along the sender's own direction, through the lobe widened by the sender's
+// pixel), and a glossy leaf's as its lobe sends it (sender_lobes.glsl), arrives along the
+// sender's own direction, through the lobe widened by the sender's
 // extent and at least a bin's (between the bins' senders lies what the bins did not keep). The
 // light from outside the links (the environment through empty bins) is reflected as if it arrived
-// evenly. Declares what it reads at bindings 1 to 14 (0: the nodes, NODE_TEXELS); a pass adds its
+// evenly. Declares what it reads at bindings 1 to 15 (0: the nodes, NODE_TEXELS); a pass adds its
 // own after them.
 
 layout(binding = 1, r32ui) readonly uniform uimageBuffer leafOfSurfel;
@@ -24,6 +25,8 @@ layout(std430, binding = 14) readonly buffer SpecularAlbedo { vec2 specularAlbed
 layout(push_constant) uniform Push { LobePush push; };
 #include "common/specular_albedo.glsl"
 #include "receiver_links.glsl"
+#define SENDER_LOBES 15
+#include "common/sender_lobes.glsl"
 
 // A surfel's lobe: its material, its point, its tangent frame and the view in it.
 struct Lobe {
@@ -65,7 +68,8 @@ vec3 reflectedFrom(Lobe lobe, uint q, float f, inout vec3 emitted) {
   const SurfaceBrdf widened = widenedLobe(lobe.brdf, max(solidAngle / (4.0 * kPi), push.leastSpread));
   const vec3 lt = vec3(dot(l, lobe.t1), dot(l, lobe.t2), dot(l, lobe.n));
   // weight 0: the lobe alone, not the base
-  return f * max(radiosity.rgb - emission, vec3(0.0)) * evalBrdf(widened, lt, lobe.view, 0.0);
+  const vec3 sent = radiosity.rgb + excessToward(q, lobe.x, 0.0, push.leastSpread);
+  return f * max(sent - emission, vec3(0.0)) * evalBrdf(widened, lt, lobe.view, 0.0);
 }
 
 // What the lobe reflects of the light receiver r's links and its external light bring.

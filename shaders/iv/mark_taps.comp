@@ -8,9 +8,9 @@
 layout(local_size_x = 64) in;
 
 #include "lobe_links.glsl"
-layout(binding = 15, r32ui) readonly uniform uimageBuffer tapCounts;
-layout(binding = 16, rg32ui) readonly uniform uimageBuffer taps;  // InterpolationTap
-layout(std430, binding = 17) buffer ShownSurfels { uint shownSurfels[]; };
+layout(binding = 16, r32ui) readonly uniform uimageBuffer tapCounts;
+layout(binding = 17, rg32ui) readonly uniform uimageBuffer taps;  // InterpolationTap
+layout(std430, binding = 18) buffer ShownSurfels { uint shownSurfels[]; };
 
 void main() {
   const uint s = itemIndex();

@@ -11,10 +11,10 @@
 layout(local_size_x = kReceiverGroup) in;
 
 #include "lobe_links.glsl"
-layout(binding = 15, r32ui) readonly uniform uimageBuffer receivers;
-layout(std430, binding = 16) readonly buffer ReceiverCounts { uint receiverCounts[]; };
-layout(std430, binding = 17) writeonly buffer ReceiverLobe { vec4 receiverLobe[]; };  // per surfel
-layout(std430, binding = 18) readonly buffer ShownSurfels { uint shownSurfels[]; };
+layout(binding = 16, r32ui) readonly uniform uimageBuffer receivers;
+layout(std430, binding = 17) readonly buffer ReceiverCounts { uint receiverCounts[]; };
+layout(std430, binding = 18) writeonly buffer ReceiverLobe { vec4 receiverLobe[]; };  // per surfel
+layout(std430, binding = 19) readonly buffer ShownSurfels { uint shownSurfels[]; };
 
 void main() {
   const uint k = itemIndex();

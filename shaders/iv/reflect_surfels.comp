@@ -11,11 +11,11 @@
 layout(local_size_x = 64) in;
 
 #include "lobe_links.glsl"
-layout(binding = 15, r32ui) readonly uniform uimageBuffer tapCounts;
-layout(binding = 16, rg32ui) readonly uniform uimageBuffer taps;                  // InterpolationTap
-layout(binding = 17, rgba32f) readonly uniform imageBuffer receiverLobe;          // per surfel
-layout(std430, binding = 18) writeonly buffer SurfelLobe { vec4 surfelLobe[]; };  // rgb radiance
-layout(std430, binding = 19) readonly buffer ShownSurfels { uint shownSurfels[]; };
+layout(binding = 16, r32ui) readonly uniform uimageBuffer tapCounts;
+layout(binding = 17, rg32ui) readonly uniform uimageBuffer taps;                  // InterpolationTap
+layout(binding = 18, rgba32f) readonly uniform imageBuffer receiverLobe;          // per surfel
+layout(std430, binding = 19) writeonly buffer SurfelLobe { vec4 surfelLobe[]; };  // rgb radiance
+layout(std430, binding = 20) readonly buffer ShownSurfels { uint shownSurfels[]; };
 
 // The roughnesses whose lobes one stands for the other's: α within this share of each other.
 const float kLikeAlpha = 0.1;

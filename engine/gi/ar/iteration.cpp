@@ -3,18 +3,21 @@
 namespace ivgi::gi {
 
 ArIteration::ArIteration(const vk::Context& ctx, const Hierarchy& h, const ArSettings& settings, const ArBuffers& b,
-                         const LinkSet& staticLinks, const LinkSet& frameLinks, vk::Allocations& allocations)
+                         const LinkSet& staticLinks, const LinkSet& frameLinks, bool glossy,
+                         vk::Allocations& allocations)
     : b_(b),
       staticLinks_(staticLinks),
       frameLinks_(frameLinks),
       surfelCount_(uint32_t(h.leafOfSurfel.size())),
       nodeCount_(uint32_t(h.nodes.size())),
       bins_(6 * settings.dirs * settings.dirs),
-      local_(shaderProgram(ctx, "ar_local", {.constants = {{"kDirs", settings.dirs}}})),
+      local_(shaderProgram(ctx, "ar_local",
+                           {.constants = {{"kDirs", settings.dirs}, {"kSenderLobes", glossy ? 1u : 0u}}})),
       pullUp_(shaderProgram(ctx, "ar_pull_up", {.constants = {{"kDirs", settings.dirs}}})),
       gather_(
           shaderProgram(ctx, "ar_gather",
                         {.constants = {{"kDirs", settings.dirs},
+                                       {"kSenderLobes", glossy ? 1u : 0u},
                                        {"kTableHereMost", settings.gatherTableHereMost ? settings.gatherTableHereMost
                                                                                        : gpu::kArGatherTableHere}}})),
       sumDown_(shaderProgram(ctx, "ar_sum_down", {.constants = {{"kDirs", settings.dirs}}})),

@@ -27,9 +27,9 @@ class ArIteration {
  public:
   // The passes at the settings' `dirs` (a constant of their programs), recording into the solver's
   // buffers `b` over the links of its two sets (the static pairs' first); the pull-up takes `h`'s
-  // inner nodes.
+  // inner nodes. `glossy`: some material is, and its leaves send their lobes.
   ArIteration(const vk::Context& ctx, const Hierarchy& h, const ArSettings& settings, const ArBuffers& b,
-              const LinkSet& staticLinks, const LinkSet& frameLinks, vk::Allocations& allocations);
+              const LinkSet& staticLinks, const LinkSet& frameLinks, bool glossy, vk::Allocations& allocations);
   void record(VkCommandBuffer cmd, vk::PassTimer& timer, const ArStep& step) const;
   // Workgroups of the incident pass, each leaving one gpu::IterationSum an iteration.
   uint32_t sumGroups() const;

@@ -55,7 +55,7 @@ ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy h
       nodeCount_(uint32_t(hierarchy_.nodes.size())),
       refit_(ctx),
       linkCreation_(ctx),
-      iteration_(ctx, hierarchy_, settings, b_, staticSet_, frameSet_, allocations_),
+      iteration_(ctx, hierarchy_, settings, b_, staticSet_, frameSet_, g.glossyMaterials, allocations_),
       sortSenders_(shaderProgram(ctx, "ar_sort_senders", {.constants = {{"kDirs", settings.dirs}}})),
       sortLongSenders_(shaderProgram(ctx, "ar_sort_long_senders", {.constants = {{"kDirs", settings.dirs}}})),
       queueArgs_(shaderProgram(ctx, "queue_args")),
@@ -164,8 +164,8 @@ void ArSolver::beginFrame(int frame) {
   redoing_ = false;
 }
 
-bool ArSolver::useDirectLight(const vk::Buffer& surfelDirect, bool withEnvironment) {
-  b_.scene.takeDirectLight(surfelDirect, withEnvironment);
+bool ArSolver::useDirectLight(const vk::Buffer& surfelDirect, const vk::Buffer& surfelArrival, bool withEnvironment) {
+  b_.scene.takeDirectLight(surfelDirect, surfelArrival, withEnvironment);
   // The emitters' light no longer travels over links: none is taken down to the receivers' surfels.
   b_.brightEmitters =
       vk::makeBuffer(ctx_, std::vector<glm::vec4>(nodeCount_, glm::vec4(0.0f)), vk::Memory::Device, &allocations_);

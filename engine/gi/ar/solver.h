@@ -32,7 +32,7 @@ class ArSolver final : public Solver {
   void setLights(const std::vector<gpu::PunctualLight>& lights) override;
   // The emitters' light then comes inside each surfel's irradiance; the surfels send only what they
   // reflect.
-  bool useDirectLight(const vk::Buffer& surfelDirect, bool withEnvironment) override;
+  bool useDirectLight(const vk::Buffer& surfelDirect, const vk::Buffer& surfelArrival, bool withEnvironment) override;
   void record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffer& surfels, bool geometryMoved) override;
   bool frameMustBeRedone() override;
   bool wantsMorePasses() const override;

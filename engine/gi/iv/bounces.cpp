@@ -25,7 +25,8 @@ Bounces::Bounces(const vk::Context& ctx, const Hierarchy& h, const IvSettings& s
       frameSet_(frameSet),
       surfelCount_(uint32_t(h.leafOfSurfel.size())),
       nodeCount_(uint32_t(h.nodes.size())),
-      emit_(shaderProgram(ctx, "emit")),
+      glossy_(glossy),
+      emit_(shaderProgram(ctx, "emit", vk::Specialization{.constants = {{"kSenderLobes", glossy ? 1u : 0u}}})),
       interpolate_(shaderProgram(ctx, "interpolate")),
       pullUp_(shaderProgram(ctx, "pull_up")),
       check_(shaderProgram(ctx, "bounce_check")),
@@ -46,6 +47,7 @@ Bounces::Bounces(const vk::Context& ctx, const Hierarchy& h, const IvSettings& s
   change_ =
       vk::Buffer(ctx, std::max<size_t>(h.leafOfSurfel.size(), 1) * sizeof(glm::vec4), vk::Memory::Device, &allocations);
   receiverLobe_ = vk::Buffer(ctx, glossy ? change_.size() : 16, vk::Memory::Device, &allocations);
+  receiverExcess_ = vk::Buffer(ctx, glossy ? change_.size() : 16, vk::Memory::Device, &allocations);
 }
 
 void Bounces::pullUp(VkCommandBuffer cmd, const vk::Buffer& radiosity, bool indirect) const {
@@ -74,21 +76,32 @@ void Bounces::recordStart(VkCommandBuffer cmd) const {
   vk::copyBuffer(cmd, b_.scene.surfelDirect(), b_.irradiance);
   vk::copyRegion(cmd, b_.receiverArgs, fullArgs_, {gpu::kArgsReceivers * sizeof(glm::uvec4), 0, sizeof(glm::uvec4)});
   vk::copyBuffer(cmd, fullArgs_, args_);
+  recordLobeExcess(cmd, gpu::kArgsReceivers, 0u);
+}
+
+void Bounces::recordLobeExcess(VkCommandBuffer cmd, uint32_t args, uint32_t newOnly) const {
+  if (!lobeExcess_) return;
+  lobeExcess_->dispatchIndirect(cmd, b_.receiverArgs, args * sizeof(glm::uvec4),
+                                b_.pool().with({{"lobeExcess", receiverExcess_}}), gatherPush(newOnly));
 }
 
 vk::Bindings Bounces::gatherBindings(const vk::Buffer& in) const {
-  return b_.pool().with(
-      {{"radiosityIn", in}, {"frameCounters", frameSet_.counters}, {"staticCounters", staticSet_.counters}});
+  return b_.pool().with({{"radiosityIn", in},
+                         {"frameCounters", frameSet_.counters},
+                         {"staticCounters", staticSet_.counters},
+                         {"lobeExcess", receiverExcess_}});
 }
 
 gpu::GatherPush Bounces::gatherPush(uint32_t newOnly) const {
   return {.maskWords = gpu::maskWordsFor(settings_.bins),
           .newOnly = newOnly,
           .emittersByMaps = b_.scene.emittersByMaps() ? 1u : 0u,
-          .largestBin = 4.0f / float(settings_.bins * settings_.bins)};
+          .largestBin = 4.0f / float(settings_.bins * settings_.bins),
+          .leastSpread = senderBinSpread(settings_.bins)};
 }
 
 void Bounces::recordEstimate(VkCommandBuffer cmd) const {
+  recordLobeExcess(cmd, gpu::kArgsNewReceivers, 1u);
   gather_->dispatchIndirect(cmd, b_.receiverArgs, gpu::kArgsNewReceivers * sizeof(glm::uvec4),
                             gatherBindings(b_.radiosityA), gatherPush(1u));
 }
@@ -137,11 +150,12 @@ void Bounces::recordReflections(VkCommandBuffer cmd, glm::vec3 eye, const vk::Bu
 }
 
 void Bounces::makeLinkReaders() {
-  const vk::Specialization views{.constants = {{"texelViews", texelViews_}}};
+  const vk::Specialization views{.constants = {{"texelViews", texelViews_}, {"kSenderLobes", glossy_ ? 1u : 0u}}};
   gather_.emplace(ctx_, "gather", shaderCode("gather"), views);
   markTaps_.emplace(ctx_, "mark_taps", shaderCode("mark_taps"), views);
   reflectReceivers_.emplace(ctx_, "reflect_receivers", shaderCode("reflect_receivers"), views);
   reflectSurfels_.emplace(ctx_, "reflect_surfels", shaderCode("reflect_surfels"), views);
+  if (glossy_) lobeExcess_.emplace(ctx_, "lobe_excess", shaderCode("lobe_excess"), views);
 }
 
 void Bounces::readTexelViews(uint32_t views) {

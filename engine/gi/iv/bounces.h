@@ -55,6 +55,9 @@ class Bounces {
   // The gather's buffers, reading the radiosity `in`.
   vk::Bindings gatherBindings(const vk::Buffer& in) const;
   gpu::GatherPush gatherPush(uint32_t newOnly) const;
+  // What glossy senders send along their lobes to the receivers (lobe_excess.comp), at those the
+  // receiver dispatch arguments `args` cover: every one, or (newOnly) the round's new ones.
+  void recordLobeExcess(VkCommandBuffer cmd, uint32_t args, uint32_t newOnly) const;
   void makeLinkReaders();  // for texelViews_
 
   const vk::Context& ctx_;
@@ -62,14 +65,16 @@ class Bounces {
   const IvBuffers& b_;
   const LinkSet &staticSet_, &frameSet_;
   const uint32_t surfelCount_, nodeCount_;
+  const bool glossy_;  // some material is glossy: its leaves send their lobes (shaders/common/sender_lobes.glsl)
   vk::Program emit_, interpolate_, pullUp_, check_, tail_;
   uint32_t texelViews_ = 1;
   // The passes that read the links: made again for more texel views.
-  std::optional<vk::Program> gather_, markTaps_, reflectReceivers_, reflectSurfels_;
+  std::optional<vk::Program> gather_, markTaps_, reflectReceivers_, reflectSurfels_, lobeExcess_;
   uint32_t interpolateGroups_;
   vk::Buffer sums_, state_, fullArgs_, args_;  // per gather workgroup; the state; dispatch sizes, full and next
   vk::Buffer change_;                          // per surfel, the irradiance's change at the last gather
   vk::Buffer receiverLobe_;                    // per surfel, at receivers: what reflect_receivers found
+  vk::Buffer receiverExcess_;                  // per surfel, at receivers: what lobe_excess found
 };
 
 }  // namespace ivgi::gi

@@ -45,8 +45,8 @@ class IvSolver final : public Solver {
   IvSolver(const vk::Context& ctx, const scene::Geometry& geometry, IvSetup setup);
 
   void setLights(const std::vector<gpu::PunctualLight>& lights) override;
-  bool useDirectLight(const vk::Buffer& surfelDirect, bool withEnvironment) override {
-    b_.scene.takeDirectLight(surfelDirect, withEnvironment);
+  bool useDirectLight(const vk::Buffer& surfelDirect, const vk::Buffer& surfelArrival, bool withEnvironment) override {
+    b_.scene.takeDirectLight(surfelDirect, surfelArrival, withEnvironment);
     return true;
   }
   void record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffer& surfels, bool geometryMoved) override;
