@@ -6,6 +6,7 @@
 
 #include "engine/vk/program.h"
 #include "shaders/interface.h"
+#include "shaders/registry.h"
 #include "tests/test_support.h"
 
 namespace ivgi {
@@ -72,6 +73,12 @@ TEST(Program, BindsEveryBindingByItsNameOnce) {
       std::string::npos);
   EXPECT_THROW(vk::Program(ctx, "texel_cases", testShaderCode("texel_cases"), {.constants = {{"kMissing", 1}}}),
                vk::VulkanError);
+  try {
+    vk::Program twice(ctx, "ar_local", shaderCode("ar_local"), {.constants = {{"kDirs", 4}, {"kDirs", 4}}});
+    ADD_FAILURE() << "a specialization constant given twice was taken";
+  } catch (const vk::VulkanError& e) {
+    EXPECT_NE(std::string(e.what()).find("'kDirs' given twice"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
