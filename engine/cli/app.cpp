@@ -48,6 +48,13 @@ void addSolverOptions(CLI::App* cmd, SolverOptions& o) {
                   "moves by less than this share of it")
       ->capture_default_str();
   cmd->add_option("--kappa", o.iv.kappa, "split senders wider than this many average bins")->capture_default_str();
+  cmd->add_option("--rigid", o.rigid,
+                  "iv: an object that moves rigidly (turns and shifts, keeping its shape) has its links to itself "
+                  "made and pruned once, in its rest pose, for all its surfels at the first frame (once), or every "
+                  "frame for that frame's receivers (every-frame); auto: once where every surfel is a receiver "
+                  "(--receiver-tol 0, a GPU's default)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "once", "every-frame"}));
   cmd->add_option("--receiver-tol", o.iv.receiverTolerance,
                   "iv solves irradiance at receivers chosen where the lighting needs them and interpolates the rest, "
                   "within this tolerance (smaller: more receivers, slower); 0: at every surfel; default: 0.4 on a "

@@ -185,8 +185,8 @@ int runBench(const BenchOptions& o) {
                   double(st.sendersWalked) / percentile(perPass["prune"], 0.5) / 1e3);
     if (st.staticSendersWalked)
       std::printf(
-          ", %llu of them by the static leaves, against the moving senders alone; %llu in the static pass "
-          "(once)",
+          ", %llu of them by the leaves that merge them with what the static pass kept (static leaves, and "
+          "rigid ones), against the senders that move apart from them alone; %llu in the static pass (once)",
           (unsigned long long)st.mergedSendersWalked, (unsigned long long)st.staticSendersWalked);
     if (const auto& b = times.solverFigures["bounces"]; !b.empty())
       std::printf("\nbounces: median %.0f a frame (%.0f to %.0f)%s", percentile(b, 0.5),

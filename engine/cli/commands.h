@@ -52,6 +52,9 @@ struct SolverOptions {
   // else the solver's own (directLightSettings).
   std::string direct;
   gi::DirectLightSettings maps;
+  // --rigid: "once" (an object that moves rigidly has its links to itself pruned once, in its rest
+  // pose: gi::IvSettings::rigidOnce), "every-frame" or "auto".
+  std::string rigid = "auto";
 };
 // The frame's direct light from depth maps, where --direct asks for it (checked: SettingsError) or,
 // by default, where iv or ar renders emitters or punctual lights that the maps suit

@@ -125,6 +125,7 @@ std::unique_ptr<gi::Solver> makeSolver(const SolverOptions& o, const vk::Context
   if (o.method != "iv") throw SettingsError("--method '" + o.method + "': methods are iv, ar, pt and none");
   gi::IvSettings settings = o.iv;
   settings.memoryBudget = o.maxMemoryMiB << 20;
+  if (o.rigid != "auto") settings.rigidOnce = o.rigid == "once";
   if (!o.environment.empty()) settings.environment = scene::Environment::parse(o.environment);
   gi::IvSetup setup = hierarchy ? gi::IvSetup{*hierarchy, settings, {}} : gi::makeIvSetup(s, g, settings);
   gi::markMovingObjects(setup, s, g, animation);

@@ -250,7 +250,7 @@ FrameResult FrameRenderer::render(const scene::FrameInputs& in, const scene::Cam
     matrices_ = vk::Buffer(ctx_, in.matrices.size() * sizeof(glm::mat4), vk::Memory::Host, &allocations_);
   matrices_.upload(in.matrices);
   morphWeights_.upload(in.morphWeights);
-  if (solver_) solver_->setLights(lights), solver_->beginFrame(frame);
+  if (solver_) solver_->setLights(lights), solver_->setObjectMatrices(in.matrices), solver_->beginFrame(frame);
   const gpu::Camera camera = scene::gpuCamera(view, float(image_.width) / float(image_.height));
   if (direct_) direct_->setFrame(in, lights, camera);
   // A frame the solver could not finish (it ran out of room) is redone, relinking; one whose solver

@@ -39,7 +39,7 @@ bool mixesStaticAndMoving(const std::vector<bool>& objectMoves, size_t rootCount
 }
 
 void assignRootPairs(const Hierarchy& h, const std::vector<bool>& objectMoves, bool split, LinkSet& fixed,
-                     LinkSet& moving) {
+                     LinkSet& moving, const std::vector<int>& rigidGroup) {
   auto moves = [&](size_t root) { return objectMoves.empty() || objectMoves[root]; };
   // Each node's height (levels below it): the nodes lie level by level, children after parents.
   std::vector<uint32_t> height(h.nodes.size(), 0);
@@ -48,7 +48,9 @@ void assignRootPairs(const Hierarchy& h, const std::vector<bool>& objectMoves, b
       height[i] = std::max(height[i], height[c] + 1);
   for (size_t a = 0; a < h.roots.size(); ++a)
     for (size_t b = 0; b < h.roots.size(); ++b) {
-      LinkSet& set = split && !moves(a) && !moves(b) ? fixed : moving;
+      const bool together = !rigidGroup.empty() && rigidGroup[a] >= 0 && rigidGroup[a] == rigidGroup[b];
+      const bool once = split && ((!moves(a) && !moves(b)) || together);
+      LinkSet& set = once ? fixed : moving;
       set.rootPairs.insert(set.rootPairs.end(), {h.roots[a], h.roots[b]});
       set.levels = std::max(set.levels, height[h.roots[a]] + height[h.roots[b]] + 1);
     }

@@ -41,9 +41,10 @@ struct LinkSet {
 // pairs of two static objects are worth linking once.
 bool mixesStaticAndMoving(const std::vector<bool>& objectMoves, size_t rootCount);
 // Every pair of roots (receiver, sender), each object with every other and with itself: into
-// `fixed` where both objects are static and `split`, else into `moving`.
+// `fixed` where both objects are static and `split`, or where both move rigidly together (the same
+// `rigidGroup`, per root; -1: none; empty: no object does); else into `moving`.
 void assignRootPairs(const Hierarchy& hierarchy, const std::vector<bool>& objectMoves, bool split, LinkSet& fixed,
-                     LinkSet& moving);
+                     LinkSet& moving, const std::vector<int>& rigidGroup = {});
 
 // The room an array that grows with a count gets: a quarter more, so that the next frames' changes
 // fit.

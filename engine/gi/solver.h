@@ -23,6 +23,8 @@ class Solver {
   virtual void beginFrame(int /*frame*/) {}
   // The frame's punctual lights in world space.
   virtual void setLights(const std::vector<gpu::PunctualLight>& lights) = 0;
+  // The frame's node world matrices (scene::FrameInputs::matrices), before record().
+  virtual void setObjectMatrices(const std::vector<glm::mat4>& /*matrices*/) {}
   // Takes the emitters' direct light per surfel from the frame's depth maps (gi::DirectLight) and
   // from then on solves with it; false where the solver cannot. `surfelDirect` and `surfelArrival`
   // (the light's mean direction, DirectLight::surfelArrival) stay valid and are rewritten each frame

@@ -484,6 +484,48 @@ std::vector<bool> movingInstances(const Scene& scene, const Geometry& g, int ani
   return moves;
 }
 
+std::vector<bool> rigidlyMovingInstances(const Scene& scene, const Geometry& g, int animation) {
+  std::vector<bool> rigid = movingInstances(scene, g, animation);
+  if (animation < 0) return rigid;
+  std::vector<char> reweighted(scene.nodes.size(), 0);
+  std::vector<float> times;
+  for (const Channel& ch : scene.animations[animation].channels) {
+    if (ch.path == Path::Weights) reweighted[ch.node] = 1;
+    const std::vector<float>& keys = scene.animations[animation].samplers[ch.sampler].input;
+    for (size_t k = 0; k < keys.size(); ++k) {
+      times.push_back(keys[k]);
+      if (k + 1 < keys.size()) times.push_back(0.5f * (keys[k] + keys[k + 1]));
+    }
+  }
+  std::sort(times.begin(), times.end());
+  times.erase(std::unique(times.begin(), times.end()), times.end());
+  const auto metric = [](const glm::mat4& m) {
+    const glm::mat3 l(m);
+    return glm::transpose(l) * l;
+  };
+  const Pose rest = evaluatePose(scene, -1, 0.0f);
+  std::vector<Pose> poses;
+  for (float t : times) poses.push_back(evaluatePose(scene, animation, t));
+  for (size_t i = 0; i < g.instances.size(); ++i) {
+    const Instance& inst = g.instances[i];
+    const int node = g.instanceNode[i];
+    if (!rigid[i] || inst.skinned || (inst.morphTargets > 0 && reweighted[node])) {
+      rigid[i] = false;
+      continue;
+    }
+    const glm::mat3 m0 = metric(rest.world[node]);
+    float scale = 0.0f;
+    for (int c = 0; c < 3; ++c) scale = std::max(scale, std::abs(m0[c][c]));
+    for (const Pose& pose : poses) {
+      const glm::mat3 m = metric(pose.world[node]);
+      for (int c = 0; c < 3 && rigid[i]; ++c)
+        for (int r = 0; r < 3; ++r)
+          if (!(std::abs(m[c][r] - m0[c][r]) <= 1e-4f * scale)) rigid[i] = false;
+    }
+  }
+  return rigid;
+}
+
 std::vector<bool> closedInstances(const Geometry& g) {
   // Vertices welded by their exact rest position.
   struct PositionHash {

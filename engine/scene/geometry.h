@@ -108,6 +108,12 @@ uint64_t hashPoint(glm::vec3 p);
 // links and prunes what cannot move once.
 std::vector<bool> movingInstances(const Scene& scene, const Geometry& geometry, int animation);
 
+// Per instance: whether `animation` moves it rigidly, its shape kept: it moves, is neither skinned
+// nor morphed, and its world matrix keeps the metric of its rest pose (no scale or shear changes)
+// at every key time of the animation and halfway between. The iv solver prunes such an object's
+// links to itself once, in its rest pose.
+std::vector<bool> rigidlyMovingInstances(const Scene& scene, const Geometry& geometry, int animation);
+
 // Per instance: whether its triangles enclose a volume, consistently wound: every edge (between
 // vertices welded by position) is crossed once each way, up to T-junctions and cracks (the loops of
 // the edges left over enclose under 10⁻³ of the instance's area). Along any line through such a

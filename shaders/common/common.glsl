@@ -86,8 +86,25 @@ bool loopBudgetSpent() {
 // this file to read NodeState as three rgba32f texels per node.
 #ifdef NODE_TEXELS
 layout(binding = NODE_TEXELS, rgba32f) readonly uniform imageBuffer nodes;
-vec4 nodePositionArea(uint i) { return imageLoad(nodes, int(3u * i)); }
-vec4 nodeNormalCone(uint i) { return imageLoad(nodes, int(3u * i + 1u)); }
+// A shader that also defines NODE_POSE sees every node through a rigid motion it sets (nodeTurn,
+// nodeShift; the prune: a rigidly moving leaf sees the scene as from its object's rest pose).
+#ifdef NODE_POSE
+mat3 nodeTurn = mat3(1.0);
+vec3 nodeShift = vec3(0.0);
+vec3 posedPoint(vec3 p) { return nodeTurn * p + nodeShift; }
+vec3 posedDirection(vec3 d) { return nodeTurn * d; }
+#else
+vec3 posedPoint(vec3 p) { return p; }
+vec3 posedDirection(vec3 d) { return d; }
+#endif
+vec4 nodePositionArea(uint i) {
+  const vec4 v = imageLoad(nodes, int(3u * i));
+  return vec4(posedPoint(v.xyz), v.w);
+}
+vec4 nodeNormalCone(uint i) {
+  const vec4 v = imageLoad(nodes, int(3u * i + 1u));
+  return vec4(posedDirection(v.xyz), v.w);
+}
 vec4 nodeShape(uint i) { return imageLoad(nodes, int(3u * i + 2u)); }
 float nodeRadius(uint i) { return nodeShape(i).x; }
 
@@ -101,10 +118,11 @@ NodeState nodeState(uint i) { return NodeState(nodePositionArea(i), nodeNormalCo
 void senderSides(uint s, vec4 normalCone, out vec3 sideA, out vec3 sideB) {
   sideA = sideB = vec3(0.0);
   if (length(normalCone.xyz) == 0.0 || normalCone.w >= 0.5 * kPi) return;
-  vec4 shape = nodeShape(s);
-  rectangleAxes(normalCone.xyz, shape.y, sideA, sideB);
-  sideA *= shape.z;
-  sideB *= shape.w;
+  // The rectangle's axes turn with the node: its angle is about the frame of its own normal.
+  const vec4 shape = nodeShape(s);
+  rectangleAxes(imageLoad(nodes, int(3u * s + 1u)).xyz, shape.y, sideA, sideB);
+  sideA = posedDirection(sideA * shape.z);
+  sideB = posedDirection(sideB * shape.w);
 }
 #endif
 

@@ -12,10 +12,16 @@ struct LeafLink {
   uint formFactorBits;
 };
 // Per node, for the prune: it moves (its object may move: pruned every frame), its object's
-// surface is closed (scene::closedInstances), and above kNodeRootShift its object's root node.
+// surface is closed (scene::closedInstances), its object moves rigidly (its links to itself are
+// pruned once, in its rest pose), and above kNodeRootShift its object's root node (which is the
+// object's number: roots come first).
 IVGI_CONST uint kNodeMoves = 1u;
 IVGI_CONST uint kNodeClosed = 2u;
-IVGI_CONST uint kNodeRootShift = 2u;
+IVGI_CONST uint kNodeRigid = 4u;
+IVGI_CONST uint kNodeRootShift = 3u;
+// After the nodes' flags, per object, the rigid motion from where a rigidly moving object is this
+// frame back to its rest pose: 3 rows of a 3×4 matrix, as float bits (identity for the others).
+IVGI_CONST uint kPoseWords = 12u;
 // Arrays that can outgrow one texel view (the leaf links grow with the bins squared) are bound as
 // kTexelParts views of one buffer, each 2^texelPartBits texels (shaders/common/parted_texels.glsl, which
 // names each view). Two: the prune binds four such arrays, and a push-descriptor layout holds at
@@ -118,6 +124,7 @@ struct PrunePush {    // prune_bins
   // emitter is listed, the light the bins credit emissive survivors is taken back from every leaf,
   // and no light is looked for in the bins.
   uint emittersByMaps;
+  uint poseBase;  // where the objects' poses start in the nodes' flags (the node count)
 };
 struct GatherPush {     // gather, lobe_excess
   uint maskWords;       // of a static leaf's override mask
@@ -125,6 +132,7 @@ struct GatherPush {     // gather, lobe_excess
   uint emittersByMaps;  // 1: the depth maps give the emitters' light (left out of the gradient)
   float largestBin;     // solid angle of the largest direction bin, about (2/N)²
   float leastSpread;    // the least spread (brdf.h's widenedLobe) the bins resolve (sender_lobes.glsl)
+  uint poseBase;        // PrunePush's
 };
 struct ReceiverArgsPush {  // receiver_args
   uint mode;               // kArgsStartRound | kArgsListed

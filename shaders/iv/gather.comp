@@ -35,8 +35,11 @@ layout(binding = 15, rgba32f) readonly uniform imageBuffer nodeEmission;
 layout(binding = 17, rgba32f) readonly uniform imageBuffer binTable;
 layout(std430, binding = 16) writeonly buffer RotationGradients { vec4 rotationGradients[]; };  // 3 a surfel: r, g, b
 layout(binding = 18, rgba32f) readonly uniform imageBuffer lobeExcess;  // per surfel, at receivers
+// per node: kNodeRigid, its object; then per object its pose (prune_bins.comp)
+layout(binding = 19, r32ui) readonly uniform uimageBuffer nodeFlags;
 layout(push_constant) uniform Push { GatherPush push; };
 layout(constant_id = 28) const bool kSenderLobes = false;  // the scene has glossy materials
+#include "object_pose.glsl"
 #include "receiver_links.glsl"
 
 // Adds the turn `axis` (n × ω times F/cos θ) of a link to a sender of radiosity b.
@@ -54,9 +57,10 @@ vec3 towardSender(uvec2 link, vec3 x, vec3 n) {
   return cross(n, w) * min(uintBitsToFloat(link.y) / max(dot(n, w), 1e-6), push.largestBin / kPi);
 }
 
-// A static link's turn, along its bin (binTable: the bin's ∫ω dω).
-vec3 alongBin(uint bin, float f, vec3 n) {
-  const vec3 v = imageLoad(binTable, int(bin)).xyz;
+// A static link's turn, along its bin (binTable: the bin's ∫ω dω), whose directions turn with the
+// receiver's object where it moves rigidly (`toWorld`: from its rest pose to now).
+vec3 alongBin(uint bin, float f, vec3 n, mat3 toWorld) {
+  const vec3 v = toWorld * imageLoad(binTable, int(bin)).xyz;
   const float c = dot(n, v);
   return c > 0.0 ? cross(n, v) * (f / c) : vec3(0.0);
 }
@@ -85,6 +89,8 @@ void main() {
   if (push.newOnly != 0u) {
     const uint leaf = imageLoad(leafOfSurfel, int(s)).x;
     const vec3 x = nodePositionArea(leaf).xyz, n = nodeNormalCone(leaf).xyz;
+    const uint flags = imageLoad(nodeFlags, int(leaf)).x;
+    const mat3 toWorld = (flags & kNodeRigid) != 0u ? transpose(restTurn(flags >> kNodeRootShift)) : mat3(1.0);
     mat3 turn;  // columns: d/dθ of r, g and b for a turn about each axis
     for (uint c = 0u; c < 3u; ++c) turn[c] = imageLoad(externalLight, int(kExternalTexels * s + 1u + c)).xyz;
     for (uint i = range.x; i < range.x + range.y; ++i) {
@@ -94,7 +100,7 @@ void main() {
     for (uint i = staticRange.x; i < staticRange.x + staticRange.y; ++i) {
       uvec2 link = loadParted(staticLinks, i).xy;
       if (!staticLinkStands(s, i, push.maskWords)) continue;
-      const vec3 along = alongBin(staticBinOf(loadParted(staticBins, i).x), uintBitsToFloat(link.y), n);
+      const vec3 along = alongBin(staticBinOf(loadParted(staticBins, i).x), uintBitsToFloat(link.y), n, toWorld);
       addTurn(turn, along, imageLoad(radiosityIn, int(link.x)).rgb, link.x);
     }
     for (uint c = 0u; c < 3u; ++c) rotationGradients[3u * s + c] = vec4(turn[c], 0.0);

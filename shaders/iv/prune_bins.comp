@@ -18,8 +18,16 @@
 // are re-emitted and flagged in an override mask that the gather reads to skip the static entries.
 // A static leaf also keeps the emitters of its static links, whose direct light each frame tests
 // against the merged bins (a moving block may hide them).
+//
+// An object that moves rigidly keeps its shape: the distances, footprints and occlusion among its
+// own surfels are the same every frame, only their directions turn with it. So its pairs with
+// itself are static pairs, and its leaves are pruned like static ones, each seeing the scene as from
+// its object's rest pose (NODE_POSE: every node it reads is moved by the object's motion back to
+// rest), bins fixed to the object. What depends on the world's directions (the environment and the
+// punctual lights) such a leaf sums in full every frame.
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 1
+#define NODE_POSE
 #include "common/common.glsl"
 #include "common/parted_texels.glsl"
 // As few subgroups a workgroup as lavapipe's loop budget allows (engine/gi/iv/prune.cpp): lavapipe
@@ -51,7 +59,8 @@ layout(std430, binding = 10) writeonly buffer ExternalLight { vec4 externalLight
 layout(std430, binding = 11) readonly buffer Lights { PunctualLight lights[]; };
 layout(binding = 12, rgba32f) readonly uniform imageBuffer environment;  // radiance per bin
 layout(std430, binding = 13) buffer GlobalCoverage { uint globalCoverage[]; };
-layout(binding = 14, r32ui) readonly uniform uimageBuffer nodeFlags;  // per node: kNodeMoves, kNodeClosed, root
+// per node: kNodeMoves, kNodeClosed, kNodeRigid, root; then per object its pose (kPoseWords)
+layout(binding = 14, r32ui) readonly uniform uimageBuffer nodeFlags;
 // The static pass writes these; the frame pass reads them.
 layout(std430, binding = 15) buffer StaticRanges { LeafRange staticRanges[]; };
 layout(binding = 16, rg32ui) uniform uimageBuffer staticLinks[kTexelParts];  // LeafLink
@@ -89,6 +98,7 @@ shared uint emitterCount;
 
 const uint kBinCount = 6u * kN * kN;
 
+#include "object_pose.glsl"
 #include "prune_bins.glsl"
 #include "prune_footprints.glsl"
 #include "prune_lights.glsl"
@@ -107,6 +117,14 @@ vec3 sumPartials(uint lid, vec3 mine) {
 
 // This invocation's lane, and where its workgroup's bins start in the global slots (0: shared).
 uint lid = 0u, slot = 0u;
+
+// Sets what the leaf (its node's `flags`) sees every node through: where its object moves rigidly,
+// the object's motion back to its rest pose (`posed`), else none.
+void poseNodes(uint flags) {
+  posed = !kStaticPass && (flags & kNodeRigid) != 0u;  // the static pass reads them at rest
+  nodeTurn = posed ? restTurn(flags >> kNodeRootShift) : mat3(1.0);
+  nodeShift = posed ? restShift(flags >> kNodeRootShift) : vec3(0.0);
+}
 
 // The leaf being pruned: its surfel, its node, and the receiver's position, normal and area.
 struct Leaf {
@@ -297,7 +315,7 @@ void writeSurvivors(Leaf leaf, bool direct, inout vec3 emitterLight, out vec3 en
           emitterLight += uintBitsToFloat(link.y) * emitted(link.x);
         }
       }
-      if (merging && push.environmentOn != 0u) {
+      if (merging && !posed && push.environmentOn != 0u) {
         environmentChange += environmentThrough(n, b, covered) - environmentThrough(n, b, staticCovered);
         turnChange += environmentTurnThrough(n, b, covered) - environmentTurnThrough(n, b, staticCovered);
       }
@@ -313,9 +331,9 @@ void sumExternalLight(Leaf leaf, bool direct, vec3 emitterLight, vec3 environmen
   const uint surfel = leaf.surfel;
   vec3 env = environmentChange;
   mat3 turn = turnChange;
-  if (push.environmentOn != 0u && leaf.area > 0.0 && !merging)
+  if (push.environmentOn != 0u && leaf.area > 0.0 && (!merging || posed))
     for (uint b = lid; b < kBinCount; b += kGroupSize) {
-      const uint covered = closedCoverage(slot, b, loadCoverage(slot, b), false, leaf.n);
+      const uint covered = closedCoverage(slot, b, coverageAt(slot, b, false), false, leaf.n);
       env += environmentThrough(leaf.n, b, covered);
       turn += environmentTurnThrough(leaf.n, b, covered);
     }
@@ -338,13 +356,18 @@ void sumExternalLight(Leaf leaf, bool direct, vec3 emitterLight, vec3 environmen
       for (uint c = 0u; c < 3u; ++c) staticLeaves[surfel].environmentTurn[c] = vec4(turn[c], 0.0);
       staticLeaves[surfel].proximity = near;
     } else {
+      // (A posed leaf's environment was summed in full above.)
       if (merging)
-        sum += staticLeaves[surfel].environment.rgb + (direct ? staticLeaves[surfel].correction.rgb : vec3(0.0));
+        sum += (posed ? vec3(0.0) : staticLeaves[surfel].environment.rgb) +
+               (direct ? staticLeaves[surfel].correction.rgb : vec3(0.0));
       if (leaf.area > 0.0) sum += punctualLight(slot, leaf.p, leaf.n);
       externalLight[kExternalTexels * surfel] = vec4(sum, 0.0);
+      // The turn's axes back in the world (nodeTurn is a rotation: its inverse is its transpose).
       for (uint c = 0u; c < 3u; ++c)
         externalLight[kExternalTexels * surfel + 1u + c] =
-            vec4(turn[c] + (merging ? staticLeaves[surfel].environmentTurn[c].xyz : vec3(0.0)), 0.0);
+            vec4(transpose(nodeTurn) *
+                     (turn[c] + (merging && !posed ? staticLeaves[surfel].environmentTurn[c].xyz : vec3(0.0))),
+                 0.0);
       proximity[surfel] = merging ? staticLeaves[surfel].proximity + near : near;
     }
   }
@@ -386,12 +409,14 @@ void main() {
   for (uint item = push.firstSurfel + groupIndex(); item < end; item += groups) {
     const uint surfel = push.listed != 0u ? imageLoad(receivers, int(listStart + item)).x : item;
     uint node = imageLoad(leafOfSurfel, int(surfel)).x;
-    bool moves = (imageLoad(nodeFlags, int(node)).x & kNodeMoves) != 0u;
-    if (kStaticPass && moves) {  // pruned every frame instead
+    const uint flags = imageLoad(nodeFlags, int(node)).x;
+    const bool moves = (flags & kNodeMoves) != 0u, rigid = (flags & kNodeRigid) != 0u;
+    if (kStaticPass && moves && !rigid) {  // pruned every frame instead
       if (lid == 0u) staticRanges[surfel] = LeafRange(0u, 0u);
       continue;
     }
-    merging = !kStaticPass && !moves;
+    merging = !kStaticPass && (!moves || rigid);
+    poseNodes(flags);
     staticFirst = merging ? staticRanges[surfel].first : 0u;
     maskBase = surfel * kMaskWords;
     vec4 receiver = nodePositionArea(node);

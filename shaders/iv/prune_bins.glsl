@@ -26,6 +26,9 @@ void resetBin(uint slot, uint b) {
 // frame's senders into its static bins, where its static survivors start, where its mask words start.
 bool merging = false;
 uint staticFirst = 0u, maskBase = 0u;
+// Whether the leaf sees the nodes from its object's rest pose (common.glsl's nodeTurn, nodeShift):
+// its bins are then fixed to its object.
+bool posed = false;
 
 // What bin b holds: the nearest key and the covered solid angle (in 1/kCoverageUnit of the bin),
 // the filed senders merged with the leaf's static entry; staticCovered is that entry's share.
@@ -127,17 +130,23 @@ float survivorFormFactor(vec3 n, uint sender, uint b, uint covered) {
   return facing ? max(dot(n, bin.xyz), 0.0) * coveredFraction(covered) / kPi : 0.0;
 }
 
+// The environment's radiance in bin b (along `along`, its ∫ω dω): a posed leaf's bins are fixed to its
+// object, so it looks up the world's bin its own lies in this frame.
+vec3 environmentIn(uint b, vec3 along) {
+  return imageLoad(environment, int(posed ? binOf(transpose(nodeTurn) * along, kN) : b)).rgb;
+}
+
 // How environmentThrough changes as the normal turns: columns r, g, b, each the turn's axis weighed
 // (∫ n × ω dω over the bin, times its radiance and uncovered part; 0 below the horizon).
 mat3 environmentTurnThrough(vec3 n, uint b, uint covered) {
   vec4 bin = imageLoad(binTable, int(b));
   if (!(dot(n, bin.xyz) > 0.0)) return mat3(0.0);
-  return outerProduct(cross(n, bin.xyz), imageLoad(environment, int(b)).rgb * (1.0 - coveredFraction(covered)));
+  return outerProduct(cross(n, bin.xyz), environmentIn(b, bin.xyz) * (1.0 - coveredFraction(covered)));
 }
 
 // Environment radiance through the uncovered part of bin b, cosine-weighted (0 below the horizon).
 vec3 environmentThrough(vec3 n, uint b, uint covered) {
   vec4 bin = imageLoad(binTable, int(b));
   float c = dot(n, bin.xyz);
-  return c > 0.0 ? imageLoad(environment, int(b)).rgb * c * (1.0 - coveredFraction(covered)) : vec3(0.0);
+  return c > 0.0 ? environmentIn(b, bin.xyz) * c * (1.0 - coveredFraction(covered)) : vec3(0.0);
 }

@@ -84,13 +84,21 @@ bool hidden(uint slot, uint b, uint s, float dist2, vec3 p, vec3 q) {
          hides(binAt(slot, neighbourBin(b, ivec2(-1, -1))).key, s, dist2, p, q, true);
 }
 
+// Punctual light l as the leaf sees it (moved with the nodes, common.glsl's NODE_POSE).
+PunctualLight posedLight(uint l) {
+  PunctualLight light = lights[l];
+  light.position.xyz = posedPoint(light.position.xyz);
+  light.direction.xyz = posedDirection(light.direction.xyz);
+  return light;
+}
+
 // Irradiance at the receiver from the punctual lights it does not find hidden (none where the
 // depth maps give their light).
 vec3 punctualLight(uint slot, vec3 p, vec3 n) {
   vec3 sum = vec3(0.0);
   for (uint l = 0u; l < (push.emittersByMaps != 0u ? 0u : push.lightCount); ++l) {
     vec3 toLight;
-    float dist2, falloff = lightFalloff(lights[l], p, toLight, dist2);
+    float dist2, falloff = lightFalloff(posedLight(l), p, toLight, dist2);
     float cosR = dot(n, normalize(toLight));
     if (cosR <= 0.0 || falloff <= 0.0) continue;
     if (hidden(slot, binOf(toLight, kN), kPunctual, dist2, p, toLight)) continue;

@@ -97,7 +97,8 @@ gpu::GatherPush Bounces::gatherPush(uint32_t newOnly) const {
           .newOnly = newOnly,
           .emittersByMaps = b_.scene.emittersByMaps() ? 1u : 0u,
           .largestBin = 4.0f / float(settings_.bins * settings_.bins),
-          .leastSpread = senderBinSpread(settings_.bins)};
+          .leastSpread = senderBinSpread(settings_.bins),
+          .poseBase = b_.scene.nodeCount};
 }
 
 void Bounces::recordEstimate(VkCommandBuffer cmd) const {

@@ -11,8 +11,9 @@ namespace ivgi::gi {
 
 struct IvBuffers {
   SceneBuffers scene;
-  // Per node, uploaded once: whether it moves and whether its surface is closed (gpu::kNodeMoves,
-  // kNodeClosed), and its object's root.
+  // Per node, uploaded once: whether it moves, whether its surface is closed and whether it moves
+  // rigidly (gpu::kNodeMoves, kNodeClosed, kNodeRigid), and its object's root; then per object
+  // (root) its pose (gpu::kPoseWords), rewritten each frame.
   vk::Buffer nodeFlags;
   // Per frame: emitted radiosity π·Le per node (pulled up), radiosity per node (bounces read one and
   // write the other), irradiance per surfel, and per surfel the irradiance from lights and the

@@ -123,25 +123,27 @@ gpu::PrunePush Prune::push(const LinkSet& set, uint32_t first, uint32_t end, boo
           .lightCount = b_.scene.lightCount,
           .environmentOn = b_.scene.environmentOn ? 1u : 0u,
           .staticCapacity = staticSet_.leafLinkCapacity,
-          .emittersByMaps = b_.scene.emittersByMaps() ? 1u : 0u};
+          .emittersByMaps = b_.scene.emittersByMaps() ? 1u : 0u,
+          .poseBase = b_.scene.nodeCount};
 }
 
-void Prune::recordStatic(VkCommandBuffer cmd) {
+void Prune::recordStatic(VkCommandBuffer cmd, const vk::Buffer& nodes) {
   clearIfDirty(cmd);
-  recordPass(cmd, *static_, staticSet_);
+  recordPass(cmd, *static_, staticSet_, vk::Bindings::pool({{"nodes", nodes}}).plus(bindings(staticSet_)));
 }
 
 void Prune::recordFrame(VkCommandBuffer cmd) {
   clearIfDirty(cmd);
-  recordPass(cmd, *frame_, frameSet_);
+  recordPass(cmd, *frame_, frameSet_, bindings(frameSet_));
 }
 
 // Batches of at most leavesPerGroup() leaves a workgroup: one batch where the bins are shared
 // memory, several where each workgroup's global-memory slot limits how many there can be.
-void Prune::recordPass(VkCommandBuffer cmd, const vk::Program& pass, const LinkSet& set) const {
+void Prune::recordPass(VkCommandBuffer cmd, const vk::Program& pass, const LinkSet& set,
+                       const vk::Bindings& bound) const {
   const uint32_t groupCount = groups(), leaves = batch();
   for (uint32_t first = 0; first < surfelCount_; first += leaves)
-    pass.dispatch(cmd, pass.groupsFor(groupCount, 1), bindings(set),
+    pass.dispatch(cmd, pass.groupsFor(groupCount, 1), bound,
                   push(set, first, std::min(surfelCount_, first + leaves), false));
 }
 

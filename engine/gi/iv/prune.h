@@ -30,8 +30,9 @@ class Prune {
   // (lavapipe's loop budget) may not have, so a redo starts from this.
   void clearBins(VkCommandBuffer cmd) const;
 
-  // Records the static pass: the static leaves against the static set's links.
-  void recordStatic(VkCommandBuffer cmd);
+  // Records the static pass: the static leaves (and those of objects that move rigidly) against the
+  // static set's links, made on `nodes` (the rigid objects' at rest).
+  void recordStatic(VkCommandBuffer cmd, const vk::Buffer& nodes);
   // Records the frame's prune of every leaf against the frame set's links (static leaves merge with
   // what the static pass kept).
   void recordFrame(VkCommandBuffer cmd);
@@ -51,7 +52,7 @@ class Prune {
 
  private:
   void makePrograms();
-  void recordPass(VkCommandBuffer cmd, const vk::Program& pass, const LinkSet& set) const;
+  void recordPass(VkCommandBuffer cmd, const vk::Program& pass, const LinkSet& set, const vk::Bindings& bound) const;
   // The buffers a prune of `set`'s links binds, and its push constants for the leaves [first, end).
   vk::Bindings bindings(const LinkSet& set) const;
   gpu::PrunePush push(const LinkSet& set, uint32_t first, uint32_t end, bool listed) const;

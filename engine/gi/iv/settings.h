@@ -28,6 +28,11 @@ struct IvSettings {
   // Leaves a prune workgroup walks in one dispatch; 0: 8. Tests run many to spend lavapipe's loop
   // budget (common.glsl), which the solver must notice and redo.
   uint32_t pruneLeaves = 0;
+  // --rigid: whether an object that moves rigidly has its links to itself made and pruned once, in
+  // its rest pose, like those between static objects (for all its surfels, at the first frame);
+  // else every frame with the rest of its links (at that frame's receivers). None: once where every
+  // surfel is a receiver (rigidOnceOn).
+  std::optional<bool> rigidOnce;
 };
 
 // The most bounces a frame runs, given or until converged: a guard against typing errors and
@@ -40,6 +45,11 @@ inline constexpr float kCpuReceiverTolerance = 0.4f;
 // on a CPU and 0 (every surfel) on a GPU, whose width prunes every surfel at once in about the time
 // the receivers' rounds, each waiting on the one before, take to choose and prune fewer.
 float receiverToleranceOn(const IvSettings& settings, bool cpuDevice);
+
+// Whether a solver with these settings (the receivers' tolerance settled) prunes a rigid object's
+// links to itself once: --rigid as given, else where every surfel is a receiver, so that the first
+// frame prunes every surfel anyway.
+bool rigidOnceOn(const IvSettings& settings);
 
 // Throws SettingsError naming the option when a setting is out of its range.
 void validate(const IvSettings& settings);

@@ -1,6 +1,7 @@
 #include "engine/gi/iv/solver.h"
 
 #include <algorithm>
+#include <bit>
 #include <cstdio>
 
 #include "engine/core/errors.h"
@@ -21,6 +22,9 @@ IvSetup validated(const vk::Context& ctx, IvSetup setup) {
   setup.settings.receiverTolerance = receiverToleranceOn(setup.settings, ctx.info().type == "cpu");
   if (!setup.objectMoves.empty() && setup.objectMoves.size() != setup.hierarchy.roots.size())
     throw std::invalid_argument("IvSetup: objectMoves does not match the hierarchy");
+  if (!setup.objectRigid.empty() && (setup.objectRigid.size() != setup.hierarchy.roots.size() ||
+                                     setup.restMatrices.size() != setup.hierarchy.roots.size()))
+    throw std::invalid_argument("IvSetup: objectRigid or restMatrices does not match the hierarchy");
   return setup;
 }
 
@@ -34,7 +38,21 @@ IvSetup makeIvSetup(const scene::Scene& scene, const scene::Geometry& g, const I
 }
 
 void markMovingObjects(IvSetup& setup, const scene::Scene& scene, const scene::Geometry& g, int animation) {
-  setup.objectMoves = movingRoots(setup.hierarchy, scene, g, animation);
+  const Hierarchy& h = setup.hierarchy;
+  setup.objectMoves = movingRoots(h, scene, g, animation);
+  const std::vector<bool> rigid = scene::rigidlyMovingInstances(scene, g, animation);
+  const scene::FrameInputs rest = g.frameInputs(scene, scene::evaluatePose(scene, -1, 0.0f));
+  setup.objectRigid.clear(), setup.restMatrices.clear(), setup.restSurfels.clear();
+  for (uint32_t instance : h.rootInstance) {
+    setup.objectRigid.push_back(rigid[instance]);
+    setup.restMatrices.push_back(rest.matrices[g.instances[instance].matrix]);
+  }
+  if (std::find(setup.objectRigid.begin(), setup.objectRigid.end(), true) != setup.objectRigid.end())
+    setup.restSurfels = scene::surfelsOnHost(g, scene::animateOnHost(g, rest));
+}
+
+bool IvSolver::rigid(size_t root) const {
+  return rigidOnceOn(settings_) && !setup_.objectRigid.empty() && setup_.objectRigid[root];
 }
 
 IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, IvSetup setup)
@@ -55,21 +73,36 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, IvSetup set
   // A static leaf keeps a mask word pair per 32 bins; where those exceed what one binding can
   // address (many surfels at many bins), every object is relinked instead.
   const uint64_t maskWords = uint64_t(surfelCount_) * gpu::maskWordsFor(settings_.bins);
-  const bool split = mixesStaticAndMoving(setup_.objectMoves, h.roots.size()) &&
+  // Objects that move rigidly with the same world matrix move together: their pairs are rigid too.
+  std::vector<int> rigidGroup(h.roots.size(), -1);
+  for (size_t r = 0; r < h.roots.size(); ++r)
+    if (rigid(r)) rigidGroup[r] = int(g.instances[h.rootInstance[r]].matrix), anyRigid_ = true;
+  const bool split = (mixesStaticAndMoving(setup_.objectMoves, h.roots.size()) || anyRigid_) &&
                      maskWords * sizeof(glm::uvec2) <= ctx.limits().maxStorageBufferRange;
-  assignRootPairs(h, setup_.objectMoves, split, staticSet_, frameSet_);
+  anyRigid_ = anyRigid_ && split;
+  assignRootPairs(h, setup_.objectMoves, split, staticSet_, frameSet_, anyRigid_ ? rigidGroup : std::vector<int>{});
   // Per node: whether it moves (with its root; without the split every object counts as moving),
-  // whether its object's surface is closed, and its root. Parents are numbered before their children.
+  // whether its object's surface is closed, whether it moves rigidly, and its root. Parents are
+  // numbered before their children, roots first. Then per root its pose, identity until a frame
+  // sets it (setObjectMatrices).
   if (nodeCount_ >= 1u << (32u - gpu::kNodeRootShift))
     throw SettingsError("the scene's iv hierarchy has " + std::to_string(nodeCount_) +
                         " nodes, more than the solver can address: use a lower --tessellate");
   const std::vector<bool> closed = scene::closedInstances(g);
-  std::vector<uint32_t> nodeFlags(nodeCount_, 0u);
-  for (size_t r = 0; r < h.roots.size(); ++r)
+  poseBase_ = nodeCount_;
+  std::vector<uint32_t> nodeFlags(size_t(nodeCount_) + gpu::kPoseWords * h.roots.size(), 0u);
+  for (size_t r = 0; r < h.roots.size(); ++r) {
+    if (h.roots[r] != r) throw std::logic_error("IvSolver: the hierarchy's roots are not its first nodes");
     nodeFlags[h.roots[r]] = (!split || moves(r) ? gpu::kNodeMoves : 0u) |
-                            (closed[h.rootInstance[r]] ? gpu::kNodeClosed : 0u) | h.roots[r] << gpu::kNodeRootShift;
+                            (closed[h.rootInstance[r]] ? gpu::kNodeClosed : 0u) |
+                            (anyRigid_ && rigid(r) ? gpu::kNodeRigid : 0u) | h.roots[r] << gpu::kNodeRootShift;
+    for (uint32_t row = 0; row < 3; ++row)
+      nodeFlags[poseBase_ + gpu::kPoseWords * r + 4 * row + row] = std::bit_cast<uint32_t>(1.0f);
+    objectMatrix_.push_back(g.instances[h.rootInstance[r]].matrix);
+  }
   for (uint32_t node = 0; node < nodeCount_; ++node)
     if (h.nodes[node].parent >= 0) nodeFlags[node] = nodeFlags[uint32_t(h.nodes[node].parent)];
+  if (anyRigid_) keepRestPose(nodeFlags);
   std::vector<uint32_t> leafMoves(surfelCount_);
   for (uint32_t s = 0; s < surfelCount_; ++s) leafMoves[s] = nodeFlags[h.leafOfSurfel[s]] & gpu::kNodeMoves;
   uploadScene(g, nodeFlags, split, maskWords);
@@ -113,8 +146,48 @@ void IvSolver::uploadScene(const scene::Geometry& g, const std::vector<uint32_t>
   b_.staticEmitters = deviceArray<uint32_t>(ctx, statics * gpu::kStaticEmitters, allocations_);
 }
 
+void IvSolver::keepRestPose(const std::vector<uint32_t>& nodeFlags) {
+  if (setup_.restSurfels.size() != surfelCount_) throw std::invalid_argument("IvSetup: restSurfels is not the scene's");
+  constexpr VkDeviceSize kSurfel = sizeof(gpu::Surfel);
+  for (uint32_t s = 0; s < surfelCount_; ++s) {
+    if (!(nodeFlags[setup_.hierarchy.leafOfSurfel[s]] & gpu::kNodeRigid)) continue;
+    if (!rigidRuns_.empty() && rigidRuns_.back().srcOffset + rigidRuns_.back().size == s * kSurfel)
+      rigidRuns_.back().size += kSurfel;
+    else
+      rigidRuns_.push_back({s * kSurfel, s * kSurfel, kSurfel});
+  }
+  restSurfels_ = vk::makeBuffer(ctx_, setup_.restSurfels, vk::Memory::Device, &allocations_);
+  staticSurfels_ = vk::deviceArray<gpu::Surfel>(ctx_, surfelCount_, allocations_);
+  restNodes_ = vk::deviceArray<gpu::NodeState>(ctx_, nodeCount_, allocations_);
+}
+
+void IvSolver::recordRestNodes(VkCommandBuffer cmd, const vk::Buffer& surfels) {
+  vk::copyRegion(cmd, surfels, staticSurfels_, {0, 0, VkDeviceSize(surfelCount_) * sizeof(gpu::Surfel)});
+  for (const VkBufferCopy& run : rigidRuns_) vk::copyRegion(cmd, restSurfels_, staticSurfels_, run);
+  refit_.record(cmd, b_.scene, staticSurfels_);
+  vk::copyRegion(cmd, b_.scene.nodes, restNodes_, {0, 0, VkDeviceSize(nodeCount_) * sizeof(gpu::NodeState)});
+}
+
 void IvSolver::setLights(const std::vector<gpu::PunctualLight>& lights) {
   b_.scene.setLights(ctx_, lights, allocations_);
+}
+
+void IvSolver::setObjectMatrices(const std::vector<glm::mat4>& matrices) {
+  if (!anyRigid_) return;
+  poses_.assign(gpu::kPoseWords * objectMatrix_.size(), 0.0f);
+  for (size_t r = 0; r < objectMatrix_.size(); ++r) {
+    glm::mat4 back(1.0f);  // now → rest: M_rest · M_now⁻¹, a rigid motion
+    if (rigid(r)) {
+      const glm::mat4 m = setup_.restMatrices[r] * glm::inverse(matrices.at(objectMatrix_[r]));
+      // Its rotation made orthonormal again (the rigidity test allows a little drift).
+      const glm::vec3 x = glm::normalize(glm::vec3(m[0])),
+                      y = glm::normalize(glm::vec3(m[1]) - glm::dot(glm::vec3(m[1]), x) * x);
+      back = glm::mat4(glm::mat3(x, y, glm::cross(x, y)));
+      back[3] = m[3];
+    }
+    for (uint32_t row = 0; row < 3; ++row)
+      for (uint32_t col = 0; col < 4; ++col) poses_[gpu::kPoseWords * r + 4 * row + col] = back[col][row];
+  }
 }
 
 void IvSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffer& surfels, bool geometryMoved) {
@@ -123,21 +196,29 @@ void IvSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
   solvePending_ = geometryMoved || !linked_;
   reused_ = !solvePending_;
   if (reused_) return;
+  // The objects' poses (vkCmdUpdateBuffer takes at most 65,536 bytes at once).
+  for (size_t at = 0; at < poses_.size(); at += 16384) {
+    const size_t words = std::min<size_t>(16384, poses_.size() - at);
+    vk::updateBuffer(cmd, b_.nodeFlags, (poseBase_ + at) * 4, words * 4, poses_.data() + at);
+  }
   linkStatic_ = splitsStatic() && !staticLinked_;
   timedPass(cmd, timer, "refit", [&] {
+    if (linkStatic_ && anyRigid_) recordRestNodes(cmd, surfels);
     refit_.record(cmd, b_.scene, surfels);
     bounces_.recordEmission(cmd);
   });
   staticPasses_ += linkStatic_ ? 1 : 0;
   timedPass(cmd, timer, "links", [&] {
     const LinkWork work{b_.args, b_.worklistA, b_.worklistB, b_.nodeEmission, b_.pool()};
+    const LinkWork staticWork{b_.args, b_.worklistA, b_.worklistB, b_.nodeEmission,
+                              vk::Bindings::pool({{"nodes", staticNodes()}}).plus(b_.pool())};
     const LinkCriteria criteria{.epsilon = settings_.epsilon,
                                 .largeSender = settings_.kappa * meanBinSolidAngle(settings_.bins),
                                 .largeReceiver = 3.4e38f,
                                 .bothSides = false,
                                 .emitterReceiver = 3.4e38f,
                                 .receiverStaysWhole = true};
-    if (linkStatic_) links_.record(cmd, staticSet_, work, h, criteria, room_.worklistCapacity());
+    if (linkStatic_) links_.record(cmd, staticSet_, staticWork, h, criteria, room_.worklistCapacity());
     links_.record(cmd, frameSet_, work, h, criteria, room_.worklistCapacity());
   });
   // Until a frame has stood in the link room, the links go in a submission of their own: a frame
@@ -149,7 +230,7 @@ void IvSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
 // first bounces.
 void IvSolver::recordSolve(VkCommandBuffer cmd, vk::PassTimer& timer) {
   timedPass(cmd, timer, "prune", [&] {
-    if (linkStatic_) prune_.recordStatic(cmd);
+    if (linkStatic_) prune_.recordStatic(cmd, staticNodes());
     if (receivers_.everySurfel()) prune_.recordFrame(cmd);
   });
   if (!receivers_.everySurfel()) recordReceivers(cmd, timer);

@@ -32,6 +32,13 @@ struct IvSetup {
   // Per hierarchy root: whether its object can move (scene::movingInstances). Empty: every object
   // may move, and everything is linked and pruned whenever the geometry moved.
   std::vector<bool> objectMoves;
+  // Per root: whether its object moves rigidly (scene::rigidlyMovingInstances), and its world
+  // matrix at rest; empty: none does.
+  std::vector<bool> objectRigid;
+  std::vector<glm::mat4> restMatrices;
+  // The surfels at rest (scene::surfelsOnHost), where an object moves rigidly: its links to itself
+  // are made and pruned on them, the same wherever a run starts.
+  std::vector<gpu::Surfel> restSurfels;
 };
 // The setup for `scene`; `animation` says which objects can move (-1 none: all static; absent: any).
 IvSetup makeIvSetup(const scene::Scene& scene, const scene::Geometry& geometry, const IvSettings& settings,
@@ -45,6 +52,7 @@ class IvSolver final : public Solver {
   IvSolver(const vk::Context& ctx, const scene::Geometry& geometry, IvSetup setup);
 
   void setLights(const std::vector<gpu::PunctualLight>& lights) override;
+  void setObjectMatrices(const std::vector<glm::mat4>& matrices) override;
   bool useDirectLight(const vk::Buffer& surfelDirect, const vk::Buffer& surfelArrival, bool withEnvironment) override {
     b_.scene.takeDirectLight(surfelDirect, surfelArrival, withEnvironment);
     return true;
@@ -82,6 +90,15 @@ class IvSolver final : public Solver {
 
  private:
   bool splitsStatic() const { return !staticSet_.empty(); }
+  bool rigid(size_t root) const;
+  // The runs of surfels the rigid objects hold (nodeFlags' kNodeRigid), their surfels at rest on
+  // the device, and room for the static set's surfels and nodes.
+  void keepRestPose(const std::vector<uint32_t>& nodeFlags);
+  // The nodes at rest where an object moves rigidly (the others' as the surfels give them), into
+  // restNodes_; the refit leaves them in the scene's nodes until the frame's refit.
+  void recordRestNodes(VkCommandBuffer cmd, const vk::Buffer& surfels);
+  // The nodes the static set's links are made and pruned on.
+  const vk::Buffer& staticNodes() const { return anyRigid_ ? restNodes_ : b_.scene.nodes; }
   // Makes the passes that read the leaf links for the texel views their room is bound in.
   void readLeafLinkViews();
   void uploadScene(const scene::Geometry& g, const std::vector<uint32_t>& nodeFlags, bool split, uint64_t maskWords);
@@ -112,6 +129,16 @@ class IvSolver final : public Solver {
   bool linkStatic_ = false;    // the frame makes the static set's links
   uint32_t framesRedone_ = 0, staticPasses_ = 0;
   uint32_t gathersRecorded_ = 0;  // this frame's, so far
+  // Per root: its instance's world matrix (scene::FrameInputs::matrices), where the objects' poses
+  // start in b_.nodeFlags, and whether any object's links to itself are pruned once.
+  std::vector<uint32_t> objectMatrix_;
+  // The surfels at rest, the runs of them the rigid objects hold, the surfels the static set is made
+  // on (the rigid objects' at rest) and their nodes.
+  vk::Buffer restSurfels_, staticSurfels_, restNodes_;
+  std::vector<VkBufferCopy> rigidRuns_;
+  std::vector<float> poses_;  // the frame's, as the nodes' flags hold them (kPoseWords a root)
+  uint32_t poseBase_ = 0;
+  bool anyRigid_ = false;
 };
 
 }  // namespace ivgi::gi
