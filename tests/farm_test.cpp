@@ -158,6 +158,14 @@ TEST(Shards, AssembleTheSequenceOneRunWritesBitForBit) {
   EXPECT_EQ(report.status, 0) << report.err;
   EXPECT_NE(report.err.find("different receiver tolerances (0, 0.4"), std::string::npos) << report.err;
   EXPECT_NE(report.err.find("--receiver-tol"), std::string::npos) << report.err;
+  // Shards that pruned the moving block's links to itself differently are named too.
+  ASSERT_EQ(render("rigid", {"--shard", "0/2", "--rigid", "once"}).status, 0);
+  ASSERT_EQ(render("rigid", {"--shard", "1/2", "--rigid", "every-frame"}).status, 0);
+  report = test::runIvgi({"report", (dir / "rigid" / "f_%04d").string()});
+  EXPECT_EQ(report.status, 0) << report.err;
+  EXPECT_NE(report.err.find("rigid objects' links to themselves differently (every frame, once"), std::string::npos)
+      << report.err;
+  EXPECT_EQ(report.err.find("receiver tolerances"), std::string::npos) << "the same tolerance: " << report.err;
 
   fs::remove(dir / "shards" / "f_0004.exr");
   report = test::runIvgi({"report", (dir / "shards" / "f_%04d").string()});

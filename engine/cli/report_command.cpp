@@ -49,7 +49,7 @@ int runReport(const ReportOptions& o) {
   std::map<int, nlohmann::json> records;  // by frame; a later sidecar's record of a frame replaces an earlier one
   std::string timeKey = "totalGpuMs", passKey = "gpuMs";
   // What the runs solved on and with: shards that differ here give frames that differ where they meet.
-  std::set<std::string> devices, receiverTolerances;
+  std::set<std::string> devices, receiverTolerances, rigidObjects;
   for (const std::string& path : sidecars) {
     std::ifstream in(path);
     const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
@@ -67,6 +67,8 @@ int runReport(const ReportOptions& o) {
       std::snprintf(tolerance, sizeof tolerance, "%g", j["solver"]["receiverTolerance"].get<double>());
       receiverTolerances.insert(tolerance);
     }
+    if (j.contains("solver") && j["solver"].is_object() && j["solver"].contains("rigidOnce"))
+      rigidObjects.insert(j["solver"]["rigidOnce"].get<bool>() ? "once" : "every frame");
   }
   std::sort(requested.begin(), requested.end());
   requested.erase(std::unique(requested.begin(), requested.end()), requested.end());
@@ -116,6 +118,9 @@ int runReport(const ReportOptions& o) {
   if (receiverTolerances.size() > 1)
     warnings.push_back("the runs solved iv with different receiver tolerances (" + listed(receiverTolerances) +
                        "; its default follows the device): give every run the same --receiver-tol");
+  if (rigidObjects.size() > 1)
+    warnings.push_back("the runs pruned iv's rigid objects' links to themselves differently (" + listed(rigidObjects) +
+                       "; --rigid auto follows the receivers): give every run the same --rigid");
   std::fflush(stdout);
   for (const std::string& w : warnings) std::fprintf(stderr, "ivgi: warning: %s: %s\n", o.pattern.c_str(), w.c_str());
   if (!o.json.empty())
