@@ -176,6 +176,43 @@ TEST(IvRigidObjects, TurnedBinsSeeTheSkyWhereItIs) {
                             });
 }
 
+// An object moves rigidly where its world matrix keeps its shape at every key time and between:
+// turned and shifted, or under a parent scaled alike along every axis; not where its scale changes,
+// nor where it turns inside a parent squashed along one axis (the turn then shears it).
+TEST(IvRigidObjects, ARigidMotionKeepsTheObjectsShape) {
+  scenes::GltfBuilder b;
+  const int white = b.material("white", glm::vec3(0.7f));
+  scenes::MeshData square;
+  scenes::addQuad(square, {0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, 1, 1, {0, 0, 1});
+  const int mesh = b.mesh("square", {{square, white}});
+  const std::vector<float> times = {0.0f, 1.0f};
+  std::vector<float> turn;
+  for (float degrees : {0.0f, 70.0f}) {
+    const glm::quat q = glm::angleAxis(glm::radians(degrees), glm::normalize(glm::vec3(1, 2, 0)));
+    turn.insert(turn.end(), {q.x, q.y, q.z, q.w});
+  }
+  const int turning = b.node("turns and shifts", mesh);
+  b.animate("a", turning, "rotation", times, turn);
+  b.animate("a", turning, "translation", times, {0, 0, 0, 1, 2, 3});
+  b.animate("a", b.node("grows", mesh), "scale", times, {1, 1, 1, 2, 2, 2});
+  const int squashed = b.node("squashed"), scaled = b.node("scaled");
+  b.model().nodes[size_t(squashed)].scale = {2.0, 1.0, 1.0};
+  b.model().nodes[size_t(scaled)].scale = {2.0, 2.0, 2.0};
+  b.animate("a", b.node("turns squashed", mesh, {}, {1, 0, 0, 0}, squashed), "rotation", times, turn);
+  b.animate("a", b.node("turns scaled", mesh, {}, {1, 0, 0, 0}, scaled), "rotation", times, turn);
+  b.node("still", mesh);
+  const tinygltf::Model model = b.finish();
+  const scene::Scene s = scene::sceneFromModel(model, "shapes");
+  const scene::Geometry g = scene::buildGeometry(s);
+  std::vector<std::string> names;
+  for (int node : g.instanceNode) names.push_back(s.nodes[size_t(node)].name);
+  const std::vector<bool> rigid = scene::rigidlyMovingInstances(s, g, 0);
+  ASSERT_EQ(rigid.size(), names.size());
+  for (size_t i = 0; i < names.size(); ++i)
+    EXPECT_EQ(rigid[i], names[i] == "turns and shifts" || names[i] == "turns scaled") << names[i];
+  EXPECT_EQ(names.size(), 5u);
+}
+
 // Where the corner's links to itself are pruned once, they are made on the surfels at rest, not on
 // those of the frame a run starts at: shards of the sequence write what one run writes, byte for byte.
 TEST(IvRigidObjects, ShardsWriteWhatOneRunWrites) {
