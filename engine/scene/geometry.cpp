@@ -488,9 +488,14 @@ std::vector<bool> rigidlyMovingInstances(const Scene& scene, const Geometry& g, 
   std::vector<bool> rigid = movingInstances(scene, g, animation);
   if (animation < 0) return rigid;
   std::vector<char> reweighted(scene.nodes.size(), 0);
+  for (const Channel& ch : scene.animations[animation].channels)
+    if (ch.path == Path::Weights) reweighted[ch.node] = 1;
+  for (size_t i = 0; i < g.instances.size(); ++i)
+    rigid[i] =
+        rigid[i] && !g.instances[i].skinned && !(g.instances[i].morphTargets > 0 && reweighted[g.instanceNode[i]]);
+  if (std::find(rigid.begin(), rigid.end(), true) == rigid.end()) return rigid;  // no pose to sample
   std::vector<float> times;
   for (const Channel& ch : scene.animations[animation].channels) {
-    if (ch.path == Path::Weights) reweighted[ch.node] = 1;
     const std::vector<float>& keys = scene.animations[animation].samplers[ch.sampler].input;
     for (size_t k = 0; k < keys.size(); ++k) {
       times.push_back(keys[k]);
@@ -507,12 +512,8 @@ std::vector<bool> rigidlyMovingInstances(const Scene& scene, const Geometry& g, 
   std::vector<Pose> poses;
   for (float t : times) poses.push_back(evaluatePose(scene, animation, t));
   for (size_t i = 0; i < g.instances.size(); ++i) {
-    const Instance& inst = g.instances[i];
+    if (!rigid[i]) continue;
     const int node = g.instanceNode[i];
-    if (!rigid[i] || inst.skinned || (inst.morphTargets > 0 && reweighted[node])) {
-      rigid[i] = false;
-      continue;
-    }
     const glm::mat3 m0 = metric(rest.world[node]);
     float scale = 0.0f;
     for (int c = 0; c < 3; ++c) scale = std::max(scale, std::abs(m0[c][c]));

@@ -22,9 +22,9 @@ IvSetup validated(const vk::Context& ctx, IvSetup setup) {
   setup.settings.receiverTolerance = receiverToleranceOn(setup.settings, ctx.info().type == "cpu");
   if (!setup.objectMoves.empty() && setup.objectMoves.size() != setup.hierarchy.roots.size())
     throw std::invalid_argument("IvSetup: objectMoves does not match the hierarchy");
-  if (!setup.objectRigid.empty() && (setup.objectRigid.size() != setup.hierarchy.roots.size() ||
-                                     setup.restMatrices.size() != setup.hierarchy.roots.size()))
-    throw std::invalid_argument("IvSetup: objectRigid or restMatrices does not match the hierarchy");
+  if (!setup.objectRigid.empty() &&
+      (setup.objectRigid.size() != setup.hierarchy.roots.size() || setup.restPose.matrices.empty()))
+    throw std::invalid_argument("IvSetup: objectRigid does not match the hierarchy, or has no rest pose");
   return setup;
 }
 
@@ -41,14 +41,9 @@ void markMovingObjects(IvSetup& setup, const scene::Scene& scene, const scene::G
   const Hierarchy& h = setup.hierarchy;
   setup.objectMoves = movingRoots(h, scene, g, animation);
   const std::vector<bool> rigid = scene::rigidlyMovingInstances(scene, g, animation);
-  const scene::FrameInputs rest = g.frameInputs(scene, scene::evaluatePose(scene, -1, 0.0f));
-  setup.objectRigid.clear(), setup.restMatrices.clear(), setup.restSurfels.clear();
-  for (uint32_t instance : h.rootInstance) {
-    setup.objectRigid.push_back(rigid[instance]);
-    setup.restMatrices.push_back(rest.matrices[g.instances[instance].matrix]);
-  }
-  if (std::find(setup.objectRigid.begin(), setup.objectRigid.end(), true) != setup.objectRigid.end())
-    setup.restSurfels = scene::surfelsOnHost(g, scene::animateOnHost(g, rest));
+  setup.objectRigid.clear();
+  for (uint32_t instance : h.rootInstance) setup.objectRigid.push_back(rigid[instance]);
+  setup.restPose = g.frameInputs(scene, scene::evaluatePose(scene, -1, 0.0f));
 }
 
 bool IvSolver::rigid(size_t root) const {
@@ -93,16 +88,16 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, IvSetup set
   std::vector<uint32_t> nodeFlags(size_t(nodeCount_) + gpu::kPoseWords * h.roots.size(), 0u);
   for (size_t r = 0; r < h.roots.size(); ++r) {
     if (h.roots[r] != r) throw std::logic_error("IvSolver: the hierarchy's roots are not its first nodes");
-    nodeFlags[h.roots[r]] = (!split || moves(r) ? gpu::kNodeMoves : 0u) |
-                            (closed[h.rootInstance[r]] ? gpu::kNodeClosed : 0u) |
-                            (anyRigid_ && rigid(r) ? gpu::kNodeRigid : 0u) | h.roots[r] << gpu::kNodeRootShift;
+    nodeFlags[h.roots[r]] =
+        (!split || moves(r) ? gpu::kNodeMoves : 0u) | (closed[h.rootInstance[r]] ? gpu::kNodeClosed : 0u) |
+        (anyRigid_ && rigidGroup[r] >= 0 ? gpu::kNodeRigid : 0u) | h.roots[r] << gpu::kNodeRootShift;
     for (uint32_t row = 0; row < 3; ++row)
       nodeFlags[poseBase_ + gpu::kPoseWords * r + 4 * row + row] = std::bit_cast<uint32_t>(1.0f);
     objectMatrix_.push_back(g.instances[h.rootInstance[r]].matrix);
   }
   for (uint32_t node = 0; node < nodeCount_; ++node)
     if (h.nodes[node].parent >= 0) nodeFlags[node] = nodeFlags[uint32_t(h.nodes[node].parent)];
-  if (anyRigid_) keepRestPose(nodeFlags);
+  if (anyRigid_) keepRestPose(g, nodeFlags);
   std::vector<uint32_t> leafMoves(surfelCount_);
   for (uint32_t s = 0; s < surfelCount_; ++s) leafMoves[s] = nodeFlags[h.leafOfSurfel[s]] & gpu::kNodeMoves;
   uploadScene(g, nodeFlags, split, maskWords);
@@ -146,8 +141,7 @@ void IvSolver::uploadScene(const scene::Geometry& g, const std::vector<uint32_t>
   b_.staticEmitters = deviceArray<uint32_t>(ctx, statics * gpu::kStaticEmitters, allocations_);
 }
 
-void IvSolver::keepRestPose(const std::vector<uint32_t>& nodeFlags) {
-  if (setup_.restSurfels.size() != surfelCount_) throw std::invalid_argument("IvSetup: restSurfels is not the scene's");
+void IvSolver::keepRestPose(const scene::Geometry& g, const std::vector<uint32_t>& nodeFlags) {
   constexpr VkDeviceSize kSurfel = sizeof(gpu::Surfel);
   for (uint32_t s = 0; s < surfelCount_; ++s) {
     if (!(nodeFlags[setup_.hierarchy.leafOfSurfel[s]] & gpu::kNodeRigid)) continue;
@@ -156,7 +150,8 @@ void IvSolver::keepRestPose(const std::vector<uint32_t>& nodeFlags) {
     else
       rigidRuns_.push_back({s * kSurfel, s * kSurfel, kSurfel});
   }
-  restSurfels_ = vk::makeBuffer(ctx_, setup_.restSurfels, vk::Memory::Device, &allocations_);
+  restSurfels_ = vk::makeBuffer(ctx_, scene::surfelsOnHost(g, scene::animateOnHost(g, setup_.restPose)),
+                                vk::Memory::Device, &allocations_);
   staticSurfels_ = vk::deviceArray<gpu::Surfel>(ctx_, surfelCount_, allocations_);
   restNodes_ = vk::deviceArray<gpu::NodeState>(ctx_, nodeCount_, allocations_);
 }
@@ -178,7 +173,7 @@ void IvSolver::setObjectMatrices(const std::vector<glm::mat4>& matrices) {
   for (size_t r = 0; r < objectMatrix_.size(); ++r) {
     glm::mat4 back(1.0f);  // now → rest: M_rest · M_now⁻¹, a rigid motion
     if (rigid(r)) {
-      const glm::mat4 m = setup_.restMatrices[r] * glm::inverse(matrices.at(objectMatrix_[r]));
+      const glm::mat4 m = setup_.restPose.matrices.at(objectMatrix_[r]) * glm::inverse(matrices.at(objectMatrix_[r]));
       // Its rotation made orthonormal again (the rigidity test allows a little drift).
       const glm::vec3 x = glm::normalize(glm::vec3(m[0])),
                       y = glm::normalize(glm::vec3(m[1]) - glm::dot(glm::vec3(m[1]), x) * x);

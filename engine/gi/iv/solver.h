@@ -32,13 +32,11 @@ struct IvSetup {
   // Per hierarchy root: whether its object can move (scene::movingInstances). Empty: every object
   // may move, and everything is linked and pruned whenever the geometry moved.
   std::vector<bool> objectMoves;
-  // Per root: whether its object moves rigidly (scene::rigidlyMovingInstances), and its world
-  // matrix at rest; empty: none does.
+  // Per root: whether its object moves rigidly (scene::rigidlyMovingInstances); empty: none does.
   std::vector<bool> objectRigid;
-  std::vector<glm::mat4> restMatrices;
-  // The surfels at rest (scene::surfelsOnHost), where an object moves rigidly: its links to itself
-  // are made and pruned on them, the same wherever a run starts.
-  std::vector<gpu::Surfel> restSurfels;
+  // The scene's rest pose: a rigid object's links to itself are made and pruned on its surfels
+  // there, the same wherever a run starts, and its pose is its motion back to there.
+  scene::FrameInputs restPose;
 };
 // The setup for `scene`; `animation` says which objects can move (-1 none: all static; absent: any).
 IvSetup makeIvSetup(const scene::Scene& scene, const scene::Geometry& geometry, const IvSettings& settings,
@@ -93,7 +91,7 @@ class IvSolver final : public Solver {
   bool rigid(size_t root) const;
   // The runs of surfels the rigid objects hold (nodeFlags' kNodeRigid), their surfels at rest on
   // the device, and room for the static set's surfels and nodes.
-  void keepRestPose(const std::vector<uint32_t>& nodeFlags);
+  void keepRestPose(const scene::Geometry& g, const std::vector<uint32_t>& nodeFlags);
   // The nodes at rest where an object moves rigidly (the others' as the surfels give them), into
   // restNodes_; the refit leaves them in the scene's nodes until the frame's refit.
   void recordRestNodes(VkCommandBuffer cmd, const vk::Buffer& surfels);
