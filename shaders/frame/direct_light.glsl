@@ -1,6 +1,20 @@
 // The direct light of the emitter samples at a point, each seen or hidden by its depth maps
-// (light_views, the raster). Expects `lightPoints`, `lightViews` and `lightDepth` (depths' float
-// bits, each view `side` texels square) declared before it.
+// (light_views, the raster). Expects `lightPoints` and `lightViews` (rgba32f texels: 4 a LightPoint,
+// 4 a Camera) and `lightDepth` (depths' float bits, each view `side` texels square) declared before
+// it. The points and views are read as texels, not from storage buffers, because every lane reads
+// the same point in the loops over them (common.glsl: lavapipe reads a storage buffer a lane at a
+// time).
+
+LightPoint lightPointAt(uint i) {
+  const int t = int(4u * i);
+  return LightPoint(imageLoad(lightPoints, t), imageLoad(lightPoints, t + 1), imageLoad(lightPoints, t + 2),
+                    imageLoad(lightPoints, t + 3));
+}
+Camera lightViewAt(uint v) {
+  const int t = int(4u * v);
+  return Camera(imageLoad(lightViews, t), imageLoad(lightViews, t + 1), imageLoad(lightViews, t + 2),
+                imageLoad(lightViews, t + 3));
+}
 
 // Texels' depth, in the view's depth along its forward axis; an empty texel is infinitely deep.
 float depthAt(uint view, ivec2 texel, uint side) {
@@ -17,7 +31,7 @@ const uint kPixelLookup = 0u, kSurfelLookup = 1u;
 
 // Where p lies in orthographic view `view`: in its texels, its depth, and a texel's width.
 void orthographicAt(uint view, vec3 p, float size, out vec2 at, out float z, out float texel) {
-  const Camera c = lightViews[view];
+  const Camera c = lightViewAt(view);
   const vec3 d = p - c.origin.xyz;
   const vec2 ndc =
       vec2(dot(d, c.right.xyz) / dot(c.right.xyz, c.right.xyz), dot(d, c.up.xyz) / dot(c.up.xyz, c.up.xyz));
@@ -26,22 +40,22 @@ void orthographicAt(uint view, vec3 p, float size, out vec2 at, out float z, out
   at = vec2((ndc.x + 1.0) * 0.5 * size, (1.0 - ndc.y) * 0.5 * size) - 0.5;
 }
 
-// The share of the four texels around the ray from emitter sample `light`'s views to the point `p` that
+// The share of the four texels around the ray from emitter sample `point`'s views to the point `p` that
 // see p (kSurfelLookup: bilinear weights; kPixelLookup: whether the nearest texel does), where
 // `cosine` is the cosine of the ray at p's surface. A texel sees p where its depth, less a bias of a
 // texel and a half of p's own slope across it, is not nearer.
-float seenShare(uint light, vec3 p, float cosine, uint side, uint lookup) {
+float seenShare(LightPoint point, vec3 p, float cosine, uint side, uint lookup) {
   const float size = float(side);
   uint view;
   float z, texel;  // p's depth in the view, a texel's width there
   vec2 at;         // p in the view's texels
-  const uint first = floatBitsToUint(lightPoints[light].radiance.w);
-  if (lightPoints[light].cone.w == kLightPointIsPunctual && lightPoints[light].cone.z == kLightDirectional) {
+  const uint first = floatBitsToUint(point.radiance.w);
+  if (point.cone.w == kLightPointIsPunctual && point.cone.z == kLightDirectional) {
     // A directional light's orthographic view over the scene, or at a pixel the finest of its
     // cascades whose texels around p (and the bias's reach) lie within it.
     view = first;
     orthographicAt(view, p, size, at, z, texel);
-    const uint cascades = lookup == kPixelLookup ? uint(lightPoints[light].positionArea.w) : 0u;
+    const uint cascades = lookup == kPixelLookup ? uint(point.positionArea.w) : 0u;
     for (uint k = 1u; k <= cascades; ++k) {
       vec2 atK;
       float zK, texelK;
@@ -53,7 +67,7 @@ float seenShare(uint light, vec3 p, float cosine, uint side, uint lookup) {
     }
   } else {
     // The cube's faces are axis-aligned (light_views): the face and where on it follow from d alone.
-    const vec3 d = p - lightViews[first].origin.xyz, m = abs(d);
+    const vec3 d = p - imageLoad(lightViews, int(4u * first)).xyz, m = abs(d);
     const uint axis = m.x >= m.y && m.x >= m.z ? 0u : (m.y >= m.z ? 1u : 2u);
     view = first + 2u * axis + (d[axis] < 0.0 ? 1u : 0u);
     z = m[axis];
@@ -75,8 +89,7 @@ float seenShare(uint light, vec3 p, float cosine, uint side, uint lookup) {
 // The light of point `i` (an emitter sample or a point or spot light) at p (unit normal n) where it
 // is seen; zero where p faces away from it or lies behind the emitter. `cosine`: the ray's at p;
 // `toward`: the unit direction from p to the light.
-vec3 lightFrom(uint i, vec3 p, vec3 n, out float cosine, out vec3 toward) {
-  const LightPoint l = lightPoints[i];
+vec3 lightFrom(LightPoint l, vec3 p, vec3 n, out float cosine, out vec3 toward) {
   cosine = 0.0;
   toward = n;
   if (l.cone.w == kLightPointIsPunctual) {
@@ -128,16 +141,16 @@ vec3 lightAt(vec3 p, vec3 n, uint first, uint end, uint stride, float scale, uin
   for (uint i = first; i < end; i += stride) {
     float cosine;
     vec3 toward;
-    const vec3 seen = lightFrom(i, p, n, cosine, toward);
+    const LightPoint point = lightPointAt(i);
+    const vec3 seen = lightFrom(point, p, n, cosine, toward);
     if (cosine <= 0.0 || all(equal(seen, vec3(0.0)))) continue;
-    const vec3 lit = seen * seenShare(i, p, cosine, side, lookup);
+    const vec3 lit = seen * seenShare(point, p, cosine, side, lookup);
     e += lit;
     unshadowed += seen;
     const float luminance = dot(lit, vec3(0.2126, 0.7152, 0.0722));
     arrival += luminance * vec4(toward, 1.0);
-    const bool directional =
-        lightPoints[i].cone.w == kLightPointIsPunctual && lightPoints[i].cone.z == kLightDirectional;
-    const vec3 fromLight = lightPoints[i].positionArea.xyz - p;
+    const bool directional = point.cone.w == kLightPointIsPunctual && point.cone.z == kLightDirectional;
+    const vec3 fromLight = point.positionArea.xyz - p;
     if (area > 0.0 && !directional) footprint += luminance * area * cosine / (dot(fromLight, fromLight) + area / kPi);
     if (lobe.glossy) reflected += lobeOf(lobe, toward) * lit;
   }

@@ -13,9 +13,9 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 0, rgba32f) readonly uniform imageBuffer world;        // WorldVertex: position, normal
 layout(binding = 1, rgba32ui) readonly uniform uimageBuffer triangles;  // Triangle
 layout(binding = 2, rg32ui) readonly uniform uimageBuffer visibility;   // 64-bit keys, low word first
-layout(std430, binding = 3) readonly buffer LightPoints { LightPoint lightPoints[]; };
-layout(std430, binding = 4) readonly buffer LightViews { Camera lightViews[]; };
-layout(binding = 5, r32ui) readonly uniform uimageBuffer lightDepth;  // depths' float bits
+layout(binding = 3, rgba32f) readonly uniform imageBuffer lightPoints;  // LightPoint
+layout(binding = 4, rgba32f) readonly uniform imageBuffer lightViews;   // Camera
+layout(binding = 5, r32ui) readonly uniform uimageBuffer lightDepth;    // depths' float bits
 layout(std430, binding = 6) writeonly buffer PixelLights { PixelLight pixelLights[]; };
 layout(binding = 7, rgba32ui) readonly uniform uimageBuffer materials;  // Material
 layout(binding = 8, rg32f) readonly uniform imageBuffer uvs;

@@ -11,9 +11,9 @@
 layout(local_size_x = 64) in;
 
 layout(std430, binding = 0) readonly buffer Surfels { Surfel surfels[]; };
-layout(std430, binding = 1) readonly buffer LightPoints { LightPoint lightPoints[]; };
-layout(std430, binding = 2) readonly buffer LightViews { Camera lightViews[]; };
-layout(binding = 3, r32ui) readonly uniform uimageBuffer lightDepth;  // depths' float bits
+layout(binding = 1, rgba32f) readonly uniform imageBuffer lightPoints;  // LightPoint
+layout(binding = 2, rgba32f) readonly uniform imageBuffer lightViews;   // Camera
+layout(binding = 3, r32ui) readonly uniform uimageBuffer lightDepth;    // depths' float bits
 layout(std430, binding = 4) writeonly buffer SurfelDirect { vec4 surfelDirect[]; };
 layout(std430, binding = 5) writeonly buffer SurfelUnshadowed { vec4 surfelUnshadowed[]; };
 layout(std430, binding = 6) buffer SurfelsLit { uint surfelsLit; };  // with `changed`: how many are lit again
