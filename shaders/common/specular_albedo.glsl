@@ -1,12 +1,14 @@
 // The specular albedo table's (A, B) (brdf.h's layout, engine/scene/reflectance.h) toward cos θ = mu
-// for material m (or α), bilinear. Expects the table declared as `specularAlbedo` (vec2 per node).
+// for material m (or α), bilinear. Expects the table declared as `specularAlbedo`, an rg32f
+// imageBuffer (texels, not a storage buffer: it is read in the loops over links, common.glsl).
 #ifndef SPECULAR_ALBEDO_GLSL
 #define SPECULAR_ALBEDO_GLSL
 vec2 specularAlbedoOf(float alpha, float mu) {
   const vec4 cell = albedoTableCell(mu, sqrt(alpha));
   const uint at = uint(cell.y) * kAlbedoTableSize + uint(cell.x);
-  return mix(mix(specularAlbedo[at], specularAlbedo[at + 1u], cell.z),
-             mix(specularAlbedo[at + kAlbedoTableSize], specularAlbedo[at + kAlbedoTableSize + 1u], cell.z), cell.w);
+  const int t = int(at), row = int(kAlbedoTableSize);
+  return mix(mix(imageLoad(specularAlbedo, t).xy, imageLoad(specularAlbedo, t + 1).xy, cell.z),
+             mix(imageLoad(specularAlbedo, t + row).xy, imageLoad(specularAlbedo, t + row + 1).xy, cell.z), cell.w);
 }
 vec2 specularAlbedoAt(SurfaceBrdf m, float mu) { return specularAlbedoOf(m.alpha, mu); }
 #endif

@@ -21,7 +21,7 @@ layout(binding = 10, rgba32f) readonly uniform imageBuffer radiosityB;
 layout(binding = 11, rgba32f) readonly uniform imageBuffer nodeEmission;  // π·Le per node
 layout(std430, binding = 12) readonly buffer BounceStates { BounceState state; };
 layout(std430, binding = 13) readonly buffer SurfelBrdf { SurfaceBrdf surfelBrdf[]; };
-layout(std430, binding = 14) readonly buffer SpecularAlbedo { vec2 specularAlbedo[]; };
+layout(binding = 14, rg32f) readonly uniform imageBuffer specularAlbedo;
 layout(push_constant) uniform Push { LobePush push; };
 #include "common/specular_albedo.glsl"
 #include "receiver_links.glsl"
@@ -52,10 +52,10 @@ Lobe lobeOf(uint s) {
 
 // What the lobe reflects of the light of sender q, which gives the receiver irradiance f times its
 // radiosity: its emission's share in `emitted`, the rest through the lobe.
-vec3 reflectedFrom(Lobe lobe, uint q, float f, inout vec3 emitted) {
+// `lastB`: the bounces' last solution is radiosityB (Bounces::solution()).
+vec3 reflectedFrom(Lobe lobe, uint q, float f, bool lastB, inout vec3 emitted) {
   const vec3 emission = imageLoad(nodeEmission, int(q)).rgb;
-  // The bounces' last solution is the buffer its count picks (Bounces::solution()).
-  const vec4 radiosity = state.gathers % 2u == 1u ? imageLoad(radiosityB, int(q)) : imageLoad(radiosityA, int(q));
+  const vec4 radiosity = lastB ? imageLoad(radiosityB, int(q)) : imageLoad(radiosityA, int(q));
   emitted += f * emission;
   const vec4 positionArea = nodePositionArea(q), cone = nodeNormalCone(q);
   const vec3 d = positionArea.xyz - lobe.x;
@@ -75,16 +75,17 @@ vec3 reflectedFrom(Lobe lobe, uint q, float f, inout vec3 emitted) {
 // What the lobe reflects of the light receiver r's links and its external light bring.
 vec3 reflectedAt(Lobe lobe, uint r) {
   vec3 reflected = vec3(0.0), emitted = vec3(0.0);
+  const bool lastB = state.gathers % 2u == 1u;  // read once: a storage buffer, read a lane at a time
   const uvec2 range = imageLoad(ranges, int(r)).xy;
   for (uint i = range.x; i < range.x + range.y; ++i) {
     const uvec2 link = loadParted(leafLinks, i).xy;
-    reflected += reflectedFrom(lobe, link.x, uintBitsToFloat(link.y), emitted);
+    reflected += reflectedFrom(lobe, link.x, uintBitsToFloat(link.y), lastB, emitted);
   }
   const uvec2 staticRange = imageLoad(staticRanges, int(r)).xy;
   for (uint i = staticRange.x; i < staticRange.x + staticRange.y; ++i) {
     const uvec2 link = loadParted(staticLinks, i).xy;
     if (staticLinkStands(r, i, push.maskWords))
-      reflected += reflectedFrom(lobe, link.x, uintBitsToFloat(link.y), emitted);
+      reflected += reflectedFrom(lobe, link.x, uintBitsToFloat(link.y), lastB, emitted);
   }
   // The external light gives back what it took of the emitters' credit in the bins.
   return reflected + lobe.evenShare * max(imageLoad(externalLight, int(kExternalTexels * r)).rgb + emitted, vec3(0.0));
