@@ -82,8 +82,13 @@ bool loopBudgetSpent() {
 }
 
 // Hot loops read arrays through imageBuffers: lavapipe gathers texels with vector loads but reads a
-// storage buffer one lane at a time. A shader defines NODE_TEXELS (the binding) before including
-// this file to read NodeState as three rgba32f texels per node.
+// storage buffer one lane at a time. A Camera written as a storage buffer is read back as four
+// rgba32f texels: the v-th of imageBuffer `views`.
+#define CAMERA_TEXELS(views, v)                                                                                     \
+  Camera(imageLoad(views, int(4u * (v))), imageLoad(views, int(4u * (v)) + 1), imageLoad(views, int(4u * (v)) + 2), \
+         imageLoad(views, int(4u * (v)) + 3))
+// A shader defines NODE_TEXELS (the binding) before including this file to read NodeState as three
+// rgba32f texels per node.
 #ifdef NODE_TEXELS
 layout(binding = NODE_TEXELS, rgba32f) readonly uniform imageBuffer nodes;
 // A shader that also defines NODE_POSE sees every node through a rigid motion it sets (nodeTurn,

@@ -10,11 +10,7 @@ LightPoint lightPointAt(uint i) {
   return LightPoint(imageLoad(lightPoints, t), imageLoad(lightPoints, t + 1), imageLoad(lightPoints, t + 2),
                     imageLoad(lightPoints, t + 3));
 }
-Camera lightViewAt(uint v) {
-  const int t = int(4u * v);
-  return Camera(imageLoad(lightViews, t), imageLoad(lightViews, t + 1), imageLoad(lightViews, t + 2),
-                imageLoad(lightViews, t + 3));
-}
+Camera lightViewAt(uint v) { return CAMERA_TEXELS(lightViews, v); }
 
 // Texels' depth, in the view's depth along its forward axis; an empty texel is infinitely deep.
 float depthAt(uint view, ivec2 texel, uint side) {

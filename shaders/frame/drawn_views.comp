@@ -8,7 +8,7 @@
 #include "common/common.glsl"
 layout(local_size_x = 64) in;
 
-layout(std430, binding = 0) readonly buffer Views { Camera views[]; };  // a view whose near is < 0: none
+layout(binding = 0, rgba32f) readonly uniform imageBuffer views;  // Camera, a view whose near is < 0: none
 layout(std430, binding = 1) readonly buffer DrawnBox { uint drawnBox[6]; };
 layout(std430, binding = 2) writeonly buffer DrawnViews { uint drawnViews[]; };  // the count, then the views
 layout(std430, binding = 3) writeonly buffer RasterArgs { uint rasterArgs[]; };
@@ -32,8 +32,8 @@ void main() {
     if (base + lid < push.viewCount) {
       bool across;
       ivec2 blo, bhi;
-      drawn = views[view].origin.w >= 0.0 &&
-              (push.cull == 0u || (!empty && boxInView(views[view], lo, hi, across, blo, bhi)));
+      drawn = CAMERA_TEXELS(views, view).origin.w >= 0.0 &&
+              (push.cull == 0u || (!empty && boxInView(CAMERA_TEXELS(views, view), lo, hi, across, blo, bhi)));
     }
     drawnHere[lid] = drawn;
     barrier();

@@ -22,8 +22,8 @@ layout(constant_id = 1) const bool kDepthOnly = false;
 layout(binding = 0, rgba32f) readonly uniform imageBuffer world;           // WorldVertex: position, normal
 layout(binding = 1, rgba32ui) readonly uniform uimageBuffer triangles;     // Triangle
 layout(std430, binding = 2) buffer Visibility { uint64_t visibility[]; };  // view after view
-layout(std430, binding = 3) readonly buffer Views { Camera views[]; };
-layout(std430, binding = 4) buffer Depths { uint depths[]; };  // kDepthOnly: the depth's float bits
+layout(binding = 3, rgba32f) readonly uniform imageBuffer views;           // Camera
+layout(std430, binding = 4) buffer Depths { uint depths[]; };              // kDepthOnly: the depth's float bits
 // The views drawn (drawn_views): their count, then each one's index in `views`.
 layout(std430, binding = 5) readonly buffer DrawnViews { uint drawnViews[]; };
 layout(push_constant) uniform Push { RasterPush push; };
@@ -51,7 +51,7 @@ void castSample(uint tri, Projected t, ivec2 px) {
 void main() {
   const uint slices = gl_NumWorkGroups.z / drawnViews[0], drawn = gl_WorkGroupID.z / slices,
              slice = gl_WorkGroupID.z - drawn * slices, view = drawnViews[1u + drawn];
-  camera = views[view];
+  camera = CAMERA_TEXELS(views, view);
   viewStart = view * push.size.x * push.size.y;
   const uint lid = gl_LocalInvocationID.x;
   if (lid == 0u) largeCount = 0u;

@@ -13,7 +13,7 @@ layout(binding = 0, rgba32f) readonly uniform imageBuffer world;        // World
 layout(binding = 1, rgba32ui) readonly uniform uimageBuffer triangles;  // Triangle
 // The raster's VkDispatchIndirectCommand (x, y as the triangles need; z: the views, raised here).
 layout(std430, binding = 2) buffer RasterArgs { uint rasterArgs[]; };
-layout(std430, binding = 3) readonly buffer Views { Camera views[]; };
+layout(binding = 3, rgba32f) readonly uniform imageBuffer views;                // Camera
 layout(std430, binding = 4) readonly buffer DrawnViews { uint drawnViews[]; };  // the count, then the views
 layout(push_constant) uniform Push { RasterPush push; };
 #include "raster_bounds.glsl"
@@ -47,11 +47,11 @@ void main() {
     if (lid == 0u) largeViewCount = 0u;
     barrier();
     const uint view = base + lid < listed ? drawnViews[1u + base + lid] : 0u;
-    if (base + lid < listed && mayHoldLargeBounds(views[view], lo, hi))
+    if (base + lid < listed && mayHoldLargeBounds(CAMERA_TEXELS(views, view), lo, hi))
       largeViews[atomicAdd(largeViewCount, 1u)] = view;
     barrier();
     for (uint n = 0u; has && n < largeViewCount; ++n) {
-      const Projected t = projected(views[largeViews[n]], k);
+      const Projected t = projected(CAMERA_TEXELS(views, largeViews[n]), k);
       if (!isLarge(t)) continue;
       const Slicing s = slicing(t, kTilesPerSlice);
       slices = max(slices, uint(s.columnBlocks * s.rowBlocks));
