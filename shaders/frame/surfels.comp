@@ -8,12 +8,20 @@
 layout(local_size_x = 256) in;
 
 layout(std430, binding = 0) readonly buffer SurfelSources { SurfelSource sources[]; };
-layout(std430, binding = 1) readonly buffer SurfelVertices { uint surfelVertices[]; };
-layout(std430, binding = 2) readonly buffer SurfelTriangles { uint surfelTriangles[]; };
-layout(std430, binding = 3) readonly buffer Triangles { Triangle triangles[]; };
-layout(std430, binding = 4) readonly buffer World { WorldVertex world[]; };
+// Read in the loops over a surfel's triangles: texels (common.glsl).
+layout(binding = 1, r32ui) readonly uniform uimageBuffer surfelVertices;
+layout(binding = 2, r32ui) readonly uniform uimageBuffer surfelTriangles;
+layout(binding = 3, rgba32ui) readonly uniform uimageBuffer triangles;  // Triangle
+layout(binding = 4, rgba32f) readonly uniform imageBuffer world;        // WorldVertex: position, normal
 layout(std430, binding = 5) writeonly buffer Surfels { Surfel surfels[]; };
 layout(push_constant) uniform Push { CountPush push; };  // count: surfels
+
+vec3 positionOf(uint v) { return imageLoad(world, int(2u * v)).xyz; }
+// The k-th of the surfel's triangles: its vertices' positions.
+void triangleOf(SurfelSource src, uint k, out vec3 a, out vec3 b, out vec3 c) {
+  const uvec4 t = imageLoad(triangles, int(imageLoad(surfelTriangles, int(src.firstTriangle + k)).x));
+  a = positionOf(t.x), b = positionOf(t.y), c = positionOf(t.z);
+}
 
 void main() {
   uint s = itemIndex();
@@ -21,17 +29,18 @@ void main() {
   SurfelSource src = sources[s];
   float area = 0.0;
   vec3 faceSum = vec3(0.0), vertexSum = vec3(0.0), moment = vec3(0.0);
-  vec3 self = world[surfelVertices[src.firstVertex]].position.xyz;
+  vec3 self = positionOf(imageLoad(surfelVertices, int(src.firstVertex)).x);
   for (uint k = 0; k < src.triangleCount; ++k) {
-    Triangle t = triangles[surfelTriangles[src.firstTriangle + k]];
-    vec3 a = world[t.v0].position.xyz, b = world[t.v1].position.xyz, c = world[t.v2].position.xyz;
+    vec3 a, b, c;
+    triangleOf(src, k, a, b, c);
     vec3 n = cross(b - a, c - a);
     float third = length(n) / 6.0;
     area += third;
     faceSum += n;
     moment += third * (22.0 * self + 7.0 * (a + b + c - self)) / 36.0;  // the other two vertices: a + b + c - self
   }
-  for (uint k = 0; k < src.vertexCount; ++k) vertexSum += world[surfelVertices[src.firstVertex + k]].normal.xyz;
+  for (uint k = 0; k < src.vertexCount; ++k)
+    vertexSum += imageLoad(world, int(2u * imageLoad(surfelVertices, int(src.firstVertex + k)).x + 1u)).xyz;
   vec3 n = length(vertexSum) > 1e-6 ? vertexSum : faceSum;
   float len = length(n);
   vec3 centre = area > 0.0 ? moment / area : self, normal = len > 0.0 ? n / len : vec3(0.0);
@@ -45,8 +54,9 @@ void main() {
   // that on a grid the rectangles of neighbours share their sides whatever the grid's turn.
   vec2 quarter = vec2(0.0);
   for (uint k = 0; k < src.triangleCount; ++k) {
-    Triangle t = triangles[surfelTriangles[src.firstTriangle + k]];
-    quarter += edgeQuarterTurns(world[t.v0].position.xyz, world[t.v1].position.xyz, world[t.v2].position.xyz, t1, t2);
+    vec3 a, b, c;
+    triangleOf(src, k, a, b, c);
+    quarter += edgeQuarterTurns(a, b, c, t1, t2);
   }
   float angle = quarterAngle(quarter);
   vec3 u1, u2;
@@ -55,8 +65,8 @@ void main() {
   // vertex half way in), so that on a grid neighbours' rectangles meet.
   vec4 reach = vec4(0.0);  // +u1, -u1, +u2, -u2
   for (uint k = 0; k < src.triangleCount; ++k) {
-    Triangle t = triangles[surfelTriangles[src.firstTriangle + k]];
-    vec3 a = world[t.v0].position.xyz, b = world[t.v1].position.xyz, c = world[t.v2].position.xyz;
+    vec3 a, b, c;
+    triangleOf(src, k, a, b, c);
     vec2 e1 = vec2(dot(a - self, u1), dot(a - self, u2)), e2 = vec2(dot(b - self, u1), dot(b - self, u2)),
          e3 = vec2(dot(c - self, u1), dot(c - self, u2));
     reach = max(reach, max(vec4(e1, -e1).xzyw, max(vec4(e2, -e2).xzyw, vec4(e3, -e3).xzyw)));
