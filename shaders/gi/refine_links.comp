@@ -15,7 +15,7 @@ layout(binding = 2, rg32ui) readonly uniform uimageBuffer pairs;
 layout(binding = 3, rg32ui) writeonly uniform uimageBuffer nextWorklist;
 layout(binding = 4, rg32ui) writeonly uniform uimageBuffer links;
 layout(std430, binding = 5) coherent buffer Counters { uint counters[]; };
-layout(std430, binding = 6) readonly buffer Emitters { vec4 emitters[]; };  // nonzero: the node emits
+layout(binding = 6, rgba32f) readonly uniform imageBuffer emitters;  // nonzero: the node emits
 layout(std430, binding = 7) writeonly buffer Args { uvec4 args[]; };
 layout(push_constant) uniform Push { RefinePush push; };
 
@@ -111,7 +111,7 @@ void refinePairs() {
       // factor splits the larger node.
       bool refineSender = large && !leafS;
       // An emitter's light is what changes fastest across a receiver: it may get its own limit.
-      bool emits = any(greaterThan(emitters[s].rgb, vec3(0.0)));
+      bool emits = any(greaterThan(imageLoad(emitters, int(s)).rgb, vec3(0.0)));
       float receiverLimit = emits ? push.emitterReceiver : push.largeReceiver;
       bool refineReceiver = !refineSender && !leafR && nr.positionArea.w > receiverLimit * dist2;
       bool refine = refineSender || refineReceiver || (!(leafR && leafS) && (overlapping || estimate > push.epsilon));
