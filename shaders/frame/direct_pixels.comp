@@ -21,7 +21,7 @@ layout(binding = 7, rgba32ui) readonly uniform uimageBuffer materials;  // Mater
 layout(binding = 8, rg32f) readonly uniform imageBuffer uvs;
 layout(binding = 9, rgba32f) readonly uniform imageBuffer colors;  // COLOR_0 per vertex
 layout(std430, binding = 10) readonly buffer Textures { Texture textures[]; };
-layout(std430, binding = 11) readonly buffer Texels { uint texels[]; };
+layout(binding = 11, rg32ui) readonly uniform uimageBuffer texels;  // two packHalf2x16 words a texel
 // Per pixel: the lobe's reflection of its share of the emitter samples, then of the punctual lights.
 layout(std430, binding = 12) writeonly buffer PixelSpecular { vec4 pixelSpecular[]; };
 layout(push_constant) uniform Push { ResolvePush push; };

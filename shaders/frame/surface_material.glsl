@@ -6,9 +6,10 @@
 vec2 uvOf(uint vertex) { return imageLoad(uvs, int(vertex)).xy; }
 vec3 colorOf(uint vertex) { return imageLoad(colors, int(vertex)).rgb; }
 
+// (`texels` are read as texels, not a storage buffer: a bilinear sample reads four, common.glsl.)
 vec4 texel(Texture t, int x, int y) {
-  uint at = 2u * (t.offset + uint(y) * t.width + uint(x));
-  return vec4(unpackHalf2x16(texels[at]), unpackHalf2x16(texels[at + 1u]));
+  const uvec2 words = imageLoad(texels, int(t.offset + uint(y) * t.width + uint(x))).xy;
+  return vec4(unpackHalf2x16(words.x), unpackHalf2x16(words.y));
 }
 
 vec4 sampleTexture(int index, vec2 uv) {
