@@ -6,9 +6,10 @@ layout(local_size_x = 256) in;
 
 layout(std430, binding = 0) readonly buffer Vertices { Vertex vertices[]; };
 layout(std430, binding = 1) readonly buffer Instances { Instance instances[]; };
-layout(std430, binding = 2) readonly buffer MorphDeltas { MorphDelta deltas[]; };
-layout(std430, binding = 3) readonly buffer Matrices { mat4 matrices[]; };
-layout(std430, binding = 4) readonly buffer MorphWeights { float morphWeights[]; };
+// Read per target and per joint: texels (common.glsl).
+layout(binding = 2, rgba32f) readonly uniform imageBuffer morphDeltas;  // MorphDelta: position, normal
+layout(binding = 3, rgba32f) readonly uniform imageBuffer matrices;     // mat4: four columns
+layout(binding = 4, r32f) readonly uniform imageBuffer morphWeights;
 layout(std430, binding = 5) writeonly buffer World { WorldVertex world[]; };
 layout(push_constant) uniform Push { CountPush push; };  // count: vertices
 
@@ -22,6 +23,12 @@ vec3 transformNormal(mat4 m, vec3 n) {
   return len > 0.0 ? r / len : vec3(0.0);
 }
 
+mat4 matrixAt(uint j) {
+  const int t = int(4u * j);
+  return mat4(imageLoad(matrices, t), imageLoad(matrices, t + 1), imageLoad(matrices, t + 2),
+              imageLoad(matrices, t + 3));
+}
+
 void main() {
   uint i = itemIndex();
   if (i >= push.count) return;
@@ -29,17 +36,17 @@ void main() {
   Instance inst = instances[v.instance];
   vec3 p = v.position, n = v.normal;
   for (uint k = 0; k < inst.morphTargets; ++k) {
-    float w = morphWeights[inst.morphWeightBase + k];
-    MorphDelta d = deltas[inst.morphDeltaBase + k * inst.vertexCount + v.local];
-    p += w * d.position.xyz;
-    n += w * d.normal.xyz;
+    float w = imageLoad(morphWeights, int(inst.morphWeightBase + k)).x;
+    const int d = int(2u * (inst.morphDeltaBase + k * inst.vertexCount + v.local));
+    p += w * imageLoad(morphDeltas, d).xyz;
+    n += w * imageLoad(morphDeltas, d + 1).xyz;
   }
   mat4 m;
   if (inst.skinned != 0u) {
-    m = v.weights.x * matrices[inst.matrix + v.joints.x] + v.weights.y * matrices[inst.matrix + v.joints.y] +
-        v.weights.z * matrices[inst.matrix + v.joints.z] + v.weights.w * matrices[inst.matrix + v.joints.w];
+    m = v.weights.x * matrixAt(inst.matrix + v.joints.x) + v.weights.y * matrixAt(inst.matrix + v.joints.y) +
+        v.weights.z * matrixAt(inst.matrix + v.joints.z) + v.weights.w * matrixAt(inst.matrix + v.joints.w);
   } else {
-    m = matrices[inst.matrix];
+    m = matrixAt(inst.matrix);
   }
   world[i].position = vec4((m * vec4(p, 1.0)).xyz, 1.0);
   world[i].normal = vec4(transformNormal(m, n), 0.0);
