@@ -63,7 +63,7 @@ float seenShare(LightPoint point, vec3 p, float cosine, uint side, uint lookup) 
     }
   } else {
     // The cube's faces are axis-aligned (light_views): the face and where on it follow from d alone.
-    const vec3 d = p - imageLoad(lightViews, int(4u * first)).xyz, m = abs(d);
+    const vec3 d = p - imageLoad(lightViews, int(4u * first)).xyz, m = abs(d);  // the cube's origin
     const uint axis = m.x >= m.y && m.x >= m.z ? 0u : (m.y >= m.z ? 1u : 2u);
     view = first + 2u * axis + (d[axis] < 0.0 ? 1u : 0u);
     z = m[axis];
@@ -82,7 +82,7 @@ float seenShare(LightPoint point, vec3 p, float cosine, uint side, uint lookup) 
   return mix(mix(seen.x, seen.y, f.x), mix(seen.z, seen.w, f.x), f.y);
 }
 
-// The light of point `i` (an emitter sample or a point or spot light) at p (unit normal n) where it
+// The light of point `l` (an emitter sample or a point or spot light) at p (unit normal n) where it
 // is seen; zero where p faces away from it or lies behind the emitter. `cosine`: the ray's at p;
 // `toward`: the unit direction from p to the light.
 vec3 lightFrom(LightPoint l, vec3 p, vec3 n, out float cosine, out vec3 toward) {
