@@ -3,11 +3,11 @@
 // leaves below), so that coarse senders send the new value. The whole trees in one dispatch
 // (climb.glsl).
 #extension GL_GOOGLE_include_directive : require
-#define NODE_TEXELS 1
 #include "common/common.glsl"
 layout(local_size_x = 64) in;
 
 layout(binding = 0, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode
+layout(std430, binding = 1) readonly buffer Nodes { NodeState nodes[]; };
 layout(std430, binding = 2) coherent buffer Radiosity { vec4 radiosity[]; };
 layout(push_constant) uniform Push { CountPush push; };  // count: nodes
 
@@ -19,7 +19,7 @@ void combine(uint i) {
   vec3 weighted = vec3(0.0), mean = vec3(0.0);
   float area = 0.0;
   for (uint c = t.y; c < t.y + t.z; ++c) {
-    const float a = nodePositionArea(c).w;
+    const float a = nodes[c].positionArea.w;
     const vec3 b = radiosity[c].rgb;
     weighted += a * b, mean += b, area += a;
   }
