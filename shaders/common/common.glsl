@@ -82,11 +82,12 @@ bool loopBudgetSpent() {
 }
 
 // Hot loops read arrays through imageBuffers: lavapipe gathers texels with vector loads but reads a
-// storage buffer one lane at a time. A Camera written as a storage buffer is read back as four
-// rgba32f texels: the v-th of imageBuffer `views`.
-#define CAMERA_TEXELS(views, v)                                                                                     \
-  Camera(imageLoad(views, int(4u * (v))), imageLoad(views, int(4u * (v)) + 1), imageLoad(views, int(4u * (v)) + 2), \
-         imageLoad(views, int(4u * (v)) + 3))
+// storage buffer one lane at a time. A struct of four vec4 (a Camera, a LightPoint, a mat4) written as
+// a storage buffer is read back as four rgba32f texels: the v-th of imageBuffer `image`.
+#define FOUR_TEXELS(Type, image, v)                                                                               \
+  Type(imageLoad(image, int(4u * (v))), imageLoad(image, int(4u * (v)) + 1), imageLoad(image, int(4u * (v)) + 2), \
+       imageLoad(image, int(4u * (v)) + 3))
+#define CAMERA_TEXELS(views, v) FOUR_TEXELS(Camera, views, v)
 // A shader defines NODE_TEXELS (the binding) before including this file to read NodeState as three
 // rgba32f texels per node.
 #ifdef NODE_TEXELS

@@ -23,11 +23,7 @@ vec3 transformNormal(mat4 m, vec3 n) {
   return len > 0.0 ? r / len : vec3(0.0);
 }
 
-mat4 matrixAt(uint j) {
-  const int t = int(4u * j);
-  return mat4(imageLoad(matrices, t), imageLoad(matrices, t + 1), imageLoad(matrices, t + 2),
-              imageLoad(matrices, t + 3));
-}
+mat4 matrixAt(uint j) { return FOUR_TEXELS(mat4, matrices, j); }
 
 void main() {
   uint i = itemIndex();

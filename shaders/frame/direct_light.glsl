@@ -5,11 +5,7 @@
 // the same point in the loops over them (common.glsl: lavapipe reads a storage buffer a lane at a
 // time).
 
-LightPoint lightPointAt(uint i) {
-  const int t = int(4u * i);
-  return LightPoint(imageLoad(lightPoints, t), imageLoad(lightPoints, t + 1), imageLoad(lightPoints, t + 2),
-                    imageLoad(lightPoints, t + 3));
-}
+LightPoint lightPointAt(uint i) { return FOUR_TEXELS(LightPoint, lightPoints, i); }
 Camera lightViewAt(uint v) { return CAMERA_TEXELS(lightViews, v); }
 
 // Texels' depth, in the view's depth along its forward axis; an empty texel is infinitely deep.

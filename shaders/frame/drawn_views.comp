@@ -32,8 +32,8 @@ void main() {
     if (base + lid < push.viewCount) {
       bool across;
       ivec2 blo, bhi;
-      drawn = CAMERA_TEXELS(views, view).origin.w >= 0.0 &&
-              (push.cull == 0u || (!empty && boxInView(CAMERA_TEXELS(views, view), lo, hi, across, blo, bhi)));
+      const Camera camera = CAMERA_TEXELS(views, view);
+      drawn = camera.origin.w >= 0.0 && (push.cull == 0u || (!empty && boxInView(camera, lo, hi, across, blo, bhi)));
     }
     drawnHere[lid] = drawn;
     barrier();
