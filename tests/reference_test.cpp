@@ -76,22 +76,38 @@ TEST(Reference, IvAgainstPtOnTheCornellBox) {
 
 namespace {
 
-// The mean radiance (luminance) over the pixels the reference's `metallic` layer shows as metal.
-double meanOverMetal(const fs::path& image, const fs::path& reference) {
+// The mean radiance (luminance) of `image` over the pixels `inRegion(reference, x, y)` picks from
+// the reference's layers; at least `least` of them.
+template <typename Region>
+double meanOverRegion(const fs::path& image, const fs::path& reference, Region inRegion, int least) {
   const OIIO::ImageBuf ref = image::readFloatImage(reference.string()), test = image::readFloatImage(image.string());
-  const int metallic = ref.spec().channelindex("metallic");
-  EXPECT_GE(metallic, 0) << reference << " has no metallic layer";
   double sum = 0.0;
   int pixels = 0;
   for (int y = 0; y < ref.spec().height; ++y)
     for (int x = 0; x < ref.spec().width; ++x) {
-      if (metallic < 0 || ref.getchannel(x, y, 0, metallic) < 0.5f) continue;
+      if (!inRegion(ref, x, y)) continue;
       sum += image::luminance(
           glm::dvec3(test.getchannel(x, y, 0, 0), test.getchannel(x, y, 0, 1), test.getchannel(x, y, 0, 2)));
       ++pixels;
     }
-  EXPECT_GT(pixels, 500) << "the tall block's metal fills a good part of the image";
+  EXPECT_GE(pixels, least) << "the region is too small in " << reference;
   return pixels ? sum / pixels : 0.0;
+}
+
+// The pixels the reference's `metallic` layer shows as metal: the tall block.
+bool onMetal(const OIIO::ImageBuf& ref, int x, int y) {
+  const int metallic = ref.spec().channelindex("metallic");
+  return metallic >= 0 && ref.getchannel(x, y, 0, metallic) >= 0.5f;
+}
+
+// The red (left) wall where the tall block shades it from the lamp (tools/cornell_regions.py's
+// "left wall in the tall block's shadow", at any image size): pixels wholly on the wall.
+bool onLeftWallInTheTallBlocksShadow(const OIIO::ImageBuf& ref, int x, int y) {
+  const OIIO::ImageSpec& s = ref.spec();
+  const auto at = [&](const char* name) { return ref.getchannel(x, y, 0, s.channelindex(name)); };
+  const float px = float(x) * 320.0f / float(s.width), py = float(y) * 240.0f / float(s.height);
+  return at("Z") > 0.0f && at("A") > 0.999f && at("N.X") < -0.9f && at("albedo.R") > 0.5f && at("albedo.G") < 0.2f &&
+         px >= 70.0f && px < 92.0f && py >= 150.0f && py < 205.0f;
 }
 
 }  // namespace
@@ -102,6 +118,9 @@ double meanOverMetal(const fs::path& image, const fs::path& reference) {
 // it 1.39 (iv) and 1.30 (ar) times too bright at 320×240.
 TEST(Reference, IvAndArAgainstPtOnTheGlossyCornellBox) {
   ASSERT_TRUE(fs::exists(kGlossyReference));
+  const auto meanOverMetal = [](const fs::path& image, const fs::path& reference) {
+    return meanOverRegion(image, reference, onMetal, 500);  // the tall block fills a good part of the image
+  };
   const double metalRef = meanOverMetal(kGlossyReference, kGlossyReference);
   for (const auto& [method, maxRelMse] : {std::pair{"iv", 0.0085}, std::pair{"ar", 0.009}}) {
     const fs::path exr = test::renderExr(std::string(method) + "_glossy",
@@ -114,6 +133,20 @@ TEST(Reference, IvAndArAgainstPtOnTheGlossyCornellBox) {
     EXPECT_LT(error.relMse, maxRelMse) << method;
     EXPECT_NEAR(metal, 1.0, 0.15) << method << ": the metal block's reflections";
   }
+}
+
+// The metal block mirrors the light of the lit floor and walls, which arrives at it from all sides,
+// along its lobe: some of it onto the red wall beside it, where the block shades the wall from the
+// lamp. iv sends the first bounce's light along the lobes of surfaces whose lobe reflects most
+// (send_arrival.comp); sent evenly, as before, the shaded wall came out 0.925 of pt's here.
+TEST(Reference, IvSendsTheLightAMetalMirrorsOntoTheWallBesideIt) {
+  ASSERT_TRUE(fs::exists(kGlossyReference));
+  const fs::path exr =
+      test::renderExr("iv_glossy_wall", {"cornell", "--glossy", "--method", "iv", "--size", "160x120"});
+  const double shaded = meanOverRegion(exr, kGlossyReference, onLeftWallInTheTallBlocksShadow, 200) /
+                        meanOverRegion(kGlossyReference, kGlossyReference, onLeftWallInTheTallBlocksShadow, 200);
+  std::printf("[ reference ] iv, glossy box: the red wall in the metal block's shadow %.3f of pt\n", shaded);
+  EXPECT_NEAR(shaded, 1.0, 0.05);
 }
 
 TEST(PtCli, RendersEveryLayerWithCpuTimings) {

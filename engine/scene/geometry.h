@@ -45,6 +45,7 @@ struct Geometry {
   std::vector<Triangle> triangles;
   std::vector<gpu::Material> materials;  // last one: the glTF default material
   bool glossyMaterials = false;          // some drawn material is not Lambertian
+  bool lobeDominatedMaterials = false;   // in some, the lobe reflects most (gpu::lobeDominates): a metal
   std::vector<gpu::Texture> textures;
   std::vector<uint32_t> texels;  // linear RGBA as two packHalf2x16 words per texel
   std::vector<SurfelSource> surfels;

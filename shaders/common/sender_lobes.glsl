@@ -32,6 +32,21 @@ vec3 excessAlong(vec4 lobe, vec3 l, float lightRadius, vec3 n, vec3 w, float ext
 layout(binding = SENDER_LOBES, rgba32f) readonly uniform imageBuffer senderLobes;
 layout(constant_id = 28) const bool kSenderLobes = false;  // the scene has glossy materials
 
+// Where sender q lies from point x: its normal, the unit direction w from it to x, and the squared
+// sum of the radii (as √ of solid angles) that widen its lobe toward x: its disk's seen from x and
+// `receiverExtent`, a receiver's larger than a point seen from q. False where x lies on q's centre.
+bool senderToward(uint q, vec3 x, float receiverExtent, out vec3 n, out vec3 w, out float widening) {
+  const vec4 positionArea = nodePositionArea(q);
+  n = nodeNormalCone(q).xyz;
+  const vec3 d = x - positionArea.xyz;
+  const float d2 = dot(d, d);
+  w = d * inversesqrt(max(d2, 1e-30));
+  const float extent = positionArea.w * max(dot(n, w), 0.0) / (d2 + positionArea.w / kPi);
+  const float radii = sqrt(extent) + sqrt(max(receiverExtent, 0.0));
+  widening = radii * radii;
+  return d2 > 0.0;
+}
+
 // What sender q sends toward point x beyond its radiosity sent evenly, as radiosity. A receiver
 // larger than a point spans `receiverExtent` (solid angle) from q, which widens the lobe as q's own
 // extent does.
@@ -39,14 +54,30 @@ vec3 excessToward(uint q, vec3 x, float receiverExtent, float leastSpread) {
   if (!kSenderLobes) return vec3(0.0);
   const vec4 lobe = imageLoad(senderLobes, int(2u * q));
   if (!(lobe.w > 0.0)) return vec3(0.0);
+  vec3 n, w;
+  float widening;
+  if (!senderToward(q, x, receiverExtent, n, w, widening)) return vec3(0.0);
   const vec4 light = imageLoad(senderLobes, int(2u * q + 1u));
-  const vec4 positionArea = nodePositionArea(q);
-  const vec3 n = nodeNormalCone(q).xyz, d = x - positionArea.xyz;
-  const float d2 = dot(d, d);
-  if (!(d2 > 0.0)) return vec3(0.0);
-  const vec3 w = d * inversesqrt(d2);
-  const float extent = positionArea.w * max(dot(n, w), 0.0) / (d2 + positionArea.w / kPi);
-  const float radii = sqrt(extent) + sqrt(max(receiverExtent, 0.0));
-  return excessAlong(lobe, light.xyz, light.w, n, w, radii * radii, leastSpread);
+  return excessAlong(lobe, light.xyz, light.w, n, w, widening, leastSpread);
 }
+
+#ifdef ARRIVAL_LOBES
+// Per node 2·kArrivalLobes texels, as senderLobes' two for each of the classes of the first
+// bounce's arriving light its lobe reflects most (send_arrival.comp), the strongest first: what
+// its lobe reflects of the class (S, α; α = 0: no more) and the class's mean direction (l, 0).
+layout(binding = ARRIVAL_LOBES, rgba32f) readonly uniform imageBuffer arrivalLobes;
+
+// What sender q, of normal n, sends along unit w beyond its radiosity sent evenly of the first
+// bounce's light; `first`: its first texel, `widening` as senderToward gives it.
+vec3 arrivalAlong(uint q, vec4 first, vec3 n, vec3 w, float widening, float leastSpread) {
+  vec3 excess = vec3(0.0);
+  const uint at = 2u * kArrivalLobes * q;
+  for (uint c = 0u; c < kArrivalLobes; ++c) {
+    const vec4 lobe = c == 0u ? first : imageLoad(arrivalLobes, int(at + 2u * c));
+    if (lobe.w > 0.0)
+      excess += excessAlong(lobe, imageLoad(arrivalLobes, int(at + 2u * c + 1u)).xyz, 0.0, n, w, widening, leastSpread);
+  }
+  return excess;
+}
+#endif
 #endif

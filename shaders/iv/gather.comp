@@ -10,7 +10,8 @@
 // Emitters are left out of the gradient where the depth maps give their light; the environment
 // through the empty bins comes with the light from outside the links (prune_bins.comp).
 // Glossy leaves send what their lobes reflect of the direct light along the lobes: the irradiance
-// that adds, the same every bounce, lobe_excess.comp found (kSenderLobes).
+// that adds, the same every bounce, lobe_excess.comp found (kSenderLobes); from the second bounce
+// on, also what they send so of the first bounce's light (GatherPush::arrival).
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 13
 #include "common/common.glsl"
@@ -34,7 +35,8 @@ layout(binding = 14, r32ui) readonly uniform uimageBuffer leafOfSurfel;
 layout(binding = 15, rgba32f) readonly uniform imageBuffer nodeEmission;
 layout(binding = 17, rgba32f) readonly uniform imageBuffer binTable;
 layout(std430, binding = 16) writeonly buffer RotationGradients { vec4 rotationGradients[]; };  // 3 a surfel: r, g, b
-layout(binding = 18, rgba32f) readonly uniform imageBuffer lobeExcess;  // per surfel, at receivers
+layout(binding = 18, rgba32f) readonly uniform imageBuffer lobeExcess;     // per surfel, at receivers
+layout(binding = 20, rgba32f) readonly uniform imageBuffer arrivalExcess;  // the same of the first bounce's light
 // per node: kNodeRigid, its object; then per object its pose (prune_bins.comp)
 layout(binding = 19, r32ui) readonly uniform uimageBuffer nodeFlags;
 layout(push_constant) uniform Push { GatherPush push; };
@@ -75,6 +77,7 @@ void main() {
   uvec2 range = imageLoad(ranges, int(s)).xy, staticRange = imageLoad(staticRanges, int(s)).xy;
   vec3 g = imageLoad(externalLight, int(kExternalTexels * s)).rgb;
   if (kSenderLobes) g += imageLoad(lobeExcess, int(s)).rgb;
+  if (kSenderLobes && push.arrival != 0u) g += imageLoad(arrivalExcess, int(s)).rgb;
   for (uint i = range.x; i < range.x + range.y; ++i) {
     uvec2 link = loadParted(leafLinks, i).xy;
     g += uintBitsToFloat(link.y) * imageLoad(radiosityIn, int(link.x)).rgb;

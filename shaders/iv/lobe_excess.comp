@@ -4,7 +4,9 @@
 // (sender_lobes.glsl), Σ F·S·(π f/a − 1) over its surviving links. It comes from the direct
 // light alone, which the bounces do not change, so the gather adds it to every bounce's
 // irradiance rather than weighing each link again. Also before each of the receivers' refinement
-// rounds' estimates, at the round's new receivers (GatherPush::newOnly).
+// rounds' estimates, at the round's new receivers (GatherPush::newOnly). With kArrival (once a
+// frame), also the same of what they send along their lobes of the first bounce's light
+// (send_arrival.comp), which the gather adds from the second bounce on.
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 0
 #include "common/common.glsl"
@@ -21,28 +23,48 @@ layout(binding = 7, rg32ui) readonly uniform uimageBuffer staticLinks[kTexelPart
 layout(binding = 8, r32ui) readonly uniform uimageBuffer staticBins[kTexelParts];  // StaticBin
 layout(binding = 9, r32ui) readonly uniform uimageBuffer overrides;                // per leaf and mask word
 layout(binding = 10, rg32f) readonly uniform imageBuffer specularAlbedo;
-layout(std430, binding = 11) writeonly buffer LobeExcess { vec4 lobeExcess[]; };  // per surfel, at receivers
+layout(std430, binding = 11) writeonly buffer LobeExcess { vec4 lobeExcess[]; };        // per surfel, at receivers
+layout(std430, binding = 14) writeonly buffer ArrivalExcess { vec4 arrivalExcess[]; };  // the same, kArrival
 layout(push_constant) uniform Push { GatherPush push; };
 #include "common/specular_albedo.glsl"
 #include "receiver_links.glsl"
 #define SENDER_LOBES 12
+#define ARRIVAL_LOBES 13
 #include "common/sender_lobes.glsl"
+layout(constant_id = 27) const bool kArrival = false;
+
+// Adds what sender q sends toward x along its lobes, weighed by form factor f.
+void addLobes(uint q, vec3 x, float f, inout vec3 excess, inout vec3 arrival) {
+  if (!kArrival) {
+    excess += f * excessToward(q, x, 0.0, push.leastSpread);
+    return;
+  }
+  const vec4 lobe = imageLoad(senderLobes, int(2u * q)), first = imageLoad(arrivalLobes, int(2u * kArrivalLobes * q));
+  vec3 n, w;
+  float widening;
+  if (!(lobe.w > 0.0 || first.w > 0.0) || !senderToward(q, x, 0.0, n, w, widening)) return;
+  if (lobe.w > 0.0) {
+    const vec4 light = imageLoad(senderLobes, int(2u * q + 1u));
+    excess += f * excessAlong(lobe, light.xyz, light.w, n, w, widening, push.leastSpread);
+  }
+  arrival += f * arrivalAlong(q, first, n, w, widening, push.leastSpread);
+}
 
 void main() {
   const uint k = (push.newOnly != 0u ? receiverCounts[kReceiverRound] : 0u) + itemIndex();
   if (k >= receiverCounts[kReceiverCount]) return;
   const uint s = imageLoad(receivers, int(k)).x;
   const vec3 at = nodePositionArea(imageLoad(leafOfSurfel, int(s)).x).xyz;
-  vec3 excess = vec3(0.0);
+  vec3 excess = vec3(0.0), arrival = vec3(0.0);
   const uvec2 range = imageLoad(ranges, int(s)).xy, staticRange = imageLoad(staticRanges, int(s)).xy;
   for (uint i = range.x; i < range.x + range.y; ++i) {
     const uvec2 link = loadParted(leafLinks, i).xy;
-    excess += uintBitsToFloat(link.y) * excessToward(link.x, at, 0.0, push.leastSpread);
+    addLobes(link.x, at, uintBitsToFloat(link.y), excess, arrival);
   }
   for (uint i = staticRange.x; i < staticRange.x + staticRange.y; ++i) {
     const uvec2 link = loadParted(staticLinks, i).xy;
-    if (staticLinkStands(s, i, push.maskWords))
-      excess += uintBitsToFloat(link.y) * excessToward(link.x, at, 0.0, push.leastSpread);
+    if (staticLinkStands(s, i, push.maskWords)) addLobes(link.x, at, uintBitsToFloat(link.y), excess, arrival);
   }
   lobeExcess[s] = vec4(excess, 0.0);
+  if (kArrival) arrivalExcess[s] = vec4(arrival, 0.0);
 }

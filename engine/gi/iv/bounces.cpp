@@ -17,7 +17,8 @@ constexpr uint32_t kPullUpArgs = 2, kBounceDispatches = 3;
 }  // namespace
 
 Bounces::Bounces(const vk::Context& ctx, const Hierarchy& h, const IvSettings& settings, const IvBuffers& b,
-                 const LinkSet& staticSet, const LinkSet& frameSet, bool glossy, vk::Allocations& allocations)
+                 const LinkSet& staticSet, const LinkSet& frameSet, bool glossy, bool metal,
+                 vk::Allocations& allocations)
     : ctx_(ctx),
       settings_(settings),
       b_(b),
@@ -26,6 +27,7 @@ Bounces::Bounces(const vk::Context& ctx, const Hierarchy& h, const IvSettings& s
       surfelCount_(uint32_t(h.leafOfSurfel.size())),
       nodeCount_(uint32_t(h.nodes.size())),
       glossy_(glossy),
+      metal_(glossy && metal),
       emit_(shaderProgram(ctx, "emit", vk::Specialization{.constants = {{"kSenderLobes", glossy ? 1u : 0u}}})),
       interpolate_(shaderProgram(ctx, "interpolate")),
       pullUp_(shaderProgram(ctx, "pull_up")),
@@ -48,6 +50,15 @@ Bounces::Bounces(const vk::Context& ctx, const Hierarchy& h, const IvSettings& s
       vk::Buffer(ctx, std::max<size_t>(h.leafOfSurfel.size(), 1) * sizeof(glm::vec4), vk::Memory::Device, &allocations);
   receiverLobe_ = vk::Buffer(ctx, glossy ? change_.size() : 16, vk::Memory::Device, &allocations);
   receiverExcess_ = vk::Buffer(ctx, glossy ? change_.size() : 16, vk::Memory::Device, &allocations);
+  arrivalExcess_ = vk::Buffer(ctx, glossy ? change_.size() : 16, vk::Memory::Device, &allocations);
+  receiverArrival_ =
+      vk::Buffer(ctx, glossy ? change_.size() * 2 * gpu::kArrivalClasses : 16, vk::Memory::Device, &allocations);
+  senderArrival_ =
+      vk::Buffer(ctx, glossy ? std::max<uint64_t>(nodeCount_, 1) * 2 * gpu::kArrivalLobes * sizeof(glm::vec4) : 16,
+                 vk::Memory::Device, &allocations);
+  // Inner nodes and Lambertian leaves send all evenly (α 0); glossy leaves write their own.
+  ctx.submitAndWait([&](VkCommandBuffer cmd) { vk::fillBuffer(cmd, senderArrival_, 0u); });
+  if (glossy) sendArrival_.emplace(ctx, "send_arrival", shaderCode("send_arrival"));
 }
 
 void Bounces::pullUp(VkCommandBuffer cmd, const vk::Buffer& radiosity, bool indirect) const {
@@ -76,29 +87,52 @@ void Bounces::recordStart(VkCommandBuffer cmd) const {
   vk::copyBuffer(cmd, b_.scene.surfelDirect(), b_.irradiance);
   vk::copyRegion(cmd, b_.receiverArgs, fullArgs_, {gpu::kArgsReceivers * sizeof(glm::uvec4), 0, sizeof(glm::uvec4)});
   vk::copyBuffer(cmd, fullArgs_, args_);
-  recordLobeExcess(cmd, gpu::kArgsReceivers, 0u);
+  if (metal_)
+    recordArrival(cmd);
+  else
+    recordLobeExcess(cmd, gpu::kArgsReceivers, 0u);
+}
+
+vk::Bindings Bounces::lobeBindings() const {
+  return b_.pool().plus(vk::Bindings::pool({{"radiosityA", b_.radiosityA},
+                                            {"arrivalLobes", senderArrival_},
+                                            {"receiverArrival", receiverArrival_},
+                                            {"arrivalExcess", arrivalExcess_}}));
 }
 
 void Bounces::recordLobeExcess(VkCommandBuffer cmd, uint32_t args, uint32_t newOnly) const {
   if (!lobeExcess_) return;
   lobeExcess_->dispatchIndirect(cmd, b_.receiverArgs, args * sizeof(glm::uvec4),
-                                b_.pool().with({{"lobeExcess", receiverExcess_}}), gatherPush(newOnly));
+                                lobeBindings().with({{"lobeExcess", receiverExcess_}}), gatherPush(newOnly));
+}
+
+void Bounces::recordArrival(VkCommandBuffer cmd) const {
+  const vk::Bindings bindings = lobeBindings();
+  const size_t receiversArgs = gpu::kArgsReceivers * sizeof(glm::uvec4);
+  arrivalLobes_->dispatchIndirect(cmd, b_.receiverArgs, receiversArgs, bindings, gatherPush(0u));
+  sendArrival_->dispatchItems(cmd, surfelCount_, bindings, gatherPush(0u));
+  // Both lobes' excess at once: the direct light's and the first bounce's.
+  lobeExcessBoth_->dispatchIndirect(cmd, b_.receiverArgs, receiversArgs,
+                                    bindings.with({{"lobeExcess", receiverExcess_}}), gatherPush(0u));
 }
 
 vk::Bindings Bounces::gatherBindings(const vk::Buffer& in) const {
   return b_.pool().with({{"radiosityIn", in},
                          {"frameCounters", frameSet_.counters},
                          {"staticCounters", staticSet_.counters},
-                         {"lobeExcess", receiverExcess_}});
+                         {"lobeExcess", receiverExcess_},
+                         {"arrivalExcess", arrivalExcess_}});
 }
 
-gpu::GatherPush Bounces::gatherPush(uint32_t newOnly) const {
+gpu::GatherPush Bounces::gatherPush(uint32_t newOnly, bool arrival) const {
   return {.maskWords = gpu::maskWordsFor(settings_.bins),
           .newOnly = newOnly,
           .emittersByMaps = b_.scene.emittersByMaps() ? 1u : 0u,
           .largestBin = 4.0f / float(settings_.bins * settings_.bins),
           .leastSpread = senderBinSpread(settings_.bins),
-          .poseBase = b_.scene.nodeCount};
+          .poseBase = b_.scene.nodeCount,
+          .arrival = arrival ? 1u : 0u,
+          .surfelCount = surfelCount_};
 }
 
 void Bounces::recordEstimate(VkCommandBuffer cmd) const {
@@ -116,7 +150,8 @@ void Bounces::recordSteps(VkCommandBuffer cmd, uint32_t first, uint32_t steps) c
   for (uint32_t k = first; k < first + steps; ++k) {
     const vk::Buffer& in = solution(k);
     const vk::Buffer& out = solution(k + 1);
-    gather_->dispatchIndirect(cmd, args_, 0, gatherBindings(in), gatherPush(0u));
+    // What the glossy lobes send of the light the first gather brings arrives from the second on.
+    gather_->dispatchIndirect(cmd, args_, 0, gatherBindings(in), gatherPush(0u, metal_ && k >= 1));
     interpolate_.dispatchIndirect(cmd, args_, sizeof(glm::uvec4),
                                   b_.pool().with({{"radiosityIn", in},
                                                   {"radiosityOut", out},
@@ -156,7 +191,13 @@ void Bounces::makeLinkReaders() {
   markTaps_.emplace(ctx_, "mark_taps", shaderCode("mark_taps"), views);
   reflectReceivers_.emplace(ctx_, "reflect_receivers", shaderCode("reflect_receivers"), views);
   reflectSurfels_.emplace(ctx_, "reflect_surfels", shaderCode("reflect_surfels"), views);
-  if (glossy_) lobeExcess_.emplace(ctx_, "lobe_excess", shaderCode("lobe_excess"), views);
+  if (!glossy_) return;
+  lobeExcess_.emplace(ctx_, "lobe_excess", shaderCode("lobe_excess"), views);
+  if (!metal_) return;
+  const vk::Specialization both{.constants = {{"texelViews", texelViews_}, {"kSenderLobes", 1u}, {"kArrival", 1u}}};
+  lobeExcessBoth_.emplace(ctx_, "lobe_excess", shaderCode("lobe_excess"), both);
+  arrivalLobes_.emplace(ctx_, "arrival_lobes", shaderCode("arrival_lobes"),
+                        vk::Specialization{.constants = {{"texelViews", texelViews_}}});
 }
 
 void Bounces::readTexelViews(uint32_t views) {

@@ -20,9 +20,10 @@ namespace ivgi::gi {
 class Bounces {
  public:
   // Records into the solver's buffers `b`, over the links of its two sets; `glossy`: some surface
-  // is glossy (recordReflections has work).
+  // is glossy (recordReflections has work); `metal`: in some, the lobe reflects most
+  // (gpu::lobeDominates), and sends the first bounce's light along it too.
   Bounces(const vk::Context& ctx, const Hierarchy& h, const IvSettings& settings, const IvBuffers& b,
-          const LinkSet& staticSet, const LinkSet& frameSet, bool glossy, vk::Allocations& allocations);
+          const LinkSet& staticSet, const LinkSet& frameSet, bool glossy, bool metal, vk::Allocations& allocations);
   // π·Le into nodeEmission at the leaves, pulled up, and copied to radiosityA (where bounces start).
   void recordEmission(VkCommandBuffer cmd) const;
   // The frame's first gather comes next, over the receivers listed.
@@ -54,7 +55,14 @@ class Bounces {
   void pullUp(VkCommandBuffer cmd, const vk::Buffer& radiosity, bool indirect) const;
   // The gather's buffers, reading the radiosity `in`.
   vk::Bindings gatherBindings(const vk::Buffer& in) const;
-  gpu::GatherPush gatherPush(uint32_t newOnly) const;
+  // `arrival`: the gather adds what glossy senders send along their lobes of the first bounce.
+  gpu::GatherPush gatherPush(uint32_t newOnly, bool arrival = false) const;
+  // The buffers of the glossy lobes' passes: pool() with the lobes' own.
+  vk::Bindings lobeBindings() const;
+  // What glossy senders send along their lobes toward every receiver, of the direct light and of
+  // the first bounce's (arrival_lobes, send_arrival, lobe_excess with kArrival), before the first
+  // gather.
+  void recordArrival(VkCommandBuffer cmd) const;
   // What glossy senders send along their lobes to the receivers (lobe_excess.comp), at those the
   // receiver dispatch arguments `args` cover: every one, or (newOnly) the round's new ones.
   void recordLobeExcess(VkCommandBuffer cmd, uint32_t args, uint32_t newOnly) const;
@@ -66,15 +74,21 @@ class Bounces {
   const LinkSet &staticSet_, &frameSet_;
   const uint32_t surfelCount_, nodeCount_;
   const bool glossy_;  // some material is glossy: its leaves send their lobes (shaders/common/sender_lobes.glsl)
+  const bool metal_;   // some material's lobe reflects most: it sends the first bounce's light along it too
   vk::Program emit_, interpolate_, pullUp_, check_, tail_;
   uint32_t texelViews_ = 1;
   // The passes that read the links: made again for more texel views.
   std::optional<vk::Program> gather_, markTaps_, reflectReceivers_, reflectSurfels_, lobeExcess_;
+  // A glossy scene's: lobe_excess for both lobes (kArrival), arrival_lobes, send_arrival.
+  std::optional<vk::Program> lobeExcessBoth_, arrivalLobes_, sendArrival_;
   uint32_t interpolateGroups_;
   vk::Buffer sums_, state_, fullArgs_, args_;  // per gather workgroup; the state; dispatch sizes, full and next
   vk::Buffer change_;                          // per surfel, the irradiance's change at the last gather
   vk::Buffer receiverLobe_;                    // per surfel, at receivers: what reflect_receivers found
   vk::Buffer receiverExcess_;                  // per surfel, at receivers: what lobe_excess found
+  vk::Buffer arrivalExcess_;                   // the same of the first bounce's light
+  vk::Buffer receiverArrival_;                 // per surfel, at glossy receivers: arrival_lobes'
+  vk::Buffer senderArrival_;                   // per node: send_arrival's
 };
 
 }  // namespace ivgi::gi
