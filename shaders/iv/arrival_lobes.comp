@@ -1,6 +1,6 @@
 #version 460
-// iv, once a frame before the bounces (a scene with a metal, gpu::lobeDominates), at every
-// receiver, since a metal surfel's taps may be any: the first
+// iv, once a frame before the bounces (a scene with a metal, gpu::lobeDominates), at the receivers
+// the metal surfels interpolate from (mark_arrival.comp): the first
 // bounce's light arriving over their surviving links (the radiosity the bounces start from, less
 // the emission where the depth maps give the emitters' light), split into kArrivalClasses classes
 // by the half-axis nearest its direction: per class its irradiance and the sum of its directions
@@ -27,6 +27,7 @@ layout(binding = 10, rgba32f) readonly uniform imageBuffer radiosityA;          
 layout(binding = 11, rgba32f) readonly uniform imageBuffer nodeEmission;           // π·Le per node
 // per surfel, at receivers: 2 per class, (irradiance, 0) and (Σ luminance·direction, Σ luminance)
 layout(std430, binding = 12) writeonly buffer ReceiverArrival { vec4 receiverArrival[]; };
+layout(binding = 13, r32ui) readonly uniform uimageBuffer arrivalTaps;  // per surfel: 1 where a metal surfel taps it
 layout(push_constant) uniform Push { GatherPush push; };
 #include "receiver_links.glsl"
 
@@ -56,6 +57,7 @@ void main() {
   const uint k = itemIndex();
   if (k >= receiverCounts[kReceiverCount]) return;
   const uint s = imageLoad(receivers, int(k)).x;
+  if (imageLoad(arrivalTaps, int(s)).x == 0u) return;
   const vec3 x = nodePositionArea(imageLoad(leafOfSurfel, int(s)).x).xyz;
   for (uint c = 0u; c < kArrivalClasses; ++c) irradiance[c] = vec3(0.0), directions[c] = vec4(0.0);
   const uvec2 range = imageLoad(ranges, int(s)).xy, staticRange = imageLoad(staticRanges, int(s)).xy;

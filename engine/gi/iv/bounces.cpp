@@ -50,15 +50,19 @@ Bounces::Bounces(const vk::Context& ctx, const Hierarchy& h, const IvSettings& s
       vk::Buffer(ctx, std::max<size_t>(h.leafOfSurfel.size(), 1) * sizeof(glm::vec4), vk::Memory::Device, &allocations);
   receiverLobe_ = vk::Buffer(ctx, glossy ? change_.size() : 16, vk::Memory::Device, &allocations);
   receiverExcess_ = vk::Buffer(ctx, glossy ? change_.size() : 16, vk::Memory::Device, &allocations);
-  arrivalExcess_ = vk::Buffer(ctx, glossy ? change_.size() : 16, vk::Memory::Device, &allocations);
+  // A scene with a metal's: what the first bounce's light sends along the metals' lobes.
+  arrivalExcess_ = vk::Buffer(ctx, metal_ ? change_.size() : 16, vk::Memory::Device, &allocations);
+  arrivalTaps_ = vk::Buffer(ctx, metal_ ? change_.size() / 4 : 16, vk::Memory::Device, &allocations);
   receiverArrival_ =
-      vk::Buffer(ctx, glossy ? change_.size() * 2 * gpu::kArrivalClasses : 16, vk::Memory::Device, &allocations);
+      vk::Buffer(ctx, metal_ ? change_.size() * 2 * gpu::kArrivalClasses : 16, vk::Memory::Device, &allocations);
   senderArrival_ =
-      vk::Buffer(ctx, glossy ? std::max<uint64_t>(nodeCount_, 1) * 2 * gpu::kArrivalLobes * sizeof(glm::vec4) : 16,
+      vk::Buffer(ctx, metal_ ? std::max<uint64_t>(nodeCount_, 1) * 2 * gpu::kArrivalLobes * sizeof(glm::vec4) : 16,
                  vk::Memory::Device, &allocations);
-  // Inner nodes and Lambertian leaves send all evenly (α 0); glossy leaves write their own.
+  // Inner nodes and the leaves whose lobe does not dominate send all evenly (α 0); the others write theirs.
   ctx.submitAndWait([&](VkCommandBuffer cmd) { vk::fillBuffer(cmd, senderArrival_, 0u); });
-  if (glossy) sendArrival_.emplace(ctx, "send_arrival", shaderCode("send_arrival"));
+  if (!metal_) return;
+  markArrival_.emplace(ctx, "mark_arrival", shaderCode("mark_arrival"));
+  sendArrival_.emplace(ctx, "send_arrival", shaderCode("send_arrival"));
 }
 
 void Bounces::pullUp(VkCommandBuffer cmd, const vk::Buffer& radiosity, bool indirect) const {
@@ -97,7 +101,8 @@ vk::Bindings Bounces::lobeBindings() const {
   return b_.pool().plus(vk::Bindings::pool({{"radiosityA", b_.radiosityA},
                                             {"arrivalLobes", senderArrival_},
                                             {"receiverArrival", receiverArrival_},
-                                            {"arrivalExcess", arrivalExcess_}}));
+                                            {"arrivalExcess", arrivalExcess_},
+                                            {"arrivalTaps", arrivalTaps_}}));
 }
 
 void Bounces::recordLobeExcess(VkCommandBuffer cmd, uint32_t args, uint32_t newOnly) const {
@@ -109,6 +114,8 @@ void Bounces::recordLobeExcess(VkCommandBuffer cmd, uint32_t args, uint32_t newO
 void Bounces::recordArrival(VkCommandBuffer cmd) const {
   const vk::Bindings bindings = lobeBindings();
   const size_t receiversArgs = gpu::kArgsReceivers * sizeof(glm::uvec4);
+  vk::fillBuffer(cmd, arrivalTaps_, 0u);
+  markArrival_->dispatchItems(cmd, surfelCount_, bindings, gatherPush(0u));
   arrivalLobes_->dispatchIndirect(cmd, b_.receiverArgs, receiversArgs, bindings, gatherPush(0u));
   sendArrival_->dispatchItems(cmd, surfelCount_, bindings, gatherPush(0u));
   // Both lobes' excess at once: the direct light's and the first bounce's.

@@ -60,7 +60,7 @@ class Bounces {
   // The buffers of the glossy lobes' passes: pool() with the lobes' own.
   vk::Bindings lobeBindings() const;
   // What glossy senders send along their lobes toward every receiver, of the direct light and of
-  // the first bounce's (arrival_lobes, send_arrival, lobe_excess with kArrival), before the first
+  // the first bounce's (mark_arrival, arrival_lobes, send_arrival, lobe_excess with kArrival), before the first
   // gather.
   void recordArrival(VkCommandBuffer cmd) const;
   // What glossy senders send along their lobes to the receivers (lobe_excess.comp), at those the
@@ -79,8 +79,8 @@ class Bounces {
   uint32_t texelViews_ = 1;
   // The passes that read the links: made again for more texel views.
   std::optional<vk::Program> gather_, markTaps_, reflectReceivers_, reflectSurfels_, lobeExcess_;
-  // A glossy scene's: lobe_excess for both lobes (kArrival), arrival_lobes, send_arrival.
-  std::optional<vk::Program> lobeExcessBoth_, arrivalLobes_, sendArrival_;
+  // A scene with a metal's: lobe_excess for both lobes (kArrival), mark_arrival, arrival_lobes, send_arrival.
+  std::optional<vk::Program> lobeExcessBoth_, markArrival_, arrivalLobes_, sendArrival_;
   uint32_t interpolateGroups_;
   vk::Buffer sums_, state_, fullArgs_, args_;  // per gather workgroup; the state; dispatch sizes, full and next
   vk::Buffer change_;                          // per surfel, the irradiance's change at the last gather
@@ -89,6 +89,7 @@ class Bounces {
   vk::Buffer arrivalExcess_;                   // the same of the first bounce's light
   vk::Buffer receiverArrival_;                 // per surfel, at glossy receivers: arrival_lobes'
   vk::Buffer senderArrival_;                   // per node: send_arrival's
+  vk::Buffer arrivalTaps_;                     // per surfel: mark_arrival's
 };
 
 }  // namespace ivgi::gi
