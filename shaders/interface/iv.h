@@ -126,19 +126,20 @@ struct PrunePush {    // prune_bins
   uint emittersByMaps;
   uint poseBase;  // where the objects' poses start in the nodes' flags (the node count)
 };
-struct GatherPush {     // gather, lobe_excess, arrival_lobes, send_arrival
+struct GatherPush {     // gather, lobe_excess and the passes of the metals' lobes (Bounces::recordArrival)
   uint maskWords;       // of a static leaf's override mask
   uint newOnly;         // 1: the round's new receivers; 0: every receiver listed
   uint emittersByMaps;  // 1: the depth maps give the emitters' light (left out of the gradient)
   float largestBin;     // solid angle of the largest direction bin, about (2/N)²
   float leastSpread;    // the least spread (brdf.h's widenedLobe) the bins resolve (sender_lobes.glsl)
   uint poseBase;        // PrunePush's
-  uint arrival;         // gather: 1 adds what glossy senders send along their lobes of the first bounce
-  uint surfelCount;     // send_arrival
+  uint arrival;         // gather: 1 adds what metals send along their lobes of the first bounce
+  uint surfelCount;     // mark_arrival, send_arrival
 };
-// The first bounce's light arriving at a glossy surfel, split by where it comes from: the classes
-// are the world's six half-axes, the one nearest its direction (arrival_lobes.comp). A glossy leaf
-// sends the lobes of the kArrivalLobes classes it reflects most along them, the rest evenly.
+// The first bounce's light arriving where a metal surfel interpolates it from, split by where it
+// comes from: the classes are the world's six half-axes, the one nearest its direction
+// (arrival_lobes.comp). A metal leaf sends the lobes of the kArrivalLobes classes it reflects most
+// along them, the rest evenly (send_arrival.comp).
 IVGI_CONST uint kArrivalClasses = 6u;
 IVGI_CONST uint kArrivalLobes = 3u;
 struct ReceiverArgsPush {  // receiver_args
