@@ -260,8 +260,7 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
         // At its texture's most glossy (a metallic-roughness texel of 1).
         const gpu::SurfaceBrdf brdf = surfaceBrdf(material, glm::vec3(material.baseColor), glm::vec4(1.0f));
         g.glossyMaterials |= !gpu::isLambertian(brdf);
-        g.lobeDominatedMaterials |= !gpu::isLambertian(brdf) &&
-                                    gpu::lobeDominates(brdf, SpecularAlbedo::table().at(1.0f, std::sqrt(brdf.alpha)));
+        g.lobeDominatedMaterials |= gpu::lobeDominates(brdf, SpecularAlbedo::table().at(1.0f, std::sqrt(brdf.alpha)));
         for (uint32_t v = 0; v < n; ++v) {
           Vertex gv{};
           gv.position = p.positions[v];

@@ -124,12 +124,12 @@ IVGI_FN vec3 lobeReflectanceOf(SurfaceBrdf m, vec2 table) {
 IVGI_FN vec3 reflectanceOf(SurfaceBrdf m, vec2 table) {
   return baseReflectanceOf(m, table) + lobeReflectanceOf(m, table);
 }
-// Whether m's lobe reflects at least half of what m reflects of light from its normal (`table` the
-// specular albedo there): a metal's does, a dielectric's (F0 0.04) a tenth or less. iv sends the
-// first bounce's light along the lobes of such surfaces alone (send_arrival.comp).
+// Whether m is glossy and its lobe reflects at least half of what m reflects of light from its
+// normal (`table` the specular albedo there): a metal's does, a dielectric's (F0 0.04) a tenth or
+// less. iv sends the first bounce's light along the lobes of such surfaces alone (send_arrival.comp).
 IVGI_FN bool lobeDominates(SurfaceBrdf m, vec2 table) {
   const vec3 lobe = lobeReflectanceOf(m, table), all = reflectanceOf(m, table);
-  return lobe.x + lobe.y + lobe.z >= 0.5f * (all.x + all.y + all.z);
+  return !isLambertian(m) && lobe.x + lobe.y + lobe.z >= 0.5f * (all.x + all.y + all.z);
 }
 
 // The specular lobe of m reflecting light whose directions spread around the one it is evaluated

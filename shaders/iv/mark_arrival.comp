@@ -18,7 +18,7 @@ void main() {
   const uint s = itemIndex();
   if (s >= push.surfelCount) return;
   const SurfaceBrdf brdf = surfelBrdf[s];
-  if (isLambertian(brdf) || !lobeDominates(brdf, specularAlbedoAt(brdf, 1.0))) return;
+  if (!lobeDominates(brdf, specularAlbedoAt(brdf, 1.0))) return;
   const uint count = imageLoad(tapCounts, int(s)).x;
   for (uint t = 0u; t < count; ++t)
     imageStore(arrivalTaps, int(imageLoad(taps, int(s * kInterpolationTaps + t)).x), uvec4(1u));

@@ -25,21 +25,24 @@ void main() {
   const uint s = itemIndex();
   if (s >= push.surfelCount) return;
   const SurfaceBrdf brdf = surfelBrdf[s];
-  if (isLambertian(brdf) || !lobeDominates(brdf, specularAlbedoAt(brdf, 1.0))) return;  // its texels stay zero
+  if (!lobeDominates(brdf, specularAlbedoAt(brdf, 1.0))) return;  // its texels stay zero
   const uint leaf = imageLoad(leafOfSurfel, int(s)).x;
   const vec3 n = nodeNormalCone(leaf).xyz;
   const uint count = imageLoad(tapCounts, int(s)).x;
-  vec4 lobes[kArrivalClasses], directions[kArrivalClasses];
-  for (uint c = 0u; c < kArrivalClasses; ++c) {
-    vec3 e = vec3(0.0);
-    vec4 d = vec4(0.0);
-    for (uint t = 0u; t < count; ++t) {
-      const uvec2 tap = imageLoad(taps, int(s * kInterpolationTaps + t)).xy;
+  vec4 irradiance[kArrivalClasses], sums[kArrivalClasses], lobes[kArrivalClasses], directions[kArrivalClasses];
+  for (uint c = 0u; c < kArrivalClasses; ++c) irradiance[c] = vec4(0.0), sums[c] = vec4(0.0);
+  for (uint t = 0u; t < count; ++t) {
+    const uvec2 tap = imageLoad(taps, int(s * kInterpolationTaps + t)).xy;
+    const float weight = uintBitsToFloat(tap.y);
+    for (uint c = 0u; c < kArrivalClasses; ++c) {
       const uint from = 2u * kArrivalClasses * tap.x + 2u * c;
-      e += uintBitsToFloat(tap.y) * imageLoad(receiverArrival, int(from)).rgb;
-      d += uintBitsToFloat(tap.y) * imageLoad(receiverArrival, int(from + 1u));
+      irradiance[c] += weight * imageLoad(receiverArrival, int(from));
+      sums[c] += weight * imageLoad(receiverArrival, int(from + 1u));
     }
-    e = max(e, vec3(0.0));  // the fit's coefficients may be negative
+  }
+  for (uint c = 0u; c < kArrivalClasses; ++c) {
+    const vec3 e = max(irradiance[c].rgb, vec3(0.0));  // the fit's coefficients may be negative
+    const vec4 d = sums[c];
     const float r = d.w > 0.0 ? length(d.xyz) / d.w : 0.0;
     const vec3 l = r > 0.0 ? normalize(d.xyz) : n;
     const float mu = dot(n, l);

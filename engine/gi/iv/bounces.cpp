@@ -58,9 +58,9 @@ Bounces::Bounces(const vk::Context& ctx, const Hierarchy& h, const IvSettings& s
   senderArrival_ =
       vk::Buffer(ctx, metal_ ? std::max<uint64_t>(nodeCount_, 1) * 2 * gpu::kArrivalLobes * sizeof(glm::vec4) : 16,
                  vk::Memory::Device, &allocations);
+  if (!metal_) return;
   // Inner nodes and the leaves whose lobe does not dominate send all evenly (α 0); the others write theirs.
   ctx.submitAndWait([&](VkCommandBuffer cmd) { vk::fillBuffer(cmd, senderArrival_, 0u); });
-  if (!metal_) return;
   markArrival_.emplace(ctx, "mark_arrival", shaderCode("mark_arrival"));
   sendArrival_.emplace(ctx, "send_arrival", shaderCode("send_arrival"));
 }
@@ -157,7 +157,7 @@ void Bounces::recordSteps(VkCommandBuffer cmd, uint32_t first, uint32_t steps) c
   for (uint32_t k = first; k < first + steps; ++k) {
     const vk::Buffer& in = solution(k);
     const vk::Buffer& out = solution(k + 1);
-    // What the glossy lobes send of the light the first gather brings arrives from the second on.
+    // What the metals' lobes send of the light the first gather brings arrives from the second on.
     gather_->dispatchIndirect(cmd, args_, 0, gatherBindings(in), gatherPush(0u, metal_ && k >= 1));
     interpolate_.dispatchIndirect(cmd, args_, sizeof(glm::uvec4),
                                   b_.pool().with({{"radiosityIn", in},

@@ -55,13 +55,13 @@ class Bounces {
   void pullUp(VkCommandBuffer cmd, const vk::Buffer& radiosity, bool indirect) const;
   // The gather's buffers, reading the radiosity `in`.
   vk::Bindings gatherBindings(const vk::Buffer& in) const;
-  // `arrival`: the gather adds what glossy senders send along their lobes of the first bounce.
+  // `arrival`: the gather adds what metals send along their lobes of the first bounce.
   gpu::GatherPush gatherPush(uint32_t newOnly, bool arrival = false) const;
   // The buffers of the glossy lobes' passes: pool() with the lobes' own.
   vk::Bindings lobeBindings() const;
-  // What glossy senders send along their lobes toward every receiver, of the direct light and of
-  // the first bounce's (mark_arrival, arrival_lobes, send_arrival, lobe_excess with kArrival), before the first
-  // gather.
+  // A scene with a metal's, before the first gather: what glossy senders send along their lobes
+  // toward every receiver of the direct light, and the metals of the first bounce's (mark_arrival,
+  // arrival_lobes, send_arrival, lobe_excess with kArrival).
   void recordArrival(VkCommandBuffer cmd) const;
   // What glossy senders send along their lobes to the receivers (lobe_excess.comp), at those the
   // receiver dispatch arguments `args` cover: every one, or (newOnly) the round's new ones.
@@ -87,7 +87,7 @@ class Bounces {
   vk::Buffer receiverLobe_;                    // per surfel, at receivers: what reflect_receivers found
   vk::Buffer receiverExcess_;                  // per surfel, at receivers: what lobe_excess found
   vk::Buffer arrivalExcess_;                   // the same of the first bounce's light
-  vk::Buffer receiverArrival_;                 // per surfel, at glossy receivers: arrival_lobes'
+  vk::Buffer receiverArrival_;                 // per surfel, at the receivers metal surfels tap: arrival_lobes'
   vk::Buffer senderArrival_;                   // per node: send_arrival's
   vk::Buffer arrivalTaps_;                     // per surfel: mark_arrival's
 };
