@@ -124,12 +124,14 @@ IVGI_FN vec3 lobeReflectanceOf(SurfaceBrdf m, vec2 table) {
 IVGI_FN vec3 reflectanceOf(SurfaceBrdf m, vec2 table) {
   return baseReflectanceOf(m, table) + lobeReflectanceOf(m, table);
 }
-// Whether m is glossy and its lobe reflects at least half of what m reflects of light from its
-// normal (`table` the specular albedo there): a metal's does, a dielectric's (F0 0.04) a tenth or
-// less. iv sends the first bounce's light along the lobes of such surfaces alone (send_arrival.comp).
+// Whether m's lobe reflects, of light from its normal (`table` the specular albedo there), at
+// least half of what m reflects and at least a tenth of what arrives: a metal's does; a
+// dielectric's (F0 0.04) reflects a twentieth or so, a tenth of what a light base reflects. iv
+// sends the first bounce's light along the lobes of such surfaces alone (send_arrival.comp).
 IVGI_FN bool lobeDominates(SurfaceBrdf m, vec2 table) {
   const vec3 lobe = lobeReflectanceOf(m, table), all = reflectanceOf(m, table);
-  return !isLambertian(m) && lobe.x + lobe.y + lobe.z >= 0.5f * (all.x + all.y + all.z);
+  const float reflected = lobe.x + lobe.y + lobe.z;
+  return !isLambertian(m) && reflected >= 0.5f * (all.x + all.y + all.z) && reflected >= 0.3f;
 }
 
 // The specular lobe of m reflecting light whose directions spread around the one it is evaluated
