@@ -79,11 +79,12 @@ scene::Environment gradientSky() {
 }
 
 // Renders `model` with the corner's links to itself pruned once and every frame, at 6×N×N bins and
-// at four times as it turns; after each pair of frames calls check(once, everyFrame, difference of
-// the corner's radiosity, N, t).
+// at four times as it turns, with every surfel a receiver or those `receiverTolerance` chooses
+// (pruned once, then, with no room to spare for the next frame's: exactStaticRoom); after each pair
+// of frames calls check(once, everyFrame, difference of the corner's radiosity, N, t).
 template <class Check>
 void compareOnceWithEveryFrame(const tinygltf::Model& model, std::vector<uint32_t> binCounts,
-                               std::optional<scene::Environment> sky, Check check);
+                               std::optional<scene::Environment> sky, Check check, float receiverTolerance = 0.0f);
 
 // Per surfel of the corner (`ofCorner`), the relative difference of two radiosities (red).
 struct Difference {
@@ -115,7 +116,7 @@ namespace {
 
 template <class Check>
 void compareOnceWithEveryFrame(const tinygltf::Model& model, std::vector<uint32_t> binCounts,
-                               std::optional<scene::Environment> sky, Check check) {
+                               std::optional<scene::Environment> sky, Check check, float receiverTolerance) {
   scene::Scene s = scene::sceneFromModel(model, "corner");
   scene::Geometry g = scene::buildGeometry(s);
   // The room's walls and lamp, the corner's white faces and its red one.
@@ -125,10 +126,11 @@ void compareOnceWithEveryFrame(const tinygltf::Model& model, std::vector<uint32_
     ofCorner[i] = g.vertices[g.surfelVertices[g.surfels[i].firstVertex]].instance >= 2;
   for (uint32_t bins : binCounts) {
     gi::IvSettings settings;
-    settings.receiverTolerance = 0.0f;
+    settings.receiverTolerance = receiverTolerance;
     settings.bins = bins;
     settings.environment = sky;
     settings.rigidOnce = true;
+    settings.exactStaticRoom = true;
     gi::FrameRenderer once = test::ivRenderer(g, {16, 16, 1}, gi::makeIvSetup(s, g, settings, 0));
     settings.rigidOnce = false;
     gi::FrameRenderer everyFrame = test::ivRenderer(g, {16, 16, 1}, gi::makeIvSetup(s, g, settings, 0));
@@ -174,6 +176,30 @@ TEST(IvRigidObjects, TurnedBinsSeeTheSkyWhereItIs) {
                               EXPECT_LT(d.mean, 0.24 / bins) << "t = " << t;
                               EXPECT_LT(d.worst, 0.2) << "t = " << t;
                             });
+}
+
+// Where the receivers are chosen, a rigid leaf's links to itself are pruned the first time it is a
+// receiver, against the static set's links kept for it, and its static links added to the static
+// set's, which grow (keeping what they hold) where a frame's new ones overflow them.
+TEST(IvRigidObjects, PrunedWhenFirstAReceiverGiveWhatEveryFramesPruneGives) {
+  uint64_t staticWalked = 0;
+  compareOnceWithEveryFrame(
+      turningCorner(), {8}, std::nullopt,
+      [&](const gi::IvStats& a, const gi::IvStats& b, Difference d, uint32_t bins, float t) {
+        std::printf(
+            "t %.1f: senders walked a frame %llu once, %llu every frame; in the static pass so far %llu (%u passes, "
+            "%u frames redone); corner's radiosity: worst %.3f, mean %.4f apart\n",
+            t, (unsigned long long)a.sendersWalked, (unsigned long long)b.sendersWalked,
+            (unsigned long long)a.staticSendersWalked, a.staticPasses, a.framesRedone, d.worst, d.mean);
+        EXPECT_LT(a.sendersWalked, b.sendersWalked) << "the corner's links to itself are not walked again";
+        EXPECT_GT(a.staticSendersWalked, b.staticSendersWalked) << "they are walked in the static pass";
+        EXPECT_GE(a.staticSendersWalked, staticWalked) << "the static pass adds the new receivers'";
+        staticWalked = a.staticSendersWalked;
+        EXPECT_EQ(a.staticPasses, 1u) << "t = " << t << ": the static set grew keeping its links, not made again";
+        EXPECT_LT(d.mean, 0.24 / bins) << "t = " << t;
+        EXPECT_LT(d.worst, 0.2) << "t = " << t;
+      },
+      gi::kCpuReceiverTolerance);
 }
 
 // An object moves rigidly where its world matrix keeps its shape at every key time and between:

@@ -50,9 +50,8 @@ void addSolverOptions(CLI::App* cmd, SolverOptions& o) {
   cmd->add_option("--kappa", o.iv.kappa, "split senders wider than this many average bins")->capture_default_str();
   cmd->add_option("--rigid", o.rigid,
                   "iv: an object that moves rigidly (turns and shifts, keeping its shape) has its links to itself "
-                  "made and pruned once, in its rest pose, for all its surfels at the first frame (once), or every "
-                  "frame for that frame's receivers (every-frame); auto: once where every surfel is a receiver "
-                  "(--receiver-tol 0, a GPU's default)")
+                  "made and pruned once, in its rest pose, each surfel's the first time it is a receiver (once), or "
+                  "every frame for that frame's receivers (every-frame); auto: once")
       ->capture_default_str()
       ->check(CLI::IsMember({"auto", "once", "every-frame"}));
   cmd->add_option("--receiver-tol", o.iv.receiverTolerance,

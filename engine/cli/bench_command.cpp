@@ -168,7 +168,8 @@ int runBench(const BenchOptions& o) {
     std::printf(", nodes %u, links %u created, %u leaf links after push-down and pruning", st.nodes, st.links,
                 st.leafLinks);
     if (st.staticLinks)
-      std::printf(" (of which %u and %u between static objects, made once)", st.staticLinks, st.staticLeafLinks);
+      std::printf(" (of which %u and %u between static objects or within a rigid one, made once)", st.staticLinks,
+                  st.staticLeafLinks);
     // A redone frame's timings are its second run's: say so where it happened.
     if (st.framesRedone) std::printf("; %u frame(s) redone with more room for links or loop rounds", st.framesRedone);
     std::printf("; prune workgroups of %u invocations", st.pruneGroupSize);
@@ -186,7 +187,8 @@ int runBench(const BenchOptions& o) {
     if (st.staticSendersWalked)
       std::printf(
           ", %llu of them by the leaves that merge them with what the static pass kept (static leaves, and "
-          "rigid ones), against the senders that move apart from them alone; %llu in the static pass (once)",
+          "rigid ones), against the senders that move apart from them alone; %llu in the static pass (once a leaf, "
+          "so far)",
           (unsigned long long)st.mergedSendersWalked, (unsigned long long)st.staticSendersWalked);
     if (const auto& b = times.solverFigures["bounces"]; !b.empty())
       std::printf("\nbounces: median %.0f a frame (%.0f to %.0f)%s", percentile(b, 0.5),
@@ -201,7 +203,7 @@ int runBench(const BenchOptions& o) {
   if (const auto* ar = dynamic_cast<const gi::ArSolver*>(renderer.solver())) {
     const gi::ArStats st = ar->stats();
     std::printf(", nodes %u, links %u (both sides, unpruned", st.nodes, st.links);
-    if (st.staticLinks) std::printf("; %u between static objects, made once", st.staticLinks);
+    if (st.staticLinks) std::printf("; %u between static objects or within a rigid one, made once", st.staticLinks);
     std::printf("); directional tables %.1f MiB", double(st.tableBytes) / (1 << 20));
     if (st.framesRedone) std::printf("; %u frame(s) redone (link room, or a diverging iteration)", st.framesRedone);
     if (const auto& it = times.solverFigures["iterations"]; !it.empty())

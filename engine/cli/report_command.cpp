@@ -120,7 +120,7 @@ int runReport(const ReportOptions& o) {
                        "; its default follows the device): give every run the same --receiver-tol");
   if (rigidObjects.size() > 1)
     warnings.push_back("the runs pruned iv's rigid objects' links to themselves differently (" + listed(rigidObjects) +
-                       "; --rigid auto follows the receivers): give every run the same --rigid");
+                       "): give every run the same --rigid");
   std::fflush(stdout);
   for (const std::string& w : warnings) std::fprintf(stderr, "ivgi: warning: %s: %s\n", o.pattern.c_str(), w.c_str());
   if (!o.json.empty())

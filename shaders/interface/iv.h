@@ -125,7 +125,12 @@ struct PrunePush {    // prune_bins
   // and no light is looked for in the bins.
   uint emittersByMaps;
   uint poseBase;  // where the objects' poses start in the nodes' flags (the node count)
+  // 1: the static pass prunes a rigid leaf only once it is a receiver (listed), the first time;
+  // until then its static range is kRigidUnpruned.
+  uint rigidWhenListed;
 };
+// A rigid leaf's static range until the static pass has pruned it (PrunePush::rigidWhenListed).
+IVGI_CONST uint kRigidUnpruned = 0xFFFFFFFFu;
 struct GatherPush {     // gather, lobe_excess and the passes of the metals' lobes (Bounces::recordArrival)
   uint maskWords;       // of a static leaf's override mask
   uint newOnly;         // 1: the round's new receivers; 0: every receiver listed

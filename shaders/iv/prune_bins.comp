@@ -265,8 +265,9 @@ void reserveSurvivors(uint surfel) {
   // empty: nothing reads past the links.
   bool fits = leafBase + total <= push.linkCapacity;
   if (!fits) atomicOr(counters[kCounterOverflow], kOverflowLeafLinks);
-  if (kStaticPass)
-    staticRanges[surfel] = LeafRange(leafBase, fits ? total : 0u);
+  if (kStaticPass)  // a listed rigid leaf past the room stays unpruned, for the frame's redo
+    staticRanges[surfel] =
+        fits || push.listed == 0u ? LeafRange(leafBase, fits ? total : 0u) : LeafRange(kRigidUnpruned, 0u);
   else
     ranges[surfel] = LeafRange(leafBase, fits ? total : 0u);
 }
@@ -414,6 +415,15 @@ void main() {
     if (kStaticPass && moves && !rigid) {  // pruned every frame instead
       if (lid == 0u) staticRanges[surfel] = LeafRange(0u, 0u);
       continue;
+    }
+    // Where rigid leaves are pruned when listed, the static pass over every leaf marks them
+    // unpruned, and a listed one prunes only a rigid leaf still unpruned.
+    if (kStaticPass && push.rigidWhenListed != 0u) {
+      if (push.listed == 0u && rigid) {
+        if (lid == 0u) staticRanges[surfel] = LeafRange(kRigidUnpruned, 0u);
+        continue;
+      }
+      if (push.listed != 0u && !(rigid && staticRanges[surfel].first == kRigidUnpruned)) continue;
     }
     merging = !kStaticPass && (!moves || rigid);
     poseNodes(flags);

@@ -136,18 +136,30 @@ std::string LinkRoom::refusal(const std::vector<Array>& arrays) const {
   return {};
 }
 
-void LinkRoom::allocate() {
+void LinkRoom::allocate(bool keepStatic) {
   const std::vector<Array> all = arrays();
   if (std::string why = refusal(all); !why.empty()) throw SettingsError(why);
+  const uint64_t held = keepStatic ? staticSet_.leafLinksHeld() : 0;
   for (const Array& a : all) {
     if (a.buffer->size() >= a.bytes()) continue;  // keeps what it holds
-    *a.buffer = vk::Buffer();                     // before its successor: the two need not fit at once
+    if (held > 0 && a.leafLinksOf == &staticSet_) {
+      // The links that fitted, all within the old room (the count passed it where they overflowed).
+      const uint64_t kept = std::min(held, a.buffer->size() / a.elementBytes);
+      vk::Buffer grown(ctx_, a.bytes(), vk::Memory::Device, &allocations_);
+      ctx_.submitAndWait([&](VkCommandBuffer cmd) {
+        vk::copyRegion(cmd, *a.buffer, grown, {0, 0, kept * a.elementBytes});
+      });
+      *a.buffer = std::move(grown);
+      continue;
+    }
+    *a.buffer = vk::Buffer();  // before its successor: the two need not fit at once
     *a.buffer = vk::Buffer(ctx_, a.bytes(), vk::Memory::Device, &allocations_);
   }
 }
 
-LinkRoom::Overflow LinkRoom::grow() {
+LinkRoom::Overflow LinkRoom::grow(bool staticLinked) {
   Overflow overflow;
+  bool keepStatic = false;
   for (LinkSet* set : {&staticSet_, &frameSet_}) {
     if (set->empty()) continue;
     const std::vector<uint32_t> c = set->refinedCounters();
@@ -158,17 +170,28 @@ LinkRoom::Overflow LinkRoom::grow() {
       set->leafLinkCapacity = std::max(set->leafLinkCapacity, leafLinkRoom(c[gpu::kCounterLeafLinks]));
     overflow.loopBudget |= (bits & gpu::kOverflowLoopBudget) != 0;
     overflow.any = true;
-    overflow.staticSet |= set == &staticSet_;  // a frame set's overflow leaves the static links whole
+    // A frame set's overflow leaves the static links whole; so does a static set's whose rigid
+    // leaves pruned when listed ran out of room, which stay unpruned for the frame's redo.
+    const bool keeps = staticGrows_ && !staticLinked && bits == gpu::kOverflowLeafLinks;
+    keepStatic |= set == &staticSet_ && keeps;
+    overflow.staticSet |= set == &staticSet_ && !keeps;
   }
-  if (overflow.any) allocate();
+  if (overflow.any) allocate(keepStatic);
+  if (keepStatic)
+    ctx_.submitAndWait([&](VkCommandBuffer cmd) {
+      const uint32_t none = 0;
+      vk::updateBuffer(cmd, staticSet_.counters, gpu::kCounterOverflow * sizeof(uint32_t), sizeof none, &none);
+    });
   return overflow;
 }
 
 void LinkRoom::releaseUnused(bool staticLinked) {
   // The static set's surviving links are made once and never grow: they keep exactly their room,
-  // and the links they were pruned from are not needed again. The frame's leaf links, links and
-  // the worklists keep the margin, and shrink only past a third unused, lest every frame reallocate.
-  bool shrinks = !staticSet_.empty() && staticLinked && staticSet_.linkCapacity > 0;
+  // and the links they were pruned from are not needed again; unless rigid leaves are pruned when
+  // listed (keepStaticGrowing), which read those links and add to these later. The frame's leaf
+  // links, links and the worklists keep the margin, and shrink only past a third unused, lest every
+  // frame reallocate.
+  bool shrinks = !staticSet_.empty() && staticLinked && staticSet_.linkCapacity > 0 && !staticGrows_;
   if (shrinks) staticSet_.linkCapacity = 0;
   auto fit = [&](uint32_t& capacity, uint32_t used) {
     const uint32_t fitted = withMargin(used);
@@ -178,12 +201,17 @@ void LinkRoom::releaseUnused(bool staticLinked) {
   for (LinkSet* set : {&staticSet_, &frameSet_}) {
     if (set->empty()) continue;
     const bool isStatic = set == &staticSet_;
-    if (isStatic && set->leafLinkCapacity > set->leafLinksHeld())
+    if (isStatic && staticGrows_ && settings_.exactStaticRoom && set->leafLinkCapacity > set->leafLinksHeld())
       set->leafLinkCapacity = set->leafLinksHeld(), shrinks = true;
-    if (isStatic && staticLinked) continue;  // its links are not made again
+    else if (isStatic && staticGrows_)
+      fit(set->leafLinkCapacity, set->leafLinksHeld());
+    else if (isStatic && set->leafLinkCapacity > set->leafLinksHeld())
+      set->leafLinkCapacity = set->leafLinksHeld(), shrinks = true;
+    if (isStatic && staticLinked && !staticGrows_) continue;  // its links are not made again
     const std::vector<uint32_t> c = set->readCounters();
-    if (!isStatic) fit(set->leafLinkCapacity, set->leafLinksHeld()), fit(set->linkCapacity, c[gpu::kCounterLinks]);
-    worklistPeak = std::max(worklistPeak, c[gpu::kCounterWorklistPeak]);
+    if (!isStatic) fit(set->leafLinkCapacity, set->leafLinksHeld());
+    if (!isStatic || staticGrows_) fit(set->linkCapacity, c[gpu::kCounterLinks]);
+    if (!(isStatic && staticLinked)) worklistPeak = std::max(worklistPeak, c[gpu::kCounterWorklistPeak]);
   }
   fit(worklistCapacity_, worklistPeak);
   if (!shrinks) return;

@@ -30,8 +30,13 @@ class LinkRoom {
     bool loopBudget = false;  // a prune workgroup ran out of loop rounds
     bool staticSet = false;   // the static set's links must be made again
   };
-  // After a frame: grows what overflowed (and allocates it).
-  Overflow grow();
+  // Where rigid leaves are pruned the first time they are receivers (Prune::pruneRigidWhenListed),
+  // the static set's surviving links grow from frame to frame: its links are kept for them, and
+  // its leaf links grow keeping what they hold.
+  void keepStaticGrowing(bool grows) { staticGrows_ = grows; }
+  // After a frame: grows what overflowed (and allocates it). `staticLinked`: the frame made the
+  // static set's links (its static pass is redone whatever overflowed).
+  Overflow grow(bool staticLinked);
   // After a frame that stands: gives back the leaf-link room it left unused, keeping the links the
   // sets hold, and frees the static pairs' links once `staticLinked`.
   void releaseUnused(bool staticLinked);
@@ -56,7 +61,9 @@ class LinkRoom {
   std::vector<Array> arrays();  // at the capacities the link sets hold now
   // Why those arrays cannot be allocated on this device (empty: they can).
   std::string refusal(const std::vector<Array>& arrays) const;
-  void allocate();
+  // Allocates the arrays at their capacities; `keepStatic`: the static set's leaf links keep what
+  // they hold.
+  void allocate(bool keepStatic = false);
   uint32_t firstLeafLinkGuess(const LinkSet& set, const std::vector<uint32_t>& leafMoves) const;
   uint64_t mostLeafLinks() const;                // the most leaf links their texel views hold
   uint32_t leafLinkRoom(uint32_t needed) const;  // room for `needed` leaf links, with a margin
@@ -68,6 +75,7 @@ class LinkRoom {
   LinkSet& frameSet_;
   vk::Allocations& allocations_;
   uint32_t worklistCapacity_ = 0;
+  bool staticGrows_ = false;
 };
 
 }  // namespace ivgi::gi

@@ -124,7 +124,8 @@ gpu::PrunePush Prune::push(const LinkSet& set, uint32_t first, uint32_t end, boo
           .environmentOn = b_.scene.environmentOn ? 1u : 0u,
           .staticCapacity = staticSet_.leafLinkCapacity,
           .emittersByMaps = b_.scene.emittersByMaps() ? 1u : 0u,
-          .poseBase = b_.scene.nodeCount};
+          .poseBase = b_.scene.nodeCount,
+          .rigidWhenListed = rigidWhenListed_ ? 1u : 0u};
 }
 
 void Prune::recordStatic(VkCommandBuffer cmd, const vk::Buffer& nodes) {
@@ -147,12 +148,18 @@ void Prune::recordPass(VkCommandBuffer cmd, const vk::Program& pass, const LinkS
                   push(set, first, std::min(surfelCount_, first + leaves), false));
 }
 
-void Prune::recordReceivers(VkCommandBuffer cmd) {
+void Prune::recordReceivers(VkCommandBuffer cmd) { recordListed(cmd, *frame_, frameSet_, bindings(frameSet_)); }
+
+void Prune::recordStaticReceivers(VkCommandBuffer cmd, const vk::Buffer& nodes) {
+  recordListed(cmd, *static_, staticSet_, vk::Bindings::pool({{"nodes", nodes}}).plus(bindings(staticSet_)));
+}
+
+void Prune::recordListed(VkCommandBuffer cmd, const vk::Program& pass, const LinkSet& set, const vk::Bindings& bound) {
   clearIfDirty(cmd);
   const uint32_t leaves = batch();
   for (uint32_t k = 0; k < batches(); ++k)
-    frame_->dispatchIndirect(cmd, b_.receiverArgs, (gpu::kArgsPruneBatches + k) * sizeof(glm::uvec4),
-                             bindings(frameSet_), push(frameSet_, k * leaves, (k + 1) * leaves, true));
+    pass.dispatchIndirect(cmd, b_.receiverArgs, (gpu::kArgsPruneBatches + k) * sizeof(glm::uvec4), bound,
+                          push(set, k * leaves, (k + 1) * leaves, true));
 }
 
 void Prune::onLoopBudgetSpent() {

@@ -36,6 +36,13 @@ class Prune {
   // Records the frame's prune of every leaf against the frame set's links (static leaves merge with
   // what the static pass kept).
   void recordFrame(VkCommandBuffer cmd);
+  // Where `later`, the static pass leaves the rigid leaves unpruned, and recordStaticReceivers()
+  // prunes each against the static set's links the first time it is a receiver.
+  void pruneRigidWhenListed(bool later) { rigidWhenListed_ = later; }
+  bool rigidWhenListed() const { return rigidWhenListed_; }
+  // Records the static pass of the rigid leaves still unpruned among the receivers a refinement
+  // round listed (pruneRigidWhenListed), before their frame prune merges with it.
+  void recordStaticReceivers(VkCommandBuffer cmd, const vk::Buffer& nodes);
   // Records the frame's prune of the receivers a refinement round listed, one batch after another
   // with the dispatch sizes receiver_args.glsl wrote from how many there are.
   void recordReceivers(VkCommandBuffer cmd);
@@ -53,6 +60,7 @@ class Prune {
  private:
   void makePrograms();
   void recordPass(VkCommandBuffer cmd, const vk::Program& pass, const LinkSet& set, const vk::Bindings& bound) const;
+  void recordListed(VkCommandBuffer cmd, const vk::Program& pass, const LinkSet& set, const vk::Bindings& bound);
   // The buffers a prune of `set`'s links binds, and its push constants for the leaves [first, end).
   vk::Bindings bindings(const LinkSet& set) const;
   gpu::PrunePush push(const LinkSet& set, uint32_t first, uint32_t end, bool listed) const;
@@ -69,6 +77,7 @@ class Prune {
   bool sharedBins_;
   uint32_t subgroups_;      // subgroups a workgroup has
   bool binsDirty_ = false;  // a prune was cut short: the global-memory bins may hold its leaves' keys
+  bool rigidWhenListed_ = false;
   uint32_t texelViews_ = 1;
   std::optional<vk::Program> static_, frame_;
 };

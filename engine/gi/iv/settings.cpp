@@ -21,6 +21,6 @@ float receiverToleranceOn(const IvSettings& s, bool cpuDevice) {
   return s.receiverTolerance.value_or(cpuDevice ? kCpuReceiverTolerance : 0.0f);
 }
 
-bool rigidOnceOn(const IvSettings& s) { return s.rigidOnce.value_or(s.receiverTolerance.value_or(0.0f) == 0.0f); }
+bool rigidOnceOn(const IvSettings& s) { return s.rigidOnce.value_or(true); }
 
 }  // namespace ivgi::gi

@@ -29,10 +29,13 @@ struct IvSettings {
   // budget (common.glsl), which the solver must notice and redo.
   uint32_t pruneLeaves = 0;
   // --rigid: whether an object that moves rigidly has its links to itself made and pruned once, in
-  // its rest pose, like those between static objects (for all its surfels, at the first frame);
-  // else every frame with the rest of its links (at that frame's receivers). None: once where every
-  // surfel is a receiver (rigidOnceOn).
+  // its rest pose, like those between static objects (each leaf the first time it is a receiver;
+  // every one at the first frame where every surfel is); else every frame with the rest of its links
+  // (at that frame's receivers). None: once (rigidOnceOn).
   std::optional<bool> rigidOnce;
+  // Tests: the static set's leaf links keep no room to spare once a frame stands, so that the next
+  // frame's new rigid receivers overflow it (and it grows keeping what it holds).
+  bool exactStaticRoom = false;
 };
 
 // The most bounces a frame runs, given or until converged: a guard against typing errors and
@@ -46,9 +49,8 @@ inline constexpr float kCpuReceiverTolerance = 0.4f;
 // the receivers' rounds, each waiting on the one before, take to choose and prune fewer.
 float receiverToleranceOn(const IvSettings& settings, bool cpuDevice);
 
-// Whether a solver with these settings (the receivers' tolerance settled) prunes a rigid object's
-// links to itself once: --rigid as given, else where every surfel is a receiver, so that the first
-// frame prunes every surfel anyway.
+// Whether a solver with these settings prunes a rigid object's links to itself once: --rigid as
+// given, else yes.
 bool rigidOnceOn(const IvSettings& settings);
 
 // Throws SettingsError naming the option when a setting is out of its range.

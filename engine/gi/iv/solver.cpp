@@ -107,6 +107,11 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, IvSetup set
     vk::fillBuffer(cmd, b_.staticRanges, 0u);
     prune_.clearBins(cmd);
   });
+  // Where the receivers are chosen, a rigid leaf's links to itself are pruned the first time it is
+  // one; where every surfel is a receiver, the static pass prunes them all at once.
+  const bool rigidWhenListed = anyRigid_ && !receivers_.everySurfel();
+  prune_.pruneRigidWhenListed(rigidWhenListed);
+  room_.keepStaticGrowing(rigidWhenListed);
   room_.guess(leafMoves, nodeCount_);
   readLeafLinkViews();
   noteUnresolvedRoughness(g, senderBinSpread(settings_.bins), "iv", "--bins " + std::to_string(settings_.bins));
@@ -246,9 +251,16 @@ void IvSolver::recordFirstBounces(VkCommandBuffer cmd, vk::PassTimer& timer) {
 void IvSolver::recordReceivers(VkCommandBuffer cmd, vk::PassTimer& timer) {
   const Prune::Batching batching = prune_.batching();
   timedPass(cmd, timer, "receivers", [&] { receivers_.recordStart(cmd); });
+  // Each round's new receivers are pruned, rigid ones still unpruned first against the static set.
+  const auto pruneListed = [&] {
+    timedPass(cmd, timer, "prune", [&] {
+      if (prune_.rigidWhenListed()) prune_.recordStaticReceivers(cmd, staticNodes());
+      prune_.recordReceivers(cmd);
+    });
+  };
   for (uint32_t round = 0; round < receivers_.rounds(); ++round) {
     timedPass(cmd, timer, "receivers", [&] { receivers_.recordSelect(cmd, round, batching); });
-    timedPass(cmd, timer, "prune", [&] { prune_.recordReceivers(cmd); });
+    pruneListed();
     timedPass(cmd, timer, "receivers", [&] {
       bounces_.recordEstimate(cmd);
       receivers_.recordRefine(cmd, round, batching);
@@ -256,7 +268,7 @@ void IvSolver::recordReceivers(VkCommandBuffer cmd, vk::PassTimer& timer) {
   }
   // Surfels that no receiver's support holds become receivers too.
   timedPass(cmd, timer, "interpolation", [&] { receivers_.recordWeights(cmd, batching); });
-  timedPass(cmd, timer, "prune", [&] { prune_.recordReceivers(cmd); });
+  pruneListed();
 }
 
 bool IvSolver::overflowed() const {
@@ -296,7 +308,7 @@ std::vector<std::pair<std::string, double>> IvSolver::frameFigures() const {
 
 bool IvSolver::frameMustBeRedone() {
   if (reused_) return false;  // nothing ran
-  const LinkRoom::Overflow overflow = room_.grow();
+  const LinkRoom::Overflow overflow = room_.grow(linkStatic_);
   if (!overflow.any) return false;
   roomProven_ = false;
   readLeafLinkViews();
