@@ -21,6 +21,17 @@ layout(std430, binding = 7) writeonly buffer ArrivalLobes { vec4 arrivalLobes[];
 layout(push_constant) uniform Push { GatherPush push; };
 #include "common/specular_albedo.glsl"
 
+// What a class's lobe sends, and its place among the classes by that (ties by class).
+float strengthOf(vec4 lobe) { return dot(lobe.rgb, vec3(1.0)); }
+uint rankOf(vec4 lobes[kArrivalClasses], uint c) {
+  uint rank = 0u;
+  for (uint o = 0u; o < kArrivalClasses; ++o) {
+    const float other = strengthOf(lobes[o]), mine = strengthOf(lobes[c]);
+    rank += other > mine || (other == mine && o < c) ? 1u : 0u;
+  }
+  return rank;
+}
+
 void main() {
   const uint s = itemIndex();
   if (s >= push.surfelCount) return;
@@ -50,17 +61,19 @@ void main() {
     lobes[c] = vec4(sent, any(greaterThan(sent, vec3(0.0))) ? widenedLobe(brdf, 1.0 - min(r, 1.0)).alpha : 0.0);
     directions[c] = vec4(l, 0.0);
   }
-  // The classes ranked by what the lobe reflects of them (ties by class), the strongest kept.
+  // The classes ranked by what the lobe reflects of them, the strongest kept. The weakest kept
+  // sends along its lobe only what it sends beyond the strongest left out (the rest evenly), so
+  // that two classes trading places across the cut change nothing.
   const uint at = 2u * kArrivalLobes * leaf;
+  float firstLeftOut = 0.0;
+  for (uint c = 0u; c < kArrivalClasses; ++c)
+    if (rankOf(lobes, c) == kArrivalLobes) firstLeftOut = strengthOf(lobes[c]);
   for (uint c = 0u; c < kArrivalClasses; ++c) {
-    const float mine = dot(lobes[c].rgb, vec3(1.0));
-    uint rank = 0u;
-    for (uint o = 0u; o < kArrivalClasses; ++o) {
-      const float other = dot(lobes[o].rgb, vec3(1.0));
-      rank += other > mine || (other == mine && o < c) ? 1u : 0u;
-    }
+    const uint rank = rankOf(lobes, c);
     if (rank >= kArrivalLobes) continue;
-    arrivalLobes[at + 2u * rank] = lobes[c];
+    const float mine = strengthOf(lobes[c]);
+    const float kept = rank + 1u == kArrivalLobes && mine > 0.0 ? (mine - firstLeftOut) / mine : 1.0;
+    arrivalLobes[at + 2u * rank] = vec4(lobes[c].rgb * kept, lobes[c].w);
     arrivalLobes[at + 2u * rank + 1u] = directions[c];
   }
 }
