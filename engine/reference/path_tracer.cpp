@@ -363,7 +363,10 @@ image::FrameChannels PathTracer::render(const scene::CameraView& view, uint32_t 
       glm::vec2 roughnessMetallic(0.0f);
       float depth = 0.0f, hits = 0.0f;
       for (uint32_t i = 0; i < settings.spp; ++i) {
-        glm::vec2 s = glm::vec2(float(x), float(y)) + glm::vec2(rng.uniform(), rng.uniform());
+        // Drawn in sequence, y first: a call's arguments are evaluated in whatever order the
+        // compiler chooses, and the image must not depend on the compiler.
+        const float jitterY = rng.uniform(), jitterX = rng.uniform();
+        glm::vec2 s = glm::vec2(float(x) + jitterX, float(y) + jitterY);
         if (settings.spp == 1)
           s = glm::vec2(float(x), float(y)) + 0.5f;             // one sample: the pixel centre, as the rasteriser
         glm::vec3 d = gpu::cameraRay(cam, s, {width, height});  // t along d is the depth along the view axis
