@@ -1,54 +1,28 @@
 // What a glossy surfel's specular lobe reflects toward the eye of the light a receiver's links
-// bring (reflect_receivers, reflect_surfels). The links keep the nearest sender per direction:
+// bring (reflect_receivers). The links keep the nearest sender per direction:
 // each sender's radiosity, less its emission (the depth maps give the emitters' direct light per
 // pixel), and a glossy leaf's as its lobe sends it (sender_lobes.glsl), arrives along the
 // sender's own direction, through the lobe widened by the sender's
 // extent and at least a bin's (between the bins' senders lies what the bins did not keep). The
 // light from outside the links (the environment through empty bins) is reflected as if it arrived
-// evenly. Declares what it reads at bindings 1 to 15 (0: the nodes, NODE_TEXELS); a pass adds its
-// own after them.
+// evenly. Declares what it reads at bindings 1 to 15 (0: the nodes, NODE_TEXELS; lobe.glsl the
+// lobe's own); a pass adds its own after them.
 
-layout(binding = 1, r32ui) readonly uniform uimageBuffer leafOfSurfel;
-layout(binding = 2, rg32ui) readonly uniform uimageBuffer ranges;                  // LeafRange
-layout(binding = 3, rg32ui) readonly uniform uimageBuffer leafLinks[kTexelParts];  // LeafLink
-layout(binding = 4, rg32ui) readonly uniform uimageBuffer staticRanges;            // LeafRange
-layout(binding = 5, rg32ui) readonly uniform uimageBuffer staticLinks[kTexelParts];
-layout(binding = 6, r32ui) readonly uniform uimageBuffer staticBins[kTexelParts];  // StaticBin
-layout(binding = 7, r32ui) readonly uniform uimageBuffer overrides;                // per leaf and mask word
-layout(binding = 8, rgba32f) readonly uniform imageBuffer externalLight;
-layout(binding = 9, rgba32f) readonly uniform imageBuffer radiosityA;  // the bounces' two solutions
-layout(binding = 10, rgba32f) readonly uniform imageBuffer radiosityB;
-layout(binding = 11, rgba32f) readonly uniform imageBuffer nodeEmission;  // π·Le per node
-layout(std430, binding = 12) readonly buffer BounceStates { BounceState state; };
-layout(std430, binding = 13) readonly buffer SurfelBrdf { SurfaceBrdf surfelBrdf[]; };
-layout(binding = 14, rg32f) readonly uniform imageBuffer specularAlbedo;
-layout(push_constant) uniform Push { LobePush push; };
-#include "common/specular_albedo.glsl"
+#include "lobe.glsl"
+layout(binding = 4, rg32ui) readonly uniform uimageBuffer ranges;                  // LeafRange
+layout(binding = 5, rg32ui) readonly uniform uimageBuffer leafLinks[kTexelParts];  // LeafLink
+layout(binding = 6, rg32ui) readonly uniform uimageBuffer staticRanges;            // LeafRange
+layout(binding = 7, rg32ui) readonly uniform uimageBuffer staticLinks[kTexelParts];
+layout(binding = 8, r32ui) readonly uniform uimageBuffer staticBins[kTexelParts];  // StaticBin
+layout(binding = 9, r32ui) readonly uniform uimageBuffer overrides;                // per leaf and mask word
+layout(binding = 10, rgba32f) readonly uniform imageBuffer externalLight;
+layout(binding = 11, rgba32f) readonly uniform imageBuffer radiosityA;  // the bounces' two solutions
+layout(binding = 12, rgba32f) readonly uniform imageBuffer radiosityB;
+layout(binding = 13, rgba32f) readonly uniform imageBuffer nodeEmission;  // π·Le per node
+layout(std430, binding = 14) readonly buffer BounceStates { BounceState state; };
 #include "receiver_links.glsl"
 #define SENDER_LOBES 15
 #include "common/sender_lobes.glsl"
-
-// A surfel's lobe: its material, its point, its tangent frame and the view in it.
-struct Lobe {
-  SurfaceBrdf brdf;
-  vec3 x, t1, t2, n, view;
-  vec3 evenShare;  // what it reflects toward the view of light arriving evenly, over π
-  bool seen;       // glossy, and the eye in front of it
-};
-
-Lobe lobeOf(uint s) {
-  Lobe lobe;
-  lobe.brdf = surfelBrdf[s];
-  const uint leaf = imageLoad(leafOfSurfel, int(s)).x;
-  lobe.x = nodePositionArea(leaf).xyz, lobe.n = nodeNormalCone(leaf).xyz;
-  const vec3 toEye = push.eye.xyz - lobe.x;
-  const float nv = dot(lobe.n, toEye);
-  lobe.seen = !isLambertian(lobe.brdf) && nv > 0.0;
-  tangentFrame(lobe.n, lobe.t1, lobe.t2);
-  lobe.view = lobe.seen ? normalize(vec3(dot(toEye, lobe.t1), dot(toEye, lobe.t2), nv)) : vec3(0.0, 0.0, 1.0);
-  lobe.evenShare = lobeReflectanceOf(lobe.brdf, specularAlbedoAt(lobe.brdf, lobe.view.z)) / kPi;
-  return lobe;
-}
 
 // What the lobe reflects of the light of sender q, which gives the receiver irradiance f times its
 // radiosity: its emission's share in `emitted`, the rest through the lobe.

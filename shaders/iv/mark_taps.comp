@@ -4,13 +4,12 @@
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 0
 #include "common/common.glsl"
-#include "common/parted_texels.glsl"
 layout(local_size_x = 64) in;
 
-#include "lobe_links.glsl"
-layout(binding = 16, r32ui) readonly uniform uimageBuffer tapCounts;
-layout(binding = 17, rg32ui) readonly uniform uimageBuffer taps;  // InterpolationTap
-layout(std430, binding = 18) buffer ShownSurfels { uint shownSurfels[]; };
+#include "lobe.glsl"
+layout(binding = 4, r32ui) readonly uniform uimageBuffer tapCounts;
+layout(binding = 5, rg32ui) readonly uniform uimageBuffer taps;  // InterpolationTap
+layout(std430, binding = 6) buffer ShownSurfels { uint shownSurfels[]; };
 
 void main() {
   const uint s = itemIndex();

@@ -11,17 +11,16 @@
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 0
 #include "common/common.glsl"
-#include "common/parted_texels.glsl"
 layout(local_size_x = 64) in;
 
-#include "lobe_links.glsl"
-layout(binding = 16, r32ui) readonly uniform uimageBuffer tapCounts;
-layout(binding = 17, rg32ui) readonly uniform uimageBuffer taps;                  // InterpolationTap
-layout(binding = 18, rgba32f) readonly uniform imageBuffer receiverLobe;          // per surfel
-layout(std430, binding = 19) writeonly buffer SurfelLobe { vec4 surfelLobe[]; };  // rgb radiance
-layout(std430, binding = 20) readonly buffer ShownSurfels { uint shownSurfels[]; };
-layout(std430, binding = 21) readonly buffer Irradiance { vec4 irradiance[]; };  // per surfel, direct light in it
-layout(binding = 22, rgba32f) readonly uniform imageBuffer surfelDirect;
+#include "lobe.glsl"
+layout(binding = 4, r32ui) readonly uniform uimageBuffer tapCounts;
+layout(binding = 5, rg32ui) readonly uniform uimageBuffer taps;                  // InterpolationTap
+layout(binding = 6, rgba32f) readonly uniform imageBuffer receiverLobe;          // per surfel
+layout(std430, binding = 7) writeonly buffer SurfelLobe { vec4 surfelLobe[]; };  // rgb radiance
+layout(std430, binding = 8) readonly buffer ShownSurfels { uint shownSurfels[]; };
+layout(std430, binding = 9) readonly buffer Irradiance { vec4 irradiance[]; };  // per surfel, direct light in it
+layout(binding = 10, rgba32f) readonly uniform imageBuffer surfelDirect;
 
 // The roughnesses whose lobes one stands for the other's: α within this share of each other.
 const float kLikeAlpha = 0.1;

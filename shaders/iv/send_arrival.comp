@@ -65,11 +65,14 @@ void main() {
   // sends along its lobe only what it sends beyond the strongest left out (the rest evenly), so
   // that two classes trading places across the cut change nothing.
   const uint at = 2u * kArrivalLobes * leaf;
+  uint ranks[kArrivalClasses];
   float firstLeftOut = 0.0;
-  for (uint c = 0u; c < kArrivalClasses; ++c)
-    if (rankOf(lobes, c) == kArrivalLobes) firstLeftOut = strengthOf(lobes[c]);
   for (uint c = 0u; c < kArrivalClasses; ++c) {
-    const uint rank = rankOf(lobes, c);
+    ranks[c] = rankOf(lobes, c);
+    if (ranks[c] == kArrivalLobes) firstLeftOut = strengthOf(lobes[c]);
+  }
+  for (uint c = 0u; c < kArrivalClasses; ++c) {
+    const uint rank = ranks[c];
     if (rank >= kArrivalLobes) continue;
     const float mine = strengthOf(lobes[c]);
     const float kept = rank + 1u == kArrivalLobes && mine > 0.0 ? (mine - firstLeftOut) / mine : 1.0;

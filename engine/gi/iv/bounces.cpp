@@ -195,9 +195,9 @@ void Bounces::recordReflections(VkCommandBuffer cmd, glm::vec3 eye, const vk::Bu
 void Bounces::makeLinkReaders() {
   const vk::Specialization views{.constants = {{"texelViews", texelViews_}, {"kSenderLobes", glossy_ ? 1u : 0u}}};
   gather_.emplace(ctx_, "gather", shaderCode("gather"), views);
-  markTaps_.emplace(ctx_, "mark_taps", shaderCode("mark_taps"), views);
+  markTaps_.emplace(ctx_, "mark_taps", shaderCode("mark_taps"));
   reflectReceivers_.emplace(ctx_, "reflect_receivers", shaderCode("reflect_receivers"), views);
-  reflectSurfels_.emplace(ctx_, "reflect_surfels", shaderCode("reflect_surfels"), views);
+  reflectSurfels_.emplace(ctx_, "reflect_surfels", shaderCode("reflect_surfels"));
   if (!glossy_) return;
   lobeExcess_.emplace(ctx_, "lobe_excess", shaderCode("lobe_excess"), views);
   if (!metal_) return;

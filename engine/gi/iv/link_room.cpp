@@ -188,28 +188,28 @@ LinkRoom::Overflow LinkRoom::grow(bool staticLinked) {
 void LinkRoom::releaseUnused(bool staticLinked) {
   // The static set's surviving links are made once and never grow: they keep exactly their room,
   // and the links they were pruned from are not needed again; unless rigid leaves are pruned when
-  // listed (keepStaticGrowing), which read those links and add to these later. The frame's leaf
-  // links, links and the worklists keep the margin, and shrink only past a third unused, lest every
-  // frame reallocate.
+  // listed (keepStaticGrowing), which read those links and add to these later. What grows from
+  // frame to frame keeps the margin, and shrinks only past a third unused, lest every frame
+  // reallocate.
   bool shrinks = !staticSet_.empty() && staticLinked && staticSet_.linkCapacity > 0 && !staticGrows_;
   if (shrinks) staticSet_.linkCapacity = 0;
   auto fit = [&](uint32_t& capacity, uint32_t used) {
     const uint32_t fitted = withMargin(used);
     if (uint64_t(capacity) * 2 > uint64_t(fitted) * 3) capacity = fitted, shrinks = true;
   };
+  auto exact = [&](uint32_t& capacity, uint32_t used) {
+    if (capacity > used) capacity = used, shrinks = true;
+  };
   uint32_t worklistPeak = 0;
   for (LinkSet* set : {&staticSet_, &frameSet_}) {
     if (set->empty()) continue;
     const bool isStatic = set == &staticSet_;
-    if (isStatic && staticGrows_ && settings_.exactStaticRoom && set->leafLinkCapacity > set->leafLinksHeld())
-      set->leafLinkCapacity = set->leafLinksHeld(), shrinks = true;
-    else if (isStatic && staticGrows_)
+    if (isStatic && (!staticGrows_ || settings_.exactStaticRoom))
+      exact(set->leafLinkCapacity, set->leafLinksHeld());
+    else
       fit(set->leafLinkCapacity, set->leafLinksHeld());
-    else if (isStatic && set->leafLinkCapacity > set->leafLinksHeld())
-      set->leafLinkCapacity = set->leafLinksHeld(), shrinks = true;
     if (isStatic && staticLinked && !staticGrows_) continue;  // its links are not made again
     const std::vector<uint32_t> c = set->readCounters();
-    if (!isStatic) fit(set->leafLinkCapacity, set->leafLinksHeld());
     if (!isStatic || staticGrows_) fit(set->linkCapacity, c[gpu::kCounterLinks]);
     if (!(isStatic && staticLinked)) worklistPeak = std::max(worklistPeak, c[gpu::kCounterWorklistPeak]);
   }
