@@ -85,6 +85,41 @@ TEST(ArFurnace, AntiradianceCancelsWhereNothingIsOccluded) {
   EXPECT_FALSE(solved.stats.diverged);
 }
 
+// The Cornell box's room closed, with its blocks, every face emitting Le = 1 with albedo ρ: still
+// E/π = Le/(1−ρ) at every surface the blocks leave in view (iv: IvFurnace.BlocksInside…). ar
+// comes out a few per cent low on the whole and 7–13 % off surfel by surfel: a receiver cluster
+// takes its links at its centroid, and a flat one may hold parallel faces apart (a block's top
+// and the floor), so each face gets the light of a point between them (docs/notes/ar.md,
+// *The furnace with blocks*). The floor under the blocks, which sees their insides only, is left out.
+TEST(ArFurnace, BlocksInsideComeOutAFewPercentLow) {
+  const float rho = 0.5f;
+  auto model = scenes::furnace({.cells = 26, .albedo = rho, .emission = 1.0f, .blocks = true});
+  ArSolved solved = solveAr(model, {});
+  std::vector<glm::vec2> blockTops;  // where the blocks stand: their tops' surfels, seen from above
+  for (const auto& s : solved.surfels)
+    if (s.normal.y > 0.9f && s.positionArea.y > 0.05f && s.positionArea.y < 0.5f)
+      blockTops.emplace_back(s.positionArea.x, s.positionArea.z);
+  ASSERT_FALSE(blockTops.empty());
+  double sum = 0, squares = 0, area = 0;
+  for (size_t i = 0; i < solved.surfels.size(); ++i) {
+    const auto& s = solved.surfels[i];
+    const glm::vec2 at(s.positionArea.x, s.positionArea.z);
+    const bool hidden = s.normal.y > 0.9f && s.positionArea.y < 1e-3f &&
+                        std::any_of(blockTops.begin(), blockTops.end(),
+                                    [&](glm::vec2 top) { return glm::length(top - at) < 0.012f; });
+    if (hidden) continue;
+    const double a = s.positionArea.w, error = (1 - rho) * solved.irradiance[i].x / kPi - 1;
+    sum += a * error, squares += a * error * error, area += a;
+  }
+  const double mean = sum / area, rms = std::sqrt(squares / area);
+  std::printf("[ ar furnace with blocks ] rho %.1f: mean E/pi %+.2f %% of exact, per surfel rms %.2f %%\n", rho,
+              100 * mean, 100 * rms);
+  EXPECT_LT(mean, 0.01);
+  EXPECT_GT(mean, -0.05);
+  EXPECT_LT(rms, 0.15);
+  EXPECT_FALSE(solved.stats.diverged);
+}
+
 namespace {
 
 // Emitter 0.2 m square at y = 1 facing down, receiver 0.2 m square at y = 0 facing up, and, when
