@@ -104,9 +104,9 @@ TEST(ArFurnace, BlocksInsideComeOutAFewPercentLow) {
   for (size_t i = 0; i < solved.surfels.size(); ++i) {
     const auto& s = solved.surfels[i];
     const glm::vec2 at(s.positionArea.x, s.positionArea.z);
-    const bool hidden = s.normal.y > 0.9f && s.positionArea.y < 1e-3f &&
-                        std::any_of(blockTops.begin(), blockTops.end(),
-                                    [&](glm::vec2 top) { return glm::length(top - at) < 0.012f; });
+    const bool hidden =
+        s.normal.y > 0.9f && s.positionArea.y < 1e-3f &&
+        std::any_of(blockTops.begin(), blockTops.end(), [&](glm::vec2 top) { return glm::length(top - at) < 0.012f; });
     if (hidden) continue;
     const double a = s.positionArea.w, error = (1 - rho) * solved.irradiance[i].x / kPi - 1;
     sum += a * error, squares += a * error * error, area += a;

@@ -163,6 +163,7 @@ int runBench(const BenchOptions& o) {
   nlohmann::json counts = {
       {"surfels", g.surfels.size()}, {"triangles", g.triangles.size()}, {"vertices", g.vertices.size()}};
   const uint64_t bytes = renderer.bytesAllocated();
+  uint64_t linksInHostMemory = 0;
   if (const auto* solver = dynamic_cast<const gi::IvSolver*>(renderer.solver())) {
     const gi::IvStats st = solver->stats();
     std::printf(", nodes %u, links %u created, %u leaf links after push-down and pruning", st.nodes, st.links,
@@ -173,6 +174,7 @@ int runBench(const BenchOptions& o) {
     // A redone frame's timings are its second run's: say so where it happened.
     if (st.framesRedone) std::printf("; %u frame(s) redone with more room for links or loop rounds", st.framesRedone);
     std::printf("; prune workgroups of %u invocations", st.pruneGroupSize);
+    linksInHostMemory = st.hostBytes;
     // The prune's work, and its rate where it ran in the measured frames.
     // A still scene's measured frames keep the first frame's solution: its counts are that frame's.
     std::printf(
@@ -228,8 +230,13 @@ int runBench(const BenchOptions& o) {
     if (drawn > 0) std::printf(" and drew the moving objects into %u of the maps' %u views", drawn, views);
   }
   const double hostPeak = hostPeakMiB();
-  std::printf("\nbytes allocated: %llu (%.1f MiB) on the device; host peak %.1f MiB resident\n",
-              (unsigned long long)bytes, double(bytes) / (1 << 20), hostPeak);
+  std::printf("\nbytes allocated: %llu (%.1f MiB)", (unsigned long long)bytes, double(bytes) / (1 << 20));
+  if (linksInHostMemory)  // where the device's memory (or --max-memory) could not hold them
+    std::printf(": %.1f MiB on the device, %.1f MiB of links in host memory",
+                double(bytes - linksInHostMemory) / (1 << 20), double(linksInHostMemory) / (1 << 20));
+  else
+    std::printf(" on the device");
+  std::printf("; host peak %.1f MiB resident\n", hostPeak);
   if (!o.json.empty()) {
     nlohmann::json settings =
         settingsJson(solver.method, iv, solver.tessellation, arSettings(solver), directLightSettings(solver, s, g));

@@ -5,7 +5,7 @@
 namespace ivgi::vk {
 
 Buffer::Buffer(const Context& ctx, VkDeviceSize bytes, Memory memory, Allocations* allocations)
-    : ctx_(&ctx), size_(std::max(bytes, kMinBytes)) {
+    : ctx_(&ctx), size_(std::max(bytes, kMinBytes)), memoryKind_(memory) {
   VkBufferCreateInfo bi{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   bi.size = size_;
   bi.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
@@ -31,13 +31,14 @@ Buffer::Buffer(const Context& ctx, VkDeviceSize bytes, Memory memory, Allocation
   if (flags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT)
     check(vkMapMemory(ctx.device(), memory_, 0, VK_WHOLE_SIZE, 0, &mapped_), "vkMapMemory");
   allocations_ = allocations;
-  if (allocations_) allocations_->bytes_ += size_;
+  if (allocations_) allocations_->bytes_ += size_, allocations_->hostBytes_ += memory == Memory::Host ? size_ : 0;
 }
 
 Buffer& Buffer::operator=(Buffer&& o) noexcept {
   if (this != &o) {
     release();
-    ctx_ = o.ctx_, buffer_ = o.buffer_, memory_ = o.memory_, size_ = o.size_, mapped_ = o.mapped_;
+    ctx_ = o.ctx_, buffer_ = o.buffer_, memory_ = o.memory_, size_ = o.size_, memoryKind_ = o.memoryKind_;
+    mapped_ = o.mapped_;
     allocations_ = o.allocations_, views_ = std::move(o.views_);
     o.buffer_ = VK_NULL_HANDLE, o.memory_ = VK_NULL_HANDLE, o.mapped_ = nullptr, o.size_ = 0, o.allocations_ = nullptr;
     o.views_.clear();
@@ -51,7 +52,8 @@ void Buffer::release() {
   views_.clear();
   if (buffer_) vkDestroyBuffer(ctx_->device(), buffer_, nullptr);
   if (memory_) vkFreeMemory(ctx_->device(), memory_, nullptr);  // unmaps implicitly
-  if (allocations_ && buffer_) allocations_->bytes_ -= size_;
+  if (allocations_ && buffer_)
+    allocations_->bytes_ -= size_, allocations_->hostBytes_ -= memoryKind_ == Memory::Host ? size_ : 0;
   buffer_ = VK_NULL_HANDLE, memory_ = VK_NULL_HANDLE, mapped_ = nullptr, allocations_ = nullptr;
 }
 

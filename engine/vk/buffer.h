@@ -17,14 +17,16 @@ namespace ivgi::vk {
 enum class Memory { Device, Host };
 
 // The bytes of the buffers that name it, counted as they are made and freed: what an owner has
-// allocated, without a list of its buffers.
+// allocated, without a list of its buffers, and of those in host memory (Memory::Host).
 class Allocations {
  public:
   uint64_t bytes() const { return bytes_; }
+  uint64_t hostBytes() const { return hostBytes_; }
+  uint64_t deviceBytes() const { return bytes_ - hostBytes_; }
 
  private:
   friend class Buffer;
-  uint64_t bytes_ = 0;
+  uint64_t bytes_ = 0, hostBytes_ = 0;
 };
 
 class Buffer {
@@ -40,6 +42,7 @@ class Buffer {
 
   VkBuffer handle() const { return buffer_; }
   VkDeviceSize size() const { return size_; }
+  Memory memory() const { return memoryKind_; }
   bool mapped() const { return mapped_ != nullptr; }
   explicit operator bool() const { return buffer_ != VK_NULL_HANDLE; }
 
@@ -71,6 +74,7 @@ class Buffer {
   VkBuffer buffer_ = VK_NULL_HANDLE;
   VkDeviceMemory memory_ = VK_NULL_HANDLE;
   VkDeviceSize size_ = 0;
+  Memory memoryKind_ = Memory::Device;
   void* mapped_ = nullptr;
   Allocations* allocations_ = nullptr;
   struct View {

@@ -330,6 +330,20 @@ VkDeviceSize Context::deviceHeapBytes() const {
   return memory_.memoryHeaps[memory_.memoryTypes[type].heapIndex].size;
 }
 
+namespace {
+constexpr VkMemoryPropertyFlags kHostMemory =
+    VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+}
+
+VkDeviceSize Context::hostHeapBytes() const {
+  return memory_.memoryHeaps[memory_.memoryTypes[findMemoryType(~0u, kHostMemory, 0)].heapIndex].size;
+}
+
+bool Context::hostHeapIsDeviceHeap() const {
+  const uint32_t device = findMemoryType(~0u, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT);
+  return memory_.memoryTypes[device].heapIndex == memory_.memoryTypes[findMemoryType(~0u, kHostMemory, 0)].heapIndex;
+}
+
 uint32_t Context::findMemoryType(uint32_t typeBits, VkMemoryPropertyFlags wanted, VkMemoryPropertyFlags avoid) const {
   // First a type with everything wanted and nothing avoided, then one with what is wanted.
   for (int pass = 0; pass < 2; ++pass)

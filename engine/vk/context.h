@@ -63,6 +63,10 @@ class Context {
   uint32_t texelPartBits() const { return texelPartBits_; }
   // The size of the heap that device-local buffers come from: what the device says it can hold.
   VkDeviceSize deviceHeapBytes() const;
+  // The size of the heap that host-visible buffers (Memory::Host) come from, which the device reads
+  // across its bus; on a CPU device or an integrated GPU the same heap as the device's.
+  VkDeviceSize hostHeapBytes() const;
+  bool hostHeapIsDeviceHeap() const;
   double timestampPeriodNs() const { return properties_.limits.timestampPeriod; }
   uint32_t timestampValidBits() const { return timestampValidBits_; }
   // Invocations a subgroup runs together (8 on lavapipe, 32 on NVIDIA).

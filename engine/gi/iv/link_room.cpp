@@ -54,14 +54,14 @@ void LinkRoom::guess(const std::vector<uint32_t>& leafMoves, uint32_t nodeCount)
     capacity = uint32_t(std::max<uint64_t>(uint64_t(capacity) * 3 / 4, least));
     return true;
   };
-  while (!refusal(arrays()).empty()) {
+  while (!refusal(arrays(false)).empty()) {
     bool shrunk = false;
     for (LinkSet* set : {&staticSet_, &frameSet_}) shrunk |= shrink(set->leafLinkCapacity, smallLeafLinks);
     if (!shrunk) {
       for (LinkSet* set : {&staticSet_, &frameSet_}) shrunk |= !set->empty() && shrink(set->linkCapacity, smallLinks);
       shrunk |= shrink(worklistCapacity_, smallWorklist);
     }
-    if (!shrunk) break;  // allocate() names what does not fit
+    if (!shrunk) break;  // allocate() puts the rest in host memory, or names what does not fit
   }
   allocate();
 }
@@ -78,7 +78,7 @@ uint32_t LinkRoom::leafLinkTexelViews() const {
   return most > (uint64_t(1) << ctx_.texelPartBits()) ? gpu::kTexelParts : 1u;
 }
 
-std::vector<LinkRoom::Array> LinkRoom::arrays() {
+std::vector<LinkRoom::Array> LinkRoom::arrays(bool hostAllowed) const {
   // All are texels (imageBuffers), whose views reach past one storage binding.
   std::vector<Array> arrays = {
       {&b_.worklistA, worklistCapacity_, 8, "refinement worklist"},
@@ -90,7 +90,34 @@ std::vector<LinkRoom::Array> LinkRoom::arrays() {
   for (LinkSet* set : {&staticSet_, &frameSet_})
     arrays.insert(arrays.end(), {{&set->links, set->linkCapacity, 8, "links", nullptr, set},
                                  {&set->senders, set->linkCapacity, 4, "links", nullptr, set}});
+  place(arrays, hostAllowed);
   return arrays;
+}
+
+uint64_t LinkRoom::deviceBudget() const {
+  return settings_.memoryBudget ? settings_.memoryBudget : ctx_.deviceHeapBytes();
+}
+
+void LinkRoom::place(std::vector<Array>& arrays, bool hostAllowed) const {
+  // An array that keeps its buffer keeps its memory; one allocated anew (its predecessor freed
+  // first) goes to the device while the device holds it, the largest first to the host if not.
+  uint64_t device = allocations_.deviceBytes();
+  std::vector<Array*> anew;
+  for (Array& a : arrays) {
+    if (a.kept()) {
+      a.memory = a.buffer->memory();
+      continue;
+    }
+    if (a.buffer->memory() == vk::Memory::Device) device -= a.buffer->size();
+    device += a.bytes();
+    anew.push_back(&a);
+  }
+  std::stable_sort(anew.begin(), anew.end(), [](const Array* a, const Array* b) { return a->bytes() > b->bytes(); });
+  for (Array* a : anew) {
+    if (!hostAllowed || device <= deviceBudget()) break;
+    a->memory = vk::Memory::Host;
+    device -= a->bytes();
+  }
 }
 
 namespace {
@@ -117,7 +144,8 @@ std::string LinkRoom::refusal(const std::vector<Array>& arrays) const {
            mebibytes(limitBytes) + ": about " + fit + fewer;
   };
   const VkPhysicalDeviceLimits& limits = ctx_.limits();
-  uint64_t total = allocations_.bytes();  // once every array has its new size
+  // Once every array has its new size, where place() put it.
+  uint64_t device = allocations_.deviceBytes(), host = allocations_.hostBytes();
   for (const Array& a : arrays) {
     const uint64_t texelLimit = a.parted() ? mostLeafLinks() : uint64_t(limits.maxTexelBufferElements);
     if (a.elements() > texelLimit)
@@ -127,12 +155,23 @@ std::string LinkRoom::refusal(const std::vector<Array>& arrays) const {
                      texelLimit * a.elementBytes);
     if (a.bytes() > ctx_.maxAllocationBytes())
       return refused(a.bytes(), a.what, "the device's maxMemoryAllocationSize", ctx_.maxAllocationBytes());
-    total = total - a.buffer->size() + std::max<uint64_t>(a.bytes(), a.buffer->size());  // grows what it had
+    if (a.kept()) continue;
+    (a.buffer->memory() == vk::Memory::Host ? host : device) -= a.buffer->size();
+    (a.memory == vk::Memory::Host ? host : device) += a.bytes();
   }
-  if (settings_.memoryBudget && total > settings_.memoryBudget)
-    return refused(total, "device memory in all", "--max-memory", settings_.memoryBudget);
-  if (total > ctx_.deviceHeapBytes())
-    return refused(total, "device memory in all", "the device's memory heap", ctx_.deviceHeapBytes());
+  if (device > deviceBudget()) {
+    const std::string limit = settings_.memoryBudget ? "--max-memory" : "the device's memory heap";
+    const bool linksMoved = std::any_of(arrays.begin(), arrays.end(),
+                                        [](const Array& a) { return !a.kept() && a.memory == vk::Memory::Host; });
+    if (!linksMoved) return refused(device, "device memory in all", limit, deviceBudget());
+    // What stays on the device is the scene's and the receivers' own: it follows the surfels and the bins.
+    return "the iv solver needs " + mebibytes(device) + " of device memory besides the links it can hold in host " +
+           "memory, above " + limit + " of " + mebibytes(deviceBudget()) +
+           ": a coarser --tessellate (fewer surfels) or fewer --bins would need less";
+  }
+  if (ctx_.hostHeapIsDeviceHeap() ? device + host > ctx_.hostHeapBytes() : host > ctx_.hostHeapBytes())
+    return refused(device + host, "memory in all, the links past the device's in host memory", "the host's memory heap",
+                   ctx_.hostHeapBytes());
   return {};
 }
 
@@ -145,7 +184,7 @@ void LinkRoom::allocate(bool keepStatic) {
     if (held > 0 && a.leafLinksOf == &staticSet_) {
       // The links that fitted, all within the old room (the count passed it where they overflowed).
       const uint64_t kept = std::min(held, a.buffer->size() / a.elementBytes);
-      vk::Buffer grown(ctx_, a.bytes(), vk::Memory::Device, &allocations_);
+      vk::Buffer grown(ctx_, a.bytes(), a.memory, &allocations_);
       ctx_.submitAndWait([&](VkCommandBuffer cmd) {
         vk::copyRegion(cmd, *a.buffer, grown, {0, 0, kept * a.elementBytes});
       });
@@ -153,8 +192,15 @@ void LinkRoom::allocate(bool keepStatic) {
       continue;
     }
     *a.buffer = vk::Buffer();  // before its successor: the two need not fit at once
-    *a.buffer = vk::Buffer(ctx_, a.bytes(), vk::Memory::Device, &allocations_);
+    *a.buffer = vk::Buffer(ctx_, a.bytes(), a.memory, &allocations_);
   }
+}
+
+uint64_t LinkRoom::hostBytes() const {
+  uint64_t host = 0;
+  for (const Array& a : arrays())
+    if (a.buffer->memory() == vk::Memory::Host) host += a.buffer->size();
+  return host;
 }
 
 LinkRoom::Overflow LinkRoom::grow(bool staticLinked) {
@@ -217,7 +263,7 @@ void LinkRoom::releaseUnused(bool staticLinked) {
   if (!shrinks) return;
   for (const Array& a : arrays()) {
     if (std::max(a.bytes(), vk::Buffer::kMinBytes) >= a.buffer->size()) continue;
-    vk::Buffer kept(ctx_, a.bytes(), vk::Memory::Device, &allocations_);
+    vk::Buffer kept(ctx_, a.bytes(), a.buffer->memory(), &allocations_);
     const uint64_t used = a.leafLinksOf ? a.leafLinksOf->leafLinksHeld()
                           : a.linksOf   ? std::min(a.count, uint64_t(a.linksOf->readCounters()[gpu::kCounterLinks]))
                                         : 0;

@@ -2,8 +2,10 @@
 // The room of the arrays that grow with the link counts: the refinement's worklists, each link
 // set's links and its surviving leaf links. Link counts are known only once the GPU made them, so
 // the room starts from a guess, grows when a frame overflowed (the frame is then redone) and gives
-// back what stays unused. A request beyond the device's limits is refused with a message that names
-// the settings to change.
+// back what stays unused. Where device memory cannot hold them, the largest go to host memory, which
+// the device reads across its bus (slower); a request beyond that, or
+// beyond the device's limits on one array, is refused with a message that names the settings to
+// change.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -43,6 +45,8 @@ class LinkRoom {
   // The texel views the leaf links' arrays are bound in at their room now: 1 or kTexelParts
   // (shaders/common/parted_texels.glsl). The passes that read them are made for that many.
   uint32_t leafLinkTexelViews() const;
+  // The bytes of link arrays held in host memory (where the device's could not hold them).
+  uint64_t hostBytes() const;
 
  private:
   // An array that grows with a count; bound as texels (imageBuffers), so that maxTexelBufferElements
@@ -52,13 +56,19 @@ class LinkRoom {
     vk::Buffer* buffer;
     uint64_t count, elementBytes;
     const char* what;
-    const LinkSet* leafLinksOf = nullptr;  // the set whose surviving links it holds (kept when it shrinks)
-    const LinkSet* linksOf = nullptr;      // the set whose links it holds (kept when it shrinks)
-    bool parted() const { return leafLinksOf != nullptr; }  // the leaf links' arrays
+    const LinkSet* leafLinksOf = nullptr;    // the set whose surviving links it holds (kept when it shrinks)
+    const LinkSet* linksOf = nullptr;        // the set whose links it holds (kept when it shrinks)
+    vk::Memory memory = vk::Memory::Device;  // where it is to be (place())
+    bool parted() const { return leafLinksOf != nullptr; }   // the leaf links' arrays
+    bool kept() const { return buffer->size() >= bytes(); }  // it keeps its buffer, and its memory
     uint64_t elements() const { return std::max<uint64_t>(count, 1); }
     uint64_t bytes() const { return elements() * elementBytes; }
   };
-  std::vector<Array> arrays();  // at the capacities the link sets hold now
+  // At the capacities the link sets hold now, each placed: in device memory while it holds them,
+  // else (`hostAllowed`) the largest of those allocated anew in host memory.
+  std::vector<Array> arrays(bool hostAllowed = true) const;
+  void place(std::vector<Array>& arrays, bool hostAllowed) const;
+  uint64_t deviceBudget() const;  // --max-memory, else the device's heap
   // Why those arrays cannot be allocated on this device (empty: they can).
   std::string refusal(const std::vector<Array>& arrays) const;
   // Allocates the arrays at their capacities; `keepStatic`: the static set's leaf links keep what

@@ -60,6 +60,7 @@ struct IvStats {
   uint32_t nodes = 0, levels = 0, links = 0, leafLinks = 0;
   uint32_t staticLinks = 0, staticLeafLinks = 0;  // of those, made once between objects that cannot move
   uint64_t bytes = 0;
+  uint64_t hostBytes = 0;  // of those, link arrays in host memory (where the device's could not hold them)
   bool sharedBins = true;
   uint32_t pruneBatches = 0;    // dispatches a prune takes (each of at most a few leaves a workgroup)
   uint32_t pruneGroupSize = 0;  // invocations a prune workgroup has (more when one ran out of loop rounds)

@@ -323,6 +323,16 @@ void IvSolver::frameStands() {
   if (reused_) return;
   room_.releaseUnused(staticLinked_);
   roomProven_ = true;
+  if (const uint64_t host = room_.hostBytes(); host > 0 && !saidHostMemory_) {
+    saidHostMemory_ = true;
+    std::fprintf(stderr,
+                 "ivgi: iv: the links do not fit in %s: %.1f MiB of them are in host memory, which the device reads "
+                 "across its bus (slower); a larger --eps or fewer --bins keep them on the device\n",
+                 settings_.memoryBudget
+                     ? ("--max-memory of " + std::to_string(settings_.memoryBudget >> 20) + " MiB").c_str()
+                     : "the device's memory",
+                 double(host) / (1 << 20));
+  }
   if (const gpu::BounceState s = bounces_.state(); s.diverged)
     std::fprintf(stderr,
                  "ivgi: iv: the bounces diverge (bounce %u added over %g times the least light a bounce had added); "
@@ -351,6 +361,7 @@ IvStats IvSolver::stats() const {
       s.sendersWalked = count64(gpu::kCounterSendersWalked), s.mergedSendersWalked = count64(gpu::kCounterMergedWalked);
   }
   s.bytes = allocatedBytes();
+  s.hostBytes = room_.hostBytes();
   const gpu::BounceState bounces = bounces_.state();
   s.bounces = bounces.gathers - 1;
   s.bounceRemaining = settings_.bounces ? 0.0f : bounces.remaining;

@@ -121,10 +121,11 @@ class IvSolver final : public Solver {
   Receivers receivers_;
   LinkRoom room_;
   bool linked_ = false, staticLinked_ = false;
-  bool solvePending_ = false;  // the frame's links are recorded, its prune and bounces not yet
-  bool reused_ = false;        // nothing moved: the last frame's bounces stand for this one
-  bool roomProven_ = false;    // a frame stood since the link room last grew
-  bool linkStatic_ = false;    // the frame makes the static set's links
+  bool solvePending_ = false;    // the frame's links are recorded, its prune and bounces not yet
+  bool reused_ = false;          // nothing moved: the last frame's bounces stand for this one
+  bool roomProven_ = false;      // a frame stood since the link room last grew
+  bool saidHostMemory_ = false;  // the note that links are in host memory, once
+  bool linkStatic_ = false;      // the frame makes the static set's links
   uint32_t framesRedone_ = 0, staticPasses_ = 0;
   uint32_t gathersRecorded_ = 0;  // this frame's, so far
   // Per root: its instance's world matrix (scene::FrameInputs::matrices), where the objects' poses
