@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numeric>
 
 #include "engine/core/errors.h"
 #include "engine/gi/bins.h"
@@ -73,10 +74,24 @@ ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy h
   const bool chained = settings_.chained();
   const uint64_t tables = tableBytes(nodeCount_, surfelCount_, n, chained);
   const uint64_t largest = uint64_t(std::max(nodeCount_, surfelCount_)) * bins;
-  const uint64_t heap = settings_.memoryBudget ? settings_.memoryBudget : ctx.deviceHeapBytes();
+  // Device memory holds the tables while it can (a fifth kept for the rest); past it the largest go
+  // to host memory, which the device reads across its bus. Refused only where host memory cannot
+  // hold them either, or where one table passes what the device allows one allocation or view.
+  const uint64_t surfelTable = uint64_t(surfelCount_) * bins * sizeof(glm::vec4),
+                 nodeTable = uint64_t(nodeCount_) * bins * sizeof(glm::vec4);
+  std::vector<uint64_t> tableSizes = {surfelTable, nodeTable, nodeTable};  // incident, gathered, intensity
+  if (chained) tableSizes.push_back(surfelTable);                          // startIncident
+  std::vector<size_t> bySize(tableSizes.size());
+  std::iota(bySize.begin(), bySize.end(), 0);
+  std::stable_sort(bySize.begin(), bySize.end(), [&](size_t a, size_t b) { return tableSizes[a] > tableSizes[b]; });
+  uint64_t onDevice = tables;
+  std::vector<vk::Memory> tableMemory(tableSizes.size(), vk::Memory::Device);
+  for (size_t k : bySize)
+    if (onDevice * 5 > deviceBudget() * 4) tableMemory[k] = vk::Memory::Host, onDevice -= tableSizes[k];
+  const uint64_t hostHeld = ctx.hostHeapIsDeviceHeap() ? tables : tables - onDevice;
   double over = std::max({double(largest) / limits.maxTexelBufferElements,
                           double(largest * sizeof(glm::vec4)) / double(ctx.maxAllocationBytes()),
-                          double(tables) / double(heap) * 1.25});
+                          double(hostHeld) / double(ctx.hostHeapBytes()) * 1.25});
   if (over > 1.0)
     throw SettingsError(
         "the ar solver needs " + mib(tables) + " of directional tables (" + std::to_string(bins) +
@@ -88,17 +103,17 @@ ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy h
   noteUnresolvedRoughness(g, tableBinSpread(n), "ar", "--dirs " + std::to_string(n));
   b_.brightEmitters = vk::makeBuffer(ctx, brightEmitters(hierarchy_, g.surfelEmission), vk::Memory::Device, tally);
   b_.args = vk::Buffer(ctx, 4 * sizeof(glm::uvec4), vk::Memory::Device, tally);
-  b_.gathered = vk::Buffer(ctx, uint64_t(nodeCount_) * bins * sizeof(glm::vec4), vk::Memory::Device, tally);
+  b_.gathered = vk::Buffer(ctx, nodeTable, tableMemory[1], tally);
   b_.gatheredVector = vk::Buffer(ctx, uint64_t(nodeCount_) * 3 * sizeof(glm::vec4), vk::Memory::Device, tally);
-  b_.intensity = vk::Buffer(ctx, uint64_t(nodeCount_) * bins * sizeof(glm::vec4), vk::Memory::Device, tally);
+  b_.intensity = vk::Buffer(ctx, nodeTable, tableMemory[2], tally);
   b_.gatherOrder = vk::Buffer(ctx, nodeCount_ * sizeof(uint32_t), vk::Memory::Device, tally);
   b_.longSorts = vk::Buffer(ctx, (nodeCount_ + 1) * sizeof(uint32_t), vk::Memory::Device, tally);
   b_.exitance = vk::Buffer(ctx, nodeCount_ * sizeof(glm::vec4), vk::Memory::Device, tally);
-  b_.incident = vk::Buffer(ctx, uint64_t(surfelCount_) * bins * sizeof(glm::vec4), vk::Memory::Device, tally);
+  b_.incident = vk::Buffer(ctx, surfelTable, tableMemory[0], tally);
   b_.radiance = vk::Buffer(ctx, surfelCount_ * sizeof(glm::vec4), vk::Memory::Device, tally);
   b_.irradiance = vk::Buffer(ctx, surfelCount_ * sizeof(glm::vec4), vk::Memory::Device, tally);
   if (chained) {
-    b_.startIncident = vk::Buffer(ctx, b_.incident.size(), vk::Memory::Device, tally);
+    b_.startIncident = vk::Buffer(ctx, surfelTable, tableMemory[3], tally);
     b_.startRadiance = vk::Buffer(ctx, b_.radiance.size(), vk::Memory::Device, tally);
     b_.startIrradiance = vk::Buffer(ctx, b_.irradiance.size(), vk::Memory::Device, tally);
   }
@@ -140,10 +155,11 @@ void ArSolver::allocateLinks() {
                         std::to_string(settings_.epsilon * 2.0f * float(most) / limits.maxTexelBufferElements) +
                         " would fit (links grow about as 1/eps)");
   vk::Allocations* tally = &allocations_;
-  auto grow = [&](vk::Buffer& buffer, uint64_t bytes) {
+  auto grow = [&](vk::Buffer& buffer, uint64_t bytes) {  // in host memory past the device's room
     if (buffer.size() >= bytes) return;
     buffer = vk::Buffer();  // before its successor: the two need not fit at once
-    buffer = vk::Buffer(ctx_, bytes, vk::Memory::Device, tally);
+    const bool fits = allocations_.deviceBytes() + bytes <= deviceBudget();
+    buffer = vk::Buffer(ctx_, bytes, fits ? vk::Memory::Device : vk::Memory::Host, tally);
   };
   for (LinkSet* set : {&staticSet_, &frameSet_}) {
     grow(set->links, uint64_t(set->linkCapacity) * 8);
@@ -151,9 +167,27 @@ void ArSolver::allocateLinks() {
   }
   grow(b_.worklistA, uint64_t(worklistCapacity_) * 8);
   grow(b_.worklistB, uint64_t(worklistCapacity_) * 8);
-  if (settings_.memoryBudget && allocations_.bytes() > settings_.memoryBudget)
-    throw SettingsError("the ar solver needs " + mib(allocations_.bytes()) +
-                        " of device memory, above --max-memory: a larger --eps or a smaller --dirs would fit");
+  if (allocations_.deviceBytes() > deviceBudget())
+    throw SettingsError("the ar solver needs " + mib(allocations_.deviceBytes()) + " of device memory, above " +
+                        (settings_.memoryBudget ? "--max-memory" : "the device's memory heap") +
+                        ", besides what it holds in host memory: a coarser --tessellate or a smaller --dirs would fit");
+  uint64_t host = 0;
+  for (const vk::Buffer* b : {&b_.incident, &b_.startIncident, &b_.gathered, &b_.intensity, &staticSet_.links,
+                              &staticSet_.senders, &frameSet_.links, &frameSet_.senders, &b_.worklistA, &b_.worklistB})
+    host += b->memory() == vk::Memory::Host ? b->size() : 0;
+  if (host > 0 && !saidHostMemory_) {
+    saidHostMemory_ = true;
+    std::fprintf(
+        stderr,
+        "ivgi: ar: the tables and links do not fit in %s: %.1f MiB of them are in host memory, which the "
+        "device reads across its bus (slower); a smaller --dirs keeps them on the device\n",
+        settings_.memoryBudget ? ("--max-memory of " + mib(settings_.memoryBudget)).c_str() : "the device's memory",
+        double(host) / (1 << 20));
+  }
+}
+
+uint64_t ArSolver::deviceBudget() const {
+  return settings_.memoryBudget ? settings_.memoryBudget : ctx_.deviceHeapBytes();
 }
 
 int ArSolver::chainStart(int frame) const { return frame - frame % int(settings_.restartEvery); }

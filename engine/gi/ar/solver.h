@@ -65,8 +65,10 @@ class ArSolver final : public Solver {
   static uint64_t tableBytes(uint64_t nodes, uint64_t surfels, uint32_t dirs, bool chained);
 
  private:
+  // The link arrays at their capacities: in device memory while it holds them, else in host memory.
   void allocateLinks();
-  bool mustRedo();  // frameMustBeRedone's decision (it counts and remembers it)
+  uint64_t deviceBudget() const;  // --max-memory, else the device's heap
+  bool mustRedo();                // frameMustBeRedone's decision (it counts and remembers it)
   void recordLinks(VkCommandBuffer cmd, LinkSet& set);
   void recordIterations(VkCommandBuffer cmd, vk::PassTimer& timer, uint32_t steps);
   // The start of the frame's iteration: from the emission, or from the frame before's solution.
@@ -100,6 +102,7 @@ class ArSolver final : public Solver {
   // where a frame found a longer list (it is redone).
   uint32_t gatherChunks_ = 1;
   bool linked_ = false, staticLinked_ = false;
+  bool saidHostMemory_ = false;  // the note that tables or links are in host memory, once
   // The frame being solved (beginFrame), the frame whose solution that stood (not diverged, not to
   // be redone) the tables hold (negative: none), and whether this frame starts from it; a frame
   // redone starts again from what it started from, kept in `b_.start*`.
