@@ -84,13 +84,17 @@ void add(uint bin, float omega, vec3 sent) {
 }
 
 vec3 vectorX, vectorY, vectorZ;  // the receiver's Σ sent · dir
+vec3 slopeX, slopeY, slopeZ;     // and Σ sent/d · (3 (n·dir) dir − n): its irradiance's gradient
 
 // Deposits radiance × solid angle `sent`, seen along unit `dir` (its taps t): `binShare` of it into
 // the receiver's bins around it and, where it arrives at the front of a flat receiver, all of it into
 // its vector sum (a curved receiver's surfaces face many ways: their irradiance comes from its bins).
-void deposit(vec4 nr, vec3 dir, Taps t, vec3 sent, float binShare) {
-  if (nr.w <= kArFlatCone && dot(nr.xyz, dir) >= 0.0)
+void deposit(vec4 nr, vec3 dir, Taps t, vec3 sent, float binShare, float invDist) {
+  if (nr.w <= kArFlatCone && dot(nr.xyz, dir) >= 0.0) {
     vectorX += sent * dir.x, vectorY += sent * dir.y, vectorZ += sent * dir.z;
+    const vec3 g = invDist * (3.0 * dot(nr.xyz, dir) * dir - nr.xyz);
+    slopeX += sent * g.x, slopeY += sent * g.y, slopeZ += sent * g.z;
+  }
   vec4 weights = keepSide(nr, dir, t) * binShare;
   add(t.bins.x, t.vectors[0].w, weights.x * sent);
   add(t.bins.y, t.vectors[1].w, weights.y * sent);
@@ -134,7 +138,7 @@ void gatherLink(uint s, vec3 pr, vec4 nr, float receiverArea) {
       float cosine = dot(cone.xyz, -dir);
       sent = imageLoad(exitance, int(s)).rgb * max(cosine, 0.0) - sent * abs(cosine);
     }
-    deposit(nr, dir, tapsOf(dir), sent * solidAnglePerArea(ps.w, dist2), 1.0);
+    deposit(nr, dir, tapsOf(dir), sent * solidAnglePerArea(ps.w, dist2), 1.0, inversesqrt(dist2));
     return;
   }
   // A surfel goes as pieces of its rectangle, each along its own direction (surfelPieces).
@@ -162,7 +166,7 @@ void gatherLink(uint s, vec3 pr, vec4 nr, float receiverArea) {
     float binOmega = imageLoad(binTable, int(binOf(dir, kDirs))).w;
     const Taps taps = tapsOf(dir);
     float binShare = omega > binOmega ? binOmega / omega : 1.0;
-    deposit(nr, dir, taps, surfelRadiance(t.w, bins, ns, dir, taps, lobe) * omega, binShare);
+    deposit(nr, dir, taps, surfelRadiance(t.w, bins, ns, dir, taps, lobe) * omega, binShare, inversesqrt(q2));
   }
 }
 
@@ -181,11 +185,14 @@ void main() {
   const float receiverArea = receiverAt.w;
   vec4 nr = nodeNormalCone(r);
   tableBase = r * kBins;
-  vectorX = vectorY = vectorZ = vec3(0.0);
+  vectorX = vectorY = vectorZ = slopeX = slopeY = slopeZ = vec3(0.0);
   if (push.chunk > 0u) {  // a later chunk: go on from the sums the one before left
-    vectorX = imageLoad(gatheredVector, int(3u * r)).rgb;
-    vectorY = imageLoad(gatheredVector, int(3u * r + 1u)).rgb;
-    vectorZ = imageLoad(gatheredVector, int(3u * r + 2u)).rgb;
+    vectorX = imageLoad(gatheredVector, int(6u * r)).rgb;
+    vectorY = imageLoad(gatheredVector, int(6u * r + 1u)).rgb;
+    vectorZ = imageLoad(gatheredVector, int(6u * r + 2u)).rgb;
+    slopeX = imageLoad(gatheredVector, int(6u * r + 3u)).rgb;
+    slopeY = imageLoad(gatheredVector, int(6u * r + 4u)).rgb;
+    slopeZ = imageLoad(gatheredVector, int(6u * r + 5u)).rgb;
     for (uint b = 0u; kTableHere && b < kBins; ++b) gatheredHere[b] = imageLoad(gathered, int(tableBase + b)).rgb;
   } else {
     for (uint b = 0u; b < kBins; ++b)
@@ -199,7 +206,10 @@ void main() {
     gatherLink(s & ~kEmitterBit, pr, nr, receiverArea);
   }
   for (uint b = 0u; kTableHere && b < kBins; ++b) imageStore(gathered, int(tableBase + b), vec4(gatheredHere[b], 0.0));
-  imageStore(gatheredVector, int(3u * r), vec4(vectorX, 0.0));
-  imageStore(gatheredVector, int(3u * r + 1u), vec4(vectorY, 0.0));
-  imageStore(gatheredVector, int(3u * r + 2u), vec4(vectorZ, 0.0));
+  imageStore(gatheredVector, int(6u * r), vec4(vectorX, 0.0));
+  imageStore(gatheredVector, int(6u * r + 1u), vec4(vectorY, 0.0));
+  imageStore(gatheredVector, int(6u * r + 2u), vec4(vectorZ, 0.0));
+  imageStore(gatheredVector, int(6u * r + 3u), vec4(slopeX, 0.0));
+  imageStore(gatheredVector, int(6u * r + 4u), vec4(slopeY, 0.0));
+  imageStore(gatheredVector, int(6u * r + 5u), vec4(slopeZ, 0.0));
 }

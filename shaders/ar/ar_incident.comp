@@ -57,9 +57,13 @@ void main() {
       E += fromBins * max(dot(normal, imageLoad(binTable, int(b)).xyz), 0.0);
     }
     for (int node = int(leaf); node >= 0; node = int(imageLoad(tree, node).x)) {
-      uint v = 3u * uint(node);
+      uint v = 6u * uint(node);
+      const vec3 offset = pa.xyz - nodePositionArea(uint(node)).xyz;
       E += normal.x * imageLoad(gatheredVector, int(v)).rgb + normal.y * imageLoad(gatheredVector, int(v + 1u)).rgb +
            normal.z * imageLoad(gatheredVector, int(v + 2u)).rgb;
+      E += offset.x * imageLoad(gatheredVector, int(v + 3u)).rgb +
+           offset.y * imageLoad(gatheredVector, int(v + 4u)).rgb +
+           offset.z * imageLoad(gatheredVector, int(v + 5u)).rgb;
     }
     for (uint k = 0u; k < push.lightCount; ++k) {  // radiance over the bins around the light
       if (push.emittersByMaps != 0u) break;        // the depth maps give the lights' direct light

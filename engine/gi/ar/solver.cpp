@@ -104,7 +104,7 @@ ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy h
   b_.brightEmitters = vk::makeBuffer(ctx, brightEmitters(hierarchy_, g.surfelEmission), vk::Memory::Device, tally);
   b_.args = vk::Buffer(ctx, 4 * sizeof(glm::uvec4), vk::Memory::Device, tally);
   b_.gathered = vk::Buffer(ctx, nodeTable, tableMemory[1], tally);
-  b_.gatheredVector = vk::Buffer(ctx, uint64_t(nodeCount_) * 3 * sizeof(glm::vec4), vk::Memory::Device, tally);
+  b_.gatheredVector = vk::Buffer(ctx, uint64_t(nodeCount_) * 6 * sizeof(glm::vec4), vk::Memory::Device, tally);
   b_.intensity = vk::Buffer(ctx, nodeTable, tableMemory[2], tally);
   b_.gatherOrder = vk::Buffer(ctx, nodeCount_ * sizeof(uint32_t), vk::Memory::Device, tally);
   b_.longSorts = vk::Buffer(ctx, (nodeCount_ + 1) * sizeof(uint32_t), vk::Memory::Device, tally);
