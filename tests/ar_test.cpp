@@ -512,38 +512,13 @@ TEST(ArChains, SettleSoonerWhereTheColdStartSettles) {
 // says so. What must stay on the device and does not fit is refused in one line naming what would
 // need less, and nothing is written.
 TEST(ArMemory, TablesPastTheDeviceAreHeldInHostMemory) {
-  const auto dir = test::scratchDir("ar-memory");
-  const std::vector<std::string> scene = {"render", "cornell", "--method", "ar",       "--cells",
-                                          "8",      "--size",  "48x36",    "--frames", "0-1"};
-  auto args = scene;
-  args.insert(args.end(), {"--out", (dir / "device_%04d").string()});
-  test::Run run = test::runIvgi(args);
-  ASSERT_EQ(run.status, 0) << run.err;
-  EXPECT_EQ(run.err.find("host memory"), std::string::npos) << run.err;
-  args = scene;
-  args.insert(args.end(), {"--max-memory", "4", "--out", (dir / "host_%04d").string()});
-  run = test::runIvgi(args);
-  ASSERT_EQ(run.status, 0) << run.err;
-  const auto lines = run.errLines();
-  EXPECT_EQ(std::count_if(lines.begin(), lines.end(),
-                          [](const std::string& line) { return line.find("host memory") != std::string::npos; }),
-            1)
-      << run.err;
-  EXPECT_NE(run.err.find("--max-memory of 4 MiB"), std::string::npos) << run.err;
-  for (const char* frame : {"0000", "0001"})
-    for (const char* channel : {"R", "G", "B"})
-      EXPECT_EQ(test::channelOf(dir / ("host_" + std::string(frame) + ".exr"), channel),
-                test::channelOf(dir / ("device_" + std::string(frame) + ".exr"), channel))
-          << frame << " " << channel;
+  test::expectTheSameFromHostMemory(
+      "ar-memory", {"cornell", "--method", "ar", "--cells", "8", "--size", "48x36", "--frames", "0-1"}, "4", {0, 1});
 
-  const auto refused = test::scratchDir("ar-memory-refused");
-  run = test::runIvgi({"render", "cornell", "--method", "ar", "--cells", "26", "--size", "48x36", "--frames", "0",
-                       "--max-memory", "1", "--out", (refused / "f").string()});
-  EXPECT_NE(run.status, 0);
-  ASSERT_EQ(run.errLines().size(), 1u) << run.err;
-  EXPECT_NE(run.err.find("--max-memory"), std::string::npos) << run.err;
-  EXPECT_NE(run.err.find("--tessellate"), std::string::npos) << run.err;
-  EXPECT_TRUE(std::filesystem::is_empty(refused)) << "nothing written";
+  test::expectRefusedNaming(
+      "ar-memory-refused",
+      {"cornell", "--method", "ar", "--cells", "26", "--size", "48x36", "--frames", "0", "--max-memory", "1"},
+      {"--max-memory", "--tessellate"});
 }
 
 namespace {

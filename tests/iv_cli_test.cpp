@@ -394,37 +394,14 @@ TEST(IvBounces, GrowingChangesStopAsDiverging) {
 // Links the device's memory (here --max-memory) cannot hold are held in host memory, which the
 // device reads across its bus: the frame renders, the same bit for bit, and one line says so.
 TEST(IvMemory, LinksPastTheDeviceAreHeldInHostMemory) {
-  auto dir = test::scratchDir("links-in-host-memory");
-  const std::vector<std::string> scene = {"render", "cornell", "--cells", "8", "--size", "32x24", "--frames", "0"};
-  auto args = scene;
-  args.insert(args.end(), {"--out", (dir / "device").string()});
-  auto r = test::runIvgi(args);
-  ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_EQ(r.err.find("host memory"), std::string::npos) << r.err;
-  args = scene;
-  args.insert(args.end(), {"--max-memory", "8", "--out", (dir / "host").string()});
-  r = test::runIvgi(args);
-  ASSERT_EQ(r.status, 0) << r.err;
-  const auto lines = r.errLines();
-  EXPECT_EQ(std::count_if(lines.begin(), lines.end(),
-                          [](const std::string& line) { return line.find("host memory") != std::string::npos; }),
-            1)
-      << r.err;
-  EXPECT_NE(r.err.find("--max-memory of 8 MiB"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("in host memory"), std::string::npos) << r.err;
-  for (const char* channel : {"R", "G", "B"})
-    EXPECT_EQ(test::channelOf(dir / "host.exr", channel), test::channelOf(dir / "device.exr", channel)) << channel;
+  test::expectTheSameFromHostMemory("links-in-host-memory",
+                                    {"cornell", "--cells", "8", "--size", "32x24", "--frames", "0-1"}, "8", {0, 1});
 }
 
 // A scene whose buffers other than its links cannot fit the memory it is allowed gets one line
 // naming what would need less, and nothing is written.
 TEST(IvMemory, RefusalNamesWhatWouldNeedLess) {
-  auto dir = test::scratchDir("refused");
-  auto r = test::runIvgi({"render", "cornell", "--cells", "8", "--size", "32x24", "--frames", "0", "--max-memory", "1",
-                          "--out", (dir / "f").string()});
-  EXPECT_NE(r.status, 0);
-  ASSERT_EQ(r.errLines().size(), 1u) << r.err;
-  EXPECT_NE(r.err.find("--max-memory"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("--tessellate"), std::string::npos) << r.err;
-  EXPECT_TRUE(fs::is_empty(dir)) << "nothing written";
+  test::expectRefusedNaming("refused",
+                            {"cornell", "--cells", "8", "--size", "32x24", "--frames", "0", "--max-memory", "1"},
+                            {"--max-memory", "--tessellate"});
 }

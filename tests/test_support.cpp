@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <memory>
@@ -212,6 +213,47 @@ std::filesystem::path renderExr(const std::string& name, const std::vector<std::
   auto r = runIvgi(all);
   EXPECT_EQ(r.status, 0) << r.err;
   return dir / "f_0000.exr";
+}
+
+void expectRefusedNaming(const std::string& name, const std::vector<std::string>& args,
+                         const std::vector<std::string>& named) {
+  const auto dir = scratchDir(name);
+  std::vector<std::string> all = {"render", "--out", (dir / "f").string()};
+  all.insert(all.end(), args.begin(), args.end());
+  const Run r = runIvgi(all);
+  EXPECT_NE(r.status, 0);
+  ASSERT_EQ(r.errLines().size(), 1u) << r.err;
+  for (const std::string& word : named) EXPECT_NE(r.err.find(word), std::string::npos) << word << ": " << r.err;
+  EXPECT_TRUE(std::filesystem::is_empty(dir)) << "nothing written";
+}
+
+void expectTheSameFromHostMemory(const std::string& name, const std::vector<std::string>& args,
+                                 const std::string& mebibytes, const std::vector<int>& frames) {
+  const auto dir = scratchDir(name);
+  auto render = [&](const std::string& out, const std::vector<std::string>& extra) {
+    std::vector<std::string> all = {"render", "--format", "exr", "--out", (dir / out).string()};
+    all.insert(all.end(), args.begin(), args.end());
+    all.insert(all.end(), extra.begin(), extra.end());
+    return runIvgi(all);
+  };
+  const Run device = render("device", {}), host = render("host", {"--max-memory", mebibytes});
+  ASSERT_EQ(device.status, 0) << device.err;
+  ASSERT_EQ(host.status, 0) << host.err;
+  EXPECT_EQ(device.err.find("host memory"), std::string::npos) << device.err;
+  const auto lines = host.errLines();
+  EXPECT_EQ(std::count_if(lines.begin(), lines.end(),
+                          [](const std::string& line) { return line.find("host memory") != std::string::npos; }),
+            1)
+      << host.err;
+  EXPECT_NE(host.err.find("--max-memory of " + mebibytes + " MiB"), std::string::npos) << host.err;
+  for (int frame : frames) {
+    char suffix[16];
+    std::snprintf(suffix, sizeof suffix, "_%04d.exr", frame);
+    for (const char* channel : {"R", "G", "B"})
+      EXPECT_EQ(channelOf(dir / ("host" + std::string(suffix)), channel),
+                channelOf(dir / ("device" + std::string(suffix)), channel))
+          << suffix << " " << channel;
+  }
 }
 
 std::string bigEndian(uint32_t v, int bytes) {
