@@ -89,15 +89,17 @@ ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy h
   for (size_t k : bySize)
     if (onDevice * 5 > deviceBudget() * 4) tableMemory[k] = vk::Memory::Host, onDevice -= tableSizes[k];
   const uint64_t hostHeld = ctx.hostHeapIsDeviceHeap() ? tables : tables - onDevice;
-  double over = std::max({double(largest) / limits.maxTexelBufferElements,
-                          double(largest * sizeof(glm::vec4)) / double(ctx.maxAllocationBytes()),
-                          double(hostHeld) / double(ctx.hostHeapBytes()) * 1.25});
+  const double overDevice = std::max(double(largest) / limits.maxTexelBufferElements,
+                                     double(largest * sizeof(glm::vec4)) / double(ctx.maxAllocationBytes())),
+               overHost = double(hostHeld) / double(ctx.hostHeapBytes()) * 1.25, over = std::max(overDevice, overHost);
   if (over > 1.0)
-    throw SettingsError(
-        "the ar solver needs " + mib(tables) + " of directional tables (" + std::to_string(bins) +
-        " bins for each of " + std::to_string(nodeCount_) + " nodes and " + std::to_string(surfelCount_) +
-        " surfels), more than " + (settings_.memoryBudget ? "--max-memory" : "the device") + " allows: --dirs " +
-        std::to_string(std::max(1u, uint32_t(n / std::sqrt(over)))) + " would fit (the tables grow as N^2)");
+    throw SettingsError("the ar solver needs " + mib(tables) + " of directional tables (" + std::to_string(bins) +
+                        " bins for each of " + std::to_string(nodeCount_) + " nodes and " +
+                        std::to_string(surfelCount_) + " surfels), more than " +
+                        (overHost > overDevice ? "the device's and the host's memory hold"
+                                               : "the device allows in one allocation or texel buffer") +
+                        ": --dirs " + std::to_string(std::max(1u, uint32_t(n / std::sqrt(over)))) +
+                        " would fit (the tables grow as N^2)");
   vk::Allocations* tally = &allocations_;
   b_.scene = SceneBuffers(ctx, g, hierarchy_, n, settings_.environment, allocations_);
   noteUnresolvedRoughness(g, tableBinSpread(n), "ar", "--dirs " + std::to_string(n));
