@@ -63,6 +63,8 @@ class Context {
   uint32_t texelPartBits() const { return texelPartBits_; }
   // The size of the heap that device-local buffers come from: what the device says it can hold.
   VkDeviceSize deviceHeapBytes() const;
+  // What a solver may allocate in device memory: `budget` (--max-memory) where set, else the heap.
+  VkDeviceSize deviceBudget(uint64_t budget) const { return budget ? budget : deviceHeapBytes(); }
   // The size of the heap that host-visible buffers (Memory::Host) come from, which the device reads
   // across its bus; on a CPU device or an integrated GPU the same heap as the device's.
   VkDeviceSize hostHeapBytes() const;

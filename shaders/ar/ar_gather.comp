@@ -187,12 +187,12 @@ void main() {
   tableBase = r * kBins;
   vectorX = vectorY = vectorZ = slopeX = slopeY = slopeZ = vec3(0.0);
   if (push.chunk > 0u) {  // a later chunk: go on from the sums the one before left
-    vectorX = imageLoad(gatheredVector, int(6u * r)).rgb;
-    vectorY = imageLoad(gatheredVector, int(6u * r + 1u)).rgb;
-    vectorZ = imageLoad(gatheredVector, int(6u * r + 2u)).rgb;
-    slopeX = imageLoad(gatheredVector, int(6u * r + 3u)).rgb;
-    slopeY = imageLoad(gatheredVector, int(6u * r + 4u)).rgb;
-    slopeZ = imageLoad(gatheredVector, int(6u * r + 5u)).rgb;
+    vectorX = imageLoad(gatheredVector, int(kArVectorTexels * r)).rgb;
+    vectorY = imageLoad(gatheredVector, int(kArVectorTexels * r + 1u)).rgb;
+    vectorZ = imageLoad(gatheredVector, int(kArVectorTexels * r + 2u)).rgb;
+    slopeX = imageLoad(gatheredVector, int(kArVectorTexels * r + 3u)).rgb;
+    slopeY = imageLoad(gatheredVector, int(kArVectorTexels * r + 4u)).rgb;
+    slopeZ = imageLoad(gatheredVector, int(kArVectorTexels * r + 5u)).rgb;
     for (uint b = 0u; kTableHere && b < kBins; ++b) gatheredHere[b] = imageLoad(gathered, int(tableBase + b)).rgb;
   } else {
     for (uint b = 0u; b < kBins; ++b)
@@ -206,10 +206,10 @@ void main() {
     gatherLink(s & ~kEmitterBit, pr, nr, receiverArea);
   }
   for (uint b = 0u; kTableHere && b < kBins; ++b) imageStore(gathered, int(tableBase + b), vec4(gatheredHere[b], 0.0));
-  imageStore(gatheredVector, int(6u * r), vec4(vectorX, 0.0));
-  imageStore(gatheredVector, int(6u * r + 1u), vec4(vectorY, 0.0));
-  imageStore(gatheredVector, int(6u * r + 2u), vec4(vectorZ, 0.0));
-  imageStore(gatheredVector, int(6u * r + 3u), vec4(slopeX, 0.0));
-  imageStore(gatheredVector, int(6u * r + 4u), vec4(slopeY, 0.0));
-  imageStore(gatheredVector, int(6u * r + 5u), vec4(slopeZ, 0.0));
+  imageStore(gatheredVector, int(kArVectorTexels * r), vec4(vectorX, 0.0));
+  imageStore(gatheredVector, int(kArVectorTexels * r + 1u), vec4(vectorY, 0.0));
+  imageStore(gatheredVector, int(kArVectorTexels * r + 2u), vec4(vectorZ, 0.0));
+  imageStore(gatheredVector, int(kArVectorTexels * r + 3u), vec4(slopeX, 0.0));
+  imageStore(gatheredVector, int(kArVectorTexels * r + 4u), vec4(slopeY, 0.0));
+  imageStore(gatheredVector, int(kArVectorTexels * r + 5u), vec4(slopeZ, 0.0));
 }

@@ -57,7 +57,7 @@ void main() {
       E += fromBins * max(dot(normal, imageLoad(binTable, int(b)).xyz), 0.0);
     }
     for (int node = int(leaf); node >= 0; node = int(imageLoad(tree, node).x)) {
-      uint v = 6u * uint(node);
+      uint v = kArVectorTexels * uint(node);
       const vec3 offset = pa.xyz - nodePositionArea(uint(node)).xyz;
       E += normal.x * imageLoad(gatheredVector, int(v)).rgb + normal.y * imageLoad(gatheredVector, int(v + 1u)).rgb +
            normal.z * imageLoad(gatheredVector, int(v + 2u)).rgb;

@@ -59,6 +59,9 @@ IVGI_CONST uint kArGatherGroup = 64u;
 IVGI_CONST uint kArGatherTableHere = 384u;
 // A node whose normals spread less than this (radians) counts as flat: one plane, a front and a back.
 IVGI_CONST float kArFlatCone = 0.05f;
+// A flat node's texels in `gatheredVector`: its vector sum Σ s·ω (x, y, z, each RGB), then its
+// irradiance's gradient over the receiver's position (x, y, z).
+IVGI_CONST uint kArVectorTexels = 6u;
 // The asymmetric scheme's antiradiance steps after each radiance step.
 IVGI_CONST uint kAntiradianceSteps = 3u;
 // Per workgroup of ar_incident, what the host judges an iteration by (area-weighted luminances).

@@ -106,7 +106,8 @@ ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy h
   b_.brightEmitters = vk::makeBuffer(ctx, brightEmitters(hierarchy_, g.surfelEmission), vk::Memory::Device, tally);
   b_.args = vk::Buffer(ctx, 4 * sizeof(glm::uvec4), vk::Memory::Device, tally);
   b_.gathered = vk::Buffer(ctx, nodeTable, tableMemory[1], tally);
-  b_.gatheredVector = vk::Buffer(ctx, uint64_t(nodeCount_) * 6 * sizeof(glm::vec4), vk::Memory::Device, tally);
+  b_.gatheredVector =
+      vk::Buffer(ctx, uint64_t(nodeCount_) * gpu::kArVectorTexels * sizeof(glm::vec4), vk::Memory::Device, tally);
   b_.intensity = vk::Buffer(ctx, nodeTable, tableMemory[2], tally);
   b_.gatherOrder = vk::Buffer(ctx, nodeCount_ * sizeof(uint32_t), vk::Memory::Device, tally);
   b_.longSorts = vk::Buffer(ctx, (nodeCount_ + 1) * sizeof(uint32_t), vk::Memory::Device, tally);
@@ -188,9 +189,7 @@ void ArSolver::allocateLinks() {
   }
 }
 
-uint64_t ArSolver::deviceBudget() const {
-  return settings_.memoryBudget ? settings_.memoryBudget : ctx_.deviceHeapBytes();
-}
+uint64_t ArSolver::deviceBudget() const { return ctx_.deviceBudget(settings_.memoryBudget); }
 
 int ArSolver::chainStart(int frame) const { return frame - frame % int(settings_.restartEvery); }
 

@@ -94,9 +94,7 @@ std::vector<LinkRoom::Array> LinkRoom::arrays(bool hostAllowed) const {
   return arrays;
 }
 
-uint64_t LinkRoom::deviceBudget() const {
-  return settings_.memoryBudget ? settings_.memoryBudget : ctx_.deviceHeapBytes();
-}
+uint64_t LinkRoom::deviceBudget() const { return ctx_.deviceBudget(settings_.memoryBudget); }
 
 void LinkRoom::place(std::vector<Array>& arrays, bool hostAllowed) const {
   // An array that keeps its buffer keeps its memory; one allocated anew (its predecessor freed
