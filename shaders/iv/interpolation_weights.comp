@@ -64,8 +64,8 @@ void main() {
     gatherTaps(x, n, t1, t2);
   if (tapCount > 0u) {
     fitCoefficients(true);
-    for (uint t = 0u; t < tapCount; ++t)
-      imageStore(taps, int(s * kInterpolationTaps + t), uvec4(tapReceiver[t], floatBitsToUint(tapWeight[t]), 0u, 0u));
+    FOR_TAPS(t)
+    imageStore(taps, int(s * kInterpolationTaps + t), uvec4(tapReceiver[t], floatBitsToUint(tapWeight[t]), 0u, 0u));
     tapCounts[s] = tapCount;
     return;
   }

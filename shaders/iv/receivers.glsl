@@ -2,6 +2,16 @@
 // refinement (a sample predicted from its neighbours) and the interpolation weights. The including
 // shader declares the node texels (NODE_TEXELS).
 
+// Loops over the taps and over the fit's terms run a constant count with no early exit, each index
+// the loop's own (those past the count skipped): unrolled, the arrays stay in registers. lavapipe
+// keeps an array that any loop indexes at run time in memory, read and written a lane at a time.
+#define FOR_TAPS(t)                              \
+  for (uint t = 0u; t < kInterpolationTaps; ++t) \
+    if (t < tapCount)
+#define FOR_TERMS(i, m)                 \
+  for (uint i = 0u; i < kFitTerms; ++i) \
+    if (i < (m))
+
 // The taps found so far: receiver surfel, weight (then coefficient), offset in the query's tangent plane.
 uint tapCount = 0u;
 uint tapReceiver[kInterpolationTaps];
@@ -32,21 +42,18 @@ bool normalsMayWeigh(float apart) { return apart < acos(kReceiverNormalCos) + 1e
 // kInterpolationTaps are taken, replaces the lightest if it is heavier (the first found of equal
 // weights stays: a fixed order).
 void keepTap(uint receiver, float weight, vec2 offset) {
-  for (uint t = 0u; t < tapCount; ++t)
-    if (tapReceiver[t] == receiver) {
-      tapWeight[t] += weight;
-      return;
-    }
+  bool held = false;
+  FOR_TAPS(t) if (tapReceiver[t] == receiver) tapWeight[t] += weight, held = true;
   uint slot = tapCount;
-  if (tapCount == kInterpolationTaps) {
+  if (!held && tapCount == kInterpolationTaps) {
     slot = 0u;
-    for (uint t = 1u; t < kInterpolationTaps; ++t)
-      if (tapWeight[t] < tapWeight[slot]) slot = t;
-    if (tapWeight[slot] >= weight) return;
-  } else {
-    ++tapCount;
+    float lightest = tapWeight[0];
+    FOR_TAPS(t) if (tapWeight[t] < lightest) slot = t, lightest = tapWeight[t];
+    held = lightest >= weight;
   }
-  tapReceiver[slot] = receiver, tapWeight[slot] = weight, tapOffset[slot] = offset;
+  if (held) return;
+  if (tapCount < kInterpolationTaps) ++tapCount;
+  FOR_TAPS(t) if (t == slot) tapReceiver[t] = receiver, tapWeight[t] = weight, tapOffset[t] = offset;
 }
 
 // Considers receiver surfel s (at leaf node `leaf`) standing for a node of support radius `radius`
@@ -70,33 +77,32 @@ float[kFitTerms] fitTerms(vec2 o) { return float[kFitTerms](1.0, o.x, o.y, o.x *
 // (by Cholesky: A is symmetric and, regularised, positive definite).
 float[kFitTerms] solveFit(uint m, float unit) {
   float a[kFitTerms][kFitTerms];
-  for (uint i = 0u; i < m; ++i)
-    for (uint j = 0u; j <= i; ++j) a[i][j] = 0.0;
-  for (uint t = 0u; t < tapCount; ++t) {
+  FOR_TERMS(i, m) FOR_TERMS(j, i + 1u) a[i][j] = 0.0;
+  FOR_TAPS(t) {
     const float q[kFitTerms] = fitTerms(tapOffset[t] * unit);
-    for (uint i = 0u; i < m; ++i)
-      for (uint j = 0u; j <= i; ++j) a[i][j] += tapWeight[t] * q[i] * q[j];
+    FOR_TERMS(i, m) FOR_TERMS(j, i + 1u) a[i][j] += tapWeight[t] * q[i] * q[j];
   }
-  for (uint i = 1u; i < m; ++i) a[i][i] += (i < 3u ? kSlopeRegularisation : kCurvatureRegularisation) * a[0][0];
-  for (uint j = 0u; j < m; ++j) {  // A = L·Lᵀ, L in the lower triangle
+  FOR_TERMS(i, m) if (i > 0u) a[i][i] += (i < 3u ? kSlopeRegularisation : kCurvatureRegularisation) * a[0][0];
+  FOR_TERMS(j, m) {  // A = L·Lᵀ, L in the lower triangle
     float d = a[j][j];
-    for (uint k = 0u; k < j; ++k) d -= a[j][k] * a[j][k];
+    FOR_TERMS(k, j) d -= a[j][k] * a[j][k];
     a[j][j] = sqrt(max(d, 1e-12 * a[0][0]));  // taps nearly in a line: rounding may leave ≤ 0
-    for (uint i = j + 1u; i < m; ++i) {
+    FOR_TERMS(i, m) if (i > j) {
       float v = a[i][j];
-      for (uint k = 0u; k < j; ++k) v -= a[i][k] * a[j][k];
+      FOR_TERMS(k, j) v -= a[i][k] * a[j][k];
       a[i][j] = v / a[j][j];
     }
   }
   float z[kFitTerms] = float[kFitTerms](0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
-  for (uint i = 0u; i < m; ++i) {  // L·y = e₀
+  FOR_TERMS(i, m) {  // L·y = e₀
     float v = i == 0u ? 1.0 : 0.0;
-    for (uint k = 0u; k < i; ++k) v -= a[i][k] * z[k];
+    FOR_TERMS(k, i) v -= a[i][k] * z[k];
     z[i] = v / a[i][i];
   }
-  for (uint i = m; i-- > 0u;) {  // Lᵀ·z = y
+  FOR_TERMS(r, m) {  // Lᵀ·z = y, from the last row up
+    const uint i = m - 1u - r;
     float v = z[i];
-    for (uint k = i + 1u; k < m; ++k) v -= a[k][i] * z[k];
+    FOR_TERMS(k, m) if (k > i) v -= a[k][i] * z[k];
     z[i] = v / a[i][i];
   }
   return z;
@@ -123,18 +129,18 @@ float fitFactor(uint t, float unit, float z[kFitTerms]) {
 // diverge): past kMaxFitGain the fit stays linear.
 void fitCoefficients(bool curvature) {
   float total = 0.0, spread = 0.0;
-  for (uint t = 0u; t < tapCount; ++t) total += tapWeight[t], spread += tapWeight[t] * dot(tapOffset[t], tapOffset[t]);
+  FOR_TAPS(t) total += tapWeight[t], spread += tapWeight[t] * dot(tapOffset[t], tapOffset[t]);
   spread /= total;
   if (!(spread > 0.0)) {
-    for (uint t = 0u; t < tapCount; ++t) tapWeight[t] /= total;
+    FOR_TAPS(t) tapWeight[t] /= total;
     return;
   }
   const float unit = inversesqrt(spread);
   float z[kFitTerms] = solveFit(curvature ? kFitTerms : 3u, unit);
   if (curvature) {
     float gain = 0.0;
-    for (uint t = 0u; t < tapCount; ++t) gain += abs(tapWeight[t] * fitFactor(t, unit, z));
+    FOR_TAPS(t) gain += abs(tapWeight[t] * fitFactor(t, unit, z));
     if (!(gain <= kMaxFitGain)) z = solveFit(3u, unit);
   }
-  for (uint t = 0u; t < tapCount; ++t) tapWeight[t] *= fitFactor(t, unit, z);
+  FOR_TAPS(t) tapWeight[t] *= fitFactor(t, unit, z);
 }

@@ -117,8 +117,8 @@ float lightNeed(uint c, uint s, float floorValue, uvec2 level, bool listed) {
   if (tapCount == 0u) return 1e30;
   fitCoefficients(false);  // linear: the sample left out, a quadratic through the rest swings
   float prediction = 0.0;
-  for (uint t = 0u; t < tapCount; ++t)
-    prediction += tapWeight[t] * luminance(turnedIrradiance(tapReceiver[t], query.n));
+  FOR_TAPS(t)
+  prediction += tapWeight[t] * luminance(turnedIrradiance(tapReceiver[t], query.n));
   const float value = luminance(imageLoad(gathered, int(s)).rgb);
   return abs(max(prediction, 0.0) - value) / max(push.tolerance * max(value, floorValue), 1e-30);
 }
