@@ -27,6 +27,7 @@ layout(std430, binding = 11) writeonly buffer LobeExcess { vec4 lobeExcess[]; };
 layout(std430, binding = 14) writeonly buffer ArrivalExcess { vec4 arrivalExcess[]; };  // the same, kArrival
 layout(push_constant) uniform Push { GatherPush push; };
 #include "common/specular_albedo.glsl"
+#define LINK_LANES
 #include "receiver_links.glsl"
 #define SENDER_LOBES 12
 #define ARRIVAL_LOBES 13
@@ -51,20 +52,24 @@ void addLobes(uint q, vec3 x, float f, inout vec3 excess, inout vec3 arrival) {
 }
 
 void main() {
-  const uint k = (push.newOnly != 0u ? receiverCounts[kReceiverRound] : 0u) + itemIndex();
-  if (k >= receiverCounts[kReceiverCount]) return;
-  const uint s = imageLoad(receivers, int(k)).x;
-  const vec3 at = nodePositionArea(imageLoad(leafOfSurfel, int(s)).x).xyz;
-  vec3 excess = vec3(0.0), arrival = vec3(0.0);
-  const uvec2 range = imageLoad(ranges, int(s)).xy, staticRange = imageLoad(staticRanges, int(s)).xy;
-  for (uint i = range.x; i < range.x + range.y; ++i) {
-    const uvec2 link = loadParted(leafLinks, i).xy;
-    addLobes(link.x, at, uintBitsToFloat(link.y), excess, arrival);
+  const uint count = receiverCounts[kReceiverCount];
+  FOR_GROUP_RECEIVERS(k, push.newOnly != 0u ? receiverCounts[kReceiverRound] : 0u, count) {
+    const uint s = imageLoad(receivers, int(k)).x;
+    const vec3 at = nodePositionArea(imageLoad(leafOfSurfel, int(s)).x).xyz;
+    vec3 excess = vec3(0.0), arrival = vec3(0.0);
+    const uvec2 range = imageLoad(ranges, int(s)).xy, staticRange = imageLoad(staticRanges, int(s)).xy;
+    for (uint i = range.x + linkLane(); i < range.x + range.y; i += kReceiverGroup) {
+      const uvec2 link = loadParted(leafLinks, i).xy;
+      addLobes(link.x, at, uintBitsToFloat(link.y), excess, arrival);
+    }
+    for (uint i = staticRange.x + linkLane(); i < staticRange.x + staticRange.y; i += kReceiverGroup) {
+      const uvec2 link = loadParted(staticLinks, i).xy;
+      if (staticLinkStands(s, i, push.maskWords)) addLobes(link.x, at, uintBitsToFloat(link.y), excess, arrival);
+    }
+    sumLanes(excess, arrival);
+    if (linkLane() == 0u) {
+      lobeExcess[s] = vec4(excess, 0.0);
+      if (kArrival) arrivalExcess[s] = vec4(arrival, 0.0);
+    }
   }
-  for (uint i = staticRange.x; i < staticRange.x + staticRange.y; ++i) {
-    const uvec2 link = loadParted(staticLinks, i).xy;
-    if (staticLinkStands(s, i, push.maskWords)) addLobes(link.x, at, uintBitsToFloat(link.y), excess, arrival);
-  }
-  lobeExcess[s] = vec4(excess, 0.0);
-  if (kArrival) arrivalExcess[s] = vec4(arrival, 0.0);
 }

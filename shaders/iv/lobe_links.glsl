@@ -20,6 +20,7 @@ layout(binding = 11, rgba32f) readonly uniform imageBuffer radiosityA;  // the b
 layout(binding = 12, rgba32f) readonly uniform imageBuffer radiosityB;
 layout(binding = 13, rgba32f) readonly uniform imageBuffer nodeEmission;  // π·Le per node
 layout(std430, binding = 14) readonly buffer BounceStates { BounceState state; };
+#define LINK_LANES
 #include "receiver_links.glsl"
 #define SENDER_LOBES 15
 #include "common/sender_lobes.glsl"
@@ -46,21 +47,23 @@ vec3 reflectedFrom(Lobe lobe, uint q, float f, bool lastB, inout vec3 emitted) {
   return f * max(sent - emission, vec3(0.0)) * evalBrdf(widened, lt, lobe.view, 0.0);
 }
 
-// What the lobe reflects of the light receiver r's links and its external light bring.
+// What the lobe reflects of the light receiver r's links and its external light bring, in every
+// lane of the workgroup, which walks the links together (receiver_links.glsl); every lane calls it.
 vec3 reflectedAt(Lobe lobe, uint r) {
   vec3 reflected = vec3(0.0), emitted = vec3(0.0);
   const bool lastB = state.gathers % 2u == 1u;  // read once: a storage buffer, read a lane at a time
   const uvec2 range = imageLoad(ranges, int(r)).xy;
-  for (uint i = range.x; i < range.x + range.y; ++i) {
+  for (uint i = range.x + linkLane(); i < range.x + range.y; i += kReceiverGroup) {
     const uvec2 link = loadParted(leafLinks, i).xy;
     reflected += reflectedFrom(lobe, link.x, uintBitsToFloat(link.y), lastB, emitted);
   }
   const uvec2 staticRange = imageLoad(staticRanges, int(r)).xy;
-  for (uint i = staticRange.x; i < staticRange.x + staticRange.y; ++i) {
+  for (uint i = staticRange.x + linkLane(); i < staticRange.x + staticRange.y; i += kReceiverGroup) {
     const uvec2 link = loadParted(staticLinks, i).xy;
     if (staticLinkStands(r, i, push.maskWords))
       reflected += reflectedFrom(lobe, link.x, uintBitsToFloat(link.y), lastB, emitted);
   }
+  sumLanes(reflected, emitted);
   // The external light gives back what it took of the emitters' credit in the bins.
   return reflected + lobe.evenShare * max(imageLoad(externalLight, int(kExternalTexels * r)).rgb + emitted, vec3(0.0));
 }

@@ -17,14 +17,13 @@ layout(std430, binding = 18) writeonly buffer ReceiverLobe { vec4 receiverLobe[]
 layout(std430, binding = 19) readonly buffer ShownSurfels { uint shownSurfels[]; };
 
 void main() {
-  const uint k = itemIndex();
-  if (k >= receiverCounts[kReceiverCount]) return;
-  const uint s = imageLoad(receivers, int(k)).x;
-  if ((shownSurfels[s] & kShownTap) == 0u) return;
-  const Lobe lobe = lobeOf(s);
-  if (!lobe.seen) {
-    receiverLobe[s] = vec4(0.0, 0.0, 0.0, -1.0);
-    return;
+  const uint count = receiverCounts[kReceiverCount];
+  FOR_GROUP_RECEIVERS(k, 0u, count) {
+    const uint s = imageLoad(receivers, int(k)).x;
+    if ((shownSurfels[s] & kShownTap) == 0u) continue;
+    const Lobe lobe = lobeOf(s);
+    vec4 reflected = vec4(0.0, 0.0, 0.0, -1.0);
+    if (lobe.seen) reflected = vec4(reflectedAt(lobe, s) / max(kPi * lobe.evenShare, vec3(1e-4)), lobe.brdf.alpha);
+    if (linkLane() == 0u) receiverLobe[s] = reflected;
   }
-  receiverLobe[s] = vec4(reflectedAt(lobe, s) / max(kPi * lobe.evenShare, vec3(1e-4)), lobe.brdf.alpha);
 }
