@@ -23,11 +23,14 @@ layout(push_constant) uniform Push { ReceiverPush push; };
 
 #include "receivers.glsl"
 
-// Whether a node (reach r, normal cone) may hold a surfel within `radius` of `centre` with a normal
-// in `cone`.
-bool mayHold(vec2 r, vec4 normalCone, vec3 at, vec3 centre, float radius, vec4 cone) {
-  return r.x >= 0.0 && distance(at, centre) <= r.x + radius &&
-         (r.y <= -1.0 || cos(max(angleOutside(cone, normalCone.xyz), 0.0)) >= r.y);
+// Whether a node (reach r, normal cone) may hold a surfel within `radius` of `centre` with a normal in
+// `cone` (its half-angle's cosine and sine in `coneCosSin`): the cosine of the least angle between
+// the node's axis and the cone, cos(θ − w) = cos θ cos w + sin θ sin w past the cone, with a margin
+// for rounding (a node it lets in is still listed only where mayWeigh says its receiver may weigh).
+bool mayHold(vec2 r, vec4 normalCone, vec3 at, vec3 centre, float radius, vec4 cone, vec2 coneCosSin) {
+  const float c = clamp(dot(cone.xyz, normalCone.xyz), -1.0, 1.0);
+  const float least = c >= coneCosSin.x ? 1.0 : c * coneCosSin.x + sqrt(1.0 - c * c) * coneCosSin.y;
+  return r.x >= 0.0 && distance(at, centre) <= r.x + radius && (r.y <= -1.0 || least + 1e-4 >= r.y);
 }
 
 // Whether node q's receiver may weigh for a surfel within `radius` of `centre` whose normal lies in
@@ -45,10 +48,12 @@ void main() {
   const vec3 centre = nodePositionArea(group).xyz;
   const float radius = nodeRadius(group);
   const vec4 cone = nodeNormalCone(group);
+  const float w = min(cone.w, kPi);
+  const vec2 coneCosSin = vec2(cos(w), sin(w));
   uint count = 0u;
   for (uint node = 0u; node < push.nodeCount;) {
     const vec4 positionArea = nodePositionArea(node), normalCone = nodeNormalCone(node);
-    if (!mayHold(imageLoad(reach, int(node)).xy, normalCone, positionArea.xyz, centre, radius, cone)) {
+    if (!mayHold(imageLoad(reach, int(node)).xy, normalCone, positionArea.xyz, centre, radius, cone, coneCosSin)) {
       node = imageLoad(skip, int(node)).x;
       continue;
     }
