@@ -85,15 +85,15 @@ std::filesystem::path scratchDir(const std::string& name);
 // path of frame 0's file; a failed run fails the test.
 std::filesystem::path renderExr(const std::string& name, const std::vector<std::string>& args);
 
-// Renders `args` (a scene, its settings and its --frames) as EXR into scratchDir(name) twice: as
-// the device holds it, then with --max-memory `mebibytes`. The second run must say once, on
-// stderr, that it holds links or tables in host memory, and each of `frames` must equal the first
-// run's in every colour channel, bit for bit.
 // Renders `args` (a scene and its settings) into scratchDir(name): the run must fail with one line
 // on stderr that names each of `named`, and write nothing.
 void expectRefusedNaming(const std::string& name, const std::vector<std::string>& args,
                          const std::vector<std::string>& named);
 
+// Renders `args` (a scene, its settings and its --frames) as EXR into scratchDir(name) twice: as
+// the device holds it, then with --max-memory `mebibytes`. The second run must say once, on
+// stderr, that it holds links or tables in host memory, and each of `frames` must equal the first
+// run's in every colour channel, bit for bit.
 void expectTheSameFromHostMemory(const std::string& name, const std::vector<std::string>& args,
                                  const std::string& mebibytes, const std::vector<int>& frames);
 

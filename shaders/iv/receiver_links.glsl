@@ -1,6 +1,7 @@
-// A receiver's surviving links (gather, lobe_excess, lobe_links): its frame's, ranges[s] in leafLinks; then,
-// for a static leaf, those pruned once against static senders, staticRanges[s] in staticLinks, less
-// those whose bin the frame's senders override. Expects staticBins and overrides declared.
+// A receiver's surviving links (gather, lobe_excess, lobe_links): its frame's, ranges[s] in
+// leafLinks; then, for a static leaf, those pruned once against static senders, staticRanges[s] in
+// staticLinks, less those whose bin the frame's senders override. Expects staticBins and overrides
+// declared.
 
 // Whether static link i of receiver s stands (the frame's senders do not override its bin).
 bool staticLinkStands(uint s, uint i, uint maskWords) {
@@ -26,8 +27,8 @@ void sumLanes(inout vec3 a, inout vec3 b) {
   barrier();
 }
 
-// The workgroup's receivers, from `start` (the first of the dispatch's), while below `count`.
-#define FOR_GROUP_RECEIVERS(k, start, count)             \
-  for (uint k = (start) + groupIndex() * kReceiverGroup; \
-       k < min((start) + (groupIndex() + 1u) * kReceiverGroup, (count)); ++k)
+// The workgroup's receivers, from `start` (the first of the dispatch's), while below `count` (each
+// read once).
+#define FOR_GROUP_RECEIVERS(k, start, count) \
+  for (uint k = (start) + groupIndex() * kReceiverGroup, k##End = min(k + kReceiverGroup, (count)); k < k##End; ++k)
 #endif
