@@ -275,6 +275,8 @@ TEST(BadInput, AbsurdOptions) {
   expectRenderRefused("cornell", {"--direct", "maps", "--light-samples", "4096", "--shadow-map", "4096"},
                       {"--light-samples 4096 with --shadow-map 4096", "maxStorageBufferRange"});
   expectRenderRefused("cornell", {"--env", "1,1,1", "--env-directions", "5000"}, {"--env-directions 5000"});
+  expectRenderRefused("cornell", {"--env", "-1,0,0"}, {"--env '-1,0,0'", "at least 0"});
+  expectRenderRefused("cornell", {"--env", "3e38,0,0"}, {"--env '3e38,0,0'", "below 1e30"});
   expectRenderRefused(
       "cornell", {"--env", "1,1,1", "--env-directions", "4096", "--shadow-map", "4096"},
       {"--light-samples 128 and --env-directions 4096 with --shadow-map 4096", "maxStorageBufferRange"});

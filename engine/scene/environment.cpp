@@ -25,7 +25,7 @@ glm::vec3 parseColour(const std::string& spec) {
   if (!(ss >> c.r >> comma1 >> c.g >> comma2 >> c.b) || comma1 != ',' || comma2 != ',' || !ss.eof())
     throw SettingsError("--env '" + spec + "': expected R,G,B or an .exr file");
   if (!glm::all(glm::greaterThanEqual(c, glm::vec3(0.0f))) || !glm::all(glm::lessThan(c, glm::vec3(1e30f))))
-    throw SettingsError("--env '" + spec + "': radiance must be finite and >= 0");
+    throw SettingsError("--env '" + spec + "': radiance must be at least 0 and below 1e30");
   return c;
 }
 
