@@ -15,8 +15,10 @@ against the scene's size at equal error, the Blender room among them; about 45 m
 `glossy` (the glossy Cornell box against pt; about five minutes). The section then names the
 machine and date it was measured on, since the rest of the document may come from another run.
 
-Every timing is the median over --runs runs of `ivgi bench` (each itself a median over frames),
-with LP_NUM_THREADS set to --threads for lavapipe and pt on as many threads. The equal-error runs
+The default binary, build/ivgi, is built first, so that the figures are the sources' (a binary
+left from an experiment would write its own into the tables). Every timing is the median over
+--runs runs of `ivgi bench` (each itself a median over frames), with LP_NUM_THREADS set to
+--threads for lavapipe and pt on as many threads. The equal-error runs
 need a converged pt reference of the animated Cornell box's frame 0 at 320×240 (4096 spp, a few
 minutes), the flicker table a pt sequence and the real-file table pt references of its scenes: all
 are rendered into the scratch folder. The Blender room is made with Debian's blender where it is
@@ -664,6 +666,21 @@ def regenerate_section(args):
     print(f"wrote the {args.only} section of {path}", file=sys.stderr)
 
 
+def bring_up_to_date(ivgi):
+    """The tables must be the sources' figures: the default binary is built first (nothing to do
+    where it is up to date), and uncommitted changes to what it is built from are named on stderr.
+    A binary given with --ivgi (a portable bundle, another build) is taken as it is."""
+    if pathlib.Path(ivgi).resolve() != (ROOT / "build/ivgi").resolve():
+        return
+    subprocess.run(["cmake", "--build", str(ROOT / "build"), "-j", str(os.cpu_count() or 1)], check=True,
+                   stdout=subprocess.DEVNULL)
+    changed = subprocess.run(["git", "-C", str(ROOT), "status", "--porcelain", "--", "engine", "shaders", "scenes"],
+                             capture_output=True, text=True).stdout
+    if changed.strip():
+        print("perf_tables: these sources differ from the last commit; the figures will be theirs:\n" + changed,
+              file=sys.stderr)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--ivgi", default=ROOT / "build/ivgi")
@@ -671,6 +688,7 @@ def main():
     parser.add_argument("--threads", type=int, default=2)
     parser.add_argument("--only", choices=sorted(SECTIONS), help="regenerate this section alone")
     args = parser.parse_args()
+    bring_up_to_date(args.ivgi)
     if args.only:
         return regenerate_section(args)
     with tempfile.TemporaryDirectory(prefix="ivgi-perf-") as scratch:
