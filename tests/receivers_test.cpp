@@ -5,12 +5,15 @@
 
 #include <OpenImageIO/imagebuf.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "engine/gi/frame_renderer.h"
+#include "engine/gi/hierarchy.h"
 #include "engine/image/metrics.h"
 #include "engine/scene/gltf.h"
 #include "engine/scene/lights.h"
@@ -244,4 +247,32 @@ TEST(Receivers, ABallTakesTheBouncedLightItsNormalsFace) {
   EXPECT_GT(redSide, 0.0);  // the scene is what it says: red below on the left, green on the right
   EXPECT_LT(greenSide, 0.0);
   EXPECT_LT(error[1] / total[1], 0.07);
+}
+
+// The refinement's first candidates are the trees' roots and nothing else, however little room the
+// roots take (a scene of one to three objects: their list is padded to the least buffer): a solver
+// whose fresh memory held an inner node's index in every word gives the receivers and the image of
+// one whose fresh memory held a root's (which the first round lists anyway).
+TEST(Receivers, TheFirstRoundRefinesTheRootsAlone) {
+  scene::Scene s = scene::sceneFromModel(shadowEdge(), "test");  // three objects
+  scene::Geometry g = scene::buildGeometry(s);
+  const auto pose = scene::evaluatePose(s, -1, 0.0f);
+  const scene::CameraView view =
+      scene::framingCamera(scene::worldBounds(scene::animateOnHost(g, g.frameInputs(s, pose))), 1.0f);
+  const gi::Hierarchy h = gi::restPoseHierarchy(s, g);
+  ASSERT_GE(h.levels(), 3u);
+  const uint32_t inner = h.levelStart[h.levels() - 2];  // above leaves: refined only where the light asks
+  ASSERT_EQ(std::find(h.roots.begin(), h.roots.end(), inner), h.roots.end());
+  const auto solveOver = [&](uint32_t word) {
+    gi::FrameRenderer r = [&] {
+      const test::FreshMemoryFill fill(word);
+      return test::ivRenderer(g, {16, 16, 1}, gi::makeIvSetup(s, g, {}));
+    }();
+    const auto frame = r.render(g.frameInputs(s, pose), view);
+    return std::make_pair(test::ivSolver(r).receiverSurfels(), frame.channels.radiance);
+  };
+  const auto overRoot = solveOver(h.roots[0]), overInner = solveOver(inner);
+  EXPECT_EQ(overInner.first, overRoot.first) << "receivers";
+  EXPECT_EQ(std::memcmp(overInner.second.data(), overRoot.second.data(), overRoot.second.size() * sizeof(glm::vec4)),
+            0);
 }

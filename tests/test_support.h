@@ -24,6 +24,13 @@ namespace ivgi::test {
 // The process's Vulkan context, with validation layers on; the test environment fails any test
 // process whose validation layer reported an error.
 vk::Context& gpu();
+// While it lives, every buffer made on gpu() holds `word` first (vk::Context::fillFreshMemory).
+struct FreshMemoryFill {
+  explicit FreshMemoryFill(uint32_t word) { gpu().fillFreshMemory(word); }
+  ~FreshMemoryFill() { gpu().fillFreshMemory(std::nullopt); }
+  FreshMemoryFill(const FreshMemoryFill&) = delete;
+  FreshMemoryFill& operator=(const FreshMemoryFill&) = delete;
+};
 
 struct Run {
   int status = -1;

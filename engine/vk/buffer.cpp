@@ -30,6 +30,12 @@ Buffer::Buffer(const Context& ctx, VkDeviceSize bytes, Memory memory, Allocation
   flags = mp.memoryTypes[ai.memoryTypeIndex].propertyFlags;
   if (flags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT)
     check(vkMapMemory(ctx.device(), memory_, 0, VK_WHOLE_SIZE, 0, &mapped_), "vkMapMemory");
+  if (const std::optional<uint32_t> word = ctx.freshMemoryFill()) {
+    if (mapped_)
+      std::fill_n(static_cast<uint32_t*>(mapped_), size_ / sizeof(uint32_t), *word);
+    else
+      ctx.submitAndWait([&](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, buffer_, 0, VK_WHOLE_SIZE, *word); });
+  }
   allocations_ = allocations;
   if (allocations_) allocations_->bytes_ += size_, allocations_->hostBytes_ += memory == Memory::Host ? size_ : 0;
 }

@@ -8,6 +8,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -92,6 +93,12 @@ class Context {
   void timeDispatches(PassTimer* timer) const { dispatchTimer_ = timer; }
   PassTimer* dispatchTimer() const { return dispatchTimer_; }
 
+  // For tests: while set, every buffer made holds `word` in each 32-bit word before anything is
+  // written to it, so that a result that reads memory nothing wrote shows as a difference between
+  // two fills (the driver's fresh memory holds whatever it last held); nullopt: left as it comes.
+  void fillFreshMemory(std::optional<uint32_t> word) const { freshMemoryFill_ = word; }
+  std::optional<uint32_t> freshMemoryFill() const { return freshMemoryFill_; }
+
   // What was made once under `key` for this device, made by `make` the first time it is asked for
   // and kept as long as the context: the compiled pipelines that every Program of one shader and
   // specialization shares (a pipeline costs its compilation; a device compiles it once).
@@ -117,6 +124,7 @@ class Context {
   DeviceInfo info_;
   mutable uint32_t validationErrors_ = 0;
   mutable PassTimer* dispatchTimer_ = nullptr;
+  mutable std::optional<uint32_t> freshMemoryFill_;
   mutable std::mutex sharedLock_;
   mutable std::map<std::string, std::shared_ptr<const void>> shared_;  // shared(); emptied before the device goes
 

@@ -31,6 +31,7 @@ Receivers::Receivers(const vk::Context& ctx, const Hierarchy& h, const IvSetting
       nodeCount_(uint32_t(h.nodes.size())),
       levels_(h.levels()),
       groupCount_(uint32_t(h.groups.size())),
+      rootCount_(uint32_t(h.roots.size())),
       largestCell_(h.size / kCellsAcross),
       args_(shaderProgram(ctx, "receiver_args")),
       select_(shaderProgram(ctx, "select_receivers")),
@@ -122,7 +123,7 @@ void Receivers::makeEverySurfelReceiver(const vk::Context& ctx, IvBuffers& b) co
 
 void Receivers::recordStart(VkCommandBuffer cmd) const {
   std::vector<uint32_t> counts(gpu::kReceiverSlots, 0u);
-  counts[gpu::kReceiverCandidatesA] = uint32_t(roots_.size() / sizeof(uint32_t));
+  counts[gpu::kReceiverCandidatesA] = rootCount_;
   vk::updateBuffer(cmd, b_.receiverCounts, 0, counts.size() * sizeof(uint32_t), counts.data());
   const glm::uvec4 candidates = gpu::groupsFor(counts[gpu::kReceiverCandidatesA], gpu::kReceiverGroup);
   vk::updateBuffer(cmd, b_.receiverArgs, gpu::kArgsCandidates * sizeof(glm::uvec4), sizeof(candidates), &candidates);
@@ -130,7 +131,7 @@ void Receivers::recordStart(VkCommandBuffer cmd) const {
   vk::fillBuffer(cmd, b_.needs, 0u);
   vk::fillBuffer(cmd, b_.presences, 0u);
   vk::fillBuffer(cmd, b_.rotationGradients, 0u);  // a fill (interpolation_weights) has no estimate
-  vk::copyBuffer(cmd, roots_, b_.candidatesA);
+  if (rootCount_ > 0) vk::copyRegion(cmd, roots_, b_.candidatesA, {0, 0, rootCount_ * sizeof(uint32_t)});
 }
 
 void Receivers::recordSelect(VkCommandBuffer cmd, uint32_t round, const Prune::Batching& batching) const {

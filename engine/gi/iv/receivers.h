@@ -57,10 +57,10 @@ class Receivers {
 
   const IvSettings& settings_;
   const IvBuffers& b_;
-  uint32_t surfelCount_, nodeCount_, levels_, groupCount_;
+  uint32_t surfelCount_, nodeCount_, levels_, groupCount_, rootCount_;
   float largestCell_;
   vk::Program args_, select_, refine_, roles_, reach_, neighbours_, weights_;
-  vk::Buffer roots_;  // the first round's candidates
+  vk::Buffer roots_;  // the first round's candidates, rootCount_ of them (the buffer may hold more room)
 };
 
 }  // namespace ivgi::gi
