@@ -14,25 +14,10 @@
 #include "engine/scene/gltf.h"
 #include "engine/scene/lights.h"
 #include "scenes/builtin.h"
-#include "scenes/gltf_builder.h"
 #include "tests/test_support.h"
 
 namespace ivgi {
 namespace {
-
-// A sun over a floor with a box on it: two objects, fewer than the least buffer holds words.
-tinygltf::Model sunOverABox() {
-  scenes::GltfBuilder b;
-  const int grey = b.material("grey", glm::vec3(0.6f));
-  scenes::MeshData floor, box;
-  scenes::addQuad(floor, {-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}, 8, 8, {0, 1, 0});
-  scenes::addBox(box, {0.0f, 0.25f, 0.0f}, glm::vec3(0.25f), 2);
-  b.node("floor", b.mesh("floor", {{floor, grey}}));
-  b.node("box", b.mesh("box", {{box, grey}}));
-  b.light("sun", "directional", 2.0f, {0, 2, 0}, glm::angleAxis(-1.2f, glm::vec3(1, 0, 0)));
-  b.camera("down", 1.2f, 0.01f, {0, 1.5f, 0.5f}, glm::angleAxis(-1.3f, glm::vec3(1, 0, 0)));
-  return b.finish();
-}
 
 // The radiance of the first two frames of `s`'s first animation (where it has one) by `method` at
 // its defaults, as render makes its renderer, every buffer made while it runs holding `word` first.
@@ -82,7 +67,7 @@ TEST(FreshMemory, TheGlossyCornellBoxByIv) {
   expectTheSameOverAnyWord(scene::sceneFromModel(scenes::cornellBox({.cells = 4, .glossy = true}), "glossy"), "iv");
 }
 TEST(FreshMemory, ASunOverABoxByIvAndAr) {
-  const scene::Scene s = scene::sceneFromModel(sunOverABox(), "sun");
+  const scene::Scene s = scene::sceneFromModel(test::sunOverABox(), "sun");
   expectTheSameOverAnyWord(s, "iv");
   expectTheSameOverAnyWord(s, "ar");
 }

@@ -16,27 +16,12 @@
 #include "engine/scene/gltf.h"
 #include "engine/scene/lights.h"
 #include "scenes/builtin.h"
-#include "scenes/gltf_builder.h"
 #include "tests/test_support.h"
 
 namespace ivgi {
 namespace {
 
 using MakeSolver = std::function<std::unique_ptr<gi::Solver>(const scene::Scene&, const scene::Geometry&)>;
-
-// A sun over a floor with a box on it, and a camera looking down at them.
-tinygltf::Model sunOverABox() {
-  scenes::GltfBuilder b;
-  const int grey = b.material("grey", glm::vec3(0.6f));
-  scenes::MeshData floor, box;
-  scenes::addQuad(floor, {-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}, 8, 8, {0, 1, 0});
-  scenes::addBox(box, {0.0f, 0.25f, 0.0f}, glm::vec3(0.25f), 2);
-  b.node("floor", b.mesh("floor", {{floor, grey}}));
-  b.node("box", b.mesh("box", {{box, grey}}));
-  b.light("sun", "directional", 2.0f, {0, 2, 0}, glm::angleAxis(-1.2f, glm::vec3(1, 0, 0)));
-  b.camera("down", 1.2f, 0.01f, {0, 1.5f, 0.5f}, glm::angleAxis(-1.3f, glm::vec3(1, 0, 0)));
-  return b.finish();
-}
 
 // Renders three frames of the still `model` from a camera that moves, by a renderer told that
 // nothing moved after the first frame (`kept`) and one told each frame that everything did
@@ -79,7 +64,7 @@ void stillFramesShowWhatSolvingGives(const tinygltf::Model& model, const gi::Dir
 void stillFramesShowWhatSolvingGives(const MakeSolver& kept, const MakeSolver& solved) {
   stillFramesShowWhatSolvingGives(scenes::cornellBox({.cells = 6}), {.samples = 16, .resolution = 64, .perPixel = true},
                                   kept, solved, false);
-  stillFramesShowWhatSolvingGives(sunOverABox(), {.resolution = 64, .perPixel = true, .punctualLights = 1}, kept,
+  stillFramesShowWhatSolvingGives(test::sunOverABox(), {.resolution = 64, .perPixel = true, .punctualLights = 1}, kept,
                                   solved, true);
 }
 

@@ -17,6 +17,7 @@
 #include "engine/cli/app.h"
 #include "engine/scene/gltf.h"
 #include "scenes/builtin.h"
+#include "scenes/gltf_builder.h"
 
 namespace ivgi::test {
 
@@ -183,6 +184,19 @@ DirectLightErrors emptyRoomDirectLight(const std::vector<scene::Surfel>& surfels
   e.mean /= std::max(e.counted, 1);
   e.total = got / std::max(expected, 1e-30);
   return e;
+}
+
+tinygltf::Model sunOverABox() {
+  scenes::GltfBuilder b;
+  const int grey = b.material("grey", glm::vec3(0.6f));
+  scenes::MeshData floor, box;
+  scenes::addQuad(floor, {-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}, 8, 8, {0, 1, 0});
+  scenes::addBox(box, {0.0f, 0.25f, 0.0f}, glm::vec3(0.25f), 2);
+  b.node("floor", b.mesh("floor", {{floor, grey}}));
+  b.node("box", b.mesh("box", {{box, grey}}));
+  b.light("sun", "directional", 2.0f, {0, 2, 0}, glm::angleAxis(-1.2f, glm::vec3(1, 0, 0)));
+  b.camera("down", 1.2f, 0.01f, {0, 1.5f, 0.5f}, glm::angleAxis(-1.3f, glm::vec3(1, 0, 0)));
+  return b.finish();
 }
 
 tinygltf::Model scaled(tinygltf::Model model, float factor) {

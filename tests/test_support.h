@@ -72,6 +72,8 @@ DirectLightErrors emptyRoomDirectLight(const std::vector<scene::Surfel>& surfels
 
 // `model` under a new root node that scales its scenes' roots by `factor`.
 tinygltf::Model scaled(tinygltf::Model model, float factor);
+// A sun over a floor with a box on it (two objects), and a camera looking down at them.
+tinygltf::Model sunOverABox();
 
 // One channel of an EXR file ("R", "albedo.G", "N.Y", …), row-major; empty if the file or the
 // channel cannot be read.
