@@ -36,8 +36,7 @@ std::vector<glm::vec4> framesOver(const scene::Scene& s, const std::string& meth
       const scene::Pose pose = scene::evaluatePose(s, animation, 0.25f * float(frame));
       const scene::FrameInputs inputs = g.frameInputs(s, pose);
       const scene::CameraView view =
-          s.cameraNodes().empty() ? scene::framingCamera(scene::worldBounds(scene::animateOnHost(g, inputs)), 1.0f)
-                                  : scene::cameraView(s, pose, s.cameraNodes()[0]);
+          s.cameraNodes().empty() ? test::framing(g, inputs) : scene::cameraView(s, pose, s.cameraNodes()[0]);
       const auto frameRadiance = r.render(inputs, view, scene::worldLights(s, pose), true, frame).channels.radiance;
       radiance.insert(radiance.end(), frameRadiance.begin(), frameRadiance.end());
     }

@@ -257,8 +257,7 @@ TEST(Receivers, TheFirstRoundRefinesTheRootsAlone) {
   scene::Scene s = scene::sceneFromModel(shadowEdge(), "test");  // three objects
   scene::Geometry g = scene::buildGeometry(s);
   const auto pose = scene::evaluatePose(s, -1, 0.0f);
-  const scene::CameraView view =
-      scene::framingCamera(scene::worldBounds(scene::animateOnHost(g, g.frameInputs(s, pose))), 1.0f);
+  const scene::CameraView view = test::framing(g, g.frameInputs(s, pose));
   const gi::Hierarchy h = gi::restPoseHierarchy(s, g);
   ASSERT_GE(h.levels(), 3u);
   const uint32_t inner = h.levelStart[h.levels() - 2];  // above leaves: refined only where the light asks

@@ -34,7 +34,7 @@ Buffer::Buffer(const Context& ctx, VkDeviceSize bytes, Memory memory, Allocation
     if (mapped_)
       std::fill_n(static_cast<uint32_t*>(mapped_), size_ / sizeof(uint32_t), *word);
     else
-      ctx.submitAndWait([&](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, buffer_, 0, VK_WHOLE_SIZE, *word); });
+      ctx.submitAndWait([&](VkCommandBuffer cmd) { fillBuffer(cmd, *this, *word); });
   }
   allocations_ = allocations;
   if (allocations_) allocations_->bytes_ += size_, allocations_->hostBytes_ += memory == Memory::Host ? size_ : 0;
