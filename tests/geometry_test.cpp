@@ -207,7 +207,11 @@ TEST(Surfels, UvSeamsAreWeldedHardEdgesAreNot) {
 // from the centroid the solver gave it for: vertex_irradiance carries it there along the gradient of
 // its neighbours on its own face. A field linear along a floor reaches every vertex (up to the fit's
 // ridge); a wall meeting the floor at a hard edge, of another value, neither pulls on the floor nor
-// moves.
+// moves. Where part of the floor lies inside another object (buried_surfels: under a block standing
+// on it) and its surfels hold no light, the floor outside still shows its own field, and a buried
+// surfel beside it shows its neighbours' light outside (the triangles reaching out from under the
+// block share its vertex), not the darkness. Its neighbours outside stand in one column, so their
+// fit has no slope across the contact: it shows the column's field near it.
 TEST(Surfels, IrradianceIsCarriedToTheVertexAlongItsFace) {
   scenes::MeshData mesh;
   scenes::addQuad(mesh, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}, {0, 0, 0}, 6, 6, {0, 1, 0});  // floor
@@ -221,45 +225,81 @@ TEST(Surfels, IrradianceIsCarriedToTheVertexAlongItsFace) {
   auto field = [](glm::vec3 p) { return 1.0f + 2.0f * p.x + 3.0f * p.z; };
   const glm::vec3 channels(1.0f, 2.0f, 0.5f);
   auto onFloor = [&](size_t i) { return surfels[i].normal.y > 0.9f; };
-  std::vector<glm::vec4> solved(surfels.size());
-  for (size_t i = 0; i < surfels.size(); ++i)
-    solved[i] = glm::vec4(onFloor(i) ? field(glm::vec3(surfels[i].positionArea)) * channels : glm::vec3(5.0f), 0.0f);
+  auto vertexOf = [&](size_t i) { return glm::vec3(world[g.surfelVertices[g.surfels[i].firstVertex]].position); };
 
   auto& ctx = test::gpu();
-  vk::Buffer out(ctx, surfels.size() * sizeof(glm::vec4), vk::Memory::Host);
   const vk::Buffer sources = vk::makeBuffer(ctx, g.surfels), vertices = vk::makeBuffer(ctx, g.surfelVertices),
                    triangles = vk::makeBuffer(ctx, g.surfelTriangles), meshTriangles = vk::makeBuffer(ctx, g.triangles),
                    worldBuffer = vk::makeBuffer(ctx, world), surfelBuffer = vk::makeBuffer(ctx, surfels),
-                   vertexSurfel = vk::makeBuffer(ctx, vertexSurfels(g)), irradiance = vk::makeBuffer(ctx, solved);
-  const vk::Buffer noDirectLight = vk::makeBuffer(ctx, std::vector<glm::vec4>(solved.size()));
+                   vertexSurfel = vk::makeBuffer(ctx, vertexSurfels(g));
+  const vk::Buffer noDirectLight = vk::makeBuffer(ctx, std::vector<glm::vec4>(surfels.size()));
   const vk::Program pass = gi::shaderProgram(ctx, "vertex_irradiance");
   const uint32_t count = uint32_t(surfels.size());
-  ctx.submitAndWait([&](VkCommandBuffer cmd) {
-    pass.dispatchItems(cmd, count,
-                       {{"surfelSources", sources},
-                        {"surfelVertices", vertices},
-                        {"surfelTriangles", triangles},
-                        {"triangles", meshTriangles},
-                        {"world", worldBuffer},
-                        {"surfels", surfelBuffer},
-                        {"vertexSurfel", vertexSurfel},
-                        {"surfelIrradiance", irradiance},
-                        {"surfelDirect", noDirectLight},  // read only where the pixels take it (kDirectPixels)
-                        {"shownSurfels", noDirectLight},  // read only for the reflections (kShownOnly)
-                        {"vertexIrradiance", out}},
-                       gpu::CountPush{.count = count});
-  });
-  const auto shown = out.read<glm::vec4>(surfels.size());
+  // The vertices' irradiance, given the surfels' and which lie inside another object.
+  auto carried = [&](const std::vector<glm::vec4>& solved, const std::vector<uint32_t>& buried) {
+    vk::Buffer out(ctx, surfels.size() * sizeof(glm::vec4), vk::Memory::Host);
+    const vk::Buffer irradiance = vk::makeBuffer(ctx, solved), buriedBuffer = vk::makeBuffer(ctx, buried);
+    ctx.submitAndWait([&](VkCommandBuffer cmd) {
+      pass.dispatchItems(cmd, count,
+                         {{"surfelSources", sources},
+                          {"surfelVertices", vertices},
+                          {"surfelTriangles", triangles},
+                          {"triangles", meshTriangles},
+                          {"world", worldBuffer},
+                          {"surfels", surfelBuffer},
+                          {"vertexSurfel", vertexSurfel},
+                          {"surfelIrradiance", irradiance},
+                          {"surfelDirect", noDirectLight},  // read only where the pixels take it (kDirectPixels)
+                          {"shownSurfels", noDirectLight},  // read only for the reflections (kShownOnly)
+                          {"surfelBuried", buriedBuffer},
+                          {"vertexIrradiance", out}},
+                         gpu::CountPush{.count = count});
+    });
+    return out.read<glm::vec4>(surfels.size());
+  };
+
+  std::vector<glm::vec4> solved(surfels.size());
+  for (size_t i = 0; i < surfels.size(); ++i)
+    solved[i] = glm::vec4(onFloor(i) ? field(glm::vec3(surfels[i].positionArea)) * channels : glm::vec3(5.0f), 0.0f);
+  const auto shown = carried(solved, std::vector<uint32_t>(surfels.size(), 0u));
   int moved = 0;
   for (size_t i = 0; i < surfels.size(); ++i) {
-    const glm::vec3 vertex(world[g.surfelVertices[g.surfels[i].firstVertex]].position);
-    const glm::vec3 own(solved[i]), want = onFloor(i) ? field(vertex) * channels : glm::vec3(5.0f);
+    const glm::vec3 own(solved[i]), want = onFloor(i) ? field(vertexOf(i)) * channels : glm::vec3(5.0f);
     moved += glm::length(want - own) > 0.01f;
     for (int c = 0; c < 3; ++c)
       EXPECT_NEAR(shown[i][c], want[c], 0.015f * std::abs(want[c] - own[c]) + 1e-5f)
-          << "surfel " << i << " at " << vertex.x << ", " << vertex.y << ", " << vertex.z << " channel " << c;
+          << "surfel " << i << " at " << vertexOf(i).x << ", " << vertexOf(i).y << ", " << vertexOf(i).z << " channel "
+          << c;
   }
   EXPECT_GE(moved, 4 * 6) << "the floor's border surfels lie off their vertices";
+
+  // A block over the floor's strip x < 0.4: its surfels there (vertices x = 0, 1/6, 1/3) are buried
+  // and dark. The floor's surfels at x = 1/3 have neighbours outside; those at 0 and 1/6 have none
+  // and keep their own light.
+  std::vector<uint32_t> buried(surfels.size(), 0u);
+  int continued = 0;
+  for (size_t i = 0; i < surfels.size(); ++i)
+    if (onFloor(i) && vertexOf(i).x < 0.4f) buried[i] = 1u, solved[i] = glm::vec4(0.0f);
+  const auto contact = carried(solved, buried);
+  for (size_t i = 0; i < surfels.size(); ++i) {
+    if (!onFloor(i)) continue;
+    const glm::vec3 v = vertexOf(i);
+    if (buried[i] && v.x > 0.3f) {  // the field of the column outside, within a cell of its vertex
+      const glm::vec3 lo = field({0.5f, 0.0f, std::max(v.z - 1.0f / 6.0f, 0.0f)}) * channels,
+                      hi = field({0.5f, 0.0f, std::min(v.z + 1.0f / 6.0f, 1.0f)}) * channels;
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_GE(contact[i][c], lo[c] - 1e-4f) << "surfel " << i << " at z " << v.z << " channel " << c;
+        EXPECT_LE(contact[i][c], hi[c] + 1e-4f) << "surfel " << i << " at z " << v.z << " channel " << c;
+      }
+      ++continued;
+      continue;
+    }
+    const glm::vec3 own(solved[i]), want = buried[i] ? own : field(v) * channels;
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(contact[i][c], want[c], 0.015f * std::abs(want[c] - own[c]) + 1e-5f)
+          << "surfel " << i << (buried[i] ? " (buried)" : "") << " at " << v.x << ", " << v.z << " channel " << c;
+  }
+  EXPECT_EQ(continued, 7) << "a column of the floor's vertices, at x = 1/3";
 }
 
 TEST(Surfels, DegenerateTrianglesAreCountedAndExcluded) {

@@ -156,6 +156,8 @@ vk::Bindings FrameRenderer::pool() const {
                              {"surfels", surfels_},
                              {"visibility", visibility_},
                              {"surfelIrradiance", solver_ ? solver_->irradiance() : unlitIrradiance_},
+                             // Without a solver nothing carries light to the vertices: never read.
+                             {"surfelBuried", solver_ ? solver_->surfelBuried() : unlitIrradiance_},
                              {"vertexIrradiance", shownIrradiance_},
                              {"radiance", radiance_},
                              {"albedo", albedo_},

@@ -164,6 +164,37 @@ void chooseRepresentatives(Hierarchy& h, const std::vector<scene::Surfel>& rest)
   }
 }
 
+// Per root: 1 where its surface at rest, normals out, encloses a volume: its signed volume about its
+// centroid, Σ a n·(c − o)/3 over its surfels, is positive beyond rounding. Only such an object can
+// hold another's surfels inside (shaders/gi/buried_surfels.comp); a plane, or a room whose normals
+// face in, cannot.
+std::vector<uint8_t> enclosingRoots(const Hierarchy& h, const std::vector<scene::Surfel>& rest) {
+  const size_t roots = h.roots.size();
+  std::vector<uint32_t> rootOf(h.leafOfSurfel.size());
+  for (size_t s = 0; s < rootOf.size(); ++s) {
+    uint32_t node = h.leafOfSurfel[s];
+    while (h.nodes[node].parent >= 0) node = uint32_t(h.nodes[node].parent);
+    rootOf[s] = node;  // roots are nodes 0 to roots − 1
+  }
+  std::vector<glm::dvec3> weighted(roots, glm::dvec3(0.0));
+  std::vector<double> area(roots, 0.0), volume(roots, 0.0);
+  for (size_t s = 0; s < rootOf.size(); ++s) {
+    const double a = rest[s].positionArea.w;
+    weighted[rootOf[s]] += a * glm::dvec3(glm::vec3(rest[s].positionArea));
+    area[rootOf[s]] += a;
+  }
+  for (size_t s = 0; s < rootOf.size(); ++s) {
+    const uint32_t r = rootOf[s];
+    const glm::dvec3 centroid = area[r] > 0.0 ? weighted[r] / area[r] : glm::dvec3(0.0);
+    volume[r] +=
+        rest[s].positionArea.w *
+        glm::dot(glm::dvec3(glm::vec3(rest[s].normal)), glm::dvec3(glm::vec3(rest[s].positionArea)) - centroid) / 3.0;
+  }
+  std::vector<uint8_t> encloses(roots, 0);
+  for (size_t r = 0; r < roots; ++r) encloses[r] = volume[r] > 1e-4 * std::pow(area[r], 1.5) ? 1 : 0;
+  return encloses;
+}
+
 }  // namespace
 
 bool usableUvAtlas(const std::vector<glm::vec2>& uvs, const std::vector<glm::uvec3>& triangles) {
@@ -261,6 +292,7 @@ Hierarchy buildHierarchy(const scene::Geometry& g, const std::vector<scene::Surf
         parent < 0 ? uint32_t(h.roots.size()) : h.nodes[parent].firstChild + h.nodes[parent].childCount;
     h.skip[i] = i + 1 < last ? i + 1 : (parent < 0 ? end : h.skip[uint32_t(parent)]);
   }
+  h.rootEncloses = enclosingRoots(h, rest);
   std::vector<uint32_t> groupNode(surfelCount);
   for (size_t s = 0; s < surfelCount; ++s) {
     uint32_t node = h.leafOfSurfel[s];

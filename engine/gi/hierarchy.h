@@ -32,7 +32,10 @@ struct Hierarchy {
   // surfel its group: the interpolation lists candidates once per group (docs/design.md §2.4).
   std::vector<uint32_t> groups, groupOfSurfel;
   std::vector<uint8_t> uvTree;  // per root: 1 if built as a UV quadtree
-  float size = 0;               // the diagonal of the surfels' bounds at rest
+  // Per root: 1 where its surface at rest, normals out, encloses a volume (it may hold other
+  // objects' surfels inside it).
+  std::vector<uint8_t> rootEncloses;
+  float size = 0;  // the diagonal of the surfels' bounds at rest
   uint32_t levels() const { return uint32_t(levelStart.size() - 1); }
   uint32_t maxDepth() const { return levels() ? levels() - 1 : 0; }
 };

@@ -4,11 +4,19 @@
 
 namespace ivgi::gi {
 
-Refit::Refit(const vk::Context& ctx) : program_(shaderProgram(ctx, "refit")) {}
+Refit::Refit(const vk::Context& ctx)
+    : refit_(shaderProgram(ctx, "refit")), burial_(shaderProgram(ctx, "buried_surfels")) {}
+
+void Refit::recordNodes(VkCommandBuffer cmd, const SceneBuffers& scene, const vk::Buffer& surfels) const {
+  refit_.dispatchItems(cmd, scene.nodeCount, scene.pool().with({{"surfels", surfels}}),
+                       gpu::CountPush{.count = scene.nodeCount});
+}
 
 void Refit::record(VkCommandBuffer cmd, const SceneBuffers& scene, const vk::Buffer& surfels) const {
-  program_.dispatchItems(cmd, scene.nodeCount, scene.pool().with({{"surfels", surfels}}),
-                         gpu::CountPush{.count = scene.nodeCount});
+  recordNodes(cmd, scene, surfels);
+  vk::fillBuffer(cmd, scene.nodeBuried, 0u);
+  burial_.dispatchItems(cmd, scene.surfelCount, scene.pool().with({{"surfels", surfels}}),
+                        gpu::BurialPush{.surfelCount = scene.surfelCount, .rootCount = scene.rootCount});
 }
 
 }  // namespace ivgi::gi

@@ -1,7 +1,10 @@
 #pragma once
 // The refit (shaders/gi/refit.comp): the trees' node attributes from the frame's surfels, bottom-up
 // in one dispatch: area, area-weighted position and normal, the cone of normals, a bounding radius,
-// and the rectangle of the node's area. The trees' topology never changes.
+// the rectangle of the node's area, and its vector area. The trees' topology never changes. Then
+// which surfels lie inside another object (shaders/gi/buried_surfels.comp), from those nodes: the
+// resolve's vertices take their light from the surfels outside (vertex_irradiance), so that a
+// surface an object stands on is not drawn dark along the contact.
 #include "engine/gi/scene_buffers.h"
 #include "engine/vk/program.h"
 
@@ -10,11 +13,14 @@ namespace ivgi::gi {
 class Refit {
  public:
   explicit Refit(const vk::Context& ctx);
-  // Writes scene.nodes from the trees and the frame's `surfels` (gpu::Surfel).
+  // Writes scene.nodes and scene.nodeVectorArea from the trees and the frame's `surfels`
+  // (gpu::Surfel), then scene.surfelBuried and scene.nodeBuried.
   void record(VkCommandBuffer cmd, const SceneBuffers& scene, const vk::Buffer& surfels) const;
+  // The node attributes alone (a rest pose's nodes, which no image reads for burial).
+  void recordNodes(VkCommandBuffer cmd, const SceneBuffers& scene, const vk::Buffer& surfels) const;
 
  private:
-  vk::Program program_;
+  vk::Program refit_, burial_;
 };
 
 }  // namespace ivgi::gi

@@ -9,11 +9,13 @@ SceneBuffers::SceneBuffers(const vk::Context& ctx, const scene::Geometry& g, con
                            const std::optional<scene::Environment>& sky, vk::Allocations& allocations)
     : nodeCount(uint32_t(h.nodes.size())),
       surfelCount(uint32_t(h.leafOfSurfel.size())),
+      rootCount(uint32_t(h.roots.size())),
       environmentOn(sky.has_value()),
       glossy(g.glossyMaterials) {
   vk::Allocations* tally = &allocations;
   const size_t nodeCount = std::max<size_t>(h.nodes.size(), 1);
   tree = vk::makeBuffer(ctx, h.nodes, vk::Memory::Device, tally);
+  skip = vk::makeBuffer(ctx, h.skip, vk::Memory::Device, tally);
   leafOfSurfel = vk::makeBuffer(ctx, h.leafOfSurfel, vk::Memory::Device, tally);
   albedo = vk::makeBuffer(ctx, g.surfelAlbedo, vk::Memory::Device, tally);
   emission = vk::makeBuffer(ctx, g.surfelEmission, vk::Memory::Device, tally);
@@ -30,6 +32,17 @@ SceneBuffers::SceneBuffers(const vk::Context& ctx, const scene::Geometry& g, con
                      vk::Memory::Device, tally);
   nodes = vk::Buffer(ctx, nodeCount * sizeof(gpu::NodeState), vk::Memory::Device, tally);
   arrivals = vk::makeBuffer(ctx, std::vector<uint32_t>(nodeCount, 0u), vk::Memory::Device, tally);
+  surfelBuried = vk::deviceArray<uint32_t>(ctx, std::max<size_t>(h.leafOfSurfel.size(), 1), allocations);
+  nodeBuried = vk::deviceArray<uint32_t>(ctx, nodeCount, allocations);
+  nodeVectorArea = vk::deviceArray<glm::vec4>(ctx, nodeCount, allocations);
+  std::vector<uint32_t> leaves(nodeCount, 0u);
+  for (size_t i = h.nodes.size(); i-- > 0;) {  // deeper levels come later
+    if (h.nodes[i].childCount == 0) leaves[i] = 1;
+    if (h.nodes[i].parent >= 0) leaves[size_t(h.nodes[i].parent)] += leaves[i];
+  }
+  nodeLeaves = vk::makeBuffer(ctx, leaves, vk::Memory::Device, tally);
+  rootEncloses = vk::makeBuffer(ctx, std::vector<uint32_t>(h.rootEncloses.begin(), h.rootEncloses.end()),
+                                vk::Memory::Device, tally);
 }
 
 void SceneBuffers::setLights(const vk::Context& ctx, const std::vector<gpu::PunctualLight>& frameLights,
@@ -42,6 +55,7 @@ void SceneBuffers::setLights(const vk::Context& ctx, const std::vector<gpu::Punc
 
 vk::Bindings SceneBuffers::pool() const {
   return vk::Bindings::pool({{"tree", tree},
+                             {"skip", skip},
                              {"leafOfSurfel", leafOfSurfel},
                              {"albedo", albedo},
                              {"emission", emission},
@@ -50,6 +64,11 @@ vk::Bindings SceneBuffers::pool() const {
                              {"lights", lights},
                              {"nodes", nodes},
                              {"arrivals", arrivals},
+                             {"surfelBuried", surfelBuried},
+                             {"nodeBuried", nodeBuried},
+                             {"nodeVectorArea", nodeVectorArea},
+                             {"nodeLeaves", nodeLeaves},
+                             {"rootEncloses", rootEncloses},
                              {"surfelDirect", surfelDirect()},
                              {"surfelArrival", surfelArrival()},
                              {"surfelBrdf", surfelBrdf},

@@ -15,9 +15,10 @@
 namespace ivgi::gi {
 
 struct SceneBuffers {
-  // Uploaded once: the trees (gpu::TreeNode), each surfel's leaf, the surfels' albedo and emission
-  // (Le), per bin ∫ω dω and its solid angle (binVectorTable), the environment's radiance per bin.
-  vk::Buffer tree, leafOfSurfel, albedo, emission, binTable, environment;
+  // Uploaded once: the trees (gpu::TreeNode), per node where a depth-first walk that skips it goes
+  // on (Hierarchy::skip), each surfel's leaf, the surfels' albedo and emission (Le), per bin ∫ω dω
+  // and its solid angle (binVectorTable), the environment's radiance per bin.
+  vk::Buffer tree, skip, leafOfSurfel, albedo, emission, binTable, environment;
   // Where some material is glossy (else one-element stand-ins): each surfel's BRDF
   // (Geometry::surfelBrdf) and the specular albedo table (engine/scene/reflectance.h), for what the
   // lobes reflect of the indirect light.
@@ -29,6 +30,13 @@ struct SceneBuffers {
   // Per frame: the punctual lights (host-visible), and the nodes' states (gpu::NodeState, refit)
   // with the refit's arrival counts (shaders/common/climb.glsl: zero between dispatches).
   vk::Buffer lights, nodes, arrivals;
+  // Per frame, per node (refit): Σ a·n over its surfels (vec4, w unused).
+  vk::Buffer nodeVectorArea;
+  // Per frame, per surfel: 1 where it lies inside another object (gi::Refit), else 0; per node,
+  // how many of the surfels below it do, and (uploaded once) how many surfels lie below it.
+  vk::Buffer surfelBuried, nodeBuried, nodeLeaves;
+  // Per root (uploaded once): 1 where it may hold other objects' surfels (Hierarchy::rootEncloses).
+  vk::Buffer rootEncloses;
   // Per surfel, the emitters' direct light from depth maps (engine/gi/direct_light.h) where the
   // frame gives it (Solver::useDirectLight): the solver then transports only the light the surfels
   // reflect. Else zeros (`noDirectLight`), the solver carrying the emitters' light itself.
@@ -37,7 +45,7 @@ struct SceneBuffers {
   const vk::Buffer* directLight = nullptr;
   const vk::Buffer* directArrival = nullptr;
   vk::Buffer noDirectLight;
-  uint32_t nodeCount = 0, surfelCount = 0, lightCount = 0;
+  uint32_t nodeCount = 0, surfelCount = 0, lightCount = 0, rootCount = 0;
   bool environmentOn = false;
   bool glossy = false;  // some material is not Lambertian
 

@@ -62,6 +62,8 @@ class Solver {
                                  const vk::Buffer& /*lobes*/) {}
   // Irradiance per surfel (rgba32f, w unused), read by the resolve pass.
   virtual const vk::Buffer& irradiance() const = 0;
+  // Per surfel (uint): 1 where it lies inside another object this frame (gi::Refit), else 0.
+  virtual const vk::Buffer& surfelBuried() const = 0;
   // Device memory the solver holds.
   virtual uint64_t allocatedBytes() const = 0;
 };

@@ -14,6 +14,9 @@ layout(local_size_x = 64) in;
 layout(std430, binding = 0) readonly buffer Tree { TreeNode tree[]; };
 layout(std430, binding = 1) readonly buffer Surfels { Surfel surfels[]; };
 layout(std430, binding = 2) coherent buffer Nodes { NodeState nodes[]; };
+// Per node, Σ a·n over its surfels (xyz; w unused): its vector area, which the winding number of a
+// far node takes (buried_surfels).
+layout(std430, binding = 4) coherent buffer NodeVectorArea { vec4 nodeVectorArea[]; };
 layout(push_constant) uniform Push { CountPush push; };  // count: nodes
 
 uvec4 treeNodeAt(uint i) {
@@ -39,17 +42,20 @@ void combine(uint i) {
     nodes[i].positionArea = s.positionArea;
     nodes[i].normalCone = vec4(s.normal.xyz, 0.0);
     nodes[i].shape = s.shape;
+    nodeVectorArea[i] = vec4(s.positionArea.w * s.normal.xyz, 0.0);
     return;
   }
   float area = 0.0;
-  vec3 weighted = vec3(0.0), mean = vec3(0.0), normal = vec3(0.0);
+  vec3 weighted = vec3(0.0), mean = vec3(0.0), normal = vec3(0.0), vectorArea = vec3(0.0);
   for (uint c = 0; c < t.childCount; ++c) {
     NodeState child = nodes[t.firstChild + c];
     area += child.positionArea.w;
     weighted += child.positionArea.w * child.positionArea.xyz;
     mean += child.positionArea.xyz;
     normal += child.positionArea.w * child.normalCone.xyz;
+    vectorArea += nodeVectorArea[t.firstChild + c].xyz;
   }
+  nodeVectorArea[i] = vec4(vectorArea, 0.0);
   vec3 p = area > 0.0 ? weighted / area : mean / float(t.childCount);
   float len = length(normal);
   vec3 n = len > 0.0 ? normal / len : vec3(0.0, 0.0, 1.0);

@@ -23,13 +23,20 @@ layout(binding = 11, r32ui) readonly uniform uimageBuffer neighbourCounts;
 layout(binding = 12, r32ui) readonly uniform uimageBuffer neighbours;
 layout(binding = 13, r32ui) readonly uniform uimageBuffer representatives;
 layout(binding = 14, r32f) readonly uniform imageBuffer roles;
+layout(binding = 15, r32ui) readonly uniform uimageBuffer surfelBuried;  // 1: inside another object
 layout(push_constant) uniform Push { ReceiverPush push; };
 
 #include "receivers.glsl"
 
-// Node q's receiver, weighing for x (normal n; t1, t2 its tangents) with q's support and role.
+// Whether the surfel interpolated lies inside another object (buried_surfels).
+bool buriedHere = false;
+
+// Node q's receiver, weighing for x (normal n; t1, t2 its tangents) with q's support and role. A
+// receiver inside another object (under a block standing on the floor) weighs only for surfels
+// inside too: its light is not that of the surface outside.
 void considerNode(uint q, vec3 x, vec3 n, vec3 t1, vec3 t2) {
   const uint s = imageLoad(representatives, int(q)).x;
+  if (!buriedHere && imageLoad(surfelBuried, int(s)).x != 0u) return;
   considerReceiver(s, imageLoad(leafOfSurfel, int(s)).x, kReceiverReach * nodeRadius(q), imageLoad(roles, int(q)).x, x,
                    n, t1, t2);
 }
@@ -53,6 +60,7 @@ void main() {
   if (s >= push.surfelCount) return;
   const uint leaf = imageLoad(leafOfSurfel, int(s)).x;
   tapCount = 0u;
+  buriedHere = imageLoad(surfelBuried, int(s)).x != 0u;
   const vec3 x = nodePositionArea(leaf).xyz, n = nodeNormalCone(leaf).xyz;
   vec3 t1, t2;
   tangentFrame(n, t1, t2);

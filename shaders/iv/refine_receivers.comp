@@ -10,8 +10,10 @@
 // - its sample against the prediction from the other samples nearby of its level or coarser (each
 //   turned to its normal by its rotation gradient), over --receiver-tol of its own irradiance
 //   (against a share of the largest where it is darker).
-// A child whose need passes kRefineFrom is refined: the next round's candidate. The last workgroup
-// starts the next round.
+// A child whose need passes kRefineFrom is refined: the next round's candidate. A child whose
+// receiver lies inside another object (a floor under a block) is refined where any of its surfels
+// lies outside, for its receiver's light is none of theirs, and never where none does. The last
+// workgroup starts the next round.
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 12
 #include "common/common.glsl"
@@ -31,6 +33,10 @@ layout(std430, binding = 10) readonly buffer LevelStarts { uint levelStarts[]; }
 layout(binding = 11, r32f) readonly uniform imageBuffer presences;  // 0 where not sampled
 layout(std430, binding = 13) writeonly buffer ReceiverArgs { uvec4 receiverArgs[]; };
 layout(binding = 14, rgba32f) readonly uniform imageBuffer rotationGradients;  // 3 a surfel: r, g, b
+// Per node, the surfels below it inside another object (buried_surfels), and all the surfels below.
+layout(binding = 15, r32ui) readonly uniform uimageBuffer nodeBuried;
+layout(binding = 16, r32ui) readonly uniform uimageBuffer nodeLeaves;
+layout(binding = 17, r32ui) readonly uniform uimageBuffer surfelBuried;
 layout(push_constant) uniform Push { ReceiverPush push; };
 #include "receiver_args.glsl"
 
@@ -46,17 +52,19 @@ uvec2 levelOf(uint n) {
   return uvec2(levelStarts[l], levelStarts[l + 1u]);
 }
 
-// The sample being predicted: its surfel, position, normal and tangents.
+// The sample being predicted: its surfel, position, normal and tangents, and whether it lies inside
+// another object (only samples inside too then predict it; outside, only those outside).
 struct Query {
   uint s;
   vec3 x, n, t1, t2;
+  bool buried;
 };
 
 // Node q's sample weighed into the prediction for the query (none for the query's own), by its place:
 // a node of the query's level (or a leaf) by its presence, a coarser one by its role.
 void considerSample(uint q, uvec4 t, float presence, uvec2 level, Query query) {
   const uint r = imageLoad(representatives, int(q)).x;
-  if (r == query.s) return;
+  if (r == query.s || (imageLoad(surfelBuried, int(r)).x != 0u) != query.buried) return;
   const float place = q >= level.x || t.z == 0u ? presence : presence * (1.0 - refinementShare(needs[q]));
   const uint at = imageLoad(leafOfSurfel, int(r)).x;
   const vec3 p = nodePositionArea(at).xyz;
@@ -104,7 +112,8 @@ bool walkSamples(uvec2 level, vec3 centre, float radius, vec4 cone, bool collect
 // coarser, over the tolerance; `listed`: the candidate's list holds them.
 float lightNeed(uint c, uint s, float floorValue, uvec2 level, bool listed) {
   const uint leaf = imageLoad(leafOfSurfel, int(s)).x;
-  Query query = Query(s, nodePositionArea(leaf).xyz, nodeNormalCone(leaf).xyz, vec3(0.0), vec3(0.0));
+  Query query = Query(s, nodePositionArea(leaf).xyz, nodeNormalCone(leaf).xyz, vec3(0.0), vec3(0.0),
+                      imageLoad(surfelBuried, int(s)).x != 0u);
   tangentFrame(query.n, query.t1, query.t2);
   tapCount = 0u;
   if (listed)
@@ -134,13 +143,22 @@ void refineCandidate() {
   for (uint c = t.y; c < t.y + t.z; ++c) {
     if (imageLoad(tree, int(c)).z == 0u) continue;  // a leaf: nothing to refine
     const uint s = imageLoad(representatives, int(c)).x;
+    const uint buried = imageLoad(nodeBuried, int(c)).x;
+    if (buried != 0u) {
+      const bool whole = buried == imageLoad(nodeLeaves, int(c)).x;
+      if (whole || imageLoad(surfelBuried, int(s)).x != 0u) {
+        needs[c] = whole ? 0.0 : 1e30;
+        if (!whole) candidatesOut[atomicAdd(receiverCounts[push.target], 1u)] = c;
+        continue;
+      }
+    }
     const float radius = nodeRadius(c);
     // Past 1 the need makes no difference (refinementShare), so the light's test, a walk of the
     // trees, runs only where the other two leave it below.
     const float sure = max(kReceiverReach * radius * proximity[s] / push.proximity, radius / push.largest);
     if (sure < 1.0 && !walked) {
       level = levelOf(c);
-      const Query none = Query(0u, vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0));
+      const Query none = Query(0u, vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), false);
       listed = walkSamples(level, nodePositionArea(node).xyz, nodeRadius(node), nodeNormalCone(node), true, none);
       walked = true;
     }

@@ -43,6 +43,7 @@ class ArSolver final : public Solver {
   void recordReflections(VkCommandBuffer cmd, vk::PassTimer& timer, glm::vec3 eye, const vk::Buffer& shown,
                          const vk::Buffer& lobes) override;
   const vk::Buffer& irradiance() const override { return b_.irradiance; }
+  const vk::Buffer& surfelBuried() const override { return b_.scene.surfelBuried; }
   uint64_t allocatedBytes() const override { return allocations_.bytes(); }
 
   ArStats stats() const;

@@ -43,7 +43,6 @@ Receivers::Receivers(const vk::Context& ctx, const Hierarchy& h, const IvSetting
   const size_t nodes = h.nodes.size(), surfels = surfelCount_;
   vk::Allocations* tally = &allocations;
   b.representatives = vk::makeBuffer(ctx, h.representatives, vk::Memory::Device, tally);
-  b.skip = vk::makeBuffer(ctx, h.skip, vk::Memory::Device, tally);
   b.levelStarts = vk::makeBuffer(ctx, h.levelStart, vk::Memory::Device, tally);
   b.receiverCounts = vk::Buffer(ctx, gpu::kReceiverSlots * sizeof(uint32_t), vk::Memory::Host, tally);
   b.receiverArgs = vk::deviceArray<glm::uvec4>(ctx, gpu::kArgsPruneBatches + std::max<size_t>(surfels, 1), allocations);

@@ -165,7 +165,7 @@ void IvSolver::keepRestPose(const scene::Geometry& g, const std::vector<uint32_t
 void IvSolver::recordRestNodes(VkCommandBuffer cmd, const vk::Buffer& surfels) {
   vk::copyRegion(cmd, surfels, staticSurfels_, {0, 0, VkDeviceSize(surfelCount_) * sizeof(gpu::Surfel)});
   for (const VkBufferCopy& run : rigidRuns_) vk::copyRegion(cmd, restSurfels_, staticSurfels_, run);
-  refit_.record(cmd, b_.scene, staticSurfels_);
+  refit_.recordNodes(cmd, b_.scene, staticSurfels_);
   vk::copyRegion(cmd, b_.scene.nodes, restNodes_, {0, 0, VkDeviceSize(nodeCount_) * sizeof(gpu::NodeState)});
 }
 

@@ -68,6 +68,7 @@ class IvSolver final : public Solver {
   void recordReflections(VkCommandBuffer cmd, vk::PassTimer& timer, glm::vec3 eye, const vk::Buffer& shown,
                          const vk::Buffer& lobes) override;
   const vk::Buffer& irradiance() const override { return b_.irradiance; }
+  const vk::Buffer& surfelBuried() const override { return b_.scene.surfelBuried; }
   uint64_t allocatedBytes() const override { return allocations_.bytes(); }
 
   IvStats stats() const;

@@ -1,0 +1,88 @@
+#version 460
+// Per surfel, whether it lies inside another object: a floor's surfels under a block standing on it.
+// Such a surfel's own light stands for no surface anyone sees, yet the triangles that reach out
+// from under the block share its vertex, and the resolve would draw their light down toward it
+// along the contact (vertex_irradiance carries them the light of their neighbours outside instead).
+// Inside is where the object's generalised winding number (the signed solid angle of its surface,
+// over 4π, its normals pointing out) reaches half: 1 inside a closed object, ½ on a face it rests
+// on, 0 outside. An object whose normals point in (a room seen from inside) counts as outside.
+// Summed over the object's tree, depth first without a stack (`skip`), as fast winding numbers are
+// (Barill et al. 2018): a node far from the point as a dipole of its vector area, a near surfel as
+// its rectangle's exact solid angle.
+#extension GL_GOOGLE_include_directive : require
+#define NODE_TEXELS 3
+#include "common/common.glsl"
+layout(local_size_x = 64) in;
+
+layout(binding = 0, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode
+layout(binding = 1, r32ui) readonly uniform uimageBuffer skip;
+layout(binding = 2, r32ui) readonly uniform uimageBuffer leafOfSurfel;
+layout(binding = 4, rgba32f) readonly uniform imageBuffer surfels;      // Surfel: positionArea, normal, shape
+layout(binding = 7, r32ui) readonly uniform uimageBuffer rootEncloses;  // per root: 1 if it may hold any
+layout(std430, binding = 5) writeonly buffer SurfelBuried { uint surfelBuried[]; };
+// Per node, the buried surfels below it (zeroed before the pass).
+layout(std430, binding = 6) buffer NodeBuried { uint nodeBuried[]; };
+layout(binding = 8, rgba32f) readonly uniform imageBuffer nodeVectorArea;  // Σ a·n (refit)
+layout(push_constant) uniform Push { BurialPush push; };
+
+// Signed solid angle of triangle abc (corners relative to the point), positive where the point
+// lies behind it (on the side away from its counter-clockwise normal): Van Oosterom and Strackee.
+float triangleSolidAngle(vec3 a, vec3 b, vec3 c) {
+  const float la = length(a), lb = length(b), lc = length(c);
+  const float numerator = dot(a, cross(b, c));
+  const float denominator = la * lb * lc + dot(a, b) * lc + dot(a, c) * lb + dot(b, c) * la;
+  return 2.0 * atan(numerator, denominator);
+}
+
+// Node i's share of the winding number at p (times 4π): far, as a dipole; else i is a surfel, its
+// rectangle (two triangles) scaled to its area.
+float solidAngleOf(uint i, vec3 p) {
+  const vec4 positionArea = nodePositionArea(i), normalCone = nodeNormalCone(i), shape = nodeShape(i);
+  const vec3 d = positionArea.xyz - p;
+  const float dist = length(d);
+  if (dist > kBurialFar * shape.x) return dot(imageLoad(nodeVectorArea, int(i)).xyz, d) / (dist * dist * dist);
+  vec3 u1, u2;
+  rectangleAxes(normalCone.xyz, shape.y, u1, u2);
+  u1 *= shape.z, u2 *= shape.w;
+  const float rectangle = 4.0 * shape.z * shape.w;
+  // A point on the rectangle's plane (a floor under a box's bottom lying on it) sees it edge-on: its
+  // solid angle is 0, where the formula's ±2π inside it would hang on the sign of a rounding.
+  if (rectangle <= 0.0 || abs(dot(normalCone.xyz, d)) <= 1e-4 * max(shape.z, shape.w)) return 0.0;
+  const float turn = dot(cross(u1, u2), normalCone.xyz) >= 0.0 ? 1.0 : -1.0;
+  const vec3 q0 = d - u1 - u2, q1 = d + u1 - u2, q2 = d + u1 + u2, q3 = d - u1 + u2;
+  return turn * (triangleSolidAngle(q0, q1, q2) + triangleSolidAngle(q0, q2, q3)) * positionArea.w / rectangle;
+}
+
+void main() {
+  const uint s = itemIndex();
+  if (s >= push.surfelCount) return;
+  const vec3 p = imageLoad(surfels, int(3u * s)).xyz;
+  uint own = imageLoad(leafOfSurfel, int(s)).x;
+  for (int parent = int(imageLoad(tree, int(own)).x); parent >= 0; parent = int(imageLoad(tree, int(own)).x))
+    own = uint(parent);
+  uint visits = 0u;
+  bool buried = false;
+  for (uint root = 0u; root < push.rootCount && !buried; ++root) {
+    if (root == own || imageLoad(rootEncloses, int(root)).x == 0u) continue;
+    const vec4 bounds = nodePositionArea(root);
+    if (distance(bounds.xyz, p) > nodeRadius(root)) continue;  // outside its sphere: not inside it
+    const uint end = imageLoad(skip, int(root)).x;
+    float winding = 0.0;
+    for (uint node = root; node != end && visits < kBurialVisits; ++visits) {
+      const uvec4 t = imageLoad(tree, int(node));  // parent, firstChild, childCount, surfel
+      if (t.z == 0u || distance(nodePositionArea(node).xyz, p) > kBurialFar * nodeRadius(node)) {
+        winding += solidAngleOf(node, p);
+        node = imageLoad(skip, int(node)).x;
+      } else {
+        node = t.y;
+      }
+    }
+    buried = winding >= kBurialWinding * 4.0 * kPi;
+  }
+  // A walk cut short by kBurialVisits says nothing: the surfel counts as outside, as before.
+  const bool inside = buried && visits < kBurialVisits;
+  surfelBuried[s] = inside ? 1u : 0u;
+  if (inside)
+    for (int node = int(imageLoad(leafOfSurfel, int(s)).x); node >= 0; node = int(imageLoad(tree, node).x))
+      atomicAdd(nodeBuried[node], 1u);
+}

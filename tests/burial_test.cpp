@@ -1,0 +1,78 @@
+// Surfels inside another object (shaders/gi/buried_surfels.comp): a floor's surfels under a block
+// standing on it are buried; those around it, under a block floating over it, or inside a room whose
+// walls face in are not.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "engine/gi/frame_renderer.h"
+#include "engine/scene/gltf.h"
+#include "engine/scene/lights.h"
+#include "scenes/gltf_builder.h"
+#include "tests/test_support.h"
+
+using namespace ivgi;
+
+namespace {
+
+// A floor of 16 × 16 cells over [-1, 1]² in a closed room (walls and ceiling facing in, a lamp under
+// the ceiling), a box 0.6 m wide standing on it over x ∈ [-0.7, -0.1], z ∈ [-0.3, 0.3], and another
+// floating 0.3 m over it around x = 0.5; each its own object.
+tinygltf::Model boxesOnAFloor() {
+  using glm::vec3;
+  scenes::GltfBuilder b;
+  const int grey = b.material("grey", vec3(0.6f)), light = b.material("lamp", vec3(0.0f), vec3(5.0f));
+  scenes::MeshData floor, room, lamp, standing, floating;
+  scenes::addQuad(floor, {-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}, 16, 16, {0, 1, 0});
+  scenes::addQuad(room, {-1, 2, -1}, {1, 2, -1}, {1, 2, 1}, {-1, 2, 1}, 4, 4, {0, -1, 0});  // ceiling
+  scenes::addQuad(room, {-1, 0, -1}, {1, 0, -1}, {1, 2, -1}, {-1, 2, -1}, 4, 4, {0, 0, 1});
+  scenes::addQuad(room, {-1, 0, 1}, {1, 0, 1}, {1, 2, 1}, {-1, 2, 1}, 4, 4, {0, 0, -1});
+  scenes::addQuad(room, {-1, 0, -1}, {-1, 0, 1}, {-1, 2, 1}, {-1, 2, -1}, 4, 4, {1, 0, 0});
+  scenes::addQuad(room, {1, 0, -1}, {1, 0, 1}, {1, 2, 1}, {1, 2, -1}, 4, 4, {-1, 0, 0});
+  scenes::addQuad(lamp, {-0.2f, 1.95f, -0.2f}, {0.2f, 1.95f, -0.2f}, {0.2f, 1.95f, 0.2f}, {-0.2f, 1.95f, 0.2f}, 1, 1,
+                  {0, -1, 0});
+  scenes::addBox(standing, {-0.4f, 0.3f, 0.0f}, vec3(0.3f), 4);
+  scenes::addBox(floating, {0.5f, 0.5f, 0.0f}, vec3(0.2f), 4);
+  b.node("floor", b.mesh("floor", {{floor, grey}}));
+  b.node("room", b.mesh("room", {{room, grey}}));
+  b.node("lamp", b.mesh("lamp", {{lamp, light}}));
+  b.node("standing", b.mesh("standing", {{standing, grey}}));
+  b.node("floating", b.mesh("floating", {{floating, grey}}));
+  return b.finish();
+}
+
+}  // namespace
+
+TEST(Burial, AFloorUnderABlockStandingOnItIsBuriedAndNothingElse) {
+  const scene::Scene s = scene::sceneFromModel(boxesOnAFloor(), "boxes");
+  const scene::Geometry g = scene::buildGeometry(s);
+  gi::FrameRenderer r = test::ivRenderer(g, {32, 32, 1}, gi::makeIvSetup(s, g, {}));
+  const auto pose = scene::evaluatePose(s, -1, 0.0f);
+  const auto inputs = g.frameInputs(s, pose);
+  r.render(inputs, test::framing(g, inputs), scene::worldLights(s, pose));
+  const auto surfels = scene::surfelsOnHost(g, scene::animateOnHost(g, inputs));
+  const auto buried = test::ivSolver(r).surfelBuried().read<uint32_t>(surfels.size());
+
+  int under = 0, around = 0, others = 0;
+  for (size_t i = 0; i < surfels.size(); ++i) {
+    const glm::vec3 p(surfels[i].positionArea), n(surfels[i].normal);
+    const bool floor = std::abs(p.y) < 1e-4f && n.y > 0.9f;
+    // Within the standing box's footprint, or out of it, by half a cell (the floor's cells are 0.125).
+    const float outside = std::max(std::abs(p.x + 0.4f), std::abs(p.z)) - 0.3f;
+    if (floor && outside < -0.06f) {
+      EXPECT_EQ(buried[i], 1u) << "the floor at " << p.x << ", " << p.z << " under the standing box";
+      ++under;
+    } else if (floor && outside > 0.06f) {
+      EXPECT_EQ(buried[i], 0u) << "the floor at " << p.x << ", " << p.z << " (the floating box's shadow or open)";
+      ++around;
+    } else if (!floor) {
+      EXPECT_EQ(buried[i], 0u) << "a surfel of the walls or the boxes at " << p.x << ", " << p.y << ", " << p.z;
+      ++others;
+    }
+  }
+  std::printf("[ burial ] floor surfels under the standing box %d, around it %d, others %d\n", under, around, others);
+  EXPECT_EQ(under, 4 * 3);  // x at -0.625 … -0.25 (corners of the floor's cells), z at -0.125 … 0.125
+  EXPECT_GT(around, 200);
+  EXPECT_GT(others, 100);
+}
