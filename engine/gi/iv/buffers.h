@@ -31,12 +31,12 @@ struct IvBuffers {
   // The prune's bins where they do not fit in shared memory: a slot of 6·N² per workgroup.
   vk::Buffer globalBins, globalCoverage;
   // Receivers (receivers.h). Per node: its representative surfel, its need, presence and role, and
-  // the reach of the supports at and below it; where each level starts. The receivers listed this frame, their counters
-  // and the dispatch sizes they need, the refinement's two candidate lists. Per surfel: its support radius
-  // (kNotReceiver: not a receiver), how near what it sees is, the irradiance gathered (at receivers) and its first
-  // bounce's rotation gradient (three vec4: r, g, b), and the interpolation's taps. The groups of
-  // neighbouring surfels, each surfel's group, and per group the sampled nodes whose receivers may
-  // weigh for its surfels.
+  // the reach of the supports at and below it; where each level starts. The receivers listed this
+  // frame, their counters and the dispatch sizes they need, the refinement's two candidate lists.
+  // Per surfel: its support radius (kNotReceiver: not a receiver), how near what it sees is, the
+  // irradiance gathered (at receivers) and its first bounce's rotation gradient (three vec4: r, g,
+  // b), and the interpolation's taps. The groups of neighbouring surfels, each surfel's group, and
+  // per group the sampled nodes whose receivers may weigh for its surfels.
   vk::Buffer representatives, levelStarts, receivers, receiverCounts, receiverArgs, receiverRadius;
   vk::Buffer candidatesA, candidatesB, reach, gathered, rotationGradients, tapCounts, taps, proximity;
   vk::Buffer needs, presences, roles, groups, groupOfSurfel, neighbourCounts, neighbours;
