@@ -4,8 +4,8 @@
 // from under the block share its vertex, and the resolve would draw their light down toward it
 // along the contact (vertex_irradiance carries them the light of their neighbours outside instead).
 // Inside is where the object's generalised winding number (the signed solid angle of its surface,
-// over 4π, its normals pointing out) reaches half: 1 inside a closed object, ½ on a face it rests
-// on, 0 outside. An object whose normals point in (a room seen from inside) counts as outside.
+// over 4π, its normals pointing out) reaches kBurialWinding (¼): 1 inside a closed object, ½ on a
+// face it rests on, 0 outside. An object whose normals point in (a room seen from inside) counts as outside.
 // Summed over the object's tree, depth first without a stack (`skip`), as fast winding numbers are
 // (Barill et al. 2018): a node far from the point as a dipole of its vector area, a near surfel as
 // its rectangle's exact solid angle.

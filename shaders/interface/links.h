@@ -49,15 +49,3 @@ struct RefinePush {  // refine_links
 struct SortLinksPush {  // count_links, scatter_links
   uint linkCapacity;    // the links past it were not stored (the set overflowed)
 };
-
-// Surfels inside another object (buried_surfels, engine/gi/refit.h): a surfel is inside where that
-// object's winding number reaches kBurialWinding. A node counts as a dipole where it lies farther
-// than kBurialFar of its radii; a surfel's walk stops after kBurialVisits nodes (it then counts as
-// outside).
-IVGI_CONST float kBurialWinding = 0.25f;
-IVGI_CONST float kBurialFar = 1.5f;
-IVGI_CONST uint kBurialVisits = 4096u;
-struct BurialPush {
-  uint surfelCount;
-  uint rootCount;  // the trees' roots, nodes 0 to rootCount − 1
-};

@@ -114,6 +114,18 @@ struct NodeState {
   vec4 shape;
 };
 
+// Surfels inside another object (buried_surfels, engine/gi/refit.h): a surfel is inside where that
+// object's winding number reaches kBurialWinding. A node counts as a dipole where it lies farther
+// than kBurialFar of its radii; a surfel's walk stops after kBurialVisits nodes (it then counts as
+// outside).
+IVGI_CONST float kBurialWinding = 0.25f;
+IVGI_CONST float kBurialFar = 1.5f;
+IVGI_CONST uint kBurialVisits = 4096u;
+struct BurialPush {
+  uint surfelCount;
+  uint rootCount;  // the trees' roots, nodes 0 to rootCount − 1
+};
+
 // ---- Camera rays ----
 
 // A camera whose up.w is kOrthographic looks along forward from the plane through its origin (a
