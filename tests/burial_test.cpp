@@ -1,6 +1,6 @@
 // Surfels inside another object (shaders/gi/buried_surfels.comp): a floor's surfels under a block
 // standing on it are buried; those around it, under a block floating over it, or inside a room whose
-// walls face in are not.
+// walls face in are not. Buried senders are left unlinked (refine_links).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -75,4 +75,49 @@ TEST(Burial, AFloorUnderABlockStandingOnItIsBuriedAndNothingElse) {
   EXPECT_EQ(under, 4 * 3);  // x at -0.625 … -0.25 (corners of the floor's cells), z at -0.125 … 0.125
   EXPECT_GT(around, 200);
   EXPECT_GT(others, 100);
+}
+
+// The floor under the standing box, buried, is no sender. Linked, its surfels survive the prune at
+// surfaces outside (they win bins through the gaps between the box's faces, and a floor surfel whose
+// centre is under the box reaches out in front of it); unlinked, none does, and the links and the
+// prune's work fall. Every surfel a receiver, so that only the links differ.
+TEST(Burial, SendersInsideAnotherObjectAreNotLinked) {
+  struct Solved {
+    gi::IvStats stats;
+    double buriedFormFactor = 0;  // summed over every unburied surfel's surviving links from buried surfels
+  };
+  auto solve = [](bool linkBuried) {
+    const scene::Scene s = scene::sceneFromModel(boxesOnAFloor(), "boxes");
+    const scene::Geometry g = scene::buildGeometry(s);
+    gi::IvSettings settings{.receiverTolerance = 0.0f};
+    settings.linkBuriedSenders = linkBuried;
+    gi::IvSetup setup = gi::makeIvSetup(s, g, settings);
+    const gi::Hierarchy h = setup.hierarchy;
+    gi::FrameRenderer r = test::ivRenderer(g, {32, 32, 1}, std::move(setup));
+    const auto pose = scene::evaluatePose(s, -1, 0.0f);
+    const auto inputs = g.frameInputs(s, pose);
+    r.render(inputs, test::framing(g, inputs), scene::worldLights(s, pose));
+    const gi::IvSolver& solver = test::ivSolver(r);
+    const auto buried = solver.surfelBuried().read<uint32_t>(g.surfels.size());
+    const auto links = solver.leafLinks();
+    Solved out{solver.stats()};
+    for (size_t receiver = 0; receiver < links.size(); ++receiver) {  // per surfel
+      if (buried[receiver]) continue;
+      for (const auto& link : links[receiver]) {
+        const int sender = h.nodes[link.sender].surfel;
+        if (sender >= 0 && buried[size_t(sender)]) out.buriedFormFactor += link.formFactor;
+      }
+    }
+    return out;
+  };
+  const Solved unlinked = solve(false), linked = solve(true);
+  std::printf(
+      "[ burial ] surviving form factors from buried senders %.4f (linked), %.4f (unlinked); links %u against "
+      "%u, senders walked %llu against %llu\n",
+      linked.buriedFormFactor, unlinked.buriedFormFactor, linked.stats.links, unlinked.stats.links,
+      (unsigned long long)linked.stats.sendersWalked, (unsigned long long)unlinked.stats.sendersWalked);
+  EXPECT_GT(linked.buriedFormFactor, 0.0) << "linked, buried senders win bins outside";
+  EXPECT_EQ(unlinked.buriedFormFactor, 0.0);
+  EXPECT_LT(unlinked.stats.links, linked.stats.links);
+  EXPECT_LT(unlinked.stats.sendersWalked, linked.stats.sendersWalked);
 }

@@ -89,7 +89,8 @@ void LinkCreation::record(VkCommandBuffer cmd, LinkSet& set, const LinkWork& b, 
                                           {"links", set.links},
                                           {"counters", set.counters},
                                           {"args", b.args},
-                                          {"emitters", b.emitters}}),
+                                          {"emitters", b.emitters},
+                                          {"nodeBuried", b.buried}}),
                              gpu::RefinePush{.source = in,
                                              .target = out,
                                              .capacity = worklistCapacity,
@@ -99,7 +100,8 @@ void LinkCreation::record(VkCommandBuffer cmd, LinkSet& set, const LinkWork& b, 
                                              .largeReceiver = criteria.largeReceiver,
                                              .bothSides = criteria.bothSides ? 1u : 0u,
                                              .emitterReceiver = criteria.emitterReceiver,
-                                             .receiverStaysWhole = criteria.receiverStaysWhole ? 1u : 0u});
+                                             .receiverStaysWhole = criteria.receiverStaysWhole ? 1u : 0u,
+                                             .skipBuriedSenders = criteria.skipBuriedSenders ? 1u : 0u});
   }
   // Links sorted by receiver: count, scan, scatter.
   const VkDeviceSize sortArgs = gpu::kLinkArgsSort * sizeof(glm::uvec4);

@@ -66,13 +66,18 @@ struct LinkCriteria {
   // cannot be split is linked to its receiver whole: splitting the receiver would only give each of
   // its leaves the same sender through more links.
   bool receiverStaysWhole;
+  // Whether a sender all of whose surfels lie inside another object (LinkWork::buried) is left out.
+  bool skipBuriedSenders;
 };
 
 // What the refinement works in: its two worklists, the dispatch arguments between its levels, per
 // node whether it counts as an emitter (nonzero rgb: iv's emission, ar's bright emitters; its links
-// carry kEmitterBit), and a pool that holds the trees ("tree") and their node states ("nodes").
+// carry kEmitterBit), per node how many surfels below it lie inside another object for as long as
+// the set's links stand (SceneBuffers::nodeBuried for links made whenever the geometry moved,
+// nodeStillBuried for links made once; a node all of whose surfels do is no sender), and a pool that
+// holds the trees ("tree"), their node states ("nodes") and "nodeLeaves".
 struct LinkWork {
-  const vk::Buffer &args, &worklistA, &worklistB, &emitters;
+  const vk::Buffer &args, &worklistA, &worklistB, &emitters, &buried;
   vk::Bindings pool;
 };
 

@@ -15,6 +15,7 @@ void Refit::recordNodes(VkCommandBuffer cmd, const SceneBuffers& scene, const vk
 void Refit::record(VkCommandBuffer cmd, const SceneBuffers& scene, const vk::Buffer& surfels) const {
   recordNodes(cmd, scene, surfels);
   vk::fillBuffer(cmd, scene.nodeBuried, 0u);
+  vk::fillBuffer(cmd, scene.nodeStillBuried, 0u);
   burial_.dispatchItems(cmd, scene.surfelCount, scene.pool().with({{"surfels", surfels}}),
                         gpu::BurialPush{.surfelCount = scene.surfelCount, .rootCount = scene.rootCount});
 }

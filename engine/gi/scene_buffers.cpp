@@ -6,7 +6,8 @@
 namespace ivgi::gi {
 
 SceneBuffers::SceneBuffers(const vk::Context& ctx, const scene::Geometry& g, const Hierarchy& h, uint32_t bins,
-                           const std::optional<scene::Environment>& sky, vk::Allocations& allocations)
+                           const std::optional<scene::Environment>& sky, const std::vector<bool>& objectMoves,
+                           vk::Allocations& allocations)
     : nodeCount(uint32_t(h.nodes.size())),
       surfelCount(uint32_t(h.leafOfSurfel.size())),
       rootCount(uint32_t(h.roots.size())),
@@ -34,6 +35,7 @@ SceneBuffers::SceneBuffers(const vk::Context& ctx, const scene::Geometry& g, con
   arrivals = vk::makeBuffer(ctx, std::vector<uint32_t>(nodeCount, 0u), vk::Memory::Device, tally);
   surfelBuried = vk::deviceArray<uint32_t>(ctx, std::max<size_t>(h.leafOfSurfel.size(), 1), allocations);
   nodeBuried = vk::deviceArray<uint32_t>(ctx, nodeCount, allocations);
+  nodeStillBuried = vk::deviceArray<uint32_t>(ctx, nodeCount, allocations);
   nodeVectorArea = vk::deviceArray<glm::vec4>(ctx, nodeCount, allocations);
   std::vector<uint32_t> leaves(nodeCount, 0u);
   for (size_t i = h.nodes.size(); i-- > 0;) {  // deeper levels come later
@@ -41,8 +43,11 @@ SceneBuffers::SceneBuffers(const vk::Context& ctx, const scene::Geometry& g, con
     if (h.nodes[i].parent >= 0) leaves[size_t(h.nodes[i].parent)] += leaves[i];
   }
   nodeLeaves = vk::makeBuffer(ctx, leaves, vk::Memory::Device, tally);
-  rootEncloses = vk::makeBuffer(ctx, std::vector<uint32_t>(h.rootEncloses.begin(), h.rootEncloses.end()),
-                                vk::Memory::Device, tally);
+  std::vector<uint32_t> flags(std::max<size_t>(h.roots.size(), 1), 0u);
+  for (size_t r = 0; r < h.roots.size(); ++r)
+    flags[r] = (h.rootEncloses[r] ? gpu::kRootEncloses : 0u) |
+               (!objectMoves.empty() && !objectMoves[r] ? gpu::kRootStill : 0u);
+  rootFlags = vk::makeBuffer(ctx, flags, vk::Memory::Device, tally);
 }
 
 void SceneBuffers::setLights(const vk::Context& ctx, const std::vector<gpu::PunctualLight>& frameLights,
@@ -66,9 +71,10 @@ vk::Bindings SceneBuffers::pool() const {
                              {"arrivals", arrivals},
                              {"surfelBuried", surfelBuried},
                              {"nodeBuried", nodeBuried},
+                             {"nodeStillBuried", nodeStillBuried},
                              {"nodeVectorArea", nodeVectorArea},
                              {"nodeLeaves", nodeLeaves},
-                             {"rootEncloses", rootEncloses},
+                             {"rootFlags", rootFlags},
                              {"surfelDirect", surfelDirect()},
                              {"surfelArrival", surfelArrival()},
                              {"surfelBrdf", surfelBrdf},

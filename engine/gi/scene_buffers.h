@@ -33,10 +33,12 @@ struct SceneBuffers {
   // Per frame, per node (refit): Σ a·n over its surfels (vec4, w unused).
   vk::Buffer nodeVectorArea;
   // Per frame, per surfel: 1 where it lies inside another object (gi::Refit), else 0; per node,
-  // how many of the surfels below it do, and (uploaded once) how many surfels lie below it.
-  vk::Buffer surfelBuried, nodeBuried, nodeLeaves;
-  // Per root (uploaded once): 1 where it may hold other objects' surfels (Hierarchy::rootEncloses).
-  vk::Buffer rootEncloses;
+  // how many of the surfels below it do, how many of those belong to an object that stays still and
+  // lie inside one that does too, and (uploaded once) how many surfels lie below it.
+  vk::Buffer surfelBuried, nodeBuried, nodeStillBuried, nodeLeaves;
+  // Per root (uploaded once): gpu::kRootEncloses where it may hold other objects' surfels
+  // (Hierarchy::rootEncloses), gpu::kRootStill where its object does not move.
+  vk::Buffer rootFlags;
   // Per surfel, the emitters' direct light from depth maps (engine/gi/direct_light.h) where the
   // frame gives it (Solver::useDirectLight): the solver then transports only the light the surfels
   // reflect. Else zeros (`noDirectLight`), the solver carrying the emitters' light itself.
@@ -60,8 +62,10 @@ struct SceneBuffers {
   const vk::Buffer& surfelArrival() const { return directArrival ? *directArrival : noDirectLight; }
 
   SceneBuffers() = default;
+  // `objectMoves`: per root, whether its object moves over the frames rendered (empty: every one may).
   SceneBuffers(const vk::Context& ctx, const scene::Geometry& geometry, const Hierarchy& hierarchy, uint32_t bins,
-               const std::optional<scene::Environment>& environment, vk::Allocations& allocations);
+               const std::optional<scene::Environment>& environment, const std::vector<bool>& objectMoves,
+               vk::Allocations& allocations);
   // The frame's punctual lights in world space (the buffer grows where they do not fit).
   void setLights(const vk::Context& ctx, const std::vector<gpu::PunctualLight>& frameLights,
                  vk::Allocations& allocations);

@@ -8,7 +8,8 @@
 // face it rests on, 0 outside. An object whose normals point in (a room seen from inside) counts as outside.
 // Summed over the object's tree, depth first without a stack (`skip`), as fast winding numbers are
 // (Barill et al. 2018): a node far from the point as a dipole of its vector area, a near surfel as
-// its rectangle's exact solid angle.
+// its rectangle's exact solid angle. A surfel of an object that stays still, inside another that
+// does too, is also counted apart: it stays inside for as long as links made once stand.
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 3
 #include "common/common.glsl"
@@ -17,11 +18,13 @@ layout(local_size_x = 64) in;
 layout(binding = 0, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode
 layout(binding = 1, r32ui) readonly uniform uimageBuffer skip;
 layout(binding = 2, r32ui) readonly uniform uimageBuffer leafOfSurfel;
-layout(binding = 4, rgba32f) readonly uniform imageBuffer surfels;      // Surfel: positionArea, normal, shape
-layout(binding = 7, r32ui) readonly uniform uimageBuffer rootEncloses;  // per root: 1 if it may hold any
+layout(binding = 4, rgba32f) readonly uniform imageBuffer surfels;   // Surfel: positionArea, normal, shape
+layout(binding = 7, r32ui) readonly uniform uimageBuffer rootFlags;  // kRootEncloses, kRootStill
 layout(std430, binding = 5) writeonly buffer SurfelBuried { uint surfelBuried[]; };
-// Per node, the buried surfels below it (zeroed before the pass).
+// Per node, the buried surfels below it, and those of them still and inside still objects (both
+// zeroed before the pass).
 layout(std430, binding = 6) buffer NodeBuried { uint nodeBuried[]; };
+layout(std430, binding = 9) buffer NodeStillBuried { uint nodeStillBuried[]; };
 layout(binding = 8, rgba32f) readonly uniform imageBuffer nodeVectorArea;  // Σ a·n (refit)
 layout(push_constant) uniform Push { BurialPush push; };
 
@@ -60,10 +63,13 @@ void main() {
   uint own = imageLoad(leafOfSurfel, int(s)).x;
   for (int parent = int(imageLoad(tree, int(own)).x); parent >= 0; parent = int(imageLoad(tree, int(own)).x))
     own = uint(parent);
+  const bool ownStill = (imageLoad(rootFlags, int(own)).x & kRootStill) != 0u;
   uint visits = 0u;
-  bool buried = false;
-  for (uint root = 0u; root < push.rootCount && !buried; ++root) {
-    if (root == own || imageLoad(rootEncloses, int(root)).x == 0u) continue;
+  bool buried = false, stillBuried = false;
+  for (uint root = 0u; root < push.rootCount && !stillBuried && !(buried && !ownStill); ++root) {
+    const uint flags = imageLoad(rootFlags, int(root)).x;
+    const bool still = (flags & kRootStill) != 0u;
+    if (root == own || (flags & kRootEncloses) == 0u || (buried && !still)) continue;
     const vec4 bounds = nodePositionArea(root);
     if (distance(bounds.xyz, p) > nodeRadius(root)) continue;  // outside its sphere: not inside it
     const uint end = imageLoad(skip, int(root)).x;
@@ -77,12 +83,16 @@ void main() {
         node = t.y;
       }
     }
-    buried = winding >= kBurialWinding * 4.0 * kPi;
+    const bool inside = winding >= kBurialWinding * 4.0 * kPi;
+    buried = buried || inside;
+    stillBuried = inside && still && ownStill;
   }
   // A walk cut short by kBurialVisits says nothing: the surfel counts as outside, as before.
-  const bool inside = buried && visits < kBurialVisits;
+  const bool inside = buried && visits < kBurialVisits, stillInside = stillBuried && visits < kBurialVisits;
   surfelBuried[s] = inside ? 1u : 0u;
   if (inside)
-    for (int node = int(imageLoad(leafOfSurfel, int(s)).x); node >= 0; node = int(imageLoad(tree, node).x))
+    for (int node = int(imageLoad(leafOfSurfel, int(s)).x); node >= 0; node = int(imageLoad(tree, node).x)) {
       atomicAdd(nodeBuried[node], 1u);
+      if (stillInside) atomicAdd(nodeStillBuried[node], 1u);
+    }
 }

@@ -17,6 +17,10 @@ layout(binding = 4, rg32ui) writeonly uniform uimageBuffer links;
 layout(std430, binding = 5) coherent buffer Counters { uint counters[]; };
 layout(binding = 6, rgba32f) readonly uniform imageBuffer emitters;  // nonzero: the node emits
 layout(std430, binding = 7) writeonly buffer Args { uvec4 args[]; };
+// Per node, the surfels below it inside another object for as long as this set's links stand
+// (buried_surfels), and all the surfels below.
+layout(binding = 8, r32ui) readonly uniform uimageBuffer nodeBuried;
+layout(binding = 9, r32ui) readonly uniform uimageBuffer nodeLeaves;
 layout(push_constant) uniform Push { RefinePush push; };
 
 // Room in the next worklist for `count` pairs, taken at once (the counter is shared by every
@@ -64,12 +68,21 @@ void sizeNextLevel() {
   counters[push.source] = 0u;
 }
 
+// Whether every surfel below node n lies inside another object: its faces then hide n from every
+// surface outside it, and what the surfaces inside with n receive is never shown (§2.4).
+bool whollyBuried(uint n) {
+  const uint buried = imageLoad(nodeBuried, int(n)).x;
+  return buried != 0u && buried == imageLoad(nodeLeaves, int(n)).x;
+}
+
 void refinePairs() {
   uint total = counters[push.source];
   uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
   for (uint k = gl_GlobalInvocationID.x; k < total && k < push.capacity; k += stride) {
     uvec2 pair = imageLoad(pairs, int(k)).xy;
     uint r = pair.x, s = pair.y;
+    if (push.skipBuriedSenders != 0u && whollyBuried(s))
+      continue;  // hidden: linked, it could only win bins through their gaps
     uvec4 tr = imageLoad(tree, int(r)), ts = imageLoad(tree, int(s));  // parent, firstChild, childCount, surfel
     if (r == s) {  // a node with itself (concave objects): all ordered pairs of its children
       uint first = reservePairs(tr.z * tr.z);

@@ -45,6 +45,7 @@ struct RefinePush {  // refine_links
   // (0: down to its surfels).
   float emitterReceiver;
   uint receiverStaysWhole;  // 1: a pair whose sender is a leaf is stored, however large its receiver
+  uint skipBuriedSenders;   // 1: a pair whose sender lies wholly inside another object is dropped
 };
 struct SortLinksPush {  // count_links, scatter_links
   uint linkCapacity;    // the links past it were not stored (the set overflowed)

@@ -121,6 +121,11 @@ struct NodeState {
 IVGI_CONST float kBurialWinding = 0.25f;
 IVGI_CONST float kBurialFar = 1.5f;
 IVGI_CONST uint kBurialVisits = 4096u;
+// Per root, bits of SceneBuffers::rootFlags: its surface may hold other objects' surfels
+// (Hierarchy::rootEncloses); its object stays still over the frames rendered (what it buries stays
+// buried while links made once stand).
+IVGI_CONST uint kRootEncloses = 1u;
+IVGI_CONST uint kRootStill = 2u;
 struct BurialPush {
   uint surfelCount;
   uint rootCount;  // the trees' roots, nodes 0 to rootCount − 1

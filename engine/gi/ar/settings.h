@@ -47,6 +47,10 @@ struct ArSettings {
   // Tests: every frame is redone once, as a frame that ran out of room is, so that a frame redone can
   // be compared with one solved once.
   bool redoEachFrameOnce = false;
+  // Tests: senders inside other objects are linked too. A moving object buries what it stands on only
+  // while it stands there, so links made once keep what a full relink leaves out; linked, the two
+  // agree, which tests of links made once compare.
+  bool linkBuriedSenders = false;
 };
 
 // The most iterations a frame runs: a guard against typing errors and light that does not converge.

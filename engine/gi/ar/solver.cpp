@@ -101,7 +101,7 @@ ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy h
                         ": --dirs " + std::to_string(std::max(1u, uint32_t(n / std::sqrt(over)))) +
                         " would fit (the tables grow as N^2)");
   vk::Allocations* tally = &allocations_;
-  b_.scene = SceneBuffers(ctx, g, hierarchy_, n, settings_.environment, allocations_);
+  b_.scene = SceneBuffers(ctx, g, hierarchy_, n, settings_.environment, objectMoves, allocations_);
   noteUnresolvedRoughness(g, tableBinSpread(n), "ar", "--dirs " + std::to_string(n));
   b_.brightEmitters = vk::makeBuffer(ctx, brightEmitters(hierarchy_, g.surfelEmission), vk::Memory::Device, tally);
   b_.args = vk::Buffer(ctx, 4 * sizeof(glm::uvec4), vk::Memory::Device, tally);
@@ -260,14 +260,16 @@ void ArSolver::recordStart(VkCommandBuffer cmd, vk::PassTimer& timer) {
 
 void ArSolver::recordLinks(VkCommandBuffer cmd, LinkSet& set) {
   const float split = settings_.kappa * meanBinSolidAngle(settings_.dirs);
-  linkCreation_.record(cmd, set, LinkWork{b_.args, b_.worklistA, b_.worklistB, b_.brightEmitters, b_.pool()},
+  const vk::Buffer& buried = &set == &staticSet_ ? b_.scene.nodeStillBuried : b_.scene.nodeBuried;
+  linkCreation_.record(cmd, set, LinkWork{b_.args, b_.worklistA, b_.worklistB, b_.brightEmitters, buried, b_.pool()},
                        hierarchy_,
                        LinkCriteria{.epsilon = settings_.epsilon,
                                     .largeSender = split,
                                     .largeReceiver = split,
                                     .bothSides = true,
                                     .emitterReceiver = 0.0f,
-                                    .receiverStaysWhole = false},
+                                    .receiverStaysWhole = false,
+                                    .skipBuriedSenders = !settings_.linkBuriedSenders},
                        worklistCapacity_);
   // The senders in order: the short lists an invocation each, the long ones a workgroup each.
   vk::fillBuffer(cmd, b_.longSorts, 0u, 0, sizeof(uint32_t));

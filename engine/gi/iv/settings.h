@@ -36,6 +36,10 @@ struct IvSettings {
   // Tests: the static set's leaf links keep no room to spare once a frame stands, so that the next
   // frame's new rigid receivers overflow it (and it grows keeping what it holds).
   bool exactStaticRoom = false;
+  // Tests: senders inside other objects are linked too. A moving object buries what it stands on only
+  // while it stands there, so links made once keep what a full relink leaves out; linked, the two
+  // agree, which tests of links made once compare.
+  bool linkBuriedSenders = false;
 };
 
 // The most bounces a frame runs, given or until converged: a guard against typing errors and

@@ -128,7 +128,8 @@ void IvSolver::uploadScene(const scene::Geometry& g, const std::vector<uint32_t>
   const vk::Context& ctx = ctx_;
   vk::Allocations* tally = &allocations_;
   using vk::deviceArray;
-  b_.scene = SceneBuffers(ctx, g, setup_.hierarchy, settings_.bins, settings_.environment, allocations_);
+  b_.scene =
+      SceneBuffers(ctx, g, setup_.hierarchy, settings_.bins, settings_.environment, setup_.objectMoves, allocations_);
   b_.nodeFlags = vk::makeBuffer(ctx, nodeFlags, vk::Memory::Device, tally);
   b_.args = vk::Buffer(ctx, 4 * sizeof(glm::uvec4), vk::Memory::Device, tally);
   for (LinkSet* set : {&staticSet_, &frameSet_}) set->allocateLists(ctx, nodeCount_, tally);
@@ -210,15 +211,20 @@ void IvSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
   });
   staticPasses_ += linkStatic_ ? 1 : 0;
   timedPass(cmd, timer, "links", [&] {
-    const LinkWork work{b_.args, b_.worklistA, b_.worklistB, b_.nodeEmission, b_.pool()};
-    const LinkWork staticWork{b_.args, b_.worklistA, b_.worklistB, b_.nodeEmission,
+    const LinkWork work{b_.args, b_.worklistA, b_.worklistB, b_.nodeEmission, b_.scene.nodeBuried, b_.pool()};
+    const LinkWork staticWork{b_.args,
+                              b_.worklistA,
+                              b_.worklistB,
+                              b_.nodeEmission,
+                              b_.scene.nodeStillBuried,
                               vk::Bindings::pool({{"nodes", staticNodes()}}).plus(b_.pool())};
     const LinkCriteria criteria{.epsilon = settings_.epsilon,
                                 .largeSender = settings_.kappa * meanBinSolidAngle(settings_.bins),
                                 .largeReceiver = 3.4e38f,
                                 .bothSides = false,
                                 .emitterReceiver = 3.4e38f,
-                                .receiverStaysWhole = true};
+                                .receiverStaysWhole = true,
+                                .skipBuriedSenders = !settings_.linkBuriedSenders};
     if (linkStatic_) links_.record(cmd, staticSet_, staticWork, h, criteria, room_.worklistCapacity());
     links_.record(cmd, frameSet_, work, h, criteria, room_.worklistCapacity());
   });
