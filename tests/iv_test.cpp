@@ -883,3 +883,51 @@ TEST(IvEnvironment, AClosedObjectsFacesTowardTheReceiverWinItsBins) {
   ASSERT_GE(counted, 9);
   EXPECT_NEAR(linked / expected, 1.0, 0.05);
 }
+
+// A closed object's faces turned away from a receiver lie behind its faces turned toward it, so a
+// sender turned wholly away is not linked (refine_links). That holds where its normals point out: a
+// box wound the wrong way shows a floor under it only its backs, which must still stand for it.
+TEST(IvLinks, AClosedBoxsFacesTurnedAwayAreNotLinkedUnlessItsNormalsPointIn) {
+  // The floor's surfels' surviving senders on a box floating over it: on its face `y` up (the top
+  // when wound outward, turned away from the floor; the bottom when wound inward, turned away too,
+  // and the face the floor sees).
+  auto survivorsOn = [](bool woundInward, float y) {
+    using glm::vec3;
+    scenes::GltfBuilder b;
+    const int grey = b.material("grey", vec3(0.6f)), lamp = b.material("lamp", vec3(0.0f), vec3(5.0f));
+    scenes::MeshData floor, light, box;
+    scenes::addQuad(floor, {-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}, 12, 12, {0, 1, 0});
+    scenes::addQuad(light, {-0.3f, 2, -0.3f}, {0.3f, 2, -0.3f}, {0.3f, 2, 0.3f}, {-0.3f, 2, 0.3f}, 1, 1, {0, -1, 0});
+    scenes::addBox(box, {0, 0.5f, 0}, vec3(0.25f), 3);
+    if (woundInward) {
+      for (size_t t = 0; t + 2 < box.indices.size(); t += 3) std::swap(box.indices[t + 1], box.indices[t + 2]);
+      for (vec3& n : box.normals) n = -n;
+    }
+    b.node("floor", b.mesh("floor", {{floor, grey}}));
+    b.node("lamp", b.mesh("lamp", {{light, lamp}}));
+    b.node("box", b.mesh("box", {{box, grey}}));
+    const scene::Scene s = scene::sceneFromModel(b.finish(), "box");
+    const scene::Geometry g = scene::buildGeometry(s);
+    gi::FrameRenderer r = test::ivRenderer(g, {16, 16, 1}, gi::makeIvSetup(s, g, atEverySurfel({})));
+    const auto pose = scene::evaluatePose(s, -1, 0.0f);
+    const auto inputs = g.frameInputs(s, pose);
+    r.render(inputs, test::framing(g, inputs), scene::worldLights(s, pose));
+    const gi::IvSolver& solver = test::ivSolver(r);
+    const auto surfels = r.surfels();
+    const auto links = solver.leafLinks();
+    int on = 0;
+    for (size_t i = 0; i < surfels.size(); ++i) {
+      if (std::abs(surfels[i].positionArea.y) > 1e-4f) continue;  // the floor's
+      for (const auto& link : links[i]) {
+        const int sender = solver.hierarchy().nodes[link.sender].surfel;
+        on += sender >= 0 && std::abs(surfels[size_t(sender)].positionArea.y - y) < 1e-4f &&
+              surfels[size_t(sender)].normal.y > 0.99f;
+      }
+    }
+    std::printf("[ closed backs ] box wound %s: the floor's surviving senders on its face up at y %.2f: %d\n",
+                woundInward ? "inward" : "outward", double(y), on);
+    return on;
+  };
+  EXPECT_EQ(survivorsOn(false, 0.75f), 0);
+  EXPECT_GT(survivorsOn(true, 0.25f), 50) << "its backs, the faces the floor sees, must stay";
+}

@@ -75,7 +75,9 @@ struct LinkCriteria {
 // carry kEmitterBit), per node how many surfels below it lie inside another object for as long as
 // the set's links stand (SceneBuffers::nodeBuried for links made whenever the geometry moved,
 // nodeStillBuried for links made once; a node all of whose surfels do is no sender), and a pool that
-// holds the trees ("tree"), their node states ("nodes") and "nodeLeaves".
+// holds the trees ("tree"), their node states ("nodes"), "nodeLeaves" and iv's "nodeFlags"
+// (gpu::kNodeClosed: a sender turned wholly away from its receiver is no sender where the criteria
+// leave out the back of surfaces).
 struct LinkWork {
   const vk::Buffer &args, &worklistA, &worklistB, &emitters, &buried;
   vk::Bindings pool;

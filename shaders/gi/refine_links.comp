@@ -21,6 +21,7 @@ layout(std430, binding = 7) writeonly buffer Args { uvec4 args[]; };
 // (buried_surfels), and all the surfels below.
 layout(binding = 8, r32ui) readonly uniform uimageBuffer nodeBuried;
 layout(binding = 9, r32ui) readonly uniform uimageBuffer nodeLeaves;
+layout(binding = 10, r32ui) readonly uniform uimageBuffer nodeFlags;  // iv's kNodeClosed (unread with bothSides)
 layout(push_constant) uniform Push { RefinePush push; };
 
 // Room in the next worklist for `count` pairs, taken at once (the counter is shared by every
@@ -111,6 +112,9 @@ void refinePairs() {
       }
       // Senders wholly below the receiver's horizon matter neither for light nor for visibility.
       if (nr.positionArea.w > 0.0 && cosR <= 0.0) continue;
+      // A closed object's faces turned away from the whole receiver lie behind its faces turned
+      // toward it; they matter only where the back of a surface carries antiradiance.
+      if (push.bothSides == 0u && cosS <= 0.0 && (imageLoad(nodeFlags, int(s)).x & kNodeClosed) != 0u) continue;
       // iv re-bins a sender at each leaf under the receiver: one it cannot split stays linked whole.
       if (leafS && push.receiverStaysWhole != 0u) {
         storeLink(r, s);

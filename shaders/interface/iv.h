@@ -12,9 +12,9 @@ struct LeafLink {
   uint formFactorBits;
 };
 // Per node, for the prune: it moves (its object may move: pruned every frame), its object's
-// surface is closed (scene::closedInstances), its object moves rigidly (its links to itself are
-// pruned once, in its rest pose), and above kNodeRootShift its object's root node (which is the
-// object's number: roots come first).
+// surface is closed (scene::closedInstances) with its normals out (Hierarchy::rootEncloses), its object moves rigidly
+// (its links to itself are pruned once, in its rest pose), and above kNodeRootShift its object's root node (which is
+// the object's number: roots come first).
 IVGI_CONST uint kNodeMoves = 1u;
 IVGI_CONST uint kNodeClosed = 2u;
 IVGI_CONST uint kNodeRigid = 4u;

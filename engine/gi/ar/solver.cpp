@@ -261,7 +261,9 @@ void ArSolver::recordStart(VkCommandBuffer cmd, vk::PassTimer& timer) {
 void ArSolver::recordLinks(VkCommandBuffer cmd, LinkSet& set) {
   const float split = settings_.kappa * meanBinSolidAngle(settings_.dirs);
   const vk::Buffer& buried = &set == &staticSet_ ? b_.scene.nodeStillBuried : b_.scene.nodeBuried;
-  linkCreation_.record(cmd, set, LinkWork{b_.args, b_.worklistA, b_.worklistB, b_.brightEmitters, buried, b_.pool()},
+  // ar links the faces turned away too (bothSides), so iv's nodeFlags are not read: any stands in.
+  const vk::Bindings pool = b_.pool().plus(vk::Bindings::pool({{"nodeFlags", b_.scene.nodeLeaves}}));
+  linkCreation_.record(cmd, set, LinkWork{b_.args, b_.worklistA, b_.worklistB, b_.brightEmitters, buried, pool},
                        hierarchy_,
                        LinkCriteria{.epsilon = settings_.epsilon,
                                     .largeSender = split,

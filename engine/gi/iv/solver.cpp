@@ -84,14 +84,16 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, IvSetup set
   if (nodeCount_ >= 1u << (32u - gpu::kNodeRootShift))
     throw SettingsError("the scene's iv hierarchy has " + std::to_string(nodeCount_) +
                         " nodes, more than the solver can address: use a lower --tessellate");
-  const std::vector<bool> closed = scene::closedInstances(g);
+  // Closed, its normals out: from outside, its faces turned away lie behind faces turned toward.
+  const std::vector<bool> closedInstances = scene::closedInstances(g);
+  auto closed = [&](size_t r) { return closedInstances[h.rootInstance[r]] && h.rootEncloses[r]; };
   poseBase_ = nodeCount_;
   std::vector<uint32_t> nodeFlags(size_t(nodeCount_) + gpu::kPoseWords * h.roots.size(), 0u);
   for (size_t r = 0; r < h.roots.size(); ++r) {
     if (h.roots[r] != r) throw std::logic_error("IvSolver: the hierarchy's roots are not its first nodes");
-    nodeFlags[h.roots[r]] =
-        (!split || moves(r) ? gpu::kNodeMoves : 0u) | (closed[h.rootInstance[r]] ? gpu::kNodeClosed : 0u) |
-        (anyRigid_ && rigidGroup[r] >= 0 ? gpu::kNodeRigid : 0u) | h.roots[r] << gpu::kNodeRootShift;
+    nodeFlags[h.roots[r]] = (!split || moves(r) ? gpu::kNodeMoves : 0u) | (closed(r) ? gpu::kNodeClosed : 0u) |
+                            (anyRigid_ && rigidGroup[r] >= 0 ? gpu::kNodeRigid : 0u) |
+                            h.roots[r] << gpu::kNodeRootShift;
     for (uint32_t row = 0; row < 3; ++row)
       nodeFlags[poseBase_ + gpu::kPoseWords * r + 4 * row + row] = std::bit_cast<uint32_t>(1.0f);
     objectMatrix_.push_back(g.instances[h.rootInstance[r]].matrix);
