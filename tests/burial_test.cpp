@@ -42,18 +42,33 @@ tinygltf::Model boxesOnAFloor() {
   return b.finish();
 }
 
-}  // namespace
-
-TEST(Burial, AFloorUnderABlockStandingOnItIsBuriedAndNothingElse) {
+// boxesOnAFloor's frame as iv solves it: the surfels, which of them are buried, each one's surviving
+// links with the trees' nodes their senders name, and the solver's figures.
+struct Solved {
+  std::vector<scene::Surfel> surfels;
+  std::vector<uint32_t> buried;
+  std::vector<std::vector<gi::IvSolver::LeafLink>> links;
+  std::vector<gpu::TreeNode> nodes;
+  gi::IvStats stats;
+};
+Solved solveBoxes(const gi::IvSettings& settings) {
   const scene::Scene s = scene::sceneFromModel(boxesOnAFloor(), "boxes");
   const scene::Geometry g = scene::buildGeometry(s);
-  gi::FrameRenderer r = test::ivRenderer(g, {32, 32, 1}, gi::makeIvSetup(s, g, {}));
+  gi::FrameRenderer r = test::ivRenderer(g, {32, 32, 1}, gi::makeIvSetup(s, g, settings));
   const auto pose = scene::evaluatePose(s, -1, 0.0f);
   const auto inputs = g.frameInputs(s, pose);
   r.render(inputs, test::framing(g, inputs), scene::worldLights(s, pose));
-  const auto surfels = scene::surfelsOnHost(g, scene::animateOnHost(g, inputs));
-  const auto buried = test::ivSolver(r).surfelBuried().read<uint32_t>(surfels.size());
+  const gi::IvSolver& iv = test::ivSolver(r);
+  return {r.surfels(), iv.surfelBuried().read<uint32_t>(g.surfels.size()), iv.leafLinks(), iv.hierarchy().nodes,
+          iv.stats()};
+}
 
+}  // namespace
+
+TEST(Burial, AFloorUnderABlockStandingOnItIsBuriedAndNothingElse) {
+  const Solved solved = solveBoxes({});
+  const std::vector<scene::Surfel>& surfels = solved.surfels;
+  const std::vector<uint32_t>& buried = solved.buried;
   int under = 0, around = 0, others = 0;
   for (size_t i = 0; i < surfels.size(); ++i) {
     const glm::vec3 p(surfels[i].positionArea), n(surfels[i].normal);
@@ -82,42 +97,29 @@ TEST(Burial, AFloorUnderABlockStandingOnItIsBuriedAndNothingElse) {
 // centre is under the box reaches out in front of it); unlinked, none does, and the links and the
 // prune's work fall. Every surfel a receiver, so that only the links differ.
 TEST(Burial, SendersInsideAnotherObjectAreNotLinked) {
-  struct Solved {
-    gi::IvStats stats;
-    double buriedFormFactor = 0;  // summed over every unburied surfel's surviving links from buried surfels
-  };
-  auto solve = [](bool linkBuried) {
-    const scene::Scene s = scene::sceneFromModel(boxesOnAFloor(), "boxes");
-    const scene::Geometry g = scene::buildGeometry(s);
-    gi::IvSettings settings{.receiverTolerance = 0.0f};
-    settings.linkBuriedSenders = linkBuried;
-    gi::IvSetup setup = gi::makeIvSetup(s, g, settings);
-    const gi::Hierarchy h = setup.hierarchy;
-    gi::FrameRenderer r = test::ivRenderer(g, {32, 32, 1}, std::move(setup));
-    const auto pose = scene::evaluatePose(s, -1, 0.0f);
-    const auto inputs = g.frameInputs(s, pose);
-    r.render(inputs, test::framing(g, inputs), scene::worldLights(s, pose));
-    const gi::IvSolver& solver = test::ivSolver(r);
-    const auto buried = solver.surfelBuried().read<uint32_t>(g.surfels.size());
-    const auto links = solver.leafLinks();
-    Solved out{solver.stats()};
-    for (size_t receiver = 0; receiver < links.size(); ++receiver) {  // per surfel
-      if (buried[receiver]) continue;
-      for (const auto& link : links[receiver]) {
-        const int sender = h.nodes[link.sender].surfel;
-        if (sender >= 0 && buried[size_t(sender)]) out.buriedFormFactor += link.formFactor;
+  // Summed over every unburied surfel's surviving links from buried surfels.
+  auto buriedFormFactor = [](const Solved& solved) {
+    double sum = 0;
+    for (size_t receiver = 0; receiver < solved.links.size(); ++receiver) {  // per surfel
+      if (solved.buried[receiver]) continue;
+      for (const auto& link : solved.links[receiver]) {
+        const int sender = solved.nodes[link.sender].surfel;
+        if (sender >= 0 && solved.buried[size_t(sender)]) sum += link.formFactor;
       }
     }
-    return out;
+    return sum;
   };
-  const Solved unlinked = solve(false), linked = solve(true);
+  gi::IvSettings settings{.receiverTolerance = 0.0f};
+  const Solved unlinked = solveBoxes(settings);
+  settings.linkBuriedSenders = true;
+  const Solved linked = solveBoxes(settings);
   std::printf(
       "[ burial ] surviving form factors from buried senders %.4f (linked), %.4f (unlinked); links %u against "
       "%u, senders walked %llu against %llu\n",
-      linked.buriedFormFactor, unlinked.buriedFormFactor, linked.stats.links, unlinked.stats.links,
+      buriedFormFactor(linked), buriedFormFactor(unlinked), linked.stats.links, unlinked.stats.links,
       (unsigned long long)linked.stats.sendersWalked, (unsigned long long)unlinked.stats.sendersWalked);
-  EXPECT_GT(linked.buriedFormFactor, 0.0) << "linked, buried senders win bins outside";
-  EXPECT_EQ(unlinked.buriedFormFactor, 0.0);
+  EXPECT_GT(buriedFormFactor(linked), 0.0) << "linked, buried senders win bins outside";
+  EXPECT_EQ(buriedFormFactor(unlinked), 0.0);
   EXPECT_LT(unlinked.stats.links, linked.stats.links);
   EXPECT_LT(unlinked.stats.sendersWalked, linked.stats.sendersWalked);
 }

@@ -26,6 +26,7 @@ struct Solved {
   std::vector<glm::vec4> radiosity;  // per surfel, B
   std::vector<std::vector<gi::IvSolver::LeafLink>> links;
   gi::IvStats stats;
+  std::vector<gpu::TreeNode> nodes;  // the trees' (a link's sender)
 };
 
 // The prune's per-receiver results are checked at every surfel (--receiver-tol 0); the choice of
@@ -46,7 +47,8 @@ Solved solve(const tinygltf::Model& model, gi::IvSettings settings, vk::Context&
                   ? scene::framingCamera(scene::worldBounds(scene::animateOnHost(g, g.frameInputs(s, pose))), 1.0f)
                   : scene::cameraView(s, pose, cams[0]);
   r.render(g.frameInputs(s, pose), view, scene::worldLights(s, pose));
-  return {test::ivSolver(r).leafRadiosity(), test::ivSolver(r).leafLinks(), test::ivSolver(r).stats()};
+  const gi::IvSolver& iv = test::ivSolver(r);
+  return {iv.leafRadiosity(), iv.leafLinks(), iv.stats(), iv.hierarchy().nodes};
 }
 
 // The surfels of `model` at rest, in the order the solver numbers them.
@@ -906,20 +908,14 @@ TEST(IvLinks, AClosedBoxsFacesTurnedAwayAreNotLinkedUnlessItsNormalsPointIn) {
     b.node("floor", b.mesh("floor", {{floor, grey}}));
     b.node("lamp", b.mesh("lamp", {{light, lamp}}));
     b.node("box", b.mesh("box", {{box, grey}}));
-    const scene::Scene s = scene::sceneFromModel(b.finish(), "box");
-    const scene::Geometry g = scene::buildGeometry(s);
-    gi::FrameRenderer r = test::ivRenderer(g, {16, 16, 1}, gi::makeIvSetup(s, g, atEverySurfel({})));
-    const auto pose = scene::evaluatePose(s, -1, 0.0f);
-    const auto inputs = g.frameInputs(s, pose);
-    r.render(inputs, test::framing(g, inputs), scene::worldLights(s, pose));
-    const gi::IvSolver& solver = test::ivSolver(r);
-    const auto surfels = r.surfels();
-    const auto links = solver.leafLinks();
+    const tinygltf::Model model = b.finish();
+    const Solved solved = solve(model, {});
+    const auto surfels = restSurfels(model);
     int on = 0;
     for (size_t i = 0; i < surfels.size(); ++i) {
       if (std::abs(surfels[i].positionArea.y) > 1e-4f) continue;  // the floor's
-      for (const auto& link : links[i]) {
-        const int sender = solver.hierarchy().nodes[link.sender].surfel;
+      for (const auto& link : solved.links[i]) {
+        const int sender = solved.nodes[link.sender].surfel;
         on += sender >= 0 && std::abs(surfels[size_t(sender)].positionArea.y - y) < 1e-4f &&
               surfels[size_t(sender)].normal.y > 0.99f;
       }

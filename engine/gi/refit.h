@@ -14,7 +14,7 @@ class Refit {
  public:
   explicit Refit(const vk::Context& ctx);
   // Writes scene.nodes and scene.nodeVectorArea from the trees and the frame's `surfels`
-  // (gpu::Surfel), then scene.surfelBuried and scene.nodeBuried.
+  // (gpu::Surfel), then scene.surfelBuried, scene.nodeBuried and scene.nodeStillBuried.
   void record(VkCommandBuffer cmd, const SceneBuffers& scene, const vk::Buffer& surfels) const;
   // The node attributes alone (a rest pose's nodes, which no image reads for burial).
   void recordNodes(VkCommandBuffer cmd, const SceneBuffers& scene, const vk::Buffer& surfels) const;
