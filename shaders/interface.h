@@ -30,10 +30,16 @@ IVGI_FN uvec4 groupsFor(uint items, uint size) {
   return uvec4(min(groups, 65535u), (groups + 65534u) / 65535u, 1u, 0u);
 }
 
-// The items of a dispatch (animate, surfels, emit, pull_up, refit, receiver_reach, scan_counts,
+// The items of a dispatch (emit, pull_up, refit, receiver_reach, scan_counts,
 // vertex_irradiance, ar_order_receivers, ar_sort_senders).
 struct CountPush {
   uint count;
+};
+// The items of a dispatch over every item, or over those listed (animate and surfels: the vertices
+// and surfels of the objects that move, once a frame has posed them all).
+struct ListedPush {
+  uint count;   // items, or items listed
+  uint listed;  // 1: item i is the i-th listed
 };
 
 // The parts, each after those it uses (so in this order, not sorted):

@@ -82,6 +82,19 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
   surfelSources_ = upload(g.surfels), surfelVertices_ = upload(g.surfelVertices),
   surfelTriangles_ = upload(g.surfelTriangles);
   vertexSurfel_ = upload(scene::vertexSurfels(g));
+  {
+    auto moves = [&](uint32_t vertex) {
+      return movingInstances.empty() || movingInstances.at(g.vertices[vertex].instance);
+    };
+    std::vector<uint32_t> vertices, surfels;
+    for (uint32_t v = 0; v < vertexCount_; ++v)
+      if (moves(v)) vertices.push_back(v);
+    for (uint32_t s = 0; s < surfelCount_; ++s)
+      if (moves(g.surfelVertices[g.surfels[s].firstVertex])) surfels.push_back(s);
+    movingVertexCount_ = uint32_t(vertices.size()), movingSurfelCount_ = uint32_t(surfels.size());
+    movingVertices_ = upload(vertices.empty() ? std::vector<uint32_t>{0u} : vertices);  // one stand-in, never read
+    movingSurfels_ = upload(surfels.empty() ? std::vector<uint32_t>{0u} : surfels);
+  }
   specularAlbedo_ = upload(g.glossyMaterials ? scene::SpecularAlbedo::table().values() : std::vector<glm::vec2>(1));
 
   matrices_ = vk::Buffer(ctx, 0, Memory::Host, tally);  // sized on the first frame
@@ -150,6 +163,8 @@ vk::Bindings FrameRenderer::pool() const {
                              {"surfelVertices", surfelVertices_},
                              {"surfelTriangles", surfelTriangles_},
                              {"vertexSurfel", vertexSurfel_},
+                             {"movingVertices", movingVertices_},
+                             {"movingSurfels", movingSurfels_},
                              {"matrices", matrices_},
                              {"morphWeights", morphWeights_},
                              {"world", world_},
@@ -187,10 +202,14 @@ bool FrameRenderer::recordFrame(VkCommandBuffer cmd, const gpu::Camera& camera, 
     ctx_.timeDispatches(&*programTimer_);
   }
   if (geometryMoved || !posed_) {  // else the posed vertices and the surfels stand from the frame before
-    timedPass(cmd, timer_, "animate",
-              [&] { animate_.dispatchItems(cmd, vertexCount_, buffers, gpu::CountPush{.count = vertexCount_}); });
-    timedPass(cmd, timer_, "surfels",
-              [&] { surfelUpdate_.dispatchItems(cmd, surfelCount_, buffers, gpu::CountPush{.count = surfelCount_}); });
+    // After the first frame, only those of the objects that move.
+    auto items = [&](uint32_t all, uint32_t moving) {
+      return posed_ ? gpu::ListedPush{.count = moving, .listed = 1u} : gpu::ListedPush{.count = all, .listed = 0u};
+    };
+    const gpu::ListedPush vertices = items(vertexCount_, movingVertexCount_),
+                          surfels = items(surfelCount_, movingSurfelCount_);
+    timedPass(cmd, timer_, "animate", [&] { animate_.dispatchItems(cmd, vertices.count, buffers, vertices); });
+    timedPass(cmd, timer_, "surfels", [&] { surfelUpdate_.dispatchItems(cmd, surfels.count, buffers, surfels); });
     posed_ = true;
   }
   if (direct_) direct_->record(cmd, timer_, buffers, geometryMoved);

@@ -85,6 +85,10 @@ class FrameRenderer {
   vk::Buffer vertices_, instances_, morphDeltas_, triangles_, uvs_, colors_, materials_, textures_, texels_,
       specularAlbedo_, pixelSpecular_;
   vk::Buffer surfelSources_, surfelVertices_, surfelTriangles_, vertexSurfel_;
+  // The vertices and surfels of the instances that can move (every one where none stays still):
+  // once a frame has posed them all, the others stand.
+  vk::Buffer movingVertices_, movingSurfels_;
+  uint32_t movingVertexCount_ = 0, movingSurfelCount_ = 0;
   // Per frame.
   vk::Buffer matrices_, morphWeights_, world_, surfels_, visibility_, unlitIrradiance_;
   vk::Buffer shownIrradiance_;  // the solver's irradiance carried to each surfel's vertex (vertex_irradiance)

@@ -14,13 +14,16 @@ class Refit {
  public:
   explicit Refit(const vk::Context& ctx);
   // Writes scene.nodes and scene.nodeVectorArea from the trees and the frame's `surfels`
-  // (gpu::Surfel), then scene.surfelBuried, scene.nodeBuried and scene.nodeStillBuried.
-  void record(VkCommandBuffer cmd, const SceneBuffers& scene, const vk::Buffer& surfels) const;
+  // (gpu::Surfel), then scene.surfelBuried, scene.nodeBuried and scene.nodeStillBuried. After the
+  // first, only what moves: the trees of the objects that move, and the burial of surfels by or in
+  // them (what stays still keeps its nodes and its burial from the first).
+  void record(VkCommandBuffer cmd, const SceneBuffers& scene, const vk::Buffer& surfels);
   // The node attributes alone (a rest pose's nodes, which no image reads for burial).
   void recordNodes(VkCommandBuffer cmd, const SceneBuffers& scene, const vk::Buffer& surfels) const;
 
  private:
   vk::Program refit_, burial_;
+  bool stillKnown_ = false;  // the still objects' nodes and burial stand from a pass before
 };
 
 }  // namespace ivgi::gi

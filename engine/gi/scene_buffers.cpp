@@ -48,6 +48,22 @@ SceneBuffers::SceneBuffers(const vk::Context& ctx, const scene::Geometry& g, con
     flags[r] = (h.rootEncloses[r] ? gpu::kRootEncloses : 0u) |
                (!objectMoves.empty() && !objectMoves[r] ? gpu::kRootStill : 0u);
   rootFlags = vk::makeBuffer(ctx, flags, vk::Memory::Device, tally);
+  // Roots are nodes 0 to rootCount − 1, and a parent comes before its children.
+  std::vector<uint32_t> rootOf(h.nodes.size());
+  for (size_t i = 0; i < h.nodes.size(); ++i)
+    rootOf[i] = h.nodes[i].parent < 0 ? uint32_t(i) : rootOf[size_t(h.nodes[i].parent)];
+  std::vector<uint32_t> moving, roots;
+  for (const uint32_t leaf : h.leafOfSurfel) {
+    roots.push_back(rootOf[leaf]);
+    if (!(flags[rootOf[leaf]] & gpu::kRootStill)) moving.push_back(leaf);
+  }
+  surfelRoot = vk::makeBuffer(ctx, roots.empty() ? std::vector<uint32_t>{0u} : roots, vk::Memory::Device, tally);
+  anyStill = moving.size() < h.leafOfSurfel.size();
+  for (size_t r = 0; r < h.roots.size(); ++r)
+    movingEncloses = movingEncloses || (flags[r] & (gpu::kRootEncloses | gpu::kRootStill)) == gpu::kRootEncloses;
+  movingLeafCount = uint32_t(moving.size());
+  if (moving.empty()) moving.push_back(0u);  // a one-element stand-in, never read
+  movingLeaves = vk::makeBuffer(ctx, moving, vk::Memory::Device, tally);
 }
 
 void SceneBuffers::setLights(const vk::Context& ctx, const std::vector<gpu::PunctualLight>& frameLights,
@@ -75,6 +91,8 @@ vk::Bindings SceneBuffers::pool() const {
                              {"nodeVectorArea", nodeVectorArea},
                              {"nodeLeaves", nodeLeaves},
                              {"rootFlags", rootFlags},
+                             {"surfelRoot", surfelRoot},
+                             {"movingLeaves", movingLeaves},
                              {"surfelDirect", surfelDirect()},
                              {"surfelArrival", surfelArrival()},
                              {"surfelBrdf", surfelBrdf},

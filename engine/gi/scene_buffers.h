@@ -39,6 +39,13 @@ struct SceneBuffers {
   // Per root (uploaded once): gpu::kRootEncloses where it may hold other objects' surfels
   // (Hierarchy::rootEncloses), gpu::kRootStill where its object does not move.
   vk::Buffer rootFlags;
+  // The leaves of the objects that move (uploaded once; every leaf where none stays still): once
+  // every tree is refit, a frame refits theirs alone.
+  vk::Buffer movingLeaves;
+  uint32_t movingLeafCount = 0;
+  vk::Buffer surfelRoot;        // per surfel (uploaded once): its tree's root
+  bool anyStill = false;        // some object stays still over the frames rendered
+  bool movingEncloses = false;  // some object that moves encloses a volume (may bury others' surfels)
   // Per surfel, the emitters' direct light from depth maps (engine/gi/direct_light.h) where the
   // frame gives it (Solver::useDirectLight): the solver then transports only the light the surfels
   // reflect. Else zeros (`noDirectLight`), the solver carrying the emitters' light itself.

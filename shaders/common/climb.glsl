@@ -8,8 +8,13 @@
 // The including shader defines CLIMB_ARRIVALS (the binding of the counts), `uvec4 treeNodeAt(uint)`
 // (gpu::TreeNode: parent, first child, child count, surfel), `void combine(uint node)` and a push
 // constant `push` whose `count` is the number of nodes (gpu::CountPush), and declares `coherent`
-// the buffer that combine() writes and reads of children.
+// the buffer that combine() writes and reads of children. Where it defines CLIMB_LEAVES (a binding),
+// the invocations climb from the leaves listed there instead, `count` of them: every leaf below the
+// nodes to combine, so that each of them sees all its children arrive.
 layout(std430, binding = CLIMB_ARRIVALS) coherent buffer Arrivals { uint arrivals[]; };
+#ifdef CLIMB_LEAVES
+layout(binding = CLIMB_LEAVES, r32ui) readonly uniform uimageBuffer climbLeaves;
+#endif
 
 // From node `leaf` (nothing where it is not a leaf) up to where a sibling is still to come.
 void climbFrom(uint leaf) {
@@ -29,5 +34,9 @@ void climbFrom(uint leaf) {
 
 void main() {
   const uint i = itemIndex();
+#ifdef CLIMB_LEAVES
+  if (i < push.count) climbFrom(imageLoad(climbLeaves, int(i)).x);
+#else
   if (i < push.count) climbFrom(i);
+#endif
 }

@@ -11,7 +11,9 @@ layout(binding = 2, rgba32f) readonly uniform imageBuffer morphDeltas;  // Morph
 layout(binding = 3, rgba32f) readonly uniform imageBuffer matrices;     // mat4: four columns
 layout(binding = 4, r32f) readonly uniform imageBuffer morphWeights;
 layout(std430, binding = 5) writeonly buffer World { WorldVertex world[]; };
-layout(push_constant) uniform Push { CountPush push; };  // count: vertices
+// The vertices of the objects that move: the others keep the pose a frame before gave them.
+layout(binding = 6, r32ui) readonly uniform uimageBuffer movingVertices;
+layout(push_constant) uniform Push { ListedPush push; };  // the vertices, or those listed
 
 // det·M⁻ᵀ without a division: finite for singular matrices (a joint scaled to zero).
 vec3 transformNormal(mat4 m, vec3 n) {
@@ -28,6 +30,7 @@ mat4 matrixAt(uint j) { return FOUR_TEXELS(mat4, matrices, j); }
 void main() {
   uint i = itemIndex();
   if (i >= push.count) return;
+  if (push.listed != 0u) i = imageLoad(movingVertices, int(i)).x;
   Vertex v = vertices[i];
   Instance inst = instances[v.instance];
   vec3 p = v.position, n = v.normal;

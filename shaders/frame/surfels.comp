@@ -14,7 +14,9 @@ layout(binding = 2, r32ui) readonly uniform uimageBuffer surfelTriangles;
 layout(binding = 3, rgba32ui) readonly uniform uimageBuffer triangles;  // Triangle
 layout(binding = 4, rgba32f) readonly uniform imageBuffer world;        // WorldVertex: position, normal
 layout(std430, binding = 5) writeonly buffer Surfels { Surfel surfels[]; };
-layout(push_constant) uniform Push { CountPush push; };  // count: surfels
+// The surfels of the objects that move: the others keep what a frame before gave them.
+layout(binding = 6, r32ui) readonly uniform uimageBuffer movingSurfels;
+layout(push_constant) uniform Push { ListedPush push; };  // the surfels, or those listed
 
 vec3 positionOf(uint v) { return imageLoad(world, int(2u * v)).xyz; }
 // The k-th of the surfel's triangles: its vertices' positions.
@@ -26,6 +28,7 @@ void triangleOf(SurfelSource src, uint k, out vec3 a, out vec3 b, out vec3 c) {
 void main() {
   uint s = itemIndex();
   if (s >= push.count) return;
+  if (push.listed != 0u) s = imageLoad(movingSurfels, int(s)).x;
   SurfelSource src = sources[s];
   float area = 0.0;
   vec3 faceSum = vec3(0.0), vertexSum = vec3(0.0), moment = vec3(0.0);

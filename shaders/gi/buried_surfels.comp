@@ -9,7 +9,8 @@
 // Summed over the object's tree, depth first without a stack (`skip`), as fast winding numbers are
 // (Barill et al. 2018): a node far from the point as a dipole of its vector area, a near surfel as
 // its rectangle's exact solid angle. A surfel of an object that stays still, inside another that
-// does too, is also counted apart: it stays inside for as long as links made once stand.
+// does too, is also counted apart: it stays inside for as long as links made once stand, and the
+// frames after the first test again only what moves (BurialPush::stillKnown).
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 3
 #include "common/common.glsl"
@@ -25,6 +26,8 @@ layout(std430, binding = 5) writeonly buffer SurfelBuried { uint surfelBuried[];
 // zeroed before the pass).
 layout(std430, binding = 6) buffer NodeBuried { uint nodeBuried[]; };
 layout(std430, binding = 9) buffer NodeStillBuried { uint nodeStillBuried[]; };
+layout(binding = 10, r32ui) readonly uniform uimageBuffer surfelRoot;  // its tree's root
+layout(binding = 11, r32ui) readonly uniform uimageBuffer movingLeaves;
 layout(binding = 8, rgba32f) readonly uniform imageBuffer nodeVectorArea;  // Σ a·n (refit)
 layout(push_constant) uniform Push { BurialPush push; };
 
@@ -56,43 +59,54 @@ float solidAngleOf(uint i, vec3 p) {
   return turn * (triangleSolidAngle(q0, q1, q2) + triangleSolidAngle(q0, q2, q3)) * positionArea.w / rectangle;
 }
 
-void main() {
-  const uint s = itemIndex();
-  if (s >= push.surfelCount) return;
-  const vec3 p = imageLoad(surfels, int(3u * s)).xyz;
-  uint own = imageLoad(leafOfSurfel, int(s)).x;
-  for (int parent = int(imageLoad(tree, int(own)).x); parent >= 0; parent = int(imageLoad(tree, int(own)).x))
-    own = uint(parent);
-  const bool ownStill = (imageLoad(rootFlags, int(own)).x & kRootStill) != 0u;
+// Whether the point p lies inside the object of `root`: its winding number, summed over the tree.
+// A walk cut short by kBurialVisits says nothing: the point counts as outside.
+bool insideObject(uint root, vec3 p) {
+  if (distance(nodePositionArea(root).xyz, p) > nodeRadius(root)) return false;  // outside its sphere
+  const uint end = imageLoad(skip, int(root)).x;
+  float winding = 0.0;
   uint visits = 0u;
+  for (uint node = root; node != end; ++visits) {
+    if (visits == kBurialVisits) return false;
+    const uvec4 t = imageLoad(tree, int(node));  // parent, firstChild, childCount, surfel
+    if (t.z == 0u || distance(nodePositionArea(node).xyz, p) > kBurialFar * nodeRadius(node)) {
+      winding += solidAngleOf(node, p);
+      node = imageLoad(skip, int(node)).x;
+    } else {
+      node = t.y;
+    }
+  }
+  return winding >= kBurialWinding * 4.0 * kPi;
+}
+
+void main() {
+  const uint item = itemIndex();
+  if (item >= push.surfelCount) return;
+  const uint leaf = push.listed != 0u ? imageLoad(movingLeaves, int(item)).x : imageLoad(leafOfSurfel, int(item)).x;
+  const uint s = push.listed != 0u ? uint(imageLoad(tree, int(leaf)).w) : item;
+  // Still, inside a still object, as a pass before found: counted in nodeBuried already.
+  if (push.stillKnown != 0u && nodeStillBuried[leaf] != 0u) {
+    surfelBuried[s] = 1u;
+    return;
+  }
+  const vec3 p = imageLoad(surfels, int(3u * s)).xyz;
+  const uint own = imageLoad(surfelRoot, int(s)).x;
+  const bool ownStill = (imageLoad(rootFlags, int(own)).x & kRootStill) != 0u;
   bool buried = false, stillBuried = false;
   for (uint root = 0u; root < push.rootCount && !stillBuried && !(buried && !ownStill); ++root) {
     const uint flags = imageLoad(rootFlags, int(root)).x;
     const bool still = (flags & kRootStill) != 0u;
     if (root == own || (flags & kRootEncloses) == 0u || (buried && !still)) continue;
-    const vec4 bounds = nodePositionArea(root);
-    if (distance(bounds.xyz, p) > nodeRadius(root)) continue;  // outside its sphere: not inside it
-    const uint end = imageLoad(skip, int(root)).x;
-    float winding = 0.0;
-    for (uint node = root; node != end && visits < kBurialVisits; ++visits) {
-      const uvec4 t = imageLoad(tree, int(node));  // parent, firstChild, childCount, surfel
-      if (t.z == 0u || distance(nodePositionArea(node).xyz, p) > kBurialFar * nodeRadius(node)) {
-        winding += solidAngleOf(node, p);
-        node = imageLoad(skip, int(node)).x;
-      } else {
-        node = t.y;
-      }
-    }
-    const bool inside = winding >= kBurialWinding * 4.0 * kPi;
+    // A still surfel known to lie outside every still object stays outside them.
+    if (push.stillKnown != 0u && still && ownStill) continue;
+    const bool inside = insideObject(root, p);
     buried = buried || inside;
     stillBuried = inside && still && ownStill;
   }
-  // A walk cut short by kBurialVisits says nothing: the surfel counts as outside, as before.
-  const bool inside = buried && visits < kBurialVisits, stillInside = stillBuried && visits < kBurialVisits;
-  surfelBuried[s] = inside ? 1u : 0u;
-  if (inside)
-    for (int node = int(imageLoad(leafOfSurfel, int(s)).x); node >= 0; node = int(imageLoad(tree, node).x)) {
+  surfelBuried[s] = buried ? 1u : 0u;
+  if (buried)
+    for (int node = int(leaf); node >= 0; node = int(imageLoad(tree, node).x)) {
       atomicAdd(nodeBuried[node], 1u);
-      if (stillInside) atomicAdd(nodeStillBuried[node], 1u);
+      if (stillBuried) atomicAdd(nodeStillBuried[node], 1u);
     }
 }

@@ -1,6 +1,7 @@
 #version 460
-// The refit: node attributes bottom-up, the whole trees in one dispatch (climb.glsl). Leaves
-// copy their surfel; inner nodes combine their children, already refit.
+// The refit: node attributes bottom-up, the trees in one dispatch (climb.glsl). Leaves copy their
+// surfel; inner nodes combine their children, already refit. Once every tree is refit, a frame refits
+// only the trees of the objects that move.
 //
 // Each node also gets the rectangle that has its area's second moments in its tangent plane
 // (half-extents √3·σ along its principal axes, or its children's where those are not clear):
@@ -17,7 +18,7 @@ layout(std430, binding = 2) coherent buffer Nodes { NodeState nodes[]; };
 // Per node, Σ a·n over its surfels (xyz; w unused): its vector area, which the winding number of a
 // far node takes (buried_surfels).
 layout(std430, binding = 4) coherent buffer NodeVectorArea { vec4 nodeVectorArea[]; };
-layout(push_constant) uniform Push { CountPush push; };  // count: nodes
+layout(push_constant) uniform Push { CountPush push; };  // count: the leaves listed
 
 uvec4 treeNodeAt(uint i) {
   const TreeNode t = tree[i];
@@ -92,4 +93,5 @@ void combine(uint i) {
 }
 
 #define CLIMB_ARRIVALS 3
+#define CLIMB_LEAVES 5  // every leaf, or those of the objects that move (the others' nodes stand)
 #include "common/climb.glsl"

@@ -116,8 +116,8 @@ struct NodeState {
 
 // Surfels inside another object (buried_surfels, engine/gi/refit.h): a surfel is inside where that
 // object's winding number reaches kBurialWinding. A node counts as a dipole where it lies farther
-// than kBurialFar of its radii; a surfel's walk stops after kBurialVisits nodes (it then counts as
-// outside).
+// than kBurialFar of its radii; a surfel's walk of one object stops after kBurialVisits nodes (it
+// then counts as outside that object).
 IVGI_CONST float kBurialWinding = 0.25f;
 IVGI_CONST float kBurialFar = 1.5f;
 IVGI_CONST uint kBurialVisits = 4096u;
@@ -129,6 +129,12 @@ IVGI_CONST uint kRootStill = 2u;
 struct BurialPush {
   uint surfelCount;
   uint rootCount;  // the trees' roots, nodes 0 to rootCount − 1
+  // 1 where a pass before found which surfels of still objects lie inside still objects
+  // (nodeStillBuried, kept; nodeBuried starts from it): only what moves is tested again.
+  uint stillKnown;
+  // 1: the items are the surfels of the leaves in movingLeaves, surfelCount of them (no object
+  // that moves encloses a volume, so the still surfels' burial stands from the pass before).
+  uint listed;
 };
 
 // ---- Camera rays ----
