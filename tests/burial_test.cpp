@@ -19,13 +19,10 @@ using namespace ivgi;
 namespace {
 
 // A floor of 16 × 16 cells over [-1, 1]² in a closed room (walls and ceiling facing in, a lamp under
-// the ceiling), a box 0.6 m wide standing on it over x ∈ [-0.7, -0.1], z ∈ [-0.3, 0.3], and another
-// floating 0.3 m over it around x = 0.5; each its own object.
-tinygltf::Model boxesOnAFloor() {
-  using glm::vec3;
-  scenes::GltfBuilder b;
-  const int grey = b.material("grey", vec3(0.6f)), light = b.material("lamp", vec3(0.0f), vec3(5.0f));
-  scenes::MeshData floor, room, lamp, standing, floating;
+// the ceiling), each its own object; returns the grey material the room is made of.
+int floorInARoom(scenes::GltfBuilder& b) {
+  const int grey = b.material("grey", glm::vec3(0.6f)), light = b.material("lamp", glm::vec3(0.0f), glm::vec3(5.0f));
+  scenes::MeshData floor, room, lamp;
   scenes::addQuad(floor, {-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}, 16, 16, {0, 1, 0});
   scenes::addQuad(room, {-1, 2, -1}, {1, 2, -1}, {1, 2, 1}, {-1, 2, 1}, 4, 4, {0, -1, 0});  // ceiling
   scenes::addQuad(room, {-1, 0, -1}, {1, 0, -1}, {1, 2, -1}, {-1, 2, -1}, 4, 4, {0, 0, 1});
@@ -34,11 +31,20 @@ tinygltf::Model boxesOnAFloor() {
   scenes::addQuad(room, {1, 0, -1}, {1, 0, 1}, {1, 2, 1}, {1, 2, -1}, 4, 4, {-1, 0, 0});
   scenes::addQuad(lamp, {-0.2f, 1.95f, -0.2f}, {0.2f, 1.95f, -0.2f}, {0.2f, 1.95f, 0.2f}, {-0.2f, 1.95f, 0.2f}, 1, 1,
                   {0, -1, 0});
-  scenes::addBox(standing, {-0.4f, 0.3f, 0.0f}, vec3(0.3f), 4);
-  scenes::addBox(floating, {0.5f, 0.5f, 0.0f}, vec3(0.2f), 4);
   b.node("floor", b.mesh("floor", {{floor, grey}}));
   b.node("room", b.mesh("room", {{room, grey}}));
   b.node("lamp", b.mesh("lamp", {{lamp, light}}));
+  return grey;
+}
+
+// floorInARoom with a box 0.6 m wide standing on the floor over x ∈ [-0.7, -0.1], z ∈ [-0.3, 0.3],
+// and another floating 0.3 m over it around x = 0.5; each its own object.
+tinygltf::Model boxesOnAFloor() {
+  scenes::GltfBuilder b;
+  const int grey = floorInARoom(b);
+  scenes::MeshData standing, floating;
+  scenes::addBox(standing, {-0.4f, 0.3f, 0.0f}, glm::vec3(0.3f), 4);
+  scenes::addBox(floating, {0.5f, 0.5f, 0.0f}, glm::vec3(0.2f), 4);
   b.node("standing", b.mesh("standing", {{standing, grey}}));
   b.node("floating", b.mesh("floating", {{floating, grey}}));
   return b.finish();
@@ -128,22 +134,14 @@ TEST(Burial, SendersInsideAnotherObjectAreNotLinked) {
 
 namespace {
 
-// The floor and room of boxesOnAFloor, a still box standing at x = 0.5 and, animated, a box standing
-// at x = −0.4 that slides 0.3 m toward it over a second.
+// floorInARoom with a still box standing at x = 0.5 and, animated, a box standing at x = −0.4 that
+// slides 0.3 m toward it over a second.
 scene::Scene slidingBox() {
-  using glm::vec3;
   scenes::GltfBuilder b;
-  const int grey = b.material("grey", vec3(0.6f)), light = b.material("lamp", vec3(0.0f), vec3(5.0f));
-  scenes::MeshData floor, room, lamp, still, sliding;
-  scenes::addQuad(floor, {-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}, 16, 16, {0, 1, 0});
-  scenes::addQuad(room, {-1, 2, -1}, {1, 2, -1}, {1, 2, 1}, {-1, 2, 1}, 4, 4, {0, -1, 0});
-  scenes::addQuad(lamp, {-0.2f, 1.95f, -0.2f}, {0.2f, 1.95f, -0.2f}, {0.2f, 1.95f, 0.2f}, {-0.2f, 1.95f, 0.2f}, 1, 1,
-                  {0, -1, 0});
-  scenes::addBox(still, {0.5f, 0.2f, 0.0f}, vec3(0.2f), 4);
-  scenes::addBox(sliding, vec3(0.0f), vec3(0.3f), 4);
-  b.node("floor", b.mesh("floor", {{floor, grey}}));
-  b.node("room", b.mesh("room", {{room, grey}}));
-  b.node("lamp", b.mesh("lamp", {{lamp, light}}));
+  const int grey = floorInARoom(b);
+  scenes::MeshData still, sliding;
+  scenes::addBox(still, {0.5f, 0.2f, 0.0f}, glm::vec3(0.2f), 4);
+  scenes::addBox(sliding, glm::vec3(0.0f), glm::vec3(0.3f), 4);
   b.node("still", b.mesh("still", {{still, grey}}));
   const int box = b.node("sliding", b.mesh("sliding", {{sliding, grey}}), {-0.4f, 0.3f, 0.0f});
   b.animate("slide", box, "translation", {0.0f, 1.0f}, {-0.4f, 0.3f, 0.0f, -0.1f, 0.3f, 0.0f});
