@@ -170,12 +170,7 @@ void chooseRepresentatives(Hierarchy& h, const std::vector<scene::Surfel>& rest)
 // face in, cannot.
 std::vector<uint8_t> enclosingRoots(const Hierarchy& h, const std::vector<scene::Surfel>& rest) {
   const size_t roots = h.roots.size();
-  std::vector<uint32_t> rootOf(h.leafOfSurfel.size());
-  for (size_t s = 0; s < rootOf.size(); ++s) {
-    uint32_t node = h.leafOfSurfel[s];
-    while (h.nodes[node].parent >= 0) node = uint32_t(h.nodes[node].parent);
-    rootOf[s] = node;  // roots are nodes 0 to roots − 1
-  }
+  const std::vector<uint32_t>& rootOf = h.rootOfSurfel;
   std::vector<glm::dvec3> weighted(roots, glm::dvec3(0.0));
   std::vector<double> area(roots, 0.0), volume(roots, 0.0);
   for (size_t s = 0; s < rootOf.size(); ++s) {
@@ -291,6 +286,12 @@ Hierarchy buildHierarchy(const scene::Geometry& g, const std::vector<scene::Surf
     const uint32_t last =
         parent < 0 ? uint32_t(h.roots.size()) : h.nodes[parent].firstChild + h.nodes[parent].childCount;
     h.skip[i] = i + 1 < last ? i + 1 : (parent < 0 ? end : h.skip[uint32_t(parent)]);
+  }
+  h.rootOfSurfel.resize(surfelCount);
+  for (size_t s = 0; s < surfelCount; ++s) {
+    uint32_t node = h.leafOfSurfel[s];
+    while (h.nodes[node].parent >= 0) node = uint32_t(h.nodes[node].parent);
+    h.rootOfSurfel[s] = node;
   }
   h.rootEncloses = enclosingRoots(h, rest);
   std::vector<uint32_t> groupNode(surfelCount);

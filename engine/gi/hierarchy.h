@@ -21,6 +21,7 @@ struct Hierarchy {
   std::vector<uint32_t> roots;         // one per object (drawn instance with surfels)
   std::vector<uint32_t> rootInstance;  // per root: its instance
   std::vector<uint32_t> leafOfSurfel;
+  std::vector<uint32_t> rootOfSurfel;  // per surfel: its tree's root (roots are nodes 0 to roots − 1)
   // Per node: the surfel that stands for it as a receiver (docs/design.md §2.4), one of its
   // children's, the one nearest its rest-pose centroid; so a node's receiver is also one of each
   // ancestor's it stands for.

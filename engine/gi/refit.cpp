@@ -14,7 +14,7 @@ void Refit::recordNodes(VkCommandBuffer cmd, const SceneBuffers& scene, const vk
 }
 
 void Refit::record(VkCommandBuffer cmd, const SceneBuffers& scene, const vk::Buffer& surfels) {
-  const bool moversOnly = stillKnown_ && scene.anyStill;
+  const bool moversOnly = stillKnown_ && scene.anyStill();
   if (moversOnly) {
     if (scene.movingLeafCount)
       refit_.dispatchItems(cmd, scene.movingLeafCount,

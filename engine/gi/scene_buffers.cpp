@@ -44,23 +44,17 @@ SceneBuffers::SceneBuffers(const vk::Context& ctx, const scene::Geometry& g, con
   }
   nodeLeaves = vk::makeBuffer(ctx, leaves, vk::Memory::Device, tally);
   std::vector<uint32_t> flags(std::max<size_t>(h.roots.size(), 1), 0u);
-  for (size_t r = 0; r < h.roots.size(); ++r)
+  for (size_t r = 0; r < h.roots.size(); ++r) {
     flags[r] = (h.rootEncloses[r] ? gpu::kRootEncloses : 0u) |
                (!objectMoves.empty() && !objectMoves[r] ? gpu::kRootStill : 0u);
-  rootFlags = vk::makeBuffer(ctx, flags, vk::Memory::Device, tally);
-  // Roots are nodes 0 to rootCount − 1, and a parent comes before its children.
-  std::vector<uint32_t> rootOf(h.nodes.size());
-  for (size_t i = 0; i < h.nodes.size(); ++i)
-    rootOf[i] = h.nodes[i].parent < 0 ? uint32_t(i) : rootOf[size_t(h.nodes[i].parent)];
-  std::vector<uint32_t> moving, roots;
-  for (const uint32_t leaf : h.leafOfSurfel) {
-    roots.push_back(rootOf[leaf]);
-    if (!(flags[rootOf[leaf]] & gpu::kRootStill)) moving.push_back(leaf);
+    movingEncloses = movingEncloses || flags[r] == gpu::kRootEncloses;
   }
-  surfelRoot = vk::makeBuffer(ctx, roots.empty() ? std::vector<uint32_t>{0u} : roots, vk::Memory::Device, tally);
-  anyStill = moving.size() < h.leafOfSurfel.size();
-  for (size_t r = 0; r < h.roots.size(); ++r)
-    movingEncloses = movingEncloses || (flags[r] & (gpu::kRootEncloses | gpu::kRootStill)) == gpu::kRootEncloses;
+  rootFlags = vk::makeBuffer(ctx, flags, vk::Memory::Device, tally);
+  std::vector<uint32_t> moving;
+  for (size_t s = 0; s < h.leafOfSurfel.size(); ++s)
+    if (!(flags[h.rootOfSurfel[s]] & gpu::kRootStill)) moving.push_back(h.leafOfSurfel[s]);
+  surfelRoot = vk::makeBuffer(ctx, h.rootOfSurfel.empty() ? std::vector<uint32_t>{0u} : h.rootOfSurfel,
+                              vk::Memory::Device, tally);
   movingLeafCount = uint32_t(moving.size());
   if (moving.empty()) moving.push_back(0u);  // a one-element stand-in, never read
   movingLeaves = vk::makeBuffer(ctx, moving, vk::Memory::Device, tally);

@@ -43,8 +43,7 @@ struct SceneBuffers {
   // every tree is refit, a frame refits theirs alone.
   vk::Buffer movingLeaves;
   uint32_t movingLeafCount = 0;
-  vk::Buffer surfelRoot;        // per surfel (uploaded once): its tree's root
-  bool anyStill = false;        // some object stays still over the frames rendered
+  vk::Buffer surfelRoot;        // per surfel (uploaded once): its tree's root (Hierarchy::rootOfSurfel)
   bool movingEncloses = false;  // some object that moves encloses a volume (may bury others' surfels)
   // Per surfel, the emitters' direct light from depth maps (engine/gi/direct_light.h) where the
   // frame gives it (Solver::useDirectLight): the solver then transports only the light the surfels
@@ -59,6 +58,8 @@ struct SceneBuffers {
   bool glossy = false;  // some material is not Lambertian
 
   bool emittersByMaps() const { return directLight != nullptr; }
+  // Some object stays still over the frames rendered.
+  bool anyStill() const { return movingLeafCount < surfelCount; }
   // The surfels' direct light from the maps, with the environment's (which the bins then leave out) or not.
   void takeDirectLight(const vk::Buffer& surfelDirect, const vk::Buffer& surfelArrival, bool withEnvironment) {
     directLight = &surfelDirect;
