@@ -160,6 +160,13 @@ TEST(IvRigidObjects, PrunedOnceAtRestGiveWhatEveryFramesPruneGives) {
             (unsigned long long)a.staticSendersWalked, (unsigned long long)b.staticSendersWalked, d.worst, d.mean);
         EXPECT_LT(a.sendersWalked, b.sendersWalked) << "the corner's links to itself are not walked again";
         EXPECT_GT(a.staticSendersWalked, b.staticSendersWalked) << "they are walked in the static pass";
+        // bench's split of the merging leaves' walk: the corner's leaves walk its links to the room,
+        // the room's leaves the corner's links to them; pruned every frame, no leaf merges as rigid.
+        EXPECT_GT(a.rigidLeaves, 0u);
+        EXPECT_GT(a.rigidSendersWalked, 0u);
+        EXPECT_LT(a.rigidSendersWalked, a.mergedSendersWalked);
+        EXPECT_EQ(b.rigidLeaves, 0u);
+        EXPECT_EQ(b.rigidSendersWalked, 0u);
         // Apart by the bins' resolution: half as far at twice the bins.
         EXPECT_LT(d.mean, 0.24 / bins) << "bins " << bins << ", t = " << t;
         EXPECT_LT(d.worst, 0.2) << "bins " << bins << ", t = " << t;

@@ -186,12 +186,17 @@ int runBench(const BenchOptions& o) {
     if (!perPass["prune"].empty() && percentile(perPass["prune"], 0.5) > 0)
       std::printf(" (%.1f M/s at the median prune time)",
                   double(st.sendersWalked) / percentile(perPass["prune"], 0.5) / 1e3);
-    if (st.staticSendersWalked)
+    if (st.staticSendersWalked) {
       std::printf(
           ", %llu of them by the leaves that merge them with what the static pass kept (static leaves, and "
-          "rigid ones), against the senders that move apart from them alone; %llu in the static pass (once a leaf, "
-          "so far)",
-          (unsigned long long)st.mergedSendersWalked, (unsigned long long)st.staticSendersWalked);
+          "rigid ones), against the senders that move apart from them alone",
+          (unsigned long long)st.mergedSendersWalked);
+      if (st.rigidLeaves > 0)
+        std::printf(" (%llu by %u leaves of rigid objects, %.0f each: their objects' links to the rest)",
+                    (unsigned long long)st.rigidSendersWalked, st.rigidLeaves,
+                    double(st.rigidSendersWalked) / st.rigidLeaves);
+      std::printf("; %llu in the static pass (once a leaf, so far)", (unsigned long long)st.staticSendersWalked);
+    }
     if (const auto& b = times.solverFigures["bounces"]; !b.empty())
       std::printf("\nbounces: median %.0f a frame (%.0f to %.0f)%s", percentile(b, 0.5),
                   *std::min_element(b.begin(), b.end()), *std::max_element(b.begin(), b.end()),

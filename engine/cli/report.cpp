@@ -8,8 +8,8 @@ namespace ivgi::gi {
 // IvStats as JSON, its fields' names as the keys.
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(IvStats, nodes, levels, links, leafLinks, staticLinks, staticLeafLinks, bytes,
                                    sharedBins, pruneBatches, pruneGroupSize, sendersWalked, staticSendersWalked,
-                                   mergedSendersWalked, framesRedone, staticPasses, bounces, bounceRemaining, receivers,
-                                   receiverFills)
+                                   mergedSendersWalked, rigidSendersWalked, rigidLeaves, framesRedone, staticPasses,
+                                   bounces, bounceRemaining, receivers, receiverFills)
 
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(ArStats, nodes, levels, links, staticLinks, longestList, gatherChunks, bytes,
                                    tableBytes, iterations, warm, residual, negative, diverged, damping, framesRedone,

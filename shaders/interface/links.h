@@ -6,7 +6,9 @@ IVGI_CONST uint kEmitterBit = 0x80000000u;  // on a sender in a receiver's list:
 // The slots of a link set's counter buffer. kCounterSendersWalked is the low word of a 64-bit
 // count (the carries go to the next slot): the root-path senders a prune walked, its work;
 // kCounterMergedWalked, likewise, the part of it the static leaves walked to merge a frame's
-// senders into their static bins (the rest: the moving leaves' full walks).
+// senders into their static bins (the rest: the moving leaves' full walks), and
+// kCounterRigidWalked the part of that the leaves of rigid objects walked (their objects' links to
+// the rest); kCounterRigidLeaves counts those leaves.
 IVGI_CONST uint kCounterWorklistA = 0u;
 IVGI_CONST uint kCounterWorklistB = 1u;
 IVGI_CONST uint kCounterLinks = 2u;
@@ -16,7 +18,9 @@ IVGI_CONST uint kCounterWorklistPeak = 5u;
 IVGI_CONST uint kCounterSendersWalked = 6u;
 IVGI_CONST uint kCounterGroupsDone = 8u;  // a refinement level's finished workgroups (refine_links)
 IVGI_CONST uint kCounterMergedWalked = 9u;
-IVGI_CONST uint kCounterSlots = 11u;
+IVGI_CONST uint kCounterRigidWalked = 11u;
+IVGI_CONST uint kCounterRigidLeaves = 13u;
+IVGI_CONST uint kCounterSlots = 14u;
 // Link creation's workgroups (refine_links, count_links, scatter_links) and its indirect dispatch
 // sizes (uvec4 each in its args buffer): the next refinement level's, and the sort's (the links).
 IVGI_CONST uint kLinkGroup = 256u;

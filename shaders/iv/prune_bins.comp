@@ -164,6 +164,7 @@ void fileRootPath(Leaf leaf) {
     if (lid == 0u) {
       countWalked(kCounterSendersWalked, listed);
       if (merging) countWalked(kCounterMergedWalked, listed);
+      if (posed) countWalked(kCounterRigidWalked, listed);
     }
     for (uint j = lid; j < listed; j += kGroupSize)
       fileSender(slot, leaf.node, leaf.p, leaf.n, leaf.area, pathChunk[j]);
@@ -427,6 +428,7 @@ void main() {
     }
     merging = !kStaticPass && (!moves || rigid);
     poseNodes(flags);
+    if (lid == 0u && posed) atomicAdd(counters[kCounterRigidLeaves], 1u);
     staticFirst = merging ? staticRanges[surfel].first : 0u;
     maskBase = surfel * kMaskWords;
     vec4 receiver = nodePositionArea(node);

@@ -70,8 +70,10 @@ struct IvStats {
   uint32_t pruneGroupSize = 0;  // invocations a prune workgroup has (more when one ran out of loop rounds)
   // The prune's work: root-path senders its leaves walked, in the last relinked frame and in the
   // static pass (once; the frame then walks only the senders of the pairs with a moving side), and
-  // of the frame's, those the static leaves walked (the moving leaves walked the rest).
-  uint64_t sendersWalked = 0, staticSendersWalked = 0, mergedSendersWalked = 0;
+  // of the frame's, those the static leaves walked (the moving leaves walked the rest), and of
+  // those, the ones the leaves of rigid objects walked (rigidLeaves of them).
+  uint64_t sendersWalked = 0, staticSendersWalked = 0, mergedSendersWalked = 0, rigidSendersWalked = 0;
+  uint32_t rigidLeaves = 0;
   // Since the solver was made: frames redone because their links outgrew the room they had or a
   // prune workgroup its loop budget (the timings are the redone frame's), and static passes run (1
   // once the static links are whole).

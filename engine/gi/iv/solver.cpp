@@ -366,7 +366,8 @@ IvStats IvSolver::stats() const {
       s.staticLinks = c[gpu::kCounterLinks], s.staticLeafLinks = c[gpu::kCounterLeafLinks],
       s.staticSendersWalked = count64(gpu::kCounterSendersWalked);
     else
-      s.sendersWalked = count64(gpu::kCounterSendersWalked), s.mergedSendersWalked = count64(gpu::kCounterMergedWalked);
+      s.sendersWalked = count64(gpu::kCounterSendersWalked), s.mergedSendersWalked = count64(gpu::kCounterMergedWalked),
+      s.rigidSendersWalked = count64(gpu::kCounterRigidWalked), s.rigidLeaves = c[gpu::kCounterRigidLeaves];
   }
   s.bytes = allocatedBytes();
   s.hostBytes = room_.hostBytes();
