@@ -47,7 +47,7 @@ SceneBuffers::SceneBuffers(const vk::Context& ctx, const scene::Geometry& g, con
   for (size_t r = 0; r < h.roots.size(); ++r) {
     flags[r] = (h.rootEncloses[r] ? gpu::kRootEncloses : 0u) |
                (!objectMoves.empty() && !objectMoves[r] ? gpu::kRootStill : 0u);
-    movingEncloses = movingEncloses || flags[r] == gpu::kRootEncloses;
+    movingEncloses = movingEncloses || (flags[r] & (gpu::kRootEncloses | gpu::kRootStill)) == gpu::kRootEncloses;
   }
   rootFlags = vk::makeBuffer(ctx, flags, vk::Memory::Device, tally);
   std::vector<uint32_t> moving;
