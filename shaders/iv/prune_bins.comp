@@ -88,6 +88,7 @@ layout(push_constant) uniform Push { PrunePush push; };
 shared uint64_t sharedBins[kSharedSlots];
 shared uint sharedCoverage[kSharedSlots];  // covered solid angle in 1/kCoverageUnit of the bin's
 shared uint mask[kMaskWords], grown[kMaskWords];
+shared uint halfCovered[kMaskWords], staticHalfCovered[kMaskWords];  // markFiledBins
 shared uint wordStart[kMaskWords];
 shared vec3 partial[kGroupSize];
 shared uint leafBase;
@@ -183,13 +184,22 @@ void fileRootPath(Leaf leaf) {
 }
 
 // Marks the bins the walk filed senders in (`mask`), read once from the bins rather than marked by
-// every filing.
-void markFiledBins() {
+// every filing; and in the same sweep those whose gaps a neighbour may close (closedCoverage): at
+// least half covered, or below the horizon of the leaf (normal n).
+void markFiledBins(vec3 n) {
   for (uint w = lid; w < kMaskWords; w += kGroupSize) {
-    uint bits = 0u;
-    for (uint i = 0u; i < 32u && w * 32u + i < kBinCount; ++i)
-      bits |= loadBin(slot, w * 32u + i) != kEmptyVisibility ? 1u << i : 0u;
+    uint bits = 0u, halfBits = 0u, staticHalfBits = 0u;
+    const uvec2 word = merging ? staticMasks[maskBase + w] : uvec2(0u);
+    for (uint i = 0u; i < 32u && w * 32u + i < kBinCount; ++i) {
+      const uint b = w * 32u + i, staticCovered = staticCoverageIn(word, i);
+      const bool below = dot(n, imageLoad(binTable, int(b)).xyz) <= 0.0;
+      bits |= loadBin(slot, b) != kEmptyVisibility ? 1u << i : 0u;
+      halfBits |= below || loadCoverage(slot, b) + staticCovered >= kCoverageUnit / 2u ? 1u << i : 0u;
+      staticHalfBits |= below || staticCovered >= kCoverageUnit / 2u ? 1u << i : 0u;
+    }
     mask[w] = bits;
+    halfCovered[w] = halfBits;
+    staticHalfCovered[w] = staticHalfBits;
   }
   barrier();
 }
@@ -294,8 +304,8 @@ void writeSurvivors(Leaf leaf, bool direct, inout vec3 emitterLight, out vec3 en
       uint b = w * 32u + uint(findLSB(bits));
       bits &= bits - 1u;
       Bin bin = binAt(slot, b);
-      uint s = keyId(bin.key), covered = closedCoverage(slot, b, bin.covered, false, n),
-           staticCovered = bin.staticEntry >= 0 ? closedCoverage(slot, b, bin.staticCovered, true, n) : 0u;
+      uint s = keyId(bin.key), covered = closedCoverage(b, bin.covered, false),
+           staticCovered = bin.staticEntry >= 0 ? closedCoverage(b, bin.staticCovered, true) : 0u;
       float f = survivorFormFactor(n, s, b, covered);
       near += proximityOf(n, b, covered, linkKeyDepth(bin.key), radius);
       if (bin.staticEntry >= 0) near -= proximityOf(n, b, staticCovered, bin.staticDistance2, radius);
@@ -335,7 +345,7 @@ void sumExternalLight(Leaf leaf, bool direct, vec3 emitterLight, vec3 environmen
   mat3 turn = turnChange;
   if (push.environmentOn != 0u && leaf.area > 0.0 && (!merging || posed))
     for (uint b = lid; b < kBinCount; b += kGroupSize) {
-      const uint covered = closedCoverage(slot, b, coverageAt(slot, b, false), false, leaf.n);
+      const uint covered = closedCoverage(b, coverageAt(slot, b, false), false);
       env += environmentThrough(leaf.n, b, covered);
       turn += environmentTurnThrough(leaf.n, b, covered);
     }
@@ -438,7 +448,7 @@ void main() {
     uint staticEmitterCount = merging ? staticLeaves[surfel].emitterCount : 0u;
 
     fileRootPath(leaf);
-    markFiledBins();
+    markFiledBins(leaf.n);
     if (merging) growIntoStaticBins();
     uint emitters;
     bool direct = sortEmitters(surfel, staticEmitterCount, emitters);

@@ -51,6 +51,13 @@ int staticEntryOf(uint b) {
   return e < push.staticCapacity ? int(e) : -1;
 }
 
+// The coverage of the leaf's static entry for bin i of mask word `word` (staticMasks'), 0 where it
+// has none (as staticEntryOf).
+uint staticCoverageIn(uvec2 word, uint i) {
+  const uint bit = 1u << i, e = staticFirst + word.y + bitCount(word.x & (bit - 1u));
+  return (word.x & bit) != 0u && e < push.staticCapacity ? staticCoverageOf(loadParted(staticBins, e).x) : 0u;
+}
+
 Bin binAt(uint slot, uint b) {
   Bin bin = Bin(loadBin(slot, b), loadCoverage(slot, b), 0u, -1, 0.0);
   int e = staticEntryOf(b);
@@ -86,17 +93,18 @@ uint neighbourBin(uint b, ivec2 step) {
 // keeps its partial coverage. A neighbour below the receiver's horizon counts as covered: the
 // receiver's own surface bounds the bins there, not a silhouette (a wall's bottom row seen from
 // the floor beside it). An empty bin stays empty: nothing stands for it.
-// The four neighbours are tested one after another, not in a loop: lavapipe bounds the loop rounds
-// a subgroup may run over all the leaves of its workgroup.
-bool halfCovered(uint slot, uint b, ivec2 step, bool staticOnly, vec3 n) {
-  const uint neighbour = neighbourBin(b, step);
-  return dot(n, imageLoad(binTable, int(neighbour)).xyz) <= 0.0 ||
-         coverageAt(slot, neighbour, staticOnly) >= kCoverageUnit / 2u;
+// The neighbours' tests are bits that markFiledBins sets in one sweep (`halfCovered`: the filed
+// senders with the leaf's static entries; `staticHalfCovered`: those entries alone), read one after
+// another, not in a loop: lavapipe bounds the loop rounds a subgroup may run over all the leaves of
+// its workgroup.
+bool neighbourHalfCovered(uint b, ivec2 step, bool staticOnly) {
+  const uint neighbour = neighbourBin(b, step), bit = 1u << (neighbour & 31u);
+  return ((staticOnly ? staticHalfCovered[neighbour >> 5] : halfCovered[neighbour >> 5]) & bit) != 0u;
 }
-uint closedCoverage(uint slot, uint b, uint covered, bool staticOnly, vec3 n) {
+uint closedCoverage(uint b, uint covered, bool staticOnly) {
   if (covered == 0u || covered >= kCoverageUnit) return covered;
-  return halfCovered(slot, b, ivec2(1, 0), staticOnly, n) && halfCovered(slot, b, ivec2(-1, 0), staticOnly, n) &&
-                 halfCovered(slot, b, ivec2(0, 1), staticOnly, n) && halfCovered(slot, b, ivec2(0, -1), staticOnly, n)
+  return neighbourHalfCovered(b, ivec2(1, 0), staticOnly) && neighbourHalfCovered(b, ivec2(-1, 0), staticOnly) &&
+                 neighbourHalfCovered(b, ivec2(0, 1), staticOnly) && neighbourHalfCovered(b, ivec2(0, -1), staticOnly)
              ? kCoverageUnit
              : covered;
 }
