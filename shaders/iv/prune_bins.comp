@@ -89,6 +89,7 @@ shared uint64_t sharedBins[kSharedSlots];
 shared uint sharedCoverage[kSharedSlots];  // covered solid angle in 1/kCoverageUnit of the bin's
 shared uint mask[kMaskWords], grown[kMaskWords];
 shared uint halfCovered[kMaskWords], staticHalfCovered[kMaskWords];  // markFiledBins
+shared uvec2 staticWords[kMaskWords];  // a merging leaf's static mask words (staticMasks'), read once
 shared uint wordStart[kMaskWords];
 shared vec3 partial[kGroupSize];
 shared uint leafBase;
@@ -185,7 +186,8 @@ void fileRootPath(Leaf leaf) {
 
 // Marks the bins the walk filed senders in (`mask`), read once from the bins rather than marked by
 // every filing; and in the same sweep those whose gaps a neighbour may close (closedCoverage): at
-// least half covered, or below the horizon of the leaf (normal n).
+// least half covered, or below the horizon of the leaf (normal n). A merging leaf's static mask
+// words are kept (staticWords) for what reads its static entries after.
 void markFiledBins(vec3 n) {
   for (uint w = lid; w < kMaskWords; w += kGroupSize) {
     uint bits = 0u, halfBits = 0u, staticHalfBits = 0u;
@@ -198,6 +200,7 @@ void markFiledBins(vec3 n) {
       staticHalfBits |= below || staticCovered >= kCoverageUnit / 2u ? 1u << i : 0u;
     }
     mask[w] = bits;
+    staticWords[w] = word;
     halfCovered[w] = halfBits;
     staticHalfCovered[w] = staticHalfBits;
   }

@@ -44,7 +44,7 @@ struct Bin {
 // (the frame is then redone).
 int staticEntryOf(uint b) {
   if (!merging) return -1;
-  uvec2 word = staticMasks[maskBase + b / 32u];
+  uvec2 word = staticWords[b / 32u];
   uint bit = 1u << (b & 31u);
   if ((word.x & bit) == 0u) return -1;
   uint e = staticFirst + word.y + bitCount(word.x & (bit - 1u));
