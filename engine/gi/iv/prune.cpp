@@ -38,10 +38,9 @@ uint32_t groupSizeOf(const vk::Context& ctx, uint32_t subgroups) {
 }  // namespace
 
 bool Prune::binsFitShared(const vk::Context& ctx, uint32_t n) {
-  // bins and coverage, mask, grown mask, word starts, the two half-covered masks and the static mask
-  // words, partial sums (of the largest
-  // workgroup), the chunk of root-path senders and its wide ones, the emitter queue and its sorted copy
-  // (prune_bins.comp)
+  // bins and coverage; per mask word the mask, grown mask, word start, two half-covered masks and
+  // static mask word; partial sums (of the largest workgroup); the chunk of root-path senders and its
+  // wide ones; the emitter queue and its sorted copy (prune_bins.comp)
   const uint64_t bytes = uint64_t(6) * n * n * (8 + 4) + uint64_t(gpu::maskWordsFor(n)) * 28 + maxGroupSize(ctx) * 16 +
                          16 + gpu::kPathChunk * 8 + 4 + gpu::kEmitterQueue * 8 + 4;
   return ctx.sharedInt64Atomics() && bytes <= ctx.limits().maxComputeSharedMemorySize;
