@@ -193,7 +193,7 @@ void markFiledBins(vec3 n) {
     uint bits = 0u, halfBits = 0u, staticHalfBits = 0u;
     const uvec2 word = merging ? staticMasks[maskBase + w] : uvec2(0u);
     for (uint i = 0u; i < 32u && w * 32u + i < kBinCount; ++i) {
-      const uint b = w * 32u + i, staticCovered = staticCoverageIn(word, i);
+      const uint b = w * 32u + i, staticCovered = staticCoverageAt(staticEntryIn(word, i));
       const bool below = dot(n, imageLoad(binTable, int(b)).xyz) <= 0.0;
       bits |= loadBin(slot, b) != kEmptyVisibility ? 1u << i : 0u;
       halfBits |= below || loadCoverage(slot, b) + staticCovered >= kCoverageUnit / 2u ? 1u << i : 0u;

@@ -40,23 +40,17 @@ struct Bin {
   float staticDistance2;
 };
 
-// The leaf's static entry for bin b, or −1: none, not merging, or past a static pass that overflowed
-// (the frame is then redone).
-int staticEntryOf(uint b) {
-  if (!merging) return -1;
-  uvec2 word = staticWords[b / 32u];
-  uint bit = 1u << (b & 31u);
-  if ((word.x & bit) == 0u) return -1;
-  uint e = staticFirst + word.y + bitCount(word.x & (bit - 1u));
-  return e < push.staticCapacity ? int(e) : -1;
-}
-
-// The coverage of the leaf's static entry for bin i of mask word `word` (staticMasks'), 0 where it
-// has none (as staticEntryOf).
-uint staticCoverageIn(uvec2 word, uint i) {
+// The leaf's static entry for bin i of its static mask word `word`, or −1: none, or past a static
+// pass that overflowed (the frame is then redone).
+int staticEntryIn(uvec2 word, uint i) {
   const uint bit = 1u << i, e = staticFirst + word.y + bitCount(word.x & (bit - 1u));
-  return (word.x & bit) != 0u && e < push.staticCapacity ? staticCoverageOf(loadParted(staticBins, e).x) : 0u;
+  return (word.x & bit) != 0u && e < push.staticCapacity ? int(e) : -1;
 }
+// The same for bin b, once markFiledBins has kept the words (staticWords); −1 where not merging.
+int staticEntryOf(uint b) { return merging ? staticEntryIn(staticWords[b / 32u], b & 31u) : -1; }
+
+// The covered solid angle of static entry e (−1: none, 0).
+uint staticCoverageAt(int e) { return e >= 0 ? staticCoverageOf(loadParted(staticBins, uint(e)).x) : 0u; }
 
 Bin binAt(uint slot, uint b) {
   Bin bin = Bin(loadBin(slot, b), loadCoverage(slot, b), 0u, -1, 0.0);
@@ -66,7 +60,7 @@ Bin binAt(uint slot, uint b) {
   uint staticDepth = loadParted(staticDepths, entry).x;
   bin.key = min(bin.key, uint64_t(staticDepth) << 32 | loadParted(staticLinks, entry).x);
   bin.staticDistance2 = uintBitsToFloat(staticDepth & 0x7FFFFFFFu);  // less the fringe bit
-  bin.staticCovered = staticCoverageOf(loadParted(staticBins, entry).x);
+  bin.staticCovered = staticCoverageAt(e);
   bin.staticEntry = e;
   bin.covered += bin.staticCovered;
   return bin;
@@ -74,9 +68,7 @@ Bin binAt(uint slot, uint b) {
 
 // Covered solid angle of bin b: the frame's senders and the leaf's static entry, or that entry alone.
 uint coverageAt(uint slot, uint b, bool staticOnly) {
-  int e = staticEntryOf(b);
-  const uint entry = uint(max(e, 0));
-  return (staticOnly ? 0u : loadCoverage(slot, b)) + (e >= 0 ? staticCoverageOf(loadParted(staticBins, entry).x) : 0u);
+  return (staticOnly ? 0u : loadCoverage(slot, b)) + staticCoverageAt(staticEntryOf(b));
 }
 
 // Bin `step` cells from bin b on its face, or past the face's edge the neighbouring face's.
