@@ -45,6 +45,17 @@ tinygltf::Model shadowEdge() {
   return b.finish();
 }
 
+// Per surfel, the irradiance the bounces brought: its radiosity over its albedo, less the direct light
+// the depth maps gave it.
+std::vector<glm::vec4> bouncedLight(const gi::FrameRenderer& r, const scene::Geometry& g) {
+  const auto radiosity = test::ivSolver(r).leafRadiosity();
+  const auto lit = r.directLight()->surfelDirect().read<glm::vec4>(g.surfels.size());
+  std::vector<glm::vec4> e(g.surfels.size());
+  for (size_t i = 0; i < e.size(); ++i)
+    e[i] = glm::vec4(glm::vec3(radiosity[i]) / glm::vec3(g.surfelAlbedo[i]) - glm::vec3(lit[i]), 0.0f);
+  return e;
+}
+
 }  // namespace
 
 // Receivers crowd where the shadow's edge crosses the floor and thin out where the floor is lit
@@ -224,12 +235,7 @@ TEST(Receivers, ABallTakesTheBouncedLightItsNormalsFace) {
         std::make_unique<gi::IvSolver>(test::gpu(), g, gi::makeIvSetup(s, g, {.receiverTolerance = tolerance})),
         direct);
     r.render(inputs, view, scene::worldLights(s, pose));
-    const auto radiosity = test::ivSolver(r).leafRadiosity();
-    const auto lit = r.directLight()->surfelDirect().read<glm::vec4>(g.surfels.size());
-    std::vector<glm::vec4> e(g.surfels.size());
-    for (size_t i = 0; i < e.size(); ++i)
-      e[i] = glm::vec4(glm::vec3(radiosity[i]) / glm::vec3(g.surfelAlbedo[i]) - glm::vec3(lit[i]), 0.0f);
-    bounced.push_back(e);
+    bounced.push_back(bouncedLight(r, g));
     if (tolerance > 0.0f)
       std::printf("[ receivers ] %zu of %zu surfels\n", test::ivSolver(r).receiverSurfels().size(), g.surfels.size());
   }
@@ -274,4 +280,61 @@ TEST(Receivers, TheFirstRoundRefinesTheRootsAlone) {
   EXPECT_EQ(overInner.first, overRoot.first) << "receivers";
   EXPECT_EQ(std::memcmp(overInner.second.data(), overRoot.second.data(), overRoot.second.size() * sizeof(glm::vec4)),
             0);
+}
+
+// A bumpy ball under a lamp: where a sampled node's receiver does not reach all of its surfels (its
+// normal turned past the kernel's, or its place off the receiver's plane), those surfels take a
+// receiver made for them, a fill. A fill stands at the coarsest node between such a surfel and that
+// sampled ancestor whose support holds it, so that the surfels it holds share it: fewer fills than
+// surfels taking them, each within the kernel's angle of them, and their bounced light near what
+// every surfel a receiver gives them.
+TEST(Receivers, SurfelsNoSupportHoldsShareTheirFills) {
+  scenes::GltfBuilder b;
+  const int white = b.material("white", glm::vec3(0.8f)), grey = b.material("grey", glm::vec3(0.5f));
+  scenes::MeshData floor, ball = test::uvSphere(48, true);
+  for (glm::vec3& p : ball.positions) p = 0.1f * p + glm::vec3(0.0f, 0.4f, 0.0f);
+  scenes::addQuad(floor, {-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}, 32, 32, {0, 1, 0});
+  b.node("floor", b.mesh("floor", {{floor, grey}}));
+  b.node("ball", b.mesh("ball", {{ball, white}}));
+  b.light("lamp", "point", 20.0f, {0.5f, 2, 0.3f});
+  const auto [s, g, pose, inputs] = test::atRest(b.finish(), "ball");
+  const auto view = test::framing(g, inputs);
+  std::vector<std::vector<glm::vec4>> bounced;  // at the default tolerance, then with every surfel a receiver
+  std::vector<std::vector<gi::IvSolver::Tap>> taps;
+  std::vector<uint32_t> receivers, fills;
+  for (float tolerance : {gi::kCpuReceiverTolerance, 0.0f}) {
+    gi::FrameRenderer r(
+        test::gpu(), g, {16, 16, 1},
+        std::make_unique<gi::IvSolver>(test::gpu(), g, gi::makeIvSetup(s, g, {.receiverTolerance = tolerance})),
+        gi::DirectLightSettings{.samples = 1, .punctualLights = 1});
+    r.render(inputs, view, scene::worldLights(s, pose));
+    bounced.push_back(bouncedLight(r, g));
+    if (tolerance > 0.0f) {
+      taps = test::ivSolver(r).interpolationTaps();
+      receivers = test::ivSolver(r).receiverSurfels();
+      fills = test::ivSolver(r).fillSurfels();
+    }
+  }
+  const std::vector<scene::Surfel> surfels = scene::surfelsOnHost(g, scene::animateOnHost(g, inputs));
+  size_t served = 0;
+  double error[2] = {0.0, 0.0}, total[2] = {0.0, 0.0};  // the ball's surfels taking a fill; interpolated
+  for (size_t i = 0; i < taps.size(); ++i) {
+    if (surfels[i].positionArea.y < 1e-3f || std::binary_search(receivers.begin(), receivers.end(), uint32_t(i)))
+      continue;  // the floor, or a receiver itself
+    const bool fill = taps[i].size() == 1 && std::binary_search(fills.begin(), fills.end(), taps[i][0].receiver);
+    if (fill) {
+      ++served;
+      EXPECT_EQ(taps[i][0].coefficient, 1.0f);
+      EXPECT_GT(glm::dot(surfels[i].normal, surfels[taps[i][0].receiver].normal), gpu::kReceiverNormalCos);
+    }
+    for (int c = 0; c < 3; ++c)
+      error[fill ? 0 : 1] += std::abs(bounced[0][i][c] - bounced[1][i][c]), total[fill ? 0 : 1] += bounced[1][i][c];
+  }
+  std::printf(
+      "[ receivers ] %zu fills for %zu surfels no support holds; against every surfel a receiver, their bounced "
+      "light off by %.1f %%, the interpolated surfels' by %.1f %%\n",
+      fills.size(), served, 100.0 * error[0] / total[0], 100.0 * error[1] / total[1]);
+  ASSERT_GT(served, 0u);  // some surfels take a fill that is not their own
+  EXPECT_LT(fills.size(), served);
+  EXPECT_LT(error[0] / total[0], error[1] / total[1]);
 }

@@ -3,7 +3,9 @@
 // receivers of the sampled nodes whose support holds it, weighed by their roles (receivers.glsl; a
 // receiver is all but its own value), among the nodes its group lists (neighbour_lists.comp), or
 // where the group has too many to list, found by its own walk of the trees. A surfel that none holds
-// takes its own irradiance, as a receiver (listed for the prune where it was not one).
+// takes the irradiance of a receiver made for it (a fill, listed for the prune where it was not
+// one): the coarsest node between it and the sampled ancestor that missed it whose support holds
+// it, else its own.
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 3
 #include "common/common.glsl"
@@ -24,6 +26,7 @@ layout(binding = 12, r32ui) readonly uniform uimageBuffer neighbours;
 layout(binding = 13, r32ui) readonly uniform uimageBuffer representatives;
 layout(binding = 14, r32f) readonly uniform imageBuffer roles;
 layout(binding = 15, r32ui) readonly uniform uimageBuffer surfelBuried;  // 1: inside another object
+layout(binding = 16, r32f) readonly uniform imageBuffer presences;       // 0 where not sampled
 layout(push_constant) uniform Push { ReceiverPush push; };
 
 #include "receivers.glsl"
@@ -77,11 +80,24 @@ void main() {
     tapCounts[s] = tapCount;
     return;
   }
-  // No receiver weighs for it: it takes its own irradiance, as a receiver.
-  if (atomicMin(receiverRadius[s], floatBitsToUint(kReceiverReach * nodeRadius(leaf))) == kNotReceiver) {
-    receivers[atomicAdd(receiverCounts[kReceiverCount], 1u)] = s;
+  // No receiver weighs for it. The refinement left it to a sampled ancestor whose support misses
+  // it (on a curved surface, its normal turned past the kernel's or its place off the receiver's
+  // plane): a node between the two, the coarsest whose own support holds it, stands for it as a
+  // receiver (its representative), so that the surfels it holds share one prune; where none does,
+  // the surfel takes its own irradiance.
+  uint r = s, node = imageLoad(tree, int(leaf)).x;
+  float support = kReceiverReach * nodeRadius(leaf);
+  for (; node != 0xFFFFFFFFu && imageLoad(presences, int(node)).x <= 0.0; node = imageLoad(tree, int(node)).x) {
+    const uint q = imageLoad(representatives, int(node)).x, at = imageLoad(leafOfSurfel, int(q)).x;
+    const float reach = kReceiverReach * nodeRadius(node);
+    if ((imageLoad(surfelBuried, int(q)).x != 0u) == buriedHere &&
+        receiverWeight(x, n, nodePositionArea(at).xyz, nodeNormalCone(at).xyz, reach) > 0.0)
+      r = q, support = reach;
+  }
+  if (atomicMin(receiverRadius[r], floatBitsToUint(support)) == kNotReceiver) {
+    receivers[atomicAdd(receiverCounts[kReceiverCount], 1u)] = r;
     atomicAdd(receiverCounts[kReceiverFills], 1u);
   }
-  imageStore(taps, int(s * kInterpolationTaps), uvec4(s, floatBitsToUint(1.0), 0u, 0u));
+  imageStore(taps, int(s * kInterpolationTaps), uvec4(r, floatBitsToUint(1.0), 0u, 0u));
   tapCounts[s] = 1u;
 }

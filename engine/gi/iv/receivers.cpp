@@ -129,7 +129,7 @@ void Receivers::recordStart(VkCommandBuffer cmd) const {
   vk::fillBuffer(cmd, b_.receiverRadius, gpu::kNotReceiver);
   vk::fillBuffer(cmd, b_.needs, 0u);
   vk::fillBuffer(cmd, b_.presences, 0u);
-  vk::fillBuffer(cmd, b_.rotationGradients, 0u);  // a fill (interpolation_weights) has no estimate
+  vk::fillBuffer(cmd, b_.rotationGradients, 0u);  // each receiver's estimate writes its own
   if (rootCount_ > 0) vk::copyRegion(cmd, roots_, b_.candidatesA, {0, 0, rootCount_ * sizeof(uint32_t)});
 }
 

@@ -274,9 +274,11 @@ void IvSolver::recordReceivers(VkCommandBuffer cmd, vk::PassTimer& timer) {
       receivers_.recordRefine(cmd, round, batching);
     });
   }
-  // Surfels that no receiver's support holds become receivers too.
+  // Surfels that no receiver's support holds get receivers too (fills), which also gather the
+  // estimate: the surfels sharing one take its light turned to their normals.
   timedPass(cmd, timer, "interpolation", [&] { receivers_.recordWeights(cmd, batching); });
   pruneListed();
+  timedPass(cmd, timer, "receivers", [&] { bounces_.recordEstimate(cmd); });
 }
 
 bool IvSolver::overflowed() const {
@@ -405,6 +407,26 @@ std::vector<uint32_t> IvSolver::receiverSurfels() const {
   auto list = b_.receivers.read<uint32_t>(receivers_.counts().receivers);
   std::sort(list.begin(), list.end());
   return list;
+}
+
+std::vector<uint32_t> IvSolver::fillSurfels() const {
+  const Receivers::Counts counts = receivers_.counts();
+  auto list = b_.receivers.read<uint32_t>(counts.receivers);  // the fills are listed last
+  list.erase(list.begin(), list.end() - counts.fills);
+  std::sort(list.begin(), list.end());
+  return list;
+}
+
+std::vector<std::vector<IvSolver::Tap>> IvSolver::interpolationTaps() const {
+  const auto counts = b_.tapCounts.read<uint32_t>(surfelCount_);
+  const auto taps = b_.taps.read<gpu::InterpolationTap>(size_t(surfelCount_) * gpu::kInterpolationTaps);
+  std::vector<std::vector<Tap>> out(surfelCount_);
+  for (uint32_t s = 0; s < surfelCount_; ++s)
+    for (uint32_t t = 0; t < std::min(counts[s], gpu::kInterpolationTaps); ++t) {
+      const gpu::InterpolationTap& tap = taps[size_t(s) * gpu::kInterpolationTaps + t];
+      out[s].push_back({tap.receiver, std::bit_cast<float>(tap.weightBits)});
+    }
+  return out;
 }
 
 std::vector<gpu::NodeState> IvSolver::nodeStates() const { return b_.scene.nodes.read<gpu::NodeState>(nodeCount_); }

@@ -86,6 +86,14 @@ class IvSolver final : public Solver {
   std::vector<gpu::NodeState> nodeStates() const;
   // The last relinked frame's receivers.
   std::vector<uint32_t> receiverSurfels() const;
+  // Those of them made for surfels no other receiver's support holds (fills).
+  std::vector<uint32_t> fillSurfels() const;
+  // Per surfel, the receivers its irradiance is interpolated from and their coefficients.
+  struct Tap {
+    uint32_t receiver;
+    float coefficient;
+  };
+  std::vector<std::vector<Tap>> interpolationTaps() const;
 
  private:
   bool splitsStatic() const { return !staticSet_.empty(); }
