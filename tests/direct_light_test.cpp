@@ -657,15 +657,9 @@ TEST(DirectLight, TheSunsViewsAloneAreDrawnAgainWhereTheSceneMoves) {
 // light's peak only within two texels of the shadow's exact edge (where the light's rays graze
 // the ball).
 TEST(DirectLight, ASmoothBallIsDrawnSimplifiedWithItsShadowInPlace) {
-  scenes::GltfBuilder b;
-  const int grey = b.material("grey", glm::vec3(0.5f));
   constexpr float kBall = 0.2f, kHeight = 0.5f;
-  scenes::MeshData floor, ball = test::ball(96, kBall, {0.0f, kHeight, 0.0f});
-  scenes::addQuad(floor, {-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}, 64, 64, {0, 1, 0});
-  b.node("floor", b.mesh("floor", {{floor, grey}}));
-  b.node("ball", b.mesh("ball", {{ball, grey}}));
-  b.light("lamp", "point", 1.0f, {0, 1, 0});
-  const auto [s, g, pose, inputs] = test::atRest(b.finish(), "ball");
+  const scenes::MeshData ball = test::ball(96, kBall, {0.0f, kHeight, 0.0f});
+  const auto [s, g, pose, inputs] = test::atRest(test::ballOnFloor(ball, glm::vec3(0.5f), 64, 1.0f, {0, 1, 0}), "ball");
   const auto view = test::framing(g, inputs);
   std::vector<std::vector<glm::vec4>> direct;
   for (bool simplified : {true, false}) {

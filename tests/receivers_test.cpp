@@ -289,15 +289,10 @@ TEST(Receivers, TheFirstRoundRefinesTheRootsAlone) {
 // surfels taking them, each within the kernel's angle of them, and their bounced light near what
 // every surfel a receiver gives them.
 TEST(Receivers, SurfelsNoSupportHoldsShareTheirFills) {
-  scenes::GltfBuilder b;
-  const int white = b.material("white", glm::vec3(0.8f)), grey = b.material("grey", glm::vec3(0.5f));
-  scenes::MeshData floor, ball = test::uvSphere(48, true);
+  scenes::MeshData ball = test::uvSphere(48, true);
   for (glm::vec3& p : ball.positions) p = 0.1f * p + glm::vec3(0.0f, 0.4f, 0.0f);
-  scenes::addQuad(floor, {-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}, 32, 32, {0, 1, 0});
-  b.node("floor", b.mesh("floor", {{floor, grey}}));
-  b.node("ball", b.mesh("ball", {{ball, white}}));
-  b.light("lamp", "point", 20.0f, {0.5f, 2, 0.3f});
-  const auto [s, g, pose, inputs] = test::atRest(b.finish(), "ball");
+  const auto [s, g, pose, inputs] =
+      test::atRest(test::ballOnFloor(ball, glm::vec3(0.8f), 32, 20.0f, {0.5f, 2, 0.3f}), "ball");
   const auto view = test::framing(g, inputs);
   std::vector<std::vector<glm::vec4>> bounced;  // at the default tolerance, then with every surfel a receiver
   std::vector<std::vector<gi::IvSolver::Tap>> taps;

@@ -319,6 +319,18 @@ scenes::MeshData ball(int rings, float radius, glm::vec3 centre) {
   return m;
 }
 
+tinygltf::Model ballOnFloor(const scenes::MeshData& ball, glm::vec3 albedo, int cells, float intensity,
+                            glm::vec3 lamp) {
+  scenes::GltfBuilder b;
+  const int grey = b.material("grey", glm::vec3(0.5f)), own = b.material("ball", albedo);
+  scenes::MeshData floor;
+  scenes::addQuad(floor, {-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}, cells, cells, {0, 1, 0});
+  b.node("floor", b.mesh("floor", {{floor, grey}}));
+  b.node("ball", b.mesh("ball", {{ball, own}}));
+  b.light("lamp", "point", intensity, lamp);
+  return b.finish();
+}
+
 AtRest atRest(const tinygltf::Model& model, const std::string& name) {
   AtRest r{.scene = scene::sceneFromModel(model, name)};
   r.geometry = scene::buildGeometry(r.scene);

@@ -112,6 +112,9 @@ void expectTheSameFromHostMemory(const std::string& name, const std::vector<std:
 scenes::MeshData uvSphere(int rings, bool bumps = false);
 // uvSphere(rings) of radius `radius` about `centre`.
 scenes::MeshData ball(int rings, float radius, glm::vec3 centre);
+// `ball` (of albedo `albedo`, its node named "ball") over a grey (0.5) 2 m floor of cells × cells at
+// y = 0, under a point lamp of `intensity` at `lamp`.
+tinygltf::Model ballOnFloor(const scenes::MeshData& ball, glm::vec3 albedo, int cells, float intensity, glm::vec3 lamp);
 
 // A model's scene at rest (no animation, time 0): its geometry as modelled, the pose and its inputs.
 struct AtRest {
