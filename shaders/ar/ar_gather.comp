@@ -2,8 +2,10 @@
 // ar, the global pass: unoccluded transport U of radiance less antiradiance over the links. Each
 // receiver node adds, per link, what its sender sends toward it times the sender's solid angle per
 // area (a disk's on its axis: finite when near) into the bins around the direction it sees the
-// sender in (binTaps), as radiance averaged over each bin. A surfel sender is exact in direction; a
-// cluster's antiradiance (a curved one's intensity) comes from its table, read between bins. A
+// sender in (binTaps), as radiance averaged over each bin, and a flat receiver into its vector sum
+// (a flat cluster there over its rectangle's exact solid angle). A surfel sender is exact in
+// direction; a cluster's antiradiance (a curved one's intensity) comes from its table, read between
+// bins (a flat one's on the receiver's side of its plane alone). A
 // receiver's links are two lists: those between static objects (made once), then the frame's, each
 // in the order the sorts left (walkKey: the lanes of neighbouring receivers take alike links at once).
 #extension GL_GOOGLE_include_directive : require
@@ -86,20 +88,70 @@ void add(uint bin, float omega, vec3 sent) {
 vec3 vectorX, vectorY, vectorZ;  // the receiver's Σ sent · dir
 vec3 slopeX, slopeY, slopeZ;     // and Σ sent/d · (3 (n·dir) dir − n): its irradiance's gradient
 
-// Deposits radiance × solid angle `sent`, seen along unit `dir` (its taps t): `binShare` of it into
-// the receiver's bins around it and, where it arrives at the front of a flat receiver, all of it into
-// its vector sum (a curved receiver's surfaces face many ways: their irradiance comes from its bins).
-void deposit(vec4 nr, vec3 dir, Taps t, vec3 sent, float binShare, float invDist) {
-  if (nr.w <= kArFlatCone && dot(nr.xyz, dir) >= 0.0) {
-    vectorX += sent * dir.x, vectorY += sent * dir.y, vectorZ += sent * dir.z;
-    const vec3 g = invDist * (3.0 * dot(nr.xyz, dir) * dir - nr.xyz);
-    slopeX += sent * g.x, slopeY += sent * g.y, slopeZ += sent * g.z;
-  }
+// Adds radiance × solid angle `sent`, seen along unit `dir` (its taps t), `binShare` of it into the
+// receiver's bins around it.
+void depositInBins(vec4 nr, vec3 dir, Taps t, vec3 sent, float binShare) {
   vec4 weights = keepSide(nr, dir, t) * binShare;
   add(t.bins.x, t.vectors[0].w, weights.x * sent);
   add(t.bins.y, t.vectors[1].w, weights.y * sent);
   add(t.bins.z, t.vectors[2].w, weights.z * sent);
   add(t.bins.w, t.vectors[3].w, weights.w * sent);
+}
+
+// Adds to a flat receiver's vector sum radiance `radiance` over the directions whose ∫ω dω is
+// `phi`, and to its gradient what that changes by as the receiver's point moves: `sent` (radiance ×
+// solid angle) seen along `dir` at distance 1/invDist grows as 1/d² toward it and turns with the
+// receiver's cosine, and the sender's own cosine turns too, by (m + cos·dir)/d for its normal m, which
+// changes what it sends by `perCosine` (radiance × solid angle per unit of its cosine) times that.
+void depositInVector(vec4 nr, vec3 dir, vec3 radiance, vec3 phi, vec3 sent, float invDist, vec3 perCosine,
+                     vec3 change) {
+  if (nr.w > kArFlatCone) return;
+  vectorX += radiance * phi.x, vectorY += radiance * phi.y, vectorZ += radiance * phi.z;
+  if (dot(nr.xyz, dir) < 0.0) return;
+  const vec3 g = invDist * (3.0 * dot(nr.xyz, dir) * dir - nr.xyz);
+  const vec3 turning = invDist * dot(nr.xyz, dir) * perCosine;
+  slopeX += sent * g.x + turning * change.x;
+  slopeY += sent * g.y + turning * change.y;
+  slopeZ += sent * g.z + turning * change.z;
+}
+
+// Deposits radiance × solid angle `sent`, seen along unit `dir` (its taps t): `binShare` of it into
+// the receiver's bins around it and, where it arrives at the front of a flat receiver, all of it into
+// its vector sum (a curved receiver's surfaces face many ways: their irradiance comes from its bins).
+void deposit(vec4 nr, vec3 dir, Taps t, vec3 sent, float binShare, float invDist, vec3 perCosine, vec3 change) {
+  if (dot(nr.xyz, dir) >= 0.0) depositInVector(nr, dir, sent, dir, sent, invDist, perCosine, change);
+  depositInBins(nr, dir, t, sent, binShare);
+}
+
+// Lambert's term of the edge between directions a and b: the angle between them times their
+// plane's unit normal.
+vec3 edgeVector(vec3 a, vec3 b) {
+  const vec3 u0 = normalize(a), u1 = normalize(b), across = cross(u0, u1);
+  const float len = length(across);
+  return len > 1e-7 ? across * (atan(len, dot(u0, u1)) / len) : vec3(0.0);
+}
+
+// ∫ω dω over the directions from the receiver toward the rectangle of centre q (from the receiver)
+// and half-sides a, b, those above the plane of normal n alone: Lambert's sum, ½ Σ θ_k û_k, over
+// the polygon clipped there. A convex polygon crosses the plane at most once each way: the edge
+// leaving ends where it crosses, the edge back starts there, and the plane joins the two. Written
+// without branches (lavapipe runs both sides of one) and without arrays (it keeps an array indexed at
+// run time in memory).
+vec3 rectangleVector(vec3 q, vec3 a, vec3 b, vec3 n) {
+  vec3 sum = vec3(0.0), leaving = n, entering = n;
+  for (uint k = 0u; k < 4u; ++k) {
+    const vec3 from = q + (k == 1u || k == 2u ? a : -a) + (k >= 2u ? b : -b);
+    const vec3 to = q + (k == 0u || k == 1u ? a : -a) + (k == 1u || k == 2u ? b : -b);
+    const float hf = dot(n, from), ht = dot(n, to);
+    const bool fromAbove = hf >= 0.0, toAbove = ht >= 0.0;
+    const vec3 crossing = fromAbove != toAbove ? from + (to - from) * (hf / (hf - ht)) : from;
+    const vec3 edge = edgeVector(fromAbove ? from : crossing, toAbove ? to : crossing);
+    sum += fromAbove || toAbove ? edge : vec3(0.0);
+    leaving = fromAbove && !toAbove ? crossing : leaving;
+    entering = !fromAbove && toAbove ? crossing : entering;
+  }
+  sum += edgeVector(leaving, entering);  // none where nothing was clipped (both n)
+  return 0.5 * (dot(sum, n) < 0.0 ? -sum : sum);
 }
 
 // A table's value at a direction (`base`: the node's or surfel's first texel), read between the
@@ -119,64 +171,98 @@ vec3 surfelRadiance(uint surfel, uint bins, vec4 ns, vec3 dir, Taps t, vec3 lobe
   return (dot(ns.xyz, -dir) > 0.0 ? imageLoad(radiance, int(surfel)).rgb + lobe : vec3(0.0)) - through;
 }
 
-// Adds what sender node s sends over its link to the receiver (at pr, its normal and cone nr, its area).
-void gatherLink(uint s, vec3 pr, vec4 nr, float receiverArea) {
-  uint n = kDirs, bins = 6u * n * n;
-  vec4 ps = nodePositionArea(s);
-  vec3 d = ps.xyz - pr;
-  float dist2 = dot(d, d);
+// Adds what cluster s sends toward the receiver (at pr, its normal and cone nr). A curved cluster
+// sends what its table holds toward the receiver, over its solid angle (a disk's on its axis). A flat
+// one sends its exitance and antiradiance with its own cosine, and into a flat receiver's vector sum
+// over its rectangle's exact solid angle (Lambert's vector, scaled to the cluster's area): clusters
+// are linked up to a form factor of --eps, near enough that a disk on its axis would take too little
+// of one seen askew, and the light of a sender turned away from a flat receiver's centre still
+// reaches the part of the receiver that sees it.
+void gatherCluster(uint s, vec3 pr, vec4 nr) {
+  const vec4 ps = nodePositionArea(s);
+  const vec3 d = ps.xyz - pr;
+  const float dist2 = dot(d, d);
   if (dist2 <= 1e-6 * ps.w) return;  // coincident: no direction to bin it in
-  uvec4 t = imageLoad(tree, int(s));
-  if (t.z != 0u) {  // a cluster: what it sends toward the receiver, read between the bins of its table
-    vec3 dir = d * inversesqrt(dist2);
-    uvec4 back;
-    vec4 weights;
-    binTaps(-dir, n, back, weights);
-    vec3 sent = READ_TAPS(intensity, s * bins, back, weights);
-    vec4 cone = nodeNormalCone(s);
-    if (cone.w <= kArFlatCone) {  // flat: its exitance and antiradiance with its own cosine
-      float cosine = dot(cone.xyz, -dir);
-      sent = imageLoad(exitance, int(s)).rgb * max(cosine, 0.0) - sent * abs(cosine);
-    }
-    deposit(nr, dir, tapsOf(dir), sent * solidAnglePerArea(ps.w, dist2), 1.0, inversesqrt(dist2));
+  const vec3 dir = d * inversesqrt(dist2);
+  const vec4 cone = nodeNormalCone(s);
+  const Taps back = tapsOf(-dir);
+  const vec3 table = READ_TAPS(intensity, s * kBins, back.bins, keepSide(cone, -dir, back));
+  const Taps taps = tapsOf(dir);
+  const float perArea = solidAnglePerArea(ps.w, dist2);
+  if (cone.w > kArFlatCone) {
+    deposit(nr, dir, taps, table * perArea, 1.0, inversesqrt(dist2), vec3(0.0), vec3(0.0));
     return;
   }
-  // A surfel goes as pieces of its rectangle, each along its own direction (surfelPieces).
-  vec4 ns = nodeNormalCone(s);
+  const float cosine = dot(cone.xyz, -dir);
+  const vec3 front = imageLoad(exitance, int(s)).rgb * step(0.0, cosine);
+  const vec3 sent = (front - table) * abs(cosine) * perArea;
+  if (nr.w <= kArFlatCone) {
+    vec3 sideA, sideB;
+    senderSides(s, cone, sideA, sideB);
+    const float rectangle = 4.0 * length(sideA) * length(sideB);
+    const vec3 phi = rectangle > 0.0 ? ps.w / rectangle * rectangleVector(d, sideA, sideB, nr.xyz)
+                                     : (dot(nr.xyz, dir) >= 0.0 ? ps.w * abs(cosine) * perArea * dir : vec3(0.0));
+    depositInVector(nr, dir, (front - table) / ps.w, phi, sent, inversesqrt(dist2),
+                    (front - table * sign(cosine)) * perArea, cone.xyz + cosine * dir);
+  }
+  depositInBins(nr, dir, taps, sent, 1.0);
+}
+
+// Adds what surfel sender s sends toward the receiver (at pr, its normal and cone nr, its area): as
+// pieces of its rectangle, each along its own direction (surfelPieces).
+void gatherSurfel(uint s, vec3 pr, vec4 nr, float receiverArea) {
+  const vec4 ps = nodePositionArea(s);
+  const vec3 d = ps.xyz - pr;
+  const float dist2 = dot(d, d);
+  if (dist2 <= 1e-6 * ps.w) return;  // coincident: no direction to bin it in
+  const vec4 ns = nodeNormalCone(s);
   if (abs(dot(ns.xyz, d)) <= 1e-4 * sqrt(dist2)) return;  // the receiver lies in its plane: it sends nothing there
-  uint pieces = surfelPieces(ps.w, dist2, n);
+  const uint surfel = imageLoad(tree, int(s)).w;
+  const uint pieces = surfelPieces(ps.w, dist2, kDirs);
   vec3 sideA, sideB;
   senderSides(s, ns, sideA, sideB);
-  float pieceArea = ps.w / float(pieces * pieces);
+  const float pieceArea = ps.w / float(pieces * pieces);
   // What its lobe sends beyond its radiance toward the receiver, spread over the receiver's extent
   // and at least what the tables resolve (a bin's solid angle over 4: engine/gi/bins.h's
   // tableBinSpread).
   const float receiverExtent = receiverArea / (dist2 + receiverArea / kPi);
-  const vec3 lobe = excessToward(s, pr, receiverExtent, kPi / float(6u * n * n)) / kPi;
+  const vec3 lobe = excessToward(s, pr, receiverExtent, kPi / float(kBins)) / kPi;
   for (uint j = 0u; j < pieces * pieces; ++j) {
-    vec2 at = (vec2(j % pieces, j / pieces) + 0.5) / float(pieces) * 2.0 - 1.0;
-    vec3 q = d + at.x * sideA + at.y * sideB;
-    float q2 = dot(q, q);
+    const vec2 at = (vec2(j % pieces, j / pieces) + 0.5) / float(pieces) * 2.0 - 1.0;
+    const vec3 q = d + at.x * sideA + at.y * sideB;
+    const float q2 = dot(q, q);
     if (q2 <= 1e-6 * ps.w) continue;
-    vec3 dir = q * inversesqrt(q2);
-    float omega = pieceArea * solidAnglePerArea(pieceArea, q2) * abs(dot(ns.xyz, dir));
+    const vec3 dir = q * inversesqrt(q2);
+    const float cosine = dot(ns.xyz, -dir), perArea = solidAnglePerArea(pieceArea, q2);
+    const float omega = pieceArea * perArea * abs(cosine);
     // In the bins, a piece wider than a bin is credited one bin's worth: they hold radiance, which
     // J passes on, and a near piece's light taken along one direction would pass on more than it
     // has (its neighbours on a curved surface, each in the others' near field, fed it back).
-    float binOmega = imageLoad(binTable, int(binOf(dir, kDirs))).w;
+    const float binOmega = imageLoad(binTable, int(binOf(dir, kDirs))).w;
     const Taps taps = tapsOf(dir);
-    float binShare = omega > binOmega ? binOmega / omega : 1.0;
-    deposit(nr, dir, taps, surfelRadiance(t.w, bins, ns, dir, taps, lobe) * omega, binShare, inversesqrt(q2));
+    const float binShare = omega > binOmega ? binOmega / omega : 1.0;
+    const vec3 radiance = surfelRadiance(surfel, kBins, ns, dir, taps, lobe);
+    deposit(nr, dir, taps, radiance * omega, binShare, inversesqrt(q2), radiance * (sign(cosine) * pieceArea * perArea),
+            ns.xyz + cosine * dir);
   }
+}
+
+// The sender of the k-th link of the receiver's two lists (the static one first).
+uint fixedFirst, fixedCount, frameFirst;
+uint senderAt(uint k) {
+  const uint key =
+      k < fixedCount ? imageLoad(staticSenders, int(fixedFirst + k)).x : imageLoad(senders, int(frameFirst + k)).x;
+  return key & ~kEmitterBit;
 }
 
 void main() {
   if (itemIndex() >= push.nodeCount) return;
   uint r = gatherOrder[itemIndex()];
-  // One loop over both lists (the link's body is long, and compiled once), this dispatch's chunk of
-  // them; the chunks after the first go on from the table and vector sums the one before left.
-  uint fixedFirst = staticStarts[r], fixedCount = staticStarts[r + 1u] - fixedFirst;
-  uint first = starts[r] - fixedCount, end = fixedCount + starts[r + 1u] - starts[r];
+  // This dispatch's chunk of the two lists; the chunks after the first go on from the table and
+  // vector sums the one before left.
+  fixedFirst = staticStarts[r], fixedCount = staticStarts[r + 1u] - fixedFirst;
+  frameFirst = starts[r] - fixedCount;
+  const uint end = fixedCount + starts[r + 1u] - starts[r];
   uint from = push.chunk * push.chunkLinks, to = min(end, from + push.chunkLinks);
   if (push.chunk + 1u == push.chunks && end > to) atomicOr(gatherFlags[0], kArFlagChunks);
   if (push.chunk > 0u && from >= end) return;
@@ -201,9 +287,17 @@ void main() {
       else
         imageStore(gathered, int(tableBase + b), vec4(0.0));
   }
-  for (uint k = from; k < to; ++k) {
-    uint s = k < fixedCount ? imageLoad(staticSenders, int(fixedFirst + k)).x : imageLoad(senders, int(first + k)).x;
-    gatherLink(s & ~kEmitterBit, pr, nr, receiverArea);
+  // Each list holds its clusters first (walkKey). Each kind has a loop of its own, so that a lane
+  // runs only its own kind's body: lavapipe runs every branch a subgroup reaches, taken or not.
+  uint k = from;
+  for (uint part = 0u; part < 2u; ++part) {
+    const uint partEnd = part == 0u ? min(to, fixedCount) : to;
+    for (; k < partEnd; ++k) {
+      const uint s = senderAt(k);
+      if (imageLoad(tree, int(s)).z == 0u) break;
+      gatherCluster(s, pr, nr);
+    }
+    for (; k < partEnd; ++k) gatherSurfel(senderAt(k), pr, nr, receiverArea);
   }
   for (uint b = 0u; kTableHere && b < kBins; ++b) imageStore(gathered, int(tableBase + b), vec4(gatheredHere[b], 0.0));
   imageStore(gatheredVector, int(kArVectorTexels * r), vec4(vectorX, 0.0));

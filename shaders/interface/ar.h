@@ -40,10 +40,12 @@ IVGI_FN uint walkKey(uint sender, uint kind) {
 // Keys compare without the emitter bit; the lists hold the senders (without their kind).
 IVGI_FN bool walkedBefore(uint keyA, uint keyB) { return (keyA & ~kEmitterBit) < (keyB & ~kEmitterBit); }
 IVGI_FN uint senderOfKey(uint key) { return key & (kEmitterBit | kArNodeMask); }
-// The most links of a receiver's list one dispatch of the global pass walks: a link takes at most
-// 1 + kArPieces² loop rounds, so that a chunk stays within lavapipe's loop budget (common.glsl).
-// Longer lists take more dispatches, each going on where the one before stopped.
-IVGI_CONST uint kArGatherChunk = 8192u;
+// The most links of a receiver's list one dispatch of the global pass walks, within lavapipe's loop
+// budget (common.glsl): four loops (each list's clusters, then its surfels) each run as long as the
+// longest lane's, a cluster one round, a surfel at most 1 + kArPieces², so a chunk's subgroup runs
+// at most 2·(1 + 1 + kArPieces²) rounds a link. Longer lists take more dispatches, each going on
+// where the one before stopped.
+IVGI_CONST uint kArGatherChunk = 4096u;
 // ar_sort_senders sorts a list of at most this many senders in one invocation; longer ones get a
 // workgroup each (ar_sort_long_senders).
 IVGI_CONST uint kArShortList = 64u;
