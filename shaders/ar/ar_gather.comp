@@ -86,7 +86,7 @@ void add(uint bin, float omega, vec3 sent) {
 }
 
 vec3 vectorX, vectorY, vectorZ;  // the receiver's Σ sent · dir
-vec3 slopeX, slopeY, slopeZ;     // and Σ sent/d · (3 (n·dir) dir − n): its irradiance's gradient
+vec3 slopeX, slopeY, slopeZ;     // and its irradiance's gradient over its position (depositInVector)
 
 // Adds radiance × solid angle `sent`, seen along unit `dir` (its taps t), `binShare` of it into the
 // receiver's bins around it.
@@ -117,7 +117,8 @@ void depositInVector(vec4 nr, vec3 dir, vec3 radiance, vec3 phi, vec3 sent, floa
 
 // Deposits radiance × solid angle `sent`, seen along unit `dir` (its taps t): `binShare` of it into
 // the receiver's bins around it and, where it arrives at the front of a flat receiver, all of it into
-// its vector sum (a curved receiver's surfaces face many ways: their irradiance comes from its bins).
+// its vector sum (a curved receiver's surfaces face many ways: their irradiance comes from its bins),
+// its gradient with the sender's cosine turning as depositInVector takes it.
 void deposit(vec4 nr, vec3 dir, Taps t, vec3 sent, float binShare, float invDist, vec3 perCosine, vec3 change) {
   if (dot(nr.xyz, dir) >= 0.0) depositInVector(nr, dir, sent, dir, sent, invDist, perCosine, change);
   depositInBins(nr, dir, t, sent, binShare);
