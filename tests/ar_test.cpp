@@ -10,8 +10,6 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
-#include <functional>
-#include <map>
 #include <nlohmann/json.hpp>
 
 #include "engine/gi/ar/solver.h"
@@ -89,7 +87,7 @@ TEST(ArFurnace, AntiradianceCancelsWhereNothingIsOccluded) {
 
 // Where nothing is occluded and nothing reflects (ρ = 0), no antiradiance may reach a receiver: the
 // solution is the first iteration's unoccluded light. A flat cluster's antiradiance leaves its back
-// alone; read between bins that straddle its plane, it once reached surfaces beside it at grazing
+// alone; read between bins on both sides of its plane, it once reached surfaces beside it at grazing
 // and took 1 % of the light at --eps 0.005 (docs/notes/ar.md, *Flat senders exact*).
 TEST(ArFurnace, NothingOccludedNothingCancelled) {
   auto model = scenes::furnace({.cells = 8, .albedo = 0.0f, .emission = 1.0f});
