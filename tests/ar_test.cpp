@@ -87,8 +87,8 @@ TEST(ArFurnace, AntiradianceCancelsWhereNothingIsOccluded) {
 
 // Where nothing is occluded and nothing reflects (ρ = 0), no antiradiance may reach a receiver: the
 // solution is the first iteration's unoccluded light. A flat cluster's antiradiance leaves its back
-// alone; read between bins on both sides of its plane, it once reached surfaces beside it at grazing
-// and took 1 % of the light at --eps 0.005 (docs/notes/ar.md, *Flat senders exact*).
+// alone; read between bins on both sides of its plane, it would reach surfaces beside it at grazing
+// (docs/notes/ar.md, *Flat senders exact*).
 TEST(ArFurnace, NothingOccludedNothingCancelled) {
   auto model = scenes::furnace({.cells = 8, .albedo = 0.0f, .emission = 1.0f});
   for (float eps : {0.02f, 0.005f}) {
