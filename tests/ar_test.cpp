@@ -145,6 +145,50 @@ TEST(ArFurnace, BlocksInsideComeOutWithinAFewPercent) {
   EXPECT_FALSE(solved.stats.diverged);
 }
 
+// A smooth sphere (radius 0.25, 32 × 16 segments) inside the furnace's cube, every face Le = 1 and
+// ρ = 0.5: E/π = Le/(1−ρ) on the sphere as on the walls. A curved receiver's light comes through its
+// bins, each weighed by the cosine of its mean direction and those weights scaled to sum to π (a bin
+// across the horizon, clipped, would weigh less than its part above it), and a flat sender reaches
+// the bins over its rectangle's exact solid angle (a disk on its axis takes too little of one seen
+// askew). Without either the sphere came out 4 % dark. What is left, about 2 %, is not yet
+// explained: it follows the bins' and the links' resolution, and the surfels' grouping (1.2 %
+// without the UVs' seam; docs/notes/ar.md, *A curved surface in a furnace is dark*).
+TEST(ArFurnace, ASphereInsideComesOutWithinAFewPercent) {
+  const float rho = 0.5f;
+  scenes::GltfBuilder b;
+  const int grey = b.material("furnace", glm::vec3(rho), glm::vec3(1.0f));
+  scenes::MeshData walls, ball = test::ball(16, 0.25f, glm::vec3(0.5f));
+  for (size_t i = 0; i < ball.positions.size(); ++i) {  // as an exporter writes one: normals, a UV seam
+    ball.normals.push_back(glm::normalize(ball.positions[i] - glm::vec3(0.5f)));
+    ball.uvs.push_back({float(i % 33) / 32.0f, float(i / 33) / 16.0f});
+  }
+  const glm::vec3 in(0.5f);
+  for (int axis = 0; axis < 3; ++axis)
+    for (float side : {0.0f, 1.0f}) {  // the face at coordinate `axis` = side, facing in
+      auto corner = [&](float u, float v) {
+        glm::vec3 p;
+        p[axis] = side, p[(axis + 1) % 3] = u, p[(axis + 2) % 3] = v;
+        return p;
+      };
+      scenes::addQuad(walls, corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1), 8, 8, in);
+    }
+  b.node("cube", b.mesh("cube", {{walls, grey}}));
+  b.node("ball", b.mesh("ball", {{ball, grey}}));
+  ArSolved solved = solveAr(b.finish(), {});
+  double sum[2] = {}, area[2] = {};  // the cube's, the sphere's
+  for (size_t i = 0; i < solved.surfels.size(); ++i) {
+    const glm::vec4 pa = solved.surfels[i].positionArea;
+    const int k = glm::length(glm::vec3(pa) - in) < 0.3f ? 1 : 0;
+    sum[k] += pa.w * ((1 - rho) * solved.irradiance[i].x / kPi - 1), area[k] += pa.w;
+  }
+  const double cube = sum[0] / area[0], sphere = sum[1] / area[1];
+  std::printf("[ ar furnace with a sphere ] mean E/pi of exact: the cube %+.2f %%, the sphere %+.2f %%\n", 100 * cube,
+              100 * sphere);
+  EXPECT_LT(std::abs(cube), 0.015);
+  EXPECT_LT(std::abs(sphere), 0.025);
+  EXPECT_FALSE(solved.stats.diverged);
+}
+
 namespace {
 
 // Emitter 0.2 m square at y = 1 facing down, receiver 0.2 m square at y = 0 facing up, and, when

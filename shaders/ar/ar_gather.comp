@@ -11,6 +11,7 @@
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 0
 #include "common/common.glsl"
+#include "common/solid_angle.glsl"
 layout(local_size_x = kArGatherGroup) in;
 layout(constant_id = 0) const uint kDirs = 4;  // --dirs: a constant, so that the bins' arithmetic folds
 // The most bins of a receiver's table kept in each invocation (kArGatherTableHere; tests set fewer).
@@ -174,11 +175,12 @@ vec3 surfelRadiance(uint surfel, uint bins, vec4 ns, vec3 dir, Taps t, vec3 lobe
 
 // Adds what cluster s sends toward the receiver (at pr, its normal and cone nr). A curved cluster
 // sends what its table holds toward the receiver, over its solid angle (a disk's on its axis). A flat
-// one sends its exitance and antiradiance with its own cosine, and into a flat receiver's vector sum
-// over its rectangle's exact solid angle (Lambert's vector, scaled to the cluster's area): clusters
-// are linked up to a form factor of --eps, near enough that a disk on its axis would take too little
-// of one seen askew, and the light of a sender turned away from a flat receiver's centre still
-// reaches the part of the receiver that sees it.
+// one sends its exitance and antiradiance over its rectangle's exact solid angle, scaled to the
+// cluster's area: into the bins (what a curved receiver's irradiance and J take) the rectangle's
+// solid angle, into a flat receiver's vector sum its Lambert's vector. Clusters are linked up to a
+// form factor of --eps, near enough that a disk on its axis would take too little of one seen
+// askew, and the light of a sender turned away from a flat receiver's centre still reaches the part
+// of the receiver that sees it.
 void gatherCluster(uint s, vec3 pr, vec4 nr) {
   const vec4 ps = nodePositionArea(s);
   const vec3 d = ps.xyz - pr;
@@ -197,16 +199,18 @@ void gatherCluster(uint s, vec3 pr, vec4 nr) {
   const float cosine = dot(cone.xyz, -dir);
   const vec3 front = imageLoad(exitance, int(s)).rgb * step(0.0, cosine);
   const vec3 sent = (front - table) * abs(cosine) * perArea;
+  vec3 sideA, sideB;
+  senderSides(s, cone, sideA, sideB);
+  const float rectangle = 4.0 * length(sideA) * length(sideB);
   if (nr.w <= kArFlatCone) {
-    vec3 sideA, sideB;
-    senderSides(s, cone, sideA, sideB);
-    const float rectangle = 4.0 * length(sideA) * length(sideB);
     const vec3 phi = rectangle > 0.0 ? ps.w / rectangle * rectangleVector(d, sideA, sideB, nr.xyz)
                                      : (dot(nr.xyz, dir) >= 0.0 ? ps.w * abs(cosine) * perArea * dir : vec3(0.0));
     depositInVector(nr, dir, (front - table) / ps.w, phi, sent, inversesqrt(dist2),
                     (front - table * sign(cosine)) * perArea, cone.xyz + cosine * dir);
   }
-  depositInBins(nr, dir, taps, sent, 1.0);
+  const float omegaPerArea =
+      rectangle > 0.0 ? abs(rectangleSolidAngle(d, sideA, sideB)) / rectangle : abs(cosine) * perArea;
+  depositInBins(nr, dir, taps, (front - table) * omegaPerArea, 1.0);
 }
 
 // Adds what surfel sender s sends toward the receiver (at pr, its normal and cone nr, its area): as

@@ -3,7 +3,8 @@
 // the trees by ar_sum_down) plus the environment and the punctual lights (unoccluded: antiradiance
 // cancels them where they are blocked); and its irradiance: its normal against the vector sums of
 // what its flat node and ancestors gathered (each sender along its own direction), the bins of its
-// front for what its curved ancestors gathered and the environment (Σ L·max(n·∫ω dω, 0)), and the
+// front for what its curved ancestors gathered and the environment (Σ L·max(n·∫ω dω, 0), the weights
+// scaled to sum to π: a bin across the horizon weighs less than its part above it), and the
 // lights' exact cosines; where the depth maps give the emitters' direct light, that too. The workgroup sums what the
 // host judges the iteration by.
 #extension GL_GOOGLE_include_directive : require
@@ -47,6 +48,8 @@ void main() {
     // the lowest of them.
     int parent = int(imageLoad(tree, int(leaf)).x), curved = parent;
     while (curved >= 0 && nodeNormalCone(uint(curved)).w <= kArFlatCone) curved = int(imageLoad(tree, curved).x);
+    vec3 binsLight = vec3(0.0);
+    float binsWeight = 0.0;
     for (uint b = 0u; b < bins; ++b) {
       vec3 sky = push.environmentOn != 0u ? imageLoad(environment, int(b)).rgb : vec3(0.0);
       vec3 I = sky + imageLoad(gathered, int(leaf * bins + b)).rgb;
@@ -54,8 +57,10 @@ void main() {
       vec3 fromBins = curved >= 0 ? sky + imageLoad(gathered, int(uint(curved) * bins + b)).rgb : sky;
       int texel = int(s * bins + b);
       imageStore(incident, texel, vec4(damped ? mix(imageLoad(incident, texel).rgb, I, w) : I, 0.0));
-      E += fromBins * max(dot(normal, imageLoad(binTable, int(b)).xyz), 0.0);
+      const float cosine = max(dot(normal, imageLoad(binTable, int(b)).xyz), 0.0);
+      binsLight += fromBins * cosine, binsWeight += cosine;
     }
+    E += binsWeight > 0.0 ? binsLight * (kPi / binsWeight) : vec3(0.0);
     for (int node = int(leaf); node >= 0; node = int(imageLoad(tree, node).x)) {
       uint v = kArVectorTexels * uint(node);
       const vec3 offset = pa.xyz - nodePositionArea(uint(node)).xyz;

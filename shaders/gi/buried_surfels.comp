@@ -14,6 +14,7 @@
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 3
 #include "common/common.glsl"
+#include "common/solid_angle.glsl"
 layout(local_size_x = 64) in;
 
 layout(binding = 0, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode
@@ -31,15 +32,6 @@ layout(binding = 11, r32ui) readonly uniform uimageBuffer movingLeaves;
 layout(binding = 8, rgba32f) readonly uniform imageBuffer nodeVectorArea;  // Σ a·n (refit)
 layout(push_constant) uniform Push { BurialPush push; };
 
-// Signed solid angle of triangle abc (corners relative to the point), positive where the point
-// lies behind it (on the side away from its counter-clockwise normal): Van Oosterom and Strackee.
-float triangleSolidAngle(vec3 a, vec3 b, vec3 c) {
-  const float la = length(a), lb = length(b), lc = length(c);
-  const float numerator = dot(a, cross(b, c));
-  const float denominator = la * lb * lc + dot(a, b) * lc + dot(a, c) * lb + dot(b, c) * la;
-  return 2.0 * atan(numerator, denominator);
-}
-
 // Node i's share of the winding number at p (times 4π): far, as a dipole; else i is a surfel, its
 // rectangle (two triangles) scaled to its area.
 float solidAngleOf(uint i, vec3 p) {
@@ -55,8 +47,7 @@ float solidAngleOf(uint i, vec3 p) {
   // solid angle is 0, where the formula's ±2π inside it would hang on the sign of a rounding.
   if (rectangle <= 0.0 || abs(dot(normalCone.xyz, d)) <= 1e-4 * max(shape.z, shape.w)) return 0.0;
   const float turn = dot(cross(u1, u2), normalCone.xyz) >= 0.0 ? 1.0 : -1.0;
-  const vec3 q0 = d - u1 - u2, q1 = d + u1 - u2, q2 = d + u1 + u2, q3 = d - u1 + u2;
-  return turn * (triangleSolidAngle(q0, q1, q2) + triangleSolidAngle(q0, q2, q3)) * positionArea.w / rectangle;
+  return turn * rectangleSolidAngle(d, u1, u2) * positionArea.w / rectangle;
 }
 
 // Whether the point p lies inside the object of `root`: its winding number, summed over the tree.
