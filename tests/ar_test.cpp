@@ -157,12 +157,13 @@ TEST(ArFurnace, ASphereInsideComesOutWithinAFewPercent) {
   const float rho = 0.5f;
   scenes::GltfBuilder b;
   const int grey = b.material("furnace", glm::vec3(rho), glm::vec3(1.0f));
-  scenes::MeshData walls, ball = test::ball(16, 0.25f, glm::vec3(0.5f));
-  for (size_t i = 0; i < ball.positions.size(); ++i) {  // as an exporter writes one: normals, a UV seam
-    ball.normals.push_back(glm::normalize(ball.positions[i] - glm::vec3(0.5f)));
-    ball.uvs.push_back({float(i % 33) / 32.0f, float(i / 33) / 16.0f});
-  }
   const glm::vec3 in(0.5f);
+  const int rings = 16, row = 2 * rings + 1;  // test::uvSphere's vertices: rings + 1 rows of `row`
+  scenes::MeshData walls, ball = test::ball(rings, 0.25f, in);
+  for (size_t i = 0; i < ball.positions.size(); ++i) {  // as an exporter writes one: normals, a UV seam
+    ball.normals.push_back(glm::normalize(ball.positions[i] - in));
+    ball.uvs.push_back({float(i % row) / float(row - 1), float(i / row) / float(rings)});
+  }
   for (int axis = 0; axis < 3; ++axis)
     for (float side : {0.0f, 1.0f}) {  // the face at coordinate `axis` = side, facing in
       auto corner = [&](float u, float v) {
