@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <span>
 
@@ -290,6 +291,38 @@ TEST(SharedDefinitions, LightFalloffMatchesOnTheGpu) {
   }
   EXPECT_GT(lit, int(n / 3));  // the cases light something
   EXPECT_LT(lit, int(n));      // and the range, cones and the light's own position cut some off
+}
+
+// The range window and the spot cone of KHR_lights_punctual's reference code: 1 − (d/range)⁴ on
+// the inverse square, and (t)² where t is the cosine's place between the outer cone (0) and the
+// inner (1). The cone's square falls steeply past the inner cone and levels off toward the outer,
+// as the extension asks of a conforming renderer (a smoothstep starts flat instead).
+TEST(SharedDefinitions, LightFalloffFollowsKhrLightsPunctual) {
+  const glm::vec3 down(0, -1, 0);
+  glm::vec3 toLight;
+  float dist2 = 0;
+  const gpu::PunctualLight ranged{glm::vec4(0, 2, 0, gpu::kLightPoint), glm::vec4(down, 4.0f), glm::vec4(1),
+                                  glm::vec4(0)};
+  EXPECT_NEAR(gpu::lightFalloff(ranged, {0, 0, 0}, toLight, dist2), (1.0f - 0.0625f) / 4.0f, 1e-6f);  // d/range ½
+  EXPECT_NEAR(gpu::lightFalloff(ranged, {0, -1, 0}, toLight, dist2), (1.0f - 0.75f * 0.75f * 0.75f * 0.75f) / 9.0f,
+              1e-6f);
+  EXPECT_EQ(gpu::lightFalloff(ranged, {0, -2, 0}, toLight, dist2), 0.0f) << "at the range";
+  EXPECT_EQ(gpu::lightFalloff(ranged, {0, -3, 0}, toLight, dist2), 0.0f) << "past it";
+  const float inner = 0.3f, outer = 0.6f;
+  const gpu::PunctualLight spot{glm::vec4(0, 2, 0, gpu::kLightSpot), glm::vec4(down, 0.0f), glm::vec4(1),
+                                glm::vec4(std::cos(outer), std::cos(inner), 0, 0)};
+  // A point on the floor θ from the spot's axis, and what the extension's reference code gives there.
+  auto at = [&](float theta) { return glm::vec3(2.0f * std::tan(theta), 0, 0); };
+  auto reference = [&](float theta) {
+    const float scale = 1.0f / std::max(0.001f, std::cos(inner) - std::cos(outer));
+    const float t = std::clamp(std::cos(theta) * scale - std::cos(outer) * scale, 0.0f, 1.0f);
+    return t * t * std::cos(theta) * std::cos(theta) / 4.0f;
+  };
+  for (float theta : {0.0f, 0.2f, 0.3f, 0.35f, 0.45f, 0.55f, 0.59f, 0.6f, 0.7f})
+    EXPECT_NEAR(gpu::lightFalloff(spot, at(theta), toLight, dist2), reference(theta), 1e-6f) << "θ " << theta;
+  // Halfway between the cones' cosines a quarter of the light, where a smoothstep would give half.
+  const float half = std::acos(0.5f * (std::cos(inner) + std::cos(outer)));
+  EXPECT_NEAR(gpu::lightFalloff(spot, at(half), toLight, dist2) / (1.0f / dist2), 0.25f, 1e-4f);
 }
 
 // lavapipe ends every loop of a subgroup, silently, once its loops together ran 65,535 rounds

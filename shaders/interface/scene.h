@@ -187,8 +187,12 @@ IVGI_FN ivec2 texelPair(float u, int size, uint mode, IVGI_OUT(float) weight) {
 
 // ---- Punctual lights ----
 
-// Irradiance per unit intensity on a surface at p facing the light: 1/d², the range window, the
-// spot cone (smooth between the outer and inner cosines). toLight is not normalised; dist2 is its
+// Irradiance per unit intensity on a surface at p facing the light: 1/d², the range window and the
+// spot cone as KHR_lights_punctual's reference code gives them: 1 − (d/range)⁴ (clamped to [0, 1]),
+// and t² where t goes from 0 at the outer cone's cosine to 1 at the inner's (the steep decline
+// after the inner cone, levelling off toward the outer, that the extension asks conforming
+// renderers to follow). The reference code's guard on the cosines' difference, 0.001, is 10⁻⁶
+// here, so that a cone narrower than 2.6° still lights. toLight is not normalised; dist2 is its
 // squared length, 3.4e38 for a directional light.
 IVGI_FN float lightFalloff(PunctualLight light, vec3 p, IVGI_OUT(vec3) toLight, IVGI_OUT(float) dist2) {
   dist2 = 3.4e38f;
@@ -201,13 +205,13 @@ IVGI_FN float lightFalloff(PunctualLight light, vec3 p, IVGI_OUT(vec3) toLight, 
   if (dist2 <= 0.0f) return 0.0f;
   float falloff = 1.0f / dist2;
   if (light.direction.w > 0.0f) {
-    float window = clamp(1.0f - pow(sqrt(dist2) / light.direction.w, 4.0f), 0.0f, 1.0f);
-    falloff *= window * window;
+    const float r2 = dist2 / (light.direction.w * light.direction.w);
+    falloff *= clamp(1.0f - r2 * r2, 0.0f, 1.0f);
   }
   if (light.position.w == kLightSpot) {
     float c = dot(normalize(-toLight), vec3(light.direction));
     float t = clamp((c - light.cone.x) / max(light.cone.y - light.cone.x, 1e-6f), 0.0f, 1.0f);
-    falloff *= t * t * (3.0f - 2.0f * t);
+    falloff *= t * t;
   }
   return falloff;
 }
