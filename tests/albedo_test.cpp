@@ -3,7 +3,9 @@
 // surfels' albedo the solvers reflect with, the resolve's per-pixel albedo and the path tracer.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -138,11 +140,11 @@ TEST(TextureTransform, TheSpecificationsExample) {
   }
 }
 
-// A 2×2 texture of four colours on a floor seen from straight above, its base colour read through
-// a transform (offset, rotation and scale at once): the resolve's albedo at a grid of pixels is what
-// the host's lookup gives at the pixel's texture coordinates (the solvers' albedo is the host's),
-// and the transform changed what is read.
-TEST(TextureTransform, TheResolveReadsAsTheHostDoes) {
+namespace {
+
+// A 1 m floor seen from straight above, its base colour a 2×2 texture of four colours (texture 0,
+// material 0).
+tinygltf::Model fourColourFloor() {
   scenes::GltfBuilder b;
   scenes::MeshData floor;
   scenes::addQuad(floor, {-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}, 1, 1, {0, 1, 0});
@@ -159,8 +161,43 @@ TEST(TextureTransform, TheResolveReadsAsTheHostDoes) {
   tinygltf::Texture texture;
   texture.source = 0;
   m.textures.push_back(texture);
-  auto& info = m.materials[size_t(material)].pbrMetallicRoughness.baseColorTexture;
-  info.index = 0;
+  m.materials[size_t(material)].pbrMetallicRoughness.baseColorTexture.index = 0;
+  return m;
+}
+
+// The floor of fourColourFloor() as `file` renders it at 64×64: its albedo at a grid of pixels is
+// what the host's lookup of `texture` gives at the pixel's texture coordinates (the solvers' albedo
+// is the host's). Each lookup is passed to `also`.
+void expectAlbedoAsTheHostReads(const std::string& name, const std::string& file, const scene::Geometry& g, int texture,
+                                const std::function<void(glm::vec2 uv, glm::vec4 host)>& also) {
+  const fs::path exr = test::renderExr(name, {file, "--size", "64x64", "--env", "1,1,1", "--tessellate", "0"});
+  std::vector<std::vector<float>> albedo;
+  for (const char* c : {"albedo.R", "albedo.G", "albedo.B"}) albedo.push_back(test::channelOf(exr, c));
+  ASSERT_EQ(albedo[0].size(), 64u * 64u);
+  // The floor's UVs run with x and z (addQuad: u along p0 → p1, v along p0 → p3); the camera sees
+  // x and z within ±0.77 m, x to the right and z downwards.
+  const float halfWidth = 3.0f * std::tan(0.25f);
+  for (int row = 4; row < 64; row += 8)
+    for (int column = 4; column < 64; column += 8) {
+      const float x = halfWidth * ((float(column) + 0.5f) / 32.0f - 1.0f),
+                  z = halfWidth * ((float(row) + 0.5f) / 32.0f - 1.0f);
+      const glm::vec2 uv(0.5f * (x + 1.0f), 0.5f * (z + 1.0f));
+      const glm::vec4 host = scene::sampleTexture(g, texture, uv);
+      const size_t i = size_t(row) * 64 + size_t(column);
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(albedo[size_t(c)][i], host[c], 0.02f)
+            << "row " << row << ", column " << column << ", channel " << c;
+      also(uv, host);
+    }
+}
+
+}  // namespace
+
+// The four colours read through a transform (offset, rotation and scale at once): the resolve reads
+// as the host does, and the transform changed what is read.
+TEST(TextureTransform, TheResolveReadsAsTheHostDoes) {
+  tinygltf::Model m = fourColourFloor();
+  auto& info = m.materials[0].pbrMetallicRoughness.baseColorTexture;
   const tinygltf::Value::Array offset{tinygltf::Value(0.3), tinygltf::Value(-0.2)},
       scale{tinygltf::Value(1.5), tinygltf::Value(0.7)};
   info.extensions["KHR_texture_transform"] = tinygltf::Value(tinygltf::Value::Object{
@@ -173,28 +210,38 @@ TEST(TextureTransform, TheResolveReadsAsTheHostDoes) {
   const scene::Geometry g = scene::buildGeometry(loaded, 0);
   const int transformed = g.materials[0].baseColorTexture;
   ASSERT_EQ(transformed, 1) << "a record of its own";
-  const fs::path exr = test::renderExr("transformed", {file, "--size", "64x64", "--env", "1,1,1", "--tessellate", "0"});
-  std::vector<std::vector<float>> albedo;
-  for (const char* c : {"albedo.R", "albedo.G", "albedo.B"}) albedo.push_back(test::channelOf(exr, c));
-  ASSERT_EQ(albedo[0].size(), 64u * 64u);
-  // The floor's UVs run with x and z (addQuad: u along p0 → p1, v along p0 → p3); the camera sees
-  // x and z within ±0.77 m, x to the right and z downwards.
-  const float halfWidth = 3.0f * std::tan(0.25f);
   size_t differ = 0, checked = 0;
-  for (int row = 4; row < 64; row += 8)
-    for (int column = 4; column < 64; column += 8) {
-      const float x = halfWidth * ((float(column) + 0.5f) / 32.0f - 1.0f),
-                  z = halfWidth * ((float(row) + 0.5f) / 32.0f - 1.0f);
-      const glm::vec2 uv(0.5f * (x + 1.0f), 0.5f * (z + 1.0f));
-      const glm::vec4 host = scene::sampleTexture(g, transformed, uv);
-      const size_t i = size_t(row) * 64 + size_t(column);
-      for (int c = 0; c < 3; ++c)
-        EXPECT_NEAR(albedo[size_t(c)][i], host[c], 0.02f)
-            << "row " << row << ", column " << column << ", channel " << c;
-      differ += glm::length(glm::vec3(host) - glm::vec3(scene::sampleTexture(g, 0, uv))) > 0.1f;
-      ++checked;
-    }
+  expectAlbedoAsTheHostReads("transformed", file, g, transformed, [&](glm::vec2 uv, glm::vec4 host) {
+    differ += glm::length(glm::vec3(host) - glm::vec3(scene::sampleTexture(g, 0, uv))) > 0.1f;
+    ++checked;
+  });
   EXPECT_GT(differ, checked / 2) << "the transform changes most lookups";
+}
+
+// A sampler whose magFilter is NEAREST reads the nearest texel, as glTF viewers and Blender's
+// importer ("Closest") show it: every lookup, the resolve's and the host's alike, is one of the four
+// colours, where the bilinear default blends them between the texels' centres.
+TEST(TexturedAlbedo, NearestFilterReadsWholeTexels) {
+  for (const bool nearest : {false, true}) {
+    tinygltf::Model m = fourColourFloor();
+    tinygltf::Sampler sampler;
+    sampler.magFilter = nearest ? TINYGLTF_TEXTURE_FILTER_NEAREST : TINYGLTF_TEXTURE_FILTER_LINEAR;
+    m.samplers.push_back(sampler);
+    m.textures[0].sampler = 0;
+    const std::string name = nearest ? "nearest" : "linear", file = writeScene(m, name);
+    const scene::Geometry g = scene::buildGeometry(scene::loadGltf(file), 0);
+    const std::vector<glm::vec3> colours = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}};
+    size_t whole = 0, checked = 0;
+    expectAlbedoAsTheHostReads(name, file, g, 0, [&](glm::vec2, glm::vec4 host) {
+      whole += std::any_of(colours.begin(), colours.end(),
+                           [&](glm::vec3 c) { return glm::length(glm::vec3(host) - c) < 1e-3f; });
+      ++checked;
+    });
+    if (nearest)
+      EXPECT_EQ(whole, checked) << "every lookup one texel's colour";
+    else
+      EXPECT_LT(whole, checked / 4) << "bilinear lookups blend";
+  }
 }
 
 // Khronos' test model for the extension (in Debian's assimp-testmodels): its three offset squares

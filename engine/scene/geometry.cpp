@@ -48,7 +48,8 @@ glm::vec3 transformNormal(const glm::mat4& m, glm::vec3 n) {
 void appendTexture(Geometry& g, const Texture& t, bool srgb) {
   const uint32_t wrap = uint32_t(t.wrapS) | uint32_t(t.wrapT) << 16;
   g.textures.push_back({uint32_t(g.texels.size() / 2), uint32_t(t.width), uint32_t(t.height), wrap,
-                        glm::vec4(TextureTransform{}.rowU(), 0.0f), glm::vec4(TextureTransform{}.rowV(), 0.0f)});
+                        glm::vec4(TextureTransform{}.rowU(), t.nearest ? 1.0f : 0.0f),
+                        glm::vec4(TextureTransform{}.rowV(), 0.0f)});
   auto decode = [srgb](uint8_t c) { return srgb ? image::srgbToLinear(c / 255.0f) : c / 255.0f; };
   for (size_t p = 0; p < t.rgba.size() / 4; ++p) {
     const uint8_t* c = &t.rgba[4 * p];
@@ -207,7 +208,7 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
   auto transformed = [&](int texture, const TextureTransform& transform) {
     if (texture < 0 || transform.identity()) return texture;
     gpu::Texture record = g.textures[size_t(texture)];
-    record.uvRowU = glm::vec4(transform.rowU(), 0.0f), record.uvRowV = glm::vec4(transform.rowV(), 0.0f);
+    record.uvRowU = glm::vec4(transform.rowU(), record.uvRowU.w), record.uvRowV = glm::vec4(transform.rowV(), 0.0f);
     g.textures.push_back(record);
     return int(g.textures.size() - 1);
   };

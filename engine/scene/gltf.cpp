@@ -78,6 +78,7 @@ class Converter {
       if (t.sampler >= 0 && size_t(t.sampler) < m_.samplers.size()) {
         out.wrapS = m_.samplers[t.sampler].wrapS;
         out.wrapT = m_.samplers[t.sampler].wrapT;
+        out.nearest = m_.samplers[t.sampler].magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST;
       }
       if (t.source < 0 || size_t(t.source) >= m_.images.size() || m_.images[t.source].image.empty()) {
         warn("texture " + std::to_string(i) + " has no decodable image; its factor alone is used");

@@ -21,6 +21,7 @@ struct Texture {
   int width = 0, height = 0;
   std::vector<uint8_t> rgba;         // 8-bit RGBA texels as stored (sRGB-encoded for colour textures)
   int wrapS = 10497, wrapT = 10497;  // glTF wrap enums: REPEAT, CLAMP_TO_EDGE 33071, MIRRORED_REPEAT 33648
+  bool nearest = false;              // the sampler's magFilter is NEAREST: the nearest texel, not a blend
 };
 
 // KHR_texture_transform of one texture reference: the coordinates are scaled, then rotated

@@ -14,6 +14,7 @@ glm::vec4 sampleTexture(const Geometry& g, int index, glm::vec2 uv) {
   float ax, ay;
   glm::ivec2 xs = gpu::texelPair(uv.x, int(t.width), t.wrap & 0xffffu, ax);
   glm::ivec2 ys = gpu::texelPair(uv.y, int(t.height), t.wrap >> 16, ay);
+  ax = gpu::texelWeight(t, ax), ay = gpu::texelWeight(t, ay);
   auto texel = [&](int x, int y) {
     size_t at = 2 * (size_t(t.offset) + size_t(y) * t.width + size_t(x));
     return glm::vec4(glm::unpackHalf2x16(g.texels[at]), glm::unpackHalf2x16(g.texels[at + 1]));

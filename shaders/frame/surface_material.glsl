@@ -19,6 +19,7 @@ vec4 sampleTexture(int index, vec2 uv) {
   uv = transformedUv(t, uv);
   float ax, ay;
   ivec2 xs = texelPair(uv.x, int(t.width), t.wrap & 0xffffu, ax), ys = texelPair(uv.y, int(t.height), t.wrap >> 16, ay);
+  ax = texelWeight(t, ax), ay = texelWeight(t, ay);
   return mix(mix(texel(t, xs.x, ys.x), texel(t, xs.y, ys.x), ax), mix(texel(t, xs.x, ys.y), texel(t, xs.y, ys.y), ax),
              ay);
 }

@@ -56,8 +56,9 @@ struct Texture {
   uint width;
   uint height;
   uint wrap;  // wrapS | wrapT << 16 (glTF enums)
-  // KHR_texture_transform as an affine map of (u, v, 1): u' = dot(uvRowU.xyz, …), v' likewise (w unused).
-  // A texture referenced with another transform is another record over the same texels.
+  // KHR_texture_transform as an affine map of (u, v, 1): u' = dot(uvRowU.xyz, …), v' likewise.
+  // A texture referenced with another transform is another record over the same texels. uvRowU.w:
+  // 1 where the sampler asks for the nearest texel (magFilter NEAREST), 0 for a bilinear blend.
   vec4 uvRowU;
   vec4 uvRowV;
 };
@@ -183,6 +184,12 @@ IVGI_FN ivec2 texelPair(float u, int size, uint mode, IVGI_OUT(float) weight) {
   int i = int(f), j = i + 1;
   if (mode == 33071u || mode == 33648u) return clamp(ivec2(i, j), 0, size - 1);
   return ivec2(i < 0 ? i + size : i, j >= size ? j - size : j);
+}
+
+// texelPair's weight as texture t blends: as it is (bilinear), or where t takes the nearest texel,
+// all on whichever of the two has its centre nearer (the second at a tie, as floor(u·size) picks).
+IVGI_FN float texelWeight(Texture t, float weight) {
+  return t.uvRowU.w == 0.0f ? weight : (weight >= 0.5f ? 1.0f : 0.0f);
 }
 
 // ---- Punctual lights ----
