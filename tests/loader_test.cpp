@@ -2,6 +2,7 @@
 // accessor form the spec allows (component types, normalisation, interleaving, sparse, strips).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -312,12 +313,56 @@ TEST(Loader, HarmlessUnsupportedContentIsSkippedWithAWarning) {
   t.b.model().meshes[0].primitives.push_back(lines);
   t.b.model().extensionsUsed.push_back("EXT_made_up");
   t.b.model().materials[0].alphaMode = "MASK";
+  t.b.model().materials[0].normalTexture.index = 0;
   Scene s = t.load();
   EXPECT_EQ(s.meshes[0].primitives.size(), 1u);
-  ASSERT_EQ(s.warnings.size(), 3u);
+  ASSERT_EQ(s.warnings.size(), 4u);
   EXPECT_NE(s.warnings[0].find("EXT_made_up"), std::string::npos);
   EXPECT_NE(s.warnings[1].find("alphaMode MASK"), std::string::npos) << s.warnings[1];
-  EXPECT_NE(s.warnings[2].find("lines"), std::string::npos);
+  EXPECT_NE(s.warnings[2].find("normal texture"), std::string::npos) << s.warnings[2];
+  EXPECT_NE(s.warnings[3].find("lines"), std::string::npos);
+}
+
+// Eight influences a vertex (JOINTS_1/WEIGHTS_1, as exporters write for dense rigs): the four
+// heaviest are kept, in weight order, renormalised, with a warning naming the primitive; four
+// influences alone are kept as the file gives them, normalised.
+TEST(Loader, EightJointInfluencesKeepTheFourHeaviest) {
+  TriangleModel t;
+  const uint16_t joints0[12] = {0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3}, joints1[12] = {4, 5, 6, 7, 4, 5, 6, 7, 4, 5, 6, 7};
+  // Vertex 0's heaviest four lie across both sets; vertex 1's in the first; vertex 2's set 1 is empty.
+  const float weights0[12] = {0.1f, 0.3f, 0.02f, 0.08f, 0.4f, 0.2f, 0.1f, 0.1f, 0.5f, 0.25f, 0.15f, 0.1f};
+  const float weights1[12] = {0.25f, 0.05f, 0.15f, 0.05f, 0.1f, 0.05f, 0.05f, 0.0f, 0, 0, 0, 0};
+  auto& attributes = t.primitive().attributes;
+  attributes["JOINTS_0"] = t.b.accessor(joints0, 3, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_VEC4, 8);
+  attributes["WEIGHTS_0"] = t.b.accessor(weights0, 3, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4, 16);
+  attributes["JOINTS_1"] = t.b.accessor(joints1, 3, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_VEC4, 8);
+  attributes["WEIGHTS_1"] = t.b.accessor(weights1, 3, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4, 16);
+  const Scene s = t.load();
+  const Primitive& p = s.meshes[0].primitives[0];
+  ASSERT_EQ(p.joints.size(), 3u);
+  EXPECT_EQ(p.joints[0], glm::uvec4(1, 4, 6, 0));  // 0.3, 0.25, 0.15 and 0.1; 0.08 and less left out
+  EXPECT_NEAR(p.weights[0].x, 0.3f / 0.8f, 1e-6f);
+  EXPECT_NEAR(p.weights[0].w, 0.1f / 0.8f, 1e-6f);
+  EXPECT_EQ(p.joints[1], glm::uvec4(0, 1, 2, 3));  // 0.4, 0.2, 0.1, 0.1: ties keep the earlier influence
+  EXPECT_NEAR(p.weights[1].x + p.weights[1].y + p.weights[1].z + p.weights[1].w, 1.0f, 1e-6f);
+  EXPECT_EQ(p.joints[2], glm::uvec4(0, 1, 2, 3));
+  EXPECT_NEAR(p.weights[2].x, 0.5f, 1e-6f);
+  // (The triangle's node has no skin, which a warning of its own says.)
+  auto influenceWarnings = [](const Scene& scene) {
+    return std::count_if(scene.warnings.begin(), scene.warnings.end(),
+                         [](const std::string& w) { return w.find("four heaviest") != std::string::npos; });
+  };
+  EXPECT_EQ(influenceWarnings(s), 1);
+
+  TriangleModel four;
+  four.primitive().attributes["JOINTS_0"] =
+      four.b.accessor(joints0, 3, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_VEC4, 8);
+  four.primitive().attributes["WEIGHTS_0"] =
+      four.b.accessor(weights0, 3, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4, 16);
+  const Scene f = four.load();
+  EXPECT_EQ(influenceWarnings(f), 0);
+  EXPECT_EQ(f.meshes[0].primitives[0].joints[0], glm::uvec4(0, 1, 2, 3));
+  EXPECT_NEAR(f.meshes[0].primitives[0].weights[0].y, 0.3f / 0.5f, 1e-6f);
 }
 
 TEST(Loader, RequiredUnknownExtensionIsAnError) {

@@ -3,6 +3,7 @@
 #include <tiny_gltf.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -159,6 +160,8 @@ class Converter {
       // Every method takes a surface as opaque: a cut-out or blended one would block what it lets through.
       if (m.alphaMode == "MASK" || m.alphaMode == "BLEND")
         warn("material '" + m.name + "' has alphaMode " + m.alphaMode + "; it is drawn opaque");
+      if (m.normalTexture.index >= 0)
+        warn("material '" + m.name + "' has a normal texture; it is shaded with its mesh's normals");
       if (auto* v = extensionValue(m.extensions, "KHR_materials_emissive_strength", "emissiveStrength"))
         out.emissiveStrength = float(v->GetNumberAsDouble());
       auto finite = [](glm::vec4 v) { return glm::all(glm::lessThan(glm::abs(v), glm::vec4(3.4e38f))); };
@@ -203,6 +206,48 @@ class Converter {
     for (const char* texture : {"specularTexture", "specularColorTexture"})
       if (extensionValue(m.extensions, "KHR_materials_specular", texture))
         warn(what + ": KHR_materials_specular " + texture + " is not supported; its factor alone is used");
+  }
+
+  // The joints and weights of a skinned primitive's n vertices: JOINTS_0/WEIGHTS_0, and where an
+  // exporter wrote more than four influences a vertex (JOINTS_1/WEIGHTS_1), the four heaviest of the
+  // eight (the skinning pass takes four), with a warning where a weight left out was not zero. The
+  // weights are normalised: the spec asks for it, and exporters are not always exact.
+  void skinInfluences(const tinygltf::Primitive& p, const std::string& what, size_t n, Primitive& out) {
+    std::vector<glm::uvec4> joints[2];
+    std::vector<glm::vec4> weights[2];
+    for (int set = 0; set < 2; ++set) {
+      const std::string j = "JOINTS_" + std::to_string(set), w = "WEIGHTS_" + std::to_string(set);
+      const auto ja = p.attributes.find(j), wa = p.attributes.find(w);
+      if ((ja == p.attributes.end()) != (wa == p.attributes.end()))
+        read_.fail(what + " has " + j + " without " + w + " or the reverse");
+      if (ja == p.attributes.end() || (set == 1 && joints[0].empty())) continue;
+      const auto ids = read_.uints(ja->second, 4, what + " " + j);
+      for (size_t i = 0; i + 3 < ids.size(); i += 4)
+        joints[set].push_back({ids[i], ids[i + 1], ids[i + 2], ids[i + 3]});
+      weights[set] = toVectors<glm::vec4, 4>(read_.floats(wa->second, 4, what + " " + w));
+      for (const auto& [name, count] : {std::pair{j, joints[set].size()}, std::pair{w, weights[set].size()}})
+        if (count != n)
+          read_.fail(what + " " + name + " has " + std::to_string(count) + " elements, POSITION has " +
+                     std::to_string(n));
+    }
+    if (joints[0].empty()) return;
+    bool dropped = false;
+    if (!joints[1].empty())
+      for (size_t v = 0; v < n; ++v) {
+        std::array<std::pair<float, uint32_t>, 8> all;
+        for (int k = 0; k < 8; ++k) all[k] = {weights[k / 4][v][k % 4], joints[k / 4][v][k % 4]};
+        // Heaviest first; of equal weights the earlier influence, so that the choice is the file's order.
+        std::stable_sort(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+        for (int k = 0; k < 4; ++k) joints[0][v][k] = all[k].second, weights[0][v][k] = all[k].first;
+        dropped = dropped || all[4].first > 0.0f;
+      }
+    if (dropped) warn(what + " has more than four joint influences a vertex; the four heaviest are kept");
+    out.joints = std::move(joints[0]);
+    out.weights = std::move(weights[0]);
+    for (auto& w : out.weights) {
+      float sum = w.x + w.y + w.z + w.w;
+      if (sum > 0) w /= sum;
+    }
   }
 
   // COLOR_0: RGB or RGBA, floats or normalized unsigned bytes or shorts (the glTF spec's choices).
@@ -255,21 +300,7 @@ class Converter {
       out.colors = vertexColors(a, what + " COLOR_0");
       sized(out.colors.size(), "COLOR_0");
     }
-    int joints = attr("JOINTS_0"), weights = attr("WEIGHTS_0");
-    if ((joints >= 0) != (weights >= 0)) read_.fail(what + " has JOINTS_0 without WEIGHTS_0 or the reverse");
-    if (joints >= 0) {
-      auto j = read_.uints(joints, 4, what + " JOINTS_0");
-      out.joints.resize(j.size() / 4);
-      for (size_t i = 0; i < out.joints.size(); ++i)
-        out.joints[i] = {j[4 * i], j[4 * i + 1], j[4 * i + 2], j[4 * i + 3]};
-      out.weights = toVectors<glm::vec4, 4>(read_.floats(weights, 4, what + " WEIGHTS_0"));
-      sized(out.joints.size(), "JOINTS_0");
-      sized(out.weights.size(), "WEIGHTS_0");
-      for (auto& w : out.weights) {  // the spec wants them normalised; exporters are not always exact
-        float sum = w.x + w.y + w.z + w.w;
-        if (sum > 0) w /= sum;
-      }
-    }
+    skinInfluences(p, what, n, out);
     // Targets may share one accessor: a small file can declare targets × vertices past any memory.
     morphDeltas_ += uint64_t(p.targets.size()) * n;
     if (morphDeltas_ > limits_.morphDeltas)
