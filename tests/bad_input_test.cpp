@@ -308,6 +308,21 @@ TEST(BadInput, DegenerateCamera) {
   }
 }
 
+// An orthographic camera that spans nothing (ymag 0) or whose far plane is not beyond its near one
+// (the spec requires zfar > znear ≥ 0): one line names the file, the camera and the problem.
+TEST(BadInput, OrthographicCameraOfNoExtent) {
+  for (const auto& [ymag, znear, zfar] : {std::tuple{0.0, 0.01, 10.0}, std::tuple{1.0, 0.5, 0.5}}) {
+    scenes::GltfBuilder b;
+    b.model() = triangleModel();
+    b.camera("plan", 0.8f, 0.01f, {0.3f, 0.3f, 2.0f}, glm::quat(1, 0, 0, 0));
+    tinygltf::Camera& c = b.model().cameras.back();
+    c.type = "orthographic";
+    c.orthographic.xmag = 1.0, c.orthographic.ymag = ymag, c.orthographic.znear = znear, c.orthographic.zfar = zfar;
+    const std::string path = writeModel(b.finish(), "flat-orthographic.gltf");
+    expectRenderRefused(path, {"--env", "none"}, {path, "camera 'plan'", "orthographic extent or clip range"});
+  }
+}
+
 // Triangles of zero area only: nothing to render, said as such.
 TEST(BadInput, ZeroAreaTrianglesOnly) {
   std::string path = writeModel(triangleModel(glm::vec3(2, 0, 0)), "flat-triangle.gltf");

@@ -63,8 +63,9 @@ int runInfo(const InfoOptions& o) {
   std::printf("cameras      %zu%s\n", cams.size(), cams.empty() ? " (a default camera frames the bounds)" : "");
   for (size_t i = 0; i < cams.size(); ++i) {
     const auto& c = s.cameras[s.nodes[cams[i]].camera];
-    std::printf("  [%zu] %-20s yfov %.2f deg, node '%s'\n", i, c.name.c_str(), c.yfov * 57.2957795f,
-                s.nodes[cams[i]].name.c_str());
+    std::printf(c.orthographic ? "  [%zu] %-20s orthographic, ymag %g, node '%s'\n"
+                               : "  [%zu] %-20s yfov %.2f deg, node '%s'\n",
+                i, c.name.c_str(), c.orthographic ? c.ymag : c.yfov * 57.2957795f, s.nodes[cams[i]].name.c_str());
   }
   std::printf("lights       %zu\n", s.lights.size());
   const char* kinds[] = {"directional", "point", "spot"};

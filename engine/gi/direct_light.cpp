@@ -301,14 +301,19 @@ std::vector<glm::vec4> cascadeSpheres(const gpu::Camera& camera, glm::dvec3 scen
   const glm::dvec3 origin(camera.origin), forward(camera.forward);
   const double far = glm::length(origin - sceneCentre) + sceneRadius,
                near = std::max(double(camera.origin.w), far * 1e-5);
-  // A slice [0, d] of the view lies within d·spread of the point d/2 along it.
-  const double spread = std::sqrt(glm::dot(glm::dvec3(camera.right), glm::dvec3(camera.right)) +
-                                  glm::dot(glm::dvec3(camera.up), glm::dvec3(camera.up)) + 0.25);
+  // A slice [0, d] of the view lies within the sphere around the point d/2 along it whose radius is
+  // d·spread in perspective (the half-extents are at unit distance), and √(diagonal² + (d/2)²) for
+  // an orthographic view (the half-extents are its own).
+  const double diagonal2 = glm::dot(glm::dvec3(camera.right), glm::dvec3(camera.right)) +
+                           glm::dot(glm::dvec3(camera.up), glm::dvec3(camera.up)),
+               spread = std::sqrt(diagonal2 + 0.25);
+  const bool orthographic = camera.up.w == gpu::kOrthographic;
   std::vector<glm::vec4> spheres;
   for (uint32_t k = 1; k <= gpu::kCascades && far > near; ++k) {
     const double d = near * std::pow(far / near, double(k) / double(gpu::kCascades + 1));
-    if (d * spread >= sceneRadius) break;
-    spheres.emplace_back(glm::vec3(origin + 0.5 * d * forward), float(d * spread));
+    const double radius = orthographic ? std::sqrt(diagonal2 + 0.25 * d * d) : d * spread;
+    if (radius >= sceneRadius) break;
+    spheres.emplace_back(glm::vec3(origin + 0.5 * d * forward), float(radius));
   }
   return spheres;
 }

@@ -252,7 +252,7 @@ void FrameRenderer::recordResolve(VkCommandBuffer cmd, const gpu::Camera& camera
       markShown_.dispatchItems(cmd, samples, buffers, gpu::CountPush{.count = samples});
       markFit_.dispatchItems(cmd, surfelCount_, buffers, gpu::CountPush{.count = surfelCount_});
     });
-    solver_->recordReflections(cmd, timer_, glm::vec3(camera.origin), shownSurfels_, surfelLobe_);
+    solver_->recordReflections(cmd, timer_, gpu::cameraEye(camera), shownSurfels_, surfelLobe_);
     timedPass(cmd, timer_, "reflections", [&] {
       lobesToVertices_.dispatchItems(
           cmd, surfelCount_, buffers.with({{"surfelIrradiance", surfelLobe_}, {"vertexIrradiance", vertexLobe_}}),

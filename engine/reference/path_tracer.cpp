@@ -351,7 +351,6 @@ image::FrameChannels PathTracer::render(const scene::CameraView& view, uint32_t 
   out.emission.assign(pixels, glm::vec4(0.0f));
   out.roughnessMetallic.assign(pixels, glm::vec4(0.0f));
   const gpu::Camera cam = scene::gpuCamera(view, float(width) / float(height));
-  const glm::vec3 eye(cam.origin);
   const float zfar = cam.forward.w > 0.0f ? cam.forward.w : kInfinity;
   const uint64_t frameSeed = mix64(uint64_t(settings.seed) << 32 | frame);
 
@@ -370,7 +369,7 @@ image::FrameChannels PathTracer::render(const scene::CameraView& view, uint32_t 
         if (settings.spp == 1)
           s = glm::vec2(float(x), float(y)) + 0.5f;             // one sample: the pixel centre, as the rasteriser
         glm::vec3 d = gpu::cameraRay(cam, s, {width, height});  // t along d is the depth along the view axis
-        auto hit = im.intersect(eye, d, cam.origin.w, zfar);
+        auto hit = im.intersect(gpu::cameraRayOrigin(cam, s, {width, height}), d, cam.origin.w, zfar);
         if (!hit) continue;
         glm::vec3 out = -glm::normalize(d);
         radiance += im.emitted(*hit, out) + im.reflected(*hit, out, rng, settings);

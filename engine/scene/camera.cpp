@@ -25,13 +25,16 @@ CameraView cameraView(const Scene& scene, const Pose& pose, int cameraNode) {
   v.yfov = cam.yfov;
   v.znear = cam.znear;
   v.zfar = cam.zfar;
+  v.orthographic = cam.orthographic;
+  v.ymag = cam.ymag;
   return v;
 }
 
 gpu::Camera gpuCamera(const CameraView& v, float aspect) {
-  float ty = std::tan(0.5f * v.yfov), tx = ty * aspect;
-  return {glm::vec4(v.origin, v.znear), glm::vec4(v.right * tx, 0.0f), glm::vec4(v.up * ty, 0.0f),
-          glm::vec4(v.forward, v.zfar)};
+  // Perspective: the image plane's half extents at unit distance; orthographic: the view's own.
+  float ty = v.orthographic ? v.ymag : std::tan(0.5f * v.yfov), tx = ty * aspect;
+  return {glm::vec4(v.origin, v.znear), glm::vec4(v.right * tx, 0.0f),
+          glm::vec4(v.up * ty, v.orthographic ? gpu::kOrthographic : 0.0f), glm::vec4(v.forward, v.zfar)};
 }
 
 CameraView framingCamera(const Bounds& bounds, float aspect) {

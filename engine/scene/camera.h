@@ -1,6 +1,6 @@
 #pragma once
-// The view a frame is rendered from: a glTF perspective camera at time t, or, for a scene without
-// one, a default camera that frames the scene's bounds.
+// The view a frame is rendered from: a glTF camera (perspective or orthographic) at time t, or, for
+// a scene without one, a default camera that frames the scene's bounds.
 #include <glm/glm.hpp>
 
 #include "engine/scene/animation.h"
@@ -14,6 +14,8 @@ struct CameraView {
   glm::vec3 forward{0.0f, 0.0f, -1.0f}, right{1.0f, 0.0f, 0.0f}, up{0.0f, 1.0f, 0.0f};  // orthonormal
   float yfov = 0.7853982f;
   float znear = 0.01f, zfar = 0.0f;  // zfar 0: none
+  bool orthographic = false;         // rays along forward from a plane, ymag its half height
+  float ymag = 1.0f;
 };
 
 // View of the camera on `cameraNode` in `pose` (its node's scale is ignored, as glTF asks).

@@ -381,7 +381,14 @@ class Converter {
         if (!(out.yfov > 0 && out.yfov < 3.14159f) || !(out.znear > 0) || !std::isfinite(out.zfar))
           read_.fail("camera '" + c.name + "' has an invalid field of view or clip range");
       } else {
-        warn("camera '" + c.name + "' is orthographic; rendered with the default perspective instead");
+        // The spec requires zfar > znear ≥ 0 here; ymag's sign only mirrors the view, its size matters.
+        out.orthographic = true;
+        out.ymag = float(std::abs(c.orthographic.ymag));
+        out.znear = float(c.orthographic.znear);
+        out.zfar = float(c.orthographic.zfar);
+        if (!(out.ymag > 0 && out.ymag < 3.4e38f) || !(out.znear >= 0) || !(out.zfar > out.znear) ||
+            !std::isfinite(out.zfar))
+          read_.fail("camera '" + c.name + "' has an invalid orthographic extent or clip range");
       }
       scene_.cameras.push_back(out);
     }

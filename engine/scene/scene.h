@@ -102,6 +102,10 @@ struct Camera {
   float znear = 0.01f;
   float zfar = 0.0f;      // 0: infinite
   float aspectRatio = 0;  // 0: the image's
+  // An orthographic camera: its view's half height (glTF's ymag; the half width follows from the
+  // image's aspect, as a perspective camera's does from yfov), in place of yfov.
+  bool orthographic = false;
+  float ymag = 1.0f;
 };
 
 struct Light {  // KHR_lights_punctual

@@ -23,7 +23,7 @@ void main() {
   if (s >= push.surfelCount || (shownSurfels[s] & kShownFit) == 0u) return;
   const SurfaceBrdf m = surfelBrdf[s];
   const uint leaf = leafOfSurfel[s];
-  const vec3 x = nodePositionArea(leaf).xyz, n = nodeNormalCone(leaf).xyz, toEye = push.eye.xyz - x;
+  const vec3 x = nodePositionArea(leaf).xyz, n = nodeNormalCone(leaf).xyz, toEye = towardEye(push.eye, x);
   const float nv = dot(n, toEye);
   if (isLambertian(m) || !(nv > 0.0)) {
     surfelLobe[s] = vec4(0.0);

@@ -54,7 +54,7 @@ void main() {
     lobe.brdf = materialAt(h.triangle, h.weights).brdf;
     lobe.glossy = !isLambertian(lobe.brdf);
     tangentFrame(n, lobe.t1, lobe.t2);
-    const vec3 v = normalize(push.camera.origin.xyz - p);
+    const vec3 v = normalize(towardEye(cameraEye(push.camera), p));
     lobe.view = vec3(dot(v, lobe.t1), dot(v, lobe.t2), abs(dot(v, n)));
   }
   vec3 unshadowed, unused, specular, punctualSpecular;

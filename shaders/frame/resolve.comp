@@ -172,8 +172,10 @@ void main() {
         vec3 e = w.x * irradianceAt(t.x) + w.y * irradianceAt(t.y) + w.z * irradianceAt(t.z), direct = vec3(0.0);
         if (kDirectPixels && len > 0.0) {
           // Neighbours count within kShadowPlanePixels pixels' width of the plane, at p's distance.
-          const float pixelWidth = 2.0 * length(push.camera.up.xyz) / float(push.size.y) *
-                                   dot(h.position - push.camera.origin.xyz, push.camera.forward.xyz);
+          const float pixelWidth =
+              2.0 * length(push.camera.up.xyz) / float(push.size.y) *
+              (push.camera.up.w == kOrthographic ? 1.0
+                                                 : dot(h.position - push.camera.origin.xyz, push.camera.forward.xyz));
           const float tolerance = kShadowPlanePixels * pixelWidth;
           if (!onPlane(aroundPlane, h.position, n / len, tolerance)) {
             around = directAround(px, h.position, n / len, tolerance);
@@ -186,7 +188,7 @@ void main() {
           // The base reflects all the light as it does uniform light; the lobe the direct light as
           // direct_pixels found it toward the camera, the rest as the solver's reflections give it
           // or as if it arrived evenly.
-          const float mu = abs(dot(n / len, normalize(push.camera.origin.xyz - h.position)));
+          const float mu = abs(dot(n / len, normalize(towardEye(cameraEye(push.camera), h.position))));
           const vec2 table = specularAlbedoAt(m.brdf, mu);
           const vec3 indirect = kReflections ? w.x * lobeAt(t.x) + w.y * lobeAt(t.y) + w.z * lobeAt(t.z)
                                              : lobeReflectanceOf(m.brdf, table) * e / kPi;

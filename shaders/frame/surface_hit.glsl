@@ -23,11 +23,11 @@ SurfaceHit surfaceHit(Camera camera, uvec2 s, uvec2 fine) {
   const vec3 a = positionOf(t.x), b = positionOf(t.y), c = positionOf(t.z);
   float tHit;
   vec2 bc;
-  const vec3 ray = cameraRay(camera, vec2(s) + 0.5, fine);
-  intersectTriangle(camera.origin.xyz, ray, a, b, c, tHit, bc);
+  const vec3 ray = cameraRay(camera, vec2(s) + 0.5, fine), from = cameraRayOrigin(camera, vec2(s) + 0.5, fine);
+  intersectTriangle(from, ray, a, b, c, tHit, bc);
   h.triangle = t;
   h.weights = vec3(1.0 - bc.x - bc.y, bc.x, bc.y);
-  h.position = camera.origin.xyz + tHit * ray;
+  h.position = from + tHit * ray;
   h.normal = cross(b - a, c - a);
   if ((t.w & kFlatShaded) == 0u)
     h.normal = h.weights.x * normalOf(t.x) + h.weights.y * normalOf(t.y) + h.weights.z * normalOf(t.z);

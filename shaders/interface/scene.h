@@ -141,8 +141,9 @@ struct BurialPush {
 // ---- Camera rays ----
 
 // A camera whose up.w is kOrthographic looks along forward from the plane through its origin (a
-// directional light's depth map): the ray of a sample starts at origin + ndc.x·right + ndc.y·up,
-// right and up being the view's half-extents. Else every ray starts at the origin.
+// glTF orthographic camera, a directional light's depth map): the ray of a sample starts at
+// origin + ndc.x·right + ndc.y·up, right and up being the view's half-extents. Else every ray
+// starts at the origin.
 IVGI_CONST float kOrthographic = 1.0f;
 
 IVGI_FN vec3 cameraRay(Camera cam, vec2 samplePos, uvec2 size) {
@@ -155,6 +156,13 @@ IVGI_FN vec3 cameraRayOrigin(Camera cam, vec2 samplePos, uvec2 size) {
   vec2 ndc = vec2(2.0f * samplePos.x / float(size.x) - 1.0f, 1.0f - 2.0f * samplePos.y / float(size.y));
   return vec3(cam.origin) + ndc.x * vec3(cam.right) + ndc.y * vec3(cam.up);
 }
+
+// The eye in homogeneous coordinates: a perspective camera's origin (w 1), or the direction toward
+// an orthographic one (−forward, w 0), so that towardEye() points from a surface to it either way.
+IVGI_FN vec4 cameraEye(Camera cam) {
+  return cam.up.w == kOrthographic ? vec4(-vec3(cam.forward), 0.0f) : vec4(vec3(cam.origin), 1.0f);
+}
+IVGI_FN vec3 towardEye(vec4 eye, vec3 p) { return vec3(eye) - eye.w * p; }  // not normalised
 
 // ---- Textures ----
 
@@ -276,7 +284,7 @@ IVGI_CONST uint kShownFit = 2u;     // read by such a vertex's fit (vertex_irrad
 IVGI_CONST uint kShownTap = 4u;     // iv: a receiver whose reflection a kShownFit surfel interpolates
 
 struct LobePush {  // reflect_receivers, reflect_surfels, mark_taps, ar_reflect
-  vec4 eye;        // the camera's origin
+  vec4 eye;        // cameraEye(): toward it from p is towardEye(eye, p)
   uint surfelCount;
   uint maskWords;     // iv: of a static leaf's override mask
   float leastSpread;  // the least spread (brdf.h's widenedLobe) the method's directions resolve

@@ -22,7 +22,7 @@ Lobe lobeOf(uint s) {
   lobe.brdf = surfelBrdf[s];
   const uint leaf = imageLoad(leafOfSurfel, int(s)).x;
   lobe.x = nodePositionArea(leaf).xyz, lobe.n = nodeNormalCone(leaf).xyz;
-  const vec3 toEye = push.eye.xyz - lobe.x;
+  const vec3 toEye = towardEye(push.eye, lobe.x);
   const float nv = dot(lobe.n, toEye);
   lobe.seen = !isLambertian(lobe.brdf) && nv > 0.0;
   tangentFrame(lobe.n, lobe.t1, lobe.t2);

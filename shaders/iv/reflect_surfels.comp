@@ -32,7 +32,7 @@ const float kLikeShare = 0.5;
 
 // The direction the eye's view of a surface at x facing n mirrors to.
 vec3 mirrorAt(vec3 x, vec3 n) {
-  const vec3 v = normalize(push.eye.xyz - x);
+  const vec3 v = normalize(towardEye(push.eye, x));
   return 2.0 * dot(n, v) * n - v;
 }
 

@@ -441,13 +441,12 @@ void ArSolver::frameStands() {
   frameDamping_ = damping_, damping_ = 1.0f;
 }
 
-void ArSolver::recordReflections(VkCommandBuffer cmd, vk::PassTimer& timer, glm::vec3 eye, const vk::Buffer& shown,
+void ArSolver::recordReflections(VkCommandBuffer cmd, vk::PassTimer& timer, glm::vec4 eye, const vk::Buffer& shown,
                                  const vk::Buffer& lobes) {
   timedPass(cmd, timer, "reflections", [&] {
     reflect_.dispatchItems(
         cmd, surfelCount_, b_.pool().with({{"surfelLobe", lobes}, {"shownSurfels", shown}}),
-        gpu::LobePush{
-            .eye = glm::vec4(eye, 1.0f), .surfelCount = surfelCount_, .leastSpread = tableBinSpread(settings_.dirs)});
+        gpu::LobePush{.eye = eye, .surfelCount = surfelCount_, .leastSpread = tableBinSpread(settings_.dirs)});
   });
 }
 

@@ -40,7 +40,7 @@ class ArSolver final : public Solver {
   void frameStands() override;
   std::vector<std::pair<std::string, double>> frameFigures() const override;
   bool reflectsLobes() const override { return b_.scene.glossy; }
-  void recordReflections(VkCommandBuffer cmd, vk::PassTimer& timer, glm::vec3 eye, const vk::Buffer& shown,
+  void recordReflections(VkCommandBuffer cmd, vk::PassTimer& timer, glm::vec4 eye, const vk::Buffer& shown,
                          const vk::Buffer& lobes) override;
   const vk::Buffer& irradiance() const override { return b_.irradiance; }
   const vk::Buffer& surfelBuried() const override { return b_.scene.surfelBuried; }

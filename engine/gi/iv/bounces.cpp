@@ -176,9 +176,9 @@ void Bounces::recordSteps(VkCommandBuffer cmd, uint32_t first, uint32_t steps) c
   }
 }
 
-void Bounces::recordReflections(VkCommandBuffer cmd, glm::vec3 eye, const vk::Buffer& shown,
+void Bounces::recordReflections(VkCommandBuffer cmd, glm::vec4 eye, const vk::Buffer& shown,
                                 const vk::Buffer& lobes) const {
-  const gpu::LobePush push{.eye = glm::vec4(eye, 1.0f),
+  const gpu::LobePush push{.eye = eye,
                            .surfelCount = surfelCount_,
                            .maskWords = gpu::maskWordsFor(settings_.bins),
                            .leastSpread = senderBinSpread(settings_.bins)};

@@ -45,7 +45,7 @@ class Bounces {
   // toward `eye` of the light its receivers' links bring (shaders/iv/lobe_links.glsl), found at the
   // receivers and interpolated to the surfels; only at those `shown` marks kShownFit, through the
   // receivers it then marks kShownTap (mark_taps).
-  void recordReflections(VkCommandBuffer cmd, glm::vec3 eye, const vk::Buffer& shown, const vk::Buffer& lobes) const;
+  void recordReflections(VkCommandBuffer cmd, glm::vec4 eye, const vk::Buffer& shown, const vk::Buffer& lobes) const;
   // The leaf links are bound in `views` texel views (shaders/common/parted_texels.glsl): 1 or kTexelParts.
   void readTexelViews(uint32_t views);
   // After the frame's steps ran: how far the bounces got.

@@ -303,7 +303,7 @@ void IvSolver::recordMorePasses(VkCommandBuffer cmd, vk::PassTimer& timer) {
   });
 }
 
-void IvSolver::recordReflections(VkCommandBuffer cmd, vk::PassTimer& timer, glm::vec3 eye, const vk::Buffer& shown,
+void IvSolver::recordReflections(VkCommandBuffer cmd, vk::PassTimer& timer, glm::vec4 eye, const vk::Buffer& shown,
                                  const vk::Buffer& lobes) {
   timedPass(cmd, timer, "reflections", [&] { bounces_.recordReflections(cmd, eye, shown, lobes); });
 }

@@ -65,7 +65,7 @@ class IvSolver final : public Solver {
   // Gives back the leaf-link room the frame left unused and the static pairs' links once made.
   void frameStands() override;
   bool reflectsLobes() const override { return b_.scene.glossy; }
-  void recordReflections(VkCommandBuffer cmd, vk::PassTimer& timer, glm::vec3 eye, const vk::Buffer& shown,
+  void recordReflections(VkCommandBuffer cmd, vk::PassTimer& timer, glm::vec4 eye, const vk::Buffer& shown,
                          const vk::Buffer& lobes) override;
   const vk::Buffer& irradiance() const override { return b_.irradiance; }
   const vk::Buffer& surfelBuried() const override { return b_.scene.surfelBuried; }
