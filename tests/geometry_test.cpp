@@ -692,3 +692,38 @@ TEST(Tessellation, AnEdgePastFloatsRangeHasNoCellToConvert) {
   const Geometry g = buildGeometry(sceneFromModel(b.finish(), "far"), 16);
   EXPECT_EQ(g.triangles.size(), 2u);  // neither is split: the far one's edges are short, the near one alone
 }
+
+// glTF: a node whose transform mirrors (a negative determinant) turns its triangles' front faces
+// clockwise. A floor and a lamp modelled without normals, so that each face's side is its corners'
+// order, render the same mirrored as not, in every method; before, mirrored, the floor faced down and
+// the lamp up, and the floor came out black.
+TEST(Geometry, AMirroredNodeKeepsItsFacesFront) {
+  std::map<std::string, double> unmirrored;
+  for (const float sx : {1.0f, -1.0f}) {
+    scenes::GltfBuilder b;
+    scenes::MeshData floor, lamp;
+    scenes::addQuad(floor, {-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}, 4, 4, {0, 1, 0});
+    scenes::addQuad(lamp, {-0.2f, 1, -0.2f}, {0.2f, 1, -0.2f}, {0.2f, 1, 0.2f}, {-0.2f, 1, 0.2f}, 1, 1, {0, -1, 0});
+    floor.normals.clear(), lamp.normals.clear();
+    const int f = b.node("floor", b.mesh("floor", {{floor, b.material("grey", glm::vec3(0.5f))}}));
+    const int l = b.node("lamp", b.mesh("lamp", {{lamp, b.material("lamp", glm::vec3(0.0f), glm::vec3(10.0f))}}));
+    b.camera("camera", 0.9f, 0.01f, {0, 0.5f, 2.5f}, glm::quat(1, 0, 0, 0));
+    tinygltf::Model m = b.finish();
+    m.nodes[size_t(f)].scale = m.nodes[size_t(l)].scale = {sx, 1, 1};
+    const std::string name = sx < 0.0f ? "mirrored" : "plain";
+    const std::filesystem::path file = test::scratchDir(name) / (name + ".gltf");
+    scenes::writeModel(m, file.string());
+    for (const std::string method : {"pt", "iv", "ar"}) {
+      std::vector<std::string> args = {file.string(), "--method", method, "--size", "64x48", "--env", "none"};
+      if (method == "pt") args.insert(args.end(), {"--spp", "64"});
+      const auto radiance = test::channelOf(test::renderExr(name + "-" + method, args), "G");
+      double mean = 0.0;
+      for (float v : radiance) mean += v / double(radiance.size());
+      std::printf("[ mirror ] %s, %s: mean radiance %.5f\n", name.c_str(), method.c_str(), mean);
+      if (sx > 0.0f)
+        unmirrored[method] = mean;
+      else
+        EXPECT_NEAR(mean, unmirrored[method], 0.01 * unmirrored[method]) << method;
+    }
+  }
+}

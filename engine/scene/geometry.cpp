@@ -300,6 +300,11 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
 
         std::vector<std::vector<uint32_t>> adjacent(welded.size());
         const size_t firstTriangle = g.triangles.size();
+        // glTF: a node whose transform has a negative determinant (a mirror) turns its triangles'
+        // front faces clockwise. Stored the other way round, every method sees the front the file
+        // means where it takes a face's side from its corners' order (a primitive without normals,
+        // an emitter's side). A skin's joints place it instead, and are not judged here.
+        const bool mirrored = !skinned && glm::determinant(glm::mat3(restMatrix(scene, rest, nodeIndex))) < 0.0f;
         for (size_t t = 0; t + 2 < p.indices.size(); t += 3) {
           uint32_t a = p.indices[t], b = p.indices[t + 1], c = p.indices[t + 2];
           if (a == b || b == c || a == c || degenerate(p.positions[a], p.positions[b], p.positions[c])) {
@@ -309,6 +314,7 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
           uint32_t tri = uint32_t(g.triangles.size());
           uint32_t mat =
               (p.material >= 0 ? uint32_t(p.material) : defaultMaterial) | (p.normals.empty() ? gpu::kFlatShaded : 0u);
+          if (mirrored) std::swap(b, c);
           g.triangles.push_back({base + a, base + b, base + c, mat});
           for (uint32_t v : {a, b, c}) adjacent[surfelOf[v]].push_back(tri);
         }
