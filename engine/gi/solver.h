@@ -55,9 +55,10 @@ class Solver {
   // (recordReflections); where it does not, the resolve reflects it as if it arrived evenly.
   virtual bool reflectsLobes() const { return false; }
   // Once the irradiance is final: per surfel into `lobes` (rgb, w unused), the radiance each glossy
-  // surfel's specular lobe reflects toward `eye` (gpu::cameraEye) of the light of the other surfaces
-  // (not the emitters' direct light, which the depth maps give per pixel); zero at the others. Only at the
-  // surfels `shown` marks kShownFit (gpu's kShown bits, per surfel): the image reads no others.
+  // surfel's specular lobe reflects toward `eye` (gpu::cameraEye) of the light of the other
+  // surfaces (not the emitters' direct light, which the depth maps give per pixel); zero at the
+  // others. Only at the surfels `shown` marks kShownFit (gpu's kShown bits, per surfel): the image
+  // reads no others.
   virtual void recordReflections(VkCommandBuffer, vk::PassTimer&, glm::vec4 /*eye*/, const vk::Buffer& /*shown*/,
                                  const vk::Buffer& /*lobes*/) {}
   // Irradiance per surfel (rgba32f, w unused), read by the resolve pass.
