@@ -303,8 +303,9 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
         // glTF: a node whose transform has a negative determinant (a mirror) turns its triangles'
         // front faces clockwise. Stored the other way round, every method sees the front the file
         // means where it takes a face's side from its corners' order (a primitive without normals,
-        // an emitter's side). A skin's joints place it instead, and are not judged here.
-        const bool mirrored = !skinned && glm::determinant(glm::mat3(restMatrix(scene, rest, nodeIndex))) < 0.0f;
+        // an emitter's side). A skinned mesh's rest matrix is the identity: its joints place it,
+        // and are not judged here.
+        const bool mirrored = glm::determinant(glm::mat3(restMatrix(scene, rest, nodeIndex))) < 0.0f;
         for (size_t t = 0; t + 2 < p.indices.size(); t += 3) {
           uint32_t a = p.indices[t], b = p.indices[t + 1], c = p.indices[t + 2];
           if (a == b || b == c || a == c || degenerate(p.positions[a], p.positions[b], p.positions[c])) {

@@ -208,6 +208,12 @@ class Converter {
         warn(what + ": KHR_materials_specular " + texture + " is not supported; its factor alone is used");
   }
 
+  // Refuses an attribute of `what` that has `count` elements where POSITION has n.
+  void perVertex(const std::string& what, const std::string& name, size_t count, size_t n) {
+    if (count != n)
+      read_.fail(what + " " + name + " has " + std::to_string(count) + " elements, POSITION has " + std::to_string(n));
+  }
+
   // The joints and weights of a skinned primitive's n vertices: JOINTS_0/WEIGHTS_0, and where an
   // exporter wrote more than four influences a vertex (JOINTS_1/WEIGHTS_1), the four heaviest of the
   // eight (the skinning pass takes four), with a warning where a weight left out was not zero. The
@@ -225,10 +231,8 @@ class Converter {
       for (size_t i = 0; i + 3 < ids.size(); i += 4)
         joints[set].push_back({ids[i], ids[i + 1], ids[i + 2], ids[i + 3]});
       weights[set] = toVectors<glm::vec4, 4>(read_.floats(wa->second, 4, what + " " + w));
-      for (const auto& [name, count] : {std::pair{j, joints[set].size()}, std::pair{w, weights[set].size()}})
-        if (count != n)
-          read_.fail(what + " " + name + " has " + std::to_string(count) + " elements, POSITION has " +
-                     std::to_string(n));
+      perVertex(what, j, joints[set].size(), n);
+      perVertex(what, w, weights[set].size(), n);
     }
     if (joints[0].empty()) return;
     bool dropped = false;
@@ -283,11 +287,7 @@ class Converter {
     if (pos < 0) read_.fail(what + " has no POSITION attribute");
     out.positions = toVectors<glm::vec3, 3>(read_.floats(pos, 3, what + " POSITION"));
     size_t n = out.positions.size();
-    auto sized = [&](size_t count, const char* name) {
-      if (count != n)
-        read_.fail(what + " " + name + " has " + std::to_string(count) + " elements, POSITION has " +
-                   std::to_string(n));
-    };
+    auto sized = [&](size_t count, const std::string& name) { perVertex(what, name, count, n); };
     if (int a = attr("NORMAL"); a >= 0) {
       out.normals = toVectors<glm::vec3, 3>(read_.floats(a, 3, what + " NORMAL"));
       sized(out.normals.size(), "NORMAL");
