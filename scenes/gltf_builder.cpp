@@ -126,9 +126,10 @@ int GltfBuilder::mesh(const std::string& name, const std::vector<std::pair<MeshD
     if (!data.normals.empty())
       p.attributes["NORMAL"] = accessor(data.normals.data(), data.normals.size(), TINYGLTF_COMPONENT_TYPE_FLOAT,
                                         TINYGLTF_TYPE_VEC3, 12, TINYGLTF_TARGET_ARRAY_BUFFER);
-    if (!data.uvs.empty())
-      p.attributes["TEXCOORD_0"] = accessor(data.uvs.data(), data.uvs.size(), TINYGLTF_COMPONENT_TYPE_FLOAT,
-                                            TINYGLTF_TYPE_VEC2, 8, TINYGLTF_TARGET_ARRAY_BUFFER);
+    for (auto [name, uvs] : {std::pair{"TEXCOORD_0", &data.uvs}, std::pair{"TEXCOORD_1", &data.uvs1}})
+      if (!uvs->empty())
+        p.attributes[name] = accessor(uvs->data(), uvs->size(), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, 8,
+                                      TINYGLTF_TARGET_ARRAY_BUFFER);
     if (!data.colors.empty())
       p.attributes["COLOR_0"] = accessor(data.colors.data(), data.colors.size(), TINYGLTF_COMPONENT_TYPE_FLOAT,
                                          TINYGLTF_TYPE_VEC4, 16, TINYGLTF_TARGET_ARRAY_BUFFER);

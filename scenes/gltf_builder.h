@@ -12,8 +12,8 @@ namespace ivgi::scenes {
 
 struct MeshData {
   std::vector<glm::vec3> positions, normals;
-  std::vector<glm::vec2> uvs;
-  std::vector<glm::vec4> colors;  // COLOR_0, written where not empty
+  std::vector<glm::vec2> uvs, uvs1;  // TEXCOORD_0 and TEXCOORD_1, each written where not empty
+  std::vector<glm::vec4> colors;     // COLOR_0, written where not empty
   std::vector<uint32_t> indices;
 };
 

@@ -134,7 +134,7 @@ TEST(TextureTransform, TheSpecificationsExample) {
   const std::vector<std::pair<glm::vec2, glm::vec2>> corners = {
       {{0, 0}, {0, 1}}, {{1, 0}, {0, 0.5f}}, {{0, 1}, {0.5f, 1}}, {{1, 1}, {0.5f, 0.5f}}};
   for (const auto& [uv, expected] : corners) {
-    const glm::vec2 got = gpu::transformedUv(record, uv);
+    const glm::vec2 got = gpu::transformedUv(record, glm::vec4(uv, uv));
     EXPECT_NEAR(got.x, expected.x, 1e-6f) << uv.x << ", " << uv.y;
     EXPECT_NEAR(got.y, expected.y, 1e-6f) << uv.x << ", " << uv.y;
   }
@@ -143,11 +143,13 @@ TEST(TextureTransform, TheSpecificationsExample) {
 namespace {
 
 // A 1 m floor seen from straight above, its base colour a 2×2 texture of four colours (texture 0,
-// material 0).
-tinygltf::Model fourColourFloor() {
+// material 0). With `secondSet`, a TEXCOORD_1 as well, of each vertex's TEXCOORD_0 through it.
+tinygltf::Model fourColourFloor(const std::function<glm::vec2(glm::vec2)>& secondSet = {}) {
   scenes::GltfBuilder b;
   scenes::MeshData floor;
   scenes::addQuad(floor, {-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}, 1, 1, {0, 1, 0});
+  if (secondSet)
+    for (glm::vec2 uv : floor.uvs) floor.uvs1.push_back(secondSet(uv));
   const int material = b.material("texture", glm::vec3(1.0f));
   b.node("floor", b.mesh("floor", {{floor, material}}));
   b.camera("down", 0.5f, 0.1f, {0, 3, 0}, glm::quatLookAtRH(glm::vec3(0, -1, 0), glm::vec3(0, 0, -1)));
@@ -167,9 +169,11 @@ tinygltf::Model fourColourFloor() {
 
 // The floor of fourColourFloor() as `file` renders it at 64×64: its albedo at a grid of pixels is
 // what the host's lookup of `texture` gives at the pixel's texture coordinates (the solvers' albedo
-// is the host's). Each lookup is passed to `also`.
-void expectAlbedoAsTheHostReads(const std::string& name, const std::string& file, const scene::Geometry& g, int texture,
-                                const std::function<void(glm::vec2 uv, glm::vec4 host)>& also) {
+// is the host's), its two sets `sets(TEXCOORD_0)`. Each lookup is passed to `also`.
+void expectAlbedoAsTheHostReads(
+    const std::string& name, const std::string& file, const scene::Geometry& g, int texture,
+    const std::function<void(glm::vec2 uv, glm::vec4 host)>& also,
+    const std::function<glm::vec4(glm::vec2)>& sets = [](glm::vec2 uv) { return glm::vec4(uv, uv); }) {
   const fs::path exr = test::renderExr(name, {file, "--size", "64x64", "--env", "1,1,1", "--tessellate", "0"});
   std::vector<std::vector<float>> albedo;
   for (const char* c : {"albedo.R", "albedo.G", "albedo.B"}) albedo.push_back(test::channelOf(exr, c));
@@ -182,7 +186,7 @@ void expectAlbedoAsTheHostReads(const std::string& name, const std::string& file
       const float x = halfWidth * ((float(column) + 0.5f) / 32.0f - 1.0f),
                   z = halfWidth * ((float(row) + 0.5f) / 32.0f - 1.0f);
       const glm::vec2 uv(0.5f * (x + 1.0f), 0.5f * (z + 1.0f));
-      const glm::vec4 host = scene::sampleTexture(g, texture, uv);
+      const glm::vec4 host = scene::sampleTexture(g, texture, sets(uv));
       const size_t i = size_t(row) * 64 + size_t(column);
       for (int c = 0; c < 3; ++c)
         EXPECT_NEAR(albedo[size_t(c)][i], host[c], 0.02f)
@@ -216,6 +220,42 @@ TEST(TextureTransform, TheResolveReadsAsTheHostDoes) {
     ++checked;
   });
   EXPECT_GT(differ, checked / 2) << "the transform changes most lookups";
+}
+
+// A base colour read on TEXCOORD_1, which runs across the floor a quarter turn from TEXCOORD_0: the
+// resolve reads the texture on that set as the host does, and what it reads there differs from
+// what TEXCOORD_0 would give.
+TEST(TextureCoordinates, TheSecondSetIsRead) {
+  const auto turned = [](glm::vec2 uv) { return glm::vec2(1.0f - uv.y, uv.x); };
+  tinygltf::Model m = fourColourFloor(turned);
+  m.materials[0].pbrMetallicRoughness.baseColorTexture.texCoord = 1;
+  const std::string file = writeScene(m, "second_set");
+
+  const scene::Scene loaded = scene::loadGltf(file);
+  ASSERT_TRUE(loaded.warnings.empty()) << loaded.warnings.front();
+  ASSERT_EQ(loaded.meshes[0].primitives[0].uvs1.size(), loaded.meshes[0].primitives[0].uvs.size());
+  const scene::Geometry g = scene::buildGeometry(loaded, 0);
+  const int record = g.materials[0].baseColorTexture;
+  ASSERT_EQ(record, 1) << "a record of its own";
+  EXPECT_EQ(g.textures[size_t(record)].uvRowV.w, 1.0f);
+  size_t differ = 0, checked = 0;
+  expectAlbedoAsTheHostReads(
+      "second_set", file, g, record,
+      [&](glm::vec2 uv, glm::vec4 host) {
+        differ += glm::length(glm::vec3(host) - glm::vec3(scene::sampleTexture(g, 0, uv))) > 0.1f;
+        ++checked;
+      },
+      [&](glm::vec2 uv) { return glm::vec4(uv, turned(uv)); });
+  EXPECT_GT(differ, checked / 2) << "the second set changes most lookups";
+
+  // Tessellated, the new vertices carry both sets: the turn is affine, so each keeps it.
+  const scene::Geometry fine = scene::buildGeometry(loaded, 16);
+  ASSERT_GT(fine.uvs.size(), 4u * g.uvs.size());
+  for (const glm::vec4& uv : fine.uvs) {
+    const glm::vec2 expected = turned(glm::vec2(uv));
+    ASSERT_NEAR(uv.z, expected.x, 1e-5f) << uv.x << ", " << uv.y;
+    ASSERT_NEAR(uv.w, expected.y, 1e-5f) << uv.x << ", " << uv.y;
+  }
 }
 
 // A sampler whose magFilter is NEAREST reads the nearest texel, as glTF viewers and Blender's

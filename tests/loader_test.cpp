@@ -186,7 +186,7 @@ TEST(Loader, VertexColorsInEveryFormTheSpecAllows) {
 }
 
 // KHR_texture_transform on a texture reference: offset, rotation and scale read, the extension's
-// texCoord overriding the reference's (another set than TEXCOORD_0 is warned of), and values that
+// texCoord overriding the reference's (a set past TEXCOORD_1, or one the mesh lacks, is warned of), and values that
 // are not numbers refused with the file's name.
 TEST(Loader, TextureTransformsAreRead) {
   auto withTransform = [](tinygltf::Value::Object transform) {
@@ -210,8 +210,13 @@ TEST(Loader, TextureTransformsAreRead) {
   EXPECT_TRUE(s.warnings.empty()) << "the extension is read, not ignored";
 
   s = withTransform({{"texCoord", tinygltf::Value(1)}});
+  EXPECT_EQ(s.materials[0].baseColorTransform.texCoord, 1) << "the extension's set in place of the reference's";
+  ASSERT_EQ(s.warnings.size(), 1u) << "the triangle has no TEXCOORD_1";
+  EXPECT_NE(s.warnings[0].find("no TEXCOORD_1"), std::string::npos) << s.warnings[0];
+  s = withTransform({{"texCoord", tinygltf::Value(2)}});
+  EXPECT_EQ(s.materials[0].baseColorTransform.texCoord, 0) << "a third set is not read";
   ASSERT_EQ(s.warnings.size(), 1u);
-  EXPECT_NE(s.warnings[0].find("TEXCOORD_1"), std::string::npos) << s.warnings[0];
+  EXPECT_NE(s.warnings[0].find("TEXCOORD_2"), std::string::npos) << s.warnings[0];
 
   try {
     withTransform({{"scale", tinygltf::Value(2.0)}});

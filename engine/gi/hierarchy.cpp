@@ -232,12 +232,14 @@ Hierarchy buildHierarchy(const scene::Geometry& g, const std::vector<scene::Surf
     uint32_t v = g.surfelVertices[g.surfels[s].firstVertex];
     positions[s] = glm::vec3(rest[s].positionArea);
     normals[s] = glm::vec3(rest[s].normal);
-    uvs[s] = g.uvs[v];
+    uvs[s] = glm::vec2(g.uvs[v]);
     byInstance[g.vertices[v].instance].push_back(uint32_t(s));
   }
   // Triangles per instance, in surfel-independent vertex indices, for the atlas test.
   std::vector<std::vector<glm::uvec3>> instanceTriangles(g.instances.size());
   for (const auto& t : g.triangles) instanceTriangles[g.vertices[t.v0].instance].push_back({t.v0, t.v1, t.v2});
+  std::vector<glm::vec2> vertexUvs(g.uvs.size());  // TEXCOORD_0
+  for (size_t v = 0; v < g.uvs.size(); ++v) vertexUvs[v] = glm::vec2(g.uvs[v]);
 
   std::vector<std::vector<BuildNode>> trees;
   std::vector<glm::uvec3> ranks(surfelCount);
@@ -247,7 +249,7 @@ Hierarchy buildHierarchy(const scene::Geometry& g, const std::vector<scene::Surf
   h.size = surfelCount ? glm::length(hi - lo) : 0.0f;
   for (size_t i = 0; i < g.instances.size(); ++i) {
     if (byInstance[i].empty()) continue;
-    bool uv = usableUvAtlas(g.uvs, instanceTriangles[i]);
+    bool uv = usableUvAtlas(vertexUvs, instanceTriangles[i]);
     h.uvTree.push_back(uv);
     h.rootInstance.push_back(uint32_t(i));
     rankCoordinates(positions, byInstance[i], ranks);

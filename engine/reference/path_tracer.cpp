@@ -229,7 +229,7 @@ struct PathTracer::Impl {
       if (glm::length(ns) > 0.0f) x.shadingNormal = glm::normalize(ns);
     }
     const gpu::Material& m = g.materials[tr.material & ~gpu::kFlatShaded];
-    glm::vec2 uv = w.x * g.uvs[tr.v0] + w.y * g.uvs[tr.v1] + w.z * g.uvs[tr.v2];
+    const glm::vec4 uv = w.x * g.uvs[tr.v0] + w.y * g.uvs[tr.v1] + w.z * g.uvs[tr.v2];
     const glm::vec4 color = w.x * g.colors[tr.v0] + w.y * g.colors[tr.v1] + w.z * g.colors[tr.v2];
     const glm::vec3 base =
         glm::vec3(m.baseColor) * glm::vec3(color) * glm::vec3(scene::sampleTexture(g, m.baseColorTexture, uv));

@@ -73,8 +73,8 @@ gpu::Material gpuMaterial(const Material& m, int baseColorTexture, int emissiveT
 }
 
 // What a diffuse solver's surface reflects of uniform light, where its base colour is `base` and
-// its texture coordinates `uv`: the base colour itself where the material is Lambertian.
-glm::vec4 solverAlbedo(const Geometry& g, const gpu::Material& m, glm::vec4 base, glm::vec2 uv) {
+// its texture coordinates `uv` (both sets): the base colour itself where the material is Lambertian.
+glm::vec4 solverAlbedo(const Geometry& g, const gpu::Material& m, glm::vec4 base, glm::vec4 uv) {
   const gpu::SurfaceBrdf brdf = surfaceBrdf(m, glm::vec3(base), sampleTexture(g, m.metallicRoughnessTexture, uv));
   return gpu::isLambertian(brdf) ? base : glm::vec4(SpecularAlbedo::table().meanReflectance(brdf), base.a);
 }
@@ -90,15 +90,16 @@ struct CornerMeans {
   glm::vec2 metallicRoughness[3];  // the texture's factors (B, G)
 };
 
-int samplesAcross(const Geometry& g, const gpu::Material& m, const glm::vec2 uv[3]) {
-  const float uvArea =
-      0.5f * std::abs((uv[1].x - uv[0].x) * (uv[2].y - uv[0].y) - (uv[2].x - uv[0].x) * (uv[1].y - uv[0].y));
+int samplesAcross(const Geometry& g, const gpu::Material& m, const glm::vec4 uv[3]) {
+  // The triangle's area on each coordinate set (xy, zw).
+  const glm::vec4 a = uv[1] - uv[0], b = uv[2] - uv[0];
+  const glm::vec2 uvArea = 0.5f * glm::abs(glm::vec2(a.x * b.y - b.x * a.y, a.z * b.w - b.z * a.w));
   float texels = 0.0f;  // covered, through the reference's transform (its determinant scales the area)
   for (int t : {m.baseColorTexture, m.emissiveTexture, m.metallicRoughnessTexture}) {
     if (t < 0) continue;
     const gpu::Texture& x = g.textures[size_t(t)];
     const float scale = std::abs(x.uvRowU.x * x.uvRowV.y - x.uvRowU.y * x.uvRowV.x);
-    texels = std::max(texels, uvArea * scale * float(x.width) * float(x.height));
+    texels = std::max(texels, uvArea[x.uvRowV.w != 0.0f ? 1 : 0] * scale * float(x.width) * float(x.height));
   }
   const float n = 2.0f * std::sqrt(texels);  // NaN or infinite from an absurd transform: the bounds
   return n > 4.0f ? (n < 32.0f ? int(std::ceil(n)) : 32) : 4;
@@ -118,11 +119,11 @@ void subTriangleCentroids(int n, At&& at) {
     }
 }
 
-CornerMeans cornerMeans(const Geometry& g, const gpu::Material& m, const glm::vec2 uv[3], const glm::vec4 color[3]) {
+CornerMeans cornerMeans(const Geometry& g, const gpu::Material& m, const glm::vec4 uv[3], const glm::vec4 color[3]) {
   const int n = samplesAcross(g, m, uv);
   CornerMeans out{};
   auto add = [&](glm::vec3 w, float) {
-    const glm::vec2 at = w.x * uv[0] + w.y * uv[1] + w.z * uv[2];
+    const glm::vec4 at = w.x * uv[0] + w.y * uv[1] + w.z * uv[2];
     const glm::vec4 base = m.baseColor * (w.x * color[0] + w.y * color[1] + w.z * color[2]) *
                            sampleTexture(g, m.baseColorTexture, at),
                     emission = m.emission * sampleTexture(g, m.emissiveTexture, at);
@@ -204,11 +205,13 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
     if (added) appendTexture(g, scene.textures[size_t(texture)], false);
     return at->second;
   };
-  // A reference with a KHR_texture_transform reads the texture's texels through a record of its own.
+  // A reference with a KHR_texture_transform, or on TEXCOORD_1, reads the texture's texels through a
+  // record of its own.
   auto transformed = [&](int texture, const TextureTransform& transform) {
     if (texture < 0 || transform.identity()) return texture;
     gpu::Texture record = g.textures[size_t(texture)];
-    record.uvRowU = glm::vec4(transform.rowU(), record.uvRowU.w), record.uvRowV = glm::vec4(transform.rowV(), 0.0f);
+    record.uvRowU = glm::vec4(transform.rowU(), record.uvRowU.w);
+    record.uvRowV = glm::vec4(transform.rowV(), float(transform.texCoord));
     g.textures.push_back(record);
     return int(g.textures.size() - 1);
   };
@@ -271,7 +274,8 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
           gv.joints = skinned ? p.joints[v] : glm::uvec4(0);
           gv.weights = skinned ? p.weights[v] : glm::vec4(0);
           g.vertices.push_back(gv);
-          g.uvs.push_back(p.uvs.empty() ? glm::vec2(0) : p.uvs[v]);
+          g.uvs.push_back(
+              glm::vec4(p.uvs.empty() ? glm::vec2(0) : p.uvs[v], p.uvs1.empty() ? glm::vec2(0) : p.uvs1[v]));
           g.colors.push_back(p.colors.empty() ? glm::vec4(1) : p.colors[v]);
         }
 
@@ -328,18 +332,16 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
         // means over its triangles, weighted by the triangles' areas.
         const bool varies = material.baseColorTexture >= 0 || material.emissiveTexture >= 0 ||
                             material.metallicRoughnessTexture >= 0 || !p.colors.empty();
-        const glm::vec4 uniformAlbedo = solverAlbedo(g, material, material.baseColor, glm::vec2(0.0f));
+        const glm::vec4 uniformAlbedo = solverAlbedo(g, material, material.baseColor, glm::vec4(0.0f));
         std::vector<glm::vec4> albedoSums(varies ? welded.size() : 0, glm::vec4(0.0f)),
             emissionSums(albedoSums.size(), glm::vec4(0.0f)), baseSums(albedoSums.size(), glm::vec4(0.0f));
         std::vector<glm::vec2> metalRoughSums(albedoSums.size(), glm::vec2(0.0f));
         std::vector<float> areaSums(albedoSums.size(), 0.0f);
         for (size_t t = firstTriangle; varies && t < g.triangles.size(); ++t) {
           const uint32_t corner[3] = {g.triangles[t].v0 - base, g.triangles[t].v1 - base, g.triangles[t].v2 - base};
-          glm::vec2 uv[3];
-          glm::vec4 color[3];
+          glm::vec4 uv[3], color[3];
           for (int k = 0; k < 3; ++k)
-            uv[k] = p.uvs.empty() ? glm::vec2(0) : p.uvs[corner[k]],
-            color[k] = p.colors.empty() ? glm::vec4(1) : p.colors[corner[k]];
+            uv[k] = g.uvs[base + corner[k]], color[k] = p.colors.empty() ? glm::vec4(1) : p.colors[corner[k]];
           const float area = 0.5f * glm::length(glm::cross(p.positions[corner[1]] - p.positions[corner[0]],
                                                            p.positions[corner[2]] - p.positions[corner[0]]));
           const CornerMeans means = cornerMeans(g, material, uv, color);
@@ -605,7 +607,7 @@ std::vector<bool> closedInstances(const Geometry& g) {
 glm::vec3 emissionAt(const Geometry& g, const Triangle& t, float b, float c) {
   const gpu::Material& m = g.materials[t.material & ~gpu::kFlatShaded];
   if (m.emission == glm::vec4(0.0f)) return glm::vec3(0.0f);
-  const glm::vec2 uv = (1.0f - b - c) * g.uvs[t.v0] + b * g.uvs[t.v1] + c * g.uvs[t.v2];
+  const glm::vec4 uv = (1.0f - b - c) * g.uvs[t.v0] + b * g.uvs[t.v1] + c * g.uvs[t.v2];
   return glm::vec3(m.emission * sampleTexture(g, m.emissiveTexture, uv));
 }
 
@@ -613,7 +615,7 @@ std::vector<EmissionCell> emissionCells(const Geometry& g, const Triangle& t) {
   const gpu::Material& m = g.materials[t.material & ~gpu::kFlatShaded];
   if (m.emission == glm::vec4(0.0f)) return {};
   if (m.emissiveTexture < 0) return {{{glm::vec2(0, 0), glm::vec2(1, 0), glm::vec2(0, 1)}, glm::vec3(m.emission)}};
-  const glm::vec2 uv[3] = {g.uvs[t.v0], g.uvs[t.v1], g.uvs[t.v2]};
+  const glm::vec4 uv[3] = {g.uvs[t.v0], g.uvs[t.v1], g.uvs[t.v2]};
   const int n = samplesAcross(g, m, uv);
   std::vector<EmissionCell> cells;
   cells.reserve(size_t(n * n));

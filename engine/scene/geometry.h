@@ -37,7 +37,7 @@ struct Bounds {
 
 struct Geometry {
   std::vector<Vertex> vertices;
-  std::vector<glm::vec2> uvs;
+  std::vector<glm::vec4> uvs;     // TEXCOORD_0 (xy) and TEXCOORD_1 (zw), zero where a primitive has none
   std::vector<glm::vec4> colors;  // COLOR_0, white where a primitive has none
   bool vertexColors = false;      // some primitive has COLOR_0
   std::vector<Instance> instances;

@@ -104,16 +104,18 @@ class Converter {
     }
   }
 
-  int textureIndex(int index, int texCoord, const std::string& what) {
+  // The texture `index` names (-1: none), read on coordinate set `texCoord`, which `transform` keeps.
+  int textureIndex(int index, int texCoord, TextureTransform& transform, const std::string& what) {
     if (index < 0) return -1;
     if (size_t(index) >= scene_.textures.size())
       read_.fail(what + ": texture index " + std::to_string(index) + " out of range");
-    if (texCoord != 0) warn(what + " uses TEXCOORD_" + std::to_string(texCoord) + "; TEXCOORD_0 is used instead");
+    transform.texCoord = texCoord == 1 ? 1 : 0;
+    if (texCoord > 1) warn(what + " uses TEXCOORD_" + std::to_string(texCoord) + "; TEXCOORD_0 is used instead");
     return scene_.textures[index].rgba.empty() ? -1 : index;
   }
 
-  // A texture reference: its index (-1: none) and its KHR_texture_transform, whose texCoord
-  // overrides the reference's own.
+  // A texture reference: its index (-1: none), its coordinate set and its KHR_texture_transform,
+  // whose texCoord overrides the reference's own.
   int textureReference(const tinygltf::TextureInfo& info, TextureTransform& transform, const std::string& what) {
     int texCoord = info.texCoord;
     const auto it = info.extensions.find("KHR_texture_transform");
@@ -136,7 +138,7 @@ class Converter {
       if (ext.Has("rotation")) transform.rotation = number(ext.Get("rotation"), "rotation");
       if (ext.Has("texCoord")) texCoord = int(std::clamp(number(ext.Get("texCoord"), "texCoord"), 0.0f, 255.0f));
     }
-    return textureIndex(info.index, texCoord, what);
+    return textureIndex(info.index, texCoord, transform, what);
   }
 
   void materials() {
@@ -292,10 +294,11 @@ class Converter {
       out.normals = toVectors<glm::vec3, 3>(read_.floats(a, 3, what + " NORMAL"));
       sized(out.normals.size(), "NORMAL");
     }
-    if (int a = attr("TEXCOORD_0"); a >= 0) {
-      out.uvs = toVectors<glm::vec2, 2>(read_.floats(a, 2, what + " TEXCOORD_0"));
-      sized(out.uvs.size(), "TEXCOORD_0");
-    }
+    for (auto [name, uvs] : {std::pair{"TEXCOORD_0", &out.uvs}, std::pair{"TEXCOORD_1", &out.uvs1}})
+      if (int a = attr(name); a >= 0) {
+        *uvs = toVectors<glm::vec2, 2>(read_.floats(a, 2, what + " " + name));
+        sized(uvs->size(), name);
+      }
     if (int a = attr("COLOR_0"); a >= 0) {
       out.colors = vertexColors(a, what + " COLOR_0");
       sized(out.colors.size(), "COLOR_0");
@@ -344,6 +347,14 @@ class Converter {
     if (p.material >= int(scene_.materials.size()))
       read_.fail(what + ": material index " + std::to_string(p.material) + " out of range");
     out.material = p.material;
+    if (p.material >= 0 && out.uvs1.empty()) {
+      const Material& m = scene_.materials[size_t(p.material)];
+      for (const TextureTransform* t : {&m.baseColorTransform, &m.emissiveTransform, &m.metallicRoughnessTransform})
+        if (t->texCoord == 1) {
+          warn(what + " has no TEXCOORD_1, which its material '" + m.name + "' reads; it reads (0, 0)");
+          break;
+        }
+    }
     return out;
   }
 

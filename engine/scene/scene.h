@@ -24,13 +24,18 @@ struct Texture {
   bool nearest = false;              // the sampler's magFilter is NEAREST: the nearest texel, not a blend
 };
 
-// KHR_texture_transform of one texture reference: the coordinates are scaled, then rotated
-// counter-clockwise by `rotation` radians about the origin, then offset.
+// How one texture reference maps a surface's coordinates to the texture's: the set it reads
+// (`texCoord`, or KHR_texture_transform's in its place), whose coordinates are then scaled, rotated
+// counter-clockwise by `rotation` radians about the origin and offset (KHR_texture_transform).
 struct TextureTransform {
   glm::vec2 offset{0.0f};
   float rotation = 0.0f;
   glm::vec2 scale{1.0f};
-  bool identity() const { return offset == glm::vec2(0.0f) && rotation == 0.0f && scale == glm::vec2(1.0f); }
+  int texCoord = 0;  // 0: TEXCOORD_0, 1: TEXCOORD_1
+  // TEXCOORD_0 as it is.
+  bool identity() const {
+    return offset == glm::vec2(0.0f) && rotation == 0.0f && scale == glm::vec2(1.0f) && texCoord == 0;
+  }
   // The rows of the affine map (u, v, 1) → u', v'.
   glm::vec3 rowU() const;
   glm::vec3 rowV() const;
@@ -64,6 +69,7 @@ struct MorphTarget {
 struct Primitive {
   std::vector<glm::vec3> positions, normals;  // normals empty: flat shading, surfel normals from faces
   std::vector<glm::vec2> uvs;                 // TEXCOORD_0, empty if absent
+  std::vector<glm::vec2> uvs1;                // TEXCOORD_1, empty if absent
   std::vector<glm::vec4> colors;              // COLOR_0 (linear, multiplies the base colour), empty if absent
   std::vector<glm::uvec4> joints;             // JOINTS_0
   std::vector<glm::vec4> weights;             // WEIGHTS_0

@@ -46,6 +46,7 @@ uint32_t addMidpoint(Primitive& p, uint32_t a, uint32_t b) {
     p.normals.push_back(glm::length(n) > 0.0f ? glm::normalize(n) : p.normals[a]);
   }
   if (!p.uvs.empty()) p.uvs.push_back(0.5f * (p.uvs[a] + p.uvs[b]));
+  if (!p.uvs1.empty()) p.uvs1.push_back(0.5f * (p.uvs1[a] + p.uvs1[b]));
   if (!p.colors.empty()) p.colors.push_back(0.5f * (p.colors[a] + p.colors[b]));
   if (!p.joints.empty()) blendSkin(p, a, b);
   for (MorphTarget& t : p.targets) {

@@ -6,11 +6,11 @@
 
 namespace ivgi::scene {
 
-glm::vec4 sampleTexture(const Geometry& g, int index, glm::vec2 uv) {
+glm::vec4 sampleTexture(const Geometry& g, int index, glm::vec4 uvs) {
   if (index < 0 || size_t(index) >= g.textures.size()) return glm::vec4(1.0f);
   const gpu::Texture& t = g.textures[index];
   if (t.width == 0 || t.height == 0) return glm::vec4(1.0f);
-  uv = gpu::transformedUv(t, uv);
+  const glm::vec2 uv = gpu::transformedUv(t, uvs);
   float ax, ay;
   glm::ivec2 xs = gpu::texelPair(uv.x, int(t.width), t.wrap & 0xffffu, ax);
   glm::ivec2 ys = gpu::texelPair(uv.y, int(t.height), t.wrap >> 16, ay);

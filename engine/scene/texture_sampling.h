@@ -7,7 +7,12 @@ namespace ivgi::scene {
 
 struct Geometry;
 
-// Linear RGBA at uv of texture `index` (-1: white).
-glm::vec4 sampleTexture(const Geometry& g, int index, glm::vec2 uv);
+// Linear RGBA of texture `index` (-1: white) at a point whose coordinate sets are `uvs` (TEXCOORD_0
+// in xy, TEXCOORD_1 in zw): the one its record reads.
+glm::vec4 sampleTexture(const Geometry& g, int index, glm::vec4 uvs);
+// The same where both sets are `uv`.
+inline glm::vec4 sampleTexture(const Geometry& g, int index, glm::vec2 uv) {
+  return sampleTexture(g, index, glm::vec4(uv, uv));
+}
 
 }  // namespace ivgi::scene

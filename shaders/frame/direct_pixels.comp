@@ -18,8 +18,8 @@ layout(binding = 4, rgba32f) readonly uniform imageBuffer lightViews;   // Camer
 layout(binding = 5, r32ui) readonly uniform uimageBuffer lightDepth;    // depths' float bits
 layout(std430, binding = 6) writeonly buffer PixelLights { PixelLight pixelLights[]; };
 layout(binding = 7, rgba32ui) readonly uniform uimageBuffer materials;  // Material
-layout(binding = 8, rg32f) readonly uniform imageBuffer uvs;
-layout(binding = 9, rgba32f) readonly uniform imageBuffer colors;  // COLOR_0 per vertex
+layout(binding = 8, rgba32f) readonly uniform imageBuffer uvs;          // TEXCOORD_0 (xy), TEXCOORD_1 (zw)
+layout(binding = 9, rgba32f) readonly uniform imageBuffer colors;       // COLOR_0 per vertex
 layout(std430, binding = 10) readonly buffer Textures { Texture textures[]; };
 layout(binding = 11, rg32ui) readonly uniform uimageBuffer texels;  // two packHalf2x16 words a texel
 // Per pixel: the lobe's reflection of its share of the emitter samples, then of the punctual lights.

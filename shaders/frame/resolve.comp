@@ -8,7 +8,7 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 0, rgba32f) readonly uniform imageBuffer world;        // WorldVertex: position, normal
 layout(binding = 1, rgba32ui) readonly uniform uimageBuffer triangles;  // Triangle
 layout(binding = 2, rg32ui) readonly uniform uimageBuffer visibility;   // 64-bit keys, low word first
-layout(binding = 3, rg32f) readonly uniform imageBuffer uvs;
+layout(binding = 3, rgba32f) readonly uniform imageBuffer uvs;          // TEXCOORD_0 (xy), TEXCOORD_1 (zw)
 layout(binding = 4, rgba32ui) readonly uniform uimageBuffer materials;  // Material: base colour, emission, textures
 layout(std430, binding = 5) readonly buffer Textures { Texture textures[]; };
 layout(binding = 6, rg32ui) readonly uniform uimageBuffer texels;  // two packHalf2x16 words a texel

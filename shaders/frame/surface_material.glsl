@@ -3,7 +3,7 @@
 // `uvs`, `colors`, `textures` and `texels` declared before it, and the constants kTextured (some
 // material has a texture) and kColored (some primitive has COLOR_0).
 
-vec2 uvOf(uint vertex) { return imageLoad(uvs, int(vertex)).xy; }
+vec4 uvOf(uint vertex) { return imageLoad(uvs, int(vertex)); }  // TEXCOORD_0 (xy), TEXCOORD_1 (zw)
 vec3 colorOf(uint vertex) { return imageLoad(colors, int(vertex)).rgb; }
 
 // (`texels` are read as texels, not a storage buffer: a bilinear sample reads four, common.glsl.)
@@ -12,11 +12,11 @@ vec4 texel(Texture t, int x, int y) {
   return vec4(unpackHalf2x16(words.x), unpackHalf2x16(words.y));
 }
 
-vec4 sampleTexture(int index, vec2 uv) {
+vec4 sampleTexture(int index, vec4 uvs) {
   if (index < 0) return vec4(1.0);
   Texture t = textures[index];
   if (t.width == 0u || t.height == 0u) return vec4(1.0);
-  uv = transformedUv(t, uv);
+  const vec2 uv = transformedUv(t, uvs);
   float ax, ay;
   ivec2 xs = texelPair(uv.x, int(t.width), t.wrap & 0xffffu, ax), ys = texelPair(uv.y, int(t.height), t.wrap >> 16, ay);
   ax = texelWeight(t, ax), ay = texelWeight(t, ay);
@@ -40,7 +40,7 @@ SurfaceMaterial materialAt(uvec4 t, vec3 w) {
   vec2 metalRough = uintBitsToFloat(imageLoad(materials, int(kMaterialTexels * mi + 4u)).xy);
   if (kColored) base *= w.x * colorOf(t.x) + w.y * colorOf(t.y) + w.z * colorOf(t.z);
   if (kTextured) {
-    const vec2 uv = w.x * uvOf(t.x) + w.y * uvOf(t.y) + w.z * uvOf(t.z);
+    const vec4 uv = w.x * uvOf(t.x) + w.y * uvOf(t.y) + w.z * uvOf(t.z);
     // base colour, emissive, metallic-roughness; -1: none
     const ivec3 maps = ivec3(imageLoad(materials, int(kMaterialTexels * mi + 3u)).xyz);
     base *= sampleTexture(maps.x, uv).rgb;

@@ -57,8 +57,9 @@ struct Texture {
   uint height;
   uint wrap;  // wrapS | wrapT << 16 (glTF enums)
   // KHR_texture_transform as an affine map of (u, v, 1): u' = dot(uvRowU.xyz, …), v' likewise.
-  // A texture referenced with another transform is another record over the same texels. uvRowU.w:
-  // 1 where the sampler asks for the nearest texel (magFilter NEAREST), 0 for a bilinear blend.
+  // A texture referenced with another transform or coordinate set is another record over the same
+  // texels. uvRowU.w: 1 where the sampler asks for the nearest texel (magFilter NEAREST), 0 for a
+  // bilinear blend; uvRowV.w: the set it reads, 0 (TEXCOORD_0) or 1 (TEXCOORD_1).
   vec4 uvRowU;
   vec4 uvRowV;
 };
@@ -166,9 +167,10 @@ IVGI_FN vec3 towardEye(vec4 eye, vec3 p) { return vec3(eye) - eye.w * p; }  // n
 
 // ---- Textures ----
 
-// The texture coordinates a lookup of texture t reads at uv: its KHR_texture_transform applied.
-IVGI_FN vec2 transformedUv(Texture t, vec2 uv) {
-  vec3 h = vec3(uv.x, uv.y, 1.0f);
+// The texture coordinates a lookup of texture t reads at a point whose two sets are `uvs`
+// (TEXCOORD_0 in xy, TEXCOORD_1 in zw): its set's, with its KHR_texture_transform applied.
+IVGI_FN vec2 transformedUv(Texture t, vec4 uvs) {
+  vec3 h = t.uvRowV.w != 0.0f ? vec3(uvs.z, uvs.w, 1.0f) : vec3(uvs.x, uvs.y, 1.0f);
   return vec2(dot(vec3(t.uvRowU.x, t.uvRowU.y, t.uvRowU.z), h), dot(vec3(t.uvRowV.x, t.uvRowV.y, t.uvRowV.z), h));
 }
 
