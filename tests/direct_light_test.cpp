@@ -55,7 +55,7 @@ TEST(DirectLight, SamplesStandForTheEmittersArea) {
   scene::Geometry g = scene::buildGeometry(s);
   double emitting = 0;
   for (const auto& t : g.triangles)
-    if (g.materials[t.material & ~gpu::kFlatShaded].emission.x > 0) {
+    if (g.materials[t.material & ~gpu::kTriangleFlags].emission.x > 0) {
       const glm::dvec3 a = g.vertices[t.v0].position, b = g.vertices[t.v1].position, c = g.vertices[t.v2].position;
       emitting += 0.5 * glm::length(glm::cross(b - a, c - a));
     }
@@ -65,7 +65,7 @@ TEST(DirectLight, SamplesStandForTheEmittersArea) {
     double sum = 0;
     for (const auto& sample : samples) {
       const auto& t = g.triangles[sample.triangle];
-      EXPECT_GT(g.materials[t.material & ~gpu::kFlatShaded].emission.x, 0.0f);
+      EXPECT_GT(g.materials[t.material & ~gpu::kTriangleFlags].emission.x, 0.0f);
       EXPECT_GE(sample.b, 0.0f);
       EXPECT_GE(sample.c, 0.0f);
       EXPECT_LE(sample.b + sample.c, 1.0f + 1e-6f);

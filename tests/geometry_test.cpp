@@ -593,7 +593,7 @@ TEST(PlanarFaces, TheCornellBlocksFacesAreTwoTrianglesEach) {
   std::map<std::string, std::vector<Triangle>> byNode;  // and primitive: the room's walls by material
   for (const Triangle& t : g.triangles) {
     const uint32_t instance = g.vertices[t.v0].instance;
-    byNode[s.nodes[size_t(g.instanceNode[instance])].name + " " + std::to_string(t.material & ~gpu::kFlatShaded)]
+    byNode[s.nodes[size_t(g.instanceNode[instance])].name + " " + std::to_string(t.material & ~gpu::kTriangleFlags)]
         .push_back(t);
   }
   size_t blocks = 0;

@@ -66,9 +66,13 @@ std::optional<gi::DirectLightSettings> directLightSettings(const SolverOptions& 
 // iv and ar, 0 (the mesh as modelled) for pt and none.
 uint32_t sampledTessellation(const SolverOptions& solver);
 
-// The scene's flattened geometry, as `solver`'s method samples it; throws LoadError when there is
-// no triangle to render.
+// The scene's flattened geometry, as `solver`'s method samples it, the backs of its open surfaces
+// that see only open space given faces where the environment withSceneLight() gives it lights
+// them; throws LoadError when there is no triangle to render.
 scene::Geometry renderableGeometry(const scene::Scene& scene, const SolverOptions& solver, const scene::Limits& limits);
+// Whether the environment withSceneLight() gives lights open space: --env as given, or where it is
+// not, the default sky of a scene whose drawn materials emit nothing and which has no light.
+scene::OpenSpace openSpaceOf(const SolverOptions& solver, const scene::Scene& scene);
 // A progress line on stderr for building a scene, shown once the build has taken two seconds.
 scene::BuildProgress buildProgress();
 

@@ -26,7 +26,7 @@ void solveFrameZero(gi::FrameRenderer& renderer, const scene::Scene& s, const sc
 
 int runInfo(const InfoOptions& o) {
   scene::Scene s = loadScene(o.source);
-  scene::Geometry g = scene::buildGeometry(s, 0, buildProgress(), o.source.limits);
+  scene::Geometry g = scene::buildGeometry(s, 0, buildProgress(), o.source.limits, openSpaceOf(o.solver, s));
   const SolverOptions solver = withSceneLight(o.solver, s, g);
   size_t primitives = 0, morphTargets = 0, colored = 0;
   for (const auto& m : s.meshes) {
@@ -37,14 +37,20 @@ int runInfo(const InfoOptions& o) {
   scene::Bounds b = scene::worldBounds(world);
 
   std::printf("scene        %s\n", s.source.c_str());
+  const size_t drawn = g.instances.size() - g.backInstances;
   std::printf("meshes       %zu (%zu primitives, %zu drawn instances, %zu morph targets)\n", s.meshes.size(),
-              primitives, g.instances.size(), morphTargets);
+              primitives, drawn, morphTargets);
   std::printf("vertices     %zu\n", g.vertices.size());
   std::printf("triangles    %zu (%u degenerate, excluded)\n", g.triangles.size(), g.degenerateTriangles);
   std::printf("surfels      %zu\n", g.surfels.size());
+  if (g.backInstances > 0)
+    std::printf(
+        "backs        %u of the triangles and %u of the surfels: the exposed backs of %u open double-sided "
+        "instances\n",
+        g.backTriangles, g.backSurfels, g.backInstances);
   const std::vector<bool> closed = scene::closedInstances(g);
   std::printf("closed       %zu of %zu drawn instances enclose a volume\n",
-              size_t(std::count(closed.begin(), closed.end(), true)), closed.size());
+              size_t(std::count(closed.begin(), closed.begin() + std::ptrdiff_t(drawn), true)), drawn);
   if (sampledTessellation(solver) > 0) {
     const scene::Geometry sampled = renderableGeometry(s, solver, o.source.limits);
     std::printf("tessellated  %zu triangles, %zu surfels (%s, --tessellate %u)\n", sampled.triangles.size(),

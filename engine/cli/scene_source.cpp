@@ -77,9 +77,26 @@ scene::BuildProgress buildProgress() {
   };
 }
 
+scene::OpenSpace openSpaceOf(const SolverOptions& solver, const scene::Scene& s) {
+  if (solver.environment == "none") return scene::OpenSpace::Dark;
+  if (!solver.environment.empty()) return scene::OpenSpace::Lit;
+  bool emits = false, lit = false;
+  for (const scene::Node& n : s.nodes) {
+    lit = lit || n.light >= 0;
+    if (n.mesh < 0) continue;
+    for (const scene::Primitive& p : s.meshes[size_t(n.mesh)].primitives)
+      if (p.material >= 0) {
+        const scene::Material& m = s.materials[size_t(p.material)];
+        emits = emits || (m.emissiveStrength > 0.0f && glm::any(glm::greaterThan(m.emissive, glm::vec3(0.0f))));
+      }
+  }
+  return emits || lit ? scene::OpenSpace::Dark : scene::OpenSpace::Lit;
+}
+
 scene::Geometry renderableGeometry(const scene::Scene& s, const SolverOptions& solver, const scene::Limits& limits) {
   if (solver.tessellation > 100000) throw SettingsError("--tessellate must be 0 to 100000");
-  scene::Geometry g = scene::buildGeometry(s, sampledTessellation(solver), buildProgress(), limits);
+  scene::Geometry g =
+      scene::buildGeometry(s, sampledTessellation(solver), buildProgress(), limits, openSpaceOf(solver, s));
   if (g.triangles.empty()) throw scene::LoadError(s.source + ": the scene has no triangles to render");
   return g;
 }

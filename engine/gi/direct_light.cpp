@@ -146,7 +146,7 @@ namespace {
 std::pair<std::vector<scene::Triangle>, std::vector<scene::Triangle>> byMotion(const scene::Geometry& g,
                                                                                const std::vector<bool>& moving) {
   std::pair<std::vector<scene::Triangle>, std::vector<scene::Triangle>> split;
-  for (const scene::Triangle& t : g.triangles)
+  for (const scene::Triangle& t : frontTriangles(g))
     (moving[g.vertices[t.v0].instance] ? split.second : split.first).push_back(t);
   return split;
 }
@@ -249,14 +249,15 @@ DirectLight::DirectLight(const vk::Context& ctx, const scene::Geometry& g, std::
   points_ = vk::Buffer(ctx, points * sizeof(gpu::LightPoint), vk::Memory::Device, tally);
   views_ = vk::Buffer(ctx, viewCount_ * sizeof(gpu::Camera), vk::Memory::Device, tally);
   depth_ = vk::Buffer(ctx, depthBytes(settings, viewCount_), vk::Memory::Device, tally);
-  // The maps draw each surface as its shape, not as finely as the surfels sample it.
+  // The maps draw each surface as its shape, not as finely as the surfels sample it, and a back face
+  // not at all: its front stands in the same place.
   if (splitsStatic_) {
     const auto [still, moves] = byMotion(g, moving);
     still_.emplace(ctx, scene::MapMeshes(g, still), viewCount_, tally);
     moving_.emplace(ctx, scene::MapMeshes(g, moves), viewCount_, tally);
     if (!moves.empty()) staticDepth_ = vk::Buffer(ctx, depth_.size(), vk::Memory::Device, tally);
   } else {
-    all_.emplace(ctx, scene::MapMeshes(g, g.triangles), viewCount_, tally);
+    all_.emplace(ctx, scene::MapMeshes(g, frontTriangles(g)), viewCount_, tally);
   }
   instances_ = g.instances;
   for (uint32_t i = 0; i < sampleCount_; ++i) {

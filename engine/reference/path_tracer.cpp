@@ -1,7 +1,5 @@
 #include "engine/reference/path_tracer.h"
 
-#include <embree3/rtcore.h>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -13,6 +11,7 @@
 #include "engine/scene/lights.h"
 #include "engine/scene/reflectance.h"
 #include "engine/scene/texture_sampling.h"
+#include "engine/scene/triangle_rays.h"
 
 namespace ivgi::reference {
 
@@ -109,8 +108,8 @@ float powerHeuristic(float a, float b) { return a * a / (a * a + b * b); }
 struct PathTracer::Impl {
   PathScene s;
   const scene::Geometry& g;
-  RTCDevice device = nullptr;
-  RTCScene rtc = nullptr;
+  std::vector<glm::vec3> positions;  // the frame's, of every vertex
+  scene::TriangleRays rays;
   std::vector<glm::vec3> front;     // per triangle: unit geometric normal on the side its vertex normals face
   std::vector<float> lightPdfArea;  // per triangle: density per unit area of choosing a point on it (0: no emission)
   std::vector<uint32_t> emitters;
@@ -126,32 +125,10 @@ struct PathTracer::Impl {
     float roughness;  // as the file gives it (brdf.alpha is its square, clamped)
   };
 
-  explicit Impl(PathScene scene) : s(std::move(scene)), g(*s.geometry) {
-    device = rtcNewDevice(nullptr);
-    if (!device)
-      throw std::runtime_error("Embree: cannot create a device (error " +
-                               std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
-    rtc = rtcNewScene(device);
-    RTCGeometry mesh = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* positions = static_cast<float*>(
-        rtcSetNewGeometryBuffer(mesh, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), s.world.size()));
+  explicit Impl(PathScene scene)
+      : s(std::move(scene)), g(*s.geometry), positions(positionsOf(s.world)), rays(positions, tracedFaces(g), false) {
     scene::Bounds bounds;
-    for (size_t i = 0; i < s.world.size(); ++i) {
-      glm::vec3 p(s.world[i].position);
-      positions[3 * i] = p.x, positions[3 * i + 1] = p.y, positions[3 * i + 2] = p.z;
-      bounds.add(p);
-    }
-    auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(mesh, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                   3 * sizeof(uint32_t), g.triangles.size()));
-    for (size_t i = 0; i < g.triangles.size(); ++i)
-      indices[3 * i] = g.triangles[i].v0, indices[3 * i + 1] = g.triangles[i].v1,
-                  indices[3 * i + 2] = g.triangles[i].v2;
-    rtcCommitGeometry(mesh);
-    rtcAttachGeometry(rtc, mesh);
-    rtcReleaseGeometry(mesh);
-    rtcCommitScene(rtc);
-    if (RTCError e = rtcGetDeviceError(device); e != RTC_ERROR_NONE)
-      throw std::runtime_error("Embree: building the scene failed (error " + std::to_string(int(e)) + ")");
+    for (const glm::vec3& p : positions) bounds.add(p);
     if (!bounds.empty()) epsilon = 1e-5f * std::max(glm::length(bounds.max - bounds.min), 1e-30f);
 
     // Emitters, chosen in proportion to their power (area × luminance of the emissive factor).
@@ -168,7 +145,7 @@ struct PathTracer::Impl {
           glm::vec3(s.world[t.v0].normal) + glm::vec3(s.world[t.v1].normal) + glm::vec3(s.world[t.v2].normal);
       if (!(t.material & gpu::kFlatShaded) && glm::dot(n, vertexNormals) < 0.0f) n = -n;
       front[i] = area > 0.0f ? n / (2.0f * area) : glm::vec3(0.0f);
-      float p = area * luminance(glm::vec3(g.materials[t.material & ~gpu::kFlatShaded].emission));
+      float p = area * luminance(glm::vec3(g.materials[t.material & ~gpu::kTriangleFlags].emission));
       if (!(p > 0.0f) || !std::isfinite(p)) continue;
       emitters.push_back(i);
       power.push_back(p);
@@ -185,36 +162,28 @@ struct PathTracer::Impl {
     if (!emitterCdf.empty()) emitterCdf.back() = 1.0f;
   }
 
-  ~Impl() {
-    if (rtc) rtcReleaseScene(rtc);
-    if (device) rtcReleaseDevice(device);
+  static std::vector<glm::vec3> positionsOf(const std::vector<scene::WorldVertex>& world) {
+    std::vector<glm::vec3> out(world.size());
+    for (size_t v = 0; v < world.size(); ++v) out[v] = glm::vec3(world[v].position);
+    return out;
+  }
+  // Every face once: this tracer lights both sides of a face itself, so the backs the solvers'
+  // one-sided surfels need (Geometry::backTriangles, the last) are left out.
+  static std::vector<glm::uvec3> tracedFaces(const scene::Geometry& g) {
+    std::vector<glm::uvec3> out(g.triangles.size() - g.backTriangles);
+    for (size_t t = 0; t < out.size(); ++t) out[t] = {g.triangles[t].v0, g.triangles[t].v1, g.triangles[t].v2};
+    return out;
   }
 
-  glm::vec3 pos(uint32_t v) const { return glm::vec3(s.world[v].position); }
+  glm::vec3 pos(uint32_t v) const { return positions[v]; }
 
   std::optional<Surface> intersect(glm::vec3 o, glm::vec3 d, float tnear, float tfar) const {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    RTCRayHit rh{};
-    rh.ray.org_x = o.x, rh.ray.org_y = o.y, rh.ray.org_z = o.z, rh.ray.tnear = tnear;
-    rh.ray.dir_x = d.x, rh.ray.dir_y = d.y, rh.ray.dir_z = d.z, rh.ray.tfar = tfar;
-    rh.ray.mask = ~0u;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(rtc, &context, &rh);
-    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
-    return surface(rh.hit.primID, rh.ray.tfar, glm::vec3(1.0f - rh.hit.u - rh.hit.v, rh.hit.u, rh.hit.v));
+    const std::optional<scene::TriangleRays::Hit> hit = rays.nearest(o, d, tnear, tfar);
+    if (!hit) return std::nullopt;
+    return surface(hit->triangle, hit->t, glm::vec3(1.0f - hit->uv.x - hit->uv.y, hit->uv.x, hit->uv.y));
   }
 
-  bool occluded(glm::vec3 o, glm::vec3 d, float tfar) const {
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    RTCRay ray{};
-    ray.org_x = o.x, ray.org_y = o.y, ray.org_z = o.z, ray.tnear = 0.0f;
-    ray.dir_x = d.x, ray.dir_y = d.y, ray.dir_z = d.z, ray.tfar = tfar;
-    ray.mask = ~0u;
-    rtcOccluded1(rtc, &context, &ray);
-    return ray.tfar < 0.0f;
-  }
+  bool occluded(glm::vec3 o, glm::vec3 d, float tfar) const { return rays.occluded(o, d, tfar); }
 
   // Everything shading needs at barycentric w of a triangle, as shaders/frame/resolve.comp computes it.
   Surface surface(uint32_t tri, float t, glm::vec3 w) const {
@@ -228,7 +197,7 @@ struct PathTracer::Impl {
                      w.z * glm::vec3(s.world[tr.v2].normal);
       if (glm::length(ns) > 0.0f) x.shadingNormal = glm::normalize(ns);
     }
-    const gpu::Material& m = g.materials[tr.material & ~gpu::kFlatShaded];
+    const gpu::Material& m = g.materials[tr.material & ~gpu::kTriangleFlags];
     const glm::vec4 uv = w.x * g.uvs[tr.v0] + w.y * g.uvs[tr.v1] + w.z * g.uvs[tr.v2];
     const glm::vec4 color = w.x * g.colors[tr.v0] + w.y * g.colors[tr.v1] + w.z * g.colors[tr.v2];
     const glm::vec3 base =

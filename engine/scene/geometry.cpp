@@ -7,9 +7,11 @@
 #include <glm/gtc/constants.hpp>
 #include <glm/gtc/packing.hpp>
 #include <map>
+#include <memory>
 #include <unordered_map>
 
 #include "engine/image/colour.h"
+#include "engine/scene/back_faces.h"
 #include "engine/scene/reflectance.h"
 #include "engine/scene/tessellation.h"
 #include "engine/scene/texture_sampling.h"
@@ -173,10 +175,46 @@ EdgeLimits edgeLimitsOf(const Scene& scene, const Pose& rest, uint32_t tessellat
   return limits;
 }
 
+// Which faces of `g` (its fronts, built) have backs that see out, at the scene's rest pose
+// (back_faces.h): lit by the point and spot lights and by points on the emitters (the centroids of
+// at most kEmitterPoints of their faces, evenly through their list), and by open space where
+// `openSpace` or a directional light lights it.
+std::unique_ptr<BackExposure> backExposure(const Scene& scene, const Pose& rest, const Geometry& g,
+                                           OpenSpace openSpace) {
+  constexpr size_t kEmitterPoints = 16;
+  const std::vector<WorldVertex> world = animateOnHost(g, g.frameInputs(scene, rest));
+  std::vector<glm::vec3> positions(world.size()), normals(world.size());
+  for (size_t v = 0; v < world.size(); ++v)
+    positions[v] = glm::vec3(world[v].position), normals[v] = glm::vec3(world[v].normal);
+  std::vector<uint32_t> objectOf(g.triangles.size()), emitters;
+  for (uint32_t t = 0; t < g.triangles.size(); ++t) {
+    objectOf[t] = g.vertices[g.triangles[t].v0].instance;
+    if (glm::any(glm::greaterThan(glm::vec3(g.materials[g.triangles[t].material & ~gpu::kTriangleFlags].emission),
+                                  glm::vec3(0.0f))))
+      emitters.push_back(t);
+  }
+  std::vector<glm::vec3> lights;
+  const size_t points = std::min(emitters.size(), kEmitterPoints);
+  for (size_t k = 0; k < points; ++k) {
+    const Triangle& e = g.triangles[emitters[k * emitters.size() / points]];
+    lights.push_back((positions[e.v0] + positions[e.v1] + positions[e.v2]) / 3.0f);
+  }
+  bool sun = false;
+  for (size_t n = 0; n < scene.nodes.size(); ++n) {
+    if (scene.nodes[n].light < 0) continue;
+    if (scene.lights[size_t(scene.nodes[n].light)].type == Light::Type::Directional)
+      sun = true;
+    else
+      lights.push_back(glm::vec3(rest.world[n][3]));
+  }
+  return std::make_unique<BackExposure>(positions, normals, g.triangles, std::move(objectOf), std::move(lights),
+                                        sun ? OpenSpace::Lit : openSpace);
+}
+
 }  // namespace
 
-Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildProgress& progress,
-                       const Limits& allowed) {
+Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildProgress& progress, const Limits& allowed,
+                       OpenSpace openSpace) {
   const DrawnSize size = drawnSize(scene);
   if (size.triangles > allowed.triangles)
     throw LoadError(scene.source + ": the scene draws " + std::to_string(size.triangles) + " triangles, more than " +
@@ -229,6 +267,147 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
   };
   if (progress)
     for (int r : scene.roots) count(r);
+  // Appends primitive p of node `nodeIndex` as an instance, with its triangles and surfels; returns
+  // where each of p's triangles went in g.triangles (-1: degenerate, left out).
+  auto appendInstance = [&](const Primitive& p, int nodeIndex) {
+    const Node& node = scene.nodes[size_t(nodeIndex)];
+    std::vector<int32_t> triangleOf(p.indices.size() / 3, -1);
+    const uint32_t instance = uint32_t(g.instances.size());
+    g.vertexColors = g.vertexColors || !p.colors.empty();
+    const uint32_t base = uint32_t(g.vertices.size());
+    const uint32_t n = uint32_t(p.positions.size());
+    const bool skinned = node.skin >= 0 && !p.joints.empty();
+    Instance inst{};
+    inst.matrix = skinned ? g.skinJointBase[node.skin] : uint32_t(nodeIndex);
+    inst.skinned = skinned;
+    inst.morphTargets = uint32_t(p.targets.size());
+    inst.morphWeightBase = g.morphWeightCount;
+    inst.morphDeltaBase = uint32_t(g.morphDeltas.size());
+    inst.vertexCount = n;
+    g.morphWeightCount += inst.morphTargets;
+    g.instances.push_back(inst);
+    g.instanceNode.push_back(nodeIndex);
+    for (const auto& t : p.targets)
+      for (uint32_t v = 0; v < n; ++v)
+        g.morphDeltas.push_back({glm::vec4(t.positions.empty() ? glm::vec3(0) : t.positions[v], 0),
+                                 glm::vec4(t.normals.empty() ? glm::vec3(0) : t.normals[v], 0)});
+
+    const gpu::Material& material = g.materials[p.material >= 0 ? p.material : defaultMaterial];
+    // At its texture's most glossy (a metallic-roughness texel of 1).
+    const gpu::SurfaceBrdf brdf = surfaceBrdf(material, glm::vec3(material.baseColor), glm::vec4(1.0f));
+    g.glossyMaterials |= !gpu::isLambertian(brdf);
+    g.lobeDominatedMaterials |= gpu::lobeDominates(brdf, SpecularAlbedo::table().at(1.0f, std::sqrt(brdf.alpha)));
+    for (uint32_t v = 0; v < n; ++v) {
+      Vertex gv{};
+      gv.position = p.positions[v];
+      gv.instance = instance;
+      gv.normal = p.normals.empty() ? glm::vec3(0) : p.normals[v];
+      gv.local = v;
+      gv.joints = skinned ? p.joints[v] : glm::uvec4(0);
+      gv.weights = skinned ? p.weights[v] : glm::vec4(0);
+      g.vertices.push_back(gv);
+      g.uvs.push_back(glm::vec4(p.uvs.empty() ? glm::vec2(0) : p.uvs[v], p.uvs1.empty() ? glm::vec2(0) : p.uvs1[v]));
+      g.colors.push_back(p.colors.empty() ? glm::vec4(1) : p.colors[v]);
+    }
+
+    // Weld vertices that differ only in UV (seams) into one surfel: same position, normal and skin.
+    std::vector<uint32_t> surfelOf(n, ~0u);
+    std::unordered_multimap<uint64_t, uint32_t> byPosition;  // hash -> first vertex of a surfel
+    std::vector<std::vector<uint32_t>> welded;
+    for (uint32_t v = 0; v < n; ++v) {
+      const Vertex& gv = g.vertices[base + v];
+      uint64_t h = hashPoint(gv.position);
+      auto range = byPosition.equal_range(h);
+      for (auto it = range.first; it != range.second && surfelOf[v] == ~0u; ++it) {
+        const Vertex& o = g.vertices[base + it->second];
+        bool same = o.position == gv.position &&
+                    glm::all(glm::lessThan(glm::abs(o.normal - gv.normal), glm::vec3(1e-4f))) &&
+                    o.joints == gv.joints && o.weights == gv.weights;
+        if (same) surfelOf[v] = surfelOf[it->second];
+      }
+      if (surfelOf[v] == ~0u) {
+        surfelOf[v] = uint32_t(welded.size());
+        welded.push_back({});
+        byPosition.emplace(h, v);
+      }
+      welded[surfelOf[v]].push_back(v);
+    }
+
+    std::vector<std::vector<uint32_t>> adjacent(welded.size());
+    const size_t firstTriangle = g.triangles.size();
+    // glTF: a node whose transform has a negative determinant (a mirror) turns its triangles'
+    // front faces clockwise. Stored the other way round, every method sees the front the file
+    // means where it takes a face's side from its corners' order (a primitive without normals,
+    // an emitter's side). A skinned mesh's rest matrix is the identity: its joints place it,
+    // and are not judged here.
+    const bool mirrored = glm::determinant(glm::mat3(restMatrix(scene, rest, nodeIndex))) < 0.0f;
+    for (size_t t = 0; t + 2 < p.indices.size(); t += 3) {
+      uint32_t a = p.indices[t], b = p.indices[t + 1], c = p.indices[t + 2];
+      if (a == b || b == c || a == c || degenerate(p.positions[a], p.positions[b], p.positions[c])) {
+        ++g.degenerateTriangles;
+        continue;
+      }
+      uint32_t tri = uint32_t(g.triangles.size());
+      triangleOf[t / 3] = int32_t(tri);
+      uint32_t mat =
+          (p.material >= 0 ? uint32_t(p.material) : defaultMaterial) | (p.normals.empty() ? gpu::kFlatShaded : 0u);
+      if (mirrored) std::swap(b, c);
+      g.triangles.push_back({base + a, base + b, base + c, mat});
+      for (uint32_t v : {a, b, c}) adjacent[surfelOf[v]].push_back(tri);
+    }
+    if (g.triangles.size() > allowed.triangles)
+      throw LoadError(scene.source + ": tessellated (--tessellate " + std::to_string(tessellation) +
+                      "), the scene reaches more than " + std::to_string(allowed.triangles) +
+                      " triangles (--max-triangles raises the limit, a lower --tessellate samples coarser)");
+
+    // Where albedo or emission varies over the triangles, each surfel takes their hat-weighted
+    // means over its triangles, weighted by the triangles' areas.
+    const bool varies = material.baseColorTexture >= 0 || material.emissiveTexture >= 0 ||
+                        material.metallicRoughnessTexture >= 0 || !p.colors.empty();
+    const glm::vec4 uniformAlbedo = solverAlbedo(g, material, material.baseColor, glm::vec4(0.0f));
+    std::vector<glm::vec4> albedoSums(varies ? welded.size() : 0, glm::vec4(0.0f)),
+        emissionSums(albedoSums.size(), glm::vec4(0.0f)), baseSums(albedoSums.size(), glm::vec4(0.0f));
+    std::vector<glm::vec2> metalRoughSums(albedoSums.size(), glm::vec2(0.0f));
+    std::vector<float> areaSums(albedoSums.size(), 0.0f);
+    for (size_t t = firstTriangle; varies && t < g.triangles.size(); ++t) {
+      const uint32_t corner[3] = {g.triangles[t].v0 - base, g.triangles[t].v1 - base, g.triangles[t].v2 - base};
+      glm::vec4 uv[3], color[3];
+      for (int k = 0; k < 3; ++k)
+        uv[k] = g.uvs[base + corner[k]], color[k] = p.colors.empty() ? glm::vec4(1) : p.colors[corner[k]];
+      const float area = 0.5f * glm::length(glm::cross(p.positions[corner[1]] - p.positions[corner[0]],
+                                                       p.positions[corner[2]] - p.positions[corner[0]]));
+      const CornerMeans means = cornerMeans(g, material, uv, color);
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t s = surfelOf[corner[k]];
+        albedoSums[s] += area * means.albedo[k], emissionSums[s] += area * means.emission[k];
+        baseSums[s] += area * means.base[k], metalRoughSums[s] += area * means.metallicRoughness[k];
+        areaSums[s] += area;
+      }
+    }
+
+    for (size_t s = 0; s < welded.size(); ++s) {
+      if (adjacent[s].empty()) continue;  // only on degenerate triangles, or unreferenced
+      SurfelSource src{uint32_t(g.surfelVertices.size()), uint32_t(welded[s].size()),
+                       uint32_t(g.surfelTriangles.size()), uint32_t(adjacent[s].size())};
+      for (uint32_t v : welded[s]) g.surfelVertices.push_back(base + v);
+      g.surfelTriangles.insert(g.surfelTriangles.end(), adjacent[s].begin(), adjacent[s].end());
+      g.surfels.push_back(src);
+      g.surfelAlbedo.push_back(varies ? albedoSums[s] / areaSums[s] : uniformAlbedo);
+      g.surfelEmission.push_back(varies ? emissionSums[s] / areaSums[s] : material.emission);
+      const glm::vec2 metalRough = varies ? metalRoughSums[s] / areaSums[s] : glm::vec2(1.0f);
+      g.surfelBrdf.push_back(surfaceBrdf(material, glm::vec3(varies ? baseSums[s] / areaSums[s] : material.baseColor),
+                                         glm::vec4(0.0f, metalRough.y, metalRough.x, 0.0f)));
+    }
+    return triangleOf;
+  };
+
+  // The double-sided primitives drawn, as tessellated, for their backs.
+  struct DoubleSided {
+    Primitive primitive;
+    int node;
+    std::vector<int32_t> triangleOf;
+  };
+  std::vector<DoubleSided> doubleSided;
   std::function<void(int)> visit = [&](int nodeIndex) {
     const Node& node = scene.nodes[nodeIndex];
     if (node.mesh >= 0) {
@@ -236,144 +415,56 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
       for (size_t k = 0; k < primitives.size(); ++k) {
         const Primitive& given = primitives[k];
         // At most eight times the vertices the primitive came with (and a few thousand more).
-        const Primitive p = limits.uniform() > 0.0f
-                                ? tessellated(given, restMatrix(scene, rest, nodeIndex), limits,
-                                              ownerBase[nodeIndex] + uint32_t(k), 8 * given.positions.size() + 4096)
-                                : given;
-        const uint32_t instance = uint32_t(g.instances.size());
-        g.vertexColors = g.vertexColors || !p.colors.empty();
-        const uint32_t base = uint32_t(g.vertices.size());
-        const uint32_t n = uint32_t(p.positions.size());
-        const bool skinned = node.skin >= 0 && !p.joints.empty();
-        Instance inst{};
-        inst.matrix = skinned ? g.skinJointBase[node.skin] : uint32_t(nodeIndex);
-        inst.skinned = skinned;
-        inst.morphTargets = uint32_t(p.targets.size());
-        inst.morphWeightBase = g.morphWeightCount;
-        inst.morphDeltaBase = uint32_t(g.morphDeltas.size());
-        inst.vertexCount = n;
-        g.morphWeightCount += inst.morphTargets;
-        g.instances.push_back(inst);
-        g.instanceNode.push_back(nodeIndex);
-        for (const auto& t : p.targets)
-          for (uint32_t v = 0; v < n; ++v)
-            g.morphDeltas.push_back({glm::vec4(t.positions.empty() ? glm::vec3(0) : t.positions[v], 0),
-                                     glm::vec4(t.normals.empty() ? glm::vec3(0) : t.normals[v], 0)});
-
-        const gpu::Material& material = g.materials[p.material >= 0 ? p.material : defaultMaterial];
-        // At its texture's most glossy (a metallic-roughness texel of 1).
-        const gpu::SurfaceBrdf brdf = surfaceBrdf(material, glm::vec3(material.baseColor), glm::vec4(1.0f));
-        g.glossyMaterials |= !gpu::isLambertian(brdf);
-        g.lobeDominatedMaterials |= gpu::lobeDominates(brdf, SpecularAlbedo::table().at(1.0f, std::sqrt(brdf.alpha)));
-        for (uint32_t v = 0; v < n; ++v) {
-          Vertex gv{};
-          gv.position = p.positions[v];
-          gv.instance = instance;
-          gv.normal = p.normals.empty() ? glm::vec3(0) : p.normals[v];
-          gv.local = v;
-          gv.joints = skinned ? p.joints[v] : glm::uvec4(0);
-          gv.weights = skinned ? p.weights[v] : glm::vec4(0);
-          g.vertices.push_back(gv);
-          g.uvs.push_back(
-              glm::vec4(p.uvs.empty() ? glm::vec2(0) : p.uvs[v], p.uvs1.empty() ? glm::vec2(0) : p.uvs1[v]));
-          g.colors.push_back(p.colors.empty() ? glm::vec4(1) : p.colors[v]);
-        }
-
-        // Weld vertices that differ only in UV (seams) into one surfel: same position, normal and skin.
-        std::vector<uint32_t> surfelOf(n, ~0u);
-        std::unordered_multimap<uint64_t, uint32_t> byPosition;  // hash -> first vertex of a surfel
-        std::vector<std::vector<uint32_t>> welded;
-        for (uint32_t v = 0; v < n; ++v) {
-          const Vertex& gv = g.vertices[base + v];
-          uint64_t h = hashPoint(gv.position);
-          auto range = byPosition.equal_range(h);
-          for (auto it = range.first; it != range.second && surfelOf[v] == ~0u; ++it) {
-            const Vertex& o = g.vertices[base + it->second];
-            bool same = o.position == gv.position &&
-                        glm::all(glm::lessThan(glm::abs(o.normal - gv.normal), glm::vec3(1e-4f))) &&
-                        o.joints == gv.joints && o.weights == gv.weights;
-            if (same) surfelOf[v] = surfelOf[it->second];
-          }
-          if (surfelOf[v] == ~0u) {
-            surfelOf[v] = uint32_t(welded.size());
-            welded.push_back({});
-            byPosition.emplace(h, v);
-          }
-          welded[surfelOf[v]].push_back(v);
-        }
-
-        std::vector<std::vector<uint32_t>> adjacent(welded.size());
-        const size_t firstTriangle = g.triangles.size();
-        // glTF: a node whose transform has a negative determinant (a mirror) turns its triangles'
-        // front faces clockwise. Stored the other way round, every method sees the front the file
-        // means where it takes a face's side from its corners' order (a primitive without normals,
-        // an emitter's side). A skinned mesh's rest matrix is the identity: its joints place it,
-        // and are not judged here.
-        const bool mirrored = glm::determinant(glm::mat3(restMatrix(scene, rest, nodeIndex))) < 0.0f;
-        for (size_t t = 0; t + 2 < p.indices.size(); t += 3) {
-          uint32_t a = p.indices[t], b = p.indices[t + 1], c = p.indices[t + 2];
-          if (a == b || b == c || a == c || degenerate(p.positions[a], p.positions[b], p.positions[c])) {
-            ++g.degenerateTriangles;
-            continue;
-          }
-          uint32_t tri = uint32_t(g.triangles.size());
-          uint32_t mat =
-              (p.material >= 0 ? uint32_t(p.material) : defaultMaterial) | (p.normals.empty() ? gpu::kFlatShaded : 0u);
-          if (mirrored) std::swap(b, c);
-          g.triangles.push_back({base + a, base + b, base + c, mat});
-          for (uint32_t v : {a, b, c}) adjacent[surfelOf[v]].push_back(tri);
-        }
-        if (g.triangles.size() > allowed.triangles)
-          throw LoadError(scene.source + ": tessellated (--tessellate " + std::to_string(tessellation) +
-                          "), the scene reaches more than " + std::to_string(allowed.triangles) +
-                          " triangles (--max-triangles raises the limit, a lower --tessellate samples coarser)");
-
-        // Where albedo or emission varies over the triangles, each surfel takes their hat-weighted
-        // means over its triangles, weighted by the triangles' areas.
-        const bool varies = material.baseColorTexture >= 0 || material.emissiveTexture >= 0 ||
-                            material.metallicRoughnessTexture >= 0 || !p.colors.empty();
-        const glm::vec4 uniformAlbedo = solverAlbedo(g, material, material.baseColor, glm::vec4(0.0f));
-        std::vector<glm::vec4> albedoSums(varies ? welded.size() : 0, glm::vec4(0.0f)),
-            emissionSums(albedoSums.size(), glm::vec4(0.0f)), baseSums(albedoSums.size(), glm::vec4(0.0f));
-        std::vector<glm::vec2> metalRoughSums(albedoSums.size(), glm::vec2(0.0f));
-        std::vector<float> areaSums(albedoSums.size(), 0.0f);
-        for (size_t t = firstTriangle; varies && t < g.triangles.size(); ++t) {
-          const uint32_t corner[3] = {g.triangles[t].v0 - base, g.triangles[t].v1 - base, g.triangles[t].v2 - base};
-          glm::vec4 uv[3], color[3];
-          for (int k = 0; k < 3; ++k)
-            uv[k] = g.uvs[base + corner[k]], color[k] = p.colors.empty() ? glm::vec4(1) : p.colors[corner[k]];
-          const float area = 0.5f * glm::length(glm::cross(p.positions[corner[1]] - p.positions[corner[0]],
-                                                           p.positions[corner[2]] - p.positions[corner[0]]));
-          const CornerMeans means = cornerMeans(g, material, uv, color);
-          for (int k = 0; k < 3; ++k) {
-            const uint32_t s = surfelOf[corner[k]];
-            albedoSums[s] += area * means.albedo[k], emissionSums[s] += area * means.emission[k];
-            baseSums[s] += area * means.base[k], metalRoughSums[s] += area * means.metallicRoughness[k];
-            areaSums[s] += area;
-          }
-        }
-
-        for (size_t s = 0; s < welded.size(); ++s) {
-          if (adjacent[s].empty()) continue;  // only on degenerate triangles, or unreferenced
-          SurfelSource src{uint32_t(g.surfelVertices.size()), uint32_t(welded[s].size()),
-                           uint32_t(g.surfelTriangles.size()), uint32_t(adjacent[s].size())};
-          for (uint32_t v : welded[s]) g.surfelVertices.push_back(base + v);
-          g.surfelTriangles.insert(g.surfelTriangles.end(), adjacent[s].begin(), adjacent[s].end());
-          g.surfels.push_back(src);
-          g.surfelAlbedo.push_back(varies ? albedoSums[s] / areaSums[s] : uniformAlbedo);
-          g.surfelEmission.push_back(varies ? emissionSums[s] / areaSums[s] : material.emission);
-          const glm::vec2 metalRough = varies ? metalRoughSums[s] / areaSums[s] : glm::vec2(1.0f);
-          g.surfelBrdf.push_back(surfaceBrdf(material,
-                                             glm::vec3(varies ? baseSums[s] / areaSums[s] : material.baseColor),
-                                             glm::vec4(0.0f, metalRough.y, metalRough.x, 0.0f)));
-        }
+        Primitive p = limits.uniform() > 0.0f
+                          ? tessellated(given, restMatrix(scene, rest, nodeIndex), limits,
+                                        ownerBase[nodeIndex] + uint32_t(k), 8 * given.positions.size() + 4096)
+                          : given;
+        std::vector<int32_t> triangleOf = appendInstance(p, nodeIndex);
+        if (p.material >= 0 && scene.materials[size_t(p.material)].doubleSided)
+          doubleSided.push_back({std::move(p), nodeIndex, std::move(triangleOf)});
       }
       if (progress) progress(++built, drawn);
     }
     for (int c : node.children) visit(c);
   };
   for (int r : scene.roots) visit(r);
+
+  // The exposed backs of the double-sided primitives, after every front: the path tracer, which
+  // lights both sides of every face itself, leaves them out. Their material is the front's without
+  // emission (an emitter sends from its front alone, as the path tracer's do).
+  std::map<int, int> backMaterials;
+  const std::unique_ptr<BackExposure> exposure =
+      doubleSided.empty() ? nullptr : backExposure(scene, rest, g, openSpace);
+  const size_t fronts = g.triangles.size(), frontSurfels = g.surfels.size(), frontInstances = g.instances.size();
+  for (DoubleSided& d : doubleSided) {
+    std::vector<bool> copied(d.triangleOf.size());
+    for (size_t t = 0; t < copied.size(); ++t)
+      copied[t] = d.triangleOf[t] >= 0 && exposure->exposed(uint32_t(d.triangleOf[t]));
+    if (std::find(copied.begin(), copied.end(), true) == copied.end()) continue;
+    auto [at, added] = backMaterials.try_emplace(d.primitive.material, int(g.materials.size()));
+    if (added) {
+      gpu::Material back = g.materials[size_t(d.primitive.material)];
+      back.emission = glm::vec4(0.0f), back.emissiveTexture = -1;
+      g.materials.push_back(back);
+    }
+    const Primitive back = backOf(d.primitive, copied, at->second);
+    for (size_t t = 0; t < copied.size(); ++t)
+      if (copied[t]) g.triangles[size_t(d.triangleOf[t])].material |= gpu::kTwinned;
+    for (int32_t t : appendInstance(back, d.node))
+      if (t >= 0) g.triangles[size_t(t)].material |= gpu::kTwinned;
+  }
+  g.backTriangles = uint32_t(g.triangles.size() - fronts);
+  g.backSurfels = uint32_t(g.surfels.size() - frontSurfels);
+  g.backInstances = uint32_t(g.instances.size() - frontInstances);
   return g;
+}
+
+std::vector<bool> twinnedSurfels(const Geometry& g) {
+  std::vector<bool> twinned(g.surfels.size(), false);
+  for (size_t s = 0; s < g.surfels.size(); ++s)
+    for (uint32_t k = 0; k < g.surfels[s].triangleCount && !twinned[s]; ++k)
+      twinned[s] = (g.triangles[g.surfelTriangles[g.surfels[s].firstTriangle + k]].material & gpu::kTwinned) != 0u;
+  return twinned;
 }
 
 FrameInputs Geometry::frameInputs(const Scene& scene, const Pose& pose) const {
@@ -605,14 +696,14 @@ std::vector<bool> closedInstances(const Geometry& g) {
 }
 
 glm::vec3 emissionAt(const Geometry& g, const Triangle& t, float b, float c) {
-  const gpu::Material& m = g.materials[t.material & ~gpu::kFlatShaded];
+  const gpu::Material& m = g.materials[t.material & ~gpu::kTriangleFlags];
   if (m.emission == glm::vec4(0.0f)) return glm::vec3(0.0f);
   const glm::vec4 uv = (1.0f - b - c) * g.uvs[t.v0] + b * g.uvs[t.v1] + c * g.uvs[t.v2];
   return glm::vec3(m.emission * sampleTexture(g, m.emissiveTexture, uv));
 }
 
 std::vector<EmissionCell> emissionCells(const Geometry& g, const Triangle& t) {
-  const gpu::Material& m = g.materials[t.material & ~gpu::kFlatShaded];
+  const gpu::Material& m = g.materials[t.material & ~gpu::kTriangleFlags];
   if (m.emission == glm::vec4(0.0f)) return {};
   if (m.emissiveTexture < 0) return {{{glm::vec2(0, 0), glm::vec2(1, 0), glm::vec2(0, 1)}, glm::vec3(m.emission)}};
   const glm::vec4 uv[3] = {g.uvs[t.v0], g.uvs[t.v1], g.uvs[t.v2]};

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "engine/scene/animation.h"
+#include "engine/scene/back_faces.h"
 #include "engine/scene/scene.h"
 #include "shaders/interface.h"
 
@@ -41,14 +42,20 @@ struct Geometry {
   std::vector<glm::vec4> colors;  // COLOR_0, white where a primitive has none
   bool vertexColors = false;      // some primitive has COLOR_0
   std::vector<Instance> instances;
+  uint32_t backInstances = 0;  // the last ones: the backs of open double-sided surfaces (back_faces.h)
   std::vector<MorphDelta> morphDeltas;
   std::vector<Triangle> triangles;
-  std::vector<gpu::Material> materials;  // last one: the glTF default material
-  bool glossyMaterials = false;          // some drawn material is not Lambertian
-  bool lobeDominatedMaterials = false;   // in some, the lobe reflects most (gpu::lobeDominates): a metal
+  // The last ones: the exposed backs of open double-sided surfaces (back_faces.h), which the path
+  // tracer leaves out.
+  uint32_t backTriangles = 0;
+  // The file's, then the glTF default material, then the backs' (their fronts' without emission).
+  std::vector<gpu::Material> materials;
+  bool glossyMaterials = false;         // some drawn material is not Lambertian
+  bool lobeDominatedMaterials = false;  // in some, the lobe reflects most (gpu::lobeDominates): a metal
   std::vector<gpu::Texture> textures;
   std::vector<uint32_t> texels;  // linear RGBA as two packHalf2x16 words per texel
   std::vector<SurfelSource> surfels;
+  uint32_t backSurfels = 0;  // the last ones: the back faces' (backTriangles)
   std::vector<uint32_t> surfelVertices, surfelTriangles;
   // static: base colour × COLOR_0 × texture (emission: emissive × texture), each triangle's
   // hat-weighted mean over the surfel's triangles
@@ -74,8 +81,10 @@ using BuildProgress = std::function<void(size_t built, size_t nodes)>;
 // (tessellation.h), so that no surface is sampled coarser than that. Throws LoadError, before
 // allocating for them, where the scene draws more than `limits` allow, and where its tessellation
 // reaches more triangles.
+// The exposed backs of open double-sided surfaces get faces of their own (back_faces.h), those
+// that see only open space where `openSpace` or a directional light lights it.
 Geometry buildGeometry(const Scene& scene, uint32_t tessellation = 0, const BuildProgress& progress = {},
-                       const Limits& limits = {});
+                       const Limits& limits = {}, OpenSpace openSpace = OpenSpace::Lit);
 
 // The animate pass evaluated on the host: the reference the GPU is tested against.
 std::vector<WorldVertex> animateOnHost(const Geometry& geometry, const FrameInputs& inputs);
@@ -103,6 +112,15 @@ std::vector<EmissionCell> emissionCells(const Geometry& g, const Triangle& t);
 
 // A hash of a point's exact bits: vertices are welded by position through it.
 uint64_t hashPoint(glm::vec3 p);
+
+// Per surfel: whether another faces the other way in its place (a face of it is kTwinned): a back
+// face's, or one of a face with a back.
+std::vector<bool> twinnedSurfels(const Geometry& g);
+
+// The triangles but the backs (Geometry::backTriangles): each face once.
+inline std::vector<Triangle> frontTriangles(const Geometry& g) {
+  return {g.triangles.begin(), g.triangles.end() - std::ptrdiff_t(g.backTriangles)};
+}
 
 // Per instance: whether `animation` can move its world-space geometry (its node or an ancestor is
 // animated, its morph weights are, or it is skinned and the animation moves anything). The solver

@@ -66,7 +66,8 @@ void main() {
   const float scale = weightSum > 0.0 ? kPi / weightSum : 0.0;
   for (uint c = 0u; c < bins; ++c) {
     // Antiradiance toward c: the light that arrived travelling along c, from the opposite bin.
-    vec3 through = imageLoad(incident, int(s * bins + oppositeBin(c, kDirs))).rgb;
+    vec3 through =
+        s < push.firstBackSurfel ? imageLoad(incident, int(s * bins + oppositeBin(c, kDirs))).rgb : vec3(0.0);
     if (kSenderLobes && lobe.w > 0.0) {
       const vec3 w = normalize(binDirection(c, kDirs));
       // Less the lobe's excess over S sent evenly (radiance), toward the bins in front.

@@ -35,8 +35,24 @@ shared uint large[64];
 Camera camera;   // the workgroup's view
 uint viewStart;  // its first sample in `visibility`
 
-void castSample(uint tri, Projected t, ivec2 px) {
+// A twinned face (kTwinned) and its twin lie in one place, facing apart, and the camera sees the one
+// that faces it: this one's front, the side its vertex normals face (flat shaded: its corners'
+// counter-clockwise side), as its surfels'. Zero for any other face, seen from either side, and in
+// a depth map, where either twin stands for both.
+vec3 twinFront(uint tri, Projected t) {
+  if (kDepthOnly) return vec3(0.0);
+  const uvec4 v = imageLoad(triangles, int(tri));
+  if ((v.w & kTwinned) == 0u) return vec3(0.0);
+  const vec3 n = cross(t.b - t.a, t.c - t.a);
+  if ((v.w & kFlatShaded) != 0u) return n;
+  const vec3 normals = imageLoad(world, int(2u * v.x + 1u)).xyz + imageLoad(world, int(2u * v.y + 1u)).xyz +
+                       imageLoad(world, int(2u * v.z + 1u)).xyz;
+  return dot(n, normals) < 0.0 ? -n : n;
+}
+
+void castSample(uint tri, Projected t, vec3 front, ivec2 px) {
   vec3 dir = cameraRay(camera, vec2(px) + 0.5, push.size);
+  if (dot(front, dir) > 0.0) return;  // a twin seen from behind
   float depth;
   vec2 uv;
   if (!intersectTriangle(cameraRayOrigin(camera, vec2(px) + 0.5, push.size), dir, t.a, t.b, t.c, depth, uv)) return;
@@ -59,11 +75,13 @@ void main() {
   const uint tri = itemIndex();
   if (tri < push.triangleCount) {
     const Projected t = projected(camera, cornersOf(tri));
-    if (isLarge(t))
+    if (isLarge(t)) {
       large[atomicAdd(largeCount, 1u)] = tri;
-    else if (slice == 0u)  // empty bounds walk nothing
+    } else if (slice == 0u) {  // empty bounds walk nothing
+      const vec3 front = twinFront(tri, t);
       for (int y = t.lo.y; y <= t.hi.y; ++y)
-        for (int x = t.lo.x; x <= t.hi.x; ++x) castSample(tri, t, ivec2(x, y));
+        for (int x = t.lo.x; x <= t.hi.x; ++x) castSample(tri, t, front, ivec2(x, y));
+    }
   }
   barrier();
   // The large ones together: this workgroup's slice of each, at most kTilesPerSlice tiles of it (a
@@ -72,6 +90,7 @@ void main() {
   for (uint k = 0u; k < largeCount; ++k) {
     const uint tri = large[k];
     const Projected t = projected(camera, cornersOf(tri));
+    const vec3 front = twinFront(tri, t);
     const Slicing s = slicing(t, kTilesPerSlice);
     const int z = int(slice), rowBlock = z / s.columnBlocks, columnBlock = z - rowBlock * s.columnBlocks;
     const ivec2 first = t.lo + 8 * ivec2(s.columns * columnBlock, s.rows * rowBlock),
@@ -79,7 +98,7 @@ void main() {
     for (int y = first.y; y <= last.y; y += 8)
       for (int x = first.x; x <= last.x; x += 8) {
         ivec2 px = ivec2(x, y) + lane;
-        if (all(lessThanEqual(px, last))) castSample(tri, t, px);
+        if (all(lessThanEqual(px, last))) castSample(tri, t, front, px);
       }
   }
 }

@@ -166,7 +166,8 @@ void main() {
       const SurfaceMaterial m = materialAt(t, w);
       const vec3 base = m.brdf.base.rgb;
       albedo += base;
-      emission += m.emission;
+      // An emitter glows on its front alone (its light leaves from there), as pt's do.
+      if (dot(n, towardEye(cameraEye(push.camera), h.position)) > 0.0) emission += m.emission;
       roughMetal += vec2(m.roughness, m.brdf.metallic);
       if (kLit) {
         vec3 e = w.x * irradianceAt(t.x) + w.y * irradianceAt(t.y) + w.z * irradianceAt(t.z), direct = vec3(0.0);

@@ -32,7 +32,7 @@ struct SurfaceMaterial {
 
 // The material of triangle t (v0, v1, v2, material | kFlatShaded) at barycentric weights w.
 SurfaceMaterial materialAt(uvec4 t, vec3 w) {
-  const uint mi = t.w & ~kFlatShaded;
+  const uint mi = t.w & ~kTriangleFlags;
   SurfaceMaterial m;
   vec3 base = uintBitsToFloat(imageLoad(materials, int(kMaterialTexels * mi)).rgb);
   m.emission = uintBitsToFloat(imageLoad(materials, int(kMaterialTexels * mi + 1u)).rgb);

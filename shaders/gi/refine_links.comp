@@ -98,7 +98,8 @@ void refinePairs() {
     float scale = max(nr.positionArea.w, ns.positionArea.w);
     if (dist2 <= 1e-6 * scale) {  // coincident (hard edges): the pruning bins it by points on its disk
       if (leafR && leafS) {
-        storeLink(r, s);
+        // Twins (a face and its back, scene/back_faces.h) face apart: neither sees the other.
+        if (dot(nr.normalCone.xyz, ns.normalCone.xyz) > -0.999) storeLink(r, s);
         continue;
       }
     } else {

@@ -81,6 +81,9 @@ struct QueueArgsPush {  // queue_args
 };
 struct ArLocalPush {  // ar_local
   uint surfelCount;
+  // The surfels from here on are back faces (scene/back_faces.h): they let nothing through, since
+  // their fronts' surfels, in the same places, let the light through both ways.
+  uint firstBackSurfel;
   uint updateRadiance;  // 1: reflect the incident light (a radiance step); 0: keep the radiance
   // 1: the emitters' light comes from depth maps, inside the irradiance: the surfels send only what
   // they reflect (their Le is not transported).

@@ -30,9 +30,13 @@ struct Triangle {
   uint v0;
   uint v1;
   uint v2;
-  uint material;  // material index | kFlatShaded when the primitive has no normals
+  uint material;  // material index | kFlatShaded when the primitive has no normals | kTwinned
 };
 IVGI_CONST uint kFlatShaded = 0x80000000u;
+// A face of an open double-sided surface whose back has faces of its own (scene/back_faces.h), or
+// such a back face: the camera sees each from its front alone.
+IVGI_CONST uint kTwinned = 0x40000000u;
+IVGI_CONST uint kTriangleFlags = kFlatShaded | kTwinned;
 // glTF's metallic-roughness material (interface/brdf.h evaluates it); read by the passes as
 // kMaterialTexels RGBA32 texels.
 struct Material {

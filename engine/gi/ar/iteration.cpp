@@ -3,12 +3,13 @@
 namespace ivgi::gi {
 
 ArIteration::ArIteration(const vk::Context& ctx, const Hierarchy& h, const ArSettings& settings, const ArBuffers& b,
-                         const LinkSet& staticLinks, const LinkSet& frameLinks, bool glossy,
+                         const LinkSet& staticLinks, const LinkSet& frameLinks, bool glossy, uint32_t firstBackSurfel,
                          vk::Allocations& allocations)
     : b_(b),
       staticLinks_(staticLinks),
       frameLinks_(frameLinks),
       surfelCount_(uint32_t(h.leafOfSurfel.size())),
+      firstBackSurfel_(firstBackSurfel),
       nodeCount_(uint32_t(h.nodes.size())),
       bins_(6 * settings.dirs * settings.dirs),
       local_(shaderProgram(ctx, "ar_local",
@@ -49,6 +50,7 @@ void ArIteration::record(VkCommandBuffer cmd, vk::PassTimer& timer, const ArStep
   pass("local", [&] {
     local_.dispatchItems(cmd, surfelCount_, b_.pool(),
                          gpu::ArLocalPush{.surfelCount = surfelCount_,
+                                          .firstBackSurfel = firstBackSurfel_,
                                           .updateRadiance = step.radianceStep ? 1u : 0u,
                                           .emittersByMaps = b_.scene.emittersByMaps() ? 1u : 0u});
     for (const NodeRange& level : innerLevels_)

@@ -27,9 +27,11 @@ class ArIteration {
  public:
   // The passes at the settings' `dirs` (a constant of their programs), recording into the solver's
   // buffers `b` over the links of its two sets (the static pairs' first); the pull-up takes `h`'s
-  // inner nodes. `glossy`: some material is, and its leaves send their lobes.
+  // inner nodes. `glossy`: some material is, and its leaves send their lobes. The surfels from
+  // `firstBackSurfel` on are back faces (scene::Geometry::backSurfels), which let no light through.
   ArIteration(const vk::Context& ctx, const Hierarchy& h, const ArSettings& settings, const ArBuffers& b,
-              const LinkSet& staticLinks, const LinkSet& frameLinks, bool glossy, vk::Allocations& allocations);
+              const LinkSet& staticLinks, const LinkSet& frameLinks, bool glossy, uint32_t firstBackSurfel,
+              vk::Allocations& allocations);
   void record(VkCommandBuffer cmd, vk::PassTimer& timer, const ArStep& step) const;
   // Workgroups of the incident pass, each leaving one gpu::IterationSum an iteration.
   uint32_t sumGroups() const;
@@ -37,7 +39,7 @@ class ArIteration {
  private:
   const ArBuffers& b_;
   const LinkSet &staticLinks_, &frameLinks_;
-  const uint32_t surfelCount_, nodeCount_, bins_;
+  const uint32_t surfelCount_, firstBackSurfel_, nodeCount_, bins_;
   vk::Program local_, pullUp_, gather_, sumDown_, incident_;
   // The inner nodes level by level, and per level holding any (deepest first) its range of them:
   // the pull-up's dispatches, and in reverse the sum-down's.

@@ -100,6 +100,15 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, IvSetup set
   }
   for (uint32_t node = 0; node < nodeCount_; ++node)
     if (h.nodes[node].parent >= 0) nodeFlags[node] = nodeFlags[uint32_t(h.nodes[node].parent)];
+  // A node whose every surfel has a twin facing the other way in its place (an open double-sided
+  // surface and its back) is closed too: its faces turned away lie behind their twins.
+  std::vector<uint8_t> twinned(nodeCount_, 1);
+  const std::vector<bool> twinnedSurfel = scene::twinnedSurfels(g);
+  for (uint32_t s = 0; s < surfelCount_; ++s) twinned[h.leafOfSurfel[s]] = twinnedSurfel[s];
+  for (uint32_t node = nodeCount_; node-- > 0;) {
+    if (h.nodes[node].parent >= 0) twinned[uint32_t(h.nodes[node].parent)] &= twinned[node];
+    if (twinned[node]) nodeFlags[node] |= gpu::kNodeClosed;
+  }
   if (anyRigid_) keepRestPose(g, nodeFlags);
   std::vector<uint32_t> leafMoves(surfelCount_);
   for (uint32_t s = 0; s < surfelCount_; ++s) leafMoves[s] = nodeFlags[h.leafOfSurfel[s]] & gpu::kNodeMoves;

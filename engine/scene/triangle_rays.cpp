@@ -1,0 +1,62 @@
+#include "engine/scene/triangle_rays.h"
+
+#include <stdexcept>
+#include <string>
+
+namespace ivgi::scene {
+
+TriangleRays::TriangleRays(const std::vector<glm::vec3>& positions, const std::vector<glm::uvec3>& triangles,
+                           bool watertight) {
+  device_ = rtcNewDevice(nullptr);
+  if (!device_)
+    throw std::runtime_error("Embree: cannot create a device (error " +
+                             std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
+  scene_ = rtcNewScene(device_);
+  if (watertight) rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
+  RTCGeometry mesh = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+  auto* vertices = static_cast<float*>(
+      rtcSetNewGeometryBuffer(mesh, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), positions.size()));
+  for (size_t v = 0; v < positions.size(); ++v)
+    for (int k = 0; k < 3; ++k) vertices[3 * v + size_t(k)] = positions[v][k];
+  auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(mesh, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                 3 * sizeof(uint32_t), triangles.size()));
+  for (size_t t = 0; t < triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) indices[3 * t + size_t(k)] = triangles[t][k];
+  rtcCommitGeometry(mesh);
+  rtcAttachGeometry(scene_, mesh);
+  rtcReleaseGeometry(mesh);
+  rtcCommitScene(scene_);
+  if (RTCError e = rtcGetDeviceError(device_); e != RTC_ERROR_NONE)
+    throw std::runtime_error("Embree: building the scene failed (error " + std::to_string(int(e)) + ")");
+}
+
+TriangleRays::~TriangleRays() {
+  if (scene_) rtcReleaseScene(scene_);
+  if (device_) rtcReleaseDevice(device_);
+}
+
+std::optional<TriangleRays::Hit> TriangleRays::nearest(glm::vec3 o, glm::vec3 d, float tnear, float tfar) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rh{};
+  rh.ray.org_x = o.x, rh.ray.org_y = o.y, rh.ray.org_z = o.z, rh.ray.tnear = tnear;
+  rh.ray.dir_x = d.x, rh.ray.dir_y = d.y, rh.ray.dir_z = d.z, rh.ray.tfar = tfar;
+  rh.ray.mask = ~0u;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(scene_, &context, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
+  return Hit{rh.hit.primID, rh.ray.tfar, glm::vec2(rh.hit.u, rh.hit.v)};
+}
+
+bool TriangleRays::occluded(glm::vec3 o, glm::vec3 d, float tfar) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay ray{};
+  ray.org_x = o.x, ray.org_y = o.y, ray.org_z = o.z, ray.tnear = 0.0f;
+  ray.dir_x = d.x, ray.dir_y = d.y, ray.dir_z = d.z, ray.tfar = tfar;
+  ray.mask = ~0u;
+  rtcOccluded1(scene_, &context, &ray);
+  return ray.tfar < 0.0f;
+}
+
+}  // namespace ivgi::scene

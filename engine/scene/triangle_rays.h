@@ -1,0 +1,38 @@
+#pragma once
+// Rays against a triangle mesh, through Embree: the path tracer's scene and the back faces'
+// exposure (back_faces.h) are each one.
+#include <embree3/rtcore.h>
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+namespace ivgi::scene {
+
+class TriangleRays {
+ public:
+  // `triangles`, each three indices of `positions`; `watertight`: no ray
+  // passes between two faces that share an edge (Embree's robust mode, somewhat slower).
+  TriangleRays(const std::vector<glm::vec3>& positions, const std::vector<glm::uvec3>& triangles, bool watertight);
+  ~TriangleRays();
+  TriangleRays(const TriangleRays&) = delete;
+  TriangleRays& operator=(const TriangleRays&) = delete;
+
+  struct Hit {
+    uint32_t triangle;
+    float t;       // along the ray, in units of its direction
+    glm::vec2 uv;  // the barycentric weights of the triangle's second and third corners
+  };
+  // The nearest face the ray from `origin` along `d` meets between tnear and tfar.
+  std::optional<Hit> nearest(glm::vec3 origin, glm::vec3 d, float tnear, float tfar) const;
+  // Whether it meets any face before tfar.
+  bool occluded(glm::vec3 origin, glm::vec3 d, float tfar) const;
+
+ private:
+  RTCDevice device_ = nullptr;
+  RTCScene scene_ = nullptr;
+};
+
+}  // namespace ivgi::scene
