@@ -46,8 +46,8 @@ int runInfo(const InfoOptions& o) {
   if (g.backInstances > 0)
     std::printf(
         "backs        %u of the triangles and %u of the surfels: the exposed backs of %u open double-sided "
-        "instances\n",
-        g.backTriangles, g.backSurfels, g.backInstances);
+        "instance%s\n",
+        g.backTriangles, g.backSurfels, g.backInstances, g.backInstances == 1 ? "" : "s");
   const std::vector<bool> closed = scene::closedInstances(g);
   std::printf("closed       %zu of %zu drawn instances enclose a volume\n",
               size_t(std::count(closed.begin(), closed.begin() + std::ptrdiff_t(drawn), true)), drawn);
