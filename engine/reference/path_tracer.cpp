@@ -108,7 +108,6 @@ float powerHeuristic(float a, float b) { return a * a / (a * a + b * b); }
 struct PathTracer::Impl {
   PathScene s;
   const scene::Geometry& g;
-  std::vector<glm::vec3> positions;  // the frame's, of every vertex
   scene::TriangleRays rays;
   std::vector<glm::vec3> front;     // per triangle: unit geometric normal on the side its vertex normals face
   std::vector<float> lightPdfArea;  // per triangle: density per unit area of choosing a point on it (0: no emission)
@@ -126,9 +125,12 @@ struct PathTracer::Impl {
   };
 
   explicit Impl(PathScene scene)
-      : s(std::move(scene)), g(*s.geometry), positions(positionsOf(s.world)), rays(positions, tracedFaces(g), false) {
-    scene::Bounds bounds;
-    for (const glm::vec3& p : positions) bounds.add(p);
+      : s(std::move(scene)),
+        g(*s.geometry),
+        // Every face once: this tracer lights both sides of a face itself, so the backs the
+        // solvers' one-sided surfels need (Geometry::backTriangles, the last) are left out.
+        rays(s.world, g.triangles, g.triangles.size() - g.backTriangles, false) {
+    const scene::Bounds bounds = scene::worldBounds(s.world);
     if (!bounds.empty()) epsilon = 1e-5f * std::max(glm::length(bounds.max - bounds.min), 1e-30f);
 
     // Emitters, chosen in proportion to their power (area × luminance of the emissive factor).
@@ -138,12 +140,11 @@ struct PathTracer::Impl {
     std::vector<float> power;
     for (uint32_t i = 0; i < g.triangles.size(); ++i) {
       const auto& t = g.triangles[i];
-      glm::vec3 a = pos(t.v0), b = pos(t.v1), c = pos(t.v2);
-      glm::vec3 n = glm::cross(b - a, c - a);
-      float area = 0.5f * glm::length(n);
-      glm::vec3 vertexNormals =
-          glm::vec3(s.world[t.v0].normal) + glm::vec3(s.world[t.v1].normal) + glm::vec3(s.world[t.v2].normal);
-      if (!(t.material & gpu::kFlatShaded) && glm::dot(n, vertexNormals) < 0.0f) n = -n;
+      const glm::vec3 n = gpu::faceFront(
+          pos(t.v0), pos(t.v1), pos(t.v2),
+          glm::vec3(s.world[t.v0].normal) + glm::vec3(s.world[t.v1].normal) + glm::vec3(s.world[t.v2].normal),
+          (t.material & gpu::kFlatShaded) != 0u);
+      const float area = 0.5f * glm::length(n);
       front[i] = area > 0.0f ? n / (2.0f * area) : glm::vec3(0.0f);
       float p = area * luminance(glm::vec3(g.materials[t.material & ~gpu::kTriangleFlags].emission));
       if (!(p > 0.0f) || !std::isfinite(p)) continue;
@@ -162,20 +163,7 @@ struct PathTracer::Impl {
     if (!emitterCdf.empty()) emitterCdf.back() = 1.0f;
   }
 
-  static std::vector<glm::vec3> positionsOf(const std::vector<scene::WorldVertex>& world) {
-    std::vector<glm::vec3> out(world.size());
-    for (size_t v = 0; v < world.size(); ++v) out[v] = glm::vec3(world[v].position);
-    return out;
-  }
-  // Every face once: this tracer lights both sides of a face itself, so the backs the solvers'
-  // one-sided surfels need (Geometry::backTriangles, the last) are left out.
-  static std::vector<glm::uvec3> tracedFaces(const scene::Geometry& g) {
-    std::vector<glm::uvec3> out(g.triangles.size() - g.backTriangles);
-    for (size_t t = 0; t < out.size(); ++t) out[t] = {g.triangles[t].v0, g.triangles[t].v1, g.triangles[t].v2};
-    return out;
-  }
-
-  glm::vec3 pos(uint32_t v) const { return positions[v]; }
+  glm::vec3 pos(uint32_t v) const { return glm::vec3(s.world[v].position); }
 
   std::optional<Surface> intersect(glm::vec3 o, glm::vec3 d, float tnear, float tfar) const {
     const std::optional<scene::TriangleRays::Hit> hit = rays.nearest(o, d, tnear, tfar);

@@ -11,18 +11,20 @@ namespace ivgi::scene {
 namespace {
 
 constexpr int kPassesThrough = 8;  // fronts a ray may pass through before it counts as enclosed
+constexpr int kRays = 16;          // rays behind a face
+constexpr int kLeastSeenOut = 2;   // of them, that must see out: an eighth of the hemisphere
 
 // Directions about +z, cosine-weighted: a Hammersley set.
 std::vector<glm::vec3> hemisphere() {
   std::vector<glm::vec3> out;
-  for (int i = 0; i < BackExposure::kRays; ++i) {
+  for (int i = 0; i < kRays; ++i) {
     uint32_t bits = uint32_t(i);
     bits = (bits << 16u) | (bits >> 16u);
     bits = ((bits & 0x55555555u) << 1u) | ((bits & 0xAAAAAAAAu) >> 1u);
     bits = ((bits & 0x33333333u) << 2u) | ((bits & 0xCCCCCCCCu) >> 2u);
     bits = ((bits & 0x0F0F0F0Fu) << 4u) | ((bits & 0xF0F0F0F0u) >> 4u);
     bits = ((bits & 0x00FF00FFu) << 8u) | ((bits & 0xFF00FF00u) >> 8u);
-    const float u = (float(i) + 0.5f) / float(BackExposure::kRays), v = float(bits) * 2.3283064365386963e-10f;
+    const float u = (float(i) + 0.5f) / float(kRays), v = float(bits) * 2.3283064365386963e-10f;
     const float r = std::sqrt(u), phi = 2.0f * glm::pi<float>() * v;
     out.emplace_back(r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(1.0f - u, 0.0f)));
   }
@@ -31,38 +33,25 @@ std::vector<glm::vec3> hemisphere() {
 
 }  // namespace
 
-namespace {
-
-std::vector<glm::uvec3> cornersOf(const std::vector<gpu::Triangle>& triangles) {
-  std::vector<glm::uvec3> out(triangles.size());
-  for (size_t t = 0; t < triangles.size(); ++t) out[t] = {triangles[t].v0, triangles[t].v1, triangles[t].v2};
-  return out;
-}
-
-}  // namespace
-
-BackExposure::BackExposure(const std::vector<glm::vec3>& positions, const std::vector<glm::vec3>& normals,
-                           const std::vector<gpu::Triangle>& triangles, std::vector<uint32_t> objectOf,
-                           std::vector<glm::vec3> lights, OpenSpace openSpace)
+BackExposure::BackExposure(const std::vector<gpu::WorldVertex>& world, const std::vector<gpu::Triangle>& triangles,
+                           std::vector<uint32_t> objectOf, std::vector<glm::vec3> lights, OpenSpace openSpace)
     : objectOf_(std::move(objectOf)),
       lights_(std::move(lights)),
       openSpace_(openSpace),
-      rays_(positions, cornersOf(triangles), true) {
+      rays_(world, triangles, triangles.size(), true) {
   front_.resize(triangles.size());
   centroid_.resize(triangles.size());
   size_.resize(triangles.size());
   for (size_t t = 0; t < triangles.size(); ++t) {
     const gpu::Triangle& x = triangles[t];
-    const glm::vec3 a = positions[x.v0], b = positions[x.v1], c = positions[x.v2];
-    glm::vec3 n = glm::cross(b - a, c - a);
+    const glm::vec3 a(world[x.v0].position), b(world[x.v1].position), c(world[x.v2].position);
+    const glm::vec3 n = gpu::faceFront(
+        a, b, c, glm::vec3(world[x.v0].normal) + glm::vec3(world[x.v1].normal) + glm::vec3(world[x.v2].normal),
+        (x.material & gpu::kFlatShaded) != 0u);
     const float length = glm::length(n);
     centroid_[t] = (a + b + c) / 3.0f;
     size_[t] = glm::length(b - a) + glm::length(c - a);
-    if (!(length > 0.0f) || !std::isfinite(length)) continue;  // degenerate: no front, never exposed
-    n /= length;
-    if ((x.material & gpu::kFlatShaded) == 0u && glm::dot(n, normals[x.v0] + normals[x.v1] + normals[x.v2]) < 0.0f)
-      n = -n;
-    front_[t] = n;
+    if (length > 0.0f && std::isfinite(length)) front_[t] = n / length;  // degenerate: none, never exposed
   }
 }
 
@@ -78,17 +67,15 @@ BackExposure::Reach BackExposure::reach(uint32_t t, glm::vec3 origin, glm::vec3 
   return Reach::Enclosed;
 }
 
-bool BackExposure::exposed(uint32_t t) const { return seenOut(t) >= kLeastSeenOut; }
-
-int BackExposure::seenOut(uint32_t t) const {
-  if (front_[t] == glm::vec3(0.0f)) return 0;
+bool BackExposure::exposed(uint32_t t) const {
+  if (front_[t] == glm::vec3(0.0f)) return false;
   const glm::vec3 back = -front_[t], origin = centroid_[t] + 1e-4f * size_[t] * back;
   for (const glm::vec3& light : lights_) {
     const glm::vec3 toward = light - origin;
     const float distance = glm::length(toward);
     if (glm::dot(toward, back) > 0.0f && distance > 0.0f &&
         reach(t, origin, toward / distance, distance) != Reach::Enclosed)
-      return kRays;
+      return true;
   }
   int out = 0;
   static const std::vector<glm::vec3> directions = hemisphere();
@@ -98,7 +85,7 @@ int BackExposure::seenOut(uint32_t t) const {
     const Reach r = reach(t, origin, local.x * t1 + local.y * t2 + local.z * back, 3.4e38f);
     out += r == Reach::OtherObject || (r == Reach::Far && openSpace_ == OpenSpace::Lit) ? 1 : 0;
   }
-  return out;
+  return out >= kLeastSeenOut;
 }
 
 Primitive backOf(const Primitive& p, const std::vector<bool>& copied, int material) {

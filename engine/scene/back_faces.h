@@ -17,30 +17,24 @@ namespace ivgi::scene {
 // directional light lights the scene.
 enum class OpenSpace { Lit, Dark };
 
-// Which faces' backs see out, among a scene's faces at rest. A back sees out where some of the rays
-// from just behind its face, spread over the hemisphere behind it, meets another object's surface
-// or leaves the scene for lit open space, or where a light lies behind it (a point or spot light, a
-// point on an emitter). The rays pass
-// through the faces of the face's own object that they meet from the front (a fold, a part inside
-// it); meeting the back of one, they are enclosed. A face's front is the side its vertex normals
-// give (without normals, its corners' counter-clockwise side).
+// Which faces' backs see out, among a scene's faces at rest. A back sees out where a light lies
+// behind its face (a point or spot light, a point on an emitter) and a ray reaches it, or where 2 of
+// 16 rays from just behind the face, cosine-spread over the hemisphere behind it, meet another
+// object's surface or leave the scene for lit open space. Through less than that eighth of its
+// hemisphere, a gap passes a back little light and shows it to few places
+// (docs/notes/gltf-conformance.md). The rays pass through the faces of the face's own object that
+// they meet from the front (a fold, a part inside it); meeting the back of one, they are enclosed.
+// A face's front is gpu::faceFront's.
 class BackExposure {
  public:
-  // `positions`: the scene's vertices at rest, world space; `triangles`: its faces (gpu::Triangle),
-  // and `objectOf` each one's object (faces of one object enclose together); `lights`: where its
-  // point and spot lights are, and points on its emitters.
-  BackExposure(const std::vector<glm::vec3>& positions, const std::vector<glm::vec3>& normals,
-               const std::vector<gpu::Triangle>& triangles, std::vector<uint32_t> objectOf,
-               std::vector<glm::vec3> lights, OpenSpace openSpace);
+  // `world`: the scene's vertices at rest; `triangles`: its faces, and `objectOf` each one's object
+  // (faces of one object enclose together); `lights`: where its point and spot lights are, and
+  // points on its emitters.
+  BackExposure(const std::vector<gpu::WorldVertex>& world, const std::vector<gpu::Triangle>& triangles,
+               std::vector<uint32_t> objectOf, std::vector<glm::vec3> lights, OpenSpace openSpace);
 
-  // Whether the back of face t sees out: a light, or through kLeastSeenOut of the kRays rays, an
-  // eighth of its hemisphere (cosine-weighted). Through less, a gap passes a back little light and
-  // shows it to few places: the inside of Blender's Suzanne, seen out through the gaps around her
-  // eyes by 90 of her 62,976 faces, one ray each, would cost the room's animated frame a tenth.
+  // Whether the back of face t sees out.
   bool exposed(uint32_t t) const;
-  // Of the kRays rays behind face t, how many see out (all where a light lies behind it).
-  int seenOut(uint32_t t) const;
-  static constexpr int kRays = 16, kLeastSeenOut = 2;
 
  private:
   // Where a ray from `origin`, behind face t, along unit d ends before `far`: past it (or in open

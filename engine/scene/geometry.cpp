@@ -183,9 +183,6 @@ std::unique_ptr<BackExposure> backExposure(const Scene& scene, const Pose& rest,
                                            OpenSpace openSpace) {
   constexpr size_t kEmitterPoints = 16;
   const std::vector<WorldVertex> world = animateOnHost(g, g.frameInputs(scene, rest));
-  std::vector<glm::vec3> positions(world.size()), normals(world.size());
-  for (size_t v = 0; v < world.size(); ++v)
-    positions[v] = glm::vec3(world[v].position), normals[v] = glm::vec3(world[v].normal);
   std::vector<uint32_t> objectOf(g.triangles.size()), emitters;
   for (uint32_t t = 0; t < g.triangles.size(); ++t) {
     objectOf[t] = g.vertices[g.triangles[t].v0].instance;
@@ -197,7 +194,7 @@ std::unique_ptr<BackExposure> backExposure(const Scene& scene, const Pose& rest,
   const size_t points = std::min(emitters.size(), kEmitterPoints);
   for (size_t k = 0; k < points; ++k) {
     const Triangle& e = g.triangles[emitters[k * emitters.size() / points]];
-    lights.push_back((positions[e.v0] + positions[e.v1] + positions[e.v2]) / 3.0f);
+    lights.push_back(glm::vec3(world[e.v0].position + world[e.v1].position + world[e.v2].position) / 3.0f);
   }
   bool sun = false;
   for (size_t n = 0; n < scene.nodes.size(); ++n) {
@@ -207,7 +204,7 @@ std::unique_ptr<BackExposure> backExposure(const Scene& scene, const Pose& rest,
     else
       lights.push_back(glm::vec3(rest.world[n][3]));
   }
-  return std::make_unique<BackExposure>(positions, normals, g.triangles, std::move(objectOf), std::move(lights),
+  return std::make_unique<BackExposure>(world, g.triangles, std::move(objectOf), std::move(lights),
                                         sun ? OpenSpace::Lit : openSpace);
 }
 

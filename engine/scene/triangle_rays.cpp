@@ -5,8 +5,8 @@
 
 namespace ivgi::scene {
 
-TriangleRays::TriangleRays(const std::vector<glm::vec3>& positions, const std::vector<glm::uvec3>& triangles,
-                           bool watertight) {
+TriangleRays::TriangleRays(const std::vector<gpu::WorldVertex>& world, const std::vector<gpu::Triangle>& triangles,
+                           size_t count, bool watertight) {
   device_ = rtcNewDevice(nullptr);
   if (!device_)
     throw std::runtime_error("Embree: cannot create a device (error " +
@@ -15,13 +15,13 @@ TriangleRays::TriangleRays(const std::vector<glm::vec3>& positions, const std::v
   if (watertight) rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
   RTCGeometry mesh = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
   auto* vertices = static_cast<float*>(
-      rtcSetNewGeometryBuffer(mesh, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), positions.size()));
-  for (size_t v = 0; v < positions.size(); ++v)
-    for (int k = 0; k < 3; ++k) vertices[3 * v + size_t(k)] = positions[v][k];
-  auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(mesh, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                 3 * sizeof(uint32_t), triangles.size()));
-  for (size_t t = 0; t < triangles.size(); ++t)
-    for (int k = 0; k < 3; ++k) indices[3 * t + size_t(k)] = triangles[t][k];
+      rtcSetNewGeometryBuffer(mesh, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), world.size()));
+  for (size_t v = 0; v < world.size(); ++v)
+    for (int k = 0; k < 3; ++k) vertices[3 * v + size_t(k)] = world[v].position[k];
+  auto* indices = static_cast<uint32_t*>(
+      rtcSetNewGeometryBuffer(mesh, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), count));
+  for (size_t t = 0; t < count; ++t)
+    indices[3 * t] = triangles[t].v0, indices[3 * t + 1] = triangles[t].v1, indices[3 * t + 2] = triangles[t].v2;
   rtcCommitGeometry(mesh);
   rtcAttachGeometry(scene_, mesh);
   rtcReleaseGeometry(mesh);

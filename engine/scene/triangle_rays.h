@@ -9,13 +9,16 @@
 #include <optional>
 #include <vector>
 
+#include "shaders/interface.h"
+
 namespace ivgi::scene {
 
 class TriangleRays {
  public:
-  // `triangles`, each three indices of `positions`; `watertight`: no ray
-  // passes between two faces that share an edge (Embree's robust mode, somewhat slower).
-  TriangleRays(const std::vector<glm::vec3>& positions, const std::vector<glm::uvec3>& triangles, bool watertight);
+  // The first `count` of `triangles`, over the vertices `world`; `watertight`: no ray passes between
+  // two faces that share an edge (Embree's robust mode, somewhat slower).
+  TriangleRays(const std::vector<gpu::WorldVertex>& world, const std::vector<gpu::Triangle>& triangles, size_t count,
+               bool watertight);
   ~TriangleRays();
   TriangleRays(const TriangleRays&) = delete;
   TriangleRays& operator=(const TriangleRays&) = delete;

@@ -43,11 +43,9 @@ vec3 twinFront(uint tri, Projected t) {
   if (kDepthOnly) return vec3(0.0);
   const uvec4 v = imageLoad(triangles, int(tri));
   if ((v.w & kTwinned) == 0u) return vec3(0.0);
-  const vec3 n = cross(t.b - t.a, t.c - t.a);
-  if ((v.w & kFlatShaded) != 0u) return n;
   const vec3 normals = imageLoad(world, int(2u * v.x + 1u)).xyz + imageLoad(world, int(2u * v.y + 1u)).xyz +
                        imageLoad(world, int(2u * v.z + 1u)).xyz;
-  return dot(n, normals) < 0.0 ? -n : n;
+  return faceFront(t.a, t.b, t.c, normals, (v.w & kFlatShaded) != 0u);
 }
 
 void castSample(uint tri, Projected t, vec3 front, ivec2 px) {

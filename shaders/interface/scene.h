@@ -37,6 +37,13 @@ IVGI_CONST uint kFlatShaded = 0x80000000u;
 // such a back face: the camera sees each from its front alone.
 IVGI_CONST uint kTwinned = 0x40000000u;
 IVGI_CONST uint kTriangleFlags = kFlatShaded | kTwinned;
+// Triangle a b c's front, not normalised: its corners' counter-clockwise normal, turned to the side
+// its vertex normals face (`normals`, their sum) unless it is flat shaded. An emitter sends its light
+// there, and a twinned face is seen from there alone.
+IVGI_FN vec3 faceFront(vec3 a, vec3 b, vec3 c, vec3 normals, bool flatShaded) {
+  const vec3 n = cross(b - a, c - a);
+  return !flatShaded && dot(n, normals) < 0.0f ? -n : n;
+}
 // glTF's metallic-roughness material (interface/brdf.h evaluates it); read by the passes as
 // kMaterialTexels RGBA32 texels.
 struct Material {
