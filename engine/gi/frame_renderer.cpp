@@ -61,14 +61,16 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
       directPixels_(shaderProgram(ctx, "direct_pixels",
                                   {.constants = {{"kTextured", g.textures.empty() ? 0u : 1u},
                                                  {"kColored", g.vertexColors ? 1u : 0u},
-                                                 {"kGlossy", g.glossyMaterials ? 1u : 0u}}})),
+                                                 {"kGlossy", g.glossyMaterials ? 1u : 0u},
+                                                 {"kNormalMapped", g.normalTextures ? 1u : 0u}}})),
       resolve_(shaderProgram(ctx, "resolve",
                              {.constants = {{"kTextured", g.textures.empty() ? 0u : 1u},
                                             {"kLit", solver_ ? 1u : 0u},
                                             {"kColored", g.vertexColors ? 1u : 0u},
                                             {"kDirectPixels", directPerPixel_ ? 1u : 0u},
                                             {"kGlossy", g.glossyMaterials ? 1u : 0u},
-                                            {"kReflections", reflections_ ? 1u : 0u}}})),
+                                            {"kReflections", reflections_ ? 1u : 0u},
+                                            {"kNormalMapped", g.normalTextures ? 1u : 0u}}})),
       raster_(ctx, triangleCount_, &allocations_),
       timer_(ctx) {
   validate(image, ctx);
@@ -120,6 +122,9 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
   // punctual lights. Smaller than pixelLights, so within the range the check above allowed.
   pixelSpecular_ = vk::Buffer(ctx, directPerPixel_ && g.glossyMaterials ? pixels * 2 * sizeof(glm::vec4) : 16,
                               Memory::Device, tally);
+  // Two texels a pixel (direct_pixels, where a normal texture turns its light): its light's vectors.
+  pixelTurn_ =
+      vk::Buffer(ctx, directPerPixel_ && g.normalTextures ? pixels * 2 * sizeof(glm::vec4) : 16, Memory::Device, tally);
   vertexUnshadowed_ = vk::Buffer(ctx, directPerPixel_ ? shownIrradiance_.size() : 16, Memory::Device, tally);
   surfelLobe_ = vk::Buffer(ctx, reflections_ ? shownIrradiance_.size() : 16, Memory::Device, tally);
   vertexLobe_ = vk::Buffer(ctx, reflections_ ? shownIrradiance_.size() : 16, Memory::Device, tally);
@@ -181,6 +186,7 @@ vk::Bindings FrameRenderer::pool() const {
                              {"roughnessMetallic", roughnessMetallic_},
                              {"specularAlbedo", specularAlbedo_},
                              {"pixelSpecular", pixelSpecular_},
+                             {"pixelTurn", pixelTurn_},
                              {"pixelLights", pixelLights_},
                              {"vertexUnshadowed", vertexUnshadowed_},
                              {"vertexLobe", vertexLobe_},

@@ -185,6 +185,7 @@ struct PathTracer::Impl {
                      w.z * glm::vec3(s.world[tr.v2].normal);
       if (glm::length(ns) > 0.0f) x.shadingNormal = glm::normalize(ns);
     }
+    x.shadingNormal = scene::mappedNormalAt(g, s.world, tr, w, x.shadingNormal);
     const gpu::Material& m = g.materials[tr.material & ~gpu::kTriangleFlags];
     const glm::vec4 uv = w.x * g.uvs[tr.v0] + w.y * g.uvs[tr.v1] + w.z * g.uvs[tr.v2];
     const glm::vec4 color = w.x * g.colors[tr.v0] + w.y * g.colors[tr.v1] + w.z * g.colors[tr.v2];

@@ -61,7 +61,8 @@ void appendTexture(Geometry& g, const Texture& t, bool srgb) {
 }
 
 // The passes' record of material m, with the texture records it reads.
-gpu::Material gpuMaterial(const Material& m, int baseColorTexture, int emissiveTexture, int metallicRoughnessTexture) {
+gpu::Material gpuMaterial(const Material& m, int baseColorTexture, int emissiveTexture, int metallicRoughnessTexture,
+                          int normalTexture) {
   gpu::Material out{};
   out.baseColor = m.baseColor;
   out.emission = glm::vec4(m.emissive * m.emissiveStrength, 0.0f);
@@ -69,8 +70,10 @@ gpu::Material gpuMaterial(const Material& m, int baseColorTexture, int emissiveT
   out.baseColorTexture = baseColorTexture;
   out.emissiveTexture = emissiveTexture;
   out.metallicRoughnessTexture = metallicRoughnessTexture;
+  out.normalTexture = normalTexture;
   out.metallic = m.metallic;
   out.roughness = m.roughness;
+  out.normalScale = m.normalScale;
   return out;
 }
 
@@ -231,7 +234,7 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
     matrices += uint32_t(skin.joints.size());
   }
   for (const auto& t : scene.textures) appendTexture(g, t, true);
-  // Data textures (metallic-roughness) are stored as they are, without the sRGB curve: a copy of
+  // Data textures (metallic-roughness, normals) are stored as they are, without the sRGB curve: a copy of
   // their own where a texture is read both ways.
   std::map<int, int> linearCopies;
   auto linearTexels = [&](int texture) {
@@ -253,8 +256,9 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
   for (const auto& m : scene.materials)
     g.materials.push_back(gpuMaterial(
         m, transformed(m.baseColorTexture, m.baseColorTransform), transformed(m.emissiveTexture, m.emissiveTransform),
-        transformed(linearTexels(m.metallicRoughnessTexture), m.metallicRoughnessTransform)));
-  g.materials.push_back(gpuMaterial(Material{}, -1, -1, -1));  // glTF default material
+        transformed(linearTexels(m.metallicRoughnessTexture), m.metallicRoughnessTransform),
+        transformed(linearTexels(m.normalTexture), m.normalTransform)));
+  g.materials.push_back(gpuMaterial(Material{}, -1, -1, -1, -1));  // glTF default material
   const uint32_t defaultMaterial = uint32_t(g.materials.size() - 1);
 
   size_t drawn = 0, built = 0;  // the nodes drawn, and those built so far (counted for `progress`)
@@ -294,6 +298,7 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
     const gpu::SurfaceBrdf brdf = surfaceBrdf(material, glm::vec3(material.baseColor), glm::vec4(1.0f));
     g.glossyMaterials |= !gpu::isLambertian(brdf);
     g.lobeDominatedMaterials |= gpu::lobeDominates(brdf, SpecularAlbedo::table().at(1.0f, std::sqrt(brdf.alpha)));
+    g.normalTextures |= material.normalTexture >= 0;
     for (uint32_t v = 0; v < n; ++v) {
       Vertex gv{};
       gv.position = p.positions[v];
@@ -442,6 +447,9 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
     if (added) {
       gpu::Material back = g.materials[size_t(d.primitive.material)];
       back.emission = glm::vec4(0.0f), back.emissiveTexture = -1;
+      // The back's normals are the front's reversed, its normal texture's too: its reversed winding
+      // keeps the tangent frame's tangent and bitangent, so their share turns sign with the scale.
+      back.normalScale = -back.normalScale;
       g.materials.push_back(back);
     }
     const Primitive back = backOf(d.primitive, copied, at->second);

@@ -52,6 +52,7 @@ struct Geometry {
   std::vector<gpu::Material> materials;
   bool glossyMaterials = false;         // some drawn material is not Lambertian
   bool lobeDominatedMaterials = false;  // in some, the lobe reflects most (gpu::lobeDominates): a metal
+  bool normalTextures = false;          // some drawn material has a normal texture
   std::vector<gpu::Texture> textures;
   std::vector<uint32_t> texels;  // linear RGBA as two packHalf2x16 words per texel
   std::vector<SurfelSource> surfels;

@@ -162,8 +162,7 @@ class Converter {
       // Every method takes a surface as opaque: a cut-out or blended one would block what it lets through.
       if (m.alphaMode == "MASK" || m.alphaMode == "BLEND")
         warn("material '" + m.name + "' has alphaMode " + m.alphaMode + "; it is drawn opaque");
-      if (m.normalTexture.index >= 0)
-        warn("material '" + m.name + "' has a normal texture; it is shaded with its mesh's normals");
+      normalTexture(m, out);
       if (auto* v = extensionValue(m.extensions, "KHR_materials_emissive_strength", "emissiveStrength"))
         out.emissiveStrength = float(v->GetNumberAsDouble());
       auto finite = [](glm::vec4 v) { return glm::all(glm::lessThan(glm::abs(v), glm::vec4(3.4e38f))); };
@@ -171,6 +170,19 @@ class Converter {
         read_.fail("material '" + m.name + "' has a non-finite or negative factor");
       scene_.materials.push_back(out);
     }
+  }
+
+  // The material's normal texture, read with its own coordinate set and transform.
+  void normalTexture(const tinygltf::Material& m, Material& out) {
+    const tinygltf::NormalTextureInfo& info = m.normalTexture;
+    if (info.index < 0) return;
+    if (!std::isfinite(info.scale) || std::abs(info.scale) > 3.4e38)
+      read_.fail("material '" + m.name + "': normalTexture scale is not a finite number");
+    // textureReference() reads a TextureInfo; a NormalTextureInfo adds the scale to the same fields.
+    tinygltf::TextureInfo reference;
+    reference.index = info.index, reference.texCoord = info.texCoord, reference.extensions = info.extensions;
+    out.normalTexture = textureReference(reference, out.normalTransform, "material '" + m.name + "' normal");
+    out.normalScale = float(info.scale);
   }
 
   // A factor the specification bounds to [0, 1]: one outside is clamped into it, with a warning.
@@ -349,11 +361,17 @@ class Converter {
     out.material = p.material;
     if (p.material >= 0 && out.uvs1.empty()) {
       const Material& m = scene_.materials[size_t(p.material)];
-      for (const TextureTransform* t : {&m.baseColorTransform, &m.emissiveTransform, &m.metallicRoughnessTransform})
+      for (const TextureTransform* t :
+           {&m.baseColorTransform, &m.emissiveTransform, &m.metallicRoughnessTransform, &m.normalTransform})
         if (t->texCoord == 1) {
           warn(what + " has no TEXCOORD_1, which its material '" + m.name + "' reads; it reads (0, 0)");
           break;
         }
+    }
+    if (p.material >= 0 && scene_.materials[size_t(p.material)].normalTexture >= 0 && p.attributes.count("TANGENT") &&
+        !tangentsWarned_) {
+      warn(what + " has TANGENT: every normal texture is read in its triangles' own tangent frames instead");
+      tangentsWarned_ = true;
     }
     return out;
   }
@@ -585,7 +603,8 @@ class Converter {
   AccessorReader read_;
   std::string source_;
   Limits limits_;
-  uint64_t morphDeltas_ = 0;  // read so far
+  uint64_t morphDeltas_ = 0;     // read so far
+  bool tangentsWarned_ = false;  // once a file
   Scene scene_;
 };
 

@@ -53,6 +53,9 @@ struct Material {
   float metallic = 1.0f, roughness = 1.0f;  // in [0, 1]
   int metallicRoughnessTexture = -1;        // linear: G roughness, B metallic
   TextureTransform metallicRoughnessTransform;
+  int normalTexture = -1;  // linear: the tangent-space normal, gpu::mappedNormal
+  TextureTransform normalTransform;
+  float normalScale = 1.0f;
   float specular = 1.0f;          // KHR_materials_specular: the dielectric's specular weight
   glm::vec3 specularColor{1.0f};  // and its reflectance's colour
   float ior = 1.5f;               // KHR_materials_ior (0: the reflectance is the colour itself)

@@ -23,4 +23,16 @@ glm::vec4 sampleTexture(const Geometry& g, int index, glm::vec4 uvs) {
                   glm::mix(texel(xs.x, ys.y), texel(xs.y, ys.y), ax), ay);
 }
 
+glm::vec3 mappedNormalAt(const Geometry& g, const std::vector<WorldVertex>& world, const gpu::Triangle& t, glm::vec3 w,
+                         glm::vec3 n) {
+  const gpu::Material& m = g.materials[t.material & ~gpu::kTriangleFlags];
+  if (m.normalTexture < 0) return n;
+  const gpu::Texture& texture = g.textures[size_t(m.normalTexture)];
+  const glm::vec4 uvs = w.x * g.uvs[t.v0] + w.y * g.uvs[t.v1] + w.z * g.uvs[t.v2];
+  auto position = [&](uint32_t v) { return glm::vec3(world[v].position); };
+  return gpu::mappedNormal(n, position(t.v0), position(t.v1), position(t.v2), gpu::transformedUv(texture, g.uvs[t.v0]),
+                           gpu::transformedUv(texture, g.uvs[t.v1]), gpu::transformedUv(texture, g.uvs[t.v2]),
+                           glm::vec3(sampleTexture(g, m.normalTexture, uvs)), m.normalScale);
+}
+
 }  // namespace ivgi::scene

@@ -1,7 +1,11 @@
 #pragma once
 // Bilinear texture lookup with glTF wrap modes over the linear half-float texels of Geometry, as
 // sampleTexture() in shaders/frame/resolve.comp does it (both address texels by gpu::texelPair).
+#include <vector>
+
 #include <glm/glm.hpp>
+
+#include "shaders/interface.h"
 
 namespace ivgi::scene {
 
@@ -14,5 +18,10 @@ glm::vec4 sampleTexture(const Geometry& g, int index, glm::vec4 uvs);
 inline glm::vec4 sampleTexture(const Geometry& g, int index, glm::vec2 uv) {
   return sampleTexture(g, index, glm::vec4(uv, uv));
 }
+
+// The shading normal at barycentric weights w of triangle t, posed as `world`, whose unit normal
+// there is n: n turned by its material's normal texture (gpu::mappedNormal), or n where it has none.
+glm::vec3 mappedNormalAt(const Geometry& g, const std::vector<gpu::WorldVertex>& world, const gpu::Triangle& t,
+                         glm::vec3 w, glm::vec3 n);
 
 }  // namespace ivgi::scene

@@ -106,7 +106,7 @@ vec3 lightFrom(LightPoint l, vec3 p, vec3 n, out float cosine, out vec3 toward) 
 
 // What a surface reflects toward the camera of the light of points first, first + stride, … before
 // `end`, each where its maps see p, through its specular lobe (kGlossy): the material and the view
-// (unit, away from the surface) in the tangent frame of n.
+// (unit, away from the surface) in the tangent frame of its shading normal n.
 struct Lobe {
   bool glossy;  // false: nothing reflected (a Lambertian surface, or none asked)
   SurfaceBrdf brdf;
@@ -118,18 +118,27 @@ vec3 lobeOf(Lobe lobe, vec3 toward) {
   return evalBrdf(lobe.brdf, l, lobe.view, 0.0);  // weight 0: the lobe alone, not the base
 }
 
+// The light at a point from a run of light points (lightAt): each point's where its maps see the
+// point, and every point's. With each, its luminance as a vector: the points' luminance at normal
+// incidence along their directions, whose dot product with the normal is the luminance of the sum,
+// and with another normal what the same light gives there while it stays above that normal's
+// horizon (how a normal texture turns it).
+struct PointsLight {
+  vec3 seen, unshadowed;
+  vec3 seenVector, unshadowedVector;
+  vec3 reflected;   // what the lobe reflects of the seen light toward the camera
+  vec4 arrival;     // the seen light's directions weighed by its luminance (xyz), and that luminance (w)
+  float footprint;  // the solid angle a disk facing n spans from the lights, weighed likewise
+};
+
 // Light at p (unit normal n) from points first, first + stride, … before `end`, each where its maps
-// see p (`lookup`: seenShare's), times `scale`; in `unshadowed` the same with every point seen,
-// in `reflected` what `lobe` reflects of the seen light, and in `arrival` the seen light's
-// directions weighed by its luminance (xyz) and that luminance (w), unscaled; in `footprint` the
-// solid angle a disk of area `area` facing n at p spans from the lights, weighed likewise.
-vec3 lightAt(vec3 p, vec3 n, uint first, uint end, uint stride, float scale, uint side, uint lookup, Lobe lobe,
-             out vec3 unshadowed, out vec3 reflected, out vec4 arrival, float area, out float footprint) {
-  vec3 e = vec3(0.0);
-  unshadowed = vec3(0.0);
-  reflected = vec3(0.0);
-  arrival = vec4(0.0);
-  footprint = 0.0;
+// see p (`lookup`: seenShare's), times `scale` but for `arrival` and `footprint`. The lobe reflects
+// about its own normal (lobe.n, a normal texture's shading normal), each light weighed by the
+// cosine there; `area` is the footprint's disk's.
+PointsLight lightAt(vec3 p, vec3 n, uint first, uint end, uint stride, float scale, uint side, uint lookup, Lobe lobe,
+                    float area) {
+  PointsLight sums = PointsLight(vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), vec4(0.0), 0.0);
+  const bool turned = any(notEqual(lobe.n, n));
   for (uint i = first; i < end; i += stride) {
     float cosine;
     vec3 toward;
@@ -137,18 +146,23 @@ vec3 lightAt(vec3 p, vec3 n, uint first, uint end, uint stride, float scale, uin
     const vec3 seen = lightFrom(point, p, n, cosine, toward);
     if (cosine <= 0.0 || all(equal(seen, vec3(0.0)))) continue;
     const vec3 lit = seen * seenShare(point, p, cosine, side, lookup);
-    e += lit;
-    unshadowed += seen;
+    sums.seen += lit;
+    sums.unshadowed += seen;
     const float luminance = dot(lit, vec3(0.2126, 0.7152, 0.0722));
-    arrival += luminance * vec4(toward, 1.0);
+    sums.seenVector += luminance / cosine * toward;
+    sums.unshadowedVector += dot(seen, vec3(0.2126, 0.7152, 0.0722)) / cosine * toward;
+    sums.arrival += luminance * vec4(toward, 1.0);
     const bool directional = point.cone.w == kLightPointIsPunctual && point.cone.z == kLightDirectional;
     const vec3 fromLight = point.positionArea.xyz - p;
-    if (area > 0.0 && !directional) footprint += luminance * area * cosine / (dot(fromLight, fromLight) + area / kPi);
-    if (lobe.glossy) reflected += lobeOf(lobe, toward) * lit;
+    if (area > 0.0 && !directional)
+      sums.footprint += luminance * area * cosine / (dot(fromLight, fromLight) + area / kPi);
+    // Light from above the surface's horizon, weighed by the cosine at the lobe's normal.
+    const float turn = turned ? max(dot(lobe.n, toward), 0.0) / cosine : 1.0;
+    if (lobe.glossy) sums.reflected += lobeOf(lobe, toward) * lit * turn;
   }
-  unshadowed *= scale;
-  reflected *= scale;
-  return e * scale;
+  sums.seen *= scale, sums.unshadowed *= scale, sums.reflected *= scale;
+  sums.seenVector *= scale, sums.unshadowedVector *= scale;
+  return sums;
 }
 
 // Irradiance at a surfel's p (unit normal n) from the emitter samples first, first + stride, … of
@@ -157,16 +171,16 @@ vec3 lightAt(vec3 p, vec3 n, uint first, uint end, uint stride, float scale, uin
 // all. And in `unshadowed`, the same with every sample seen; in `arrival` and `footprint`, lightAt's.
 vec3 sampledIrradiance(vec3 p, vec3 n, uint samples, uint side, uint first, uint stride, out vec3 unshadowed,
                        out vec4 arrival, float area, out float footprint) {
-  vec3 reflected;
-  return lightAt(p, n, first, samples, stride, float(stride), side, kSurfelLookup, noLobe(n), unshadowed, reflected,
-                 arrival, area, footprint);
+  const PointsLight l = lightAt(p, n, first, samples, stride, float(stride), side, kSurfelLookup, noLobe(n), area);
+  unshadowed = l.unshadowed, arrival = l.arrival, footprint = l.footprint;
+  return l.seen;
 }
 
 // Irradiance at a surfel's p (unit normal n) from the `punctual` lights (point, spot, directional)
 // after the `samples` emitter samples, each where its maps see p; in `arrival` and `footprint`, lightAt's.
 vec3 punctualIrradiance(vec3 p, vec3 n, uint samples, uint punctual, uint side, out vec4 arrival, float area,
                         out float footprint) {
-  vec3 unshadowed, reflected;
-  return lightAt(p, n, samples, samples + punctual, 1u, 1.0, side, kSurfelLookup, noLobe(n), unshadowed, reflected,
-                 arrival, area, footprint);
+  const PointsLight l = lightAt(p, n, samples, samples + punctual, 1u, 1.0, side, kSurfelLookup, noLobe(n), area);
+  arrival = l.arrival, footprint = l.footprint;
+  return l.seen;
 }

@@ -5,7 +5,9 @@
 // the vertices carry unshadowed by the share its neighbours on the same surface see (the ratio of the two summed over
 // them), so that the shadows are the pixels' own at a fraction of the lookups. Where the pixel's
 // material is glossy (kGlossy), also what its specular lobe reflects of that light toward the
-// camera, which the resolve averages over the same neighbours.
+// camera, which the resolve averages over the same neighbours. Where a normal texture turns the
+// shading normal (kNormalMapped), the lobe reflects about the pixel's, and the pixel keeps its
+// light's vectors, by which the resolve turns the light to each sample's (pixelTurn).
 #extension GL_GOOGLE_include_directive : require
 #include "common/common.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -24,11 +26,16 @@ layout(std430, binding = 10) readonly buffer Textures { Texture textures[]; };
 layout(binding = 11, rg32ui) readonly uniform uimageBuffer texels;  // two packHalf2x16 words a texel
 // Per pixel: the lobe's reflection of its share of the emitter samples, then of the punctual lights.
 layout(std430, binding = 12) writeonly buffer PixelSpecular { vec4 pixelSpecular[]; };
+// Per pixel (kNormalMapped): the luminance vectors (PointsLight) of its emitter samples' unshadowed
+// light and of the punctual lights' seen light.
+layout(std430, binding = 13) writeonly buffer PixelTurn { vec4 pixelTurn[]; };
 layout(push_constant) uniform Push { ResolvePush push; };
 // As the resolve's: some material has a texture; some primitive has COLOR_0; some material is glossy.
 layout(constant_id = 0) const bool kTextured = true;
 layout(constant_id = 1) const bool kColored = false;
 layout(constant_id = 2) const bool kGlossy = false;
+// Some material has a normal texture.
+layout(constant_id = 3) const bool kNormalMapped = false;
 #include "direct_light.glsl"
 #include "surface_hit.glsl"
 #include "surface_material.glsl"
@@ -42,6 +49,7 @@ void main() {
   if (!(len > 0.0)) {
     pixelLights[o] = PixelLight(vec4(0.0), vec4(0.0), vec4(0.0));
     if (kGlossy) pixelSpecular[2u * o] = pixelSpecular[2u * o + 1u] = vec4(0.0);
+    if (kNormalMapped) pixelTurn[2u * o] = pixelTurn[2u * o + 1u] = vec4(0.0);
     return;
   }
   const vec3 n = h.normal / len, p = h.position;
@@ -49,22 +57,27 @@ void main() {
              first = ((px.y % block) * block + px.x % block) % stride;
   // The nearest texel: the resolve's window filters the emitter samples' shadows. The point and
   // spot lights are few: every pixel takes them all, their shadows its own.
-  Lobe lobe = noLobe(n);
+  const vec3 shading = kNormalMapped ? mappedNormalAt(h.triangle, h.weights, n) : n;
+  Lobe lobe = noLobe(shading);
   if (kGlossy) {
     lobe.brdf = materialAt(h.triangle, h.weights).brdf;
     lobe.glossy = !isLambertian(lobe.brdf);
-    tangentFrame(n, lobe.t1, lobe.t2);
+    tangentFrame(shading, lobe.t1, lobe.t2);
     const vec3 v = normalize(towardEye(cameraEye(push.camera), p));
-    lobe.view = vec3(dot(v, lobe.t1), dot(v, lobe.t2), abs(dot(v, n)));
+    lobe.view = vec3(dot(v, lobe.t1), dot(v, lobe.t2), abs(dot(v, shading)));
   }
-  vec3 unshadowed, unused, specular, punctualSpecular;
-  vec4 arrival;  // unused
-  float footprint;
-  const vec3 shadowed = lightAt(p, n, first, push.lightSamples, stride, float(stride), push.shadowMap, kPixelLookup,
-                                lobe, unshadowed, specular, arrival, 0.0, footprint);
-  const vec3 punctual = lightAt(p, n, push.lightSamples, push.lightSamples + push.punctualLights, 1u, 1.0,
-                                push.shadowMap, kPixelLookup, lobe, unused, punctualSpecular, arrival, 0.0, footprint);
-  if (kGlossy) pixelSpecular[2u * o] = vec4(specular, 0.0), pixelSpecular[2u * o + 1u] = vec4(punctualSpecular, 0.0);
-  pixelLights[o] =
-      PixelLight(vec4(shadowed, uintBitsToFloat(packUnitVector(n))), vec4(unshadowed, dot(n, p)), vec4(punctual, 1.0));
+  const PointsLight emitters =
+      lightAt(p, n, first, push.lightSamples, stride, float(stride), push.shadowMap, kPixelLookup, lobe, 0.0);
+  const PointsLight punctual = lightAt(p, n, push.lightSamples, push.lightSamples + push.punctualLights, 1u, 1.0,
+                                       push.shadowMap, kPixelLookup, lobe, 0.0);
+  if (kGlossy)
+    pixelSpecular[2u * o] = vec4(emitters.reflected, 0.0), pixelSpecular[2u * o + 1u] = vec4(punctual.reflected, 0.0);
+  // The shadows' share is found at n, which the pixel's neighbours on its surface share; the
+  // resolve turns the light to each sample's shading normal by the light's vectors.
+  if (kNormalMapped) {
+    pixelTurn[2u * o] = vec4(emitters.unshadowedVector, 0.0);
+    pixelTurn[2u * o + 1u] = vec4(punctual.seenVector, 0.0);
+  }
+  pixelLights[o] = PixelLight(vec4(emitters.seen, uintBitsToFloat(packUnitVector(n))),
+                              vec4(emitters.unshadowed, dot(n, p)), vec4(punctual.seen, 1.0));
 }

@@ -25,6 +25,7 @@ layout(std430, binding = 16) writeonly buffer RoughnessMetallic { vec4 roughness
 layout(binding = 17, rg32f) readonly uniform imageBuffer specularAlbedo;   // (A, B), brdf.h
 layout(binding = 18, rgba32f) readonly uniform imageBuffer pixelSpecular;  // 2 texels a pixel (direct_pixels)
 layout(binding = 19, rgba32f) readonly uniform imageBuffer vertexLobe;     // per surfel, at its vertex
+layout(binding = 20, rgba32f) readonly uniform imageBuffer pixelTurn;      // 2 texels a pixel (direct_pixels)
 layout(push_constant) uniform Push { ResolvePush push; };
 // False for scenes without textures: the lookups are compiled out. lavapipe runs a branch inside
 // the sample loop masked, so even untaken lookups cost a third of the pass.
@@ -46,6 +47,9 @@ layout(constant_id = 4) const bool kGlossy = false;
 // camera (Solver::recordReflections): a glossy sample's lobe then takes that, carried to the
 // vertices and across the triangle, instead of the indirect light as if it arrived evenly.
 layout(constant_id = 5) const bool kReflections = false;
+// True where some material has a normal texture: a sample shades with the normal it turns the
+// surface's to, and (kDirectPixels) the direct light turns with it by its pixel's vectors (pixelTurn).
+layout(constant_id = 6) const bool kNormalMapped = false;
 #include "surface_hit.glsl"
 #include "surface_material.glsl"
 
@@ -74,6 +78,13 @@ bool pixelOnPlane(int at, vec3 p, vec3 n, float tolerance) {
   const vec4 shadowed = imageLoad(pixelLights, at), unshadowed = imageLoad(pixelLights, at + 1);
   return imageLoad(pixelLights, at + 2).w != 0.0 &&
          onPlane(vec4(unpackUnitVector(floatBitsToUint(shadowed.w)), unshadowed.w), p, n, tolerance);
+}
+
+// How light `light` whose luminance vector is `vector` (PointsLight) changes where the normal
+// turns by `turn`: its colour, at the luminance the vector gives along the turn.
+vec3 turnedBy(vec3 light, vec3 vector, vec3 turn) {
+  const float luminance = dot(light, vec3(0.2126, 0.7152, 0.0722));
+  return luminance > 0.0 ? light * (dot(vector, turn) / luminance) : vec3(0.0);
 }
 
 // The direct light around a point on a surface: the share of the emitter samples' light that
@@ -163,6 +174,7 @@ void main() {
       const uvec4 t = h.triangle;
       const vec3 w = h.weights, n = h.normal;
       float len = length(n);
+      const vec3 shading = len > 0.0 ? mappedNormalAt(t, w, n / len) : vec3(0.0);
       const SurfaceMaterial m = materialAt(t, w);
       const vec3 base = m.brdf.base.rgb;
       albedo += base;
@@ -182,14 +194,26 @@ void main() {
             around = directAround(px, h.position, n / len, tolerance);
             aroundPlane = vec4(n / len, dot(n / len, h.position));
           }
-          direct = (w.x * unshadowedAt(t.x) + w.y * unshadowedAt(t.y) + w.z * unshadowedAt(t.z)) * around.share +
-                   around.punctual;
+          vec3 unshadowed = w.x * unshadowedAt(t.x) + w.y * unshadowedAt(t.y) + w.z * unshadowedAt(t.z);
+          vec3 punctual = around.punctual;
+          if (kNormalMapped) {
+            // The pixel's light turned from the sample's normal to its shading normal.
+            const int own = int(px.y * push.size.x + px.x);
+            const vec3 turn = shading - n / len;
+            unshadowed = max(
+                unshadowed + turnedBy(imageLoad(pixelLights, 3 * own + 1).rgb, imageLoad(pixelTurn, 2 * own).xyz, turn),
+                0.0);
+            punctual = max(punctual + turnedBy(imageLoad(pixelLights, 3 * own + 2).rgb,
+                                               imageLoad(pixelTurn, 2 * own + 1).xyz, turn),
+                           0.0);
+          }
+          direct = unshadowed * around.share + punctual;
         }
         if (kGlossy && !isLambertian(m.brdf) && len > 0.0) {
           // The base reflects all the light as it does uniform light; the lobe the direct light as
           // direct_pixels found it toward the camera, the rest as the solver's reflections give it
           // or as if it arrived evenly.
-          const float mu = abs(dot(n / len, normalize(towardEye(cameraEye(push.camera), h.position))));
+          const float mu = abs(dot(shading, normalize(towardEye(cameraEye(push.camera), h.position))));
           const vec2 table = specularAlbedoAt(m.brdf, mu);
           const vec3 indirect = kReflections ? w.x * lobeAt(t.x) + w.y * lobeAt(t.y) + w.z * lobeAt(t.z)
                                              : lobeReflectanceOf(m.brdf, table) * e / kPi;
@@ -198,7 +222,7 @@ void main() {
           reflected += base * (e + direct) / kPi;
         }
       }
-      normal += len > 0.0 ? n / len : vec3(0.0);
+      normal += shading;
       depth += h.depth;
       hits += 1.0;
     }

@@ -1,7 +1,8 @@
 // The material at a point the camera's raster hit (resolve, direct_pixels): base colour (factor ×
 // texture × vertex colour), emission, and glTF's metallic-roughness (brdf.h). Expects `materials`,
-// `uvs`, `colors`, `textures` and `texels` declared before it, and the constants kTextured (some
-// material has a texture) and kColored (some primitive has COLOR_0).
+// `uvs`, `colors`, `textures` and `texels` declared before it, the constants kTextured (some
+// material has a texture), kColored (some primitive has COLOR_0) and kNormalMapped (some material has
+// a normal texture), and surface_hit.glsl included.
 
 vec4 uvOf(uint vertex) { return imageLoad(uvs, int(vertex)); }  // TEXCOORD_0 (xy), TEXCOORD_1 (zw)
 vec3 colorOf(uint vertex) { return imageLoad(colors, int(vertex)).rgb; }
@@ -50,4 +51,19 @@ SurfaceMaterial materialAt(uvec4 t, vec3 w) {
   m.roughness = metalRough.y;
   m.brdf = SurfaceBrdf(vec4(base, 0.0), specular, metalRough.x, alphaOf(metalRough.y), 0.0, 0.0);
   return m;
+}
+
+// The shading normal at barycentric weights w of triangle t (v0, v1, v2, material) whose unit normal
+// there is n: n turned by its material's normal texture, as the host's scene::mappedNormalAt.
+vec3 mappedNormalAt(uvec4 t, vec3 w, vec3 n) {
+  if (!kNormalMapped) return n;
+  const uint mi = t.w & ~kTriangleFlags;
+  const int index = int(imageLoad(materials, int(kMaterialTexels * mi + 3u)).w);
+  if (index < 0) return n;
+  const float scale = uintBitsToFloat(imageLoad(materials, int(kMaterialTexels * mi + 4u)).z);
+  const Texture map = textures[index];
+  const vec4 a = uvOf(t.x), b = uvOf(t.y), c = uvOf(t.z);
+  return mappedNormal(n, positionOf(t.x), positionOf(t.y), positionOf(t.z), transformedUv(map, a),
+                      transformedUv(map, b), transformedUv(map, c),
+                      sampleTexture(index, w.x * a + w.y * b + w.z * c).rgb, scale);
 }

@@ -55,11 +55,11 @@ struct Material {
   int baseColorTexture;
   int emissiveTexture;
   int metallicRoughnessTexture;  // linear texels: G roughness, B metallic
-  int pad0;
+  int normalTexture;             // linear texels: the tangent-space normal (mappedNormal)
   float metallic;
-  float roughness;  // perceptual: the distribution's α is its square
-  float pad1;
-  float pad2;
+  float roughness;    // perceptual: the distribution's α is its square
+  float normalScale;  // normalTexture's scale
+  float pad0;
 };
 IVGI_CONST uint kMaterialTexels = 5u;
 struct Texture {
@@ -205,6 +205,31 @@ IVGI_FN ivec2 texelPair(float u, int size, uint mode, IVGI_OUT(float) weight) {
   int i = int(f), j = i + 1;
   if (mode == 33071u || mode == 33648u) return clamp(ivec2(i, j), 0, size - 1);
   return ivec2(i < 0 ? i + size : i, j >= size ? j - size : j);
+}
+
+// The shading normal a normal texture's texel (rgb, linear, in [0, 1]) gives at a point of triangle
+// a b c whose unit normal is n, where the corners' coordinates in that texture (transformed) are
+// uvA, uvB and uvC, at glTF's normalTexture `scale`. The tangent frame is the triangle's own, as
+// glTF viewers derive it where a file gives no tangents: the tangent along increasing u, the
+// bitangent n × tangent, turned to decreasing v (glTF's v runs down the image and a texel's green up)
+// where the mapping is mirrored. n where the triangle spans no area of the texture, or where the
+// result would not be finite.
+IVGI_FN vec3 mappedNormal(vec3 n, vec3 a, vec3 b, vec3 c, vec2 uvA, vec2 uvB, vec2 uvC, vec3 texel, float scale) {
+  const vec3 e1 = b - a, e2 = c - a;
+  const vec2 d1 = uvB - uvA, d2 = uvC - uvA;
+  const float det = d1.x * d2.y - d1.y * d2.x;
+  if (!(abs(det) > 0.0f)) return n;
+  const vec3 alongU = (e1 * d2.y - e2 * d1.y) / det, alongV = (e2 * d1.x - e1 * d2.x) / det;
+  vec3 t = alongU - n * dot(n, alongU);
+  const float tLength = length(t);
+  if (!(tLength > 0.0f) || !(tLength < 3.4e38f)) return n;
+  t = t / tLength;
+  vec3 bitangent = cross(n, t);
+  if (dot(bitangent, alongV) > 0.0f) bitangent = -bitangent;
+  const vec3 m = texel * 2.0f - 1.0f;
+  const vec3 turned = t * (m.x * scale) + bitangent * (m.y * scale) + n * m.z;
+  const float turnedLength = length(turned);
+  return turnedLength > 0.0f && turnedLength < 3.4e38f ? turned / turnedLength : n;
 }
 
 // texelPair's weight as texture t blends: as it is (bilinear), or where t takes the nearest texel,
