@@ -15,6 +15,7 @@
 #include <thread>
 
 #include "engine/cli/options.h"
+#include "scenes/gltf_builder.h"
 #include "tests/test_support.h"
 
 using namespace ivgi;
@@ -103,6 +104,23 @@ TEST(Render, TheDefaultDirectLightSuitsTheScene) {
   EXPECT_EQ(directOf({"cornell"})["from"], "pixels");
   EXPECT_EQ(directOf({"cornell", "--method", "ar"})["from"], "pixels");
   EXPECT_EQ(directOf({"furnace", "--cells", "4"})["from"], "bins");
+  // A glowing sign of a fifth of the surface beside a lamp: to the pixels where the sign gives a
+  // tenth of the light or less (the lamp's shadows gain there), else to the bins.
+  auto signAndLamp = [](float signRadiance) {
+    scenes::GltfBuilder b;
+    scenes::MeshData floor, sign;
+    scenes::addQuad(floor, {-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}, 2, 2, {0, 1, 0});
+    scenes::addQuad(sign, {-0.5f, 0.2f, -1}, {0.5f, 0.2f, -1}, {0.5f, 1.2f, -1}, {-0.5f, 1.2f, -1}, 1, 1, {0, 0.7f, 0});
+    b.node("floor", b.mesh("floor", {{floor, b.material("floor", glm::vec3(0.5f))}}));
+    b.node("sign", b.mesh("sign", {{sign, b.material("sign", glm::vec3(0.0f), glm::vec3(signRadiance))}}));
+    b.light("lamp", "point", 100.0f, {0, 1.5f, 0});  // 4π·100 ≈ 1,257 against the sign's π·L·1 m²
+    const std::filesystem::path file =
+        test::scratchDir("sign") / ("sign_" + std::to_string(int(signRadiance)) + ".gltf");
+    scenes::writeModel(b.finish(), file.string());
+    return file.string();
+  };
+  EXPECT_EQ(directOf({signAndLamp(1.0f)})["from"], "pixels");
+  EXPECT_EQ(directOf({signAndLamp(1000.0f)})["from"], "bins");
   // The environment through the solvers' bins unless asked for through the maps.
   EXPECT_EQ(directOf({"cornell", "--env", "1,1,1"})["environmentDirections"], 0);
   EXPECT_EQ(directOf({"cornell", "--env", "1,1,1", "--env-directions", "16"})["environmentDirections"], 16);

@@ -78,11 +78,11 @@ void addSolverOptions(CLI::App* cmd, SolverOptions& o) {
                   "from the solution of the frame before (solved first where not asked for): fewer iterations, and a "
                   "frame's image depends on its number alone; 1: every frame from the emission")
       ->capture_default_str();
-  cmd->add_option(
-      "--direct", o.direct,
-      "where the emitters' direct light comes from: bins (the solver's own visibility), maps (depth "
-      "maps rasterized around points on the emitters, at the surfels) or pixels (the maps looked up at "
-      "the pixels too); iv and ar [default: pixels, or bins where emitters are over a tenth of the surface]");
+  cmd->add_option("--direct", o.direct,
+                  "where the emitters' direct light comes from: bins (the solver's own visibility), maps (depth "
+                  "maps rasterized around points on the emitters, at the surfels) or pixels (the maps looked up at "
+                  "the pixels too); iv and ar [default: pixels, or bins where emitters are over a tenth of the surface "
+                  "and of the light]");
   cmd->add_option("--light-samples", o.maps.samples,
                   "--direct maps or pixels: points over the emitters, each with its depth maps")
       ->capture_default_str();

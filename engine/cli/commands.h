@@ -58,7 +58,7 @@ struct SolverOptions {
 };
 // The frame's direct light from depth maps, where --direct asks for it (checked: SettingsError) or,
 // by default, where iv or ar renders emitters or punctual lights that the maps suit
-// (gi::emissiveAreaShare).
+// (gi::emissiveAreaShare, gi::emitterPowerShare).
 std::optional<gi::DirectLightSettings> directLightSettings(const SolverOptions& options, const scene::Scene& scene,
                                                            const scene::Geometry& geometry);
 

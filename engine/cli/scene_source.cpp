@@ -39,7 +39,7 @@ std::optional<gi::DirectLightSettings> directLightSettings(const SolverOptions& 
     const bool suits =
         (o.method == "iv" || o.method == "ar") &&
         (pointLights > 0 || gi::emits(g) || (!o.environment.empty() && o.maps.environmentDirections > 0)) &&
-        gi::emissiveAreaShare(g) <= gi::kMapsEmitterShare;
+        (gi::emissiveAreaShare(g) <= gi::kMapsEmitterShare || gi::emitterPowerShare(s, g) <= gi::kBinsEmitterPower);
     if (!suits) return std::nullopt;
   }
   if (o.direct == "bins") return std::nullopt;

@@ -9,6 +9,7 @@
 #include "engine/core/errors.h"
 #include "engine/gi/pass.h"
 #include "engine/image/colour.h"
+#include "engine/scene/animation.h"
 #include "engine/scene/planar_faces.h"
 
 namespace ivgi::gi {
@@ -104,6 +105,33 @@ double emissiveAreaShare(const scene::Geometry& g) {
     if (emittedLuminance(g, tri) > 0) emitting += area;
   }
   return total > 0 ? emitting / total : 0.0;
+}
+
+double emitterPowerShare(const scene::Scene& s, const scene::Geometry& g) {
+  const scene::Pose rest = scene::evaluatePose(s, -1, 0.0f);
+  const std::vector<scene::WorldVertex> world = scene::animateOnHost(g, g.frameInputs(s, rest));
+  double emitted = 0;
+  for (const scene::Triangle& tri : g.triangles) {
+    const double luminance = emittedLuminance(g, tri);
+    if (!(luminance > 0)) continue;
+    const glm::dvec3 a = world[tri.v0].position, b = world[tri.v1].position, c = world[tri.v2].position;
+    emitted += gpu::kPi * luminance * 0.5 * glm::length(glm::cross(b - a, c - a));
+  }
+  const scene::Bounds bounds = scene::worldBounds(world);
+  const double radius = bounds.empty() ? 0.0 : 0.5 * glm::length(glm::dvec3(bounds.max - bounds.min));
+  double punctual = 0;
+  for (const scene::Node& n : s.nodes) {
+    if (n.light < 0) continue;
+    const scene::Light& l = s.lights[size_t(n.light)];
+    const double intensity = image::luminance(glm::dvec3(l.color)) * l.intensity;
+    switch (l.type) {
+      case scene::Light::Type::Point: punctual += 4.0 * gpu::kPi * intensity; break;
+      case scene::Light::Type::Spot: punctual += 2.0 * gpu::kPi * (1.0 - std::cos(l.outerCone)) * intensity; break;
+      case scene::Light::Type::Directional: punctual += intensity * gpu::kPi * radius * radius; break;
+    }
+  }
+  const double total = emitted + punctual;
+  return total > 0 && std::isfinite(total) ? emitted / total : (punctual > 0 ? 0.0 : 1.0);
 }
 
 bool emits(const scene::Geometry& g) {

@@ -56,6 +56,14 @@ bool emits(const scene::Geometry& geometry);
 // takes their near field exactly.
 double emissiveAreaShare(const scene::Geometry& geometry);
 constexpr double kMapsEmitterShare = 0.1;
+// The share of the scene's light that its emissive triangles give, by power at rest: π·L·A each
+// (their luminance, textures included), against 4π·I for a point light, 2π(1 − cos θ_outer)·I
+// for a spot and E·πr² for a directional light over the scene's bounding sphere (radius r). Where
+// emitters that surround the receivers give no more than kBinsEmitterPower of it, the maps' shortfall
+// near them moves the image by a small fraction of what the punctual lights' shadows gain at the
+// pixels, and the maps stay the default.
+double emitterPowerShare(const scene::Scene& scene, const scene::Geometry& geometry);
+constexpr double kBinsEmitterPower = 0.1;
 
 class DirectLight {
  public:
