@@ -167,6 +167,26 @@ TEST(NormalTextures, TheHostTurnsTheNormalAsGltfDefines) {
   }
 }
 
+// The turn stays a unit normal, or leaves the normal as it is, whatever the file gives: a scale of
+// 0 or past float's range, a texel of no direction, a triangle that maps no area of the texture,
+// coordinates far outside it.
+TEST(NormalTextures, TheTurnStaysFiniteAtTheExtremes) {
+  const glm::vec3 n(0, 1, 0), a(0, 0, 0), b(1, 0, 0), c(0, 0, 1), tilted(0.9f, 0.5f, 0.6f);
+  const glm::vec2 ua(0, 0), ub(1, 0), uc(0, 1);
+  auto unit = [](glm::vec3 v) { return std::isfinite(glm::length(v)) && std::abs(glm::length(v) - 1.0f) < 1e-5f; };
+  EXPECT_EQ(gpu::mappedNormal(n, a, b, c, ua, ub, uc, tilted, 0.0f), n) << "scale 0: the normal's own share alone";
+  for (const float scale : {3.0e38f, -3.0e38f, 1e20f, -1.0f}) {
+    const glm::vec3 turned = gpu::mappedNormal(n, a, b, c, ua, ub, uc, tilted, scale);
+    EXPECT_TRUE(unit(turned)) << "scale " << scale << ": " << turned.x << " " << turned.y << " " << turned.z;
+  }
+  EXPECT_EQ(gpu::mappedNormal(n, a, b, c, ua, ub, uc, glm::vec3(0.5f), 1.0f), n) << "a texel of no direction";
+  EXPECT_EQ(gpu::mappedNormal(n, a, b, c, ua, ua, ua, tilted, 1.0f), n) << "no area of the texture";
+  EXPECT_EQ(gpu::mappedNormal(n, a, b, c, ua, ub, ub, tilted, 1.0f), n) << "a line of the texture";
+  const glm::vec3 far =
+      gpu::mappedNormal(n, a, b, c, glm::vec2(1e30f), glm::vec2(3e30f, 1e30f), glm::vec2(1e30f, 3e30f), tilted, 1.0f);
+  EXPECT_TRUE(unit(far)) << far.x << " " << far.y << " " << far.z;
+}
+
 // A file's TANGENT attribute is not read: the loader says once, for the first primitive whose
 // material has a normal texture, that the triangles' own frames are used.
 TEST(NormalTextures, TangentsInTheFileAreNamedOnce) {
