@@ -187,6 +187,15 @@ TEST(NormalTextures, TheTurnStaysFiniteAtTheExtremes) {
   EXPECT_TRUE(unit(far)) << far.x << " " << far.y << " " << far.z;
 }
 
+// `ivgi info` counts the materials with a normal texture.
+TEST(NormalTextures, InfoCountsThem) {
+  const std::filesystem::path file = test::scratchDir("info") / "tiles.gltf";
+  scenes::writeModel(tiledFloor({.lights = [](scenes::GltfBuilder&) {}}), file.string());
+  const auto r = test::runIvgi({"info", file.string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("materials    4 (4 with a normal texture)"), std::string::npos) << r.out;
+}
+
 // A file's TANGENT attribute is not read: the loader says once, for the first primitive whose
 // material has a normal texture, that the triangles' own frames are used.
 TEST(NormalTextures, TangentsInTheFileAreNamedOnce) {
