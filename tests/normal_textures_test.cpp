@@ -117,12 +117,12 @@ std::function<void(scenes::GltfBuilder&)> sunToward(glm::dvec3 toSun) {
 
 // Renders `m` with each method at 64×64 without an environment: the red channel.
 std::map<std::string, std::vector<float>> renderRed(const tinygltf::Model& m, const std::string& name,
-                                                    const std::string& spp = "64") {
+                                                    const std::string& spp = "64", const std::string& env = "none") {
   const std::filesystem::path file = test::scratchDir(name) / "tiles.gltf";
   scenes::writeModel(m, file.string());
   std::map<std::string, std::vector<float>> red;
   for (const std::string method : {"pt", "iv", "ar"}) {
-    std::vector<std::string> args = {file.string(), "--method", method, "--size", "64x64", "--env", "none"};
+    std::vector<std::string> args = {file.string(), "--method", method, "--size", "64x64", "--env", env};
     if (method == "pt") args.insert(args.end(), {"--spp", spp});
     red[method] = test::channelOf(test::renderExr(name + "-" + method, args), "R");
     EXPECT_EQ(red[method].size(), 64u * 64u) << method;
@@ -219,6 +219,16 @@ TEST(NormalTextures, ASunLightsTheTurnedNormals) {
   expectTileMeans(
       red, "sun", [&](const Tile& t) { return 0.5 / kPi * 2.0 * std::max(glm::dot(expectedNormal(t), toSun), 0.0); },
       [&](const Tile&) { return 0.5 / kPi * 2.0 * toSun.y; }, 0.01);
+}
+
+// Under a uniform white sky alone, a tile turned by θ sees the sky above its surface's side and its
+// shading normal's horizon: ρ·(1 + cos θ)/2. The solvers carry the sky in their bins, without its
+// direction at the pixels; turned as even light, they give it exactly.
+TEST(NormalTextures, TheSkyLightsTheTurnedNormals) {
+  const auto red = renderRed(tiledFloor({.lights = [](scenes::GltfBuilder&) {}}), "sky", "256", "1,1,1");
+  expectTileMeans(
+      red, "sky", [](const Tile& t) { return 0.5 * (0.5 + 0.5 * expectedNormal(t).y); },
+      [](const Tile&) { return 0.5; }, 0.02);
 }
 
 // A small lamp lights the tiles: iv and ar take the lamp's light at the pixels from the depth maps,

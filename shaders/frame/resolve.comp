@@ -183,6 +183,10 @@ void main() {
       roughMetal += vec2(m.roughness, m.brdf.metallic);
       if (kLit) {
         vec3 e = w.x * irradianceAt(t.x) + w.y * irradianceAt(t.y) + w.z * irradianceAt(t.z), direct = vec3(0.0);
+        // The light the vertices carry keeps no direction: turned to the shading normal as light
+        // arriving evenly over the surface's side would be, the share of that side above the
+        // shading normal's horizon (a uniform sky's exactly).
+        if (kNormalMapped && len > 0.0) e *= 0.5 + 0.5 * dot(n / len, shading);
         if (kDirectPixels && len > 0.0) {
           // Neighbours count within kShadowPlanePixels pixels' width of the plane, at p's distance.
           const float pixelWidth =
