@@ -167,6 +167,41 @@ TEST(NormalTextures, TheHostTurnsTheNormalAsGltfDefines) {
   }
 }
 
+// A KHR_texture_transform that turns the +u tile's normal texture a quarter turn turns its tangent
+// frame with it. A rotation of π/2 maps (u, v) to (v, −u) (the extension's example,
+// TextureTransform.TheSpecificationsExample), so increasing u′ runs along +z and decreasing v′
+// along +x, and the tilt toward +u′ lands toward +z: on the host, and under a sun in all three
+// methods.
+TEST(NormalTextures, ATextureTransformTurnsTheFrame) {
+  const glm::dvec3 toSun = glm::normalize(glm::dvec3(0.4, 1.5, -1.0));
+  tinygltf::Model m = tiledFloor({.lights = sunToward(toSun)});
+  m.materials[1].normalTexture.extensions["KHR_texture_transform"] =
+      tinygltf::Value(tinygltf::Value::Object{{"rotation", tinygltf::Value(kPi / 2.0)}});
+  m.extensionsUsed.push_back("KHR_texture_transform");
+  const Tile& tile = kTiles[1];
+  const glm::dvec3 texel = glm::dvec3(tile.texel[0], tile.texel[1], tile.texel[2]) / 255.0 * 2.0 - 1.0;
+  const glm::dvec3 expected =
+      glm::normalize(glm::dvec3(0, 0, 1) * texel.x + glm::dvec3(1, 0, 0) * texel.y + glm::dvec3(0, 1, 0) * texel.z);
+
+  const scene::Scene loaded = scene::sceneFromModel(m, "turned");
+  ASSERT_TRUE(loaded.warnings.empty()) << loaded.warnings.front();
+  const scene::Geometry g = scene::buildGeometry(loaded, 0);
+  const std::vector<gpu::WorldVertex> world =
+      scene::animateOnHost(g, g.frameInputs(loaded, scene::evaluatePose(loaded, -1, 0.0f)));
+  const glm::dvec3 host = scene::mappedNormalAt(g, world, g.triangles[8], glm::vec3(1.0f / 3.0f), glm::vec3(0, 1, 0));
+  EXPECT_NEAR(glm::length(host - expected), 0.0, 2e-3) << host.x << " " << host.y << " " << host.z;
+
+  const auto red = renderRed(m, "turned");
+  const double want = 0.5 / kPi * 2.0 * std::max(glm::dot(expected, toSun), 0.0),
+               unturned = 0.5 / kPi * 2.0 * std::max(glm::dot(expectedNormal(tile), toSun), 0.0);
+  for (const std::string method : {"pt", "iv", "ar"}) {
+    const double got = tileMean(red.at(method), tile);
+    std::printf("[ normals ] turned texture, %s: %.4f, expected %.4f (without the transform %.4f)\n", method.c_str(),
+                got, want, unturned);
+    EXPECT_NEAR(got, want, 0.01 * want) << method;
+  }
+}
+
 // The turn stays a unit normal, or leaves the normal as it is, whatever the file gives: a scale of
 // 0 or past float's range, a texel of no direction, a triangle that maps no area of the texture,
 // coordinates far outside it.
