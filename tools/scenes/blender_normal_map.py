@@ -1,0 +1,86 @@
+"""Builds a grey 2 m plane under a sun 45 degrees up from +x, seen straight down by an orthographic
+camera, renders it with Cycles, and writes it with Blender's own glTF exporter. With --striped its
+normal comes from a 64x64 tangent-space normal texture of 8-texel stripes tilted 30 degrees toward
++u and -u in turn (a Normal Map node), which the exporter writes as normalTexture: ivgi's reading
+of another exporter's normal texture, against another path tracer.
+
+Cycles renders a Diffuse BSDF (Lambertian; Principled's diffuse is Burley's) with one bounce into
+OUT_cycles.exr at 64x64 and 64 samples; the exported file carries the Principled BSDF, specular 0,
+roughness 1. The exporter converts the sun's W/m^2 to lux (x683), so compare the two renders'
+ratios (striped over plain), not their values. docs/notes/gltf-conformance.md has the figures.
+
+Usage: blender --background --factory-startup --python tools/scenes/blender_normal_map.py -- OUT [--striped]
+       (writes OUT.glb and OUT_cycles.exr)
+Needs Debian's blender (not installed by ci/install-deps.sh: the tests do not use it).
+"""
+import math
+import sys
+
+import bpy
+
+args = sys.argv[sys.argv.index("--") + 1:]
+out, striped = args[0], "--striped" in args[1:]
+
+bpy.ops.wm.read_factory_settings(use_empty=True)
+scene = bpy.context.scene
+
+bpy.ops.mesh.primitive_plane_add(size=2.0)
+plane = bpy.context.active_object
+material = bpy.data.materials.new("tile")
+material.use_nodes = True
+nodes, links = material.node_tree.nodes, material.node_tree.links
+principled = nodes["Principled BSDF"]
+principled.inputs["Base Color"].default_value = (0.5, 0.5, 0.5, 1)
+principled.inputs["Roughness"].default_value = 1.0
+principled.inputs["Specular"].default_value = 0.0
+diffuse = nodes.new("ShaderNodeBsdfDiffuse")
+diffuse.inputs["Color"].default_value = (0.5, 0.5, 0.5, 1)
+if striped:
+    image = bpy.data.images.new("stripes", 64, 64, float_buffer=False)
+    image.colorspace_settings.name = "Non-Color"
+    pixels = []
+    for y in range(64):
+        for x in range(64):
+            tilt = math.radians(30.0) * (1 if (x // 8) % 2 == 0 else -1)
+            pixels += [0.5 + 0.5 * math.sin(tilt), 0.5, 0.5 + 0.5 * math.cos(tilt), 1.0]
+    image.pixels = pixels
+    image.filepath_raw = out + "_stripes.png"
+    image.file_format = "PNG"
+    image.save()
+    texture = nodes.new("ShaderNodeTexImage")
+    texture.image = image
+    texture.interpolation = "Closest"
+    normal_map = nodes.new("ShaderNodeNormalMap")
+    links.new(texture.outputs["Color"], normal_map.inputs["Color"])
+    links.new(normal_map.outputs["Normal"], principled.inputs["Normal"])
+    links.new(normal_map.outputs["Normal"], diffuse.inputs["Normal"])
+plane.data.materials.append(material)
+output = nodes["Material Output"]
+
+bpy.ops.object.light_add(type="SUN", rotation=(0.0, math.radians(45.0), 0.0))
+sun = bpy.context.active_object.data
+sun.energy = 3.0
+sun.angle = 0.0
+
+bpy.ops.object.camera_add(location=(0, 0, 3), rotation=(0, 0, 0))
+camera = bpy.context.active_object
+camera.data.type = "ORTHO"
+camera.data.ortho_scale = 2.0
+scene.camera = camera
+scene.world = bpy.data.worlds.new("black")
+scene.world.color = (0, 0, 0)
+
+scene.render.engine = "CYCLES"
+scene.cycles.samples = 64
+scene.cycles.use_denoising = False
+scene.cycles.max_bounces = 1
+scene.render.resolution_x = scene.render.resolution_y = 64
+scene.view_settings.view_transform = "Standard"
+scene.render.image_settings.file_format = "OPEN_EXR"
+scene.render.filepath = out + "_cycles.exr"
+links.new(diffuse.outputs["BSDF"], output.inputs["Surface"])
+bpy.ops.render.render(write_still=True)
+
+links.new(principled.outputs["BSDF"], output.inputs["Surface"])
+nodes.remove(diffuse)
+bpy.ops.export_scene.gltf(filepath=out + ".glb", export_format="GLB", export_cameras=True, export_lights=True)
