@@ -28,8 +28,6 @@ layout(push_constant) uniform Push { ArIncidentPush push; };
 
 shared vec3 partial[64];
 
-float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
-
 void main() {
   uint s = itemIndex(), lid = gl_LocalInvocationID.x;
   // A damped step goes ω of the way from the tables before it (an undamped one just writes them).

@@ -4,6 +4,9 @@
 #extension GL_EXT_shader_atomic_int64 : require
 #include "interface.h"
 
+// Rec. 709 luminance of linear RGB, by which light is weighed (image::luminance on the host).
+float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
+
 // Set by vk::Program from the device. A CPU device's atomics already order the memory around them,
 // and lavapipe loses lanes of a divergent loop at a memory barrier: fences between workgroups of one
 // dispatch (climb.glsl, a last workgroup's bookkeeping) are a GPU's only.

@@ -148,14 +148,14 @@ PointsLight lightAt(vec3 p, vec3 n, uint first, uint end, uint stride, float sca
     const vec3 lit = seen * seenShare(point, p, cosine, side, lookup);
     sums.seen += lit;
     sums.unshadowed += seen;
-    const float luminance = dot(lit, vec3(0.2126, 0.7152, 0.0722));
-    sums.seenVector += luminance / cosine * toward;
-    sums.unshadowedVector += dot(seen, vec3(0.2126, 0.7152, 0.0722)) / cosine * toward;
-    sums.arrival += luminance * vec4(toward, 1.0);
+    const float litLuminance = luminance(lit);
+    sums.seenVector += litLuminance / cosine * toward;
+    sums.unshadowedVector += luminance(seen) / cosine * toward;
+    sums.arrival += litLuminance * vec4(toward, 1.0);
     const bool directional = point.cone.w == kLightPointIsPunctual && point.cone.z == kLightDirectional;
     const vec3 fromLight = point.positionArea.xyz - p;
     if (area > 0.0 && !directional)
-      sums.footprint += luminance * area * cosine / (dot(fromLight, fromLight) + area / kPi);
+      sums.footprint += litLuminance * area * cosine / (dot(fromLight, fromLight) + area / kPi);
     // Light from above the surface's horizon, weighed by the cosine at the lobe's normal.
     const float turn = turned ? max(dot(lobe.n, toward), 0.0) / cosine : 1.0;
     if (lobe.glossy) sums.reflected += lobeOf(lobe, toward) * lit * turn;

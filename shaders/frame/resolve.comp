@@ -83,8 +83,8 @@ bool pixelOnPlane(int at, vec3 p, vec3 n, float tolerance) {
 // How light `light` whose luminance vector is `vector` (PointsLight) changes where the normal
 // turns by `turn`: its colour, at the luminance the vector gives along the turn.
 vec3 turnedBy(vec3 light, vec3 vector, vec3 turn) {
-  const float luminance = dot(light, vec3(0.2126, 0.7152, 0.0722));
-  return luminance > 0.0 ? light * (dot(vector, turn) / luminance) : vec3(0.0);
+  const float weight = luminance(light);
+  return weight > 0.0 ? light * (dot(vector, turn) / weight) : vec3(0.0);
 }
 
 // The direct light around a point on a surface: the share of the emitter samples' light that

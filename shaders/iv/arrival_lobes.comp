@@ -44,7 +44,7 @@ void file(uint q, float f, vec3 x) {
   const vec3 w = normalize(d), a = abs(w);
   const uint axis = a.x >= a.y && a.x >= a.z ? 0u : (a.y >= a.z ? 1u : 2u);
   const uint c = 2u * axis + (w[axis] < 0.0 ? 1u : 0u);
-  const vec4 direction = dot(e, vec3(0.2126, 0.7152, 0.0722)) * vec4(w, 1.0);
+  const vec4 direction = luminance(e) * vec4(w, 1.0);
   // Every class with a constant index, so that the sums stay in registers.
   for (uint i = 0u; i < kArrivalClasses; ++i) {
     const float on = i == c ? 1.0 : 0.0;

@@ -110,6 +110,5 @@ void main() {
   }
   // The largest estimate, for the receivers' refinement (non-negative float bits order as integers;
   // one counter every thread shares, so the bounces leave it).
-  if (push.newOnly != 0u)
-    atomicMax(receiverCounts[kReceiverScale], floatBitsToUint(dot(g, vec3(0.2126, 0.7152, 0.0722))));
+  if (push.newOnly != 0u) atomicMax(receiverCounts[kReceiverScale], floatBitsToUint(luminance(g)));
 }

@@ -29,8 +29,6 @@ layout(push_constant) uniform Push { InterpolatePush push; };
 
 shared BounceSum partial[64];
 
-float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
-
 // Leaves the workgroup's sum for bounce_check, added in a fixed order.
 void sumBounce(BounceSum mine) {
   const uint lid = gl_LocalInvocationID.x;

@@ -43,8 +43,6 @@ layout(push_constant) uniform Push { ReceiverPush push; };
 #include "receivers.glsl"
 #include "turned_irradiance.glsl"
 
-float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
-
 // The level holding node n: its first node and the first of the level after.
 uvec2 levelOf(uint n) {
   uint l = 0u;
