@@ -154,16 +154,8 @@ tinygltf::Model fourColourFloor(const std::function<glm::vec2(glm::vec2)>& secon
   b.node("floor", b.mesh("floor", {{floor, material}}));
   b.camera("down", 0.5f, 0.1f, {0, 3, 0}, glm::quatLookAtRH(glm::vec3(0, -1, 0), glm::vec3(0, 0, -1)));
   tinygltf::Model m = b.finish();
-  tinygltf::Image image;
-  image.width = image.height = 2, image.component = 4, image.bits = 8;
-  image.pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
-  image.image = {255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 255, 255};
-  image.mimeType = "image/png";
-  m.images.push_back(image);
-  tinygltf::Texture texture;
-  texture.source = 0;
-  m.textures.push_back(texture);
-  m.materials[size_t(material)].pbrMetallicRoughness.baseColorTexture.index = 0;
+  m.materials[size_t(material)].pbrMetallicRoughness.baseColorTexture.index =
+      test::addTexture(m, 2, 2, {255, 0, 0, 255, 0, 255, 0, 255, 0, 0, 255, 255, 255, 255, 255, 255});
   return m;
 }
 

@@ -38,16 +38,7 @@ struct TriangleModel {
   }
   tinygltf::Primitive& primitive() { return b.model().meshes[0].primitives[0]; }
   // A 1×1 texture of one RGBA texel, as texture 0.
-  void addTexel(std::vector<unsigned char> rgba) {
-    tinygltf::Image image;
-    image.width = image.height = 1, image.component = 4, image.bits = 8;
-    image.pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
-    image.image = std::move(rgba);
-    b.model().images.push_back(image);
-    tinygltf::Texture texture;
-    texture.source = 0;
-    b.model().textures.push_back(texture);
-  }
+  void addTexel(std::vector<unsigned char> rgba) { test::addTexture(b.model(), 1, 1, std::move(rgba)); }
   Scene load() { return sceneFromModel(b.finish(), "constructed.gltf"); }
 };
 
@@ -317,12 +308,12 @@ TEST(Loader, HarmlessUnsupportedContentIsSkippedWithAWarning) {
   lines.mode = TINYGLTF_MODE_LINE;
   t.b.model().meshes[0].primitives.push_back(lines);
   t.b.model().extensionsUsed.push_back("EXT_made_up");
-  t.b.model().materials[0].alphaMode = "MASK";
+  t.b.model().materials[0].alphaMode = "BLEND";
   Scene s = t.load();
   EXPECT_EQ(s.meshes[0].primitives.size(), 1u);
   ASSERT_EQ(s.warnings.size(), 3u);
   EXPECT_NE(s.warnings[0].find("EXT_made_up"), std::string::npos);
-  EXPECT_NE(s.warnings[1].find("alphaMode MASK"), std::string::npos) << s.warnings[1];
+  EXPECT_NE(s.warnings[1].find("alphaMode BLEND"), std::string::npos) << s.warnings[1];
   EXPECT_NE(s.warnings[2].find("lines"), std::string::npos);
 }
 

@@ -74,16 +74,8 @@ tinygltf::Model tiledFloor(const Floor& floor) {
   b.camera("view", 0.9f, 0.01f, {0, 3 * side, 0}, glm::quatLookAtRH(glm::vec3(0, -side, 0), glm::vec3(0, 0, -1)));
   tinygltf::Model m = b.finish();
   for (size_t i = 0; i < kTiles.size(); ++i) {
-    tinygltf::Image image;
-    image.width = image.height = 1, image.component = 4, image.bits = 8;
-    image.pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
-    image.image = {kTiles[i].texel[0], kTiles[i].texel[1], kTiles[i].texel[2], 255};
-    image.mimeType = "image/png";
-    m.images.push_back(image);
-    tinygltf::Texture texture;
-    texture.source = int(m.images.size() - 1);
-    m.textures.push_back(texture);
-    m.materials[i].normalTexture.index = int(m.textures.size() - 1);
+    m.materials[i].normalTexture.index =
+        test::addTexture(m, 1, 1, {kTiles[i].texel[0], kTiles[i].texel[1], kTiles[i].texel[2], 255});
     m.materials[i].normalTexture.scale = kTiles[i].scale;
     m.materials[i].doubleSided = floor.fromBelow;
   }
@@ -228,7 +220,8 @@ TEST(NormalTextures, InfoCountsThem) {
   scenes::writeModel(tiledFloor({.lights = [](scenes::GltfBuilder&) {}}), file.string());
   const auto r = test::runIvgi({"info", file.string()});
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_NE(r.out.find("materials    4 (4 with a normal texture)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("materials    4 (4 with a normal texture, 0 cut by alphaMode MASK)"), std::string::npos)
+      << r.out;
 }
 
 // A file's TANGENT attribute is not read: the loader says once, for the first primitive whose
@@ -369,22 +362,16 @@ TEST(NormalTextures, AStripedBallAgreesWithThePathTracer) {
            glm::quatLookAtRH(glm::normalize(glm::vec3(-0.2f, -0.5f, -1.6f)), glm::vec3(0, 1, 0)));
   tinygltf::Model m = b.finish();
   // Eight stripes along u, tilted 40° toward +u and −u in turn.
-  tinygltf::Image image;
-  image.width = 8, image.height = 1, image.component = 4, image.bits = 8;
-  image.pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
-  for (int x = 0; x < 8; ++x) image.image.insert(image.image.end(), {uint8_t(x % 2 ? 46 : 209), 128, 225, 255});
-  image.mimeType = "image/png";
-  m.images.push_back(image);
+  std::vector<uint8_t> stripes;
+  for (int x = 0; x < 8; ++x) stripes.insert(stripes.end(), {uint8_t(x % 2 ? 46 : 209), 128, 225, 255});
   tinygltf::Sampler nearest;
   nearest.magFilter = TINYGLTF_TEXTURE_FILTER_NEAREST;
   m.samplers.push_back(nearest);
-  tinygltf::Texture texture;
-  texture.source = 0, texture.sampler = 0;
-  m.textures.push_back(texture);
+  const int stripesTexture = test::addTexture(m, 8, 1, std::move(stripes), int(m.samplers.size() - 1));
   // The direct light alone, each method against pt, with the texture and without (the same
   // scene's error from what the normal texture does not touch).
   auto errors = [&](bool striped) {
-    m.materials[0].normalTexture.index = striped ? 0 : -1;
+    m.materials[0].normalTexture.index = striped ? stripesTexture : -1;
     const std::string name = striped ? "striped" : "plain";
     const std::filesystem::path file = test::scratchDir(name) / "ball.gltf";
     scenes::writeModel(m, file.string());

@@ -276,21 +276,27 @@ std::string bigEndian(uint32_t v, int bytes) {
   return s;
 }
 
-int addGreyTexture(tinygltf::Model& model, int side, const std::function<uint8_t(int x, int y)>& grey, int sampler) {
+int addTexture(tinygltf::Model& model, int width, int height, std::vector<uint8_t> rgba, int sampler) {
   tinygltf::Image image;
-  image.width = image.height = side, image.component = 4, image.bits = 8;
+  image.width = width, image.height = height, image.component = 4, image.bits = 8;
   image.pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
-  for (int y = 0; y < side; ++y)
-    for (int x = 0; x < side; ++x) {
-      const uint8_t v = grey(x, y);
-      image.image.insert(image.image.end(), {v, v, v, 255});
-    }
+  image.image = std::move(rgba);
   image.mimeType = "image/png";
   model.images.push_back(image);
   tinygltf::Texture texture;
   texture.source = int(model.images.size() - 1), texture.sampler = sampler;
   model.textures.push_back(texture);
   return int(model.textures.size() - 1);
+}
+
+int addGreyTexture(tinygltf::Model& model, int side, const std::function<uint8_t(int x, int y)>& grey, int sampler) {
+  std::vector<uint8_t> rgba;
+  for (int y = 0; y < side; ++y)
+    for (int x = 0; x < side; ++x) {
+      const uint8_t v = grey(x, y);
+      rgba.insert(rgba.end(), {v, v, v, 255});
+    }
+  return addTexture(model, side, side, std::move(rgba), sampler);
 }
 
 scenes::MeshData uvSphere(int rings, bool bumps) {

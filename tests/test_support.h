@@ -82,6 +82,10 @@ std::vector<float> channelOf(const std::filesystem::path& exr, const std::string
 // `v`'s low `bytes` bytes, most significant first (file headers written by hand).
 std::string bigEndian(uint32_t v, int bytes = 4);
 
+// Adds to `model` an 8-bit RGBA image `width` × `height` of `rgba` (rows from the top) and a texture of
+// it through sampler `sampler` (-1: glTF's default); its texture index.
+int addTexture(tinygltf::Model& model, int width, int height, std::vector<uint8_t> rgba, int sampler = -1);
+
 // Adds to `model` a grey image `side` texels square, each texel's sRGB byte grey(x, y) (y down),
 // and a texture of it through sampler `sampler` (-1: glTF's default); its texture index.
 int addGreyTexture(tinygltf::Model& model, int side, const std::function<uint8_t(int x, int y)>& grey,

@@ -224,7 +224,7 @@ DirectLight::Layer::Layer(const vk::Context& ctx, scene::MapMeshes m, uint32_t v
     : meshes(std::move(m)),
       drawn(meshes.draw({})),
       triangles(vk::makeBuffer(ctx, drawn, vk::Memory::Device, tally)),
-      raster(ctx, uint32_t(meshes.exactCount()), tally, true, viewCount) {}
+      raster(ctx, uint32_t(meshes.exactCount()), tally, true, viewCount, meshes.cutouts()) {}
 
 bool DirectLight::Layer::choose(const std::vector<float>& errors) {
   std::vector<scene::Triangle> now = meshes.draw(errors);

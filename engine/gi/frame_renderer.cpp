@@ -71,7 +71,7 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
                                             {"kGlossy", g.glossyMaterials ? 1u : 0u},
                                             {"kReflections", reflections_ ? 1u : 0u},
                                             {"kNormalMapped", g.normalTextures ? 1u : 0u}}})),
-      raster_(ctx, triangleCount_, &allocations_),
+      raster_(ctx, triangleCount_, &allocations_, false, 1, g.cutouts),
       timer_(ctx) {
   validate(image, ctx);
   using vk::Memory;
@@ -79,10 +79,11 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
   auto upload = [&](const auto& items) { return vk::makeBuffer(ctx, items, Memory::Device, tally); };
   vertices_ = upload(g.vertices), instances_ = upload(g.instances), morphDeltas_ = upload(g.morphDeltas);
   triangles_ = upload(g.triangles), uvs_ = upload(g.uvs), materials_ = upload(g.materials);
-  colors_ = upload(g.vertexColors ? g.colors : std::vector<glm::vec4>{glm::vec4(1)});
+  // The raster reads the colours' alpha where a material cuts its surface away.
+  colors_ = upload(g.vertexColors || g.cutouts ? g.colors : std::vector<glm::vec4>{glm::vec4(1)});
   textures_ = upload(g.textures), texels_ = upload(g.texels);
   surfelSources_ = upload(g.surfels), surfelVertices_ = upload(g.surfelVertices),
-  surfelTriangles_ = upload(g.surfelTriangles);
+  surfelTriangles_ = upload(g.surfelTriangles), surfelCoverage_ = upload(g.surfelCoverage);
   vertexSurfel_ = upload(scene::vertexSurfels(g));
   {
     auto moves = [&](uint32_t vertex) {
@@ -167,6 +168,7 @@ vk::Bindings FrameRenderer::pool() const {
                              {"surfelSources", surfelSources_},
                              {"surfelVertices", surfelVertices_},
                              {"surfelTriangles", surfelTriangles_},
+                             {"surfelCoverage", surfelCoverage_},
                              {"vertexSurfel", vertexSurfel_},
                              {"movingVertices", movingVertices_},
                              {"movingSurfels", movingSurfels_},

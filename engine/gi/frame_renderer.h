@@ -84,7 +84,7 @@ class FrameRenderer {
   // Scene data, uploaded once.
   vk::Buffer vertices_, instances_, morphDeltas_, triangles_, uvs_, colors_, materials_, textures_, texels_,
       specularAlbedo_, pixelSpecular_, pixelTurn_;
-  vk::Buffer surfelSources_, surfelVertices_, surfelTriangles_, vertexSurfel_;
+  vk::Buffer surfelSources_, surfelVertices_, surfelTriangles_, surfelCoverage_, vertexSurfel_;
   // The vertices and surfels of the instances that can move (every one where none stays still):
   // once a frame has posed them all, the others stand.
   vk::Buffer movingVertices_, movingSurfels_;

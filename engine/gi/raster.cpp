@@ -13,10 +13,14 @@ namespace {
 // 64 triangles' tiles and tile rows stay within lavapipe's loop budget of 65,535 (common.glsl).
 constexpr uint32_t kTilesPerSlice = 448;
 
+// raster.comp's kDraw: every triangle; those whose material does not cut them (alphaMode MASK);
+// those whose material does, each sample tested.
+constexpr uint32_t kDrawAll = 0, kDrawUncut = 1, kDrawCutting = 2;
+
 }  // namespace
 
 Raster::Raster(const vk::Context& ctx, uint32_t triangleCount, vk::Allocations* tally, bool depthOnly,
-               uint32_t maxViews)
+               uint32_t maxViews, bool cutouts)
     : capacity_(triangleCount),
       triangleCount_(triangleCount),
       maxViews_(maxViews),
@@ -25,7 +29,14 @@ Raster::Raster(const vk::Context& ctx, uint32_t triangleCount, vk::Allocations* 
       drawnViews_(shaderProgram(ctx, "drawn_views")),
       slices_(shaderProgram(ctx, "raster_slices", {.constants = {{"kTilesPerSlice", kTilesPerSlice}}})),
       raster_(shaderProgram(ctx, "raster",
-                            {.constants = {{"kTilesPerSlice", kTilesPerSlice}, {"kDepthOnly", depthOnly ? 1u : 0u}}})) {
+                            {.constants = {{"kTilesPerSlice", kTilesPerSlice},
+                                           {"kDepthOnly", depthOnly ? 1u : 0u},
+                                           {"kDraw", cutouts ? kDrawUncut : kDrawAll}}})) {
+  if (cutouts)
+    rasterCutting_.emplace(ctx, "raster", shaderCode("raster"),
+                           vk::Specialization{.constants = {{"kTilesPerSlice", kTilesPerSlice},
+                                                            {"kDepthOnly", depthOnly ? 1u : 0u},
+                                                            {"kDraw", kDrawCutting}}});
   box_ = vk::Buffer(ctx, 6 * sizeof(uint32_t), vk::Memory::Device, tally);
   viewList_ = vk::Buffer(ctx, (1 + uint64_t(maxViews)) * sizeof(uint32_t), vk::Memory::Device, tally);
   args_ = vk::Buffer(ctx, 3 * sizeof(uint32_t), vk::Memory::Device, tally);
@@ -63,7 +74,9 @@ void Raster::record(VkCommandBuffer cmd, const vk::Bindings& scene, const vk::Bu
   drawnViews_.dispatch(cmd, {}, buffers, push);
   slices_.dispatchItems(cmd, triangleCount_, buffers, push);
   const vk::Buffer &keys = depthOnly_ ? unused_ : target, &depths = depthOnly_ ? target : unused_;
-  raster_.dispatchIndirect(cmd, args_, 0, buffers.with({{"visibility", keys}, {"depths", depths}}), push);
+  const vk::Bindings targets = buffers.with({{"visibility", keys}, {"depths", depths}});
+  raster_.dispatchIndirect(cmd, args_, 0, targets, push);
+  if (rasterCutting_) rasterCutting_->dispatchIndirect(cmd, args_, 0, targets, push);
 }
 
 uint32_t Raster::viewsDrawn() const { return viewList_.read<uint32_t>(1)[0]; }

@@ -4,6 +4,8 @@
 // views one after another in the target. The camera's view is one; a light's depth maps are the
 // faces of a cube around each of its samples. Where it draws many views, those that the triangles'
 // bounding box cannot reach are left out.
+#include <optional>
+
 #include "engine/vk/buffer.h"
 #include "engine/vk/program.h"
 #include "shaders/interface.h"
@@ -13,9 +15,10 @@ namespace ivgi::gi {
 class Raster {
  public:
   // `depthOnly`: the target holds each sample's nearest depth as 32-bit float bits (depth maps);
-  // else 64-bit depth and triangle keys. `maxViews`: the most views one record draws.
+  // else 64-bit depth and triangle keys. `maxViews`: the most views one record draws. `cutouts`:
+  // some material cuts its surface away (alphaMode MASK), and a sample there is not covered.
   Raster(const vk::Context& ctx, uint32_t triangleCount, vk::Allocations* tally, bool depthOnly = false,
-         uint32_t maxViews = 1);
+         uint32_t maxViews = 1, bool cutouts = false);
 
   // The triangles the next records draw: the first `count` of the scene's, at most as many as made for.
   void setTriangleCount(uint32_t count);
@@ -34,10 +37,11 @@ class Raster {
   uint32_t capacity_, triangleCount_, maxViews_;
   bool depthOnly_;
   vk::Program drawnBounds_, drawnViews_, slices_, raster_;
-  vk::Buffer box_;       // the triangles' bounding box (drawn_bounds)
-  vk::Buffer viewList_;  // how many views are drawn, then which (drawn_views)
-  vk::Buffer args_;      // the raster's dispatch: its x and y for the triangles, its z counted by raster_slices
-  vk::Buffer unused_;    // bound where the shader's other target is not written
+  std::optional<vk::Program> rasterCutting_;  // the triangles whose material cuts them, where any does
+  vk::Buffer box_;                            // the triangles' bounding box (drawn_bounds)
+  vk::Buffer viewList_;                       // how many views are drawn, then which (drawn_views)
+  vk::Buffer args_;    // the raster's dispatch: its x and y for the triangles, its z counted by raster_slices
+  vk::Buffer unused_;  // bound where the shader's other target is not written
 };
 
 }  // namespace ivgi::gi

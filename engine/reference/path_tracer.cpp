@@ -129,7 +129,7 @@ struct PathTracer::Impl {
         g(*s.geometry),
         // Every face once: this tracer lights both sides of a face itself, so the backs the
         // solvers' one-sided surfels need (Geometry::backTriangles, the last) are left out.
-        rays(s.world, g.triangles, g.triangles.size() - g.backTriangles, false) {
+        rays(s.world, g.triangles, g.triangles.size() - g.backTriangles, false, cutAway(g)) {
     const scene::Bounds bounds = scene::worldBounds(s.world);
     if (!bounds.empty()) epsilon = 1e-5f * std::max(glm::length(bounds.max - bounds.min), 1e-30f);
 
@@ -165,6 +165,14 @@ struct PathTracer::Impl {
 
   glm::vec3 pos(uint32_t v) const { return glm::vec3(s.world[v].position); }
 
+  // Where the rays pass a cut-away point (alphaMode MASK), if any material cuts.
+  static scene::TriangleRays::CutAway cutAway(const scene::Geometry& g) {
+    if (!g.cutouts) return {};
+    return [&g](uint32_t tri, glm::vec2 uv) {
+      return scene::cutAwayAt(g, g.triangles[tri], glm::vec3(1.0f - uv.x - uv.y, uv.x, uv.y));
+    };
+  }
+
   std::optional<Surface> intersect(glm::vec3 o, glm::vec3 d, float tnear, float tfar) const {
     const std::optional<scene::TriangleRays::Hit> hit = rays.nearest(o, d, tnear, tfar);
     if (!hit) return std::nullopt;
@@ -194,7 +202,10 @@ struct PathTracer::Impl {
     const glm::vec4 metallicRoughness = scene::sampleTexture(g, m.metallicRoughnessTexture, uv);
     x.brdf = scene::surfaceBrdf(m, base, metallicRoughness);
     x.roughness = m.roughness * metallicRoughness.g;
-    x.emission = glm::vec3(m.emission) * glm::vec3(scene::sampleTexture(g, m.emissiveTexture, uv));
+    // A point on an emitter chosen where its material cuts it away emits nothing (rays pass it).
+    x.emission = g.cutouts && scene::cutAwayAt(g, tr, w)
+                     ? glm::vec3(0.0f)
+                     : glm::vec3(m.emission) * glm::vec3(scene::sampleTexture(g, m.emissiveTexture, uv));
     return x;
   }
 

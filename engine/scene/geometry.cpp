@@ -74,6 +74,7 @@ gpu::Material gpuMaterial(const Material& m, int baseColorTexture, int emissiveT
   out.metallic = m.metallic;
   out.roughness = m.roughness;
   out.normalScale = m.normalScale;
+  out.alphaCutoff = m.alphaCutoff;
   return out;
 }
 
@@ -90,9 +91,12 @@ glm::vec4 solverAlbedo(const Geometry& g, const gpu::Material& m, glm::vec4 base
 // mesh under a detailed texture takes the texture's mean where its vertices would each pick a texel.
 // Sampled at the centroids of the triangle's n² equal sub-triangles, about four a texel the
 // triangle covers (at most 32² a triangle).
+// Where the material cuts the surface away (alphaMode MASK), the means are over what is left, times
+// the share left (`coverage`): the sums divided by the coverage's give what is there.
 struct CornerMeans {
   glm::vec4 albedo[3], emission[3], base[3];
   glm::vec2 metallicRoughness[3];  // the texture's factors (B, G)
+  float coverage[3];
 };
 
 int samplesAcross(const Geometry& g, const gpu::Material& m, const glm::vec4 uv[3]) {
@@ -134,16 +138,40 @@ CornerMeans cornerMeans(const Geometry& g, const gpu::Material& m, const glm::ve
                     emission = m.emission * sampleTexture(g, m.emissiveTexture, at);
     const glm::vec4 metalRough = sampleTexture(g, m.metallicRoughnessTexture, at);
     const glm::vec4 albedo = solverAlbedo(g, m, base, at);
+    const glm::vec3 there = glm::vec3(w) * (gpu::cutAway(base.a, m.alphaCutoff) ? 0.0f : 1.0f);
     for (int k = 0; k < 3; ++k)
-      out.albedo[k] += w[k] * albedo, out.emission[k] += w[k] * emission, out.base[k] += w[k] * base,
-          out.metallicRoughness[k] += w[k] * glm::vec2(metalRough.b, metalRough.g);
+      out.albedo[k] += there[k] * albedo, out.emission[k] += there[k] * emission, out.base[k] += there[k] * base,
+          out.metallicRoughness[k] += there[k] * glm::vec2(metalRough.b, metalRough.g), out.coverage[k] += there[k];
   };
   subTriangleCentroids(n, add);
   // Each corner's weights sum to n²/3 over the n² samples.
   const float norm = 3.0f / float(n * n);
   for (int k = 0; k < 3; ++k)
-    out.albedo[k] *= norm, out.emission[k] *= norm, out.base[k] *= norm, out.metallicRoughness[k] *= norm;
+    out.albedo[k] *= norm, out.emission[k] *= norm, out.base[k] *= norm, out.metallicRoughness[k] *= norm,
+        out.coverage[k] *= norm;
   return out;
+}
+
+// Whether material `index` of `scene` cuts its surface away anywhere (alphaMode MASK): whether the
+// least alpha it can take, its factor's times its texture's least texel's times the least COLOR_0
+// alpha of a primitive drawn with it, is below its cutoff. Bilinear lookups and barycentric
+// blends of the vertices' colours stay at or above those least values.
+bool cutsAnything(const Scene& scene, size_t index) {
+  const Material& m = scene.materials[index];
+  if (m.alphaCutoff < 0.0f) return false;
+  float least = m.baseColor.a;
+  if (m.baseColorTexture >= 0 && size_t(m.baseColorTexture) < scene.textures.size()) {
+    const std::vector<uint8_t>& rgba = scene.textures[size_t(m.baseColorTexture)].rgba;
+    uint8_t texel = 255;
+    for (size_t p = 3; p < rgba.size(); p += 4) texel = std::min(texel, rgba[p]);
+    least *= float(texel) / 255.0f;
+  }
+  float vertices = 1.0f;
+  for (const Mesh& mesh : scene.meshes)
+    for (const Primitive& p : mesh.primitives)
+      if (p.material == int(index))
+        for (const glm::vec4& c : p.colors) vertices = std::min(vertices, c.a);
+  return gpu::cutAway(least * vertices, m.alphaCutoff);
 }
 
 // The world matrix a primitive's positions go through at rest (a skinned mesh's are its bind pose's).
@@ -260,6 +288,10 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
         transformed(linearTexels(m.normalTexture), m.normalTransform)));
   g.materials.push_back(gpuMaterial(Material{}, -1, -1, -1, -1));  // glTF default material
   const uint32_t defaultMaterial = uint32_t(g.materials.size() - 1);
+  // A MASK material whose alpha stays at or above its cutoff everywhere cuts nothing: it is drawn as
+  // opaque, and the passes skip its test (and the depth maps simplify its instances).
+  for (size_t i = 0; i < scene.materials.size(); ++i)
+    if (!cutsAnything(scene, i)) g.materials[i].alphaCutoff = -1.0f;
 
   size_t drawn = 0, built = 0;  // the nodes drawn, and those built so far (counted for `progress`)
   const std::function<void(int)> count = [&](int nodeIndex) {
@@ -299,6 +331,8 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
     g.glossyMaterials |= !gpu::isLambertian(brdf);
     g.lobeDominatedMaterials |= gpu::lobeDominates(brdf, SpecularAlbedo::table().at(1.0f, std::sqrt(brdf.alpha)));
     g.normalTextures |= material.normalTexture >= 0;
+    const bool cutout = material.alphaCutoff >= 0.0f;
+    g.cutouts |= cutout;
     for (uint32_t v = 0; v < n; ++v) {
       Vertex gv{};
       gv.position = p.positions[v];
@@ -365,12 +399,12 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
     // Where albedo or emission varies over the triangles, each surfel takes their hat-weighted
     // means over its triangles, weighted by the triangles' areas.
     const bool varies = material.baseColorTexture >= 0 || material.emissiveTexture >= 0 ||
-                        material.metallicRoughnessTexture >= 0 || !p.colors.empty();
+                        material.metallicRoughnessTexture >= 0 || !p.colors.empty() || cutout;
     const glm::vec4 uniformAlbedo = solverAlbedo(g, material, material.baseColor, glm::vec4(0.0f));
     std::vector<glm::vec4> albedoSums(varies ? welded.size() : 0, glm::vec4(0.0f)),
         emissionSums(albedoSums.size(), glm::vec4(0.0f)), baseSums(albedoSums.size(), glm::vec4(0.0f));
     std::vector<glm::vec2> metalRoughSums(albedoSums.size(), glm::vec2(0.0f));
-    std::vector<float> areaSums(albedoSums.size(), 0.0f);
+    std::vector<float> areaSums(albedoSums.size(), 0.0f), coverageSums(albedoSums.size(), 0.0f);
     for (size_t t = firstTriangle; varies && t < g.triangles.size(); ++t) {
       const uint32_t corner[3] = {g.triangles[t].v0 - base, g.triangles[t].v1 - base, g.triangles[t].v2 - base};
       glm::vec4 uv[3], color[3];
@@ -383,7 +417,7 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
         const uint32_t s = surfelOf[corner[k]];
         albedoSums[s] += area * means.albedo[k], emissionSums[s] += area * means.emission[k];
         baseSums[s] += area * means.base[k], metalRoughSums[s] += area * means.metallicRoughness[k];
-        areaSums[s] += area;
+        areaSums[s] += area, coverageSums[s] += area * means.coverage[k];
       }
     }
 
@@ -394,11 +428,16 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
       for (uint32_t v : welded[s]) g.surfelVertices.push_back(base + v);
       g.surfelTriangles.insert(g.surfelTriangles.end(), adjacent[s].begin(), adjacent[s].end());
       g.surfels.push_back(src);
-      g.surfelAlbedo.push_back(varies ? albedoSums[s] / areaSums[s] : uniformAlbedo);
-      g.surfelEmission.push_back(varies ? emissionSums[s] / areaSums[s] : material.emission);
-      const glm::vec2 metalRough = varies ? metalRoughSums[s] / areaSums[s] : glm::vec2(1.0f);
-      g.surfelBrdf.push_back(surfaceBrdf(material, glm::vec3(varies ? baseSums[s] / areaSums[s] : material.baseColor),
+      // Means over what is there. Where all of the surfel is cut away it keeps (nearly) no area:
+      // black, of the material's own metal and roughness.
+      const bool gone = cutout && !(coverageSums[s] > 0.0f);
+      const float there = varies ? (cutout ? std::max(coverageSums[s], 1e-30f) : areaSums[s]) : 1.0f;
+      g.surfelAlbedo.push_back(varies ? albedoSums[s] / there : uniformAlbedo);
+      g.surfelEmission.push_back(varies ? emissionSums[s] / there : material.emission);
+      const glm::vec2 metalRough = varies && !gone ? metalRoughSums[s] / there : glm::vec2(1.0f);
+      g.surfelBrdf.push_back(surfaceBrdf(material, glm::vec3(varies ? baseSums[s] / there : material.baseColor),
                                          glm::vec4(0.0f, metalRough.y, metalRough.x, 0.0f)));
+      g.surfelCoverage.push_back(cutout ? std::max(coverageSums[s] / areaSums[s], kLeastCoverage) : 1.0f);
     }
     return triangleOf;
   };
@@ -702,7 +741,7 @@ std::vector<bool> closedInstances(const Geometry& g) {
 
 glm::vec3 emissionAt(const Geometry& g, const Triangle& t, float b, float c) {
   const gpu::Material& m = g.materials[t.material & ~gpu::kTriangleFlags];
-  if (m.emission == glm::vec4(0.0f)) return glm::vec3(0.0f);
+  if (m.emission == glm::vec4(0.0f) || cutAwayAt(g, t, glm::vec3(1.0f - b - c, b, c))) return glm::vec3(0.0f);
   const glm::vec4 uv = (1.0f - b - c) * g.uvs[t.v0] + b * g.uvs[t.v1] + c * g.uvs[t.v2];
   return glm::vec3(m.emission * sampleTexture(g, m.emissiveTexture, uv));
 }

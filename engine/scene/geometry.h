@@ -36,6 +36,10 @@ struct Bounds {
   void add(glm::vec3 p) { min = glm::min(min, p), max = glm::max(max, p); }
 };
 
+// The least share of a surfel's area kept where its material cuts it away: a surfel of no area at all
+// would have no direction to send or receive along.
+constexpr float kLeastCoverage = 1e-3f;
+
 struct Geometry {
   std::vector<Vertex> vertices;
   std::vector<glm::vec4> uvs;     // TEXCOORD_0 (xy) and TEXCOORD_1 (zw), zero where a primitive has none
@@ -53,6 +57,7 @@ struct Geometry {
   bool glossyMaterials = false;         // some drawn material is not Lambertian
   bool lobeDominatedMaterials = false;  // in some, the lobe reflects most (gpu::lobeDominates): a metal
   bool normalTextures = false;          // some drawn material has a normal texture
+  bool cutouts = false;                 // some drawn material cuts its surface (alphaMode MASK)
   std::vector<gpu::Texture> textures;
   std::vector<uint32_t> texels;  // linear RGBA as two packHalf2x16 words per texel
   std::vector<SurfelSource> surfels;
@@ -64,6 +69,9 @@ struct Geometry {
   // The material's BRDF at each surfel (its base colour and metallic-roughness means as above), for
   // what its specular lobe reflects of the indirect light
   std::vector<gpu::SurfaceBrdf> surfelBrdf;
+  // The share of each surfel's area its material does not cut away (alphaMode MASK; 1 elsewhere), at
+  // least kLeastCoverage: the surfel pass scales its area by it, so that a leaf's holes let light by.
+  std::vector<float> surfelCoverage;
 
   uint32_t degenerateTriangles = 0;
   uint32_t nodeCount = 0;

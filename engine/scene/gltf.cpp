@@ -159,9 +159,7 @@ class Converter {
       out.roughness = unitFactor(pbr.roughnessFactor, m.name, "roughnessFactor");
       specular(m, out);
       out.doubleSided = m.doubleSided;
-      // Every method takes a surface as opaque: a cut-out or blended one would block what it lets through.
-      if (m.alphaMode == "MASK" || m.alphaMode == "BLEND")
-        warn("material '" + m.name + "' has alphaMode " + m.alphaMode + "; it is drawn opaque");
+      alphaMode(m, out);
       normalTexture(m, out);
       if (auto* v = extensionValue(m.extensions, "KHR_materials_emissive_strength", "emissiveStrength"))
         out.emissiveStrength = float(v->GetNumberAsDouble());
@@ -169,6 +167,21 @@ class Converter {
       if (!finite(out.baseColor) || !finite(glm::vec4(out.emissive, out.emissiveStrength)) || out.emissiveStrength < 0)
         read_.fail("material '" + m.name + "' has a non-finite or negative factor");
       scene_.materials.push_back(out);
+    }
+  }
+
+  // MASK cuts the surface where its alpha is below the cutoff, in every method. BLEND would need the
+  // light through a partly transparent surface, which no method carries: it is drawn opaque.
+  void alphaMode(const tinygltf::Material& m, Material& out) {
+    if (m.alphaMode == "MASK") {
+      if (!std::isfinite(m.alphaCutoff) || m.alphaCutoff < 0.0)
+        read_.fail("material '" + m.name + "': alphaCutoff " + std::to_string(m.alphaCutoff) +
+                   " is not a finite number of 0 or more");
+      out.alphaCutoff = float(std::min(m.alphaCutoff, 2.0));  // past 1 every point is cut: 2 says so
+    } else if (m.alphaMode == "BLEND") {
+      warn("material '" + m.name + "' has alphaMode BLEND; it is drawn opaque");
+    } else if (m.alphaMode != "OPAQUE") {
+      read_.fail("material '" + m.name + "': alphaMode '" + m.alphaMode + "' is not OPAQUE, MASK or BLEND");
     }
   }
 

@@ -49,8 +49,10 @@ MapMeshes::Part partOf(const Geometry& g, uint32_t instance, const std::vector<T
   part.instance = instance;
   part.rigid = !g.instances[instance].skinned && g.instances[instance].morphTargets == 0;
   part.material = triangles.front().material;
+  part.cutout = g.materials[part.material & ~gpu::kTriangleFlags].alphaCutoff >= 0.0f;
   std::vector<uint32_t> exact;
-  for (const Triangle& t : planarFaces(g, triangles)) exact.insert(exact.end(), {t.v0, t.v1, t.v2});
+  for (const Triangle& t : part.cutout ? triangles : planarFaces(g, triangles))
+    exact.insert(exact.end(), {t.v0, t.v1, t.v2});
   sortSpatially(exact, &g.vertices[0].position.x, g.vertices.size(), sizeof(Vertex));
   for (size_t i = 0; i < exact.size(); i += 3)
     part.exact.push_back({exact[i], exact[i + 1], exact[i + 2], part.material});
@@ -142,11 +144,12 @@ MapMeshes::MapMeshes(const Geometry& g, const std::vector<Triangle>& triangles) 
   for (const auto& [instance, tris] : byInstance) {
     parts_.push_back(partOf(g, instance, tris));
     exactCount_ += parts_.back().exact.size();
+    cutouts_ = cutouts_ || parts_.back().cutout;
   }
 }
 
 int MapMeshes::levelWithin(const Part& part, float error) {
-  if (!part.rigid || !(error > 0.0f) || !(part.radius > 0.0f)) return kFinestLevel + 1;
+  if (!part.rigid || part.cutout || !(error > 0.0f) || !(part.radius > 0.0f)) return kFinestLevel + 1;
   // The least k with radius × 2^-k ≤ error.
   const int k = int(std::ceil(std::log2(double(part.radius) / double(error))));
   return std::clamp(k, kCoarsestLevel, kFinestLevel + 1);

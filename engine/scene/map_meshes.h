@@ -3,7 +3,9 @@
 // each rigid instance is drawn as simplified as the frame's lights allow: its surface at a ladder of
 // errors (meshoptimizer's edge collapses), the level taken per frame from the error a caller names.
 // The simplified triangles keep the instance's own vertices, so the frame's animated positions place
-// them. Skinned and morphed instances bend, so they are drawn as planarFaces leaves them.
+// them. Skinned and morphed instances bend, so they are drawn as planarFaces leaves them. An
+// instance whose material cuts its surface away (alphaMode MASK) is drawn as given: its texture
+// coordinates place the cuts.
 #include <cstdint>
 #include <map>
 #include <vector>
@@ -18,6 +20,7 @@ class MapMeshes {
   struct Part {
     uint32_t instance = 0;
     bool rigid = false;                           // neither skinned nor morphed
+    bool cutout = false;                          // its material cuts it (alphaMode MASK): drawn as given
     glm::vec3 centre{0.0f};                       // the mean of its vertices, in its primitive's space,
     float radius = 0.0f;                          // and the farthest of them from it
     std::vector<Triangle> exact;                  // planarFaces
@@ -33,6 +36,8 @@ class MapMeshes {
   const std::vector<Part>& parts() const { return parts_; }
   // Triangles of every part as drawn exactly: the most draw() returns; and as given.
   size_t exactCount() const { return exactCount_; }
+  // Whether some part's material cuts its surface away, which the raster then reads.
+  bool cutouts() const { return cutouts_; }
   size_t triangleCount() const { return triangleCount_; }
 
   // The triangles, each part drawn within `errors[p]` (in its primitive's space; 0: exactly): at
@@ -51,6 +56,7 @@ class MapMeshes {
 
   std::vector<Part> parts_;
   size_t exactCount_ = 0, triangleCount_ = 0;
+  bool cutouts_ = false;
 };
 
 // The distance from p to the triangle abc (to its nearest point, found by the regions of its plane).

@@ -2,11 +2,26 @@
 
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace ivgi::scene {
 
+namespace {
+
+// Embree's filter for hits found, nearest and occluding alike: those on a cut-away point are not hits.
+void passCutAway(const RTCFilterFunctionNArguments* args) {
+  const auto& cutAway = *static_cast<const TriangleRays::CutAway*>(args->geometryUserPtr);
+  for (unsigned i = 0; i < args->N; ++i)
+    if (args->valid[i] != 0 && cutAway(RTCHitN_primID(args->hit, args->N, i),
+                                       glm::vec2(RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i))))
+      args->valid[i] = 0;
+}
+
+}  // namespace
+
 TriangleRays::TriangleRays(const std::vector<gpu::WorldVertex>& world, const std::vector<gpu::Triangle>& triangles,
-                           size_t count, bool watertight) {
+                           size_t count, bool watertight, CutAway cutAway)
+    : cutAway_(std::move(cutAway)) {
   device_ = rtcNewDevice(nullptr);
   if (!device_)
     throw std::runtime_error("Embree: cannot create a device (error " +
@@ -22,6 +37,11 @@ TriangleRays::TriangleRays(const std::vector<gpu::WorldVertex>& world, const std
       rtcSetNewGeometryBuffer(mesh, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), count));
   for (size_t t = 0; t < count; ++t)
     indices[3 * t] = triangles[t].v0, indices[3 * t + 1] = triangles[t].v1, indices[3 * t + 2] = triangles[t].v2;
+  if (cutAway_) {
+    rtcSetGeometryUserData(mesh, &cutAway_);
+    rtcSetGeometryIntersectFilterFunction(mesh, passCutAway);
+    rtcSetGeometryOccludedFilterFunction(mesh, passCutAway);
+  }
   rtcCommitGeometry(mesh);
   rtcAttachGeometry(scene_, mesh);
   rtcReleaseGeometry(mesh);

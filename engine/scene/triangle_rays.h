@@ -6,6 +6,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -15,10 +16,15 @@ namespace ivgi::scene {
 
 class TriangleRays {
  public:
+  // Whether a triangle is cut away (alphaMode MASK) at the barycentric weights (u, v) of its second
+  // and third corners: rays pass there.
+  using CutAway = std::function<bool(uint32_t triangle, glm::vec2 uv)>;
+
   // The first `count` of `triangles`, over the vertices `world`; `watertight`: no ray passes between
-  // two faces that share an edge (Embree's robust mode, somewhat slower).
+  // two faces that share an edge (Embree's robust mode, somewhat slower). Rays pass through the
+  // points `cutAway` names, where one is given.
   TriangleRays(const std::vector<gpu::WorldVertex>& world, const std::vector<gpu::Triangle>& triangles, size_t count,
-               bool watertight);
+               bool watertight, CutAway cutAway = {});
   ~TriangleRays();
   TriangleRays(const TriangleRays&) = delete;
   TriangleRays& operator=(const TriangleRays&) = delete;
@@ -34,6 +40,7 @@ class TriangleRays {
   bool occluded(glm::vec3 origin, glm::vec3 d, float tfar) const;
 
  private:
+  CutAway cutAway_;
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
 };

@@ -18,6 +18,12 @@ layout(constant_id = 0) const int kTilesPerSlice = 448;
 // True for depth maps: the nearest depth alone (`depths`, 32 bits: non-negative floats order as their
 // bits), no triangle key (`visibility`).
 layout(constant_id = 1) const bool kDepthOnly = false;
+// Where some material cuts its surface away (alphaMode MASK), the triangles are drawn in two
+// dispatches: those that do not cut (kDrawUncut), then those that do (kDrawCutting), whose samples
+// are tested. lavapipe runs both sides of a branch, so the test's lookups would cost every sample
+// of a dispatch that held them. kDrawAll: no material cuts.
+const uint kDrawAll = 0u, kDrawUncut = 1u, kDrawCutting = 2u;
+layout(constant_id = 2) const uint kDraw = kDrawAll;
 
 layout(binding = 0, rgba32f) readonly uniform imageBuffer world;           // WorldVertex: position, normal
 layout(binding = 1, rgba32ui) readonly uniform uimageBuffer triangles;     // Triangle
@@ -26,8 +32,15 @@ layout(binding = 3, rgba32f) readonly uniform imageBuffer views;           // Ca
 layout(std430, binding = 4) buffer Depths { uint depths[]; };              // kDepthOnly: the depth's float bits
 // The views drawn (drawn_views): their count, then each one's index in `views`.
 layout(std430, binding = 5) readonly buffer DrawnViews { uint drawnViews[]; };
+// What a material that cuts its surface away (alphaMode MASK) reads to know where (textures.glsl).
+layout(binding = 6, rgba32f) readonly uniform imageBuffer uvs;
+layout(binding = 7, rgba32f) readonly uniform imageBuffer colors;
+layout(binding = 8, rgba32ui) readonly uniform uimageBuffer materials;
+layout(std430, binding = 9) readonly buffer Textures { Texture textures[]; };
+layout(binding = 10, rg32ui) readonly uniform uimageBuffer texels;
 layout(push_constant) uniform Push { RasterPush push; };
 #include "raster_bounds.glsl"
+#include "textures.glsl"
 
 shared uint largeCount;
 shared uint large[64];
@@ -48,6 +61,11 @@ vec3 twinFront(uint tri, Projected t) {
   return faceFront(t.a, t.b, t.c, normals, (v.w & kFlatShaded) != 0u);
 }
 
+// Whether this dispatch draws triangle tri (kDraw).
+bool drawnHere(uint tri) {
+  return kDraw == kDrawAll || materialCuts(imageLoad(triangles, int(tri))) == (kDraw == kDrawCutting);
+}
+
 void castSample(uint tri, Projected t, vec3 front, ivec2 px) {
   vec3 dir = cameraRay(camera, vec2(px) + 0.5, push.size);
   if (dot(front, dir) > 0.0) return;  // a twin seen from behind
@@ -55,6 +73,7 @@ void castSample(uint tri, Projected t, vec3 front, ivec2 px) {
   vec2 uv;
   if (!intersectTriangle(cameraRayOrigin(camera, vec2(px) + 0.5, push.size), dir, t.a, t.b, t.c, depth, uv)) return;
   if (depth <= camera.origin.w || (camera.forward.w > 0.0 && depth > camera.forward.w)) return;
+  if (kDraw == kDrawCutting && cutAwayAt(imageLoad(triangles, int(tri)), vec3(1.0 - uv.x - uv.y, uv))) return;
   const uint at = viewStart + uint(px.y) * push.size.x + uint(px.x);
   if (kDepthOnly)
     atomicMin(depths[at], floatBitsToUint(depth));
@@ -71,7 +90,7 @@ void main() {
   if (lid == 0u) largeCount = 0u;
   barrier();
   const uint tri = itemIndex();
-  if (tri < push.triangleCount) {
+  if (tri < push.triangleCount && drawnHere(tri)) {
     const Projected t = projected(camera, cornersOf(tri));
     if (isLarge(t)) {
       large[atomicAdd(largeCount, 1u)] = tri;

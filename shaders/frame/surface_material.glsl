@@ -1,29 +1,10 @@
 // The material at a point the camera's raster hit (resolve, direct_pixels): base colour (factor ×
 // texture × vertex colour), emission, and glTF's metallic-roughness (brdf.h). Expects `materials`,
-// `uvs`, `colors`, `textures` and `texels` declared before it, the constants kTextured (some
+// `uvs`, `colors`, `textures` and `texels` declared before it (textures.glsl), the constants kTextured (some
 // material has a texture), kColored (some primitive has COLOR_0) and kNormalMapped (some material has
 // a normal texture), and surface_hit.glsl included.
 
-vec4 uvOf(uint vertex) { return imageLoad(uvs, int(vertex)); }  // TEXCOORD_0 (xy), TEXCOORD_1 (zw)
-vec3 colorOf(uint vertex) { return imageLoad(colors, int(vertex)).rgb; }
-
-// (`texels` are read as texels, not a storage buffer: a bilinear sample reads four, common.glsl.)
-vec4 texel(Texture t, int x, int y) {
-  const uvec2 words = imageLoad(texels, int(t.offset + uint(y) * t.width + uint(x))).xy;
-  return vec4(unpackHalf2x16(words.x), unpackHalf2x16(words.y));
-}
-
-vec4 sampleTexture(int index, vec4 uvs) {
-  if (index < 0) return vec4(1.0);
-  Texture t = textures[index];
-  if (t.width == 0u || t.height == 0u) return vec4(1.0);
-  const vec2 uv = transformedUv(t, uvs);
-  float ax, ay;
-  ivec2 xs = texelPair(uv.x, int(t.width), t.wrap & 0xffffu, ax), ys = texelPair(uv.y, int(t.height), t.wrap >> 16, ay);
-  ax = texelWeight(t, ax), ay = texelWeight(t, ay);
-  return mix(mix(texel(t, xs.x, ys.x), texel(t, xs.y, ys.x), ax), mix(texel(t, xs.x, ys.y), texel(t, xs.y, ys.y), ax),
-             ay);
-}
+#include "textures.glsl"
 
 struct SurfaceMaterial {
   SurfaceBrdf brdf;  // base colour, the dielectric's reflectance, metallic, α

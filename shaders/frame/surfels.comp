@@ -1,8 +1,8 @@
 #version 460
-// The surfel pass: area = a third of the adjacent triangles; position = the centroid of that area
-// (the vertex's corner quad of each triangle: vertex, edge midpoints, centroid), so that a surfel
-// on a hard edge lies inside its own face; normal from the welded vertex normals or, where the mesh
-// has none, area-weighted face normals.
+// The surfel pass: area = a third of the adjacent triangles (less what the material cuts away); position = the centroid
+// of that area (the vertex's corner quad of each triangle: vertex, edge midpoints, centroid), so that a surfel on a
+// hard edge lies inside its own face; normal from the welded vertex normals or, where the mesh has none, area-weighted
+// face normals.
 #extension GL_GOOGLE_include_directive : require
 #include "common/common.glsl"
 layout(local_size_x = 256) in;
@@ -16,6 +16,8 @@ layout(binding = 4, rgba32f) readonly uniform imageBuffer world;        // World
 layout(std430, binding = 5) writeonly buffer Surfels { Surfel surfels[]; };
 // The surfels of the objects that move: the others keep what a frame before gave them.
 layout(binding = 6, r32ui) readonly uniform uimageBuffer movingSurfels;
+// The share of each surfel's area its material does not cut away (alphaMode MASK; 1 elsewhere).
+layout(binding = 7, r32f) readonly uniform imageBuffer surfelCoverage;
 layout(push_constant) uniform Push { ListedPush push; };  // the surfels, or those listed
 
 vec3 positionOf(uint v) { return imageLoad(world, int(2u * v)).xyz; }
@@ -74,6 +76,9 @@ void main() {
          e3 = vec2(dot(c - self, u1), dot(c - self, u2));
     reach = max(reach, max(vec4(e1, -e1).xzyw, max(vec4(e2, -e2).xzyw, vec4(e3, -e3).xzyw)));
   }
+  // What the material cuts away is not there: the surfel keeps the rest of its area, on the same
+  // rectangle's shape (a leaf's holes let through what they would on average).
+  area *= imageLoad(surfelCoverage, int(s)).x;
   vec2 extent = 0.25 * (reach.xz + reach.yw);
   extent = extent.x * extent.y > 0.0 ? extent * sqrt(area / (4.0 * extent.x * extent.y)) : vec2(0.5 * sqrt(area));
   surfels[s].positionArea = vec4(centre, len > 0.0 ? area : 0.0);

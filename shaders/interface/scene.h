@@ -59,8 +59,10 @@ struct Material {
   float metallic;
   float roughness;    // perceptual: the distribution's α is its square
   float normalScale;  // normalTexture's scale
-  float pad0;
+  float alphaCutoff;  // alphaMode MASK: below it the surface is cut away (cutAway); negative: opaque
 };
+// Whether a point whose base colour's alpha is `alpha` is cut away by a material's `alphaCutoff`.
+IVGI_FN bool cutAway(float alpha, float alphaCutoff) { return alphaCutoff >= 0.0f && alpha < alphaCutoff; }
 IVGI_CONST uint kMaterialTexels = 5u;
 struct Texture {
   uint offset;  // in texels; each texel is linear RGBA as two packHalf2x16 words

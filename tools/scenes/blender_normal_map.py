@@ -14,15 +14,18 @@ Usage: blender --background --factory-startup --python tools/scenes/blender_norm
 Needs Debian's blender (not installed by ci/install-deps.sh: the tests do not use it).
 """
 import math
+import os
 import sys
 
 import bpy
+
+sys.path.append(os.path.dirname(os.path.abspath(__file__)))
+import blender_overhead  # noqa: E402
 
 args = sys.argv[sys.argv.index("--") + 1:]
 out, striped = args[0], "--striped" in args[1:]
 
 bpy.ops.wm.read_factory_settings(use_empty=True)
-scene = bpy.context.scene
 
 bpy.ops.mesh.primitive_plane_add(size=2.0)
 plane = bpy.context.active_object
@@ -57,27 +60,7 @@ if striped:
 plane.data.materials.append(material)
 output = nodes["Material Output"]
 
-bpy.ops.object.light_add(type="SUN", rotation=(0.0, math.radians(45.0), 0.0))
-sun = bpy.context.active_object.data
-sun.energy = 3.0
-sun.angle = 0.0
-
-bpy.ops.object.camera_add(location=(0, 0, 3), rotation=(0, 0, 0))
-camera = bpy.context.active_object
-camera.data.type = "ORTHO"
-camera.data.ortho_scale = 2.0
-scene.camera = camera
-scene.world = bpy.data.worlds.new("black")
-scene.world.color = (0, 0, 0)
-
-scene.render.engine = "CYCLES"
-scene.cycles.samples = 64
-scene.cycles.use_denoising = False
-scene.cycles.max_bounces = 1
-scene.render.resolution_x = scene.render.resolution_y = 64
-scene.view_settings.view_transform = "Standard"
-scene.render.image_settings.file_format = "OPEN_EXR"
-scene.render.filepath = out + "_cycles.exr"
+blender_overhead.sun_camera_and_cycles(out, width=2.0, height=3.0, size=64, samples=64, bounces=1)
 links.new(diffuse.outputs["BSDF"], output.inputs["Surface"])
 bpy.ops.render.render(write_still=True)
 

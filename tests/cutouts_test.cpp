@@ -1,0 +1,244 @@
+// glTF's alphaMode MASK: a surface is not there where its base colour's alpha is below the cutoff.
+// The camera sees through it, the light passes it (the path tracer's rays, iv's and ar's depth maps),
+// and the solvers' surfels keep only the area left.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "engine/scene/geometry.h"
+#include "engine/scene/gltf.h"
+#include "engine/scene/texture_sampling.h"
+#include "scenes/gltf_builder.h"
+#include "tests/test_support.h"
+
+namespace ivgi {
+namespace {
+
+constexpr double kPi = 3.14159265358979;
+constexpr int kSize = 96;
+constexpr double kCameraHeight = 4.0, kHalfFov = 0.45;
+// A sun 45° up from +x, of irradiance 2 across its rays: the floor takes 2 cos 45°.
+const glm::dvec3 kToSun = glm::normalize(glm::dvec3(1, 1, 0));
+const double kLitFloor = 0.5 / kPi * 2.0 * kToSun.y, kLitScreen = 0.8 / kPi * 2.0 * kToSun.y;
+
+struct Screen {
+  bool present = true;
+  float alphaFactor = 1.0f;  // the base colour factor's alpha
+  bool masked = true;        // alphaMode MASK (else OPAQUE)
+};
+
+// A grey floor (4 m square at y = 0) under a 1 m screen at y = 1 over x in [0, 1], z in [−0.5, 0.5].
+// The screen's base colour texture is a 2 × 2 checker of alpha 1 and 0 (NEAREST): it is there
+// where u and v are on the same side of 0.5, u along +x and v along +z. A sun lights both; the
+// camera looks down from 4 m, x to the image's right and z down it.
+tinygltf::Model screenOverFloor(const Screen& screen) {
+  scenes::GltfBuilder b;
+  scenes::MeshData floor, sheet;
+  scenes::addQuad(floor, {-2, 0, -2}, {2, 0, -2}, {2, 0, 2}, {-2, 0, 2}, 16, 16, {0, 1, 0});
+  scenes::addQuad(sheet, {0, 1, -0.5f}, {1, 1, -0.5f}, {1, 1, 0.5f}, {0, 1, 0.5f}, 4, 4, {0, 2, 0});
+  std::vector<std::pair<scenes::MeshData, int>> primitives = {{floor, b.material("floor", glm::vec3(0.5f))}};
+  if (screen.present) primitives.push_back({sheet, b.material("screen", glm::vec3(0.8f))});
+  b.node("scene", b.mesh("scene", primitives));
+  b.light("sun", "directional", 2.0f, glm::vec3(kToSun), glm::quatLookAtRH(-glm::vec3(kToSun), glm::vec3(0, 1, 0)));
+  b.camera("view", float(2.0 * kHalfFov), 0.01f, {0, float(kCameraHeight), 0},
+           glm::quatLookAtRH(glm::vec3(0, -1, 0), glm::vec3(0, 0, -1)));
+  tinygltf::Model m = b.finish();
+  if (!screen.present) return m;
+  tinygltf::Sampler nearest;
+  nearest.magFilter = nearest.minFilter = TINYGLTF_TEXTURE_FILTER_NEAREST;
+  m.samplers.push_back(nearest);
+  tinygltf::Material& material = m.materials[1];
+  material.pbrMetallicRoughness.baseColorTexture.index =
+      test::addTexture(m, 2, 2, {255, 255, 255, 255, 255, 255, 255, 0, 255, 255, 255, 0, 255, 255, 255, 255},
+                       int(m.samplers.size() - 1));
+  material.pbrMetallicRoughness.baseColorFactor[3] = screen.alphaFactor;
+  if (screen.masked) material.alphaMode = "MASK";
+  material.doubleSided = true;  // as a leaf is: the floor's light reaches its underside, and the floor again
+  return m;
+}
+
+// The mean over a square of (2·half)² pixels around where the camera sees point (x, y, z).
+double patchMean(const std::vector<float>& image, double x, double y, double z, int half = 2) {
+  const double across = (kCameraHeight - y) * std::tan(kHalfFov);
+  const int column = int((x / across + 1.0) * kSize / 2.0), row = int((z / across + 1.0) * kSize / 2.0);
+  double sum = 0.0;
+  for (int r = row - half; r < row + half; ++r)
+    for (int c = column - half; c < column + half; ++c) sum += image[size_t(r) * kSize + size_t(c)];
+  return sum / (4.0 * half * half);
+}
+
+// Each method's image of `m` (the red channel) at kSize², without an environment.
+std::map<std::string, std::vector<float>> renderRed(const tinygltf::Model& m, const std::string& name) {
+  const std::filesystem::path file = test::scratchDir(name) / "screen.gltf";
+  scenes::writeModel(m, file.string());
+  std::map<std::string, std::vector<float>> red;
+  const std::string size = std::to_string(kSize) + "x" + std::to_string(kSize);
+  for (const std::string method : {"pt", "iv", "ar"}) {
+    std::vector<std::string> args = {file.string(), "--method", method, "--size", size, "--env", "none"};
+    if (method == "pt") args.insert(args.end(), {"--spp", "256"});
+    red[method] = test::channelOf(test::renderExr(name + "-" + method, args), "R");
+    EXPECT_EQ(red[method].size(), size_t(kSize) * kSize) << method;
+  }
+  return red;
+}
+
+// The screen's four cells, by their centres' (x, z), and whether the checker keeps each.
+struct Cell {
+  double x, z;
+  bool there;
+};
+const Cell kCells[4] = {{0.25, -0.25, true}, {0.75, -0.25, false}, {0.25, 0.25, false}, {0.75, 0.25, true}};
+
+}  // namespace
+
+// The loader reads MASK with its cutoff (0.5 unless the file gives one), refuses a cutoff below 0
+// or an alphaMode glTF does not define, and names BLEND, which it draws opaque.
+TEST(Cutouts, TheLoaderReadsTheMode) {
+  tinygltf::Model m = screenOverFloor({});
+  EXPECT_FLOAT_EQ(scene::sceneFromModel(m, "mask").materials[1].alphaCutoff, 0.5f);
+  EXPECT_LT(scene::sceneFromModel(m, "mask").materials[0].alphaCutoff, 0.0f) << "OPAQUE";
+  m.materials[1].alphaCutoff = 0.25;
+  EXPECT_FLOAT_EQ(scene::sceneFromModel(m, "mask").materials[1].alphaCutoff, 0.25f);
+
+  m.materials[1].alphaCutoff = -0.5;
+  try {
+    scene::sceneFromModel(m, "negative.gltf");
+    ADD_FAILURE() << "a negative alphaCutoff was taken";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("negative.gltf"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("alphaCutoff"), std::string::npos) << e.what();
+  }
+  m.materials[1].alphaCutoff = 0.5, m.materials[1].alphaMode = "CUTOUT";
+  try {
+    scene::sceneFromModel(m, "unknown.gltf");
+    ADD_FAILURE() << "an unknown alphaMode was taken";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("CUTOUT"), std::string::npos) << e.what();
+  }
+  m.materials[1].alphaMode = "BLEND";
+  const scene::Scene blended = scene::sceneFromModel(m, "blend");
+  EXPECT_LT(blended.materials[1].alphaCutoff, 0.0f);
+  ASSERT_EQ(blended.warnings.size(), 1u);
+  EXPECT_NE(blended.warnings[0].find("BLEND"), std::string::npos) << blended.warnings[0];
+}
+
+// A MASK material cuts only where its alpha can fall below the cutoff: at a cutoff of 0, or with a
+// texture of no transparent texel, it is drawn as opaque, and the passes skip its test.
+TEST(Cutouts, AMaskThatCutsNothingIsOpaque) {
+  auto cuts = [](const tinygltf::Model& m) {
+    return scene::buildGeometry(scene::sceneFromModel(m, "mask"), 0).cutouts;
+  };
+  tinygltf::Model m = screenOverFloor({});
+  EXPECT_TRUE(cuts(m));
+  m.materials[1].alphaCutoff = 0.0;
+  EXPECT_FALSE(cuts(m)) << "cutoff 0";
+  m = screenOverFloor({});
+  for (size_t p = 3; p < m.images.back().image.size(); p += 4) m.images.back().image[p] = 128;
+  EXPECT_FALSE(cuts(m)) << "alpha 128/255 everywhere, at the cutoff 0.5";
+  m.materials[1].pbrMetallicRoughness.baseColorFactor[3] = 0.9;
+  EXPECT_TRUE(cuts(m)) << "alpha 128/255 × 0.9 everywhere";
+}
+
+// The host's test follows the checker, and the screen's surfels keep half its area: each keeps
+// the share of its own area (a third of its triangles') that the checker leaves.
+TEST(Cutouts, TheSurfelsKeepTheAreaLeft) {
+  const scene::Scene loaded = scene::sceneFromModel(screenOverFloor({}), "screen");
+  const scene::Geometry g = scene::buildGeometry(loaded, 0);
+  ASSERT_TRUE(g.cutouts);
+  ASSERT_EQ(g.surfelCoverage.size(), g.surfels.size());
+  // Its front's and its back's (the screen is double-sided: its back has surfels of its own).
+  double floorArea = 0.0, screenArea[2] = {}, screenKept[2] = {};
+  for (size_t s = 0; s < g.surfels.size(); ++s) {
+    const gpu::SurfelSource& src = g.surfels[s];
+    double area = 0.0;
+    for (uint32_t k = 0; k < src.triangleCount; ++k) {
+      const scene::Triangle& t = g.triangles[g.surfelTriangles[src.firstTriangle + k]];
+      area += glm::length(glm::cross(g.vertices[t.v1].position - g.vertices[t.v0].position,
+                                     g.vertices[t.v2].position - g.vertices[t.v0].position)) /
+              6.0;
+    }
+    const bool screen = g.vertices[g.surfelVertices[src.firstVertex]].position.y > 0.5f,
+               back = s >= g.surfels.size() - g.backSurfels;
+    if (!screen) {
+      floorArea += area;
+      EXPECT_EQ(g.surfelCoverage[s], 1.0f);
+      continue;
+    }
+    screenArea[back] += area, screenKept[back] += area * g.surfelCoverage[s];
+    // What is left is of the material's roughness (1), wholly cut surfels too: none reads as glossy.
+    EXPECT_EQ(g.surfelBrdf[s].alpha, 1.0f) << "surfel " << s;
+  }
+  EXPECT_NEAR(floorArea, 16.0, 1e-4);
+  for (int back : {0, 1}) {
+    EXPECT_NEAR(screenArea[back], 1.0, 1e-5) << "back " << back;
+    // Half the screen, and at most kLeastCoverage of the half cut away.
+    EXPECT_GE(screenKept[back], 0.5 - 1e-5) << "back " << back;
+    EXPECT_LE(screenKept[back], 0.5 + 0.5 * scene::kLeastCoverage + 1e-5) << "back " << back;
+  }
+  for (const Cell& c : kCells) {
+    // The screen's triangle under the cell's centre: the 4 × 4 grid's cell (i, j) holds triangles
+    // 2(4j + i) and 2(4j + i) + 1, after the floor's 16 × 16 × 2.
+    const int i = int(c.x * 4.0), j = int((c.z + 0.5) * 4.0), tri = 512 + 2 * (4 * j + i);
+    EXPECT_EQ(scene::cutAwayAt(g, g.triangles[size_t(tri)], glm::vec3(1.0f / 3.0f)), !c.there)
+        << "cell at " << c.x << ", " << c.z;
+  }
+}
+
+// Seen from above, the screen shows where the checker keeps it (lit by the sun) and the floor
+// where it does not; on the floor its shadow is the checker's. The screen's top reflects the sun
+// alone; the floor the sun reaches takes a few per cent more from the screen's lit underside, as pt
+// finds it, and iv and ar agree with pt there.
+TEST(Cutouts, TheCameraAndTheLightPassThroughTheCuts) {
+  const auto red = renderRed(screenOverFloor({}), "checker");
+  for (const std::string method : {"pt", "iv", "ar"}) {
+    const std::vector<float>& image = red.at(method);
+    for (const Cell& c : kCells) {
+      const double screen = patchMean(image, c.x, 1.0, c.z), shadow = patchMean(image, c.x - 1.0, 0.0, c.z);
+      std::printf("[ cutouts ] %s, cell %.2f %.2f (%s): screen %.4f, its shadow %.4f\n", method.c_str(), c.x, c.z,
+                  c.there ? "kept" : "cut", screen, shadow);
+      const std::string where = method + ", the cell at " + std::to_string(c.x) + ", " + std::to_string(c.z);
+      if (c.there) {
+        EXPECT_NEAR(screen, kLitScreen, 0.02 * kLitScreen) << where << ": the screen";
+        EXPECT_LT(shadow, 0.1 * kLitFloor) << where << ": its shadow";
+        continue;
+      }
+      const double ptScreen = patchMean(red.at("pt"), c.x, 1.0, c.z),
+                   ptShadow = patchMean(red.at("pt"), c.x - 1, 0, c.z);
+      EXPECT_NEAR(screen, 1.025 * kLitFloor, 0.025 * kLitFloor) << where << ": the floor through the cut";
+      EXPECT_NEAR(shadow, 1.025 * kLitFloor, 0.025 * kLitFloor) << where << ": the sun through the cut";
+      EXPECT_NEAR(screen, ptScreen, 0.02 * ptScreen) << where << ": the floor through the cut, against pt";
+      EXPECT_NEAR(shadow, ptShadow, 0.02 * ptShadow) << where << ": the sun through the cut, against pt";
+    }
+    // In the kept cells' shadows only the screen's underside lights the floor, and only with what
+    // is left of it: with the cut half counted as well, iv and ar gave about half as much again.
+    double underside = 0.0, ptUnderside = 0.0;
+    for (const Cell& c : kCells)
+      if (c.there)
+        underside += patchMean(image, c.x - 1.0, 0.0, c.z, 4),
+            ptUnderside += patchMean(red.at("pt"), c.x - 1, 0, c.z, 4);
+    std::printf("[ cutouts ] %s: the kept cells' shadows %.5f, pt %.5f\n", method.c_str(), underside, ptUnderside);
+    EXPECT_NEAR(underside, ptUnderside, 0.2 * ptUnderside) << method << ": the light of the screen's underside";
+  }
+}
+
+// A screen whose alpha is below the cutoff everywhere is not there at all: each method's image
+// is the floor's alone.
+TEST(Cutouts, AScreenCutWhollyAwayIsNotThere) {
+  const auto without = renderRed(screenOverFloor({.present = false}), "no-screen");
+  const auto cut = renderRed(screenOverFloor({.alphaFactor = 0.2f}), "cut-screen");
+  for (const std::string method : {"pt", "iv", "ar"}) {
+    double worst = 0.0;
+    for (size_t i = 0; i < without.at(method).size(); ++i)
+      worst = std::max(worst, std::abs(double(cut.at(method)[i]) - double(without.at(method)[i])));
+    std::printf("[ cutouts ] %s: a screen cut wholly away differs from none by at most %.5f\n", method.c_str(), worst);
+    EXPECT_LT(worst, 0.01 * kLitFloor) << method;
+  }
+}
+
+}  // namespace ivgi

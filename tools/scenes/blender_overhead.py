@@ -1,0 +1,34 @@
+"""What the probes against Blender share: a sun 45 degrees up from +x (3 W/m^2, sharp), an
+orthographic camera looking straight down from `height` over `width` metres, a black world, and
+Cycles' settings (no denoising, the Standard view transform, an EXR of `size` x `size` pixels at
+OUT_cycles.exr). Imported by blender_normal_map.py and blender_cutout.py, which run inside Blender.
+"""
+import math
+
+import bpy
+
+
+def sun_camera_and_cycles(out, width, height, size, samples, bounces):
+    scene = bpy.context.scene
+    bpy.ops.object.light_add(type="SUN", rotation=(0.0, math.radians(45.0), 0.0))
+    sun = bpy.context.active_object.data
+    sun.energy = 3.0
+    sun.angle = 0.0
+
+    bpy.ops.object.camera_add(location=(0, 0, height), rotation=(0, 0, 0))
+    camera = bpy.context.active_object
+    camera.data.type = "ORTHO"
+    camera.data.ortho_scale = width
+    scene.camera = camera
+    scene.world = bpy.data.worlds.new("black")
+    scene.world.color = (0, 0, 0)
+
+    scene.render.engine = "CYCLES"
+    scene.cycles.samples = samples
+    scene.cycles.use_denoising = False
+    scene.cycles.max_bounces = bounces
+    scene.cycles.transparent_max_bounces = bounces
+    scene.render.resolution_x = scene.render.resolution_y = size
+    scene.view_settings.view_transform = "Standard"
+    scene.render.image_settings.file_format = "OPEN_EXR"
+    scene.render.filepath = out + "_cycles.exr"
