@@ -220,7 +220,8 @@ TEST(NormalTextures, InfoCountsThem) {
   scenes::writeModel(tiledFloor({.lights = [](scenes::GltfBuilder&) {}}), file.string());
   const auto r = test::runIvgi({"info", file.string()});
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_NE(r.out.find("materials    4 (4 with a normal texture, 0 cut by alphaMode MASK)"), std::string::npos)
+  EXPECT_NE(r.out.find("materials    4 (4 with a normal texture, 0 cut by alphaMode MASK, 0 blended)"),
+            std::string::npos)
       << r.out;
 }
 

@@ -58,11 +58,12 @@ int runInfo(const InfoOptions& o) {
   }
   auto materials = [&](auto has) { return size_t(std::count_if(s.materials.begin(), s.materials.end(), has)); };
   const size_t normalMapped = materials([](const scene::Material&m) { return m.normalTexture >= 0; }),
-               cut = materials([](const scene::Material&m) { return m.alphaCutoff >= 0.0f; });
+               cut = materials([](const scene::Material&m) { return m.alphaCutoff >= 0.0f; }),
+               blended = materials([](const scene::Material&m) { return m.alphaCutoff == gpu::kAlphaBlended; });
   std::printf(
-      "materials    %zu (%zu with a normal texture, %zu cut by alphaMode MASK), textures %zu, vertex colours in %zu "
-      "of %zu primitives\n",
-      s.materials.size(), normalMapped, cut, s.textures.size(), colored, primitives);
+      "materials    %zu (%zu with a normal texture, %zu cut by alphaMode MASK, %zu blended), textures %zu, vertex "
+      "colours in %zu of %zu primitives\n",
+      s.materials.size(), normalMapped, cut, blended, s.textures.size(), colored, primitives);
   std::printf("nodes        %zu, skins %zu\n", s.nodes.size(), s.skins.size());
   std::printf("animations   %zu\n", s.animations.size());
   for (size_t i = 0; i < s.animations.size(); ++i) {

@@ -165,11 +165,12 @@ struct PathTracer::Impl {
 
   glm::vec3 pos(uint32_t v) const { return glm::vec3(s.world[v].position); }
 
-  // Where the rays pass a cut-away point (alphaMode MASK), if any material cuts.
+  // Where the rays pass a point the material's alpha takes away (alphaMode MASK, or BLEND for the
+  // share of rays its alpha leaves), if any material does.
   static scene::TriangleRays::CutAway cutAway(const scene::Geometry& g) {
     if (!g.cutouts) return {};
-    return [&g](uint32_t tri, glm::vec2 uv) {
-      return scene::cutAwayAt(g, g.triangles[tri], glm::vec3(1.0f - uv.x - uv.y, uv.x, uv.y));
+    return [&g](uint32_t tri, glm::vec2 uv, float sample) {
+      return gpu::cutAway(scene::presenceAt(g, g.triangles[tri], glm::vec3(1.0f - uv.x - uv.y, uv.x, uv.y)), sample);
     };
   }
 
@@ -202,10 +203,7 @@ struct PathTracer::Impl {
     const glm::vec4 metallicRoughness = scene::sampleTexture(g, m.metallicRoughnessTexture, uv);
     x.brdf = scene::surfaceBrdf(m, base, metallicRoughness);
     x.roughness = m.roughness * metallicRoughness.g;
-    // A point on an emitter chosen where its material cuts it away emits nothing (rays pass it).
-    x.emission = g.cutouts && scene::cutAwayAt(g, tr, w)
-                     ? glm::vec3(0.0f)
-                     : glm::vec3(m.emission) * glm::vec3(scene::sampleTexture(g, m.emissiveTexture, uv));
+    x.emission = glm::vec3(m.emission) * glm::vec3(scene::sampleTexture(g, m.emissiveTexture, uv));
     return x;
   }
 
@@ -237,6 +235,8 @@ struct PathTracer::Impl {
         float r1 = std::sqrt(rng.uniform()), r2 = rng.uniform();
         glm::vec3 w(1.0f - r1, r1 * (1.0f - r2), r1 * r2);
         Surface y = surface(tri, 0.0f, w);
+        // What the material's alpha takes away emits nothing: a blended emitter its alpha's share.
+        if (g.cutouts) y.emission *= scene::presenceAt(g, g.triangles[tri], w);
         glm::vec3 toY = y.position - origin;
         float d2 = glm::dot(toY, toY), dist = std::sqrt(d2);
         if (dist > 0.0f) {

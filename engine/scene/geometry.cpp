@@ -91,8 +91,9 @@ glm::vec4 solverAlbedo(const Geometry& g, const gpu::Material& m, glm::vec4 base
 // mesh under a detailed texture takes the texture's mean where its vertices would each pick a texel.
 // Sampled at the centroids of the triangle's n² equal sub-triangles, about four a texel the
 // triangle covers (at most 32² a triangle).
-// Where the material cuts the surface away (alphaMode MASK), the means are over what is left, times
-// the share left (`coverage`): the sums divided by the coverage's give what is there.
+// Where the material takes some of the surface away (alphaMode MASK or BLEND), the means are over
+// what is left, times the share left (`coverage`): the sums divided by the coverage's give what is
+// there.
 struct CornerMeans {
   glm::vec4 albedo[3], emission[3], base[3];
   glm::vec2 metallicRoughness[3];  // the texture's factors (B, G)
@@ -138,7 +139,7 @@ CornerMeans cornerMeans(const Geometry& g, const gpu::Material& m, const glm::ve
                     emission = m.emission * sampleTexture(g, m.emissiveTexture, at);
     const glm::vec4 metalRough = sampleTexture(g, m.metallicRoughnessTexture, at);
     const glm::vec4 albedo = solverAlbedo(g, m, base, at);
-    const glm::vec3 there = glm::vec3(w) * (gpu::cutAway(base.a, m.alphaCutoff) ? 0.0f : 1.0f);
+    const glm::vec3 there = glm::vec3(w) * gpu::presenceOf(base.a, m.alphaCutoff);
     for (int k = 0; k < 3; ++k)
       out.albedo[k] += there[k] * albedo, out.emission[k] += there[k] * emission, out.base[k] += there[k] * base,
           out.metallicRoughness[k] += there[k] * glm::vec2(metalRough.b, metalRough.g), out.coverage[k] += there[k];
@@ -152,13 +153,14 @@ CornerMeans cornerMeans(const Geometry& g, const gpu::Material& m, const glm::ve
   return out;
 }
 
-// Whether material `index` of `scene` cuts its surface away anywhere (alphaMode MASK): whether the
-// least alpha it can take, its factor's times its texture's least texel's times the least COLOR_0
-// alpha of a primitive drawn with it, is below its cutoff. Bilinear lookups and barycentric
-// blends of the vertices' colours stay at or above those least values.
+// Whether material `index` of `scene` takes any of its surface away (alphaMode MASK or BLEND): whether
+// the least alpha it can take, its factor's times its texture's least texel's times the least
+// COLOR_0 alpha of a primitive drawn with it, leaves less than all of it (gpu::presenceOf).
+// Bilinear lookups and barycentric blends of the vertices' colours stay at or above those least
+// values.
 bool cutsAnything(const Scene& scene, size_t index) {
   const Material& m = scene.materials[index];
-  if (m.alphaCutoff < 0.0f) return false;
+  if (!gpu::alphaMatters(m.alphaCutoff)) return false;
   float least = m.baseColor.a;
   if (m.baseColorTexture >= 0 && size_t(m.baseColorTexture) < scene.textures.size()) {
     const std::vector<uint8_t>& rgba = scene.textures[size_t(m.baseColorTexture)].rgba;
@@ -171,7 +173,7 @@ bool cutsAnything(const Scene& scene, size_t index) {
     for (const Primitive& p : mesh.primitives)
       if (p.material == int(index))
         for (const glm::vec4& c : p.colors) vertices = std::min(vertices, c.a);
-  return gpu::cutAway(least * vertices, m.alphaCutoff);
+  return gpu::presenceOf(least * vertices, m.alphaCutoff) < 1.0f;
 }
 
 // The world matrix a primitive's positions go through at rest (a skinned mesh's are its bind pose's).
@@ -288,10 +290,11 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
         transformed(linearTexels(m.normalTexture), m.normalTransform)));
   g.materials.push_back(gpuMaterial(Material{}, -1, -1, -1, -1));  // glTF default material
   const uint32_t defaultMaterial = uint32_t(g.materials.size() - 1);
-  // A MASK material whose alpha stays at or above its cutoff everywhere cuts nothing: it is drawn as
-  // opaque, and the passes skip its test (and the depth maps simplify its instances).
+  // A MASK material whose alpha stays at or above its cutoff everywhere, or a BLEND one whose alpha
+  // stays 1, takes nothing away: it is drawn as opaque, and the passes skip its test (and the depth
+  // maps simplify its instances).
   for (size_t i = 0; i < scene.materials.size(); ++i)
-    if (!cutsAnything(scene, i)) g.materials[i].alphaCutoff = -1.0f;
+    if (!cutsAnything(scene, i)) g.materials[i].alphaCutoff = gpu::kAlphaOpaque;
 
   size_t drawn = 0, built = 0;  // the nodes drawn, and those built so far (counted for `progress`)
   const std::function<void(int)> count = [&](int nodeIndex) {
@@ -331,8 +334,9 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
     g.glossyMaterials |= !gpu::isLambertian(brdf);
     g.lobeDominatedMaterials |= gpu::lobeDominates(brdf, SpecularAlbedo::table().at(1.0f, std::sqrt(brdf.alpha)));
     g.normalTextures |= material.normalTexture >= 0;
-    const bool cutout = material.alphaCutoff >= 0.0f;
+    const bool cutout = gpu::alphaMatters(material.alphaCutoff);
     g.cutouts |= cutout;
+    g.blended |= material.alphaCutoff == gpu::kAlphaBlended;
     for (uint32_t v = 0; v < n; ++v) {
       Vertex gv{};
       gv.position = p.positions[v];
@@ -741,9 +745,11 @@ std::vector<bool> closedInstances(const Geometry& g) {
 
 glm::vec3 emissionAt(const Geometry& g, const Triangle& t, float b, float c) {
   const gpu::Material& m = g.materials[t.material & ~gpu::kTriangleFlags];
-  if (m.emission == glm::vec4(0.0f) || cutAwayAt(g, t, glm::vec3(1.0f - b - c, b, c))) return glm::vec3(0.0f);
+  if (m.emission == glm::vec4(0.0f)) return glm::vec3(0.0f);
   const glm::vec4 uv = (1.0f - b - c) * g.uvs[t.v0] + b * g.uvs[t.v1] + c * g.uvs[t.v2];
-  return glm::vec3(m.emission * sampleTexture(g, m.emissiveTexture, uv));
+  // What is not there emits nothing: a blended emitter its alpha's share.
+  return glm::vec3(m.emission * sampleTexture(g, m.emissiveTexture, uv)) *
+         presenceAt(g, t, glm::vec3(1.0f - b - c, b, c));
 }
 
 std::vector<EmissionCell> emissionCells(const Geometry& g, const Triangle& t) {

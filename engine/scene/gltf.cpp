@@ -170,8 +170,7 @@ class Converter {
     }
   }
 
-  // MASK cuts the surface where its alpha is below the cutoff, in every method. BLEND would need the
-  // light through a partly transparent surface, which no method carries: it is drawn opaque.
+  // MASK cuts the surface where its alpha is below the cutoff; BLEND keeps alpha of it (gpu::presenceOf).
   void alphaMode(const tinygltf::Material& m, Material& out) {
     if (m.alphaMode == "MASK") {
       if (!std::isfinite(m.alphaCutoff) || m.alphaCutoff < 0.0)
@@ -179,7 +178,7 @@ class Converter {
                    " is not a finite number of 0 or more");
       out.alphaCutoff = float(std::min(m.alphaCutoff, 2.0));  // past 1 every point is cut: 2 says so
     } else if (m.alphaMode == "BLEND") {
-      warn("material '" + m.name + "' has alphaMode BLEND; it is drawn opaque");
+      out.alphaCutoff = gpu::kAlphaBlended;
     } else if (m.alphaMode != "OPAQUE") {
       read_.fail("material '" + m.name + "': alphaMode '" + m.alphaMode + "' is not OPAQUE, MASK or BLEND");
     }

@@ -49,7 +49,7 @@ MapMeshes::Part partOf(const Geometry& g, uint32_t instance, const std::vector<T
   part.instance = instance;
   part.rigid = !g.instances[instance].skinned && g.instances[instance].morphTargets == 0;
   part.material = triangles.front().material;
-  part.cutout = g.materials[part.material & ~gpu::kTriangleFlags].alphaCutoff >= 0.0f;
+  part.cutout = gpu::alphaMatters(g.materials[part.material & ~gpu::kTriangleFlags].alphaCutoff);
   std::vector<uint32_t> exact;
   for (const Triangle& t : part.cutout ? triangles : planarFaces(g, triangles))
     exact.insert(exact.end(), {t.v0, t.v1, t.v2});

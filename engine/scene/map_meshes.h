@@ -20,7 +20,7 @@ class MapMeshes {
   struct Part {
     uint32_t instance = 0;
     bool rigid = false;                           // neither skinned nor morphed
-    bool cutout = false;                          // its material cuts it (alphaMode MASK): drawn as given
+    bool cutout = false;                          // its alpha cuts it (MASK, BLEND): drawn as given
     glm::vec3 centre{0.0f};                       // the mean of its vertices, in its primitive's space,
     float radius = 0.0f;                          // and the farthest of them from it
     std::vector<Triangle> exact;                  // planarFaces

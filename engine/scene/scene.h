@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "shaders/interface.h"
+
 namespace ivgi::scene {
 
 // Bad input: the message names the file and the problem.
@@ -56,9 +58,9 @@ struct Material {
   int normalTexture = -1;  // linear: the tangent-space normal, gpu::mappedNormal
   TextureTransform normalTransform;
   float normalScale = 1.0f;
-  // alphaMode MASK's alphaCutoff: where the base colour's alpha (factor × texture × COLOR_0) is
-  // below it the surface is not there. Negative: opaque (OPAQUE, or BLEND, which is drawn opaque).
-  float alphaCutoff = -1.0f;
+  // alphaMode: MASK's alphaCutoff (where the base colour's alpha, factor × texture × COLOR_0, is
+  // below it the surface is not there), gpu::kAlphaOpaque or gpu::kAlphaBlended (gpu::presenceOf).
+  float alphaCutoff = gpu::kAlphaOpaque;
   float specular = 1.0f;          // KHR_materials_specular: the dielectric's specular weight
   glm::vec3 specularColor{1.0f};  // and its reflectance's colour
   float ior = 1.5f;               // KHR_materials_ior (0: the reflectance is the colour itself)

@@ -23,12 +23,12 @@ glm::vec4 sampleTexture(const Geometry& g, int index, glm::vec4 uvs) {
                   glm::mix(texel(xs.x, ys.y), texel(xs.y, ys.y), ax), ay);
 }
 
-bool cutAwayAt(const Geometry& g, const gpu::Triangle& t, glm::vec3 w) {
+float presenceAt(const Geometry& g, const gpu::Triangle& t, glm::vec3 w) {
   const gpu::Material& m = g.materials[t.material & ~gpu::kTriangleFlags];
-  if (m.alphaCutoff < 0.0f) return false;
+  if (!gpu::alphaMatters(m.alphaCutoff)) return 1.0f;
   const glm::vec4 uvs = w.x * g.uvs[t.v0] + w.y * g.uvs[t.v1] + w.z * g.uvs[t.v2];
   const float color = w.x * g.colors[t.v0].a + w.y * g.colors[t.v1].a + w.z * g.colors[t.v2].a;
-  return gpu::cutAway(m.baseColor.a * color * sampleTexture(g, m.baseColorTexture, uvs).a, m.alphaCutoff);
+  return gpu::presenceOf(m.baseColor.a * color * sampleTexture(g, m.baseColorTexture, uvs).a, m.alphaCutoff);
 }
 
 glm::vec3 mappedNormalAt(const Geometry& g, const std::vector<WorldVertex>& world, const gpu::Triangle& t, glm::vec3 w,

@@ -19,10 +19,10 @@ inline glm::vec4 sampleTexture(const Geometry& g, int index, glm::vec2 uv) {
   return sampleTexture(g, index, glm::vec4(uv, uv));
 }
 
-// Whether triangle t's material cuts its surface away at barycentric weights w (alphaMode MASK: the
-// base colour's alpha, factor × texture × COLOR_0, below the cutoff), as cutAway() in
-// shaders/frame/textures.glsl.
-bool cutAwayAt(const Geometry& g, const gpu::Triangle& t, glm::vec3 w);
+// How much of triangle t's surface is there at barycentric weights w (gpu::presenceOf: alphaMode MASK
+// and BLEND, over the base colour's alpha, factor × texture × COLOR_0), as presenceAt() in
+// shaders/frame/textures.glsl: 1 where its material is opaque.
+float presenceAt(const Geometry& g, const gpu::Triangle& t, glm::vec3 w);
 
 // The shading normal at barycentric weights w of triangle t, posed as `world`, whose unit normal
 // there is n: n turned by its material's normal texture (gpu::mappedNormal), or n where it has none.

@@ -1,5 +1,6 @@
 #include "engine/scene/triangle_rays.h"
 
+#include <bit>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -8,12 +9,26 @@ namespace ivgi::scene {
 
 namespace {
 
+// A uniform number in [0, 1) of ray i's origin and direction and the triangle it meets: the same
+// each time Embree asks of that hit (a triangle may lie in more than one of its leaves).
+float raySample(const RTCFilterFunctionNArguments* args, unsigned i) {
+  RTCRayN* ray = args->ray;
+  const unsigned n = args->N;
+  const uint32_t triangle = RTCHitN_primID(args->hit, n, i);
+  uint32_t h = triangle;
+  for (float x : {RTCRayN_org_x(ray, n, i), RTCRayN_org_y(ray, n, i), RTCRayN_org_z(ray, n, i),
+                  RTCRayN_dir_x(ray, n, i), RTCRayN_dir_y(ray, n, i), RTCRayN_dir_z(ray, n, i)})
+    h = gpu::pcgHash(h ^ std::bit_cast<uint32_t>(x));
+  return gpu::unitHash(h, triangle);
+}
+
 // Embree's filter for hits found, nearest and occluding alike: those on a cut-away point are not hits.
 void passCutAway(const RTCFilterFunctionNArguments* args) {
   const auto& cutAway = *static_cast<const TriangleRays::CutAway*>(args->geometryUserPtr);
   for (unsigned i = 0; i < args->N; ++i)
-    if (args->valid[i] != 0 && cutAway(RTCHitN_primID(args->hit, args->N, i),
-                                       glm::vec2(RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i))))
+    if (args->valid[i] != 0 &&
+        cutAway(RTCHitN_primID(args->hit, args->N, i),
+                glm::vec2(RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i)), raySample(args, i)))
       args->valid[i] = 0;
 }
 

@@ -16,9 +16,10 @@ namespace ivgi::scene {
 
 class TriangleRays {
  public:
-  // Whether a triangle is cut away (alphaMode MASK) at the barycentric weights (u, v) of its second
-  // and third corners: rays pass there.
-  using CutAway = std::function<bool(uint32_t triangle, glm::vec2 uv)>;
+  // Whether a triangle is cut away (alphaMode MASK or BLEND) at the barycentric weights (u, v) of its
+  // second and third corners for a ray whose own uniform number in [0, 1) is `sample`: rays pass
+  // there.
+  using CutAway = std::function<bool(uint32_t triangle, glm::vec2 uv, float sample)>;
 
   // The first `count` of `triangles`, over the vertices `world`; `watertight`: no ray passes between
   // two faces that share an edge (Embree's robust mode, somewhat slower). Rays pass through the

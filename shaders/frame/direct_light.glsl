@@ -18,8 +18,10 @@ float depthAt(uint view, ivec2 texel, uint side) {
 // How the maps are looked up: at the pixels, the nearest texel (the resolve's window filters the
 // emitter samples' shadows) and a directional light's finest cascade around the camera that holds
 // the point; at the surfels, the four texels' bilinear share and the maps over the scene alone (their
-// light does not depend on the camera).
-const uint kPixelLookup = 0u, kSurfelLookup = 1u;
+// light does not depend on the camera). Where a blended surface (alphaMode BLEND) is in the maps,
+// each texel keeps or passes it by chance, and the pixels take the four texels' bilinear share of
+// the finest cascade (kBlendedPixelLookup), four of those chances.
+const uint kPixelLookup = 0u, kSurfelLookup = 1u, kBlendedPixelLookup = 2u;
 
 // Where p lies in orthographic view `view`: in its texels, its depth, and a texel's width.
 void orthographicAt(uint view, vec3 p, float size, out vec2 at, out float z, out float texel) {
@@ -33,7 +35,7 @@ void orthographicAt(uint view, vec3 p, float size, out vec2 at, out float z, out
 }
 
 // The share of the four texels around the ray from emitter sample `point`'s views to the point `p` that
-// see p (kSurfelLookup: bilinear weights; kPixelLookup: whether the nearest texel does), where
+// see p (kSurfelLookup, kBlendedPixelLookup: bilinear weights; kPixelLookup: whether the nearest texel does), where
 // `cosine` is the cosine of the ray at p's surface. A texel sees p where its depth, less a bias of a
 // texel and a half of p's own slope across it, is not nearer.
 float seenShare(LightPoint point, vec3 p, float cosine, uint side, uint lookup) {
@@ -47,7 +49,7 @@ float seenShare(LightPoint point, vec3 p, float cosine, uint side, uint lookup) 
     // cascades whose texels around p (and the bias's reach) lie within it.
     view = first;
     orthographicAt(view, p, size, at, z, texel);
-    const uint cascades = lookup == kPixelLookup ? uint(point.positionArea.w) : 0u;
+    const uint cascades = lookup != kSurfelLookup ? uint(point.positionArea.w) : 0u;
     for (uint k = 1u; k <= cascades; ++k) {
       vec2 atK;
       float zK, texelK;

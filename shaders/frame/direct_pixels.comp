@@ -36,6 +36,8 @@ layout(constant_id = 1) const bool kColored = false;
 layout(constant_id = 2) const bool kGlossy = false;
 // Some material has a normal texture.
 layout(constant_id = 3) const bool kNormalMapped = false;
+// Some blended surface (alphaMode BLEND) is in the maps: their lookups take four texels' share.
+layout(constant_id = 4) const bool kBlendedMaps = false;
 #include "direct_light.glsl"
 #include "surface_hit.glsl"
 #include "surface_material.glsl"
@@ -66,10 +68,11 @@ void main() {
     const vec3 v = normalize(towardEye(cameraEye(push.camera), p));
     lobe.view = vec3(dot(v, lobe.t1), dot(v, lobe.t2), abs(dot(v, shading)));
   }
+  const uint lookup = kBlendedMaps ? kBlendedPixelLookup : kPixelLookup;
   const PointsLight emitters =
-      lightAt(p, n, first, push.lightSamples, stride, float(stride), push.shadowMap, kPixelLookup, lobe, 0.0);
+      lightAt(p, n, first, push.lightSamples, stride, float(stride), push.shadowMap, lookup, lobe, 0.0);
   const PointsLight punctual = lightAt(p, n, push.lightSamples, push.lightSamples + push.punctualLights, 1u, 1.0,
-                                       push.shadowMap, kPixelLookup, lobe, 0.0);
+                                       push.shadowMap, lookup, lobe, 0.0);
   if (kGlossy)
     pixelSpecular[2u * o] = vec4(emitters.reflected, 0.0), pixelSpecular[2u * o + 1u] = vec4(punctual.reflected, 0.0);
   // The shadows' share is found at n, which the pixel's neighbours on its surface share; the

@@ -18,7 +18,7 @@ layout(constant_id = 0) const int kTilesPerSlice = 448;
 // True for depth maps: the nearest depth alone (`depths`, 32 bits: non-negative floats order as their
 // bits), no triangle key (`visibility`).
 layout(constant_id = 1) const bool kDepthOnly = false;
-// Where some material cuts its surface away (alphaMode MASK), the triangles are drawn in two
+// Where some material's alpha takes its surface away (alphaMode MASK or BLEND), the triangles are drawn in two
 // dispatches: those that do not cut (kDrawUncut), then those that do (kDrawCutting), whose samples
 // are tested. lavapipe runs both sides of a branch, so the test's lookups would cost every sample
 // of a dispatch that held them. kDrawAll: no material cuts.
@@ -73,8 +73,11 @@ void castSample(uint tri, Projected t, vec3 front, ivec2 px) {
   vec2 uv;
   if (!intersectTriangle(cameraRayOrigin(camera, vec2(px) + 0.5, push.size), dir, t.a, t.b, t.c, depth, uv)) return;
   if (depth <= camera.origin.w || (camera.forward.w > 0.0 && depth > camera.forward.w)) return;
-  if (kDraw == kDrawCutting && cutAwayAt(imageLoad(triangles, int(tri)), vec3(1.0 - uv.x - uv.y, uv))) return;
   const uint at = viewStart + uint(px.y) * push.size.x + uint(px.x);
+  // A blended surface is there for its alpha's share of the samples, each its own (at, tri).
+  if (kDraw == kDrawCutting &&
+      cutAway(presenceAt(imageLoad(triangles, int(tri)), vec3(1.0 - uv.x - uv.y, uv)), unitHash(at, tri)))
+    return;
   if (kDepthOnly)
     atomicMin(depths[at], floatBitsToUint(depth));
   else

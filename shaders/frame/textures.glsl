@@ -23,22 +23,23 @@ vec4 sampleTexture(int index, vec4 uvs) {
              ay);
 }
 
-// Whether triangle t's (v0, v1, v2, material | flags) material cuts its surface anywhere.
+// Whether triangle t's (v0, v1, v2, material | flags) material takes any of its surface away
+// (alphaMode MASK or BLEND).
 float alphaCutoffOf(uvec4 t) {
   return uintBitsToFloat(imageLoad(materials, int(kMaterialTexels * (t.w & ~kTriangleFlags) + 4u)).w);
 }
-bool materialCuts(uvec4 t) { return alphaCutoffOf(t) >= 0.0; }
+bool materialCuts(uvec4 t) { return alphaMatters(alphaCutoffOf(t)); }
 
-// Whether triangle t (v0, v1, v2, material | flags) is cut away at barycentric weights w: alphaMode
-// MASK, the base colour's alpha (factor × texture × COLOR_0) below the cutoff (scene::cutAwayAt).
-bool cutAwayAt(uvec4 t, vec3 w) {
+// How much of triangle t (v0, v1, v2, material | flags) is there at barycentric weights w
+// (presenceOf over the base colour's alpha, factor × texture × COLOR_0; scene::presenceAt).
+float presenceAt(uvec4 t, vec3 w) {
   const float cutoff = alphaCutoffOf(t);
-  if (cutoff < 0.0) return false;
+  if (!alphaMatters(cutoff)) return 1.0;
   const uint texelsAt = kMaterialTexels * (t.w & ~kTriangleFlags);
   const vec4 uv = w.x * uvOf(t.x) + w.y * uvOf(t.y) + w.z * uvOf(t.z);
   const float color =
       w.x * imageLoad(colors, int(t.x)).a + w.y * imageLoad(colors, int(t.y)).a + w.z * imageLoad(colors, int(t.z)).a;
   const float alpha = uintBitsToFloat(imageLoad(materials, int(texelsAt)).a) * color *
                       sampleTexture(int(imageLoad(materials, int(texelsAt + 3u)).x), uv).a;
-  return cutAway(alpha, cutoff);
+  return presenceOf(alpha, cutoff);
 }

@@ -59,10 +59,30 @@ struct Material {
   float metallic;
   float roughness;    // perceptual: the distribution's α is its square
   float normalScale;  // normalTexture's scale
-  float alphaCutoff;  // alphaMode MASK: below it the surface is cut away (cutAway); negative: opaque
+  float alphaCutoff;  // alphaMode MASK's cutoff (0 or more); kAlphaOpaque; kAlphaBlended (BLEND)
 };
-// Whether a point whose base colour's alpha is `alpha` is cut away by a material's `alphaCutoff`.
-IVGI_FN bool cutAway(float alpha, float alphaCutoff) { return alphaCutoff >= 0.0f && alpha < alphaCutoff; }
+IVGI_CONST float kAlphaOpaque = -1.0f;
+IVGI_CONST float kAlphaBlended = -2.0f;
+// Whether a material's `alphaCutoff` lets its alpha take away any of the surface.
+IVGI_FN bool alphaMatters(float alphaCutoff) { return alphaCutoff != kAlphaOpaque; }
+// How much of the surface is there where its base colour's alpha (factor × texture × COLOR_0) is
+// `alpha`: MASK keeps all of it at the cutoff or above and none below; BLEND keeps alpha of it.
+IVGI_FN float presenceOf(float alpha, float alphaCutoff) {
+  if (alphaCutoff == kAlphaBlended) return clamp(alpha, 0.0f, 1.0f);
+  return alphaCutoff < 0.0f || alpha >= alphaCutoff ? 1.0f : 0.0f;
+}
+// Whether a point of that presence is cut away for a sample whose uniform number in [0, 1) is u: a
+// blended surface is there for a share `presence` of the samples (stochastic transparency), a
+// masked one for all or none.
+IVGI_FN bool cutAway(float presence, float u) { return presence <= u; }
+// A uniform number in [0, 1) from two words (Jarzynski and Olano's PCG hash, twice): the samples of
+// stochastic transparency, the same for the same sample and triangle on every run.
+IVGI_FN uint pcgHash(uint v) {
+  const uint state = v * 747796405u + 2891336453u;
+  const uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+  return (word >> 22u) ^ word;
+}
+IVGI_FN float unitHash(uint a, uint b) { return float(pcgHash(a ^ pcgHash(b)) >> 8u) * (1.0f / 16777216.0f); }
 IVGI_CONST uint kMaterialTexels = 5u;
 struct Texture {
   uint offset;  // in texels; each texel is linear RGBA as two packHalf2x16 words

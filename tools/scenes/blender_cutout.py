@@ -4,6 +4,9 @@ and writes it with Blender's own glTF exporter, which writes the screen's "Alpha
 as alphaMode MASK: ivgi's reading of another exporter's cut-out surface, against another path
 tracer.
 
+With --blended the checker's cut cells have alpha 0.5 instead and the blend mode is "Alpha Blend",
+which the exporter writes as alphaMode BLEND: those cells pass half the light and half the view.
+
 Blender's axes: z up. The floor lies at z = 0 over x, y in [-2, 2]; the screen at z = 1 over x in
 [0, 1], y in [-0.5, 0.5], so that the sun throws its shadow 1 m toward -x, beside it. The camera
 sees x, y in [-2, 2] at 64x64 (16 pixels a metre, x to the right, y up).
@@ -14,7 +17,7 @@ the exported file carries Principled BSDFs, specular 0, roughness 1. The exporte
 sun's W/m^2 to lux (x683), so compare regions' ratios to the lit floor, not their values.
 docs/notes/gltf-conformance.md has the figures.
 
-Usage: blender --background --factory-startup --python tools/scenes/blender_cutout.py -- OUT
+Usage: blender --background --factory-startup --python tools/scenes/blender_cutout.py -- OUT [--blended]
        (writes OUT.glb and OUT_cycles.exr)
 Needs Debian's blender (not installed by ci/install-deps.sh: the tests do not use it).
 """
@@ -26,7 +29,8 @@ import bpy
 sys.path.append(os.path.dirname(os.path.abspath(__file__)))
 import blender_overhead  # noqa: E402
 
-out = sys.argv[sys.argv.index("--") + 1:][0]
+args = sys.argv[sys.argv.index("--") + 1:]
+out, blended = args[0], "--blended" in args[1:]
 
 bpy.ops.wm.read_factory_settings(use_empty=True)
 
@@ -54,11 +58,12 @@ floor.data.materials.append(floor_material)
 bpy.ops.mesh.primitive_plane_add(size=1.0, location=(0.5, 0.0, 1.0))
 screen = bpy.context.active_object
 screen_material, screen_principled, screen_diffuse = lambertian("screen", 0.8)
-screen_material.blend_method = "CLIP"
+screen_material.blend_method = "BLEND" if blended else "CLIP"
 screen_material.alpha_threshold = 0.5
 screen_material.use_backface_culling = False
 image = bpy.data.images.new("checker", 2, 2, alpha=True, float_buffer=False)
-image.pixels = [1, 1, 1, 1, 1, 1, 1, 0, 1, 1, 1, 0, 1, 1, 1, 1]  # bottom row first
+cut = 0.5 if blended else 0.0
+image.pixels = [1, 1, 1, 1, 1, 1, 1, cut, 1, 1, 1, cut, 1, 1, 1, 1]  # bottom row first
 image.filepath_raw = out + "_checker.png"
 image.file_format = "PNG"
 image.save()
