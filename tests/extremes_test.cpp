@@ -262,3 +262,27 @@ TEST(Extremes, AKilometreGroundAndACentimetreCube) {
     }
   }
 }
+
+// Alpha at its ends: the Cornell box's light cut wholly away (alphaMode MASK at a cutoff past
+// every alpha) and every other surface blended to nothing (BLEND, alpha 0). Nothing is there and
+// nothing lights: every method's image is finite and black, under no environment.
+TEST(Extremes, EverySurfaceTakenAwayByItsAlpha) {
+  tinygltf::Model m = scenes::cornellBox();
+  for (tinygltf::Material& material : m.materials) {
+    const bool emits = !material.emissiveFactor.empty() &&
+                       *std::max_element(material.emissiveFactor.begin(), material.emissiveFactor.end()) > 0.0;
+    material.alphaMode = emits ? "MASK" : "BLEND";
+    material.alphaCutoff = 1e30;
+    material.pbrMetallicRoughness.baseColorFactor[3] = 0.0;
+  }
+  const std::string file = writeScene(m, "alpha-ends");
+  for (const char* method : {"iv", "ar", "pt"}) {
+    const image::RgbImage im = readRgb(test::renderExr(std::string("alpha-ends-") + method,
+                                                       {file, "--size", "48x48", "--env", "none", "--method", method}));
+    float brightest = 0;
+    for (const auto& p : im.pixels) brightest = std::max({brightest, p[0], p[1], p[2]});
+    std::printf("[ alpha ends ] %s: the brightest pixel %.3g\n", method, brightest);
+    EXPECT_FALSE(im.pixels.empty()) << method;
+    EXPECT_EQ(brightest, 0.0f) << method;
+  }
+}
