@@ -34,11 +34,12 @@ std::vector<glm::vec3> hemisphere() {
 }  // namespace
 
 BackExposure::BackExposure(const std::vector<gpu::WorldVertex>& world, const std::vector<gpu::Triangle>& triangles,
-                           std::vector<uint32_t> objectOf, std::vector<glm::vec3> lights, OpenSpace openSpace)
+                           std::vector<uint32_t> objectOf, std::vector<glm::vec3> lights, OpenSpace openSpace,
+                           TriangleRays::CutAway cutAway)
     : objectOf_(std::move(objectOf)),
       lights_(std::move(lights)),
       openSpace_(openSpace),
-      rays_(world, triangles, triangles.size(), true) {
+      rays_(world, triangles, triangles.size(), true, std::move(cutAway)) {
   front_.resize(triangles.size());
   centroid_.resize(triangles.size());
   size_.resize(triangles.size());

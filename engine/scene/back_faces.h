@@ -31,7 +31,8 @@ class BackExposure {
   // (faces of one object enclose together); `lights`: where its point and spot lights are, and
   // points on its emitters.
   BackExposure(const std::vector<gpu::WorldVertex>& world, const std::vector<gpu::Triangle>& triangles,
-               std::vector<uint32_t> objectOf, std::vector<glm::vec3> lights, OpenSpace openSpace);
+               std::vector<uint32_t> objectOf, std::vector<glm::vec3> lights, OpenSpace openSpace,
+               TriangleRays::CutAway cutAway = {});
 
   // Whether the back of face t sees out.
   bool exposed(uint32_t t) const;
