@@ -42,6 +42,16 @@ std::string writeScene(const tinygltf::Model& model, const std::string& name) {
   return path.string();
 }
 
+// The brightest channel of any pixel of `file` rendered at 48×48 by `method` under no environment.
+float brightestPixel(const std::string& name, const std::string& file, const std::string& method) {
+  const image::RgbImage im =
+      readRgb(test::renderExr(name + "-" + method, {file, "--size", "48x48", "--env", "none", "--method", method}));
+  EXPECT_FALSE(im.pixels.empty()) << method;
+  float brightest = 0;
+  for (const auto& p : im.pixels) brightest = std::max({brightest, p[0], p[1], p[2]});
+  return brightest;
+}
+
 // A camera at `position` looking along `direction` (not vertical unless straight down).
 int lookingCamera(scenes::GltfBuilder& b, const std::string& name, float yfov, float znear, glm::vec3 position,
                   glm::vec3 direction) {
@@ -205,10 +215,7 @@ std::string lampInAClosedBox() {
 TEST(Extremes, ALampInsideAClosedBoxLightsNothingOutside) {
   const std::string file = lampInAClosedBox();
   for (const char* method : {"iv", "ar", "pt"}) {
-    const image::RgbImage im = readRgb(test::renderExr(std::string("closed-box-") + method,
-                                                       {file, "--size", "48x48", "--env", "none", "--method", method}));
-    float brightest = 0;
-    for (const auto& p : im.pixels) brightest = std::max({brightest, p[0], p[1], p[2]});
+    const float brightest = brightestPixel("closed-box", file, method);
     std::printf("[ closed box ] %s: the brightest pixel %.3g\n", method, brightest);
     EXPECT_EQ(brightest, 0.0f) << method;
   }
@@ -277,12 +284,8 @@ TEST(Extremes, EverySurfaceTakenAwayByItsAlpha) {
   }
   const std::string file = writeScene(m, "alpha-ends");
   for (const char* method : {"iv", "ar", "pt"}) {
-    const image::RgbImage im = readRgb(test::renderExr(std::string("alpha-ends-") + method,
-                                                       {file, "--size", "48x48", "--env", "none", "--method", method}));
-    float brightest = 0;
-    for (const auto& p : im.pixels) brightest = std::max({brightest, p[0], p[1], p[2]});
+    const float brightest = brightestPixel("alpha-ends", file, method);
     std::printf("[ alpha ends ] %s: the brightest pixel %.3g\n", method, brightest);
-    EXPECT_FALSE(im.pixels.empty()) << method;
     EXPECT_EQ(brightest, 0.0f) << method;
   }
 }

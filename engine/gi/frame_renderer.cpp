@@ -80,7 +80,7 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
   auto upload = [&](const auto& items) { return vk::makeBuffer(ctx, items, Memory::Device, tally); };
   vertices_ = upload(g.vertices), instances_ = upload(g.instances), morphDeltas_ = upload(g.morphDeltas);
   triangles_ = upload(g.triangles), uvs_ = upload(g.uvs), materials_ = upload(g.materials);
-  // The raster reads the colours' alpha where a material cuts its surface away.
+  // The raster reads the colours' alpha where a material's alpha takes surface away.
   colors_ = upload(g.vertexColors || g.cutouts ? g.colors : std::vector<glm::vec4>{glm::vec4(1)});
   textures_ = upload(g.textures), texels_ = upload(g.texels);
   surfelSources_ = upload(g.surfels), surfelVertices_ = upload(g.surfelVertices),

@@ -13,8 +13,8 @@ namespace {
 // 64 triangles' tiles and tile rows stay within lavapipe's loop budget of 65,535 (common.glsl).
 constexpr uint32_t kTilesPerSlice = 448;
 
-// raster.comp's kDraw: every triangle; those whose material does not cut them (alphaMode MASK);
-// those whose material does, each sample tested.
+// raster.comp's kDraw: every triangle; those whose material's alpha takes nothing away (alphaMode
+// MASK or BLEND); those whose material's alpha does, each sample tested.
 constexpr uint32_t kDrawAll = 0, kDrawUncut = 1, kDrawCutting = 2;
 
 }  // namespace

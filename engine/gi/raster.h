@@ -16,7 +16,8 @@ class Raster {
  public:
   // `depthOnly`: the target holds each sample's nearest depth as 32-bit float bits (depth maps);
   // else 64-bit depth and triangle keys. `maxViews`: the most views one record draws. `cutouts`:
-  // some material cuts its surface away (alphaMode MASK), and a sample there is not covered.
+  // some material's alpha takes its surface away (alphaMode MASK or BLEND), and a sample there is
+  // not covered.
   Raster(const vk::Context& ctx, uint32_t triangleCount, vk::Allocations* tally, bool depthOnly = false,
          uint32_t maxViews = 1, bool cutouts = false);
 

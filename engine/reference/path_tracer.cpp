@@ -129,7 +129,7 @@ struct PathTracer::Impl {
         g(*s.geometry),
         // Every face once: this tracer lights both sides of a face itself, so the backs the
         // solvers' one-sided surfels need (Geometry::backTriangles, the last) are left out.
-        rays(s.world, g.triangles, g.triangles.size() - g.backTriangles, false, cutAway(g)) {
+        rays(s.world, g.triangles, g.triangles.size() - g.backTriangles, false, scene::cutAwayOf(g)) {
     const scene::Bounds bounds = scene::worldBounds(s.world);
     if (!bounds.empty()) epsilon = 1e-5f * std::max(glm::length(bounds.max - bounds.min), 1e-30f);
 
@@ -164,15 +164,6 @@ struct PathTracer::Impl {
   }
 
   glm::vec3 pos(uint32_t v) const { return glm::vec3(s.world[v].position); }
-
-  // Where the rays pass a point the material's alpha takes away (alphaMode MASK, or BLEND for the
-  // share of rays its alpha leaves), if any material does.
-  static scene::TriangleRays::CutAway cutAway(const scene::Geometry& g) {
-    if (!g.cutouts) return {};
-    return [&g](uint32_t tri, glm::vec2 uv, float sample) {
-      return gpu::cutAway(scene::presenceAt(g, g.triangles[tri], glm::vec3(1.0f - uv.x - uv.y, uv.x, uv.y)), sample);
-    };
-  }
 
   std::optional<Surface> intersect(glm::vec3 o, glm::vec3 d, float tnear, float tfar) const {
     const std::optional<scene::TriangleRays::Hit> hit = rays.nearest(o, d, tnear, tfar);

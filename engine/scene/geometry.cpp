@@ -238,13 +238,8 @@ std::unique_ptr<BackExposure> backExposure(const Scene& scene, const Pose& rest,
       lights.push_back(glm::vec3(rest.world[n][3]));
   }
   // The rays pass where a material's alpha takes the surface away, as pt's do.
-  TriangleRays::CutAway cutAway;
-  if (g.cutouts)
-    cutAway = [&g](uint32_t tri, glm::vec2 uv, float sample) {
-      return gpu::cutAway(presenceAt(g, g.triangles[tri], glm::vec3(1.0f - uv.x - uv.y, uv.x, uv.y)), sample);
-    };
   return std::make_unique<BackExposure>(world, g.triangles, std::move(objectOf), std::move(lights),
-                                        sun ? OpenSpace::Lit : openSpace, std::move(cutAway));
+                                        sun ? OpenSpace::Lit : openSpace, cutAwayOf(g));
 }
 
 }  // namespace
@@ -683,6 +678,13 @@ std::vector<bool> rigidlyMovingInstances(const Scene& scene, const Geometry& g, 
     }
   }
   return rigid;
+}
+
+TriangleRays::CutAway cutAwayOf(const Geometry& g) {
+  if (!g.cutouts) return {};
+  return [&g](uint32_t tri, glm::vec2 uv, float sample) {
+    return gpu::cutAway(presenceAt(g, g.triangles[tri], glm::vec3(1.0f - uv.x - uv.y, uv.x, uv.y)), sample);
+  };
 }
 
 std::vector<bool> closedInstances(const Geometry& g) {

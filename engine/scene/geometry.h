@@ -36,8 +36,8 @@ struct Bounds {
   void add(glm::vec3 p) { min = glm::min(min, p), max = glm::max(max, p); }
 };
 
-// The least share of a surfel's area kept where its material cuts it away: a surfel of no area at all
-// would have no direction to send or receive along.
+// The least share of a surfel's area kept where its material's alpha takes it away: a surfel of no area
+// at all would have no direction to send or receive along.
 constexpr float kLeastCoverage = 1e-3f;
 
 struct Geometry {
@@ -70,7 +70,7 @@ struct Geometry {
   // The material's BRDF at each surfel (its base colour and metallic-roughness means as above), for
   // what its specular lobe reflects of the indirect light
   std::vector<gpu::SurfaceBrdf> surfelBrdf;
-  // The share of each surfel's area its material does not cut away (alphaMode MASK; 1 elsewhere), at
+  // The share of each surfel's area its material's alpha leaves (alphaMode MASK, BLEND; 1 elsewhere), at
   // least kLeastCoverage: the surfel pass scales its area by it, so that a leaf's holes let light by.
   std::vector<float> surfelCoverage;
 
@@ -150,5 +150,9 @@ std::vector<bool> rigidlyMovingInstances(const Scene& scene, const Geometry& geo
 // never the first seen from outside the volume (the iv prune relies on it). Degenerate triangles are
 // ignored.
 std::vector<bool> closedInstances(const Geometry& geometry);
+
+// What rays against the triangles of `geometry` pass (TriangleRays): the points its materials' alpha
+// takes away (alphaMode MASK or BLEND, presenceAt). Empty where no material takes any.
+TriangleRays::CutAway cutAwayOf(const Geometry& geometry);
 
 }  // namespace ivgi::scene

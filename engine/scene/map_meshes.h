@@ -4,7 +4,7 @@
 // errors (meshoptimizer's edge collapses), the level taken per frame from the error a caller names.
 // The simplified triangles keep the instance's own vertices, so the frame's animated positions place
 // them. Skinned and morphed instances bend, so they are drawn as planarFaces leaves them. An
-// instance whose material cuts its surface away (alphaMode MASK) is drawn as given: its texture
+// instance whose material's alpha takes surface away (alphaMode MASK or BLEND) is drawn as given: its texture
 // coordinates place the cuts.
 #include <cstdint>
 #include <map>

@@ -32,7 +32,7 @@ layout(binding = 3, rgba32f) readonly uniform imageBuffer views;           // Ca
 layout(std430, binding = 4) buffer Depths { uint depths[]; };              // kDepthOnly: the depth's float bits
 // The views drawn (drawn_views): their count, then each one's index in `views`.
 layout(std430, binding = 5) readonly buffer DrawnViews { uint drawnViews[]; };
-// What a material that cuts its surface away (alphaMode MASK) reads to know where (textures.glsl).
+// What a material whose alpha takes surface away (alphaMode MASK, BLEND) reads to know where (textures.glsl).
 layout(binding = 6, rgba32f) readonly uniform imageBuffer uvs;
 layout(binding = 7, rgba32f) readonly uniform imageBuffer colors;
 layout(binding = 8, rgba32ui) readonly uniform uimageBuffer materials;

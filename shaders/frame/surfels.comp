@@ -16,7 +16,7 @@ layout(binding = 4, rgba32f) readonly uniform imageBuffer world;        // World
 layout(std430, binding = 5) writeonly buffer Surfels { Surfel surfels[]; };
 // The surfels of the objects that move: the others keep what a frame before gave them.
 layout(binding = 6, r32ui) readonly uniform uimageBuffer movingSurfels;
-// The share of each surfel's area its material does not cut away (alphaMode MASK; 1 elsewhere).
+// The share of each surfel's area its material's alpha leaves (alphaMode MASK, BLEND; 1 elsewhere).
 layout(binding = 7, r32f) readonly uniform imageBuffer surfelCoverage;
 layout(push_constant) uniform Push { ListedPush push; };  // the surfels, or those listed
 

@@ -29,10 +29,8 @@ import bpy
 sys.path.append(os.path.dirname(os.path.abspath(__file__)))
 import blender_overhead  # noqa: E402
 
-args = sys.argv[sys.argv.index("--") + 1:]
-out, blended = args[0], "--blended" in args[1:]
-
-bpy.ops.wm.read_factory_settings(use_empty=True)
+out, flags = blender_overhead.start()
+blended = "--blended" in flags
 
 
 def lambertian(name, grey):

@@ -22,10 +22,8 @@ import bpy
 sys.path.append(os.path.dirname(os.path.abspath(__file__)))
 import blender_overhead  # noqa: E402
 
-args = sys.argv[sys.argv.index("--") + 1:]
-out, striped = args[0], "--striped" in args[1:]
-
-bpy.ops.wm.read_factory_settings(use_empty=True)
+out, flags = blender_overhead.start()
+striped = "--striped" in flags
 
 bpy.ops.mesh.primitive_plane_add(size=2.0)
 plane = bpy.context.active_object

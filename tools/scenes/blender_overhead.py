@@ -4,8 +4,16 @@ Cycles' settings (no denoising, the Standard view transform, an EXR of `size` x 
 OUT_cycles.exr). Imported by blender_normal_map.py and blender_cutout.py, which run inside Blender.
 """
 import math
+import sys
 
 import bpy
+
+
+def start():
+    """The script's OUT and its flags (what follows `--` on Blender's command line), in an empty scene."""
+    args = sys.argv[sys.argv.index("--") + 1:]
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    return args[0], set(args[1:])
 
 
 def sun_camera_and_cycles(out, width, height, size, samples, bounces):
