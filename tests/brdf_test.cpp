@@ -248,3 +248,66 @@ TEST(Brdf, PathTracedFurnaceMatchesTheIntegratedAlbedo) {
     EXPECT_NEAR(f.roughnessMetallic[0].g, c.p.metallic, 1e-4);
   }
 }
+
+// A shading normal lifted toward the face (scene.h's liftedShadingNormal): where the view's mirror
+// image about it lies below the threshold, the lifted normal is unit, lies between it and the face's
+// normal in their plane, and mirrors the view to the threshold's height exactly; elsewhere it is
+// the normal as given.
+TEST(Brdf, ALiftedNormalMirrorsTheViewJustAboveTheFace) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  const glm::vec3 face(0, 0, 1);
+  int lifted = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const float elevation = 0.02f + 1.5f * u(rng), tilt = 1.2f * u(rng), azimuth = 6.2832f * u(rng);
+    const glm::vec3 toEye(std::cos(elevation), 0.0f, std::sin(elevation));
+    const glm::vec3 n(std::sin(tilt) * std::cos(azimuth), std::sin(tilt) * std::sin(azimuth), std::cos(tilt));
+    const float threshold = std::min(0.9f * toEye.z, 0.01f);
+    const auto height = [&](glm::vec3 m) { return glm::dot(face, m * (2.0f * glm::dot(m, toEye)) - toEye); };
+    const glm::vec3 m = gpu::liftedShadingNormal(face, toEye, n);
+    if (height(n) >= threshold) {
+      EXPECT_EQ(m, n) << i;
+      continue;
+    }
+    ++lifted;
+    EXPECT_NEAR(glm::length(m), 1.0f, 1e-5f) << i;
+    EXPECT_NEAR(height(m), threshold, 2e-4f) << i;
+    EXPECT_NEAR(glm::dot(glm::cross(n, face), m), 0.0f, 1e-4f) << i << ": in the plane of n and the face's normal";
+    EXPECT_GE(glm::dot(m, face), glm::dot(n, face) - 1e-5f) << i << ": turned toward the face's normal";
+  }
+  EXPECT_GT(lifted, 200);
+}
+
+// The share of an even sky a lobe keeps above a face's plane (brdf.h's lobeShareAbove) against a
+// Monte Carlo integral of the same lobe: 1 where the plane is the lobe's own horizon, within 0.05
+// elsewhere, and continuous as the normal turns.
+TEST(Brdf, ALobesShareAboveAPlaneMatchesItsIntegral) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  const auto integral = [&](float alpha, glm::vec3 v, glm::vec3 plane) {
+    const float a2 = alpha * alpha;
+    double above = 0.0, all = 0.0;
+    for (int k = 0; k < 200000; ++k) {
+      const glm::vec3 h = gpu::sampleVisibleNormal(v, alpha, u(rng), u(rng));
+      const glm::vec3 l = h * (2.0f * glm::dot(h, v)) - v;
+      if (!(l.z > 0.0f)) continue;
+      // G2 / G1(v): the estimator of the lobe's albedo under these samples.
+      const double w = gpu::smithVisibility(l.z, v.z, a2) * 4.0 * l.z * v.z / gpu::smithG1(v.z, a2);
+      all += w;
+      if (glm::dot(l, plane) > 0.0f) above += w;
+    }
+    return above / all;
+  };
+  const glm::vec3 v = glm::normalize(glm::vec3(0.6f, 0.2f, 0.5f));
+  for (float alpha : {0.05f, 0.1225f, 0.4f, 1.0f}) {
+    EXPECT_EQ(gpu::lobeShareAbove(alpha, v, glm::vec3(0, 0, 1)), 1.0f) << alpha;
+    for (float lean : {0.3f, 0.6f, 0.9f}) {
+      const glm::vec3 plane(std::sin(lean), 0.0f, std::cos(lean));
+      const float share = gpu::lobeShareAbove(alpha, v, plane), exact = float(integral(alpha, v, plane));
+      std::printf("[ brdf ] α %.4f, plane leaning %.1f: share %.4f, integral %.4f\n", alpha, lean, share, exact);
+      EXPECT_NEAR(share, exact, 0.05f) << "α " << alpha << ", lean " << lean;
+      const glm::vec3 nudged(std::sin(lean + 1e-3f), 0.0f, std::cos(lean + 1e-3f));
+      EXPECT_NEAR(gpu::lobeShareAbove(alpha, v, nudged), share, 0.01f) << "α " << alpha << ", lean " << lean;
+    }
+  }
+}

@@ -211,9 +211,11 @@ struct PathTracer::Impl {
       glm::vec3 ng = x.geometricNormal, ns = x.shadingNormal;
       if (glm::dot(ng, out) < 0.0f) ng = -ng, ns = -ns;
       if (glm::dot(ns, ng) <= 0.0f) ns = ng;
+      // Turned so that the view's mirror image stays above the surface, as Cycles turns it: the
+      // specular lobe then has the view above its normal too.
+      ns = gpu::liftedShadingNormal(ng, out, ns);
       const bool lambertian = gpu::isLambertian(x.brdf);
       if (lambertian && maxComponent(glm::vec3(x.brdf.base)) <= 0.0f) break;
-      if (!lambertian && glm::dot(ns, out) <= 0.0f) ns = ng;  // the specular lobe needs the view above its normal
       const Reflection reflection(x.brdf, ns, out);
       glm::vec3 origin = x.position + epsilon * ng;
 

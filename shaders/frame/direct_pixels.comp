@@ -59,13 +59,13 @@ void main() {
              first = ((px.y % block) * block + px.x % block) % stride;
   // The nearest texel: the resolve's window filters the emitter samples' shadows. The point and
   // spot lights are few: every pixel takes them all, their shadows its own.
-  const vec3 shading = kNormalMapped ? mappedNormalAt(h.triangle, h.weights, n) : n;
+  const vec3 v = normalize(towardEye(cameraEye(push.camera), p));
+  const vec3 shading = shadingNormalAt(h, n, v);
   Lobe lobe = noLobe(shading);
   if (kGlossy) {
     lobe.brdf = materialAt(h.triangle, h.weights).brdf;
     lobe.glossy = !isLambertian(lobe.brdf);
     tangentFrame(shading, lobe.t1, lobe.t2);
-    const vec3 v = normalize(towardEye(cameraEye(push.camera), p));
     lobe.view = vec3(dot(v, lobe.t1), dot(v, lobe.t2), abs(dot(v, shading)));
   }
   const uint lookup = kBlendedMaps ? kBlendedPixelLookup : kPixelLookup;

@@ -174,15 +174,17 @@ void main() {
       const uvec4 t = h.triangle;
       const vec3 w = h.weights, n = h.normal;
       float len = length(n);
-      const vec3 shading = len > 0.0 ? mappedNormalAt(t, w, n / len) : vec3(0.0);
+      const vec3 toEye = normalize(towardEye(cameraEye(push.camera), h.position));
+      const vec3 shading = len > 0.0 ? shadingNormalAt(h, n / len, toEye) : vec3(0.0);
       const SurfaceMaterial m = materialAt(t, w);
       const vec3 base = m.brdf.base.rgb;
       albedo += base;
       // An emitter glows on its front alone (its light leaves from there), as pt's do.
-      if (dot(n, towardEye(cameraEye(push.camera), h.position)) > 0.0) emission += m.emission;
+      if (dot(n, toEye) > 0.0) emission += m.emission;
       roughMetal += vec2(m.roughness, m.brdf.metallic);
       if (kLit) {
-        vec3 e = w.x * irradianceAt(t.x) + w.y * irradianceAt(t.y) + w.z * irradianceAt(t.z), direct = vec3(0.0);
+        const vec3 carried = w.x * irradianceAt(t.x) + w.y * irradianceAt(t.y) + w.z * irradianceAt(t.z);
+        vec3 e = carried, direct = vec3(0.0);
         // The light the vertices carry keeps no direction: turned to the shading normal as light
         // arriving evenly over the surface's side would be, the share of that side above the
         // shading normal's horizon (a uniform sky's exactly).
@@ -217,10 +219,14 @@ void main() {
           // The base reflects all the light as it does uniform light; the lobe the direct light as
           // direct_pixels found it toward the camera, the rest as the solver's reflections give it
           // or as if it arrived evenly.
-          const float mu = abs(dot(shading, normalize(towardEye(cameraEye(push.camera), h.position))));
+          const float mu = abs(dot(shading, toEye));
           const vec2 table = specularAlbedoAt(m.brdf, mu);
-          const vec3 indirect = kReflections ? w.x * lobeAt(t.x) + w.y * lobeAt(t.y) + w.z * lobeAt(t.z)
-                                             : lobeReflectanceOf(m.brdf, table) * e / kPi;
+          // Where a normal texture turns the shading normal from the mesh's, the face's plane hides
+          // part of the turned lobe: it keeps its share above the plane of the light the vertices
+          // carry, or of what the solver's reflections found (at the mesh's normal, by its Fresnel).
+          const float share = kNormalMapped ? lobeShareAt(h, n / len, shading, toEye, m.brdf.alpha) : 1.0;
+          const vec3 indirect = share * (kReflections ? w.x * lobeAt(t.x) + w.y * lobeAt(t.y) + w.z * lobeAt(t.z)
+                                                      : lobeReflectanceOf(m.brdf, table) * carried / kPi);
           reflected += baseReflectanceOf(m.brdf, table) * (e + direct) / kPi + indirect + around.specular;
         } else {
           reflected += base * (e + direct) / kPi;

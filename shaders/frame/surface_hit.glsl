@@ -10,6 +10,7 @@ struct SurfaceHit {
   vec3 weights;    // the corners' barycentric weights
   vec3 position;
   vec3 normal;  // the shading normal (flat shaded: the winding's), not normalized; zero on a degenerate triangle
+  vec3 face;    // the winding's normal, not normalized
   float depth;  // the raster's depth
 };
 
@@ -28,7 +29,7 @@ SurfaceHit surfaceHit(Camera camera, uvec2 s, uvec2 fine) {
   h.triangle = t;
   h.weights = vec3(1.0 - bc.x - bc.y, bc.x, bc.y);
   h.position = from + tHit * ray;
-  h.normal = cross(b - a, c - a);
+  h.face = h.normal = cross(b - a, c - a);
   if ((t.w & kFlatShaded) == 0u)
     h.normal = h.weights.x * normalOf(t.x) + h.weights.y * normalOf(t.y) + h.weights.z * normalOf(t.z);
   h.depth = keyDepth(key);

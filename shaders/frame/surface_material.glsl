@@ -1,8 +1,8 @@
 // The material at a point the camera's raster hit (resolve, direct_pixels): base colour (factor ×
 // texture × vertex colour), emission, and glTF's metallic-roughness (brdf.h). Expects `materials`,
 // `uvs`, `colors`, `textures` and `texels` declared before it (textures.glsl), the constants kTextured (some
-// material has a texture), kColored (some primitive has COLOR_0) and kNormalMapped (some material has
-// a normal texture), and surface_hit.glsl included.
+// material has a texture), kColored (some primitive has COLOR_0), kNormalMapped (some material has
+// a normal texture) and kGlossy (some material is not Lambertian), and surface_hit.glsl included.
 
 #include "textures.glsl"
 
@@ -47,4 +47,36 @@ vec3 mappedNormalAt(uvec4 t, vec3 w, vec3 n) {
   return mappedNormal(n, positionOf(t.x), positionOf(t.y), positionOf(t.z), transformedUv(map, a),
                       transformedUv(map, b), transformedUv(map, c),
                       sampleTexture(index, w.x * a + w.y * b + w.z * c).rgb, scale);
+}
+
+// h's face normal (unit) on the side of its unit normal n; zero on a degenerate triangle.
+vec3 faceNormalOf(SurfaceHit h, vec3 n) {
+  const float faceLength = length(h.face);
+  return faceLength > 0.0 ? h.face / faceLength * (dot(h.face, n) < 0.0 ? -1.0 : 1.0) : vec3(0.0);
+}
+
+// The normal hit h shades with, as pt's paths take it (path_tracer.cpp), where its unit normal is n
+// and the eye lies along unit toEye: n turned by the normal texture, then lifted so that the view's
+// mirror image stays above the triangle's plane (scene.h's liftedShadingNormal). Only a normal
+// texture or a lobe reads the difference; elsewhere n as it is.
+vec3 shadingNormalAt(SurfaceHit h, vec3 n, vec3 toEye) {
+  const vec3 mapped = mappedNormalAt(h.triangle, h.weights, n);
+  if (!(kNormalMapped || kGlossy)) return mapped;
+  const vec3 face = faceNormalOf(h, n);
+  return dot(face, toEye) > 0.0 ? liftedShadingNormal(face, toEye, mapped) : mapped;
+}
+
+// The share of a lobe of roughness α about `shading` that hit h's face leaves above its plane, seen
+// from unit toEye (brdf.h's lobeShareAbove); 1 where the face does not face the eye.
+float lobeShareAt(SurfaceHit h, vec3 n, vec3 shading, vec3 toEye, float alpha) {
+  const vec3 face = faceNormalOf(h, n);
+  const float nv = dot(shading, toEye);
+  if (!(dot(face, toEye) > 0.0) || !(nv > 0.0)) return 1.0;
+  // The lobe's frame turned so that the face's normal leans along its first axis: the quadrature
+  // then depends on the geometry alone.
+  const vec3 lean = face - shading * dot(face, shading);
+  const float leanLength = length(lean);
+  if (!(leanLength > 1e-6)) return 1.0;  // the face's plane is the lobe's own horizon
+  const vec3 t1 = lean / leanLength, t2 = cross(shading, t1);
+  return lobeShareAbove(alpha, vec3(dot(toEye, t1), dot(toEye, t2), nv), vec3(leanLength, 0.0, dot(face, shading)));
 }

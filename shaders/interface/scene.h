@@ -254,6 +254,39 @@ IVGI_FN vec3 mappedNormal(vec3 n, vec3 a, vec3 b, vec3 c, vec2 uvA, vec2 uvB, ve
   return turnedLength > 0.0f && turnedLength < 3.4e38f ? turned / turnedLength : n;
 }
 
+// The shading normal n (unit) as shading takes it at a point whose surface faces the eye with unit
+// normal ng (ng·toEye ≥ 0): where the view's mirror image about n would fall below, or barely above,
+// the surface's plane, n turned toward ng within their common plane just far enough that the
+// mirror image rises to t = min(0.9·(ng·toEye), 0.01) above it. Cycles treats bumped and
+// interpolated normals so (its ensure_valid_reflection), and a glTF surface compared against it
+// then keeps a reflection where a normal texture slopes away from the eye. n where its mirror image
+// is high enough; ng where no turn in that plane lifts it (n parallel to ng).
+IVGI_FN vec3 liftedShadingNormal(vec3 ng, vec3 toEye, vec3 n) {
+  const float iz = dot(toEye, ng), t = min(0.9f * iz, 0.01f);
+  if (dot(ng, n * (2.0f * dot(n, toEye)) - toEye) >= t) return n;
+  const vec3 across = n - ng * dot(n, ng);
+  const float acrossLength = length(across);
+  if (!(acrossLength > 0.0f)) return ng;
+  const vec3 x = across / acrossLength;
+  // n' = x·√(1 − c) + ng·√c, whose mirror image's height 2(n'·toEye)√c − iz is t where
+  // 4a·c² − 4(a + iz·t)·c + (iz + t)² = 0, a = ix² + iz² (the mirror condition squared: of its two
+  // roots the one that holds it, nearest n).
+  const float ix = dot(toEye, x), a = ix * ix + iz * iz;
+  if (!(a > 0.0f)) return ng;
+  const float mid = (a + iz * t) / (2.0f * a), spread = abs(ix) * sqrt(max(a - t * t, 0.0f)) / (2.0f * a);
+  vec3 lifted = ng;
+  float nearest = -2.0f;
+  for (int k = 0; k < 2; ++k) {
+    const float c = k == 0 ? mid + spread : mid - spread;
+    if (!(c > 1e-5f && c <= 1.0f + 1e-5f)) continue;
+    const float z = sqrt(min(c, 1.0f)), along = sqrt(max(1.0f - c, 0.0f));
+    if (2.0f * (along * ix + z * iz) * z - iz < t - 1e-4f) continue;  // the root squaring brought in
+    const vec3 candidate = x * along + ng * z;
+    if (dot(candidate, n) > nearest) nearest = dot(candidate, n), lifted = candidate;
+  }
+  return lifted;
+}
+
 // texelPair's weight as texture t blends: as it is (bilinear), or where t takes the nearest texel,
 // all on whichever of the two has its centre nearer (the second at a tie, as floor(u·size) picks).
 IVGI_FN float texelWeight(Texture t, float weight) {

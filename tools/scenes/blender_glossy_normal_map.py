@@ -1,0 +1,78 @@
+"""Builds a 2 m rough metal plane (base 0.9, roughness 0.35) under a white sky (radiance 1), seen
+by an orthographic camera 30 degrees above its horizon, and renders it with Cycles and writes it
+with Blender's own glTF exporter. Its normal comes from a 48x48 tangent-space normal texture of
+three 16-texel stripes across the view: flat, tilted TILT degrees (25 by default) toward +u (toward
+the camera) and toward -u (away from it). Seen 60 degrees from the plane's normal, the view's
+mirror direction about the last stripe's normal lies below the plane's horizon: how a renderer
+treats a shading normal there decides that stripe's light. docs/notes/gltf-conformance.md has the
+figures. With --plain the plane has no normal texture.
+
+Cycles renders the Principled BSDF with one bounce into OUT_cycles.exr at 96x96 and 256 samples.
+
+Usage: blender --background --factory-startup --python tools/scenes/blender_glossy_normal_map.py -- OUT [--tilt=DEGREES] [--plain]
+       (writes OUT.glb and OUT_cycles.exr)
+Needs Debian's blender (not installed by ci/install-deps.sh: the tests do not use it).
+"""
+import math
+import os
+import sys
+
+import bpy
+
+sys.path.append(os.path.dirname(os.path.abspath(__file__)))
+import blender_overhead  # noqa: E402
+
+out, flags = blender_overhead.start()
+tilt = math.radians(next((float(f.split("=")[1]) for f in flags if f.startswith("--tilt=")), 25.0))
+
+bpy.ops.mesh.primitive_plane_add(size=2.0)
+plane = bpy.context.active_object
+material = bpy.data.materials.new("metal")
+material.use_nodes = True
+nodes, links = material.node_tree.nodes, material.node_tree.links
+principled = nodes["Principled BSDF"]
+principled.inputs["Base Color"].default_value = (0.9, 0.9, 0.9, 1)
+principled.inputs["Metallic"].default_value = 1.0
+principled.inputs["Roughness"].default_value = 0.35
+
+image = bpy.data.images.new("stripes", 48, 48, float_buffer=False)
+image.colorspace_settings.name = "Non-Color"
+pixels = []
+for y in range(48):
+    for x in range(48):
+        t = (0.0, tilt, -tilt)[y // 16]
+        pixels += [0.5 + 0.5 * math.sin(t), 0.5, 0.5 + 0.5 * math.cos(t), 1.0]
+image.pixels = pixels
+image.filepath_raw = out + "_stripes.png"
+image.file_format = "PNG"
+image.save()
+if "--plain" not in flags:
+    texture = nodes.new("ShaderNodeTexImage")
+    texture.image = image
+    texture.interpolation = "Closest"
+    normal_map = nodes.new("ShaderNodeNormalMap")
+    links.new(texture.outputs["Color"], normal_map.inputs["Color"])
+    links.new(normal_map.outputs["Normal"], principled.inputs["Normal"])
+plane.data.materials.append(material)
+
+scene = bpy.context.scene
+elevation = math.radians(30.0)
+bpy.ops.object.camera_add(location=(10 * math.cos(elevation), 0, 10 * math.sin(elevation)),
+                          rotation=(math.pi / 2 - elevation, 0, math.pi / 2))
+camera = bpy.context.active_object
+camera.data.type = "ORTHO"
+camera.data.ortho_scale = 2.2
+scene.camera = camera
+scene.world = bpy.data.worlds.new("white")
+scene.world.color = (1, 1, 1)
+
+scene.render.engine = "CYCLES"
+scene.cycles.samples = 256
+scene.cycles.use_denoising = False
+scene.cycles.max_bounces = 1
+scene.render.resolution_x = scene.render.resolution_y = 96
+scene.view_settings.view_transform = "Standard"
+scene.render.image_settings.file_format = "OPEN_EXR"
+scene.render.filepath = out + "_cycles.exr"
+bpy.ops.render.render(write_still=True)
+bpy.ops.export_scene.gltf(filepath=out + ".glb", export_format="GLB", export_cameras=True)
