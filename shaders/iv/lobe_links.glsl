@@ -27,10 +27,17 @@ layout(std430, binding = 14) readonly buffer BounceStates { BounceState state; }
 
 // What the lobe reflects of the light of sender q, which gives the receiver irradiance f times its
 // radiosity: its emission's share in `emitted`, the rest through the lobe.
-// `lastB`: the bounces' last solution is radiosityB (Bounces::solution()).
-vec3 reflectedFrom(Lobe lobe, uint q, float f, bool lastB, inout vec3 emitted) {
+// `lastB`: the bounces' last solution is radiosityB (Bounces::solution()), the one before it in the
+// other. `tail`: the factor of the bounces not run (BounceState::gain), which the irradiance takes
+// as its last change times it (bounce_tail.comp): the radiosity takes its own last change so.
+vec3 reflectedFrom(Lobe lobe, uint q, float f, bool lastB, float tail, inout vec3 emitted) {
   const vec3 emission = imageLoad(nodeEmission, int(q)).rgb;
-  const vec4 radiosity = lastB ? imageLoad(radiosityB, int(q)) : imageLoad(radiosityA, int(q));
+  const vec4 last = lastB ? imageLoad(radiosityB, int(q)) : imageLoad(radiosityA, int(q));
+  vec3 radiosity = last.rgb;
+  if (tail > 0.0) {
+    const vec4 before = lastB ? imageLoad(radiosityA, int(q)) : imageLoad(radiosityB, int(q));
+    radiosity = max(radiosity + tail * (last.rgb - before.rgb), vec3(0.0));
+  }
   emitted += f * emission;
   const vec4 positionArea = nodePositionArea(q), cone = nodeNormalCone(q);
   const vec3 d = positionArea.xyz - lobe.x;
@@ -43,7 +50,7 @@ vec3 reflectedFrom(Lobe lobe, uint q, float f, bool lastB, inout vec3 emitted) {
   const SurfaceBrdf widened = widenedLobe(lobe.brdf, max(solidAngle / (4.0 * kPi), push.leastSpread));
   const vec3 lt = vec3(dot(l, lobe.t1), dot(l, lobe.t2), dot(l, lobe.n));
   // weight 0: the lobe alone, not the base
-  const vec3 sent = radiosity.rgb + excessToward(q, lobe.x, 0.0, push.leastSpread);
+  const vec3 sent = radiosity + excessToward(q, lobe.x, 0.0, push.leastSpread);
   return f * max(sent - emission, vec3(0.0)) * evalBrdf(widened, lt, lobe.view, 0.0);
 }
 
@@ -51,17 +58,19 @@ vec3 reflectedFrom(Lobe lobe, uint q, float f, bool lastB, inout vec3 emitted) {
 // lane of the workgroup, which walks the links together (receiver_links.glsl); every lane calls it.
 vec3 reflectedAt(Lobe lobe, uint r) {
   vec3 reflected = vec3(0.0), emitted = vec3(0.0);
-  const bool lastB = state.gathers % 2u == 1u;  // read once: a storage buffer, read a lane at a time
+  // Read once: a storage buffer, read a lane at a time.
+  const bool lastB = state.gathers % 2u == 1u;
+  const float tail = state.gain;
   const uvec2 range = imageLoad(ranges, int(r)).xy;
   for (uint i = range.x + linkLane(); i < range.x + range.y; i += kReceiverGroup) {
     const uvec2 link = loadParted(leafLinks, i).xy;
-    reflected += reflectedFrom(lobe, link.x, uintBitsToFloat(link.y), lastB, emitted);
+    reflected += reflectedFrom(lobe, link.x, uintBitsToFloat(link.y), lastB, tail, emitted);
   }
   const uvec2 staticRange = imageLoad(staticRanges, int(r)).xy;
   for (uint i = staticRange.x + linkLane(); i < staticRange.x + staticRange.y; i += kReceiverGroup) {
     const uvec2 link = loadParted(staticLinks, i).xy;
     if (staticLinkStands(r, i, push.maskWords))
-      reflected += reflectedFrom(lobe, link.x, uintBitsToFloat(link.y), lastB, emitted);
+      reflected += reflectedFrom(lobe, link.x, uintBitsToFloat(link.y), lastB, tail, emitted);
   }
   sumLanes(reflected, emitted);
   // The external light gives back what it took of the emitters' credit in the bins.
