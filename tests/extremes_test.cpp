@@ -30,12 +30,6 @@ image::RgbImage readRgb(const fs::path& exr) {
   }
 }
 
-double mean(const image::RgbImage& im, int channel = 0) {
-  double sum = 0;
-  for (const auto& p : im.pixels) sum += p[channel];
-  return im.pixels.empty() ? 0.0 : sum / double(im.pixels.size());
-}
-
 std::string writeScene(const tinygltf::Model& model, const std::string& name) {
   auto path = test::scratchDir("scene") / (name + ".gltf");
   scenes::writeModel(model, path.string());
@@ -180,10 +174,10 @@ TEST(Extremes, AMillimetreBlockerLetsNoLightThrough) {
   double iv[2], pt[2];
   for (int i = 0; i < 2; ++i) {
     const std::string camera = i == 0 ? "umbra" : "lit";
-    iv[i] =
-        mean(readRgb(test::renderExr("iv-" + camera, {file, "--camera", camera, "--size", "32x32", "--env", "none"})));
-    pt[i] = mean(readRgb(test::renderExr("pt-" + camera, {file, "--camera", camera, "--size", "32x32", "--env", "none",
-                                                          "--method", "pt", "--spp", "256"})));
+    iv[i] = test::meanOf(
+        readRgb(test::renderExr("iv-" + camera, {file, "--camera", camera, "--size", "32x32", "--env", "none"})));
+    pt[i] = test::meanOf(readRgb(test::renderExr("pt-" + camera, {file, "--camera", camera, "--size", "32x32", "--env",
+                                                                  "none", "--method", "pt", "--spp", "256"})));
   }
   std::printf("[ thin blocker ] umbra: iv %.5f, pt %.5f; lit: iv %.4f, pt %.4f\n", iv[0], pt[0], iv[1], pt[1]);
   EXPECT_NEAR(iv[1], pt[1], 0.05 * pt[1]) << "the lit floor";

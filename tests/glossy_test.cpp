@@ -181,25 +181,20 @@ TEST(Glossy, AnEvenSkyReflectsAsTheLobesAlbedo) {
   b.camera("camera", 0.4f, 0.01f, {0, 1, 0}, glm::angleAxis(-gpu::kPi / 5.0f, glm::vec3(1, 0, 0)));
   const fs::path scene = test::scratchDir("even-sky") / "even-sky.gltf";
   scenes::writeModel(b.finish(), scene.string());
-  const auto mean = [](const image::RgbImage& im) {
-    double sum = 0.0;
-    for (const glm::vec3& p : im.pixels) sum += p.g;
-    return sum / double(im.pixels.size());
-  };
+  const auto mean = [](const fs::path& exr) { return test::meanOf(image::readLinearRgb(exr.string()), 1); };
   const std::vector<std::string> common = {scene.string(), "--env", "1,1,1", "--size", "32x24"};
   auto args = [&](std::vector<std::string> more) {
     more.insert(more.begin(), common.begin(), common.end());
     return more;
   };
-  const double pt =
-      mean(image::readLinearRgb(test::renderExr("even-sky-pt", args({"--method", "pt", "--spp", "256"})).string()));
+  const double pt = mean(test::renderExr("even-sky-pt", args({"--method", "pt", "--spp", "256"})));
   for (const char* dirs : {"2", "4", "8"}) {
-    const double ar = mean(image::readLinearRgb(
-        test::renderExr(std::string("even-sky-ar") + dirs, args({"--method", "ar", "--dirs", dirs})).string()));
+    const double ar =
+        mean(test::renderExr(std::string("even-sky-ar") + dirs, args({"--method", "ar", "--dirs", dirs})));
     std::printf("[ glossy ] the plane under an even sky: ar --dirs %s %.4f, pt %.4f\n", dirs, ar, pt);
     EXPECT_NEAR(ar, pt, 0.01 * pt) << "--dirs " << dirs;
   }
-  const double iv = mean(image::readLinearRgb(test::renderExr("even-sky-iv", args({"--method", "iv"})).string()));
+  const double iv = mean(test::renderExr("even-sky-iv", args({"--method", "iv"})));
   EXPECT_NEAR(iv, pt, 0.01 * pt);
 }
 
@@ -215,12 +210,7 @@ TEST(Glossy, AMetalFurnaceKeepsItsLight) {
   m.materials[0].extensions.clear();
   const fs::path scene = test::scratchDir("metal-furnace") / "metal-furnace.gltf";
   scenes::writeModel(m, scene.string());
-  const auto mean = [](const fs::path& exr) {
-    const image::RgbImage im = image::readLinearRgb(exr.string());
-    double sum = 0.0;
-    for (const glm::vec3& p : im.pixels) sum += p.r;
-    return sum / double(im.pixels.size());
-  };
+  const auto mean = [](const fs::path& exr) { return test::meanOf(image::readLinearRgb(exr.string())); };
   const double pt =
       mean(test::renderExr("metal-furnace-pt", {scene.string(), "--method", "pt", "--spp", "64", "--size", "32x32"}));
   for (const char* method : {"iv", "ar"}) {

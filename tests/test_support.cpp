@@ -139,6 +139,12 @@ std::vector<float> channelOf(const std::filesystem::path& exr, const std::string
   return values;
 }
 
+double meanOf(const image::RgbImage& im, int channel) {
+  double sum = 0;
+  for (const glm::vec3& p : im.pixels) sum += p[channel];
+  return im.pixels.empty() ? 0.0 : sum / double(im.pixels.size());
+}
+
 std::filesystem::path assimpGltfDir() { return "/usr/share/assimp/models/glTF2"; }
 
 gi::FrameRenderer ivRenderer(const scene::Geometry& geometry, gi::ImageSettings image, gi::IvSetup setup,

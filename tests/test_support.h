@@ -12,6 +12,7 @@
 
 #include "engine/gi/frame_renderer.h"
 #include "engine/gi/iv/solver.h"
+#include "engine/image/metrics.h"
 #include "engine/vk/context.h"
 #include "scenes/gltf_builder.h"
 
@@ -78,6 +79,9 @@ tinygltf::Model sunOverABox();
 // One channel of an EXR file ("R", "albedo.G", "N.Y", …), row-major; empty if the file or the
 // channel cannot be read.
 std::vector<float> channelOf(const std::filesystem::path& exr, const std::string& name);
+
+// The mean of one channel (0 red, 1 green, 2 blue) over an image's pixels; 0 for an empty image.
+double meanOf(const image::RgbImage& im, int channel = 0);
 
 // `v`'s low `bytes` bytes, most significant first (file headers written by hand).
 std::string bigEndian(uint32_t v, int bytes = 4);

@@ -62,13 +62,8 @@ screen_material.use_backface_culling = False
 image = bpy.data.images.new("checker", 2, 2, alpha=True, float_buffer=False)
 cut = 0.5 if blended else 0.0
 image.pixels = [1, 1, 1, 1, 1, 1, 1, cut, 1, 1, 1, cut, 1, 1, 1, 1]  # bottom row first
-image.filepath_raw = out + "_checker.png"
-image.file_format = "PNG"
-image.save()
+texture = blender_overhead.nearest_texture(screen_material, image, out + "_checker.png")
 nodes, links = screen_material.node_tree.nodes, screen_material.node_tree.links
-texture = nodes.new("ShaderNodeTexImage")
-texture.image = image
-texture.interpolation = "Closest"
 links.new(texture.outputs["Color"], screen_principled.inputs["Base Color"])
 links.new(texture.outputs["Color"], screen_diffuse.inputs["Color"])  # white: the exported base colour
 links.new(texture.outputs["Alpha"], screen_principled.inputs["Alpha"])

@@ -35,24 +35,9 @@ principled.inputs["Base Color"].default_value = (0.9, 0.9, 0.9, 1)
 principled.inputs["Metallic"].default_value = 1.0
 principled.inputs["Roughness"].default_value = 0.35
 
-image = bpy.data.images.new("stripes", 48, 48, float_buffer=False)
-image.colorspace_settings.name = "Non-Color"
-pixels = []
-for y in range(48):
-    for x in range(48):
-        t = (0.0, tilt, -tilt)[y // 16]
-        pixels += [0.5 + 0.5 * math.sin(t), 0.5, 0.5 + 0.5 * math.cos(t), 1.0]
-image.pixels = pixels
-image.filepath_raw = out + "_stripes.png"
-image.file_format = "PNG"
-image.save()
 if "--plain" not in flags:
-    texture = nodes.new("ShaderNodeTexImage")
-    texture.image = image
-    texture.interpolation = "Closest"
-    normal_map = nodes.new("ShaderNodeNormalMap")
-    links.new(texture.outputs["Color"], normal_map.inputs["Color"])
-    links.new(normal_map.outputs["Normal"], principled.inputs["Normal"])
+    normal = blender_overhead.stripes_normal_map(material, out, 48, lambda x, y: (0.0, tilt, -tilt)[y // 16])
+    links.new(normal, principled.inputs["Normal"])
 plane.data.materials.append(material)
 
 scene = bpy.context.scene
@@ -66,13 +51,6 @@ scene.camera = camera
 scene.world = bpy.data.worlds.new("white")
 scene.world.color = (1, 1, 1)
 
-scene.render.engine = "CYCLES"
-scene.cycles.samples = 256
-scene.cycles.use_denoising = False
-scene.cycles.max_bounces = 1
-scene.render.resolution_x = scene.render.resolution_y = 96
-scene.view_settings.view_transform = "Standard"
-scene.render.image_settings.file_format = "OPEN_EXR"
-scene.render.filepath = out + "_cycles.exr"
+blender_overhead.cycles(out, size=96, samples=256, bounces=1)
 bpy.ops.render.render(write_still=True)
 bpy.ops.export_scene.gltf(filepath=out + ".glb", export_format="GLB", export_cameras=True)

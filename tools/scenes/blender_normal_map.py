@@ -37,24 +37,10 @@ principled.inputs["Specular"].default_value = 0.0
 diffuse = nodes.new("ShaderNodeBsdfDiffuse")
 diffuse.inputs["Color"].default_value = (0.5, 0.5, 0.5, 1)
 if striped:
-    image = bpy.data.images.new("stripes", 64, 64, float_buffer=False)
-    image.colorspace_settings.name = "Non-Color"
-    pixels = []
-    for y in range(64):
-        for x in range(64):
-            tilt = math.radians(30.0) * (1 if (x // 8) % 2 == 0 else -1)
-            pixels += [0.5 + 0.5 * math.sin(tilt), 0.5, 0.5 + 0.5 * math.cos(tilt), 1.0]
-    image.pixels = pixels
-    image.filepath_raw = out + "_stripes.png"
-    image.file_format = "PNG"
-    image.save()
-    texture = nodes.new("ShaderNodeTexImage")
-    texture.image = image
-    texture.interpolation = "Closest"
-    normal_map = nodes.new("ShaderNodeNormalMap")
-    links.new(texture.outputs["Color"], normal_map.inputs["Color"])
-    links.new(normal_map.outputs["Normal"], principled.inputs["Normal"])
-    links.new(normal_map.outputs["Normal"], diffuse.inputs["Normal"])
+    normal = blender_overhead.stripes_normal_map(
+        material, out, 64, lambda x, y: math.radians(30.0) * (1 if (x // 8) % 2 == 0 else -1))
+    links.new(normal, principled.inputs["Normal"])
+    links.new(normal, diffuse.inputs["Normal"])
 plane.data.materials.append(material)
 output = nodes["Material Output"]
 

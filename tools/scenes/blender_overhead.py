@@ -1,7 +1,8 @@
 """What the probes against Blender share: a sun 45 degrees up from +x (3 W/m^2, sharp), an
 orthographic camera looking straight down from `height` over `width` metres, a black world, and
 Cycles' settings (no denoising, the Standard view transform, an EXR of `size` x `size` pixels at
-OUT_cycles.exr). Imported by blender_normal_map.py and blender_cutout.py, which run inside Blender.
+OUT_cycles.exr), image textures and a striped normal texture. Imported by blender_normal_map.py,
+blender_glossy_normal_map.py and blender_cutout.py, which run inside Blender.
 """
 import math
 import sys
@@ -31,6 +32,13 @@ def sun_camera_and_cycles(out, width, height, size, samples, bounces):
     scene.world = bpy.data.worlds.new("black")
     scene.world.color = (0, 0, 0)
 
+    cycles(out, size, samples, bounces)
+
+
+def cycles(out, size, samples, bounces):
+    """Cycles without denoising, `bounces` deep, the Standard view transform, an EXR of `size` x
+    `size` pixels at OUT_cycles.exr."""
+    scene = bpy.context.scene
     scene.render.engine = "CYCLES"
     scene.cycles.samples = samples
     scene.cycles.use_denoising = False
@@ -40,3 +48,33 @@ def sun_camera_and_cycles(out, width, height, size, samples, bounces):
     scene.view_settings.view_transform = "Standard"
     scene.render.image_settings.file_format = "OPEN_EXR"
     scene.render.filepath = out + "_cycles.exr"
+
+
+def stripes_normal_map(material, out, side, tilt):
+    """A `side` x `side` tangent-space normal texture whose texel (x, y) tilts the normal by
+    tilt(x, y) radians toward +u (saved as OUT_stripes.png, read by its nearest texel), through a
+    Normal Map node of `material`: the node's Normal output."""
+    image = bpy.data.images.new("stripes", side, side, float_buffer=False)
+    image.colorspace_settings.name = "Non-Color"
+    pixels = []
+    for y in range(side):
+        for x in range(side):
+            t = tilt(x, y)
+            pixels += [0.5 + 0.5 * math.sin(t), 0.5, 0.5 + 0.5 * math.cos(t), 1.0]
+    image.pixels = pixels
+    texture = nearest_texture(material, image, out + "_stripes.png")
+    normal_map = material.node_tree.nodes.new("ShaderNodeNormalMap")
+    material.node_tree.links.new(texture.outputs["Color"], normal_map.inputs["Color"])
+    return normal_map.outputs["Normal"]
+
+
+def nearest_texture(material, image, path):
+    """`image` saved as a PNG at `path` (the exporter embeds it from there), in an Image Texture
+    node of `material` that reads its nearest texel."""
+    image.filepath_raw = path
+    image.file_format = "PNG"
+    image.save()
+    texture = material.node_tree.nodes.new("ShaderNodeTexImage")
+    texture.image = image
+    texture.interpolation = "Closest"
+    return texture
