@@ -60,7 +60,7 @@ void main() {
   // The nearest texel: the resolve's window filters the emitter samples' shadows. The point and
   // spot lights are few: every pixel takes them all, their shadows its own.
   const vec3 v = normalize(towardEye(cameraEye(push.camera), p));
-  const vec3 shading = shadingNormalAt(h, n, v);
+  const vec3 shading = shadingNormalAt(h, n, faceNormalOf(h, n), v);
   Lobe lobe = noLobe(shading);
   if (kGlossy) {
     lobe.brdf = materialAt(h.triangle, h.weights).brdf;

@@ -175,7 +175,8 @@ void main() {
       const vec3 w = h.weights, n = h.normal;
       float len = length(n);
       const vec3 toEye = normalize(towardEye(cameraEye(push.camera), h.position));
-      const vec3 shading = len > 0.0 ? shadingNormalAt(h, n / len, toEye) : vec3(0.0);
+      const vec3 face = len > 0.0 ? faceNormalOf(h, n / len) : vec3(0.0);
+      const vec3 shading = len > 0.0 ? shadingNormalAt(h, n / len, face, toEye) : vec3(0.0);
       const SurfaceMaterial m = materialAt(t, w);
       const vec3 base = m.brdf.base.rgb;
       albedo += base;
@@ -224,7 +225,7 @@ void main() {
           // Where a normal texture turns the shading normal from the mesh's, the face's plane hides
           // part of the turned lobe: it keeps its share above the plane of the light the vertices
           // carry, or of what the solver's reflections found (at the mesh's normal, by its Fresnel).
-          const float share = kNormalMapped ? lobeShareAt(h, n / len, shading, toEye, m.brdf.alpha) : 1.0;
+          const float share = kNormalMapped ? lobeShareAt(face, shading, toEye, m.brdf.alpha) : 1.0;
           const vec3 indirect = share * (kReflections ? w.x * lobeAt(t.x) + w.y * lobeAt(t.y) + w.z * lobeAt(t.z)
                                                       : lobeReflectanceOf(m.brdf, table) * carried / kPi);
           reflected += baseReflectanceOf(m.brdf, table) * (e + direct) / kPi + indirect + around.specular;

@@ -55,21 +55,19 @@ vec3 faceNormalOf(SurfaceHit h, vec3 n) {
   return faceLength > 0.0 ? h.face / faceLength * (dot(h.face, n) < 0.0 ? -1.0 : 1.0) : vec3(0.0);
 }
 
-// The normal hit h shades with, as pt's paths take it (path_tracer.cpp), where its unit normal is n
-// and the eye lies along unit toEye: n turned by the normal texture, then lifted so that the view's
-// mirror image stays above the triangle's plane (scene.h's liftedShadingNormal). Only a normal
-// texture or a lobe reads the difference; elsewhere n as it is.
-vec3 shadingNormalAt(SurfaceHit h, vec3 n, vec3 toEye) {
+// The normal hit h shades with, as pt's paths take it (path_tracer.cpp), where its unit normal is n,
+// its face normal `face` (faceNormalOf) and the eye lies along unit toEye: n turned by the normal
+// texture, then lifted so that the view's mirror image stays above the triangle's plane (scene.h's
+// liftedShadingNormal). Only a normal texture or a lobe reads the difference; elsewhere n as it is.
+vec3 shadingNormalAt(SurfaceHit h, vec3 n, vec3 face, vec3 toEye) {
   const vec3 mapped = mappedNormalAt(h.triangle, h.weights, n);
   if (!(kNormalMapped || kGlossy)) return mapped;
-  const vec3 face = faceNormalOf(h, n);
   return dot(face, toEye) > 0.0 ? liftedShadingNormal(face, toEye, mapped) : mapped;
 }
 
-// The share of a lobe of roughness α about `shading` that hit h's face leaves above its plane, seen
-// from unit toEye (brdf.h's lobeShareAbove); 1 where the face does not face the eye.
-float lobeShareAt(SurfaceHit h, vec3 n, vec3 shading, vec3 toEye, float alpha) {
-  const vec3 face = faceNormalOf(h, n);
+// The share of a lobe of roughness α about `shading` that a face of unit normal `face` leaves above
+// its plane, seen from unit toEye (brdf.h's lobeShareAbove); 1 where the face does not face the eye.
+float lobeShareAt(vec3 face, vec3 shading, vec3 toEye, float alpha) {
   const float nv = dot(shading, toEye);
   if (!(dot(face, toEye) > 0.0) || !(nv > 0.0)) return 1.0;
   // The lobe's frame turned so that the face's normal leans along its first axis: the quadrature
