@@ -25,19 +25,11 @@ import blender_overhead  # noqa: E402
 out, flags = blender_overhead.start()
 tilt = math.radians(next((float(f.split("=")[1]) for f in flags if f.startswith("--tilt=")), 25.0))
 
-bpy.ops.mesh.primitive_plane_add(size=2.0)
-plane = bpy.context.active_object
-material = bpy.data.materials.new("metal")
-material.use_nodes = True
-nodes, links = material.node_tree.nodes, material.node_tree.links
-principled = nodes["Principled BSDF"]
-principled.inputs["Base Color"].default_value = (0.9, 0.9, 0.9, 1)
-principled.inputs["Metallic"].default_value = 1.0
-principled.inputs["Roughness"].default_value = 0.35
+plane, material, principled = blender_overhead.principled_plane(2.0, "metal", 0.9, roughness=0.35, metallic=1.0)
 
 if "--plain" not in flags:
     normal = blender_overhead.stripes_normal_map(material, out, 48, lambda x, y: (0.0, tilt, -tilt)[y // 16])
-    links.new(normal, principled.inputs["Normal"])
+    material.node_tree.links.new(normal, principled.inputs["Normal"])
 plane.data.materials.append(material)
 
 scene = bpy.context.scene

@@ -25,15 +25,9 @@ import blender_overhead  # noqa: E402
 out, flags = blender_overhead.start()
 striped = "--striped" in flags
 
-bpy.ops.mesh.primitive_plane_add(size=2.0)
-plane = bpy.context.active_object
-material = bpy.data.materials.new("tile")
-material.use_nodes = True
-nodes, links = material.node_tree.nodes, material.node_tree.links
-principled = nodes["Principled BSDF"]
-principled.inputs["Base Color"].default_value = (0.5, 0.5, 0.5, 1)
-principled.inputs["Roughness"].default_value = 1.0
+plane, material, principled = blender_overhead.principled_plane(2.0, "tile", 0.5, roughness=1.0)
 principled.inputs["Specular"].default_value = 0.0
+nodes, links = material.node_tree.nodes, material.node_tree.links
 diffuse = nodes.new("ShaderNodeBsdfDiffuse")
 diffuse.inputs["Color"].default_value = (0.5, 0.5, 0.5, 1)
 if striped:

@@ -1,8 +1,9 @@
 """What the probes against Blender share: a sun 45 degrees up from +x (3 W/m^2, sharp), an
 orthographic camera looking straight down from `height` over `width` metres, a black world, and
 Cycles' settings (no denoising, the Standard view transform, an EXR of `size` x `size` pixels at
-OUT_cycles.exr), image textures and a striped normal texture. Imported by blender_normal_map.py,
-blender_glossy_normal_map.py and blender_cutout.py, which run inside Blender.
+OUT_cycles.exr), a plane of one Principled material, image textures and a striped normal texture.
+Imported by blender_normal_map.py, blender_glossy_normal_map.py and blender_cutout.py, which run
+inside Blender.
 """
 import math
 import sys
@@ -48,6 +49,20 @@ def cycles(out, size, samples, bounces):
     scene.view_settings.view_transform = "Standard"
     scene.render.image_settings.file_format = "OPEN_EXR"
     scene.render.filepath = out + "_cycles.exr"
+
+
+def principled_plane(size, name, base, roughness, metallic=0.0):
+    """A `size` m plane at the origin with a material `name` of grey `base`, `roughness` and
+    `metallic`: the plane, its material and the material's Principled BSDF node."""
+    bpy.ops.mesh.primitive_plane_add(size=size)
+    plane = bpy.context.active_object
+    material = bpy.data.materials.new(name)
+    material.use_nodes = True
+    principled = material.node_tree.nodes["Principled BSDF"]
+    principled.inputs["Base Color"].default_value = (base, base, base, 1)
+    principled.inputs["Metallic"].default_value = metallic
+    principled.inputs["Roughness"].default_value = roughness
+    return plane, material, principled
 
 
 def stripes_normal_map(material, out, side, tilt):
