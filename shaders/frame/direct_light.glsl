@@ -22,6 +22,11 @@ float depthAt(uint view, ivec2 texel, uint side) {
 // each texel keeps or passes it by chance, and the pixels take the four texels' bilinear share of
 // the finest cascade (kBlendedPixelLookup), four of those chances.
 const uint kPixelLookup = 0u, kSurfelLookup = 1u, kBlendedPixelLookup = 2u;
+// How near a point, in texels, a surface the maps hold stands for the point's own (texelSees): the
+// texels looked up lie up to a diagonal to the side of its ray, and a mesh is drawn into the maps
+// within half a texel of its surface (scene::MapMeshes). And the margin by which a depth may lie
+// nearer than the point's own plane and still pass, for the rounding of depths far from the view.
+const float kOwnTexels = 2.0, kDepthMarginTexels = 0.05;
 
 // Where p lies in orthographic view `view`: in its texels, its depth, and a texel's width.
 void orthographicAt(uint view, vec3 p, float size, out vec2 at, out float z, out float texel) {
@@ -34,27 +39,22 @@ void orthographicAt(uint view, vec3 p, float size, out vec2 at, out float z, out
   at = vec2((ndc.x + 1.0) * 0.5 * size, (1.0 - ndc.y) * 0.5 * size) - 0.5;
 }
 
-// The share of the four texels around the ray from emitter sample `point`'s views to the point `p` that
-// see p (kSurfelLookup, kBlendedPixelLookup: bilinear weights; kPixelLookup: whether the nearest texel does), where
-// `cosine` is the cosine of the ray at p's surface. A texel sees p where its depth, less a bias of a
-// texel and a half of p's own slope across it, is not nearer.
-float seenShare(LightPoint point, vec3 p, float cosine, uint side, uint lookup) {
-  const float size = float(side);
-  uint view;
-  float z, texel;  // p's depth in the view, a texel's width there
-  vec2 at;         // p in the view's texels
+// Where p lies in the views of emitter sample `point`: the view (at a pixel, a directional light's
+// finest cascade around the camera whose texels around p lie within it), p in its texels, its depth
+// there, and a texel's width at that depth.
+void lightViewOf(LightPoint point, vec3 p, uint size, uint lookup, out uint view, out vec2 at, out float z,
+                 out float texel) {
   const uint first = floatBitsToUint(point.radiance.w);
+  const float s = float(size);
   if (point.cone.w == kLightPointIsPunctual && point.cone.z == kLightDirectional) {
-    // A directional light's orthographic view over the scene, or at a pixel the finest of its
-    // cascades whose texels around p (and the bias's reach) lie within it.
     view = first;
-    orthographicAt(view, p, size, at, z, texel);
+    orthographicAt(view, p, s, at, z, texel);
     const uint cascades = lookup != kSurfelLookup ? uint(point.positionArea.w) : 0u;
     for (uint k = 1u; k <= cascades; ++k) {
       vec2 atK;
       float zK, texelK;
-      orthographicAt(first + k, p, size, atK, zK, texelK);
-      if (all(greaterThanEqual(atK, vec2(2.0))) && all(lessThanEqual(atK, vec2(size - 3.0)))) {
+      orthographicAt(first + k, p, s, atK, zK, texelK);
+      if (all(greaterThanEqual(atK, vec2(2.0))) && all(lessThanEqual(atK, vec2(s - 3.0)))) {
         view = first + k, at = atK, z = zK, texel = texelK;
         break;
       }
@@ -66,17 +66,52 @@ float seenShare(LightPoint point, vec3 p, float cosine, uint side, uint lookup) 
     view = first + 2u * axis + (d[axis] < 0.0 ? 1u : 0u);
     z = m[axis];
     const float x = d[axis == 2u ? 0u : axis + 1u], y = d[axis == 0u ? 2u : axis - 1u];
-    texel = 2.0 * z / size;
-    at = vec2((x / z + 1.0) * 0.5 * size, (1.0 - y / z) * 0.5 * size) - 0.5;
+    texel = 2.0 * z / s;
+    at = vec2((x / z + 1.0) * 0.5 * s, (1.0 - y / z) * 0.5 * s) - 0.5;
   }
-  const float slope = sqrt(max(1.0 - cosine * cosine, 0.0)) / max(cosine, 0.1);
-  const float bias = 1.5 * texel * (1.0 + slope);
-  if (lookup == kPixelLookup) return depthAt(view, ivec2(floor(at + 0.5)), side) + bias >= z ? 1.0 : 0.0;
+}
+
+// Whether texel t of view `c` (`side` texels square), whose depth is `stored`, lets the light by to
+// the point q (unit normal n, depth z, a texel `texel` wide there): where what the texel holds lies
+// no nearer than q's plane along the texel's own ray (a plane is at its own depth in every texel,
+// however steeply it is seen), or within kOwnTexels of q (a surface that meets q's at a crease
+// stands for q's own there). Along a ray that runs nearly along the plane, the plane counts as
+// within `reach` of z.
+bool texelSees(Camera c, ivec2 t, uint side, float stored, vec3 q, vec3 n, float z, float texel, float reach) {
+  const vec2 centre = vec2(clamp(t, ivec2(0), ivec2(int(side) - 1))) + 0.5;
+  const vec3 dir = cameraRay(c, centre, uvec2(side)), origin = cameraRayOrigin(c, centre, uvec2(side));
+  const float along = dot(n, dir);
+  const float plane = along < 0.0 ? clamp(dot(n, q - origin) / along, z - reach, z + reach) : z + reach;
+  if (stored + kDepthMarginTexels * texel >= plane) return true;
+  const vec3 held = origin + stored * dir - q;
+  return dot(held, held) <= kOwnTexels * kOwnTexels * texel * texel;
+}
+
+// The share of the four texels around the ray from emitter sample `point`'s views to the point `p`
+// (unit normal n) that see p (kSurfelLookup, kBlendedPixelLookup: bilinear weights; kPixelLookup:
+// whether the nearest texel does; texelSees), where `cosine` is the cosine of the ray at p's
+// surface. A depth bias instead of p's plane would have to grow with the plane's slope, and would
+// let the light under whatever stands on the surface as far as it reaches (behind a wall, along its
+// foot).
+float seenShare(LightPoint point, vec3 p, vec3 n, float cosine, uint side, uint lookup) {
+  uint view;
+  float z, texel;  // p's depth in the view, a texel's width there
+  vec2 at;         // p in the view's texels
+  lightViewOf(point, p, side, lookup, view, at, z, texel);
+  const Camera c = lightViewAt(view);
+  // As far as a texel and a half of the slope reach, where the plane is seen edge on.
+  const float reach = 1.5 * texel * (1.0 + sqrt(max(1.0 - cosine * cosine, 0.0)) / max(cosine, 0.1));
+  if (lookup == kPixelLookup) {
+    const ivec2 t = ivec2(floor(at + 0.5));
+    return texelSees(c, t, side, depthAt(view, t, side), p, n, z, texel, reach) ? 1.0 : 0.0;
+  }
   const ivec2 corner = ivec2(floor(at));
   const vec2 f = at - vec2(corner);
-  const vec4 seen = vec4(depthAt(view, corner, side) + bias >= z, depthAt(view, corner + ivec2(1, 0), side) + bias >= z,
-                         depthAt(view, corner + ivec2(0, 1), side) + bias >= z,
-                         depthAt(view, corner + ivec2(1, 1), side) + bias >= z);
+  vec4 seen;
+  for (int k = 0; k < 4; ++k) {
+    const ivec2 t = corner + ivec2(k & 1, k >> 1);
+    seen[k] = texelSees(c, t, side, depthAt(view, t, side), p, n, z, texel, reach) ? 1.0 : 0.0;
+  }
   return mix(mix(seen.x, seen.y, f.x), mix(seen.z, seen.w, f.x), f.y);
 }
 
@@ -147,7 +182,7 @@ PointsLight lightAt(vec3 p, vec3 n, uint first, uint end, uint stride, float sca
     const LightPoint point = lightPointAt(i);
     const vec3 seen = lightFrom(point, p, n, cosine, toward);
     if (cosine <= 0.0 || all(equal(seen, vec3(0.0)))) continue;
-    const vec3 lit = seen * seenShare(point, p, cosine, side, lookup);
+    const vec3 lit = seen * seenShare(point, p, n, cosine, side, lookup);
     sums.seen += lit;
     sums.unshadowed += seen;
     const float litLuminance = luminance(lit);
