@@ -6,8 +6,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <fstream>
 #include <functional>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "engine/gi/ar/solver.h"
@@ -136,6 +138,24 @@ TEST(Glossy, APointLightsHighlightIsWherePtPutsIt) {
 // (shaders/common/sender_lobes.glsl). Sent evenly over the floor's hemisphere, as a diffuse floor
 // sends it, the wall's foot came out 4 % (iv) and 6 % (ar) brighter than its upper part, against
 // pt's 25 %.
+// iv sends a glossy leaf's light along its lobe (lobe_excess.comp) only where some material's lobe
+// is far from even (Geometry::directionalLobes): a floor of roughness 1 runs no such pass, one of
+// roughness 0.5 does, and both still reflect the lamp toward the eye.
+TEST(Glossy, IvSendsOnlyDirectionalLobesByDirection) {
+  for (const float roughness : {1.0f, 0.5f}) {
+    const std::string name = roughness < 1.0f ? "satin-floor" : "rough-floor";
+    const fs::path scene = metalFloorUnderALamp(0.0f, roughness, name),
+                   json = test::scratchDir(name + "-bench") / "bench.json";
+    const auto r = test::runIvgi({"bench", scene.string(), "--size", "32x24", "--frames", "1", "--warmup", "0",
+                                  "--per-program", "--json", json.string()});
+    ASSERT_EQ(r.status, 0) << r.err;
+    std::ifstream in(json);
+    const auto programs = nlohmann::json::parse(in)["programs"];
+    EXPECT_EQ(programs.contains("lobe_excess"), roughness < 1.0f) << "roughness " << roughness;
+    EXPECT_TRUE(programs.contains("reflect_receivers")) << "roughness " << roughness;
+  }
+}
+
 TEST(Glossy, AMetalFloorThrowsTheLampsLightUpTheWall) {
   scenes::GltfBuilder b;
   scenes::MeshData floor, wall;

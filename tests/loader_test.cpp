@@ -460,6 +460,35 @@ TEST(Loader, MetallicRoughnessTexturesAreLinear) {
   EXPECT_NEAR(sampleTexture(g, m.baseColorTexture, glm::vec2(0.3f)).g, 0.2158f, 1e-3f);
 }
 
+// Whether the solvers send a material's lobe by direction (Geometry::directionalLobes) or evenly,
+// as its base's: a rough dielectric's lobe (the glTF default's F0 0.04 at roughness 1) reflects a
+// few per cent of the light over a wide lobe and goes evenly, as a Lambertian surface's does; a
+// satin's, a rough metal's and any lobe under a metallic-roughness texture (which may hold a
+// mirror's roughness) go by direction. The reflections toward the eye stay with every glossy one.
+TEST(Loader, OnlyLobesFarFromEvenAreSentByDirection) {
+  const auto classify = [](float metallic, float roughness, bool textured) {
+    TriangleModel t;
+    tinygltf::Material& m = t.b.model().materials[0];
+    m.extensions.clear();  // the core specification's specular layer
+    m.pbrMetallicRoughness.metallicFactor = metallic;
+    m.pbrMetallicRoughness.roughnessFactor = roughness;
+    if (textured) {
+      t.addTexel({0, 255, 0, 255});
+      m.pbrMetallicRoughness.metallicRoughnessTexture.index = 0;
+    }
+    const Geometry g = buildGeometry(t.load());
+    EXPECT_TRUE(g.glossyMaterials);
+    return g.directionalLobes;
+  };
+  EXPECT_FALSE(classify(0.0f, 1.0f, false)) << "a rough dielectric";
+  EXPECT_TRUE(classify(0.0f, 0.5f, false)) << "a satin dielectric";
+  EXPECT_TRUE(classify(1.0f, 1.0f, false)) << "a rough metal";
+  EXPECT_TRUE(classify(0.0f, 1.0f, true)) << "a rough dielectric under a metallic-roughness texture";
+  TriangleModel lambertian;
+  const Geometry g = buildGeometry(lambertian.load());
+  EXPECT_FALSE(g.glossyMaterials || g.directionalLobes);
+}
+
 TEST(Loader, MalformedAssimpModelsAreRefused) {
   auto dir = test::assimpGltfDir();
   for (const char* file : {"IndexOutOfRange/IndexOutOfRange.gltf", "MissingBin/BoxTextured.gltf",

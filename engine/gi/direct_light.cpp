@@ -256,7 +256,7 @@ DirectLight::DirectLight(const vk::Context& ctx, const scene::Geometry& g, std::
       splitsStatic_(!moving.empty() && !emittersMove(g, samples, moving)),
       lightViews_(shaderProgram(ctx, "light_views")),
       directSurfels_(shaderProgram(ctx, "direct_surfels",
-                                   vk::Specialization{.constants = {{"kArrivals", g.glossyMaterials ? 1u : 0u}}})),
+                                   vk::Specialization{.constants = {{"kArrivals", g.directionalLobes ? 1u : 0u}}})),
       worldBounds_(shaderProgram(ctx, "world_bounds")) {
   validate(settings);
   if (depthBytes(settings, viewCount_) > ctx.limits().maxStorageBufferRange)
@@ -298,7 +298,7 @@ DirectLight::DirectLight(const vk::Context& ctx, const scene::Geometry& g, std::
   surfelDirect_ = vk::Buffer(ctx, std::max(surfelCount_, 1u) * sizeof(glm::vec4), vk::Memory::Device, tally);
   surfelUnshadowed_ = vk::Buffer(ctx, surfelDirect_.size(), vk::Memory::Device, tally);
   surfelArrival_ =
-      vk::Buffer(ctx, g.glossyMaterials ? surfelDirect_.size() : sizeof(glm::vec4), vk::Memory::Device, tally);
+      vk::Buffer(ctx, g.directionalLobes ? surfelDirect_.size() : sizeof(glm::vec4), vk::Memory::Device, tally);
   surfelsLit_ = vk::Buffer(ctx, sizeof(uint32_t), vk::Memory::Device, tally);
 }
 

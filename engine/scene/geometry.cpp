@@ -297,6 +297,15 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
   for (size_t i = 0; i < scene.materials.size(); ++i)
     if (!cutsAnything(scene, i)) g.materials[i].alphaCutoff = gpu::kAlphaOpaque;
 
+  // Per material: whether its lobe sends by direction (-1: not yet asked). A metallic-roughness
+  // texture may hold any roughness down to a mirror's.
+  std::vector<int8_t> directional(g.materials.size(), -1);
+  const auto sendsByDirection = [&](uint32_t index, const gpu::SurfaceBrdf& brdf) {
+    if (directional[index] < 0)
+      directional[index] = g.materials[index].metallicRoughnessTexture >= 0 || sendsLobeByDirection(brdf);
+    return directional[index] != 0;
+  };
+
   size_t drawn = 0, built = 0;  // the nodes drawn, and those built so far (counted for `progress`)
   const std::function<void(int)> count = [&](int nodeIndex) {
     drawn += scene.nodes[nodeIndex].mesh >= 0 ? 1 : 0;
@@ -329,11 +338,13 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
         g.morphDeltas.push_back({glm::vec4(t.positions.empty() ? glm::vec3(0) : t.positions[v], 0),
                                  glm::vec4(t.normals.empty() ? glm::vec3(0) : t.normals[v], 0)});
 
-    const gpu::Material& material = g.materials[p.material >= 0 ? p.material : defaultMaterial];
+    const uint32_t materialIndex = p.material >= 0 ? uint32_t(p.material) : defaultMaterial;
+    const gpu::Material& material = g.materials[materialIndex];
     // At its texture's most glossy (a metallic-roughness texel of 1).
     const gpu::SurfaceBrdf brdf = surfaceBrdf(material, glm::vec3(material.baseColor), glm::vec4(1.0f));
     g.glossyMaterials |= !gpu::isLambertian(brdf);
     g.lobeDominatedMaterials |= gpu::lobeDominates(brdf, SpecularAlbedo::table().at(1.0f, std::sqrt(brdf.alpha)));
+    g.directionalLobes |= sendsByDirection(materialIndex, brdf);
     g.normalTextures |= material.normalTexture >= 0;
     const bool cutout = gpu::alphaMatters(material.alphaCutoff);
     g.cutouts |= cutout;
@@ -390,8 +401,7 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
       }
       uint32_t tri = uint32_t(g.triangles.size());
       triangleOf[t / 3] = int32_t(tri);
-      uint32_t mat =
-          (p.material >= 0 ? uint32_t(p.material) : defaultMaterial) | (p.normals.empty() ? gpu::kFlatShaded : 0u);
+      uint32_t mat = materialIndex | (p.normals.empty() ? gpu::kFlatShaded : 0u);
       if (mirrored) std::swap(b, c);
       g.triangles.push_back({base + a, base + b, base + c, mat});
       for (uint32_t v : {a, b, c}) adjacent[surfelOf[v]].push_back(tri);

@@ -56,9 +56,11 @@ struct Geometry {
   std::vector<gpu::Material> materials;
   bool glossyMaterials = false;         // some drawn material is not Lambertian
   bool lobeDominatedMaterials = false;  // in some, the lobe reflects most (gpu::lobeDominates): a metal
-  bool normalTextures = false;          // some drawn material has a normal texture
-  bool cutouts = false;                 // some drawn material's alpha takes surface away (MASK, BLEND)
-  bool blended = false;                 // some of those is BLEND: there for its alpha's share of samples
+  // in some, the lobe sends its light too far from evenly to send it so (kEvenLobeDeviation)
+  bool directionalLobes = false;
+  bool normalTextures = false;  // some drawn material has a normal texture
+  bool cutouts = false;         // some drawn material's alpha takes surface away (MASK, BLEND)
+  bool blended = false;         // some of those is BLEND: there for its alpha's share of samples
   std::vector<gpu::Texture> textures;
   std::vector<uint32_t> texels;  // linear RGBA as two packHalf2x16 words per texel
   std::vector<SurfelSource> surfels;

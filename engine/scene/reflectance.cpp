@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace ivgi::scene {
 
@@ -70,6 +71,42 @@ glm::vec3 SpecularAlbedo::reflectance(const gpu::SurfaceBrdf& m, float mu) const
 
 glm::vec3 SpecularAlbedo::meanReflectance(const gpu::SurfaceBrdf& m) const {
   return gpu::reflectanceOf(m, meanAt(std::sqrt(m.alpha)));
+}
+
+float lobeDeviation(const gpu::SurfaceBrdf& m) {
+  if (gpu::isLambertian(m)) return 0.0f;
+  // Cosine-weighted strata of the incident and the exit directions (μ = √u); the lobe is isotropic,
+  // so the light arrives in one plane. A lobe narrower than the exit strata is undersampled, but its
+  // deviation then stays near its albedo, far above kEvenLobeDeviation for any lobe that narrow.
+  constexpr int kLight = 24, kExitMu = 48, kExitPhi = 96;
+  glm::dvec3 sum(0.0);
+  for (int i = 0; i < kLight; ++i) {
+    const float mu = std::sqrt((i + 0.5f) / kLight);
+    const glm::vec3 l(std::sqrt(1.0f - mu * mu), 0.0f, mu);
+    std::vector<glm::vec3> sent;  // π f(l, w) at each exit stratum
+    sent.reserve(kExitMu * kExitPhi);
+    glm::dvec3 albedo(0.0);
+    for (int j = 0; j < kExitMu; ++j)
+      for (int k = 0; k < kExitPhi; ++k) {
+        const float c = std::sqrt((j + 0.5f) / kExitMu), phi = 2.0f * gpu::kPi * (k + 0.5f) / kExitPhi;
+        const float s = std::sqrt(1.0f - c * c);
+        sent.push_back(gpu::kPi * gpu::evalBrdf(m, l, glm::vec3(s * std::cos(phi), s * std::sin(phi), c), 0.0f));
+        albedo += glm::dvec3(sent.back());
+      }
+    albedo /= double(sent.size());
+    glm::dvec3 deviation(0.0);
+    for (const glm::vec3& f : sent) deviation += glm::abs(glm::dvec3(f) - albedo);
+    sum += deviation / double(sent.size());
+  }
+  const glm::dvec3 mean = sum / double(kLight);
+  return float(std::max(mean.x, std::max(mean.y, mean.z)));
+}
+
+bool sendsLobeByDirection(const gpu::SurfaceBrdf& m) {
+  // Toward each light the deviation is at most ∫ π f cos dω / π + a = 2a: at most twice the mean albedo.
+  const glm::vec3 albedo = gpu::lobeReflectanceOf(m, SpecularAlbedo::table().meanAt(std::sqrt(m.alpha)));
+  if (2.0f * std::max(albedo.x, std::max(albedo.y, albedo.z)) < kEvenLobeDeviation) return false;
+  return lobeDeviation(m) >= kEvenLobeDeviation;
 }
 
 gpu::SurfaceBrdf surfaceBrdf(const gpu::Material& m, glm::vec3 base, glm::vec4 metallicRoughness) {

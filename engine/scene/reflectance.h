@@ -36,6 +36,21 @@ class SpecularAlbedo {
   std::vector<glm::vec2> values_;
 };
 
+// How far from even a material's specular lobe sends the light it reflects: over light arriving
+// from cosine-weighted directions, the mean of ∫ |π f(l, w) − a(l)| cos θ_w dω_w / π, the share of
+// the arriving light that leaving evenly (a(l) the lobe's albedo toward l) would put elsewhere than
+// the lobe does. The largest over the colour channels; 0 for a Lambertian material.
+float lobeDeviation(const gpu::SurfaceBrdf& m);
+
+// Where sending a lobe's light evenly, as the base's, misplaces less than this share of the light
+// arriving (lobeDeviation), the solvers do so: a rough dielectric's lobe (0.4–0.6 % at roughness 1) is
+// wide and reflects a few per cent. Polished and metallic lobes lie far above it (a dielectric's at
+// roughness 0.8 1.5 %, at 0.5 6.5 %; a metal's at roughness 1 6.8 %).
+constexpr float kEvenLobeDeviation = 0.01f;
+// Whether m's lobe deviates that far; integrated only where its mean albedo, at least half the
+// deviation, leaves it in doubt.
+bool sendsLobeByDirection(const gpu::SurfaceBrdf& m);
+
 // The BRDF at a point: the material's factors times the base colour (its texture and vertex colour
 // applied) and its metallic-roughness texel (B metal, G roughness).
 gpu::SurfaceBrdf surfaceBrdf(const gpu::Material& m, glm::vec3 base, glm::vec4 metallicRoughness);

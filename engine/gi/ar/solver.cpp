@@ -56,7 +56,7 @@ ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy h
       nodeCount_(uint32_t(hierarchy_.nodes.size())),
       refit_(ctx),
       linkCreation_(ctx),
-      iteration_(ctx, hierarchy_, settings, b_, staticSet_, frameSet_, g.glossyMaterials,
+      iteration_(ctx, hierarchy_, settings, b_, staticSet_, frameSet_, g.directionalLobes,
                  uint32_t(g.surfels.size() - g.backSurfels), allocations_),
       sortSenders_(shaderProgram(ctx, "ar_sort_senders", {.constants = {{"kDirs", settings.dirs}}})),
       sortLongSenders_(shaderProgram(ctx, "ar_sort_long_senders", {.constants = {{"kDirs", settings.dirs}}})),
