@@ -138,9 +138,10 @@ TEST(Glossy, APointLightsHighlightIsWherePtPutsIt) {
 // (shaders/common/sender_lobes.glsl). Sent evenly over the floor's hemisphere, as a diffuse floor
 // sends it, the wall's foot came out 4 % (iv) and 6 % (ar) brighter than its upper part, against
 // pt's 25 %.
-// iv sends a glossy leaf's light along its lobe (lobe_excess.comp) only where some material's lobe
-// is far from even (Geometry::directionalLobes): a floor of roughness 1 runs no such pass, one of
-// roughness 0.5 does, and both still reflect the lamp toward the eye.
+// iv sends a glossy leaf's light along its lobe (lobe_excess.comp), and reflects the other surfaces'
+// light toward the eye through the lobe (reflect_receivers.comp), only where some material's lobe
+// is far from even (Geometry::directionalLobes): a floor of roughness 1 runs neither pass, one of
+// roughness 0.5 both. The lamp's highlight is drawn per pixel either way.
 TEST(Glossy, IvSendsOnlyDirectionalLobesByDirection) {
   for (const float roughness : {1.0f, 0.5f}) {
     const std::string name = roughness < 1.0f ? "satin-floor" : "rough-floor";
@@ -152,7 +153,8 @@ TEST(Glossy, IvSendsOnlyDirectionalLobesByDirection) {
     std::ifstream in(json);
     const auto programs = nlohmann::json::parse(in)["programs"];
     EXPECT_EQ(programs.contains("lobe_excess"), roughness < 1.0f) << "roughness " << roughness;
-    EXPECT_TRUE(programs.contains("reflect_receivers")) << "roughness " << roughness;
+    EXPECT_EQ(programs.contains("reflect_receivers"), roughness < 1.0f) << "roughness " << roughness;
+    EXPECT_TRUE(programs.contains("direct_pixels")) << "roughness " << roughness;
   }
 }
 

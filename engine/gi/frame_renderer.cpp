@@ -49,7 +49,7 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
       surfelCount_(uint32_t(g.surfels.size())),
       solver_(std::move(solver)),
       directPerPixel_(directPerPixel(g, solver_ != nullptr, directLight)),
-      reflections_(g.glossyMaterials && solver_ && solver_->reflectsLobes()),
+      reflections_(g.directionalLobes && solver_ && solver_->reflectsLobes()),
       animate_(shaderProgram(ctx, "animate")),
       surfelUpdate_(shaderProgram(ctx, "surfels")),
       vertexIrradiance_(
