@@ -1,6 +1,7 @@
 #include "engine/scene/geometry.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <functional>
@@ -297,13 +298,18 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
   for (size_t i = 0; i < scene.materials.size(); ++i)
     if (!cutsAnything(scene, i)) g.materials[i].alphaCutoff = gpu::kAlphaOpaque;
 
-  // Per material: whether its lobe sends by direction (-1: not yet asked). A metallic-roughness
-  // texture may hold any roughness down to a mirror's.
-  std::vector<int8_t> directional(g.materials.size(), -1);
-  const auto sendsByDirection = [&](uint32_t index, const gpu::SurfaceBrdf& brdf) {
-    if (directional[index] < 0)
-      directional[index] = g.materials[index].metallicRoughnessTexture >= 0 || sendsLobeByDirection(brdf);
-    return directional[index] != 0;
+  // Whether a material's lobe sends by direction, asked until one does (the scene's answer then).
+  // A metallic-roughness texture may hold any roughness down to a mirror's. Lobes alike in what
+  // shapes them (a dielectric's base does not) are integrated once.
+  std::map<std::array<float, 9>, bool> lobes;
+  const auto sendsByDirection = [&](const gpu::Material& material, const gpu::SurfaceBrdf& brdf) {
+    if (material.metallicRoughnessTexture >= 0) return true;
+    const glm::vec3 metal = brdf.metallic > 0.0f ? glm::vec3(brdf.base) : glm::vec3(0.0f);
+    const std::array<float, 9> key = {brdf.alpha,      brdf.metallic, brdf.specular.x, brdf.specular.y, brdf.specular.z,
+                                      brdf.specular.w, metal.x,       metal.y,         metal.z};
+    const auto [at, fresh] = lobes.try_emplace(key, false);
+    if (fresh) at->second = sendsLobeByDirection(brdf);
+    return at->second;
   };
 
   size_t drawn = 0, built = 0;  // the nodes drawn, and those built so far (counted for `progress`)
@@ -344,7 +350,7 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
     const gpu::SurfaceBrdf brdf = surfaceBrdf(material, glm::vec3(material.baseColor), glm::vec4(1.0f));
     g.glossyMaterials |= !gpu::isLambertian(brdf);
     g.lobeDominatedMaterials |= gpu::lobeDominates(brdf, SpecularAlbedo::table().at(1.0f, std::sqrt(brdf.alpha)));
-    g.directionalLobes |= sendsByDirection(materialIndex, brdf);
+    if (!g.directionalLobes) g.directionalLobes = sendsByDirection(material, brdf);
     g.normalTextures |= material.normalTexture >= 0;
     const bool cutout = gpu::alphaMatters(material.alphaCutoff);
     g.cutouts |= cutout;
