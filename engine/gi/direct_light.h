@@ -91,8 +91,9 @@ class DirectLight {
   // and environment direction seen (no shadows).
   const vk::Buffer& surfelDirect() const { return surfelDirect_; }
   const vk::Buffer& surfelUnshadowed() const { return surfelUnshadowed_; }
-  // Where some material is glossy, per surfel: the luminance-weighted mean direction its direct
-  // light arrives from (shaders/frame/direct_surfels.comp); else one element.
+  // Where some lobe sends by direction (Geometry::directionalLobes), per surfel: the
+  // luminance-weighted mean direction its direct light arrives from
+  // (shaders/frame/direct_surfels.comp); else one element.
   const vk::Buffer& surfelArrival() const { return surfelArrival_; }
   // The points the pixels share out: the emitter samples, then the environment's directions.
   uint32_t sampleCount() const { return sampleCount_ + environmentCount_; }

@@ -25,7 +25,7 @@ SceneBuffers::SceneBuffers(const vk::Context& ctx, const scene::Geometry& g, con
   surfelBrdf = vk::makeBuffer(ctx, glossy ? g.surfelBrdf : std::vector<gpu::SurfaceBrdf>(1), vk::Memory::Device, tally);
   specularAlbedo = vk::makeBuffer(ctx, glossy ? scene::SpecularAlbedo::table().values() : std::vector<glm::vec2>(1),
                                   vk::Memory::Device, tally);
-  senderLobes = vk::makeBuffer(ctx, std::vector<glm::vec4>(glossy ? 2 * nodeCount : 1, glm::vec4(0.0f)),
+  senderLobes = vk::makeBuffer(ctx, std::vector<glm::vec4>(g.directionalLobes ? 2 * nodeCount : 1, glm::vec4(0.0f)),
                                vk::Memory::Device, tally);
   lights = vk::Buffer(ctx, sizeof(gpu::PunctualLight), vk::Memory::Host, tally);
   noDirectLight =

@@ -23,9 +23,9 @@ struct SceneBuffers {
   // (Geometry::surfelBrdf) and the specular albedo table (engine/scene/reflectance.h), for what the
   // lobes reflect of the indirect light.
   vk::Buffer surfelBrdf, specularAlbedo;
-  // Per node, where some material is glossy (else one element): what a glossy leaf sends along its
-  // lobe (shaders/common/send_lobe.glsl), written each frame by the solver; zeros elsewhere, and
-  // inner nodes, never written, send evenly.
+  // Per node, where some lobe sends by direction (Geometry::directionalLobes; else one element):
+  // what a glossy leaf sends along its lobe (shaders/common/send_lobe.glsl), written each frame by
+  // the solver; zeros elsewhere, and inner nodes, never written, send evenly.
   vk::Buffer senderLobes;
   // Per frame: the punctual lights (host-visible), and the nodes' states (gpu::NodeState, refit)
   // with the refit's arrival counts (shaders/common/climb.glsl: zero between dispatches).
@@ -48,7 +48,7 @@ struct SceneBuffers {
   // Per surfel, the emitters' direct light from depth maps (engine/gi/direct_light.h) where the
   // frame gives it (Solver::useDirectLight): the solver then transports only the light the surfels
   // reflect. Else zeros (`noDirectLight`), the solver carrying the emitters' light itself.
-  // With it, where some material is glossy, the mean direction it arrives from
+  // With it, where some lobe sends by direction, the mean direction it arrives from
   // (DirectLight::surfelArrival).
   const vk::Buffer* directLight = nullptr;
   const vk::Buffer* directArrival = nullptr;

@@ -80,11 +80,12 @@ float lobeDeviation(const gpu::SurfaceBrdf& m) {
   // deviation then stays near its albedo, far above kEvenLobeDeviation for any lobe that narrow.
   constexpr int kLight = 24, kExitMu = 48, kExitPhi = 96;
   glm::dvec3 sum(0.0);
+  std::vector<glm::vec3> sent;  // π f(l, w) at each exit stratum
+  sent.reserve(kExitMu * kExitPhi);
   for (int i = 0; i < kLight; ++i) {
     const float mu = std::sqrt((i + 0.5f) / kLight);
     const glm::vec3 l(std::sqrt(1.0f - mu * mu), 0.0f, mu);
-    std::vector<glm::vec3> sent;  // π f(l, w) at each exit stratum
-    sent.reserve(kExitMu * kExitPhi);
+    sent.clear();
     glm::dvec3 albedo(0.0);
     for (int j = 0; j < kExitMu; ++j)
       for (int k = 0; k < kExitPhi; ++k) {

@@ -29,7 +29,7 @@ layout(std430, binding = 11) readonly buffer SurfelBrdf { SurfaceBrdf surfelBrdf
 layout(binding = 12, rg32f) readonly uniform imageBuffer specularAlbedo;
 layout(std430, binding = 13) writeonly buffer SenderLobes { vec4 senderLobes[]; };
 layout(push_constant) uniform Push { ArLocalPush push; };
-layout(constant_id = 28) const bool kSenderLobes = false;  // some lobe sends by direction (scene::kEvenLobeDeviation)
+layout(constant_id = 28) const bool kSenderLobes = false;  // some lobe sends by direction
 #include "common/send_lobe.glsl"
 #include "common/sender_lobes.glsl"
 #include "common/specular_albedo.glsl"

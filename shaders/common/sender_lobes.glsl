@@ -1,10 +1,11 @@
 // Glossy senders send by direction what their lobes reflect of the direct light (kSenderLobes:
-// some material's lobe sends too far from evenly to be sent so, scene::kEvenLobeDeviation). A glossy leaf's radiosity B
-// holds S, what its specular lobe reflects of the depth maps' direct light (common/send_lobe.glsl); sent evenly, S
-// would leave as radiance S/π in every direction. It leaves instead along the lobe: toward ω, S·π·f(l, ω)/a(l)/π, l the
-// direct light's mean direction and a(l) = ∫ f(l, ω) cos θ_ω dω the lobe's albedo toward l, which over the hemisphere
-// gives back S. Inner nodes send their pulled-up radiosity evenly. Expects the specular albedo table declared as
-// `specularAlbedo`; with SENDER_LOBES defined (the binding of `senderLobes`), also NODE_TEXELS.
+// some lobe is far from even, scene::kEvenLobeDeviation). A glossy leaf's radiosity B holds S,
+// what its specular lobe reflects of the depth maps' direct light (common/send_lobe.glsl); sent
+// evenly, S would leave as radiance S/π in every direction. It leaves instead along the lobe:
+// toward ω, S·π·f(l, ω)/a(l)/π, l the direct light's mean direction and a(l) = ∫ f(l, ω) cos θ_ω dω
+// the lobe's albedo toward l, which over the hemisphere gives back S. Inner nodes send their
+// pulled-up radiosity evenly. Expects the specular albedo table declared as `specularAlbedo`; with
+// SENDER_LOBES defined (the binding of `senderLobes`), also NODE_TEXELS.
 #include "common/specular_albedo.glsl"
 
 // What a leaf of normal n whose lobe (S, α) the light reaches from l sends along unit w beyond S
@@ -29,7 +30,7 @@ vec3 excessAlong(vec4 lobe, vec3 l, float lightRadius, vec3 n, vec3 w, float ext
 // Per node two texels: (S, α widened by the light's spread) with α = 0 where the node sends evenly;
 // (l, √ of the solid angle the leaf spans from the lights). Zero for inner nodes.
 layout(binding = SENDER_LOBES, rgba32f) readonly uniform imageBuffer senderLobes;
-layout(constant_id = 28) const bool kSenderLobes = false;  // some lobe sends by direction (scene::kEvenLobeDeviation)
+layout(constant_id = 28) const bool kSenderLobes = false;  // some lobe sends by direction
 
 // Where sender q lies from point x: its normal, the unit direction w from it to x, and the squared
 // sum of the radii (as √ of solid angles) that widen its lobe toward x: its disk's seen from x and

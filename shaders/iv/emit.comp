@@ -20,7 +20,7 @@ layout(binding = 8, rg32f) readonly uniform imageBuffer specularAlbedo;
 layout(std430, binding = 9) readonly buffer Nodes { NodeState nodes[]; };
 layout(std430, binding = 10) writeonly buffer SenderLobes { vec4 senderLobes[]; };
 layout(push_constant) uniform Push { CountPush push; };    // count: surfels
-layout(constant_id = 28) const bool kSenderLobes = false;  // some lobe sends by direction (scene::kEvenLobeDeviation)
+layout(constant_id = 28) const bool kSenderLobes = false;  // some lobe sends by direction
 #include "common/send_lobe.glsl"
 #include "common/specular_albedo.glsl"
 

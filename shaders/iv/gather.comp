@@ -40,7 +40,7 @@ layout(binding = 20, rgba32f) readonly uniform imageBuffer arrivalExcess;  // th
 // per node: kNodeRigid, its object; then per object its pose (prune_bins.comp)
 layout(binding = 19, r32ui) readonly uniform uimageBuffer nodeFlags;
 layout(push_constant) uniform Push { GatherPush push; };
-layout(constant_id = 28) const bool kSenderLobes = false;  // some lobe sends by direction (scene::kEvenLobeDeviation)
+layout(constant_id = 28) const bool kSenderLobes = false;  // some lobe sends by direction
 #include "object_pose.glsl"
 #include "receiver_links.glsl"
 

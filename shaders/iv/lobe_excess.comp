@@ -1,6 +1,6 @@
 #version 460
-// iv, once a frame before the bounces (a glossy scene): what the glossy leaves among each
-// receiver's senders send toward it along their lobes beyond their radiosity sent evenly
+// iv, once a frame before the bounces (where some lobe sends by direction): what the glossy leaves
+// among each receiver's senders send toward it along their lobes beyond their radiosity sent evenly
 // (sender_lobes.glsl), Σ F·S·(π f/a − 1) over its surviving links. It comes from the direct
 // light alone, which the bounces do not change, so the gather adds it to every bounce's
 // irradiance rather than weighing each link again. Also before each of the receivers' refinement

@@ -19,9 +19,9 @@ namespace ivgi::gi {
 
 class Bounces {
  public:
-  // Records into the solver's buffers `b`, over the links of its two sets; `glossy`: some surface
-  // is glossy (recordReflections has work); `metal`: in some, the lobe reflects most
-  // (gpu::lobeDominates), and sends the first bounce's light along it too.
+  // Records into the solver's buffers `b`, over the links of its two sets; `glossy`: some surface's
+  // lobe is far from even (Geometry::directionalLobes: recordReflections has work); `metal`: in
+  // some, the lobe reflects most (gpu::lobeDominates), and sends the first bounce's light along it.
   Bounces(const vk::Context& ctx, const Hierarchy& h, const IvSettings& settings, const IvBuffers& b,
           const LinkSet& staticSet, const LinkSet& frameSet, bool glossy, bool metal, vk::Allocations& allocations);
   // π·Le into nodeEmission at the leaves, pulled up, and copied to radiosityA (where bounces start).
@@ -73,7 +73,7 @@ class Bounces {
   const IvBuffers& b_;
   const LinkSet &staticSet_, &frameSet_;
   const uint32_t surfelCount_, nodeCount_;
-  const bool glossy_;  // some material is glossy: its leaves send their lobes (shaders/common/sender_lobes.glsl)
+  const bool glossy_;  // some lobe is far from even: glossy leaves send their lobes (sender_lobes.glsl)
   const bool metal_;   // some material's lobe reflects most: it sends the first bounce's light along it too
   vk::Program emit_, interpolate_, pullUp_, check_, tail_;
   uint32_t texelViews_ = 1;
