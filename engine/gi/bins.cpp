@@ -7,6 +7,7 @@
 #include <mutex>
 
 #include "engine/core/notes.h"
+#include "engine/core/parallel.h"
 #include "shaders/interface.h"
 
 namespace ivgi::gi {
@@ -39,8 +40,8 @@ std::vector<glm::vec4> computeBinVectorTable(uint32_t n) {
   auto phi = [](double u, double v) { return std::atan2(u * v, std::sqrt(u * u + v * v + 1.0)); };  // in double
   std::vector<glm::vec4> table(6 * n * n);
   const double step = 2.0 / n, cell = step / k;
-  for (uint32_t b = 0; b < table.size(); ++b) {
-    const uint32_t face = b / (n * n), r = b % (n * n);
+  parallelFor(table.size(), [&](size_t bin) {
+    const uint32_t b = uint32_t(bin), face = b / (n * n), r = b % (n * n);
     const double u0 = -1.0 + (r % n) * step, v0 = -1.0 + (r / n) * step;
     glm::dvec3 sum(0.0);
     for (int j = 0; j < k; ++j)
@@ -51,7 +52,7 @@ std::vector<glm::vec4> computeBinVectorTable(uint32_t n) {
         sum += glm::dvec3(glm::normalize(centre)) * omega;
       }
     table[b] = glm::vec4(glm::vec3(sum), gpu::binSolidAngle(b, n));
-  }
+  });
   return table;
 }
 

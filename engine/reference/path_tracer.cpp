@@ -5,9 +5,9 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
-#include <thread>
 
 #include "engine/core/errors.h"
+#include "engine/core/parallel.h"
 #include "engine/scene/lights.h"
 #include "engine/scene/reflectance.h"
 #include "engine/scene/texture_sampling.h"
@@ -350,15 +350,8 @@ image::FrameChannels PathTracer::render(const scene::CameraView& view, uint32_t 
     if (rowsDone) rowsDone->fetch_add(1);
   };
 
-  unsigned threads = settings.threads ? settings.threads : std::max(1u, std::thread::hardware_concurrency());
-  std::atomic<uint32_t> nextRow{0};
-  auto worker = [&] {
-    for (uint32_t y; (y = nextRow.fetch_add(1)) < height;) renderRow(y);
-  };
-  std::vector<std::thread> pool;
-  for (unsigned i = 1; i < std::min(threads, height); ++i) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
+  parallelFor(
+      height, [&](size_t y) { renderRow(uint32_t(y)); }, settings.threads);
   return out;
 }
 

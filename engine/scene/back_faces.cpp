@@ -82,7 +82,8 @@ bool BackExposure::exposed(uint32_t t) const {
   static const std::vector<glm::vec3> directions = hemisphere();
   glm::vec3 t1, t2;
   gpu::tangentFrame(back, t1, t2);
-  for (const glm::vec3& local : directions) {
+  for (size_t k = 0; k < directions.size() && out < kLeastSeenOut; ++k) {
+    const glm::vec3& local = directions[k];
     const Reach r = reach(t, origin, local.x * t1 + local.y * t2 + local.z * back, 3.4e38f);
     out += r == Reach::OtherObject || (r == Reach::Far && openSpace_ == OpenSpace::Lit) ? 1 : 0;
   }

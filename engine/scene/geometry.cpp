@@ -11,6 +11,7 @@
 #include <memory>
 #include <unordered_map>
 
+#include "engine/core/parallel.h"
 #include "engine/image/colour.h"
 #include "engine/scene/back_faces.h"
 #include "engine/scene/reflectance.h"
@@ -498,10 +499,16 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
   const std::unique_ptr<BackExposure> exposure =
       doubleSided.empty() ? nullptr : backExposure(scene, rest, g, openSpace);
   const size_t fronts = g.triangles.size(), frontSurfels = g.surfels.size(), frontInstances = g.instances.size();
+  // Each face's rays are its own: the faces are spread over the cores.
+  std::vector<uint32_t> faces;
+  for (const DoubleSided& d : doubleSided)
+    for (int32_t t : d.triangleOf)
+      if (t >= 0) faces.push_back(uint32_t(t));
+  std::vector<uint8_t> seesOut(fronts, 0);
+  parallelFor(faces.size(), [&](size_t k) { seesOut[faces[k]] = exposure->exposed(faces[k]); });
   for (DoubleSided& d : doubleSided) {
     std::vector<bool> copied(d.triangleOf.size());
-    for (size_t t = 0; t < copied.size(); ++t)
-      copied[t] = d.triangleOf[t] >= 0 && exposure->exposed(uint32_t(d.triangleOf[t]));
+    for (size_t t = 0; t < copied.size(); ++t) copied[t] = d.triangleOf[t] >= 0 && seesOut[size_t(d.triangleOf[t])];
     if (std::find(copied.begin(), copied.end(), true) == copied.end()) continue;
     auto [at, added] = backMaterials.try_emplace(d.primitive.material, int(g.materials.size()));
     if (added) {

@@ -7,6 +7,7 @@
 #include <tuple>
 #include <utility>
 
+#include "engine/core/parallel.h"
 #include "engine/scene/planar_faces.h"
 
 namespace ivgi::scene {
@@ -141,10 +142,13 @@ double farthestVertex(const std::vector<glm::vec3>& positions, const std::vector
 MapMeshes::MapMeshes(const Geometry& g, const std::vector<Triangle>& triangles) : triangleCount_(triangles.size()) {
   std::map<uint32_t, std::vector<Triangle>> byInstance;
   for (const Triangle& t : triangles) byInstance[g.vertices[t.v0].instance].push_back(t);
-  for (const auto& [instance, tris] : byInstance) {
-    parts_.push_back(partOf(g, instance, tris));
-    exactCount_ += parts_.back().exact.size();
-    cutouts_ = cutouts_ || parts_.back().cutout;
+  std::vector<const std::pair<const uint32_t, std::vector<Triangle>>*> instances;
+  for (const auto& entry : byInstance) instances.push_back(&entry);
+  parts_.resize(instances.size());
+  parallelFor(instances.size(), [&](size_t p) { parts_[p] = partOf(g, instances[p]->first, instances[p]->second); });
+  for (const Part& part : parts_) {
+    exactCount_ += part.exact.size();
+    cutouts_ = cutouts_ || part.cutout;
   }
 }
 
@@ -186,11 +190,17 @@ const std::vector<Triangle>& MapMeshes::level(Part& part, int k) {
 }
 
 std::vector<Triangle> MapMeshes::draw(const std::vector<float>& errors) {
+  auto levelOf = [&](size_t p) { return levelWithin(parts_[p], p < errors.size() ? errors[p] : 0.0f); };
+  // The levels asked for the first time are made first, spread over the cores: each is a part's own.
+  std::vector<size_t> unmade;
+  for (size_t p = 0; p < parts_.size(); ++p)
+    if (const int k = levelOf(p); k <= kFinestLevel && !parts_[p].levels.contains(k)) unmade.push_back(p);
+  parallelFor(unmade.size(), [&](size_t i) { level(parts_[unmade[i]], levelOf(unmade[i])); });
   std::vector<Triangle> out;
   out.reserve(exactCount_);
   for (size_t p = 0; p < parts_.size(); ++p) {
     Part& part = parts_[p];
-    const int k = levelWithin(part, p < errors.size() ? errors[p] : 0.0f);
+    const int k = levelOf(p);
     const std::vector<Triangle>* drawn = &part.exact;
     if (k <= kFinestLevel) {
       const std::vector<Triangle>& simplified = level(part, k);

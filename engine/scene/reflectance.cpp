@@ -4,6 +4,8 @@
 #include <cmath>
 #include <vector>
 
+#include "engine/core/parallel.h"
+
 namespace ivgi::scene {
 
 namespace {
@@ -34,7 +36,8 @@ glm::vec2 integrate(float mu, float roughness) {
 
 SpecularAlbedo::SpecularAlbedo() {
   values_.resize(size_t(kSize) * kSize + kSize);
-  for (int j = 0; j < kSize; ++j) {
+  parallelFor(kSize, [&](size_t row) {
+    const int j = int(row);
     glm::dvec2 mean(0.0);  // 2 ∫ E μ dμ = 4 ∫ E s³ ds with μ = s²
     for (int i = 0; i < kSize; ++i) {
       const double s = (i + 0.5) / kSize;
@@ -43,7 +46,7 @@ SpecularAlbedo::SpecularAlbedo() {
       mean += 4.0 * glm::dvec2(values_[size_t(j) * kSize + i]) * (s * s * s) / double(kSize);
     }
     values_[size_t(kSize) * kSize + j] = glm::vec2(mean);
-  }
+  });
 }
 
 const SpecularAlbedo& SpecularAlbedo::table() {
