@@ -313,13 +313,6 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
     return at->second;
   };
 
-  size_t drawn = 0, built = 0;  // the nodes drawn, and those built so far (counted for `progress`)
-  const std::function<void(int)> count = [&](int nodeIndex) {
-    drawn += scene.nodes[nodeIndex].mesh >= 0 ? 1 : 0;
-    for (int c : scene.nodes[nodeIndex].children) count(c);
-  };
-  if (progress)
-    for (int r : scene.roots) count(r);
   // Appends primitive p of node `nodeIndex` as an instance, with its triangles and surfels; returns
   // where each of p's triangles went in g.triangles (-1: degenerate, left out).
   auto appendInstance = [&](const Primitive& p, int nodeIndex) {
@@ -471,26 +464,44 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
     std::vector<int32_t> triangleOf;
   };
   std::vector<DoubleSided> doubleSided;
-  std::function<void(int)> visit = [&](int nodeIndex) {
-    const Node& node = scene.nodes[nodeIndex];
-    if (node.mesh >= 0) {
-      const auto& primitives = scene.meshes[node.mesh].primitives;
-      for (size_t k = 0; k < primitives.size(); ++k) {
-        const Primitive& given = primitives[k];
-        // At most eight times the vertices the primitive came with (and a few thousand more).
-        Primitive p = limits.uniform() > 0.0f
-                          ? tessellated(given, restMatrix(scene, rest, nodeIndex), limits,
-                                        ownerBase[nodeIndex] + uint32_t(k), 8 * given.positions.size() + 4096)
-                          : given;
+  // The drawn nodes in the order they are appended (depth first).
+  std::vector<int> drawnNodes;
+  const std::function<void(int)> visit = [&](int nodeIndex) {
+    if (scene.nodes[nodeIndex].mesh >= 0) drawnNodes.push_back(nodeIndex);
+    for (int c : scene.nodes[nodeIndex].children) visit(c);
+  };
+  for (int r : scene.roots) visit(r);
+  // Each primitive is tessellated apart from the rest, spread over the cores, a batch of nodes at a
+  // time (so that the copies held at once stay few), then appended in order.
+  constexpr size_t kBatch = 64;
+  for (size_t first = 0; first < drawnNodes.size(); first += kBatch) {
+    const size_t last = std::min(first + kBatch, drawnNodes.size());
+    std::vector<std::pair<int, size_t>> pieces;  // (node, primitive)
+    for (size_t i = first; i < last; ++i)
+      for (size_t k = 0; k < scene.meshes[size_t(scene.nodes[size_t(drawnNodes[i])].mesh)].primitives.size(); ++k)
+        pieces.emplace_back(drawnNodes[i], k);
+    std::vector<Primitive> batch(pieces.size());
+    parallelFor(pieces.size(), [&](size_t i) {
+      const auto [nodeIndex, k] = pieces[i];
+      const Primitive& given = scene.meshes[size_t(scene.nodes[size_t(nodeIndex)].mesh)].primitives[k];
+      // At most eight times the vertices the primitive came with (and a few thousand more).
+      batch[i] = limits.uniform() > 0.0f
+                     ? tessellated(given, restMatrix(scene, rest, nodeIndex), limits,
+                                   ownerBase[size_t(nodeIndex)] + uint32_t(k), 8 * given.positions.size() + 4096)
+                     : given;
+    });
+    size_t i = 0;
+    for (size_t n = first; n < last; ++n) {
+      const int nodeIndex = drawnNodes[n];
+      for (; i < pieces.size() && pieces[i].first == nodeIndex; ++i) {
+        Primitive& p = batch[i];
         std::vector<int32_t> triangleOf = appendInstance(p, nodeIndex);
         if (p.material >= 0 && scene.materials[size_t(p.material)].doubleSided)
           doubleSided.push_back({std::move(p), nodeIndex, std::move(triangleOf)});
       }
-      if (progress) progress(++built, drawn);
+      if (progress) progress(n + 1, drawnNodes.size());
     }
-    for (int c : node.children) visit(c);
-  };
-  for (int r : scene.roots) visit(r);
+  }
 
   // The exposed backs of the double-sided primitives, after every front: the path tracer, which
   // lights both sides of every face itself, leaves them out. Their material is the front's without
