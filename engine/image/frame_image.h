@@ -16,6 +16,11 @@ struct FrameChannels {
   std::vector<glm::vec4> normalDepth;        // world normal, w = depth along the view axis (0: background)
   std::vector<glm::vec4> emission;           // rgb
   std::vector<glm::vec4> roughnessMetallic;  // r: roughness, g: metallic (glTF's factors × texture)
+
+  size_t bytes() const {
+    return (radiance.size() + albedo.size() + normalDepth.size() + emission.size() + roughnessMetallic.size()) *
+           sizeof(glm::vec4);
+  }
 };
 
 // Replaces NaN/Inf by 0 (a solver bug must never reach a file); returns how many values it replaced.
