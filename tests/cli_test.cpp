@@ -163,6 +163,32 @@ TEST(Render, ResumeSkipsFramesThatExist) {
   EXPECT_EQ(frames[2]["frame"], 2);
 }
 
+// Images written while the next frames render (a GPU's default) are those written in turn (a CPU
+// device's), and the sidecar lists every frame in order with its files.
+TEST(Render, FramesWrittenAheadAreThoseWrittenInTurn) {
+  std::map<std::string, nlohmann::json> frames;
+  for (const char* ahead : {"0", "3"}) {
+    auto dir = test::scratchDir(std::string("ahead") + ahead);
+    auto r = test::runIvgi(
+        {"render", "--frames", "0-6", "--size", "48x36", "--write-ahead", ahead, "--out", (dir / "f_%04d").string()});
+    ASSERT_EQ(r.status, 0) << r.err;
+    std::ifstream in(dir / "f.json");
+    frames[ahead] = nlohmann::json::parse(in)["frames"];
+    ASSERT_EQ(frames[ahead].size(), 7u);
+    for (int f = 0; f < 7; ++f) {
+      EXPECT_EQ(frames[ahead][f]["frame"], f);
+      EXPECT_GT(frames[ahead][f]["wallMs"].get<double>(), 0.0);
+      for (const auto& file : frames[ahead][f]["files"]) EXPECT_TRUE(fs::exists(file.get<std::string>())) << file;
+    }
+  }
+  for (int f = 0; f < 7; ++f)
+    for (size_t k = 0; k < 2; ++k)
+      EXPECT_EQ(test::readFile(frames["0"][f]["files"][k].get<std::string>()),
+                test::readFile(frames["3"][f]["files"][k].get<std::string>()))
+          << frames["3"][f]["files"][k];
+  EXPECT_NE(test::runIvgi({"render", "--write-ahead", "17", "--frames", "0", "--size", "8x8"}).status, 0);
+}
+
 TEST(Render, AnInterruptedRunLeavesNoPartialFile) {
   auto dir = test::scratchDir("out");
   pid_t pid = fork();
@@ -171,8 +197,9 @@ TEST(Render, AnInterruptedRunLeavesNoPartialFile) {
     setenv("IVGI_VALIDATION", "0", 1);
     int devnull = open("/dev/null", O_WRONLY);
     dup2(devnull, 2);
-    execl(IVGI_BINARY, IVGI_BINARY, "render", "--size", "1600x1200", "--supersample", "2", "--out",
-          (dir / "f_%04d").c_str(), nullptr);
+    // Frames written while the next render, as on a GPU: the writers' temporaries go too.
+    execl(IVGI_BINARY, IVGI_BINARY, "render", "--size", "1600x1200", "--supersample", "2", "--write-ahead", "3",
+          "--out", (dir / "f_%04d").c_str(), nullptr);
     _exit(127);
   }
   // Interrupt once the first frame is on disk, i.e. in the middle of the run.

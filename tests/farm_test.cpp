@@ -24,11 +24,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
 // Every file of `expected` is in `got` with the same bytes.
 void expectSameFrames(const fs::path& got, const fs::path& expected) {
   size_t compared = 0;
@@ -36,7 +31,7 @@ void expectSameFrames(const fs::path& got, const fs::path& expected) {
     const std::string ext = e.path().extension().string();
     if (ext != ".exr" && ext != ".png") continue;
     ASSERT_TRUE(fs::exists(got / e.path().filename())) << e.path().filename();
-    EXPECT_EQ(slurp(got / e.path().filename()), slurp(e.path())) << e.path().filename() << " differs";
+    EXPECT_EQ(test::readFile(got / e.path().filename()), test::readFile(e.path())) << e.path().filename() << " differs";
     ++compared;
   }
   EXPECT_GT(compared, 0u);
@@ -196,7 +191,7 @@ TEST(Shards, ArChainsGiveTheSameFramesWhereverARunStarts) {
   }
   // A run of frame 5 alone solves 3 and 4 first; a resumed run solves what a missing frame needs.
   ASSERT_EQ(render("alone", {"--frames", "5"}).status, 0);
-  EXPECT_EQ(slurp(dir / "alone" / "f_0005.exr"), slurp(dir / "one" / "f_0005.exr"));
+  EXPECT_EQ(test::readFile(dir / "alone" / "f_0005.exr"), test::readFile(dir / "one" / "f_0005.exr"));
   fs::copy(dir / "one", dir / "resumed");
   fs::remove(dir / "resumed" / "f_0004.exr");
   ASSERT_EQ(render("resumed", {"--frames", "0-6", "--resume"}).status, 0);
@@ -250,7 +245,7 @@ TEST(Shards, AKilledRunIsResumedToTheSameFrames) {
                   (dir / "pid").string() + "'"),
             0);
   ASSERT_TRUE(waitFor([&] { return fs::exists(out / "f_0001.png"); }, 60)) << "the run did not get going";
-  const pid_t pid = pid_t(std::stol(slurp(dir / "pid")));
+  const pid_t pid = pid_t(std::stol(test::readFile(dir / "pid")));
   kill(pid, SIGKILL);
   ASSERT_TRUE(waitFor([&] { return !running(pid); }, 10));
   EXPECT_FALSE(fs::exists(out / "f_0005.png")) << "killed before the end";
@@ -288,7 +283,7 @@ TEST(Shards, ASlurmJobArrayKilledAndResubmitted) {
   auto idle = [&] { return shell(slurm + "squeue -h | grep -q .") != 0; };
 
   ASSERT_EQ(shell(submit), 0);
-  const std::string job = slurp(dir / "job").substr(0, slurp(dir / "job").find_first_of("\n;"));
+  const std::string job = test::readFile(dir / "job").substr(0, test::readFile(dir / "job").find_first_of("\n;"));
   // Shard 2 renders frames 2, 6, 10: killed once frame 2 is written.
   ASSERT_TRUE(waitFor([&] { return fs::exists(work / "frames" / "f_0002.png"); }, 120));
   EXPECT_EQ(shell(slurm + "scancel --signal=KILL --full " + job + "_2"), 0);

@@ -123,6 +123,11 @@ Run runIvgiProcess(const std::vector<std::string>& args, const std::map<std::str
   return r;
 }
 
+std::string readFile(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
 std::optional<std::filesystem::path> sharedGltfDir() {
   auto p = std::filesystem::path(IVGI_SOURCE_DIR) / ".." / "shared" / "data" / "gltf";
   if (std::filesystem::is_directory(p)) return std::filesystem::canonical(p);

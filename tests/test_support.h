@@ -44,6 +44,9 @@ Run runIvgi(const std::vector<std::string>& args, const std::map<std::string, st
 // Runs build/ivgi with `args` (validation on) in a process of its own and waits.
 Run runIvgiProcess(const std::vector<std::string>& args, const std::map<std::string, std::string>& env = {});
 
+// A file's bytes (empty where it cannot be read).
+std::string readFile(const std::filesystem::path& path);
+
 // ../shared/data/gltf beside the checkout, when present.
 std::optional<std::filesystem::path> sharedGltfDir();
 // Debian's assimp-testmodels glTF 2.0 folder (installed by ci/install-deps.sh).

@@ -134,6 +134,10 @@ int run(const std::vector<std::string>& args, vk::Context* device) {
   r->add_option("--shard", render.shard,
                 "render shard I of N (I/N, 0 <= I < N: every N-th requested frame from the I-th), or slurm: the job "
                 "array task's");
+  r->add_option("--write-ahead", render.writeAhead,
+                "frames whose images are written while the next frames render (default: 3 on a GPU, 0 on a CPU "
+                "device and for pt)")
+      ->check(CLI::Range(0u, 16u));
   auto* spp = r->add_option("--spp", render.pt.spp, "pt: samples per pixel")->capture_default_str();
   auto* seed = r->add_option("--seed", render.pt.seed, "pt: random seed (another seed, independent noise)")
                    ->capture_default_str();

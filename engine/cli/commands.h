@@ -113,7 +113,8 @@ struct RenderOptions {
   std::string camera, animation, json;
   DeviceChoice device;
   bool resume = false;
-  std::string shard;  // "I/N" or "slurm"; empty: every frame
+  std::string shard;                   // "I/N" or "slurm"; empty: every frame
+  std::optional<uint32_t> writeAhead;  // frames written while the next render; default by the device
 };
 int runRender(const RenderOptions& options);
 

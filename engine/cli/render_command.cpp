@@ -173,9 +173,10 @@ int runRender(const RenderOptions& o) {
     lastSolved = frame;
     return result;
   };
-  // A frame's images are written while the next frames render, a few frames at most (those in
-  // flight hold at most about kWritingBytes, or one frame); each frame's record joins the sidecar in
-  // order once its images are on disk (a run killed later keeps it).
+  // A frame's images are written while the next --write-ahead frames render (those in flight hold
+  // at most about kWritingBytes, or one frame). By default on a GPU only: where the frames come
+  // from the CPU (lavapipe, pt) writing alongside would take its cores. Each frame's record joins
+  // the sidecar in order once its images are on disk (a run killed later keeps it).
   struct Written {
     int frame;
     double time;
@@ -183,7 +184,8 @@ int runRender(const RenderOptions& o) {
     std::vector<std::string> paths;
     std::future<double> wallMs;  // from the frame's start until its last image was renamed into place
   };
-  constexpr size_t kWritingBytes = size_t(256) << 20, kMostInFlight = 3;
+  constexpr size_t kWritingBytes = size_t(256) << 20;
+  const size_t writeAhead = o.writeAhead.value_or(ctx && ctx->info().type != "cpu" ? 3 : 0);
   std::deque<Written> writing;
   auto record = [&] {
     Written w = std::move(writing.front());
@@ -238,9 +240,10 @@ int runRender(const RenderOptions& o) {
         std::fprintf(stderr, "ivgi: warning: frame %d: %zu non-finite values replaced by 0 (a bug: please report it)\n",
                      frame, bad);
       while (!writing.empty() &&
-             (writing.size() >= kMostInFlight || (writing.size() + 1) * result.channels.bytes() > kWritingBytes))
+             (writing.size() >= writeAhead || (writing.size() + 1) * result.channels.bytes() > kWritingBytes))
         record();
       write(frame, t, std::move(result), started);
+      if (writeAhead == 0) record();
     }
     while (!writing.empty()) record();
   } catch (...) {
