@@ -14,7 +14,9 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "engine/cli/frame_writer.h"
 #include "engine/cli/options.h"
+#include "engine/cli/sidecar.h"
 #include "scenes/gltf_builder.h"
 #include "tests/test_support.h"
 
@@ -187,6 +189,38 @@ TEST(Render, FramesWrittenAheadAreThoseWrittenInTurn) {
                 test::readFile(frames["3"][f]["files"][k].get<std::string>()))
           << frames["3"][f]["files"][k];
   EXPECT_NE(test::runIvgi({"render", "--write-ahead", "17", "--frames", "0", "--size", "8x8"}).status, 0);
+}
+
+// A frame whose images cannot be written ends the run with its error; the frames before it, and
+// those after it already written, keep their records.
+TEST(FrameWriter, AFailedFrameLeavesTheOthersRecorded) {
+  auto dir = test::scratchDir("writer");
+  const std::string sidecarPath = (dir / "f.json").string();
+  {
+    cli::Sidecar sidecar(sidecarPath, nlohmann::json::object(), false);
+    cli::FrameWriter writer(sidecar, 3,
+                            [](const std::vector<std::string>& paths, const image::FrameChannels&) {
+                              if (paths[0] == "f2.exr") throw std::runtime_error("f2.exr: disk full");
+                            },
+                            {});
+    EXPECT_THROW(
+        {
+          for (int frame = 0; frame < 5; ++frame) {
+            gi::FrameResult result;
+            result.channels.width = result.channels.height = 1;
+            result.channels.radiance.assign(1, glm::vec4(1.0f));
+            writer.add(frame, frame / 24.0, {"f" + std::to_string(frame) + ".exr"}, std::move(result),
+                       std::chrono::steady_clock::now());
+          }
+          writer.finish();
+        },
+        std::runtime_error);
+  }
+  std::ifstream in(sidecarPath);
+  const nlohmann::json written = nlohmann::json::parse(in);
+  std::vector<int> recorded;
+  for (const auto& f : written["frames"]) recorded.push_back(f["frame"].get<int>());
+  EXPECT_EQ(recorded, (std::vector<int>{0, 1, 3, 4}));
 }
 
 TEST(Render, AnInterruptedRunLeavesNoPartialFile) {

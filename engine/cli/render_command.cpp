@@ -3,7 +3,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <deque>
 #include <filesystem>
 #include <fstream>
 #include <future>
@@ -12,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/cli/commands.h"
+#include "engine/cli/frame_writer.h"
 #include "engine/cli/json_file.h"
 #include "engine/cli/machine.h"
 #include "engine/cli/options.h"
@@ -173,87 +173,52 @@ int runRender(const RenderOptions& o) {
     lastSolved = frame;
     return result;
   };
-  // A frame's images are written while the next --write-ahead frames render (those in flight hold
-  // at most about kWritingBytes, or one frame). By default on a GPU only: where the frames come
-  // from the CPU (lavapipe, pt) writing alongside would take its cores. Each frame's record joins
-  // the sidecar in order once its images are on disk (a run killed later keeps it).
-  struct Written {
-    int frame;
-    double time;
-    std::vector<std::pair<std::string, double>> passMs, solverFigures;
-    std::vector<std::string> paths;
-    std::future<double> wallMs;  // from the frame's start until its last image was renamed into place
-  };
-  constexpr size_t kWritingBytes = size_t(256) << 20;
-  const size_t writeAhead = o.writeAhead.value_or(ctx && ctx->info().type != "cpu" ? 3 : 0);
-  std::deque<Written> writing;
-  auto record = [&] {
-    Written w = std::move(writing.front());
-    writing.pop_front();
-    sidecar.addFrame(w.frame, w.time, w.passMs, w.wallMs.get(), w.paths, w.solverFigures);
-    if (renderer)
-      sidecar.set("solver", solverJson(renderer->solver())), sidecar.set("bytesAllocated", renderer->bytesAllocated());
-    sidecar.write();
-  };
-  auto write = [&](int frame, double t, gi::FrameResult result, std::chrono::steady_clock::time_point started) {
-    std::vector<std::pair<std::string, double>> passMs;
-    for (const auto& p : result.passTimes) passMs.emplace_back(p.pass, p.ms);
-    std::vector<std::string> paths = pathsOf(frame);
-    auto images = [&formats, &provenance, &display, paths, started, channels = std::move(result.channels)] {
-      for (size_t i = 0; i < formats.size(); ++i) {
-        if (formats[i] == "exr")
-          image::writeExr(paths[i], channels, provenance);
-        else
-          image::writePng(paths[i], channels, display);
-      }
-      return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
-    };
-    writing.push_back({frame, t, std::move(passMs), std::move(result.solverFigures), std::move(paths),
-                       std::async(std::launch::async, std::move(images))});
-  };
-  try {
-    for (int frame : frames) {
-      if (o.resume && done(frame)) {
-        progress.advance(pt ? image.height : 1, true);
-        continue;
-      }
-      const auto started = std::chrono::steady_clock::now();
-      const double t = tl.time(frame, o.fps);
-      const auto pose = scene::evaluatePose(s, tl.animation, float(t));
-      const auto view = camera.at(pose);
-      gi::FrameResult result;
-      if (pt) {
-        result = pathTraceFrame(g, s, pose, environment, view, image, uint32_t(frame), ptSettings, progress);
-      } else {
-        // A frame that starts from the solution of the frame before: the frames of its chain before
-        // it that this run has not just solved are solved first, and not written.
-        const int start = chainStart(frame);
-        for (int before = lastSolved >= start && lastSolved < frame ? lastSolved + 1 : start; before < frame;
-             ++before) {
-          const auto posed = scene::evaluatePose(s, tl.animation, float(tl.time(before, o.fps)));
-          solve(before, posed, camera.at(posed));
+  // By default a frame's images are written while the next frames render on a GPU only: where the
+  // frames come from the CPU (lavapipe, pt) writing alongside would take its cores.
+  FrameWriter writer(
+      sidecar, o.writeAhead.value_or(ctx && ctx->info().type != "cpu" ? 3 : 0),
+      [&](const std::vector<std::string>& paths, const image::FrameChannels& channels) {
+        for (size_t i = 0; i < formats.size(); ++i) {
+          if (formats[i] == "exr")
+            image::writeExr(paths[i], channels, provenance);
+          else
+            image::writePng(paths[i], channels, display);
         }
-        result = solve(frame, pose, view);
-        progress.advance();
+      },
+      [&] {
+        if (!renderer) return;
+        sidecar.set("solver", solverJson(renderer->solver()));
+        sidecar.set("bytesAllocated", renderer->bytesAllocated());
+      });
+  for (int frame : frames) {
+    if (o.resume && done(frame)) {
+      progress.advance(pt ? image.height : 1, true);
+      continue;
+    }
+    const auto started = std::chrono::steady_clock::now();
+    const double t = tl.time(frame, o.fps);
+    const auto pose = scene::evaluatePose(s, tl.animation, float(t));
+    const auto view = camera.at(pose);
+    gi::FrameResult result;
+    if (pt) {
+      result = pathTraceFrame(g, s, pose, environment, view, image, uint32_t(frame), ptSettings, progress);
+    } else {
+      // A frame that starts from the solution of the frame before: the frames of its chain before it
+      // that this run has not just solved are solved first, and not written.
+      const int start = chainStart(frame);
+      for (int before = lastSolved >= start && lastSolved < frame ? lastSolved + 1 : start; before < frame; ++before) {
+        const auto posed = scene::evaluatePose(s, tl.animation, float(tl.time(before, o.fps)));
+        solve(before, posed, camera.at(posed));
       }
-      if (size_t bad = image::sanitize(result.channels))
-        std::fprintf(stderr, "ivgi: warning: frame %d: %zu non-finite values replaced by 0 (a bug: please report it)\n",
-                     frame, bad);
-      while (!writing.empty() &&
-             (writing.size() >= writeAhead || (writing.size() + 1) * result.channels.bytes() > kWritingBytes))
-        record();
-      write(frame, t, std::move(result), started);
-      if (writeAhead == 0) record();
+      result = solve(frame, pose, view);
+      progress.advance();
     }
-    while (!writing.empty()) record();
-  } catch (...) {
-    // The frames being written still get their records, up to one whose own writing failed.
-    try {
-      while (!writing.empty()) record();
-    } catch (...) {
-    }
-    throw;
+    if (size_t bad = image::sanitize(result.channels))
+      std::fprintf(stderr, "ivgi: warning: frame %d: %zu non-finite values replaced by 0 (a bug: please report it)\n",
+                   frame, bad);
+    writer.add(frame, t, pathsOf(frame), std::move(result), started);
   }
+  writer.finish();
   progress.finish();
   sidecar.write();
   std::fprintf(stderr, "ivgi: %zu frames to %s, timings in %s (median %s %.2f ms per frame)\n", frames.size(),
