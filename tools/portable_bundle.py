@@ -12,7 +12,7 @@ ivgi's own calls with zeros. The rest of what they link, the codecs of formats i
 writes, would bring hundreds of MB; each becomes a stub of the same name defining, with their
 versions, the symbols the bundle imports from it, whose functions return a pointer to zeros
 (OpenImageIO calls some at start-up: registrations, version strings). The C and C++ runtimes and
-the Vulkan loader are the machine's. The bundle is about 70 MB, 20 MB as a tar.xz.
+the Vulkan loader are the machine's. The bundle is about 70 MB, 15 MB as a tar.xz.
 """
 import argparse
 import pathlib

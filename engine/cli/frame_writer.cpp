@@ -26,8 +26,10 @@ void FrameWriter::add(int frame, double time, std::vector<std::string> paths, gi
     writeImages_(paths, channels);
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
   };
+  // Written in turn, the images are written here, as the record asks for them.
+  const auto launch = writeAhead_ == 0 ? std::launch::deferred : std::launch::async;
   writing_.push_back({frame, time, std::move(passMs), std::move(result.solverFigures), std::move(paths),
-                      std::async(std::launch::async, std::move(images))});
+                      std::async(launch, std::move(images))});
   if (writeAhead_ == 0) recordOldest();
 }
 

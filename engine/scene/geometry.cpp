@@ -474,16 +474,18 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
   // Each primitive is tessellated apart from the rest, spread over the cores, a batch of nodes at a
   // time (so that the copies held at once stay few), then appended in order.
   constexpr size_t kBatch = 64;
+  const auto primitivesOf = [&](int nodeIndex) -> const std::vector<Primitive>& {
+    return scene.meshes[size_t(scene.nodes[size_t(nodeIndex)].mesh)].primitives;
+  };
   for (size_t first = 0; first < drawnNodes.size(); first += kBatch) {
     const size_t last = std::min(first + kBatch, drawnNodes.size());
-    std::vector<std::pair<int, size_t>> pieces;  // (node, primitive)
-    for (size_t i = first; i < last; ++i)
-      for (size_t k = 0; k < scene.meshes[size_t(scene.nodes[size_t(drawnNodes[i])].mesh)].primitives.size(); ++k)
-        pieces.emplace_back(drawnNodes[i], k);
+    std::vector<std::pair<int, size_t>> pieces;  // (node, primitive), in the order they are appended
+    for (size_t n = first; n < last; ++n)
+      for (size_t k = 0; k < primitivesOf(drawnNodes[n]).size(); ++k) pieces.emplace_back(drawnNodes[n], k);
     std::vector<Primitive> batch(pieces.size());
     parallelFor(pieces.size(), [&](size_t i) {
       const auto [nodeIndex, k] = pieces[i];
-      const Primitive& given = scene.meshes[size_t(scene.nodes[size_t(nodeIndex)].mesh)].primitives[k];
+      const Primitive& given = primitivesOf(nodeIndex)[k];
       // At most eight times the vertices the primitive came with (and a few thousand more).
       batch[i] = limits.uniform() > 0.0f
                      ? tessellated(given, restMatrix(scene, rest, nodeIndex), limits,
@@ -493,7 +495,7 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
     size_t i = 0;
     for (size_t n = first; n < last; ++n) {
       const int nodeIndex = drawnNodes[n];
-      for (; i < pieces.size() && pieces[i].first == nodeIndex; ++i) {
+      for (size_t k = 0; k < primitivesOf(nodeIndex).size(); ++k, ++i) {
         Primitive& p = batch[i];
         std::vector<int32_t> triangleOf = appendInstance(p, nodeIndex);
         if (p.material >= 0 && scene.materials[size_t(p.material)].doubleSided)
