@@ -220,11 +220,12 @@ PlacedPart placed(const scene::MapMeshes::Part& part, const glm::mat4& matrix) {
 
 }  // namespace
 
-DirectLight::Layer::Layer(const vk::Context& ctx, scene::MapMeshes m, uint32_t viewCount, vk::Allocations* tally)
+DirectLight::Layer::Layer(const vk::Context& ctx, scene::MapMeshes m, uint32_t viewCount, vk::Allocations* tally,
+                          bool viewsOnHost)
     : meshes(std::move(m)),
       drawn(meshes.draw({})),
       triangles(vk::makeBuffer(ctx, drawn, vk::Memory::Device, tally)),
-      raster(ctx, uint32_t(meshes.exactCount()), tally, true, viewCount, meshes.cutouts()) {}
+      raster(ctx, uint32_t(meshes.exactCount()), tally, true, viewCount, meshes.cutouts(), viewsOnHost) {}
 
 bool DirectLight::Layer::choose(const std::vector<float>& errors) {
   std::vector<scene::Triangle> now = meshes.draw(errors);
@@ -281,8 +282,9 @@ DirectLight::DirectLight(const vk::Context& ctx, const scene::Geometry& g, std::
   // not at all: its front stands in the same place.
   if (splitsStatic_) {
     const auto [still, moves] = byMotion(g, moving);
+    restoreViews_ = ctx.info().type == "cpu";
     still_.emplace(ctx, scene::MapMeshes(g, still), viewCount_, tally);
-    moving_.emplace(ctx, scene::MapMeshes(g, moves), viewCount_, tally);
+    moving_.emplace(ctx, scene::MapMeshes(g, moves), viewCount_, tally, restoreViews_);
     if (!moves.empty()) staticDepth_ = vk::Buffer(ctx, depth_.size(), vk::Memory::Device, tally);
   } else {
     all_.emplace(ctx, scene::MapMeshes(g, frontTriangles(g)), viewCount_, tally);
@@ -470,6 +472,22 @@ uint32_t DirectLight::surfelsLit() const {
   return litChangedOnly_ ? surfelsLit_.read<uint32_t>(1)[0] : surfelCount_;
 }
 
+void DirectLight::restoreStill(VkCommandBuffer cmd, bool stillDrawn) {
+  if (stillDrawn || !movingDrawn_ || !restoreViews_) return vk::copyBuffer(cmd, staticDepth_, depth_);
+  std::vector<uint32_t> views = moving_->raster.drawnViewList();
+  std::sort(views.begin(), views.end());
+  const VkDeviceSize viewBytes = VkDeviceSize(settings_.resolution) * settings_.resolution * sizeof(uint32_t);
+  std::vector<VkBufferCopy> runs;  // consecutive views in one region
+  for (size_t i = 0; i < views.size(); ++i) {
+    const VkDeviceSize at = views[i] * viewBytes;
+    if (i > 0 && views[i] == views[i - 1] + 1)
+      runs.back().size += viewBytes;
+    else
+      runs.push_back({at, at, viewBytes});
+  }
+  vk::copyRegions(cmd, staticDepth_, depth_, runs);
+}
+
 std::pair<uint32_t, uint32_t> DirectLight::movingViewsDrawn() const {
   return {moving_ && moving_->meshes.exactCount() > 0 ? moving_->raster.viewsDrawn() : 0u, viewCount_};
 }
@@ -504,13 +522,14 @@ void DirectLight::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bi
     lightViews_.dispatchItems(cmd, points, buffers, push);
     // What cannot move, into `target`: all of its views, or the directional lights' alone.
     auto drawStill = [&](const vk::Buffer& target) {
-      if (!staticDrawn_) return still_->record(cmd, frame, views_, views, size, target);
-      if (!directionalMoved) return;
+      if (!staticDrawn_) return still_->record(cmd, frame, views_, views, size, target), true;
+      if (!directionalMoved) return false;
       const uint64_t viewBytes = uint64_t(size.x) * size.y * sizeof(uint32_t);
       for (const auto& [first, count] : directionalViewRanges()) {
         vk::fillBuffer(cmd, target, 0xFFFFFFFFu, first * viewBytes, count * viewBytes);  // empty
         still_->record(cmd, frame, views_, uint32_t(count), size, target, false, uint32_t(first));
       }
+      return true;
     };
     // Where only moving objects are drawn again over still maps, under the same lights, the surfels
     // they cannot shade keep their light.
@@ -521,9 +540,9 @@ void DirectLight::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bi
       drawStill(depth_);
     } else {
       litChangedOnly_ = staticDrawn_ && !lightsMoved_ && lightsSphere_ && movingSphere_ && drawnSphere_;
-      drawStill(staticDepth_);
-      vk::copyBuffer(cmd, staticDepth_, depth_);
+      restoreStill(cmd, drawStill(staticDepth_));
       moving_->record(cmd, frame, views_, views, size, depth_, false);
+      movingDrawn_ = true;
     }
     staticDrawn_ = true;
     gpu::DirectLightPush lit{.count = surfelCount_,

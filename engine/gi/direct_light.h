@@ -133,11 +133,16 @@ class DirectLight {
   // the cubes' `origins` and the moving parts' spheres as placed (none of either: unknown); `widest`,
   // the largest part's radius.
   void placeChanges(const std::vector<glm::dvec3>& origins, const std::vector<glm::dvec4>& movingParts, double widest);
+  // Makes the maps (`depth_`) the still ones (`staticDepth_`) again before the moving triangles are
+  // drawn over them: all of them where `stillDrawn` (drawn again this frame), else the views the
+  // moving triangles were drawn into last.
+  void restoreStill(VkCommandBuffer cmd, bool stillDrawn);
 
   // The triangles one raster draws into the maps: its instances' meshes, the triangles drawn of them
   // (chosen each frame), and the buffer that holds those.
   struct Layer {
-    Layer(const vk::Context& ctx, scene::MapMeshes meshes, uint32_t viewCount, vk::Allocations* tally);
+    Layer(const vk::Context& ctx, scene::MapMeshes meshes, uint32_t viewCount, vk::Allocations* tally,
+          bool viewsOnHost = false);
     // Draws each part within `errors` (MapMeshes::draw); true where that changed the triangles.
     bool choose(const std::vector<float>& errors);
     void record(VkCommandBuffer cmd, const vk::Bindings& frame, const vk::Buffer& views, uint32_t viewCount,
@@ -158,6 +163,10 @@ class DirectLight {
   // that can move (`moving_`) each frame over those that cannot (`still_`, into `staticDepth`,
   // drawn again only where their lights or their triangles change).
   bool splitsStatic_ = false, staticDrawn_ = false, lit_ = false;
+  // On a CPU device, where a copy of the maps costs as much as drawing many of them, only the
+  // views the moving triangles were drawn into are made still again (restoreStill); `movingDrawn_`:
+  // they were drawn into `depth_` over the still maps, and the raster's list says where.
+  bool restoreViews_ = false, movingDrawn_ = false;
   // The punctual lights of the last frame (host-visible), and whether they moved since the
   // maps were drawn.
   std::vector<gpu::PunctualLight> lights_;

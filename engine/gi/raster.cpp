@@ -1,5 +1,6 @@
 #include "engine/gi/raster.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -20,7 +21,7 @@ constexpr uint32_t kDrawAll = 0, kDrawUncut = 1, kDrawCutting = 2;
 }  // namespace
 
 Raster::Raster(const vk::Context& ctx, uint32_t triangleCount, vk::Allocations* tally, bool depthOnly,
-               uint32_t maxViews, bool cutouts)
+               uint32_t maxViews, bool cutouts, bool viewsOnHost)
     : capacity_(triangleCount),
       triangleCount_(triangleCount),
       maxViews_(maxViews),
@@ -38,7 +39,8 @@ Raster::Raster(const vk::Context& ctx, uint32_t triangleCount, vk::Allocations* 
                                                             {"kDepthOnly", depthOnly ? 1u : 0u},
                                                             {"kDraw", kDrawCutting}}});
   box_ = vk::Buffer(ctx, 6 * sizeof(uint32_t), vk::Memory::Device, tally);
-  viewList_ = vk::Buffer(ctx, (1 + uint64_t(maxViews)) * sizeof(uint32_t), vk::Memory::Device, tally);
+  viewList_ = vk::Buffer(ctx, (1 + uint64_t(maxViews)) * sizeof(uint32_t),
+                         viewsOnHost ? vk::Memory::Host : vk::Memory::Device, tally);
   args_ = vk::Buffer(ctx, 3 * sizeof(uint32_t), vk::Memory::Device, tally);
   unused_ = vk::Buffer(ctx, 16, vk::Memory::Device, tally);
 }
@@ -80,5 +82,11 @@ void Raster::record(VkCommandBuffer cmd, const vk::Bindings& scene, const vk::Bu
 }
 
 uint32_t Raster::viewsDrawn() const { return viewList_.read<uint32_t>(1)[0]; }
+
+std::vector<uint32_t> Raster::drawnViewList() const {
+  std::vector<uint32_t> list = viewList_.read<uint32_t>(1 + size_t(maxViews_));
+  const uint32_t count = std::min(list[0], maxViews_);
+  return {list.begin() + 1, list.begin() + 1 + count};
+}
 
 }  // namespace ivgi::gi

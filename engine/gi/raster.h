@@ -5,6 +5,7 @@
 // faces of a cube around each of its samples. Where it draws many views, those that the triangles'
 // bounding box cannot reach are left out.
 #include <optional>
+#include <vector>
 
 #include "engine/vk/buffer.h"
 #include "engine/vk/program.h"
@@ -17,9 +18,10 @@ class Raster {
   // `depthOnly`: the target holds each sample's nearest depth as 32-bit float bits (depth maps);
   // else 64-bit depth and triangle keys. `maxViews`: the most views one record draws. `cutouts`:
   // some material's alpha takes its surface away (alphaMode MASK or BLEND), and a sample there is
-  // not covered.
+  // not covered. `viewsOnHost`: the list of views drawn kept in host memory, read without a
+  // submission (drawnViewList).
   Raster(const vk::Context& ctx, uint32_t triangleCount, vk::Allocations* tally, bool depthOnly = false,
-         uint32_t maxViews = 1, bool cutouts = false);
+         uint32_t maxViews = 1, bool cutouts = false, bool viewsOnHost = false);
 
   // The triangles the next records draw: the first `count` of the scene's, at most as many as made for.
   void setTriangleCount(uint32_t count);
@@ -33,6 +35,8 @@ class Raster {
 
   // How many views the last record drew into (read back; for tests).
   uint32_t viewsDrawn() const;
+  // The views the last record drew into, in no order (read back once its submission has finished).
+  std::vector<uint32_t> drawnViewList() const;
 
  private:
   uint32_t capacity_, triangleCount_, maxViews_;

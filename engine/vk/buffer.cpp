@@ -123,7 +123,12 @@ void copyBuffer(VkCommandBuffer cmd, const Buffer& from, const Buffer& to) {
 }
 
 void copyRegion(VkCommandBuffer cmd, const Buffer& from, const Buffer& to, const VkBufferCopy& region) {
-  vkCmdCopyBuffer(cmd, from.handle(), to.handle(), 1, &region);
+  copyRegions(cmd, from, to, {&region, 1});
+}
+
+void copyRegions(VkCommandBuffer cmd, const Buffer& from, const Buffer& to, std::span<const VkBufferCopy> regions) {
+  if (regions.empty()) return;
+  vkCmdCopyBuffer(cmd, from.handle(), to.handle(), uint32_t(regions.size()), regions.data());
   barrier(cmd);
 }
 

@@ -110,6 +110,7 @@ void barrier(VkCommandBuffer cmd);
 // 65,536, recorded into the command buffer).
 void copyBuffer(VkCommandBuffer cmd, const Buffer& from, const Buffer& to);
 void copyRegion(VkCommandBuffer cmd, const Buffer& from, const Buffer& to, const VkBufferCopy& region);
+void copyRegions(VkCommandBuffer cmd, const Buffer& from, const Buffer& to, std::span<const VkBufferCopy> regions);
 void fillBuffer(VkCommandBuffer cmd, const Buffer& buffer, uint32_t value, VkDeviceSize offset = 0,
                 VkDeviceSize size = VK_WHOLE_SIZE);
 void updateBuffer(VkCommandBuffer cmd, const Buffer& buffer, VkDeviceSize offset, VkDeviceSize bytes, const void* data);
