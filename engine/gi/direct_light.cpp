@@ -520,9 +520,13 @@ void DirectLight::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bi
                              .side = settings_.resolution};
     std::copy(cascades_.begin(), cascades_.end(), push.cascades);
     lightViews_.dispatchItems(cmd, points, buffers, push);
-    // What cannot move, into `target`: all of its views, or the directional lights' alone.
+    // What cannot move, into `target`: all of its views, or the directional lights' alone; true where
+    // it drew any.
     auto drawStill = [&](const vk::Buffer& target) {
-      if (!staticDrawn_) return still_->record(cmd, frame, views_, views, size, target), true;
+      if (!staticDrawn_) {
+        still_->record(cmd, frame, views_, views, size, target);
+        return true;
+      }
       if (!directionalMoved) return false;
       const uint64_t viewBytes = uint64_t(size.x) * size.y * sizeof(uint32_t);
       for (const auto& [first, count] : directionalViewRanges()) {

@@ -163,9 +163,9 @@ class DirectLight {
   // that can move (`moving_`) each frame over those that cannot (`still_`, into `staticDepth`,
   // drawn again only where their lights or their triangles change).
   bool splitsStatic_ = false, staticDrawn_ = false, lit_ = false;
-  // On a CPU device, where a copy of the maps costs as much as drawing many of them, only the
-  // views the moving triangles were drawn into are made still again (restoreStill); `movingDrawn_`:
-  // they were drawn into `depth_` over the still maps, and the raster's list says where.
+  // On a CPU device, where copying the maps is a memcpy of every one on the host, only the views
+  // the moving triangles were drawn into are made still again (restoreStill); `movingDrawn_`: they
+  // were drawn into `depth_` over the still maps, and the raster's list says where.
   bool restoreViews_ = false, movingDrawn_ = false;
   // The punctual lights of the last frame (host-visible), and whether they moved since the
   // maps were drawn.
