@@ -81,7 +81,7 @@ void Raster::record(VkCommandBuffer cmd, const vk::Bindings& scene, const vk::Bu
   if (rasterCutting_) rasterCutting_->dispatchIndirect(cmd, args_, 0, targets, push);
 }
 
-uint32_t Raster::viewsDrawn() const { return viewList_.read<uint32_t>(1)[0]; }
+uint32_t Raster::viewsDrawn() const { return uint32_t(drawnViewList().size()); }
 
 std::vector<uint32_t> Raster::drawnViewList() const {
   std::vector<uint32_t> list = viewList_.read<uint32_t>(1 + size_t(maxViews_));
