@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -12,6 +13,7 @@
 #include "engine/gi/frame_renderer.h"
 #include "engine/gi/hierarchy.h"
 #include "engine/gi/pass.h"
+#include "engine/gi/raster.h"
 #include "engine/scene/gltf.h"
 #include "engine/scene/map_meshes.h"
 #include "engine/scene/planar_faces.h"
@@ -532,6 +534,112 @@ TEST(Raster, SharedEdgesLeaveNoCracks) {
     for (const glm::vec4& r : frame.channels.radiance) holes += r.a < 1.0f ? 1 : 0;
     EXPECT_EQ(holes, 0u) << "samples that hit no triangle at " << size.x << "×" << size.y;
   }
+}
+
+namespace {
+
+// The depth maps (raster.comp, kDepthOnly) of g's triangles, at rest, in `views` of `size` texels
+// each: each texel's nearest depth as float bits, 0xFFFFFFFF where none; and how many views the
+// raster drew.
+std::pair<std::vector<uint32_t>, uint32_t> depthMapsOf(const Scene& s, const Geometry& g,
+                                                       const std::vector<gpu::Camera>& views, glm::uvec2 size) {
+  auto& ctx = test::gpu();
+  const size_t texels = views.size() * size.x * size.y;
+  gi::Raster raster(ctx, uint32_t(g.triangles.size()), nullptr, true, uint32_t(views.size()));
+  const vk::Buffer world = vk::makeBuffer(ctx, animateOnHost(g, g.frameInputs(s, evaluatePose(s, -1, 0)))),
+                   triangles = vk::makeBuffer(ctx, g.triangles), viewBuffer = vk::makeBuffer(ctx, views),
+                   none = vk::makeBuffer(ctx, std::vector<glm::vec4>(1));
+  vk::Buffer depths(ctx, texels * sizeof(uint32_t), vk::Memory::Host);
+  ctx.submitAndWait([&](VkCommandBuffer cmd) {
+    raster.record(cmd,
+                  vk::Bindings::pool({{"world", world},
+                                      {"triangles", triangles},
+                                      {"uvs", none},  // read only where a material cuts its surface
+                                      {"colors", none},
+                                      {"materials", none},
+                                      {"textures", none},
+                                      {"texels", none}}),
+                  viewBuffer, uint32_t(views.size()), size, depths);
+  });
+  return {depths.read<uint32_t>(texels), raster.viewsDrawn()};
+}
+
+}  // namespace
+
+// A light's depth maps are drawn several views to a raster workgroup (raster.comp), each large
+// triangle in slices of its tiles that those views share. Seen from points inside the closed
+// furnace, every texel of every cube face must hold the nearest wall's depth along the face's axis:
+// none left empty by a view or a slice that the batches miss, or by lavapipe's loop budget, where
+// the walls' triangles cover a face whole and reach behind its near plane.
+TEST(Raster, DepthMapsDrawnManyViewsTogetherHoldTheNearestWall) {
+  const tinygltf::Model model = scenes::furnace({.cells = 2});
+  Scene s = sceneFromModel(model, "furnace");
+  Geometry g = buildGeometry(s);
+  const auto world = animateOnHost(g, g.frameInputs(s, evaluatePose(s, -1, 0)));
+  Bounds box;
+  for (const gpu::WorldVertex& v : world) box.add(glm::vec3(v.position));
+  // Cube faces as light_views.comp writes them, around 7 points (42 views: not a whole number of
+  // workgroups), from the centre to a hair from a corner.
+  const std::array<glm::vec3, 7> at = {glm::vec3(0.5f),      {0.1f, 0.5f, 0.5f}, {0.5f, 0.02f, 0.9f},
+                                       {0.9f, 0.9f, 0.1f},   {0.3f, 0.7f, 0.6f}, {0.01f, 0.99f, 0.5f},
+                                       {0.25f, 0.25f, 0.75f}};
+  std::vector<gpu::Camera> views;
+  for (glm::vec3 f : at)
+    for (uint32_t face = 0; face < 6; ++face) {
+      const uint32_t axis = face / 2;
+      glm::vec3 forward(0.0f), right(0.0f), up(0.0f);
+      forward[axis] = (face & 1u) == 0 ? 1.0f : -1.0f;
+      right[axis == 2 ? 0 : axis + 1] = 1.0f;
+      up[axis == 0 ? 2 : axis - 1] = 1.0f;
+      views.push_back({glm::vec4(box.min + f * (box.max - box.min), 1e-3f), glm::vec4(right, 0.0f), glm::vec4(up, 0.0f),
+                       glm::vec4(forward, 0.0f)});
+    }
+  const glm::uvec2 size(384, 384);
+  const size_t side = size_t(size.x) * size.y, texels = views.size() * side;
+
+  const auto [drawn, viewsDrawn] = depthMapsOf(s, g, views, size);
+  EXPECT_EQ(viewsDrawn, views.size());
+  size_t empty = 0, wrong = 0;
+  for (size_t v = 0; v < views.size(); ++v)
+    for (uint32_t y = 0; y < size.y; ++y)
+      for (uint32_t x = 0; x < size.x; ++x) {
+        const uint32_t bits = drawn[v * side + size_t(y) * size.x + x];
+        if (bits == 0xFFFFFFFFu) {
+          ++empty;
+          continue;
+        }
+        const glm::vec3 o(views[v].origin), d = gpu::cameraRay(views[v], glm::vec2(x, y) + 0.5f, size);
+        float exit = 3.4e38f;  // where the ray leaves the box
+        for (int i = 0; i < 3; ++i)
+          if (d[i] != 0.0f) exit = std::min(exit, ((d[i] > 0.0f ? box.max[i] : box.min[i]) - o[i]) / d[i]);
+        wrong += std::abs(std::bit_cast<float>(bits) - exit) > 1e-4f * (1.0f + exit) ? 1 : 0;
+      }
+  EXPECT_EQ(empty, 0u) << "of " << texels << " texels";
+  EXPECT_EQ(wrong, 0u) << "of " << texels << " texels";
+}
+
+// The worst case of lavapipe's loop budget for depth maps: a workgroup's 64 triangles all large in
+// every one of the views it draws. 32 squares stacked one behind another each fill a view, drawn into
+// 8 copies of it: every texel must hold the nearest square's depth, which it would not if the
+// workgroup walked more tiles than the budget allows (common.glsl: later rounds silently dropped).
+TEST(Raster, AStackOfLargeTrianglesInManyViewsIsDrawnWhole) {
+  scenes::MeshData stack;
+  for (int k = 0; k < 32; ++k) {
+    const float z = 1.0f + 0.1f * float(k), h = 40.0f;
+    scenes::addQuad(stack, {-h, -h, z}, {h, -h, z}, {h, h, z}, {-h, h, z}, 1, 1, {0, 0, -1});
+  }
+  scenes::GltfBuilder b;
+  b.node("stack", b.mesh("stack", {{stack, b.material("grey", glm::vec3(0.5f))}}));
+  Scene s = sceneFromModel(b.finish(), "stack");
+  Geometry g = buildGeometry(s);
+  ASSERT_EQ(g.triangles.size(), 64u);
+  const std::vector<gpu::Camera> views(8, gpu::Camera{glm::vec4(0.0f, 0.0f, 0.0f, 1e-3f), glm::vec4(1, 0, 0, 0),
+                                                      glm::vec4(0, 1, 0, 0), glm::vec4(0, 0, 1, 0)});
+  const glm::uvec2 size(512, 512);
+  const size_t texels = views.size() * size.x * size.y;
+  const std::vector<uint32_t> drawn = depthMapsOf(s, g, views, size).first;
+  const size_t nearest = size_t(std::count(drawn.begin(), drawn.end(), std::bit_cast<uint32_t>(1.0f)));
+  EXPECT_EQ(nearest, texels);
 }
 
 namespace {

@@ -10,9 +10,14 @@ namespace ivgi::gi {
 
 namespace {
 
-// The most 8×8-sample tiles one raster workgroup walks of each of its large triangles (raster.comp):
-// 64 triangles' tiles and tile rows stay within lavapipe's loop budget of 65,535 (common.glsl).
-constexpr uint32_t kTilesPerSlice = 448;
+// The most 8×8-sample tiles one raster workgroup walks of the large triangles it draws into its
+// views (raster.comp), a loop round each: 64 triangles in each view, with their small triangles'
+// walks, stay within lavapipe's loop budget of 65,535 (common.glsl).
+constexpr uint32_t kLargeTilesPerGroup = 64 * 896;
+
+// The views one raster workgroup draws where it draws many (a light's depth maps): a small
+// triangle's corners, read once for them all, are most of what drawing it into a view costs.
+constexpr uint32_t kViewsPerGroup = 8;
 
 // raster.comp's kDraw: every triangle; those whose material's alpha takes nothing away (alphaMode
 // MASK or BLEND); those whose material's alpha does, each sample tested.
@@ -26,18 +31,23 @@ Raster::Raster(const vk::Context& ctx, uint32_t triangleCount, vk::Allocations* 
       triangleCount_(triangleCount),
       maxViews_(maxViews),
       depthOnly_(depthOnly),
+      viewsPerGroup_(maxViews > 1 ? kViewsPerGroup : 1),
+      tilesPerSlice_(kLargeTilesPerGroup / (64 * viewsPerGroup_)),
       drawnBounds_(shaderProgram(ctx, "drawn_bounds")),
-      drawnViews_(shaderProgram(ctx, "drawn_views")),
-      slices_(shaderProgram(ctx, "raster_slices", {.constants = {{"kTilesPerSlice", kTilesPerSlice}}})),
+      drawnViews_(shaderProgram(ctx, "drawn_views", {.constants = {{"kViewsPerGroup", viewsPerGroup_}}})),
+      slices_(shaderProgram(ctx, "raster_slices",
+                            {.constants = {{"kTilesPerSlice", tilesPerSlice_}, {"kViewsPerGroup", viewsPerGroup_}}})),
       raster_(shaderProgram(ctx, "raster",
-                            {.constants = {{"kTilesPerSlice", kTilesPerSlice},
+                            {.constants = {{"kTilesPerSlice", tilesPerSlice_},
                                            {"kDepthOnly", depthOnly ? 1u : 0u},
-                                           {"kDraw", cutouts ? kDrawUncut : kDrawAll}}})) {
+                                           {"kDraw", cutouts ? kDrawUncut : kDrawAll},
+                                           {"kViewsPerGroup", viewsPerGroup_}}})) {
   if (cutouts)
     rasterCutting_.emplace(ctx, "raster", shaderCode("raster"),
-                           vk::Specialization{.constants = {{"kTilesPerSlice", kTilesPerSlice},
+                           vk::Specialization{.constants = {{"kTilesPerSlice", tilesPerSlice_},
                                                             {"kDepthOnly", depthOnly ? 1u : 0u},
-                                                            {"kDraw", kDrawCutting}}});
+                                                            {"kDraw", kDrawCutting},
+                                                            {"kViewsPerGroup", viewsPerGroup_}}});
   box_ = vk::Buffer(ctx, 6 * sizeof(uint32_t), vk::Memory::Device, tally);
   viewList_ = vk::Buffer(ctx, (1 + uint64_t(maxViews)) * sizeof(uint32_t),
                          viewsOnHost ? vk::Memory::Host : vk::Memory::Device, tally);

@@ -41,6 +41,8 @@ class Raster {
  private:
   uint32_t capacity_, triangleCount_, maxViews_;
   bool depthOnly_;
+  uint32_t viewsPerGroup_;  // raster.comp's kViewsPerGroup
+  uint32_t tilesPerSlice_;  // its kTilesPerSlice: of each large triangle in one view
   vk::Program drawnBounds_, drawnViews_, slices_, raster_;
   std::optional<vk::Program> rasterCutting_;  // the triangles whose material cuts them, where any does
   vk::Buffer box_;                            // the triangles' bounding box (drawn_bounds)

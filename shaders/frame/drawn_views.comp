@@ -1,12 +1,13 @@
 #version 460
-// The raster pass, first: the views it draws, in order, and its dispatch's z (raster_slices raises
-// it where large triangles need slices). Of the views from `firstView` on, those that are views at
-// all; where many are drawn (`cull`), only those that the drawn triangles' box reaches
-// (drawn_bounds), so that a moving object drawn over the still maps starts no workgroups in the
-// cube faces that cannot see it. One workgroup.
+// The raster pass, first: the views it draws, in order, and its dispatch's z, a workgroup for every
+// kViewsPerGroup of them (raster_slices raises it where large triangles need slices). Of the views
+// from `firstView` on, those that are views at all; where many are drawn (`cull`), only those that
+// the drawn triangles' box reaches (drawn_bounds), so that a moving object drawn over the still maps
+// starts no workgroups in the cube faces that cannot see it. One workgroup.
 #extension GL_GOOGLE_include_directive : require
 #include "common/common.glsl"
 layout(local_size_x = 64) in;
+layout(constant_id = 0) const uint kViewsPerGroup = 1;  // raster.comp's
 
 layout(binding = 0, rgba32f) readonly uniform imageBuffer views;  // Camera, a view whose near is < 0: none
 layout(std430, binding = 1) readonly buffer DrawnBox { uint drawnBox[6]; };
@@ -42,5 +43,5 @@ void main() {
         if (drawnHere[t]) drawnViews[1u + listed++] = push.firstView + base + t;
     barrier();
   }
-  if (lid == 0u) drawnViews[0] = listed, rasterArgs[2] = listed;
+  if (lid == 0u) drawnViews[0] = listed, rasterArgs[2] = (listed + kViewsPerGroup - 1u) / kViewsPerGroup;
 }

@@ -1,13 +1,14 @@
 #version 460
 // The raster pass, second: how many workgroups in z the raster needs, the slices of the largest
 // triangle bounds in any of the views drawn_views listed (raster.comp walks at most kTilesPerSlice
-// tiles of a triangle in one workgroup), times those views. Counted for the image's size instead, a
-// finely supersampled frame of small triangles would start tens of idle workgroups for every 64
-// triangles.
+// tiles of a triangle in one view in one workgroup), times the workgroups those views take. Counted
+// for the image's size instead, a finely supersampled frame of small triangles would start tens of
+// idle workgroups for every 64 triangles.
 #extension GL_GOOGLE_include_directive : require
 #include "common/common.glsl"
 layout(local_size_x = 64) in;
-layout(constant_id = 0) const int kTilesPerSlice = 448;
+layout(constant_id = 0) const int kTilesPerSlice = 896;
+layout(constant_id = 1) const uint kViewsPerGroup = 1;  // raster.comp's
 
 layout(binding = 0, rgba32f) readonly uniform imageBuffer world;        // WorldVertex: position, normal
 layout(binding = 1, rgba32ui) readonly uniform uimageBuffer triangles;  // Triangle
@@ -58,5 +59,5 @@ void main() {
     }
     barrier();  // before the next views' judging
   }
-  if (slices > 1u) atomicMax(rasterArgs[2], slices * listed);
+  if (slices > 1u) atomicMax(rasterArgs[2], slices * ((listed + kViewsPerGroup - 1u) / kViewsPerGroup));
 }
