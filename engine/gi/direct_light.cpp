@@ -552,7 +552,8 @@ void DirectLight::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Bi
     gpu::DirectLightPush lit{.count = surfelCount_,
                              .sampleCount = sampleCount(),
                              .resolution = settings_.resolution,
-                             .punctualLights = settings_.punctualLights};
+                             .punctualLights = settings_.punctualLights,
+                             .surfelStride = surfelStride()};
     if (litChangedOnly_) {
       lit.lights = *lightsSphere_, lit.moved[0] = *movingSphere_, lit.moved[1] = *drawnSphere_, lit.changed = 1;
       vk::fillBuffer(cmd, surfelsLit_, 0u);

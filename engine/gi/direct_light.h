@@ -2,6 +2,7 @@
 // Direct light from depth maps (docs/design.md §2.5): points chosen over the emissive triangles by
 // power, each with a cube of depth maps rasterized around it every frame, light the surfels (the
 // first bounce's source) with their visibility resolved by the maps, not by a solver's bins.
+#include <algorithm>
 #include <optional>
 #include <vector>
 
@@ -97,6 +98,11 @@ class DirectLight {
   const vk::Buffer& surfelArrival() const { return surfelArrival_; }
   // The points the pixels share out: the emitter samples, then the environment's directions.
   uint32_t sampleCount() const { return sampleCount_ + environmentCount_; }
+  // How many of those each surfel's lookups stand for (DirectLightPush::surfelStride): where the
+  // pixels look the maps up, about kSurfelMapPoints looked up; else every point.
+  uint32_t surfelStride() const {
+    return settings_.perPixel ? std::max(1u, sampleCount() / gpu::kSurfelMapPoints) : 1u;
+  }
   bool lightsEnvironment() const { return environmentCount_ > 0; }
   uint32_t punctualCount() const { return settings_.punctualLights; }
   uint32_t resolution() const { return settings_.resolution; }

@@ -2,10 +2,12 @@
 // Direct light at the surfels: each surfel's irradiance from the emitter samples, seen or hidden by
 // their depth maps (direct_light.glsl), and the punctual lights', the source of the first
 // bounce; and the emitter samples' light with every sample seen, which the pixels' own shadows
-// scale (direct_pixels, resolve). Where only moving objects were drawn again over still maps, a
-// surfel whose lookups they cannot reach keeps its light (DirectLightPush::changed). With
-// kArrivals (some lobe sends by direction), the mean direction the light arrives from, for the
-// lobes that send it on (shaders/common/sender_lobes.glsl).
+// scale (direct_pixels, resolve). Where the pixels take the direct light so, a surfel's shadowed
+// light feeds only the bounces, which blur it, and it looks up every surfelStride-th sample's maps
+// alone (from its index on, so that neighbours take different ones). Where only moving objects were drawn again over
+// still maps, a surfel whose lookups they cannot reach keeps its light (DirectLightPush::changed). With kArrivals (some
+// lobe sends by direction), the mean direction the light arrives from, for the lobes that send it on
+// (shaders/common/sender_lobes.glsl).
 #extension GL_GOOGLE_include_directive : require
 #include "common/common.glsl"
 layout(local_size_x = 64) in;
@@ -43,6 +45,17 @@ bool reachedBy(vec4 m, vec3 p) {
   return between <= asin(push.lights.w / dl) + asin(r / dm);
 }
 
+// The emitter samples' light at p (unit normal n), every sample seen.
+vec3 unshadowedIrradiance(vec3 p, vec3 n) {
+  vec3 sum = vec3(0.0);
+  for (uint k = 0u; k < push.sampleCount; ++k) {
+    float cosine;
+    vec3 toward;
+    sum += lightFrom(lightPointAt(k), p, n, cosine, toward);
+  }
+  return sum;
+}
+
 void main() {
   const uint i = itemIndex();
   if (i >= push.count) return;
@@ -56,11 +69,13 @@ void main() {
   vec4 sampled, punctual;
   float sampledFootprint, punctualFootprint;
   const float area = kArrivals ? s.positionArea.w : 0.0;
-  surfelDirect[i] = vec4(
-      sampledIrradiance(p, n, push.sampleCount, push.resolution, 0u, 1u, unshadowed, sampled, area, sampledFootprint) +
-          punctualIrradiance(p, n, push.sampleCount, push.punctualLights, push.resolution, punctual, area,
-                             punctualFootprint),
-      0.0);
+  const uint stride = push.surfelStride;
+  surfelDirect[i] = vec4(sampledIrradiance(p, n, push.sampleCount, push.resolution, i % stride, stride, unshadowed,
+                                           sampled, area, sampledFootprint) +
+                             punctualIrradiance(p, n, push.sampleCount, push.punctualLights, push.resolution, punctual,
+                                                area, punctualFootprint),
+                         0.0);
+  if (stride > 1u) unshadowed = unshadowedIrradiance(p, n);
   surfelUnshadowed[i] = vec4(unshadowed, 0.0);
   if (kArrivals) {
     const vec4 arrival = sampled + punctual;

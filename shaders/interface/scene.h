@@ -416,8 +416,14 @@ struct DirectLightPush {  // direct_surfels
   vec4 lights;
   vec4 moved[2];
   uint changed;
-  uint pad0, pad1, pad2;
+  // A surfel looks up the maps of every surfelStride-th of the points (from its index modulo the
+  // stride on), each standing for `surfelStride` of them; its unshadowed light takes them all.
+  uint surfelStride;
+  uint pad1, pad2;
 };
+// Where the pixels look the maps up themselves, the surfels' shadowed light is only the bounces'
+// source, and each surfel looks up the maps of this many of the points (surfelStride).
+IVGI_CONST uint kSurfelMapPoints = 16u;
 // A directional light's maps nested around the camera for the pixels, past its map over the scene:
 // the spare faces of its cube.
 IVGI_CONST uint kCascades = kCubeFaces - 1u;
