@@ -4,10 +4,10 @@
 // bounce; and the emitter samples' light with every sample seen, which the pixels' own shadows
 // scale (direct_pixels, resolve). Where the pixels take the direct light so, a surfel's shadowed
 // light feeds only the bounces, which blur it, and it looks up every surfelStride-th sample's maps
-// alone (from its index on, so that neighbours take different ones). Where only moving objects were drawn again over
-// still maps, a surfel whose lookups they cannot reach keeps its light (DirectLightPush::changed). With kArrivals (some
-// lobe sends by direction), the mean direction the light arrives from, for the lobes that send it on
-// (shaders/common/sender_lobes.glsl).
+// alone (from its index on, so that neighbours take different ones). Where only moving objects
+// were drawn again over still maps, a surfel whose lookups they cannot reach keeps its light
+// (DirectLightPush::changed). With kArrivals (some lobe sends by direction), the mean direction the
+// light arrives from, for the lobes that send it on (shaders/common/sender_lobes.glsl).
 #extension GL_GOOGLE_include_directive : require
 #include "common/common.glsl"
 layout(local_size_x = 64) in;
