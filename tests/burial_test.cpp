@@ -198,3 +198,104 @@ TEST(Burial, LaterFramesTestOnlyWhatMoves) {
   EXPECT_EQ(a.stats().links, b.stats().links);
   EXPECT_EQ(a.stats().leafLinks, b.stats().leafLinks);
 }
+
+namespace {
+
+// floorInARoom with one object of two closed boxes: a block 0.6 m wide floating over the floor (x from
+// -0.6 to 0) and a knob 0.3 m wide sunk half into its +x face (x from -0.15 to 0.15, around y = 0.8,
+// z = 0); and apart, a bumpy ball of 12 × 6 quads (its radius 0.25, 15 % hills and hollows). With
+// `turning`, the block and knob turn 60° about the vertical through x = -0.3 over a second.
+scene::Scene knobSunkIntoABlock(bool turning = false) {
+  scenes::GltfBuilder b;
+  const int grey = floorInARoom(b);
+  scenes::MeshData block, bumpy = test::uvSphere(6, true);
+  scenes::addBox(block, {0.0f, 0.0f, 0.0f}, glm::vec3(0.3f), 6);
+  scenes::addBox(block, {0.3f, 0.0f, 0.0f}, glm::vec3(0.15f), 4);
+  for (glm::vec3& p : bumpy.positions) p = 0.25f * p + glm::vec3(0.5f, 0.5f, 0.5f);
+  const int node = b.node("block", b.mesh("block", {{block, grey}}), {-0.3f, 0.8f, 0.0f});
+  b.node("ball", b.mesh("ball", {{bumpy, grey}}));
+  if (turning) {
+    const glm::quat turned = glm::angleAxis(glm::radians(60.0f), glm::vec3(0, 1, 0));
+    b.animate("turn", node, "rotation", {0.0f, 1.0f}, {0, 0, 0, 1, turned.x, turned.y, turned.z, turned.w});
+  }
+  return scene::sceneFromModel(b.finish(), "knob");
+}
+
+// iv's frame at time t of `animation`, rendered after the frames at the times in `before` (by the same
+// renderer): its surfels and which of them are buried.
+struct Burial {
+  std::vector<scene::Surfel> surfels;
+  std::vector<uint32_t> buried;
+};
+Burial buriedAt(const scene::Scene& s, const scene::Geometry& g, int animation, float t,
+                const std::vector<float>& before = {}) {
+  gi::FrameRenderer r = test::ivRenderer(g, {32, 32, 1}, gi::makeIvSetup(s, g, {}, animation));
+  for (float time : before) {
+    const auto pose = scene::evaluatePose(s, animation, time);
+    const auto inputs = g.frameInputs(s, pose);
+    r.render(inputs, test::framing(g, inputs), scene::worldLights(s, pose));
+  }
+  const auto pose = scene::evaluatePose(s, animation, t);
+  const auto inputs = g.frameInputs(s, pose);
+  r.render(inputs, test::framing(g, inputs), scene::worldLights(s, pose));
+  return {r.surfels(), test::ivSolver(r).surfelBuried().read<uint32_t>(g.surfels.size())};
+}
+
+}  // namespace
+
+// Where one part of an object is sunk into another (an eyeball into a head), each part's surfels
+// inside the other are buried: the knob's half inside the block, and the block's face inside the
+// knob. Nothing else is: the parts' surfels out in the open, and every surfel of the bumpy ball,
+// whose own surface, tiled by coarse rectangles, winds about ½ around them.
+TEST(Burial, APartSunkIntoAnotherPartOfItsObjectIsBuriedThere) {
+  const scene::Scene s = knobSunkIntoABlock();
+  const scene::Geometry g = scene::buildGeometry(s);
+  const auto [surfels, buried] = buriedAt(s, g, -1, 0.0f);
+  int knobInside = 0, faceInside = 0, open = 0, ball = 0;
+  for (size_t i = 0; i < surfels.size(); ++i) {
+    const glm::vec3 p(surfels[i].positionArea), n(surfels[i].normal);
+    const bool inBlock =
+        p.x > -0.6f - 1e-4f && p.x < 1e-4f && std::abs(p.y - 0.8f) < 0.3f + 1e-4f && std::abs(p.z) < 0.3f + 1e-4f;
+    const bool inKnob =
+        std::abs(p.x) < 0.15f + 1e-4f && std::abs(p.y - 0.8f) < 0.15f + 1e-4f && std::abs(p.z) < 0.15f + 1e-4f;
+    auto onFace = [&](float within) {
+      return inBlock && n.x > 0.9f && std::abs(p.y - 0.8f) < within && std::abs(p.z) < within;
+    };
+    if (inKnob && p.x < -0.03f) {
+      EXPECT_NE(buried[i], 0u) << "the knob inside the block at " << p.x << ", " << p.y << ", " << p.z;
+      ++knobInside;
+    } else if (onFace(0.12f)) {
+      EXPECT_NE(buried[i], 0u) << "the block's face inside the knob at " << p.y << ", " << p.z;
+      ++faceInside;
+    } else if (glm::distance(p, glm::vec3(0.5f)) < 0.4f) {
+      EXPECT_EQ(buried[i], 0u) << "the bumpy ball at " << p.x << ", " << p.y << ", " << p.z;
+      ++ball;
+    } else if (!(inKnob && p.x < 0.03f) && !onFace(0.18f)) {
+      EXPECT_EQ(buried[i], 0u) << "a surfel in the open at " << p.x << ", " << p.y << ", " << p.z;
+      ++open;
+    }
+  }
+  std::printf(
+      "[ burial ] the knob's surfels inside the block %d, the block's inside the knob %d, the ball's %d, "
+      "in the open %d\n",
+      knobInside, faceInside, ball, open);
+  EXPECT_GT(knobInside, 20);
+  EXPECT_EQ(faceInside, 9);  // the block's face cells are 0.1 m: y 0.7 … 0.9, z -0.1 … 0.1
+  EXPECT_GT(ball, 60);
+  EXPECT_GT(open, 300);
+}
+
+// An object that turns keeps its shape, so the frames after the first keep what it buried of
+// itself rather than test it again: they find what a renderer starting at that frame finds.
+TEST(Burial, AnObjectThatTurnsKeepsWhatItBuriesOfItself) {
+  const scene::Scene s = knobSunkIntoABlock(true);
+  const scene::Geometry g = scene::buildGeometry(s);
+  const std::vector<uint32_t> kept = buriedAt(s, g, 0, 1.0f, {0.0f}).buried, found = buriedAt(s, g, 0, 1.0f).buried;
+  const auto inItself = [](const std::vector<uint32_t>& buried) {
+    return std::count_if(buried.begin(), buried.end(), [](uint32_t b) { return (b & gpu::kBuriedInItself) != 0u; });
+  };
+  std::printf("[ burial ] surfels inside another part of their object: %td kept, %td found\n", inItself(kept),
+              inItself(found));
+  EXPECT_GT(inItself(found), 20);
+  EXPECT_EQ(kept, found);
+}

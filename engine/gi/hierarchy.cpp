@@ -321,11 +321,22 @@ Hierarchy restPoseHierarchy(const scene::Scene& scene, const scene::Geometry& g)
   return buildHierarchy(g, rest);
 }
 
-std::vector<bool> movingRoots(const Hierarchy& h, const scene::Scene& scene, const scene::Geometry& g, int animation) {
-  const std::vector<bool> moving = scene::movingInstances(scene, g, animation);
+namespace {
+
+std::vector<bool> perRoot(const Hierarchy& h, const std::vector<bool>& perInstance) {
   std::vector<bool> roots;
-  for (uint32_t instance : h.rootInstance) roots.push_back(moving[instance]);
+  for (uint32_t instance : h.rootInstance) roots.push_back(perInstance[instance]);
   return roots;
+}
+
+}  // namespace
+
+std::vector<bool> movingRoots(const Hierarchy& h, const scene::Scene& scene, const scene::Geometry& g, int animation) {
+  return perRoot(h, scene::movingInstances(scene, g, animation));
+}
+
+std::vector<bool> rigidRoots(const Hierarchy& h, const scene::Scene& scene, const scene::Geometry& g, int animation) {
+  return perRoot(h, scene::rigidlyMovingInstances(scene, g, animation));
 }
 
 }  // namespace ivgi::gi

@@ -51,5 +51,9 @@ Hierarchy restPoseHierarchy(const scene::Scene& scene, const scene::Geometry& ge
 // Per root of `hierarchy`: whether its object moves under `animation` (-1: none does).
 std::vector<bool> movingRoots(const Hierarchy& hierarchy, const scene::Scene& scene, const scene::Geometry& geometry,
                               int animation);
+// Per root of `hierarchy`: whether `animation` moves its object rigidly, keeping its shape
+// (scene::rigidlyMovingInstances).
+std::vector<bool> rigidRoots(const Hierarchy& hierarchy, const scene::Scene& scene, const scene::Geometry& geometry,
+                             int animation);
 
 }  // namespace ivgi::gi

@@ -35,7 +35,8 @@ void Refit::record(VkCommandBuffer cmd, const SceneBuffers& scene, const vk::Buf
                           gpu::BurialPush{.surfelCount = items,
                                           .rootCount = scene.rootCount,
                                           .stillKnown = moversOnly ? 1u : 0u,
-                                          .listed = listed ? 1u : 0u});
+                                          .listed = listed ? 1u : 0u,
+                                          .shapesKnown = stillKnown_ ? 1u : 0u});
   stillKnown_ = true;
 }
 

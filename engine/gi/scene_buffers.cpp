@@ -7,7 +7,7 @@ namespace ivgi::gi {
 
 SceneBuffers::SceneBuffers(const vk::Context& ctx, const scene::Geometry& g, const Hierarchy& h, uint32_t bins,
                            const std::optional<scene::Environment>& sky, const std::vector<bool>& objectMoves,
-                           vk::Allocations& allocations)
+                           const std::vector<bool>& objectRigid, vk::Allocations& allocations)
     : nodeCount(uint32_t(h.nodes.size())),
       surfelCount(uint32_t(h.leafOfSurfel.size())),
       rootCount(uint32_t(h.roots.size())),
@@ -46,7 +46,8 @@ SceneBuffers::SceneBuffers(const vk::Context& ctx, const scene::Geometry& g, con
   std::vector<uint32_t> flags(std::max<size_t>(h.roots.size(), 1), 0u);
   for (size_t r = 0; r < h.roots.size(); ++r) {
     flags[r] = (h.rootEncloses[r] ? gpu::kRootEncloses : 0u) |
-               (!objectMoves.empty() && !objectMoves[r] ? gpu::kRootStill : 0u);
+               (!objectMoves.empty() && !objectMoves[r] ? gpu::kRootStill : 0u) |
+               (!objectRigid.empty() && objectRigid[r] ? gpu::kRootRigid : 0u);
     movingEncloses = movingEncloses || (flags[r] & (gpu::kRootEncloses | gpu::kRootStill)) == gpu::kRootEncloses;
   }
   rootFlags = vk::makeBuffer(ctx, flags, vk::Memory::Device, tally);

@@ -37,7 +37,8 @@ struct SceneBuffers {
   // lie inside one that does too, and (uploaded once) how many surfels lie below it.
   vk::Buffer surfelBuried, nodeBuried, nodeStillBuried, nodeLeaves;
   // Per root (uploaded once): gpu::kRootEncloses where it may hold other objects' surfels
-  // (Hierarchy::rootEncloses), gpu::kRootStill where its object does not move.
+  // (Hierarchy::rootEncloses), gpu::kRootStill where its object does not move, gpu::kRootRigid where
+  // it moves rigidly.
   vk::Buffer rootFlags;
   // The leaves of the objects that move (uploaded once; every leaf where none stays still): once
   // every tree is refit, a frame refits theirs alone.
@@ -70,10 +71,11 @@ struct SceneBuffers {
   const vk::Buffer& surfelArrival() const { return directArrival ? *directArrival : noDirectLight; }
 
   SceneBuffers() = default;
-  // `objectMoves`: per root, whether its object moves over the frames rendered (empty: every one may).
+  // Per root: `objectMoves`, whether its object moves over the frames rendered (empty: every one
+  // may); `objectRigid`, whether it moves rigidly, keeping its shape (empty: none is known to).
   SceneBuffers(const vk::Context& ctx, const scene::Geometry& geometry, const Hierarchy& hierarchy, uint32_t bins,
                const std::optional<scene::Environment>& environment, const std::vector<bool>& objectMoves,
-               vk::Allocations& allocations);
+               const std::vector<bool>& objectRigid, vk::Allocations& allocations);
   // The frame's punctual lights in world space (the buffer grows where they do not fit).
   void setLights(const vk::Context& ctx, const std::vector<gpu::PunctualLight>& frameLights,
                  vk::Allocations& allocations);

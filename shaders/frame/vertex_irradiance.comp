@@ -33,7 +33,7 @@ layout(constant_id = 0) const bool kDirectPixels = false;
 // True where only the vertices the image shows are read (the reflections: mark_shown).
 layout(constant_id = 1) const bool kShownOnly = false;
 layout(std430, binding = 10) readonly buffer ShownSurfels { uint shownSurfels[]; };
-layout(binding = 11, r32ui) readonly uniform uimageBuffer surfelBuried;  // 1: inside another object
+layout(binding = 11, r32ui) readonly uniform uimageBuffer surfelBuried;  // not 0: buried (kBuried, kBuriedInItself)
 layout(push_constant) uniform Push { CountPush push; };                  // count: surfels
 
 // The irradiance the vertices carry: the solver's, or what the depth maps' direct light leaves of it.

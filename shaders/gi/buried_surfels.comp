@@ -1,11 +1,14 @@
 #version 460
-// Per surfel, whether it lies inside another object: a floor's surfels under a block standing on it.
-// Such a surfel's own light stands for no surface anyone sees, yet the triangles that reach out
-// from under the block share its vertex, and the resolve would draw their light down toward it
-// along the contact (vertex_irradiance carries them the light of their neighbours outside instead).
+// Per surfel, whether it lies inside another object, or another part of its own: a floor's surfels
+// under a block standing on it. Such a surfel's own light stands for no surface anyone sees, yet the
+// triangles that reach out from under the block share its vertex, and the resolve would draw their
+// light down toward it along the contact (vertex_irradiance carries them the light of their
+// neighbours outside instead).
 // Inside is where the object's generalised winding number (the signed solid angle of its surface,
 // over 4π, its normals pointing out) reaches kBurialWinding (¼): 1 inside a closed object, ½ on a
 // face it rests on, 0 outside. An object whose normals point in (a room seen from inside) counts as outside.
+// A surfel also lies inside where another part of its own object encloses it (kSelfBurialWinding: an
+// eyeball sunk into a head, whose hidden back would darken the visible eye around its rim).
 // Summed over the object's tree, depth first without a stack (`skip`), as fast winding numbers are
 // (Barill et al. 2018): a node far from the point as a dipole of its vector area, a near surfel as
 // its rectangle's exact solid angle. A surfel of an object that stays still, inside another that
@@ -20,9 +23,9 @@ layout(local_size_x = 64) in;
 layout(binding = 0, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode
 layout(binding = 1, r32ui) readonly uniform uimageBuffer skip;
 layout(binding = 2, r32ui) readonly uniform uimageBuffer leafOfSurfel;
-layout(binding = 4, rgba32f) readonly uniform imageBuffer surfels;   // Surfel: positionArea, normal, shape
-layout(binding = 7, r32ui) readonly uniform uimageBuffer rootFlags;  // kRootEncloses, kRootStill
-layout(std430, binding = 5) writeonly buffer SurfelBuried { uint surfelBuried[]; };
+layout(binding = 4, rgba32f) readonly uniform imageBuffer surfels;         // Surfel: positionArea, normal, shape
+layout(binding = 7, r32ui) readonly uniform uimageBuffer rootFlags;        // kRootEncloses, kRootStill, kRootRigid
+layout(std430, binding = 5) buffer SurfelBuried { uint surfelBuried[]; };  // kBuried, kBuriedInItself
 // Per node, the buried surfels below it, and those of them still and inside still objects (both
 // zeroed before the pass).
 layout(std430, binding = 6) buffer NodeBuried { uint nodeBuried[]; };
@@ -50,9 +53,9 @@ float solidAngleOf(uint i, vec3 p) {
   return turn * rectangleSolidAngle(d, u1, u2) * positionArea.w / rectangle;
 }
 
-// Whether the point p lies inside the object of `root`: its winding number, summed over the tree.
-// A walk cut short by kBurialVisits says nothing: the point counts as outside.
-bool insideObject(uint root, vec3 p) {
+// Whether the object of `root` winds around the point p at least `least` times: its winding number,
+// summed over the tree. A walk cut short by kBurialVisits says nothing: the point counts as outside.
+bool windsAround(uint root, vec3 p, float least) {
   if (distance(nodePositionArea(root).xyz, p) > nodeRadius(root)) return false;  // outside its sphere
   const uint end = imageLoad(skip, int(root)).x;
   float winding = 0.0;
@@ -67,7 +70,7 @@ bool insideObject(uint root, vec3 p) {
       node = t.y;
     }
   }
-  return winding >= kBurialWinding * 4.0 * kPi;
+  return winding >= least * 4.0 * kPi;
 }
 
 void main() {
@@ -77,24 +80,31 @@ void main() {
   const uint s = push.listed != 0u ? uint(imageLoad(tree, int(leaf)).w) : item;
   // Still, inside a still object, as a pass before found: counted in nodeBuried already.
   if (push.stillKnown != 0u && nodeStillBuried[leaf] != 0u) {
-    surfelBuried[s] = 1u;
+    surfelBuried[s] = kBuried;
     return;
   }
   const vec3 p = imageLoad(surfels, int(3u * s)).xyz;
-  const uint own = imageLoad(surfelRoot, int(s)).x;
-  const bool ownStill = (imageLoad(rootFlags, int(own)).x & kRootStill) != 0u;
-  bool buried = false, stillBuried = false;
+  const uint own = imageLoad(surfelRoot, int(s)).x, ownFlags = imageLoad(rootFlags, int(own)).x;
+  const bool ownStill = (ownFlags & kRootStill) != 0u;
+  // Inside another part of its own object: its own surfel sees the point edge-on (solidAngleOf), so
+  // the rest of its closed surface winds ½. A still surfel not found so at first never is; one of an
+  // object that keeps its shape stays as the first frame found it.
+  bool inItself = false;
+  if ((ownFlags & kRootEncloses) != 0u && !(push.stillKnown != 0u && ownStill))
+    inItself = push.shapesKnown != 0u && (ownFlags & kRootRigid) != 0u ? (surfelBuried[s] & kBuriedInItself) != 0u
+                                                                       : windsAround(own, p, kSelfBurialWinding);
+  bool buried = inItself, stillBuried = inItself && ownStill;
   for (uint root = 0u; root < push.rootCount && !stillBuried && !(buried && !ownStill); ++root) {
     const uint flags = imageLoad(rootFlags, int(root)).x;
     const bool still = (flags & kRootStill) != 0u;
     if (root == own || (flags & kRootEncloses) == 0u || (buried && !still)) continue;
     // A still surfel known to lie outside every still object stays outside them.
     if (push.stillKnown != 0u && still && ownStill) continue;
-    const bool inside = insideObject(root, p);
+    const bool inside = windsAround(root, p, kBurialWinding);
     buried = buried || inside;
     stillBuried = inside && still && ownStill;
   }
-  surfelBuried[s] = buried ? 1u : 0u;
+  surfelBuried[s] = (buried ? kBuried : 0u) | (inItself ? kBuriedInItself : 0u);
   if (buried)
     for (int node = int(leaf); node >= 0; node = int(imageLoad(tree, node).x)) {
       atomicAdd(nodeBuried[node], 1u);

@@ -154,13 +154,25 @@ struct NodeState {
 // than kBurialFar of its radii; a surfel's walk of one object stops after kBurialVisits nodes (it
 // then counts as outside that object).
 IVGI_CONST float kBurialWinding = 0.25f;
+// A surfel inside another part of its own object (an eyeball sunk into a head, a bolt merged into
+// its block): its own closed surface winds ½ around it, another closed part of the object one more.
+// The threshold lies midway: the surfels' rectangles, tiling a coarse curved surface, move the own
+// surface's ½ by up to about ½. A face resting on another part (1) is not told apart.
+IVGI_CONST float kSelfBurialWinding = 1.0f;
 IVGI_CONST float kBurialFar = 1.5f;
 IVGI_CONST uint kBurialVisits = 4096u;
 // Per root, bits of SceneBuffers::rootFlags: its surface may hold other objects' surfels
 // (Hierarchy::rootEncloses); its object stays still over the frames rendered (what it buries stays
-// buried while links made once stand).
+// buried while links made once stand); its object moves rigidly, keeping its shape (what it buries of
+// itself stays buried).
 IVGI_CONST uint kRootEncloses = 1u;
 IVGI_CONST uint kRootStill = 2u;
+IVGI_CONST uint kRootRigid = 4u;
+// Per surfel, bits of SceneBuffers::surfelBuried (readers test for any): it lies inside another object
+// or another part of its own; the latter alone, kept from the first frame by an object that keeps
+// its shape.
+IVGI_CONST uint kBuried = 1u;
+IVGI_CONST uint kBuriedInItself = 2u;
 struct BurialPush {
   uint surfelCount;
   uint rootCount;  // the trees' roots, nodes 0 to rootCount − 1
@@ -170,6 +182,9 @@ struct BurialPush {
   // 1: the items are the surfels of the leaves in movingLeaves, surfelCount of them (no object
   // that moves encloses a volume, so the still surfels' burial stands from the pass before).
   uint listed;
+  // 1 where a pass before found which surfels of objects that move rigidly lie inside another part
+  // of their own (kBuriedInItself, kept).
+  uint shapesKnown;
 };
 
 // ---- Camera rays ----

@@ -25,7 +25,7 @@ layout(binding = 11, r32ui) readonly uniform uimageBuffer neighbourCounts;
 layout(binding = 12, r32ui) readonly uniform uimageBuffer neighbours;
 layout(binding = 13, r32ui) readonly uniform uimageBuffer representatives;
 layout(binding = 14, r32f) readonly uniform imageBuffer roles;
-layout(binding = 15, r32ui) readonly uniform uimageBuffer surfelBuried;  // 1: inside another object
+layout(binding = 15, r32ui) readonly uniform uimageBuffer surfelBuried;  // not 0: buried (kBuried, kBuriedInItself)
 layout(binding = 16, r32f) readonly uniform imageBuffer presences;       // 0 where not sampled
 layout(push_constant) uniform Push { ReceiverPush push; };
 

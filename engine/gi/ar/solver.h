@@ -22,10 +22,11 @@ namespace ivgi::gi {
 class ArSolver final : public Solver {
  public:
   // Validates the settings (SettingsError) and allocates, refusing in one line what does not fit.
-  // `objectMoves`, per hierarchy root: whether its object can move (movingRoots); empty: any may,
-  // and every pair is relinked whenever the geometry moved.
+  // Per hierarchy root: `objectMoves`, whether its object can move (movingRoots; empty: any may,
+  // and every pair is relinked whenever the geometry moved); `objectRigid`, whether it moves rigidly
+  // (rigidRoots; empty: none is known to).
   ArSolver(const vk::Context& ctx, const scene::Geometry& geometry, Hierarchy hierarchy, const ArSettings& settings,
-           const std::vector<bool>& objectMoves = {});
+           const std::vector<bool>& objectMoves = {}, const std::vector<bool>& objectRigid = {});
 
   int chainStart(int frame) const override;
   void beginFrame(int frame) override;

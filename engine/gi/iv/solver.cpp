@@ -40,9 +40,7 @@ IvSetup makeIvSetup(const scene::Scene& scene, const scene::Geometry& g, const I
 void markMovingObjects(IvSetup& setup, const scene::Scene& scene, const scene::Geometry& g, int animation) {
   const Hierarchy& h = setup.hierarchy;
   setup.objectMoves = movingRoots(h, scene, g, animation);
-  const std::vector<bool> rigid = scene::rigidlyMovingInstances(scene, g, animation);
-  setup.objectRigid.clear();
-  for (uint32_t instance : h.rootInstance) setup.objectRigid.push_back(rigid[instance]);
+  setup.objectRigid = rigidRoots(h, scene, g, animation);
   setup.restPose = g.frameInputs(scene, scene::evaluatePose(scene, -1, 0.0f));
 }
 
@@ -139,8 +137,8 @@ void IvSolver::uploadScene(const scene::Geometry& g, const std::vector<uint32_t>
   const vk::Context& ctx = ctx_;
   vk::Allocations* tally = &allocations_;
   using vk::deviceArray;
-  b_.scene =
-      SceneBuffers(ctx, g, setup_.hierarchy, settings_.bins, settings_.environment, setup_.objectMoves, allocations_);
+  b_.scene = SceneBuffers(ctx, g, setup_.hierarchy, settings_.bins, settings_.environment, setup_.objectMoves,
+                          setup_.objectRigid, allocations_);
   b_.nodeFlags = vk::makeBuffer(ctx, nodeFlags, vk::Memory::Device, tally);
   b_.args = vk::Buffer(ctx, 4 * sizeof(glm::uvec4), vk::Memory::Device, tally);
   for (LinkSet* set : {&staticSet_, &frameSet_}) set->allocateLists(ctx, nodeCount_, tally);
