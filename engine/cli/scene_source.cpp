@@ -136,8 +136,8 @@ std::unique_ptr<gi::Solver> makeSolver(const SolverOptions& o, const vk::Context
         "ar and none)");
   if (o.method == "ar") {
     gi::Hierarchy h = hierarchy ? *hierarchy : gi::restPoseHierarchy(s, g);
-    const std::vector<bool> moves = gi::movingRoots(h, s, g, animation), rigid = gi::rigidRoots(h, s, g, animation);
-    return std::make_unique<gi::ArSolver>(ctx, g, std::move(h), arSettings(o), moves, rigid);
+    const std::vector<bool> moves = gi::movingRoots(h, s, g, animation);
+    return std::make_unique<gi::ArSolver>(ctx, g, std::move(h), arSettings(o), moves);
   }
   if (o.method != "iv") throw SettingsError("--method '" + o.method + "': methods are iv, ar, pt and none");
   gi::IvSettings settings = o.iv;

@@ -13,6 +13,14 @@ void Refit::recordNodes(VkCommandBuffer cmd, const SceneBuffers& scene, const vk
                        gpu::CountPush{.count = scene.surfelCount});
 }
 
+void Refit::recordRestBurial(VkCommandBuffer cmd, const SceneBuffers& scene, const vk::Buffer& restSurfels) {
+  if (scene.surfelCount)
+    burial_.dispatchItems(
+        cmd, scene.surfelCount, scene.pool().with({{"surfels", restSurfels}}),
+        gpu::BurialPush{.surfelCount = scene.surfelCount, .rootCount = scene.rootCount, .atRest = 1u});
+  shapesKnown_ = true;
+}
+
 void Refit::record(VkCommandBuffer cmd, const SceneBuffers& scene, const vk::Buffer& surfels) {
   const bool moversOnly = stillKnown_ && scene.anyStill();
   if (moversOnly) {
@@ -36,7 +44,7 @@ void Refit::record(VkCommandBuffer cmd, const SceneBuffers& scene, const vk::Buf
                                           .rootCount = scene.rootCount,
                                           .stillKnown = moversOnly ? 1u : 0u,
                                           .listed = listed ? 1u : 0u,
-                                          .shapesKnown = stillKnown_ ? 1u : 0u});
+                                          .shapesKnown = shapesKnown_ ? 1u : 0u});
   stillKnown_ = true;
 }
 

@@ -20,10 +20,15 @@ class Refit {
   void record(VkCommandBuffer cmd, const SceneBuffers& scene, const vk::Buffer& surfels);
   // The node attributes alone (a rest pose's nodes, which no image reads for burial).
   void recordNodes(VkCommandBuffer cmd, const SceneBuffers& scene, const vk::Buffer& surfels) const;
+  // After recordNodes at the rest pose: which surfels of the objects that move rigidly
+  // (gpu::kRootRigid) lie inside another part of their own, found there and kept for every frame
+  // (gpu::kBuriedInItself), so that a frame's burial does not hang on the frame it starts from.
+  void recordRestBurial(VkCommandBuffer cmd, const SceneBuffers& scene, const vk::Buffer& restSurfels);
 
  private:
   vk::Program refit_, burial_;
-  bool stillKnown_ = false;  // the still objects' nodes and burial stand from a pass before
+  bool stillKnown_ = false;   // the still objects' nodes and burial stand from a pass before
+  bool shapesKnown_ = false;  // recordRestBurial ran
 };
 
 }  // namespace ivgi::gi

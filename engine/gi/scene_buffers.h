@@ -38,7 +38,7 @@ struct SceneBuffers {
   vk::Buffer surfelBuried, nodeBuried, nodeStillBuried, nodeLeaves;
   // Per root (uploaded once): gpu::kRootEncloses where it may hold other objects' surfels
   // (Hierarchy::rootEncloses), gpu::kRootStill where its object does not move, gpu::kRootRigid where
-  // it moves rigidly.
+  // it moves rigidly (what it buries of itself found at rest).
   vk::Buffer rootFlags;
   // The leaves of the objects that move (uploaded once; every leaf where none stays still): once
   // every tree is refit, a frame refits theirs alone.
@@ -72,7 +72,8 @@ struct SceneBuffers {
 
   SceneBuffers() = default;
   // Per root: `objectMoves`, whether its object moves over the frames rendered (empty: every one
-  // may); `objectRigid`, whether it moves rigidly, keeping its shape (empty: none is known to).
+  // may); `objectRigid`, whether it moves rigidly and what it buries of itself is found at its rest
+  // pose (Refit::recordRestBurial; empty: none).
   SceneBuffers(const vk::Context& ctx, const scene::Geometry& geometry, const Hierarchy& hierarchy, uint32_t bins,
                const std::optional<scene::Environment>& environment, const std::vector<bool>& objectMoves,
                const std::vector<bool>& objectRigid, vk::Allocations& allocations);

@@ -85,14 +85,19 @@ void main() {
   }
   const vec3 p = imageLoad(surfels, int(3u * s)).xyz;
   const uint own = imageLoad(surfelRoot, int(s)).x, ownFlags = imageLoad(rootFlags, int(own)).x;
-  const bool ownStill = (ownFlags & kRootStill) != 0u;
+  const bool ownStill = (ownFlags & kRootStill) != 0u, ownRigid = (ownFlags & kRootRigid) != 0u;
   // Inside another part of its own object: its own surfel sees the point edge-on (solidAngleOf), so
   // the rest of its closed surface winds ½. A still surfel not found so at first never is; one of an
-  // object that keeps its shape stays as the first frame found it.
+  // object that moves rigidly is as the pass at rest found it, whatever frame the render starts at.
+  const bool selfTested = (ownFlags & kRootEncloses) != 0u && !(push.stillKnown != 0u && ownStill);
+  if (push.atRest != 0u) {
+    if (ownRigid) surfelBuried[s] = selfTested && windsAround(own, p, kSelfBurialWinding) ? kBuriedInItself : 0u;
+    return;
+  }
   bool inItself = false;
-  if ((ownFlags & kRootEncloses) != 0u && !(push.stillKnown != 0u && ownStill))
-    inItself = push.shapesKnown != 0u && (ownFlags & kRootRigid) != 0u ? (surfelBuried[s] & kBuriedInItself) != 0u
-                                                                       : windsAround(own, p, kSelfBurialWinding);
+  if (selfTested)
+    inItself = push.shapesKnown != 0u && ownRigid ? (surfelBuried[s] & kBuriedInItself) != 0u
+                                                  : windsAround(own, p, kSelfBurialWinding);
   bool buried = inItself, stillBuried = inItself && ownStill;
   for (uint root = 0u; root < push.rootCount && !stillBuried && !(buried && !ownStill); ++root) {
     const uint flags = imageLoad(rootFlags, int(root)).x;

@@ -163,14 +163,14 @@ IVGI_CONST float kBurialFar = 1.5f;
 IVGI_CONST uint kBurialVisits = 4096u;
 // Per root, bits of SceneBuffers::rootFlags: its surface may hold other objects' surfels
 // (Hierarchy::rootEncloses); its object stays still over the frames rendered (what it buries stays
-// buried while links made once stand); its object moves rigidly, keeping its shape (what it buries of
-// itself stays buried).
+// buried while links made once stand); its object moves rigidly, keeping its shape, and what it buries
+// of itself is found at its rest pose and kept (Refit::recordRestBurial).
 IVGI_CONST uint kRootEncloses = 1u;
 IVGI_CONST uint kRootStill = 2u;
 IVGI_CONST uint kRootRigid = 4u;
 // Per surfel, bits of SceneBuffers::surfelBuried (readers test for any): it lies inside another object
-// or another part of its own; the latter alone, kept from the first frame by an object that keeps
-// its shape.
+// or another part of its own; the latter alone, found at the rest pose and kept by an object that
+// moves rigidly.
 IVGI_CONST uint kBuried = 1u;
 IVGI_CONST uint kBuriedInItself = 2u;
 struct BurialPush {
@@ -182,9 +182,11 @@ struct BurialPush {
   // 1: the items are the surfels of the leaves in movingLeaves, surfelCount of them (no object
   // that moves encloses a volume, so the still surfels' burial stands from the pass before).
   uint listed;
-  // 1 where a pass before found which surfels of objects that move rigidly lie inside another part
-  // of their own (kBuriedInItself, kept).
+  // 1 where a pass at the rest pose found which surfels of objects that move rigidly lie inside
+  // another part of their own (kBuriedInItself, kept).
   uint shapesKnown;
+  // 1: that pass (Refit::recordRestBurial), the surfels at rest.
+  uint atRest;
 };
 
 // ---- Camera rays ----

@@ -48,7 +48,7 @@ uint64_t ArSolver::tableBytes(uint64_t nodes, uint64_t surfels, uint32_t dirs, b
 }
 
 ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy hierarchy, const ArSettings& settings,
-                   const std::vector<bool>& objectMoves, const std::vector<bool>& objectRigid)
+                   const std::vector<bool>& objectMoves)
     : ctx_(ctx),
       hierarchy_(std::move(hierarchy)),
       settings_((validate(settings), settings)),
@@ -102,7 +102,7 @@ ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy h
                         ": --dirs " + std::to_string(std::max(1u, uint32_t(n / std::sqrt(over)))) +
                         " would fit (the tables grow as N^2)");
   vk::Allocations* tally = &allocations_;
-  b_.scene = SceneBuffers(ctx, g, hierarchy_, n, settings_.environment, objectMoves, objectRigid, allocations_);
+  b_.scene = SceneBuffers(ctx, g, hierarchy_, n, settings_.environment, objectMoves, {}, allocations_);
   noteUnresolvedRoughness(g, tableBinSpread(n), "ar", "--dirs " + std::to_string(n));
   b_.brightEmitters = vk::makeBuffer(ctx, brightEmitters(hierarchy_, g.surfelEmission), vk::Memory::Device, tally);
   b_.args = vk::Buffer(ctx, 4 * sizeof(glm::uvec4), vk::Memory::Device, tally);

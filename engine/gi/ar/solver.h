@@ -22,11 +22,10 @@ namespace ivgi::gi {
 class ArSolver final : public Solver {
  public:
   // Validates the settings (SettingsError) and allocates, refusing in one line what does not fit.
-  // Per hierarchy root: `objectMoves`, whether its object can move (movingRoots; empty: any may,
-  // and every pair is relinked whenever the geometry moved); `objectRigid`, whether it moves rigidly
-  // (rigidRoots; empty: none is known to).
+  // `objectMoves`, per hierarchy root: whether its object can move (movingRoots); empty: any may,
+  // and every pair is relinked whenever the geometry moved.
   ArSolver(const vk::Context& ctx, const scene::Geometry& geometry, Hierarchy hierarchy, const ArSettings& settings,
-           const std::vector<bool>& objectMoves = {}, const std::vector<bool>& objectRigid = {});
+           const std::vector<bool>& objectMoves = {});
 
   int chainStart(int frame) const override;
   void beginFrame(int frame) override;

@@ -137,8 +137,11 @@ void IvSolver::uploadScene(const scene::Geometry& g, const std::vector<uint32_t>
   const vk::Context& ctx = ctx_;
   vk::Allocations* tally = &allocations_;
   using vk::deviceArray;
+  // An object whose rest pose is kept (anyRigid_) finds there what it buries of itself.
+  std::vector<bool> restBurial(setup_.hierarchy.roots.size());
+  for (size_t r = 0; r < restBurial.size(); ++r) restBurial[r] = anyRigid_ && rigid(r);
   b_.scene = SceneBuffers(ctx, g, setup_.hierarchy, settings_.bins, settings_.environment, setup_.objectMoves,
-                          setup_.objectRigid, allocations_);
+                          restBurial, allocations_);
   b_.nodeFlags = vk::makeBuffer(ctx, nodeFlags, vk::Memory::Device, tally);
   b_.args = vk::Buffer(ctx, 4 * sizeof(glm::uvec4), vk::Memory::Device, tally);
   for (LinkSet* set : {&staticSet_, &frameSet_}) set->allocateLists(ctx, nodeCount_, tally);
@@ -176,6 +179,7 @@ void IvSolver::recordRestNodes(VkCommandBuffer cmd, const vk::Buffer& surfels) {
   vk::copyRegion(cmd, surfels, staticSurfels_, {0, 0, VkDeviceSize(surfelCount_) * sizeof(gpu::Surfel)});
   for (const VkBufferCopy& run : rigidRuns_) vk::copyRegion(cmd, restSurfels_, staticSurfels_, run);
   refit_.recordNodes(cmd, b_.scene, staticSurfels_);
+  refit_.recordRestBurial(cmd, b_.scene, staticSurfels_);
   vk::copyRegion(cmd, b_.scene.nodes, restNodes_, {0, 0, VkDeviceSize(nodeCount_) * sizeof(gpu::NodeState)});
 }
 
