@@ -89,15 +89,15 @@ void main() {
   // Inside another part of its own object: its own surfel sees the point edge-on (solidAngleOf), so
   // the rest of its closed surface winds ½. A still surfel not found so at first never is; one of an
   // object that moves rigidly is as the pass at rest found it, whatever frame the render starts at.
-  const bool selfTested = (ownFlags & kRootEncloses) != 0u && !(push.stillKnown != 0u && ownStill);
+  if (push.atRest != 0u && !ownRigid) return;  // the pass at rest is the rigid objects'
+  const bool selfTested = (ownFlags & kRootEncloses) != 0u && !(push.stillKnown != 0u && ownStill),
+             kept = push.atRest == 0u && push.shapesKnown != 0u && ownRigid;
+  const bool inItself =
+      selfTested && (kept ? (surfelBuried[s] & kBuriedInItself) != 0u : windsAround(own, p, kSelfBurialWinding));
   if (push.atRest != 0u) {
-    if (ownRigid) surfelBuried[s] = selfTested && windsAround(own, p, kSelfBurialWinding) ? kBuriedInItself : 0u;
+    surfelBuried[s] = inItself ? kBuriedInItself : 0u;
     return;
   }
-  bool inItself = false;
-  if (selfTested)
-    inItself = push.shapesKnown != 0u && ownRigid ? (surfelBuried[s] & kBuriedInItself) != 0u
-                                                  : windsAround(own, p, kSelfBurialWinding);
   bool buried = inItself, stillBuried = inItself && ownStill;
   for (uint root = 0u; root < push.rootCount && !stillBuried && !(buried && !ownStill); ++root) {
     const uint flags = imageLoad(rootFlags, int(root)).x;
