@@ -138,4 +138,16 @@ TEST(Animation, AnimatedCamerasMove) {
   EXPECT_NEAR(middle.forward.x, -std::sin(glm::radians(45.0f)), 1e-5f);
   EXPECT_NEAR(glm::dot(end.right, end.up), 0.0f, 1e-6f);
   EXPECT_FLOAT_EQ(end.yfov, 0.8f);
+  // iv's receivers follow the view only where the scene moves or its cameras stand still.
+  EXPECT_TRUE(animationMovesCameras(scene, 0));
+  EXPECT_FALSE(animationMovesGeometry(scene, 0));
+  EXPECT_FALSE(animationMovesCameras(scene, -1));
+  scene.nodes.push_back(scene.nodes[0]);  // a second camera, still: the animation still moves one
+  scene.nodes[1].camera = 0;
+  scene.roots = {0, 1};
+  EXPECT_TRUE(animationMovesCameras(scene, 0));
+  scene.animations[0].channels = {{1, Path::Translation, 0}};  // now the second one moves
+  EXPECT_TRUE(animationMovesCameras(scene, 0));
+  scene.nodes[1].camera = -1;  // and carries no camera
+  EXPECT_FALSE(animationMovesCameras(scene, 0));
 }

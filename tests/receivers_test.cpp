@@ -28,8 +28,9 @@ namespace {
 
 // A 2 m grey floor of 40×40 cells at y = 0 under a small lamp 3 m up, and a black square 0.5 m up
 // shading the floor's half x < 0: a shadow edge along x = 0 with a penumbra of about 6 cm, the
-// other half lit evenly (the lamp is far against the floor).
-tinygltf::Model shadowEdge() {
+// other half lit evenly (the lamp is far against the floor). With `camera`, a narrow camera 1 m over
+// the floor that moves in one second from over its shaded half to over its lit half.
+tinygltf::Model shadowEdge(bool camera = false) {
   scenes::GltfBuilder b;
   int lamp = b.material("lamp", glm::vec3(0.0f), glm::vec3(50.0f));
   int grey = b.material("floor", glm::vec3(0.5f));
@@ -42,6 +43,11 @@ tinygltf::Model shadowEdge() {
   b.node("lamp", b.mesh("lamp", {{light, lamp}}));
   b.node("floor", b.mesh("floor", {{floor, grey}}));
   b.node("blocker", b.mesh("blocker", {{blocker, black}}));
+  if (camera) {
+    const glm::quat down = glm::angleAxis(glm::radians(-90.0f), glm::vec3(1, 0, 0));
+    b.animate("a", b.camera("camera", 0.6f, 0.01f, {-0.5f, 0.4f, 0}, down), "translation", {0, 1},
+              {-0.5f, 0.4f, 0, 0.5f, 0.4f, 0});
+  }
   return b.finish();
 }
 
@@ -59,11 +65,12 @@ std::vector<glm::vec4> bouncedLight(const gi::FrameRenderer& r, const scene::Geo
 }  // namespace
 
 // Receivers crowd where the shadow's edge crosses the floor and thin out where the floor is lit
-// evenly: the refinement follows the lighting, not the mesh (40×40 cells everywhere).
+// evenly: the refinement follows the lighting, not the mesh (40×40 cells everywhere). Every surface
+// is judged alike, whether the 16×16 image shows it or not.
 TEST(Receivers, RefineAtAShadowEdgeAndStayCoarseOnAnEvenlyLitFloor) {
   scene::Scene s = scene::sceneFromModel(shadowEdge(), "test");
   scene::Geometry g = scene::buildGeometry(s);
-  gi::FrameRenderer r = test::ivRenderer(g, {16, 16, 1}, gi::makeIvSetup(s, g, {}));
+  gi::FrameRenderer r = test::ivRenderer(g, {16, 16, 1}, gi::makeIvSetup(s, g, {.unseenTolerance = 1.0f}));
   auto pose = scene::evaluatePose(s, -1, 0.0f);
   r.render(g.frameInputs(s, pose),
            scene::framingCamera(scene::worldBounds(scene::animateOnHost(g, g.frameInputs(s, pose))), 1.0f));
@@ -85,6 +92,75 @@ TEST(Receivers, RefineAtAShadowEdgeAndStayCoarseOnAnEvenlyLitFloor) {
       test::ivSolver(r).receiverSurfels().size(), surfels.size(), 100 * edgeShare, 100 * litShare);
   EXPECT_LE(litShare, 0.25);
   EXPECT_GE(edgeShare, 3.0 * litShare);
+}
+
+// The image shows the back wall alone (a narrow view into the Cornell box): the surfaces it does not
+// show, whose light reaches it only after a bounce, are judged at --unseen-tol and keep fewer
+// receivers; those it shows keep theirs, and the image hardly changes.
+TEST(Receivers, SurfacesTheImageDoesNotShowAreJudgedLooser) {
+  const scene::Scene s = scene::sceneFromModel(scenes::cornellBox({.cells = 12}), "test");
+  const scene::Geometry g = scene::buildGeometry(s);
+  const scene::Pose pose = scene::evaluatePose(s, -1, 0.0f);
+  scene::CameraView view = scene::cameraView(s, pose, s.cameraNodes()[0]);
+  view.yfov *= 0.3f;
+  struct Solved {
+    std::vector<glm::vec4> radiance;
+    std::vector<uint32_t> shown;
+    std::vector<char> receiver;
+  };
+  auto solve = [&](float unseenTolerance) {
+    gi::FrameRenderer r = test::ivRenderer(g, {48, 36, 1}, gi::makeIvSetup(s, g, {.unseenTolerance = unseenTolerance}));
+    Solved out;
+    out.radiance = r.render(g.frameInputs(s, pose), view).channels.radiance;
+    out.shown = r.shownSurfels();
+    out.receiver.assign(g.surfels.size(), 0);
+    for (uint32_t k : test::ivSolver(r).receiverSurfels()) out.receiver[k] = 1;
+    return out;
+  };
+  const Solved alike = solve(1.0f), looser = solve(16.0f);
+  ASSERT_EQ(looser.shown.size(), g.surfels.size());
+  size_t shown = 0, shownAlike = 0, shownLooser = 0, unseenAlike = 0, unseenLooser = 0;
+  for (size_t i = 0; i < g.surfels.size(); ++i) {
+    const bool seen = (looser.shown[i] & gpu::kShownFit) != 0;
+    shown += seen;
+    (seen ? shownAlike : unseenAlike) += alike.receiver[i];
+    (seen ? shownLooser : unseenLooser) += looser.receiver[i];
+  }
+  double change = 0;
+  for (size_t i = 0; i < alike.radiance.size(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      const double a = alike.radiance[i][c], b = looser.radiance[i][c];
+      change += (b - a) * (b - a) / (a * a + 0.01) / double(3 * alike.radiance.size());
+    }
+  std::printf(
+      "[ unseen ] %zu of %zu surfels shown; receivers among them %zu at --unseen-tol 1, %zu at 16; among the rest "
+      "%zu and %zu; the image's relMSE between the two %.3g\n",
+      shown, g.surfels.size(), shownAlike, shownLooser, unseenAlike, unseenLooser, change);
+  EXPECT_LT(shown, g.surfels.size() / 4) << "the view shows the back wall alone";
+  EXPECT_LT(unseenLooser, unseenAlike * 9 / 10);  // cells no larger than 1/8 of the box bound them
+  EXPECT_GE(shownLooser, shownAlike * 9 / 10);
+  EXPECT_LT(change, 1e-3);
+}
+
+// A camera that moves over a still scene sees it solved once, in the first frame a run renders: the
+// receivers then do not follow the view (the sidecar says so), and shards write what one run writes.
+TEST(Receivers, ACameraMovingOverAStillSceneLeavesThemUnguided) {
+  const fs::path dir = test::scratchDir("moving-camera");
+  const fs::path file = dir / "edge.gltf";
+  scenes::writeModel(shadowEdge(true), file.string());
+  auto render = [&](const std::string& out, std::vector<std::string> extra) {
+    std::vector<std::string> args = {"render", file.string(), "--frames", "0-23:8", "--size",
+                                     "32x24",  "--format",    "exr",      "--out",  (dir / out / "f_%04d").string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return test::runIvgi(args);
+  };
+  ASSERT_EQ(render("one", {}).status, 0);
+  ASSERT_EQ(render("shards", {"--shard", "1/3"}).status, 0);
+  EXPECT_TRUE(test::readFile(dir / "one" / "f_0008.exr") == test::readFile(dir / "shards" / "f_0008.exr"))
+      << "frame 8 differs";
+  const auto sidecar = nlohmann::json::parse(std::ifstream(dir / "one" / "f.json"));
+  EXPECT_EQ(sidecar["solver"]["unseenTolerance"].get<double>(), 1.0);
+  EXPECT_EQ(sidecar["settings"]["unseenTolerance"].get<double>(), 16.0);
 }
 
 namespace {

@@ -58,6 +58,11 @@ void addSolverOptions(CLI::App* cmd, SolverOptions& o) {
                   "iv solves irradiance at receivers chosen where the lighting needs them and interpolates the rest, "
                   "within this tolerance (smaller: more receivers, slower); 0: at every surfel; default: 0.4 on a "
                   "CPU device (lavapipe), 0 on a GPU");
+  cmd->add_option("--unseen-tol", o.iv.unseenTolerance,
+                  "iv: surfaces the image does not show, whose light reaches it only after a bounce, get receivers "
+                  "at this many times --receiver-tol (1: as those it shows; not where the camera moves over a still "
+                  "scene, whose solution serves every view)")
+      ->capture_default_str();
   cmd->add_option(
          "--tessellate", o.tessellation,
          "iv and ar sample surfaces at least this finely: triangle edges longer than 1/N of the scene's size are "

@@ -128,10 +128,12 @@ int runBench(const BenchOptions& o) {
   if (image.samples > 1) std::printf(" (%ux%u samples a pixel)", image.samples, image.samples);
   std::printf(", method %s", solver.method.c_str());
   const gi::IvSettings& iv = solver.iv;
-  if (const auto* ivSolver = dynamic_cast<const gi::IvSolver*>(renderer.solver()))
+  if (const auto* ivSolver = dynamic_cast<const gi::IvSolver*>(renderer.solver())) {
     std::printf(", bins 6x%ux%u, eps %g, bounces %s, receiver-tol %g%s", iv.bins, iv.bins, iv.epsilon,
                 bouncesText(iv).c_str(), *ivSolver->settings().receiverTolerance,
                 iv.receiverTolerance ? "" : " (the device's default)");
+    if (ivSolver->guidedByView()) std::printf(", unseen-tol %g", iv.unseenTolerance);
+  }
   if (solver.method == "ar")
     std::printf(", dirs 6x%ux%u, eps %g, iterations %s, %s, restart every %u", solver.ar.dirs, solver.ar.dirs,
                 iv.epsilon, solver.ar.iterations ? std::to_string(*solver.ar.iterations).c_str() : "auto",

@@ -51,6 +51,7 @@ nlohmann::json settingsJson(const std::string& method, const gi::IvSettings& iv,
           {"bounceTolerance", iv.bounceTolerance},
           {"kappa", iv.kappa},
           {"receiverTolerance", iv.receiverTolerance ? nlohmann::json(*iv.receiverTolerance) : nlohmann::json("auto")},
+          {"unseenTolerance", iv.unseenTolerance},
           {"rigid", iv.rigidOnce ? (*iv.rigidOnce ? "once" : "every-frame") : "auto"},
           {"tessellation", tessellation},
           {"direct", direct}};
@@ -62,6 +63,7 @@ nlohmann::json solverJson(const gi::Solver* solver) {
     nlohmann::json j = iv->stats();
     j["method"] = "iv";
     j["receiverTolerance"] = *iv->settings().receiverTolerance;
+    j["unseenTolerance"] = iv->guidedByView() ? iv->settings().unseenTolerance : 1.0f;
     j["rigidOnce"] = gi::rigidOnceOn(iv->settings());
     return j;
   }

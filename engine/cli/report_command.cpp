@@ -63,8 +63,10 @@ int runReport(const ReportOptions& o) {
     for (const auto& record : j["frames"]) records[record["frame"].get<int>()] = record;
     if (j.contains("device") && j["device"].contains("name")) devices.insert(j["device"]["name"].get<std::string>());
     if (j.contains("solver") && j["solver"].is_object() && j["solver"].contains("receiverTolerance")) {
-      char tolerance[32];
-      std::snprintf(tolerance, sizeof tolerance, "%g", j["solver"]["receiverTolerance"].get<double>());
+      char tolerance[64];
+      const double unseen = j["solver"].value("unseenTolerance", 1.0);
+      std::snprintf(tolerance, sizeof tolerance, unseen != 1.0 ? "%g with --unseen-tol %g" : "%g",
+                    j["solver"]["receiverTolerance"].get<double>(), unseen);
       receiverTolerances.insert(tolerance);
     }
     if (j.contains("solver") && j["solver"].is_object() && j["solver"].contains("rigidOnce"))
@@ -117,7 +119,7 @@ int runReport(const ReportOptions& o) {
                        "): their frames differ as the devices' arithmetic does");
   if (receiverTolerances.size() > 1)
     warnings.push_back("the runs solved iv with different receiver tolerances (" + listed(receiverTolerances) +
-                       "; its default follows the device): give every run the same --receiver-tol");
+                       "; its default follows the device): give every run the same --receiver-tol and --unseen-tol");
   if (rigidObjects.size() > 1)
     warnings.push_back("the runs pruned iv's rigid objects' links to themselves differently (" + listed(rigidObjects) +
                        "): give every run the same --rigid");

@@ -8,6 +8,7 @@
 #include "engine/cli/commands.h"
 #include "engine/cli/options.h"
 #include "engine/cli/progress.h"
+#include "engine/scene/animation.h"
 #include "engine/scene/gltf.h"
 #include "engine/scene/lights.h"
 #include "scenes/builtin.h"
@@ -144,6 +145,8 @@ std::unique_ptr<gi::Solver> makeSolver(const SolverOptions& o, const vk::Context
   settings.memoryBudget = o.maxMemoryMiB << 20;
   if (o.rigid != "auto") settings.rigidOnce = o.rigid == "once";
   if (!o.environment.empty()) settings.environment = scene::Environment::parse(o.environment);
+  // A still scene is solved once, for every frame: where a camera moves, for every view.
+  settings.viewGuided = scene::animationMovesGeometry(s, animation) || !scene::animationMovesCameras(s, animation);
   gi::IvSetup setup = hierarchy ? gi::IvSetup{*hierarchy, settings, {}} : gi::makeIvSetup(s, g, settings);
   gi::markMovingObjects(setup, s, g, animation);
   return std::make_unique<gi::IvSolver>(ctx, g, std::move(setup));

@@ -50,6 +50,7 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
       solver_(std::move(solver)),
       directPerPixel_(directPerPixel(g, solver_ != nullptr, directLight)),
       reflections_(g.directionalLobes && solver_ && solver_->reflectsLobes()),
+      viewGuided_(solver_ && solver_->guidedByView()),
       animate_(shaderProgram(ctx, "animate")),
       surfelUpdate_(shaderProgram(ctx, "surfels")),
       vertexIrradiance_(
@@ -131,7 +132,9 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
   surfelLobe_ = vk::Buffer(ctx, reflections_ ? shownIrradiance_.size() : 16, Memory::Device, tally);
   vertexLobe_ = vk::Buffer(ctx, reflections_ ? shownIrradiance_.size() : 16, Memory::Device, tally);
   shownSurfels_ =
-      vk::Buffer(ctx, reflections_ ? std::max<size_t>(surfelCount_, 1) * sizeof(uint32_t) : 16, Memory::Device, tally);
+      vk::Buffer(ctx, reflections_ || viewGuided_ ? std::max<size_t>(surfelCount_, 1) * sizeof(uint32_t) : 16,
+                 Memory::Device, tally);
+  if (viewGuided_) solver_->useView(shownSurfels_);
   noDirectLight_ = vk::Buffer(ctx, 16, Memory::Device, tally);
   if (directLight) {
     validate(*directLight);
@@ -222,11 +225,19 @@ bool FrameRenderer::recordFrame(VkCommandBuffer cmd, const gpu::Camera& camera, 
     posed_ = true;
   }
   if (direct_) direct_->record(cmd, timer_, buffers, geometryMoved);
-  if (solver_) solver_->record(cmd, timer_, surfels_, geometryMoved);
   timedPass(cmd, timer_, "raster", [&] {
     vk::updateBuffer(cmd, view_, 0, sizeof camera, &camera);
     raster_.record(cmd, buffers, view_, 1, fine, visibility_);
   });
+  // What the image shows, for the reflections and, where it follows the view, the solve.
+  if (reflections_ || (viewGuided_ && solver_->solvesFrame(geometryMoved)))
+    timedPass(cmd, timer_, "shown", [&] {
+      vk::fillBuffer(cmd, shownSurfels_, 0u);
+      const uint32_t samples = fine.x * fine.y;
+      markShown_.dispatchItems(cmd, samples, buffers, gpu::CountPush{.count = samples});
+      markFit_.dispatchItems(cmd, surfelCount_, buffers, gpu::CountPush{.count = surfelCount_});
+    });
+  if (solver_) solver_->record(cmd, timer_, surfels_, geometryMoved);
   if (solver_ && solver_->solvePending()) return false;
   recordResolve(cmd, camera);
   return true;
@@ -251,16 +262,7 @@ void FrameRenderer::recordResolve(VkCommandBuffer cmd, const gpu::Camera& camera
       directPixels_.dispatch(cmd, pixelGroups, buffers, push);
     });
   if (reflections_) {
-    timedPass(cmd, timer_, "reflections", [&] {
-      if (reflectEverySurfel_) {
-        vk::fillBuffer(cmd, shownSurfels_, ~0u);
-        return;
-      }
-      vk::fillBuffer(cmd, shownSurfels_, 0u);
-      const uint32_t samples = size.x * size.y * image_.samples * image_.samples;
-      markShown_.dispatchItems(cmd, samples, buffers, gpu::CountPush{.count = samples});
-      markFit_.dispatchItems(cmd, surfelCount_, buffers, gpu::CountPush{.count = surfelCount_});
-    });
+    if (reflectEverySurfel_) timedPass(cmd, timer_, "reflections", [&] { vk::fillBuffer(cmd, shownSurfels_, ~0u); });
     solver_->recordReflections(cmd, timer_, gpu::cameraEye(camera), shownSurfels_, surfelLobe_);
     timedPass(cmd, timer_, "reflections", [&] {
       lobesToVertices_.dispatchItems(
@@ -321,7 +323,7 @@ std::vector<scene::WorldVertex> FrameRenderer::worldVertices() const {
   return world_.read<scene::WorldVertex>(vertexCount_);
 }
 std::vector<uint32_t> FrameRenderer::shownSurfels() const {
-  return reflections_ ? shownSurfels_.read<uint32_t>(surfelCount_) : std::vector<uint32_t>{};
+  return reflections_ || viewGuided_ ? shownSurfels_.read<uint32_t>(surfelCount_) : std::vector<uint32_t>{};
 }
 std::vector<scene::Surfel> FrameRenderer::surfels() const { return surfels_.read<scene::Surfel>(surfelCount_); }
 

@@ -68,7 +68,8 @@ class FrameRenderer {
   void timePrograms();
   // For tests: the reflections at every surfel, not only where the image reads them (mark_shown).
   void reflectEverySurfel() { reflectEverySurfel_ = true; }
-  // After a frame with reflections: per surfel, what its image read of them (gpu's kShown bits).
+  // After a frame with reflections, or whose solve followed the view: per surfel, what its image
+  // read (gpu's kShown bits).
   std::vector<uint32_t> shownSurfels() const;
 
  private:
@@ -105,6 +106,7 @@ class FrameRenderer {
   std::unique_ptr<Solver> solver_;
   bool directPerPixel_;  // the resolve adds the depth maps' direct light at each sample
   bool reflections_;     // the solver reflects the indirect light through the glossy lobes
+  bool viewGuided_;      // the solver's receivers follow what the image shows
   bool posed_ = false;   // a frame posed the vertices and the surfels
   bool reflectEverySurfel_ = false;
   vk::Program animate_, surfelUpdate_, vertexIrradiance_, unshadowedToVertices_, lobesToVertices_, markShown_, markFit_,

@@ -38,6 +38,12 @@ class Solver {
   // Where nothing moved, the last frame's solution is what solving again would give: the solvers
   // record nothing and it stands.
   virtual void record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffer& surfels, bool geometryMoved) = 0;
+  // Whether the solve this frame would take the image's view into account (guidedByView) and whether
+  // record() will solve again (`geometryMoved` as record() takes it). Where both hold, the renderer
+  // marks what the image shows (gpu's kShown bits) in `shown` before record() and the solve reads it.
+  virtual bool guidedByView() const { return false; }
+  virtual bool solvesFrame(bool /*geometryMoved*/) const { return false; }
+  virtual void useView(const vk::Buffer& /*shown*/) {}
   // Whether record() left the solve to recordMorePasses() (the image is resolved after it).
   virtual bool solvePending() const { return false; }
   // After the frame completed: whether it must be recorded again (the solver has made more room),

@@ -82,6 +82,17 @@ bool animationMovesGeometry(const Scene& scene, int animation) {
   return false;
 }
 
+bool animationMovesCameras(const Scene& scene, int animation) {
+  if (animation < 0) return false;
+  std::vector<char> moved(scene.nodes.size(), 0);
+  for (const Channel& ch : scene.animations[animation].channels)
+    if (ch.path != Path::Weights) moved[ch.node] = 1;
+  for (int camera : scene.cameraNodes())
+    for (int n = camera; n >= 0; n = scene.nodes[n].parent)
+      if (moved[n]) return true;
+  return false;
+}
+
 Pose evaluatePose(const Scene& scene, int animation, float t) {
   Pose pose;
   size_t n = scene.nodes.size();

@@ -29,6 +29,8 @@ Pose evaluatePose(const Scene& scene, int animation, float t);
 // Whether `animation` moves any geometry or light (a mesh, light or joint node or one above it, or
 // morph weights); false when it animates only cameras, or for -1.
 bool animationMovesGeometry(const Scene& scene, int animation);
+// Whether the animation moves any of the scene's cameras (a channel on one or on a node above it).
+bool animationMovesCameras(const Scene& scene, int animation);
 
 glm::mat4 localMatrix(const Node& node, glm::vec3 t, glm::quat r, glm::vec3 s);
 

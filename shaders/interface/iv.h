@@ -169,6 +169,10 @@ struct ReceiverPush {
   float floorShare;  // a sample darker than this share of the largest is judged against that
   uint groupCount;   // of neighbour lists
   float largest;     // the largest radius a cell may have
+  // At a node none of whose surfels the image shows (kShownFit), the light test's need is scaled by
+  // this (1 / --unseen-tol) and the proximity test's by its square root, as --receiver-tol's own
+  // scale them; 1 where the refinement does not follow the view.
+  float unseenShare;
   // The prune's batching (Prune::Batching), for the dispatch sizes over the receivers listed.
   uint batch, leavesPerGroup, maxGroups, batches;
 };

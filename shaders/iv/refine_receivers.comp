@@ -37,6 +37,7 @@ layout(binding = 14, rgba32f) readonly uniform imageBuffer rotationGradients;  /
 layout(binding = 15, r32ui) readonly uniform uimageBuffer nodeBuried;
 layout(binding = 16, r32ui) readonly uniform uimageBuffer nodeLeaves;
 layout(binding = 17, r32ui) readonly uniform uimageBuffer surfelBuried;
+layout(binding = 18, r32ui) readonly uniform uimageBuffer seenNodes;
 layout(push_constant) uniform Push { ReceiverPush push; };
 #include "receiver_args.glsl"
 
@@ -153,14 +154,16 @@ void refineCandidate() {
     const float radius = nodeRadius(c);
     // Past 1 the need makes no difference (refinementShare), so the light's test, a walk of the
     // trees, runs only where the other two leave it below.
-    const float sure = max(kReceiverReach * radius * proximity[s] / push.proximity, radius / push.largest);
+    const float unseen = push.unseenShare < 1.0 && imageLoad(seenNodes, int(c)).x == 0u ? push.unseenShare : 1.0;
+    const float sure =
+        max(sqrt(unseen) * kReceiverReach * radius * proximity[s] / push.proximity, radius / push.largest);
     if (sure < 1.0 && !walked) {
       level = levelOf(c);
       const Query none = Query(0u, vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), false);
       listed = walkSamples(level, nodePositionArea(node).xyz, nodeRadius(node), nodeNormalCone(node), true, none);
       walked = true;
     }
-    const float need = sure >= 1.0 ? sure : max(sure, lightNeed(c, s, floorValue, level, listed));
+    const float need = sure >= 1.0 ? sure : max(sure, unseen * lightNeed(c, s, floorValue, level, listed));
     needs[c] = need;
     if (need <= kRefineFrom) continue;
     candidatesOut[atomicAdd(receiverCounts[push.target], 1u)] = c;

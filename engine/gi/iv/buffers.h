@@ -40,6 +40,7 @@ struct IvBuffers {
   vk::Buffer representatives, levelStarts, receivers, receiverCounts, receiverArgs, receiverRadius;
   vk::Buffer candidatesA, candidatesB, reach, gathered, rotationGradients, tapCounts, taps, proximity;
   vk::Buffer needs, presences, roles, groups, groupOfSurfel, neighbourCounts, neighbours;
+  vk::Buffer seenNodes;
 
   // Every buffer above by the name the shaders bind it under.
   vk::Bindings pool() const {
@@ -63,6 +64,7 @@ struct IvBuffers {
                                                  {"representatives", representatives},
                                                  {"levelStarts", levelStarts},
                                                  {"needs", needs},
+                                                 {"seenNodes", seenNodes},
                                                  {"presences", presences},
                                                  {"roles", roles},
                                                  {"groups", groups},

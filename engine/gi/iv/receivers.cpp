@@ -39,7 +39,8 @@ Receivers::Receivers(const vk::Context& ctx, const Hierarchy& h, const IvSetting
       roles_(shaderProgram(ctx, "receiver_roles")),
       reach_(shaderProgram(ctx, "receiver_reach")),
       neighbours_(shaderProgram(ctx, "neighbour_lists")),
-      weights_(shaderProgram(ctx, "interpolation_weights")) {
+      weights_(shaderProgram(ctx, "interpolation_weights")),
+      seen_(shaderProgram(ctx, "seen_nodes")) {
   const size_t nodes = h.nodes.size(), surfels = surfelCount_;
   vk::Allocations* tally = &allocations;
   b.representatives = vk::makeBuffer(ctx, h.representatives, vk::Memory::Device, tally);
@@ -59,6 +60,7 @@ Receivers::Receivers(const vk::Context& ctx, const Hierarchy& h, const IvSetting
   b.reach = vk::deviceArray<glm::vec2>(ctx, refines ? nodes : 0, allocations);
   b.needs = vk::deviceArray<float>(ctx, refines ? nodes : 0, allocations);
   b.presences = vk::deviceArray<float>(ctx, refines ? nodes : 0, allocations);
+  b.seenNodes = vk::deviceArray<uint32_t>(ctx, guidedByView() ? nodes : 0, allocations);
   b.roles = vk::deviceArray<float>(ctx, refines ? nodes : 0, allocations);
   b.groups = vk::makeBuffer(ctx, refines ? h.groups : std::vector<uint32_t>{}, vk::Memory::Device, tally);
   b.groupOfSurfel = vk::makeBuffer(ctx, refines ? h.groupOfSurfel : std::vector<uint32_t>{}, vk::Memory::Device, tally);
@@ -87,6 +89,7 @@ gpu::ReceiverPush Receivers::push(Lists lists, const Prune::Batching& batching) 
           .floorShare = kDirectFloor,
           .groupCount = groupCount_,
           .largest = largestCell_,
+          .unseenShare = guidedByView() ? 1.0f / settings_.unseenTolerance : 1.0f,
           .batch = batching.batch,
           .leavesPerGroup = batching.leavesPerGroup,
           .maxGroups = batching.maxGroups,
@@ -131,6 +134,11 @@ void Receivers::recordStart(VkCommandBuffer cmd) const {
   vk::fillBuffer(cmd, b_.presences, 0u);
   vk::fillBuffer(cmd, b_.rotationGradients, 0u);  // each receiver's estimate writes its own
   if (rootCount_ > 0) vk::copyRegion(cmd, roots_, b_.candidatesA, {0, 0, rootCount_ * sizeof(uint32_t)});
+  if (guidedByView() && shown_) {
+    vk::fillBuffer(cmd, b_.seenNodes, 0u);
+    seen_.dispatchItems(cmd, surfelCount_, b_.pool().with({{"shownSurfels", *shown_}}),
+                        gpu::CountPush{.count = surfelCount_});
+  }
 }
 
 void Receivers::recordSelect(VkCommandBuffer cmd, uint32_t round, const Prune::Batching& batching) const {

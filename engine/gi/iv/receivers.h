@@ -39,6 +39,10 @@ class Receivers {
   // Each surfel's interpolation; surfels no receiver reaches are listed as the next receivers to
   // prune (their dispatch sizes set).
   void recordWeights(VkCommandBuffer cmd, const Prune::Batching& batching) const;
+  // Whether the refinement judges the surfaces the image does not show at --unseen-tol, and the
+  // renderer's marks of what it shows (gpu's kShown bits), which recordStart() then reads.
+  bool guidedByView() const { return !everySurfel() && settings_.viewGuided && settings_.unseenTolerance > 1.0f; }
+  void useView(const vk::Buffer& shown) { shown_ = &shown; }
 
   struct Counts {
     uint32_t receivers, fills;
@@ -59,8 +63,9 @@ class Receivers {
   const IvBuffers& b_;
   uint32_t surfelCount_, nodeCount_, levels_, groupCount_, rootCount_;
   float largestCell_;
-  vk::Program args_, select_, refine_, roles_, reach_, neighbours_, weights_;
+  vk::Program args_, select_, refine_, roles_, reach_, neighbours_, weights_, seen_;
   vk::Buffer roots_;  // the first round's candidates, rootCount_ of them (the buffer may hold more room)
+  const vk::Buffer* shown_ = nullptr;
 };
 
 }  // namespace ivgi::gi

@@ -14,6 +14,8 @@ void validate(const IvSettings& s) {
   if (!(s.bounceTolerance > 0.0f && s.bounceTolerance < 1.0f)) throw SettingsError("--bounce-tol must lie in (0, 1)");
   if (s.receiverTolerance && !(*s.receiverTolerance >= 0.0f && *s.receiverTolerance <= 10.0f))
     throw SettingsError("--receiver-tol must lie in [0, 10]");
+  if (!(s.unseenTolerance >= 1.0f && s.unseenTolerance <= 1000.0f))
+    throw SettingsError("--unseen-tol must lie in [1, 1000]");
   if (!(s.kappa >= 0.01f && s.kappa <= 1000.0f)) throw SettingsError("--kappa must lie in [0.01, 1000]");
 }
 

@@ -20,6 +20,12 @@ struct IvSettings {
   // predicted from its neighbours, misses by more than this share of it; 0: at every surfel.
   // None: chosen by the device (receiverToleranceOn).
   std::optional<float> receiverTolerance;
+  // --unseen-tol: the surfaces the image does not show (their light reaches it only after a bounce)
+  // are judged at this many times --receiver-tol; 1: like those it shows.
+  float unseenTolerance = 16.0f;
+  // Whether the receivers may follow the image's view at all. Not where the camera moves over a still
+  // scene: its solution, made once, serves every view.
+  bool viewGuided = true;
   std::optional<scene::Environment> environment;  // --env; none: no environment light
   uint64_t memoryBudget = 0;  // --max-memory, in bytes: the most the solver may allocate; 0: the device's heap
   // The most workgroups one prune dispatch runs; 0: as many as the scene and the device allow. Fewer
