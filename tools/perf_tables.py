@@ -83,8 +83,8 @@ def fmt(ms):
 
 
 def per_pass_table(r, runs):
-    order = ["animate", "surfels", "direct light", "refit", "links", "prune", "receivers", "interpolation", "bounces", "raster",
-             "direct pixels", "resolve", "total"]
+    order = ["animate", "surfels", "direct light", "raster", "shown", "refit", "links", "prune", "receivers", "interpolation",
+             "bounces", "direct pixels", "resolve", "total"]
     columns, results = {}, {}
     for cells in (8, 26):
         columns[cells], results[cells] = bench(r, runs, cells, 20, 3)
@@ -737,8 +737,10 @@ bins, ε 0.02, bounces until converged, receivers at `--receiver-tol 0.4`, surfa
 1/16 of the scene: `--cells 8` is sampled as about 16; the lamp's direct light per pixel from 128
 points' depth maps of 128², `--direct pixels`). What cannot move (the room, the tall block)
 is linked and pruned in the first frame, and drawn into the maps once; every frame after it draws
-the moving block into the maps over them (`direct light`), links the moving block, chooses its
-receivers, prunes them and solves; `direct pixels` gives each pixel its share of the lamp's points.
+the moving block into the maps over them (`direct light`), draws the camera's view (`raster`) and
+marks the surfels the image reads (`shown`: the receivers are judged at `--unseen-tol` elsewhere),
+links the moving block, chooses its receivers, prunes them and solves; `direct pixels` gives each
+pixel its share of the lamp's points.
 
 {passes}
 

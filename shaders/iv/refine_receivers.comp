@@ -10,6 +10,8 @@
 // - its sample against the prediction from the other samples nearby of its level or coarser (each
 //   turned to its normal by its rotation gradient), over --receiver-tol of its own irradiance
 //   (against a share of the largest where it is darker).
+// A node none of whose surfels the image reads (seen_nodes) is judged at --unseen-tol: its light
+// reaches the image only after another bounce.
 // A child whose need passes kRefineFrom is refined: the next round's candidate. A child whose
 // receiver lies inside another object (a floor under a block) is refined where any of its surfels
 // lies outside, for its receiver's light is none of theirs, and never where none does. The last
