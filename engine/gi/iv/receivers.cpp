@@ -89,7 +89,7 @@ gpu::ReceiverPush Receivers::push(Lists lists, const Prune::Batching& batching) 
           .floorShare = kDirectFloor,
           .groupCount = groupCount_,
           .largest = largestCell_,
-          .unseenShare = guidedByView() ? 1.0f / settings_.unseenTolerance : 1.0f,
+          .unseenShare = followsView() ? 1.0f / settings_.unseenTolerance : 1.0f,
           .batch = batching.batch,
           .leavesPerGroup = batching.leavesPerGroup,
           .maxGroups = batching.maxGroups,
@@ -134,7 +134,7 @@ void Receivers::recordStart(VkCommandBuffer cmd) const {
   vk::fillBuffer(cmd, b_.presences, 0u);
   vk::fillBuffer(cmd, b_.rotationGradients, 0u);  // each receiver's estimate writes its own
   if (rootCount_ > 0) vk::copyRegion(cmd, roots_, b_.candidatesA, {0, 0, rootCount_ * sizeof(uint32_t)});
-  if (guidedByView() && shown_) {
+  if (followsView()) {
     vk::fillBuffer(cmd, b_.seenNodes, 0u);
     seen_.dispatchItems(cmd, surfelCount_, b_.pool().with({{"shownSurfels", *shown_}}),
                         gpu::CountPush{.count = surfelCount_});

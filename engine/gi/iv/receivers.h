@@ -57,6 +57,9 @@ class Receivers {
   const vk::Buffer& listBuffer(uint32_t slot) const;
   void recordArgs(VkCommandBuffer cmd, uint32_t mode, Lists lists, const Prune::Batching& batching) const;
   gpu::ReceiverPush push(Lists lists, const Prune::Batching& batching = {}) const;
+  // Guided by the view, and given the marks of what the image shows (without them every node is
+  // judged alike).
+  bool followsView() const { return guidedByView() && shown_ != nullptr; }
   void makeEverySurfelReceiver(const vk::Context& ctx, IvBuffers& b) const;
 
   const IvSettings& settings_;

@@ -208,7 +208,7 @@ void IvSolver::setObjectMatrices(const std::vector<glm::mat4>& matrices) {
 void IvSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffer& surfels, bool geometryMoved) {
   const Hierarchy& h = setup_.hierarchy;
   linkStatic_ = false;
-  solvePending_ = geometryMoved || !linked_;
+  solvePending_ = solvesFrame(geometryMoved);
   reused_ = !solvePending_;
   if (reused_) return;
   // The objects' poses (vkCmdUpdateBuffer takes at most 65,536 bytes at once).
