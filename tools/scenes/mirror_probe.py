@@ -1,9 +1,9 @@
 #!/usr/bin/python3
 """Writes the mirror probe: a polished metal floor (4 m square, base 0.9, metallic 1) with a white
-panel (0.8 m square, base 0.8) standing on it 1 m from its centre and facing the camera, which looks
-at the panel from 2.4 m. A spot lamp in front of the panel lights it; nothing else does (no sky).
+panel (0.8 m square, base 0.8) standing on it 1.125 m from its centre and facing the camera, which
+looks at the panel from 2.5 m. A spot lamp in front of the panel lights it; nothing else does (no sky).
 The floor mirrors the panel: how sharp and how bright that reflection comes out is what the probe
-measures against pt (docs/notes/glossy.md, *A polished floor's reflection of a near panel*).
+measures against pt (docs/notes/glossy.md, *Session 100*).
 
 Render it twice, the second time with --panel-base 0, and subtract: the difference is the floor's
 reflection of the panel alone (the lamp's own light on the floor is in both).
@@ -86,7 +86,10 @@ def main():
     parser.add_argument("--panel-base", type=float, default=0.8, help="the panel's base colour (grey)")
     a = parser.parse_args()
     floor = grid([-2, 0, 2], [4, 0, 0], [0, 0, -4], 16, 16, [0, 1, 0])
-    panel = grid([-0.4, 0, -1], [0.8, 0, 0], [0, 0.8, 0], 4, 4, [0, 0, 1])
+    # Halfway between two rows of the floor's vertices (every 0.25 m): a sheet standing on a row of
+    # them would darken the floor along its foot (README, the dark band), which is not what the
+    # probe measures.
+    panel = grid([-0.4, 0, -1.125], [0.8, 0, 0], [0, 0.8, 0], 4, 4, [0, 0, 1])
     materials = [
         {"name": "polished metal",
          "pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.9, 0.9, 1], "metallicFactor": 1.0,
