@@ -144,6 +144,38 @@ IVGI_FN SurfaceBrdf widenedLobe(SurfaceBrdf m, float spread) {
   return m;
 }
 
+// Smith's Λ toward d (in the lobe's frame, its normal z) of an anisotropic GGX of α_x² = ax2 and
+// α_y² = ay2: the isotropic Λ at α projected on d's azimuth (Heitz 2014).
+IVGI_FN float smithLambda(vec3 d, float ax2, float ay2) {
+  const float c2 = d.z * d.z, s2 = max(1.0f - c2, 0.0f), r2 = d.x * d.x + d.y * d.y;
+  const float a2 = r2 > 0.0f ? (ax2 * d.x * d.x + ay2 * d.y * d.y) / r2 : ax2;
+  return 0.5f * (sqrt(1.0f + a2 * s2 / max(c2, 1e-12f)) - 1.0f);
+}
+
+// The specular lobe of m (its Fresnel times D·V, the base left out) toward v of light from l, both in
+// the lobe's frame, where the light's directions spread around l with per-axis angular variance
+// `spread` (a sender's extent, a bin's; a disk of solid angle Ω spreads Ω/(4π)). As widenedLobe,
+// but the half vector turns half as far as the light only within the plane of v and l: across it,
+// 1/(2·v·h) as far. So toward grazing a spread of the light is a wider spread of the half vector
+// across the view's azimuth, and the lobe is widened there alone: an anisotropic GGX of α_x² = α² +
+// spread along the azimuth and α_y² = α² + spread/(v·h)² across it, its masking height-correlated.
+// At normal incidence, and with no spread, it is evalBrdf's lobe.
+IVGI_FN vec3 widenedSpecular(SurfaceBrdf m, vec3 l, vec3 v, float spread) {
+  if (l.z <= 0.0f || v.z <= 0.0f) return vec3(0.0f);
+  const vec3 h = normalize(l + v);
+  const float vh = dot(v, h), a2 = m.alpha * m.alpha, s = max(spread, 0.0f);
+  // The frame turned to v's azimuth: x along it, y across.
+  const float r = sqrt(v.x * v.x + v.y * v.y);
+  const float cx = r > 1e-6f ? v.x / r : 1.0f, cy = r > 1e-6f ? v.y / r : 0.0f;
+  const vec3 hf = vec3(cx * h.x + cy * h.y, cx * h.y - cy * h.x, h.z);
+  const vec3 lf = vec3(cx * l.x + cy * l.y, cx * l.y - cy * l.x, l.z), vf = vec3(r, 0.0f, v.z);
+  const float ax2 = min(a2 + s, 1.0f), ay2 = min(a2 + s / max(vh * vh, 1e-6f), 1.0f);
+  const float k = hf.x * hf.x / ax2 + hf.y * hf.y / ay2 + hf.z * hf.z;
+  const float d = hf.z > 0.0f ? 1.0f / (kPi * sqrt(ax2 * ay2) * k * k) : 0.0f;
+  const float specular = d / ((1.0f + smithLambda(lf, ax2, ay2) + smithLambda(vf, ax2, ay2)) * 4.0f * l.z * v.z);
+  return mix(dielectricFresnel(m, vh) * specular, metalFresnel(m, vh) * specular, m.metallic);
+}
+
 // A normal of the distribution as seen from v (Dupuy and Benyoub 2023, "Sampling visible GGX
 // normals with spherical caps"): reflecting v about it samples the specular lobe in proportion to
 // D_v(h) = G1(v) max(0, v·h) D(h) / v.z.

@@ -47,11 +47,10 @@ vec3 reflectedFrom(Lobe lobe, uint q, float f, bool lastB, float tail, inout vec
   // Its solid angle from the surfel (a disk's on its axis, finite when near; a curved sender faces it).
   const float facing = cone.w >= 0.5 * kPi ? 1.0 : max(dot(cone.xyz, -l), 0.0);
   const float solidAngle = min(positionArea.w * facing / (d2 + positionArea.w / kPi), 2.0 * kPi);
-  const SurfaceBrdf widened = widenedLobe(lobe.brdf, max(solidAngle / (4.0 * kPi), push.leastSpread));
   const vec3 lt = vec3(dot(l, lobe.t1), dot(l, lobe.t2), dot(l, lobe.n));
-  // weight 0: the lobe alone, not the base
   const vec3 sent = radiosity + excessToward(q, lobe.x, 0.0, push.leastSpread);
-  return f * max(sent - emission, vec3(0.0)) * evalBrdf(widened, lt, lobe.view, 0.0);
+  return f * max(sent - emission, vec3(0.0)) *
+         widenedSpecular(lobe.brdf, lt, lobe.view, max(solidAngle / (4.0 * kPi), push.leastSpread));
 }
 
 // What the lobe reflects of the light receiver r's links and its external light bring, in every
