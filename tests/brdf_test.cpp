@@ -379,17 +379,16 @@ TEST(Brdf, AWidenedLobeWithoutSpreadIsTheLobe) {
 
 namespace {
 
-// A white mirror-like metal of roughness α (its Fresnel 1), seen from cos θ = mu, and the direction
-// `centre` turned from the view's mirror image by `turn` (radians, within the plane of incidence).
+// A white mirror-like metal of roughness α (its Fresnel 1), seen from cos θ = mu, and the view's
+// mirror image `centre`.
 struct Spot {
   gpu::SurfaceBrdf brdf;
   glm::dvec3 v, centre;
 };
-Spot spotOf(double alpha, double mu, double turn) {
+Spot spotOf(double alpha, double mu) {
   const gpu::SurfaceBrdf brdf{glm::vec4(1.0f), glm::vec4(1.0f), 1.0f, float(alpha), 0.0f, 0.0f};
   const glm::dvec3 v(std::sqrt(1.0 - mu * mu), 0.0, mu);
-  const double theta = std::acos(mu) - turn;  // the mirror image's polar angle, turned toward the normal
-  return {brdf, v, glm::dvec3(-std::sin(theta), 0.0, std::cos(theta))};
+  return {brdf, v, glm::dvec3(-v.x, 0.0, mu)};
 }
 
 // The lobe's f·cos θ_l averaged over the cap of solid angle `omega` around the spot's centre, by a
@@ -420,7 +419,7 @@ TEST(Brdf, AWidenedLobeAtADisksCentreIsTheLobesMeanOverIt) {
   for (double mu : {0.9, 0.5, 0.28})
     for (double alpha : {0.04, 0.09, 0.25})
       for (double bins : {1.0, 4.0, 16.0}) {
-        const Spot s = spotOf(alpha, mu, 0.0);
+        const Spot s = spotOf(alpha, mu);
         const double omega = bins * bin, mean = capMean(s, omega);
         const double widened =
             gpu::widenedSpecular(s.brdf, glm::vec3(s.centre), glm::vec3(s.v), float(omega / (4.0 * kPi))).x *
@@ -438,7 +437,7 @@ TEST(Brdf, WidenedLobesOverSendersTilingTheSphereSumToTheAlbedo) {
   for (double mu : {0.9, 0.5, 0.28})
     for (double alpha : {0.04, 0.09, 0.25}) {
       if (alpha < 0.05 && mu < 0.3) continue;  // a lobe this narrow at grazing falls between the senders
-      const Spot s = spotOf(alpha, mu, 0.0);
+      const Spot s = spotOf(alpha, mu);
       double sum = 0.0;
       for (int i = 0; i < kSenders; ++i) {
         const double z = 1.0 - 2.0 * (i + 0.5) / kSenders, phi = kPi * (1.0 + std::sqrt(5.0)) * (i + 0.5),

@@ -137,8 +137,9 @@ IVGI_FN bool lobeDominates(SurfaceBrdf m, vec2 table) {
 // The specular lobe of m reflecting light whose directions spread around the one it is evaluated
 // at (a sender's extent, a bin's) with per-axis angular variance `spread` (rad²): the distribution
 // convolved with that spread, as Gaussians matched at their peaks add. GGX's slopes near its peak
-// spread as α²/4 per axis, and the half vector turns half as far as the light, so α'² = α² + spread.
-// A disk of solid angle Ω spreads Ω/(4π).
+// spread as α²/4 per axis, and near normal incidence the half vector turns half as far as the
+// light, so α'² = α² + spread (toward grazing it turns further across the plane of incidence:
+// widenedSpecular). A disk of solid angle Ω spreads Ω/(4π).
 IVGI_FN SurfaceBrdf widenedLobe(SurfaceBrdf m, float spread) {
   m.alpha = min(sqrt(m.alpha * m.alpha + max(spread, 0.0f)), 1.0f);
   return m;
@@ -159,7 +160,7 @@ IVGI_FN float smithLambda(vec3 d, float ax2, float ay2) {
 // 1/(2·v·h) as far. So toward grazing a spread of the light is a wider spread of the half vector
 // across the view's azimuth, and the lobe is widened there alone: an anisotropic GGX of α_x² = α² +
 // spread along the azimuth and α_y² = α² + spread/(v·h)² across it, its masking height-correlated.
-// At normal incidence, and with no spread, it is evalBrdf's lobe.
+// With no spread it is evalBrdf's lobe.
 IVGI_FN vec3 widenedSpecular(SurfaceBrdf m, vec3 l, vec3 v, float spread) {
   if (l.z <= 0.0f || v.z <= 0.0f) return vec3(0.0f);
   const vec3 h = normalize(l + v);
