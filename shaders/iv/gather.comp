@@ -37,6 +37,10 @@ layout(binding = 17, rgba32f) readonly uniform imageBuffer binTable;
 layout(std430, binding = 16) writeonly buffer RotationGradients { vec4 rotationGradients[]; };  // 3 a surfel: r, g, b
 layout(binding = 18, rgba32f) readonly uniform imageBuffer lobeExcess;     // per surfel, at receivers
 layout(binding = 20, rgba32f) readonly uniform imageBuffer arrivalExcess;  // the same of the first bounce's light
+// per surfel: the light of every static link, overrides left aside, and their Σ F (a): what a
+// receiver's still senders bring, which a surfel by a crease takes its own of (gather_creases.comp)
+layout(std430, binding = 21) writeonly buffer StillGathered { vec4 stillGathered[]; };
+layout(std430, binding = 22) readonly buffer StaticLeaves { StaticLeaf staticLeaves[]; };
 // per node: kNodeRigid, its object; then per object its pose (prune_bins.comp)
 layout(binding = 19, r32ui) readonly uniform uimageBuffer nodeFlags;
 layout(push_constant) uniform Push { GatherPush push; };
@@ -82,11 +86,18 @@ void main() {
     uvec2 link = loadParted(leafLinks, i).xy;
     g += uintBitsToFloat(link.y) * imageLoad(radiosityIn, int(link.x)).rgb;
   }
+  vec3 still = vec3(0.0);
+  float covered = 0.0;
   for (uint i = staticRange.x; i < staticRange.x + staticRange.y; ++i) {
     uvec2 link = loadParted(staticLinks, i).xy;
-    if (staticLinkStands(s, i, push.maskWords)) g += uintBitsToFloat(link.y) * imageLoad(radiosityIn, int(link.x)).rgb;
+    const vec3 sent = uintBitsToFloat(link.y) * imageLoad(radiosityIn, int(link.x)).rgb;
+    still += sent, covered += uintBitsToFloat(link.y);
+    if (staticLinkStands(s, i, push.maskWords)) g += sent;
   }
   gathered[s] = vec4(g, 0.0);
+  // The emitters' own light, which the depth maps give, out as the external light takes it out of g.
+  if (staticRange.y > 0u) still += staticLeaves[s].correction.rgb;
+  stillGathered[s] = vec4(still, covered);
   // The first bounce's rotation gradient, with the refinement's estimate: the links again (a loop of
   // its own keeps the bounces' gathers as they were).
   if (push.newOnly != 0u) {

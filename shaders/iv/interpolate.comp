@@ -1,9 +1,10 @@
 #version 460
 // iv's bounces, at every surfel: irradiance E interpolated from the receivers' gathered irradiance
 // with the coefficients of interpolation_weights.comp (a receiver takes its own), each turned to the
-// surfel's normal by its rotation gradient, plus the depth maps' direct light (zero where the bins
-// carry it), radiosity B = π·Le + ρ·E at its leaf. Reads last bounce's radiosity only for the
-// change, writes the next (no race); keeps the irradiance's change for the tail (bounce_tail.comp).
+// surfel's normal by its rotation gradient (by a crease, the still senders' part its own), plus the
+// depth maps' direct light (zero where the bins carry it), radiosity B = π·Le + ρ·E at its leaf.
+// Reads last bounce's radiosity only for the change, writes the next (no race); keeps the
+// irradiance's change for the tail (bounce_tail.comp).
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 11
 #include "common/common.glsl"
@@ -24,6 +25,11 @@ layout(binding = 15, rgba32f) readonly uniform imageBuffer rotationGradients;   
 layout(std430, binding = 9) writeonly buffer BounceSums { BounceSum bounceSums[]; };  // per workgroup
 layout(std430, binding = 10) readonly buffer FrameCounters { uint frameCounters[]; };
 layout(std430, binding = 12) readonly buffer StaticCounters { uint staticCounters[]; };
+// per surfel, at receivers and by creases: the static links' light, and (a) their Σ F (gather_creases.comp)
+layout(std430, binding = 16) readonly buffer StillGathered { vec4 stillGathered[]; };
+layout(binding = 17, r32ui) readonly uniform uimageBuffer surfelCrease;  // per surfel: 1 by a crease (creases.h)
+layout(binding = 18, r32ui) readonly uniform uimageBuffer surfelRoot;
+layout(binding = 19, r32ui) readonly uniform uimageBuffer rootFlags;
 layout(push_constant) uniform Push { InterpolatePush push; };
 #include "turned_irradiance.glsl"
 
@@ -49,10 +55,28 @@ BounceSum interpolate(uint s) {
   const uint count = imageLoad(tapCounts, int(s)).x;
   const uint leaf = imageLoad(leafOfSurfel, int(s)).x;
   const vec3 n = nodeNormalCone(leaf).xyz;
-  vec3 e = vec3(0.0);
+  const bool crease = imageLoad(surfelCrease, int(s)).x != 0u;
+  vec3 e = vec3(0.0), tapsStill = vec3(0.0);
+  float tapsCovered = 0.0;
+  bool stillTaps = crease;
   for (uint t = 0u; t < count; ++t) {
     uvec2 tap = imageLoad(taps, int(s * kInterpolationTaps + t)).xy;
-    e += uintBitsToFloat(tap.y) * turnedIrradiance(tap.x, n);
+    const float w = uintBitsToFloat(tap.y);
+    e += w * turnedIrradiance(tap.x, n);
+    if (crease) {
+      const vec4 still = stillGathered[tap.x];
+      tapsStill += w * still.rgb, tapsCovered += w * still.a;
+      const uint root = imageLoad(surfelRoot, int(tap.x)).x;
+      stillTaps = stillTaps && tap.x != s && (imageLoad(rootFlags, int(root)).x & kRootStill) != 0u;
+    }
+  }
+  // By a crease, the still senders' light is the surfel's own (gather_creases.comp), the rest its
+  // receivers'. The other surface only adds to what a surfel there sees: where it covers less of its
+  // hemisphere than its receivers do, the bins lost it beside the edge (their gaps, where the faces
+  // meet), and the lost part is taken at the mean of what it sees.
+  if (stillTaps) {
+    const vec4 own = stillGathered[s];
+    if (own.a > 0.0) e += own.rgb * (1.0 + max(tapsCovered - own.a, 0.0) / own.a) - tapsStill;
   }
   e = max(e, vec3(0.0)) + imageLoad(surfelDirect, int(s)).rgb;  // the fit's coefficients may be negative
   const vec3 b = kPi * imageLoad(emission, int(s)).rgb + imageLoad(albedo, int(s)).rgb * e;

@@ -58,11 +58,22 @@ Bounces::Bounces(const vk::Context& ctx, const Hierarchy& h, const IvSettings& s
   senderArrival_ =
       vk::Buffer(ctx, metal_ ? std::max<uint64_t>(nodeCount_, 1) * 2 * gpu::kArrivalLobes * sizeof(glm::vec4) : 16,
                  vk::Memory::Device, &allocations);
+  stillGathered_ = vk::Buffer(ctx, change_.size(), vk::Memory::Device, &allocations);
+  setCreases({}, allocations);
   if (!metal_) return;
   // Inner nodes and the leaves whose lobe does not dominate send all evenly (α 0); the others write theirs.
   ctx.submitAndWait([&](VkCommandBuffer cmd) { vk::fillBuffer(cmd, senderArrival_, 0u); });
   markArrival_.emplace(ctx, "mark_arrival", shaderCode("mark_arrival"));
   sendArrival_.emplace(ctx, "send_arrival", shaderCode("send_arrival"));
+}
+
+void Bounces::setCreases(const std::vector<uint32_t>& surfels, vk::Allocations& allocations) {
+  creaseCount_ = uint32_t(surfels.size());
+  creaseSurfels_ =
+      vk::makeBuffer(ctx_, surfels.empty() ? std::vector<uint32_t>{0u} : surfels, vk::Memory::Device, &allocations);
+  std::vector<uint32_t> flags(std::max<size_t>(surfelCount_, 1), 0u);
+  for (uint32_t s : surfels) flags[s] = 1u;
+  surfelCrease_ = vk::makeBuffer(ctx_, flags, vk::Memory::Device, &allocations);
 }
 
 void Bounces::pullUp(VkCommandBuffer cmd, const vk::Buffer& radiosity, bool indirect) const {
@@ -128,7 +139,8 @@ vk::Bindings Bounces::gatherBindings(const vk::Buffer& in) const {
                          {"frameCounters", frameSet_.counters},
                          {"staticCounters", staticSet_.counters},
                          {"lobeExcess", receiverExcess_},
-                         {"arrivalExcess", arrivalExcess_}});
+                         {"arrivalExcess", arrivalExcess_},
+                         {"stillGathered", stillGathered_}});
 }
 
 gpu::GatherPush Bounces::gatherPush(uint32_t newOnly, bool arrival) const {
@@ -159,13 +171,24 @@ void Bounces::recordSteps(VkCommandBuffer cmd, uint32_t first, uint32_t steps) c
     const vk::Buffer& out = solution(k + 1);
     // What the metals' lobes send of the light the first gather brings arrives from the second on.
     gather_->dispatchIndirect(cmd, args_, 0, gatherBindings(in), gatherPush(0u, metal_ && k >= 1));
+    if (creaseCount_ > 0)
+      gatherCreases_->dispatchItems(cmd, creaseCount_,
+                                    b_.pool().with({{"radiosityIn", in},
+                                                    {"frameCounters", frameSet_.counters},
+                                                    {"staticCounters", staticSet_.counters},
+                                                    {"stillGathered", stillGathered_},
+                                                    {"creaseSurfels", creaseSurfels_},
+                                                    {"bounceStates", state_}}),
+                                    gpu::CountPush{.count = creaseCount_});
     interpolate_.dispatchIndirect(cmd, args_, sizeof(glm::uvec4),
                                   b_.pool().with({{"radiosityIn", in},
                                                   {"radiosityOut", out},
                                                   {"frameCounters", frameSet_.counters},
                                                   {"staticCounters", staticSet_.counters},
                                                   {"bounceSums", sums_},
-                                                  {"irradianceChange", change_}}),
+                                                  {"irradianceChange", change_},
+                                                  {"stillGathered", stillGathered_},
+                                                  {"surfelCrease", surfelCrease_}}),
                                   surfels);
     pullUp(cmd, out, true);
     check_.dispatch(cmd, {},
@@ -195,6 +218,8 @@ void Bounces::recordReflections(VkCommandBuffer cmd, glm::vec4 eye, const vk::Bu
 void Bounces::makeLinkReaders() {
   const vk::Specialization views{.constants = {{"texelViews", texelViews_}, {"kSenderLobes", glossy_ ? 1u : 0u}}};
   gather_.emplace(ctx_, "gather", shaderCode("gather"), views);
+  gatherCreases_.emplace(ctx_, "gather_creases", shaderCode("gather_creases"),
+                         vk::Specialization{.constants = {{"texelViews", texelViews_}}});
   markTaps_.emplace(ctx_, "mark_taps", shaderCode("mark_taps"));
   reflectReceivers_.emplace(ctx_, "reflect_receivers", shaderCode("reflect_receivers"), views);
   reflectSurfels_.emplace(ctx_, "reflect_surfels", shaderCode("reflect_surfels"));

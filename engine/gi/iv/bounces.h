@@ -46,6 +46,9 @@ class Bounces {
   // receivers and interpolated to the surfels; only at those `shown` marks kShownFit, through the
   // receivers it then marks kShownTap (mark_taps).
   void recordReflections(VkCommandBuffer cmd, glm::vec4 eye, const vk::Buffer& shown, const vk::Buffer& lobes) const;
+  // The still surfels by a concave crease (creases.h), which take their still senders' light from
+  // their own static links each bounce (gather_creases.comp); none before this is called.
+  void setCreases(const std::vector<uint32_t>& surfels, vk::Allocations& allocations);
   // The leaf links are bound in `views` texel views (shaders/common/parted_texels.glsl): 1 or kTexelParts.
   void readTexelViews(uint32_t views);
   // After the frame's steps ran: how far the bounces got.
@@ -78,7 +81,7 @@ class Bounces {
   vk::Program emit_, interpolate_, pullUp_, check_, tail_;
   uint32_t texelViews_ = 1;
   // The passes that read the links: made again for more texel views.
-  std::optional<vk::Program> gather_, markTaps_, reflectReceivers_, reflectSurfels_, lobeExcess_;
+  std::optional<vk::Program> gather_, gatherCreases_, markTaps_, reflectReceivers_, reflectSurfels_, lobeExcess_;
   // A scene with a metal's: lobe_excess for both lobes (kArrival), mark_arrival, arrival_lobes, send_arrival.
   std::optional<vk::Program> lobeExcessBoth_, markArrival_, arrivalLobes_, sendArrival_;
   uint32_t interpolateGroups_;
@@ -90,6 +93,9 @@ class Bounces {
   vk::Buffer receiverArrival_;                 // per surfel, at the receivers metal surfels tap: arrival_lobes'
   vk::Buffer senderArrival_;                   // per node: send_arrival's
   vk::Buffer arrivalTaps_;                     // per surfel: mark_arrival's
+  vk::Buffer stillGathered_;                   // per surfel: the static links' light (gather, gather_creases)
+  vk::Buffer creaseSurfels_, surfelCrease_;    // the surfels by a crease; per surfel, 1 where it is one
+  uint32_t creaseCount_ = 0;
 };
 
 }  // namespace ivgi::gi

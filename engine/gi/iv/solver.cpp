@@ -6,6 +6,7 @@
 
 #include "engine/core/errors.h"
 #include "engine/gi/bins.h"
+#include "engine/gi/iv/creases.h"
 #include "engine/gi/pass.h"
 
 namespace ivgi::gi {
@@ -111,6 +112,13 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, IvSetup set
   std::vector<uint32_t> leafMoves(surfelCount_);
   for (uint32_t s = 0; s < surfelCount_; ++s) leafMoves[s] = nodeFlags[h.leafOfSurfel[s]] & gpu::kNodeMoves;
   uploadScene(g, nodeFlags, split, maskWords);
+  // Where still objects keep static links, their surfels by a crease gather those themselves.
+  if (split && !receivers_.everySurfel()) {
+    std::vector<bool> still(surfelCount_);
+    for (uint32_t s = 0; s < surfelCount_; ++s) still[s] = !(nodeFlags[h.leafOfSurfel[s]] & gpu::kNodeMoves);
+    creases_ = gi::creaseSurfels(scene::surfelsOnHost(g, scene::animateOnHost(g, setup_.restPose)), still);
+    bounces_.setCreases(creases_, allocations_);
+  }
   prune_.allocateBins(b_, allocations_);
   ctx.submitAndWait([&](VkCommandBuffer cmd) {
     vk::fillBuffer(cmd, b_.staticRanges, 0u);

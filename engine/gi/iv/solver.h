@@ -91,6 +91,8 @@ class IvSolver final : public Solver {
   std::vector<uint32_t> receiverSurfels() const;
   // Those of them made for surfels no other receiver's support holds (fills).
   std::vector<uint32_t> fillSurfels() const;
+  // The still surfels by a concave crease (creases.h), in order.
+  const std::vector<uint32_t>& creaseSurfels() const { return creases_; }
   // Per surfel, the receivers its irradiance is interpolated from and their coefficients.
   struct Tap {
     uint32_t receiver;
@@ -150,6 +152,7 @@ class IvSolver final : public Solver {
   std::vector<float> poses_;  // the frame's, as the nodes' flags hold them (kPoseWords a root)
   uint32_t poseBase_ = 0;
   bool anyRigid_ = false;
+  std::vector<uint32_t> creases_;  // creaseSurfels()
 };
 
 }  // namespace ivgi::gi
