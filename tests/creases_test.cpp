@@ -26,7 +26,7 @@ void addRows(std::vector<gpu::Surfel>& surfels, glm::vec3 origin, glm::vec3 acro
       const float out = r == 0 ? 0.25f * side : float(r) * side, area = (r == 0 ? 0.5f : 1.0f) * side * side;
       const glm::vec3 p = origin + glm::vec3((float(c) + 0.5f) * side, 0.0f, 0.0f) + out * across;
       surfels.push_back({glm::vec4(p, area), glm::vec4(normal, 0.0f),
-                         glm::vec4(std::sqrt(area / 3.14159265f), 0.0f, 0.5f * side, 0.5f * side)});
+                         glm::vec4(std::sqrt(area / gpu::kPi), 0.0f, 0.5f * side, 0.5f * side)});
     }
 }
 
