@@ -120,7 +120,9 @@ bool onLeftWallInTheTallBlocksShadow(const OIIO::ImageBuf& ref, int x, int y) {
 // walls: 1.154 here (relMSE 0.00563), where its weights summed to less than the lobe's albedo and
 // kept it at 1.062 (relMSE 0.00579) until they were made to sum to it
 // (Glossy.AnEvenSkyReflectsAsTheLobesAlbedo). With the floor and the satin block matte, the
-// regions' tool puts the block's front at 1.053 and 0.985.
+// regions' tool puts the block's front at 1.053 and 0.985. iv's lowest rows mirror the polished
+// floor at some 12°, toward which its base leaves at three quarters of even: taken evenly in the
+// reflections, iv's metal came out 1.045 here; by its exit angle, 1.010.
 TEST(Reference, IvAndArAgainstPtOnTheGlossyCornellBox) {
   ASSERT_TRUE(fs::exists(kGlossyReference));
   const auto meanOverMetal = [](const fs::path& image, const fs::path& reference) {
@@ -131,7 +133,7 @@ TEST(Reference, IvAndArAgainstPtOnTheGlossyCornellBox) {
     const char* method;
     double relMse, metal;
   };
-  for (const auto& [method, maxRelMse, maxMetal] : {Bound{"iv", 0.0085, 0.15}, Bound{"ar", 0.009, 0.2}}) {
+  for (const auto& [method, maxRelMse, maxMetal] : {Bound{"iv", 0.0085, 0.03}, Bound{"ar", 0.009, 0.2}}) {
     const fs::path exr = test::renderExr(std::string(method) + "_glossy",
                                          {"cornell", "--glossy", "--method", method, "--size", "160x120"});
     const auto error =

@@ -11,4 +11,11 @@ vec2 specularAlbedoOf(float alpha, float mu) {
              mix(imageLoad(specularAlbedo, t + row).xy, imageLoad(specularAlbedo, t + row + 1).xy, cell.z), cell.w);
 }
 vec2 specularAlbedoAt(SurfaceBrdf m, float mu) { return specularAlbedoOf(m.alpha, mu); }
+// Their cosine-weighted means over the hemisphere at α (the table's last row, by roughness:
+// scene::SpecularAlbedo::meanAt).
+vec2 specularAlbedoMeanOf(float alpha) {
+  const vec4 cell = albedoTableCell(1.0, sqrt(alpha));
+  const int at = int(kAlbedoTableSize * kAlbedoTableSize + uint(cell.y));
+  return mix(imageLoad(specularAlbedo, at).xy, imageLoad(specularAlbedo, at + 1).xy, cell.w);
+}
 #endif

@@ -24,6 +24,22 @@ layout(std430, binding = 14) readonly buffer BounceStates { BounceState state; }
 #include "receiver_links.glsl"
 #define SENDER_LOBES 15
 #include "common/sender_lobes.glsl"
+layout(binding = 20, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode: a leaf's surfel
+
+// What a glossy dielectric leaf q of normal n sends toward unit w of its reflected light
+// `reflected` beyond it sent evenly: its base leaves as (1 − E(μ_w))/(1 − Ē) of even under its layer
+// (brdf.h's baseWeight), as the resolve shows it toward the camera. Zero for any other node.
+vec3 baseTowardBeyondEven(uint q, vec3 n, vec3 w, vec3 reflected) {
+  const uvec4 node = imageLoad(tree, int(q));
+  if (node.z != 0u) return vec3(0.0);
+  const SurfaceBrdf m = surfelBrdf[node.w];
+  if (isLambertian(m) || m.metallic >= 1.0) return vec3(0.0);
+  const vec2 mean = specularAlbedoMeanOf(m.alpha);
+  const vec3 base = baseReflectanceOf(m, mean), all = base + lobeReflectanceOf(m, mean);
+  const float toward = 1.0 - layerAlbedo(m, specularAlbedoAt(m, max(dot(n, w), 0.0)));
+  const float even = max(1.0 - layerAlbedo(m, mean), 1e-6);
+  return reflected * base / max(all, vec3(1e-6)) * (toward / even - 1.0);
+}
 
 // What the lobe reflects of the light of sender q, which gives the receiver irradiance f times its
 // radiosity: its emission's share in `emitted`, the rest through the lobe.
@@ -48,7 +64,8 @@ vec3 reflectedFrom(Lobe lobe, uint q, float f, bool lastB, float tail, inout vec
   const float facing = cone.w >= 0.5 * kPi ? 1.0 : max(dot(cone.xyz, -l), 0.0);
   const float solidAngle = min(positionArea.w * facing / (d2 + positionArea.w / kPi), 2.0 * kPi);
   const vec3 lt = vec3(dot(l, lobe.t1), dot(l, lobe.t2), dot(l, lobe.n));
-  const vec3 sent = radiosity + excessToward(q, lobe.x, 0.0, push.leastSpread);
+  const vec3 sent = radiosity + excessToward(q, lobe.x, 0.0, push.leastSpread) +
+                    baseTowardBeyondEven(q, cone.xyz, -l, max(radiosity - emission, vec3(0.0)));
   return f * max(sent - emission, vec3(0.0)) *
          widenedSpecular(lobe.brdf, lt, lobe.view, max(solidAngle / (4.0 * kPi), push.leastSpread));
 }
