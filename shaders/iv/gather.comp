@@ -45,6 +45,7 @@ layout(std430, binding = 22) readonly buffer StaticLeaves { StaticLeaf staticLea
 layout(binding = 19, r32ui) readonly uniform uimageBuffer nodeFlags;
 layout(push_constant) uniform Push { GatherPush push; };
 layout(constant_id = 28) const bool kSenderLobes = false;  // some lobe sends by direction
+layout(constant_id = 0) const bool kCreases = false;       // some surfel by a crease reads stillGathered
 #include "object_pose.glsl"
 #include "receiver_links.glsl"
 
@@ -91,13 +92,13 @@ void main() {
   for (uint i = staticRange.x; i < staticRange.x + staticRange.y; ++i) {
     uvec2 link = loadParted(staticLinks, i).xy;
     const vec3 sent = uintBitsToFloat(link.y) * imageLoad(radiosityIn, int(link.x)).rgb;
-    still += sent, covered += uintBitsToFloat(link.y);
+    if (kCreases) still += sent, covered += uintBitsToFloat(link.y);
     if (staticLinkStands(s, i, push.maskWords)) g += sent;
   }
   gathered[s] = vec4(g, 0.0);
   // The emitters' own light, which the depth maps give, out as the external light takes it out of g.
-  if (staticRange.y > 0u) still += staticLeaves[s].correction.rgb;
-  stillGathered[s] = vec4(still, covered);
+  if (kCreases)
+    stillGathered[s] = vec4(still + (staticRange.y > 0u ? staticLeaves[s].correction.rgb : vec3(0.0)), covered);
   // The first bounce's rotation gradient, with the refinement's estimate: the links again (a loop of
   // its own keeps the bounces' gathers as they were).
   if (push.newOnly != 0u) {

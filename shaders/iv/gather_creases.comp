@@ -36,5 +36,5 @@ void main() {
     const float f = uintBitsToFloat(link.y);
     g += f * imageLoad(radiosityIn, int(link.x)).rgb, covered += f;
   }
-  stillGathered[s] = vec4(g + staticLeaves[s].correction.rgb, covered);
+  stillGathered[s] = vec4(g + (range.y > 0u ? staticLeaves[s].correction.rgb : vec3(0.0)), covered);
 }

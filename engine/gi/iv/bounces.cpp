@@ -74,6 +74,7 @@ void Bounces::setCreases(const std::vector<uint32_t>& surfels, vk::Allocations& 
   std::vector<uint32_t> flags(std::max<size_t>(surfelCount_, 1), 0u);
   for (uint32_t s : surfels) flags[s] = 1u;
   surfelCrease_ = vk::makeBuffer(ctx_, flags, vk::Memory::Device, &allocations);
+  if (creaseCount_ > 0) makeLinkReaders();  // the gather then sums the still senders' light too
 }
 
 void Bounces::pullUp(VkCommandBuffer cmd, const vk::Buffer& radiosity, bool indirect) const {
@@ -217,7 +218,10 @@ void Bounces::recordReflections(VkCommandBuffer cmd, glm::vec4 eye, const vk::Bu
 
 void Bounces::makeLinkReaders() {
   const vk::Specialization views{.constants = {{"texelViews", texelViews_}, {"kSenderLobes", glossy_ ? 1u : 0u}}};
-  gather_.emplace(ctx_, "gather", shaderCode("gather"), views);
+  gather_.emplace(ctx_, "gather", shaderCode("gather"),
+                  vk::Specialization{.constants = {{"texelViews", texelViews_},
+                                                   {"kSenderLobes", glossy_ ? 1u : 0u},
+                                                   {"kCreases", creaseCount_ > 0 ? 1u : 0u}}});
   gatherCreases_.emplace(ctx_, "gather_creases", shaderCode("gather_creases"),
                          vk::Specialization{.constants = {{"texelViews", texelViews_}}});
   markTaps_.emplace(ctx_, "mark_taps", shaderCode("mark_taps"));
