@@ -122,7 +122,8 @@ bool onLeftWallInTheTallBlocksShadow(const OIIO::ImageBuf& ref, int x, int y) {
 // (Glossy.AnEvenSkyReflectsAsTheLobesAlbedo). With the floor and the satin block matte, the
 // regions' tool puts the block's front at 1.053 and 0.985. iv's lowest rows mirror the polished
 // floor at some 12°, toward which its base leaves at three quarters of even: taken evenly in the
-// reflections, iv's metal came out 1.045 here; by its exit angle, 1.010.
+// reflections, iv's metal came out 1.045 here; by its exit angle, 1.010. ar's tables take the bases
+// by their exit angles too, its lobes scaled to the bins' ∫cos dω: 1.117.
 TEST(Reference, IvAndArAgainstPtOnTheGlossyCornellBox) {
   ASSERT_TRUE(fs::exists(kGlossyReference));
   const auto meanOverMetal = [](const fs::path& image, const fs::path& reference) {
@@ -133,7 +134,7 @@ TEST(Reference, IvAndArAgainstPtOnTheGlossyCornellBox) {
     const char* method;
     double relMse, metal;
   };
-  for (const auto& [method, maxRelMse, maxMetal] : {Bound{"iv", 0.0085, 0.03}, Bound{"ar", 0.009, 0.2}}) {
+  for (const auto& [method, maxRelMse, maxMetal] : {Bound{"iv", 0.0085, 0.03}, Bound{"ar", 0.009, 0.13}}) {
     const fs::path exr = test::renderExr(std::string(method) + "_glossy",
                                          {"cornell", "--glossy", "--method", method, "--size", "160x120"});
     const auto error =

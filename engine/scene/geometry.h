@@ -58,6 +58,8 @@ struct Geometry {
   bool lobeDominatedMaterials = false;  // in some, the lobe reflects most (gpu::lobeDominates): a metal
   // in some, the lobe sends its light too far from evenly to send it so (kEvenLobeDeviation)
   bool directionalLobes = false;
+  // in some, a dielectric's base sends its light too far from evenly (scene::sendsBaseByDirection)
+  bool directionalBases = false;
   bool normalTextures = false;  // some drawn material has a normal texture
   bool cutouts = false;         // some drawn material's alpha takes surface away (MASK, BLEND)
   bool blended = false;         // some of those is BLEND: there for its alpha's share of samples

@@ -113,6 +113,23 @@ bool sendsLobeByDirection(const gpu::SurfaceBrdf& m) {
   return lobeDeviation(m) >= kEvenLobeDeviation;
 }
 
+float baseDeviation(const gpu::SurfaceBrdf& m) {
+  if (gpu::isLambertian(m) || m.metallic >= 1.0f) return 0.0f;
+  const SpecularAlbedo& t = SpecularAlbedo::table();
+  const float roughness = std::sqrt(m.alpha);
+  const glm::vec2 mean = t.meanAt(roughness);
+  const float even = std::max(1.0f - gpu::layerAlbedo(m, mean), 1e-6f);
+  constexpr int kExitMu = 256;  // cosine-weighted strata (μ = √u)
+  double sum = 0.0;
+  for (int j = 0; j < kExitMu; ++j) {
+    const float mu = std::sqrt((j + 0.5f) / kExitMu);
+    sum += std::abs((1.0f - gpu::layerAlbedo(m, t.at(mu, roughness))) / even - 1.0f);
+  }
+  return gpu::maxOf(gpu::baseReflectanceOf(m, mean)) * float(sum / kExitMu);
+}
+
+bool sendsBaseByDirection(const gpu::SurfaceBrdf& m) { return baseDeviation(m) >= kEvenLobeDeviation; }
+
 gpu::SurfaceBrdf surfaceBrdf(const gpu::Material& m, glm::vec3 base, glm::vec4 metallicRoughness) {
   gpu::SurfaceBrdf out{};
   out.base = glm::vec4(base, 0.0f);

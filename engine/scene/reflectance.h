@@ -51,6 +51,15 @@ constexpr float kEvenLobeDeviation = 0.01f;
 // deviation, leaves it in doubt.
 bool sendsLobeByDirection(const gpu::SurfaceBrdf& m);
 
+// How far from even a material's diffuse base sends the light it reflects: under a dielectric's
+// layer it leaves toward exit cosine μ as (1 − E(μ))/(1 − Ē) of even (gpu::baseWeight), so over
+// cosine-weighted exit directions it puts the share ρ · mean |(1 − E(μ))/(1 − Ē) − 1| of the light
+// arriving elsewhere than evenly (ρ the base's reflectance, largest channel). 0 for a Lambertian or
+// metallic material.
+float baseDeviation(const gpu::SurfaceBrdf& m);
+// Whether m's base deviates as far as kEvenLobeDeviation.
+bool sendsBaseByDirection(const gpu::SurfaceBrdf& m);
+
 // The BRDF at a point: the material's factors times the base colour (its texture and vertex colour
 // applied) and its metallic-roughness texel (B metal, G roughness).
 gpu::SurfaceBrdf surfaceBrdf(const gpu::Material& m, glm::vec3 base, glm::vec4 metallicRoughness);

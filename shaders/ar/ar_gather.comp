@@ -41,6 +41,8 @@ layout(push_constant) uniform Push { ArGatherPush push; };
 #include "common/specular_albedo.glsl"
 #define SENDER_LOBES 16
 #include "common/sender_lobes.glsl"
+layout(std430, binding = 17) readonly buffer SurfelBrdf { SurfaceBrdf surfelBrdf[]; };
+layout(std430, binding = 18) readonly buffer Emission { vec4 emission[]; };  // Le per surfel
 
 // The bins around a direction (binTaps) with their bilinear weights, and each bin's ∫ω dω (xyz)
 // and solid angle (w), loaded once for every use of the direction.
@@ -231,7 +233,14 @@ void gatherSurfel(uint s, vec3 pr, vec4 nr, float receiverArea) {
   // and at least what the tables resolve (a bin's solid angle over 4: engine/gi/bins.h's
   // tableBinSpread).
   const float receiverExtent = receiverArea / (dist2 + receiverArea / kPi);
-  const vec3 lobe = excessToward(s, pr, receiverExtent, kPi / float(kBins)) / kPi;
+  vec3 lobe = excessToward(s, pr, receiverExtent, kPi / float(kBins)) / kPi;
+  // A glossy dielectric's base leaves by its exit angle (baseBeyondEven), taken at the centre.
+  if (kBasesByAngle) {
+    const SurfaceBrdf brdf = surfelBrdf[surfel];
+    const vec3 own =
+        imageLoad(radiance, int(surfel)).rgb - (push.emittersByMaps == 0u ? emission[surfel].rgb : vec3(0.0));
+    lobe += max(own, vec3(0.0)) * baseBeyondEven(brdf, dot(ns.xyz, -d) * inversesqrt(dist2));
+  }
   for (uint j = 0u; j < pieces * pieces; ++j) {
     const vec2 at = (vec2(j % pieces, j / pieces) + 0.5) / float(pieces) * 2.0 - 1.0;
     const vec3 q = d + at.x * sideA + at.y * sideB;

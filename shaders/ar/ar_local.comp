@@ -8,7 +8,7 @@
 // A glossy leaf sends what its lobe reflects of that direct light along the lobe
 // (common/send_lobe.glsl): toward each bin in front of it, the lobe's excess over that light sent
 // evenly, taken off its antiradiance there, so that the clusters' tables carry it; a surfel sender
-// adds it itself (ar_gather).
+// adds it itself (ar_gather). A glossy dielectric's base leaves by its exit angle, likewise.
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 0
 #include "common/common.glsl"
@@ -28,11 +28,15 @@ layout(std430, binding = 10) readonly buffer SurfelArrival { vec4 surfelArrival[
 layout(std430, binding = 11) readonly buffer SurfelBrdf { SurfaceBrdf surfelBrdf[]; };
 layout(binding = 12, rg32f) readonly uniform imageBuffer specularAlbedo;
 layout(std430, binding = 13) writeonly buffer SenderLobes { vec4 senderLobes[]; };
+layout(binding = 14, rgba32f) readonly uniform imageBuffer binTable;  // per bin ∫ω dω, Ω
 layout(push_constant) uniform Push { ArLocalPush push; };
 layout(constant_id = 28) const bool kSenderLobes = false;  // some lobe sends by direction
 #include "common/send_lobe.glsl"
 #include "common/sender_lobes.glsl"
 #include "common/specular_albedo.glsl"
+
+// Bin c's ∫cos dω toward normal n (its ∫ω dω against n), zero behind.
+float frontOf(uint c, vec3 n) { return max(dot(n, imageLoad(binTable, int(c)).xyz), 0.0); }
 
 // π·f(l, w)/a(l) of the leaf's lobe (send_lobe.glsl's `lobe` and `light`) toward a bin's centre w.
 float lobeWeight(vec4 lobe, vec4 light, vec3 n, vec3 w, float binSolidAngle) {
@@ -54,24 +58,36 @@ void main() {
   vec4 lobe = vec4(0.0), light = vec4(0.0);
   const vec3 n = nodeNormalCone(leaf).xyz;
   if (kSenderLobes) sendLobe(s, leaf, n, lobe, light);
-  // The lobe's weight π·f/a toward each bin in front (lobeWeight), scaled so that over the bins it
-  // sends all of S: taken at the bins' centres, a lobe about as wide as a bin sums to more or less
-  // than it holds as its peak lies on a centre or between them.
+  // What the surfel sends toward each bin in front beyond its radiance sent evenly: the lobe's
+  // excess (lobeWeight's π·f/a over 1) and a glossy dielectric's base's (baseBeyondEven), each
+  // scaled so that over the bins, weighed by their ∫cos dω (frontOf), it sends no more and no less:
+  // taken at the bins' centres, a lobe about as wide as a bin sums to more or less than it holds as
+  // its peak lies on a centre or between them.
+  const SurfaceBrdf brdf = surfelBrdf[s];
+  const bool baseByAngle = basesByAngle(brdf);
+  const bool lobeByAngle = kSenderLobes && lobe.w > 0.0;
   const float binSolidAngle = 4.0 * kPi / float(bins);
-  float weightSum = 0.0;
-  for (uint c = 0u; kSenderLobes && lobe.w > 0.0 && c < bins; ++c) {
+  float front = 0.0, lobeSum = 0.0;
+  vec3 baseSum = vec3(0.0);
+  for (uint c = 0u; (lobeByAngle || baseByAngle) && c < bins; ++c) {
     const vec3 w = normalize(binDirection(c, kDirs));
-    weightSum += lobeWeight(lobe, light, n, w, binSolidAngle) * max(dot(n, w), 0.0) * binSolidAngle;
+    const float f = frontOf(c, n);
+    front += f;
+    if (lobeByAngle) lobeSum += lobeWeight(lobe, light, n, w, binSolidAngle) * f;
+    if (baseByAngle) baseSum += (baseBeyondEven(brdf, dot(n, w)) + 1.0) * f;
   }
-  const float scale = weightSum > 0.0 ? kPi / weightSum : 0.0;
+  const float lobeScale = lobeSum > 0.0 ? front / lobeSum : 0.0;
+  const vec3 baseScale = front / max(baseSum, vec3(1e-6));
+  const vec3 reflected = max(L - (push.emittersByMaps == 0u ? emission[s].rgb : vec3(0.0)), vec3(0.0));
   for (uint c = 0u; c < bins; ++c) {
     // Antiradiance toward c: the light that arrived travelling along c, from the opposite bin.
     vec3 through =
         s < push.firstBackSurfel ? imageLoad(incident, int(s * bins + oppositeBin(c, kDirs))).rgb : vec3(0.0);
-    if (kSenderLobes && lobe.w > 0.0) {
+    // Less what it sends beyond even there (radiance), toward the bins in front.
+    if ((lobeByAngle || baseByAngle) && frontOf(c, n) > 0.0) {
       const vec3 w = normalize(binDirection(c, kDirs));
-      // Less the lobe's excess over S sent evenly (radiance), toward the bins in front.
-      if (dot(n, w) > 0.0) through -= lobe.rgb * (scale * lobeWeight(lobe, light, n, w, binSolidAngle) - 1.0) / kPi;
+      if (lobeByAngle) through -= lobe.rgb * (lobeScale * lobeWeight(lobe, light, n, w, binSolidAngle) - 1.0) / kPi;
+      if (baseByAngle) through -= reflected * (baseScale * (baseBeyondEven(brdf, dot(n, w)) + 1.0) - 1.0);
     }
     imageStore(intensity, int(leaf * bins + c), vec4(area * through, 0.0));
   }

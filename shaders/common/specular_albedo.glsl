@@ -18,4 +18,19 @@ vec2 specularAlbedoMeanOf(float alpha) {
   const int at = int(kAlbedoTableSize * kAlbedoTableSize + uint(cell.y));
   return mix(imageLoad(specularAlbedo, at).xy, imageLoad(specularAlbedo, at + 1).xy, cell.w);
 }
+// Whether some dielectric's base sends its light far from evenly (scene::Geometry::directionalBases):
+// else every base sends evenly.
+layout(constant_id = 26) const bool kBasesByAngle = false;
+// What m's base sends toward exit cosine mu beyond what it would send evenly, per unit of all m
+// reflects of even light: under a glossy dielectric's layer the base leaves as (1 − E(μ))/(1 − Ē)
+// of even (brdf.h's baseWeight), as the resolve shows it toward the camera. Zero for other materials.
+bool basesByAngle(SurfaceBrdf m) { return kBasesByAngle && !isLambertian(m) && m.metallic < 1.0; }
+vec3 baseBeyondEven(SurfaceBrdf m, float mu) {
+  if (!basesByAngle(m)) return vec3(0.0);
+  const vec2 mean = specularAlbedoMeanOf(m.alpha);
+  const vec3 base = baseReflectanceOf(m, mean), all = base + lobeReflectanceOf(m, mean);
+  const float toward = 1.0 - layerAlbedo(m, specularAlbedoAt(m, max(mu, 0.0)));
+  const float even = max(1.0 - layerAlbedo(m, mean), 1e-6);
+  return base / max(all, vec3(1e-6)) * (toward / even - 1.0);
+}
 #endif

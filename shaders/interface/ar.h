@@ -95,9 +95,10 @@ struct ArLevelPush {  // ar_pull_up, ar_sum_down: one level of the trees' inner 
 };
 struct ArGatherPush {  // ar_gather, one chunk of each receiver's list
   uint nodeCount;
-  uint chunk;       // which chunk of kArGatherChunk (chunkLinks) links this dispatch walks
-  uint chunks;      // the chunks recorded (a list longer than they walk is flagged)
-  uint chunkLinks;  // the links of a list a chunk walks (kArGatherChunk but in tests)
+  uint chunk;           // which chunk of kArGatherChunk (chunkLinks) links this dispatch walks
+  uint chunks;          // the chunks recorded (a list longer than they walk is flagged)
+  uint chunkLinks;      // the links of a list a chunk walks (kArGatherChunk but in tests)
+  uint emittersByMaps;  // 1: the surfels' radiance holds no emission (ArLocalPush's)
 };
 struct ArIncidentPush {  // ar_incident
   uint surfelCount;

@@ -26,19 +26,11 @@ layout(std430, binding = 14) readonly buffer BounceStates { BounceState state; }
 #include "common/sender_lobes.glsl"
 layout(binding = 20, rgba32ui) readonly uniform uimageBuffer tree;  // TreeNode: a leaf's surfel
 
-// What a glossy dielectric leaf q of normal n sends toward unit w of its reflected light
-// `reflected` beyond it sent evenly: its base leaves as (1 − E(μ_w))/(1 − Ē) of even under its layer
-// (brdf.h's baseWeight), as the resolve shows it toward the camera. Zero for any other node.
+// What leaf q of normal n sends toward unit w of its reflected light `reflected` beyond it sent
+// evenly (baseBeyondEven); zero for any other node.
 vec3 baseTowardBeyondEven(uint q, vec3 n, vec3 w, vec3 reflected) {
   const uvec4 node = imageLoad(tree, int(q));
-  if (node.z != 0u) return vec3(0.0);
-  const SurfaceBrdf m = surfelBrdf[node.w];
-  if (isLambertian(m) || m.metallic >= 1.0) return vec3(0.0);
-  const vec2 mean = specularAlbedoMeanOf(m.alpha);
-  const vec3 base = baseReflectanceOf(m, mean), all = base + lobeReflectanceOf(m, mean);
-  const float toward = 1.0 - layerAlbedo(m, specularAlbedoAt(m, max(dot(n, w), 0.0)));
-  const float even = max(1.0 - layerAlbedo(m, mean), 1e-6);
-  return reflected * base / max(all, vec3(1e-6)) * (toward / even - 1.0);
+  return node.z != 0u ? vec3(0.0) : reflected * baseBeyondEven(surfelBrdf[node.w], dot(n, w));
 }
 
 // What the lobe reflects of the light of sender q, which gives the receiver irradiance f times its

@@ -3,22 +3,25 @@
 namespace ivgi::gi {
 
 ArIteration::ArIteration(const vk::Context& ctx, const Hierarchy& h, const ArSettings& settings, const ArBuffers& b,
-                         const LinkSet& staticLinks, const LinkSet& frameLinks, bool glossy, uint32_t firstBackSurfel,
+                         const LinkSet& staticLinks, const LinkSet& frameLinks, const scene::Geometry& g,
                          vk::Allocations& allocations)
     : b_(b),
       staticLinks_(staticLinks),
       frameLinks_(frameLinks),
       surfelCount_(uint32_t(h.leafOfSurfel.size())),
-      firstBackSurfel_(firstBackSurfel),
+      firstBackSurfel_(uint32_t(g.surfels.size() - g.backSurfels)),
       nodeCount_(uint32_t(h.nodes.size())),
       bins_(6 * settings.dirs * settings.dirs),
       local_(shaderProgram(ctx, "ar_local",
-                           {.constants = {{"kDirs", settings.dirs}, {"kSenderLobes", glossy ? 1u : 0u}}})),
+                           {.constants = {{"kDirs", settings.dirs},
+                                          {"kSenderLobes", g.directionalLobes ? 1u : 0u},
+                                          {"kBasesByAngle", g.directionalBases ? 1u : 0u}}})),
       pullUp_(shaderProgram(ctx, "ar_pull_up", {.constants = {{"kDirs", settings.dirs}}})),
       gather_(
           shaderProgram(ctx, "ar_gather",
                         {.constants = {{"kDirs", settings.dirs},
-                                       {"kSenderLobes", glossy ? 1u : 0u},
+                                       {"kSenderLobes", g.directionalLobes ? 1u : 0u},
+                                       {"kBasesByAngle", g.directionalBases ? 1u : 0u},
                                        {"kTableHereMost", settings.gatherTableHereMost ? settings.gatherTableHereMost
                                                                                        : gpu::kArGatherTableHere}}})),
       sumDown_(shaderProgram(ctx, "ar_sum_down", {.constants = {{"kDirs", settings.dirs}}})),
@@ -63,10 +66,12 @@ void ArIteration::record(VkCommandBuffer cmd, vk::PassTimer& timer, const ArStep
                                                {"starts", frameLinks_.starts},
                                                {"senders", frameLinks_.senders}});
     for (uint32_t chunk = 0; chunk < step.chunks; ++chunk)  // each going on where the one before stopped
-      gather_.dispatchItems(
-          cmd, nodeCount_, links,
-          gpu::ArGatherPush{
-              .nodeCount = nodeCount_, .chunk = chunk, .chunks = step.chunks, .chunkLinks = step.chunkLinks});
+      gather_.dispatchItems(cmd, nodeCount_, links,
+                            gpu::ArGatherPush{.nodeCount = nodeCount_,
+                                              .chunk = chunk,
+                                              .chunks = step.chunks,
+                                              .chunkLinks = step.chunkLinks,
+                                              .emittersByMaps = b_.scene.emittersByMaps() ? 1u : 0u});
   });
   pass("incident", [&] {
     for (auto level = innerLevels_.rbegin(); level != innerLevels_.rend(); ++level)  // the top first

@@ -8,6 +8,7 @@
 #include "engine/gi/hierarchy.h"
 #include "engine/gi/links.h"
 #include "engine/gi/pass.h"
+#include "engine/scene/geometry.h"
 #include "engine/vk/program.h"
 #include "engine/vk/timer.h"
 
@@ -27,10 +28,11 @@ class ArIteration {
  public:
   // The passes at the settings' `dirs` (a constant of their programs), recording into the solver's
   // buffers `b` over the links of its two sets (the static pairs' first); the pull-up takes `h`'s
-  // inner nodes. `glossy`: some material is, and its leaves send their lobes. The surfels from
-  // `firstBackSurfel` on are back faces (scene::Geometry::backSurfels), which let no light through.
+  // inner nodes. Where some of `g`'s lobes (bases) send their light far from evenly, the glossy
+  // leaves send them by direction. Its back surfels (scene::Geometry::backSurfels) let no light
+  // through.
   ArIteration(const vk::Context& ctx, const Hierarchy& h, const ArSettings& settings, const ArBuffers& b,
-              const LinkSet& staticLinks, const LinkSet& frameLinks, bool glossy, uint32_t firstBackSurfel,
+              const LinkSet& staticLinks, const LinkSet& frameLinks, const scene::Geometry& g,
               vk::Allocations& allocations);
   void record(VkCommandBuffer cmd, vk::PassTimer& timer, const ArStep& step) const;
   // Workgroups of the incident pass, each leaving one gpu::IterationSum an iteration.

@@ -17,7 +17,7 @@ constexpr uint32_t kPullUpArgs = 2, kBounceDispatches = 3;
 }  // namespace
 
 Bounces::Bounces(const vk::Context& ctx, const Hierarchy& h, const IvSettings& settings, const IvBuffers& b,
-                 const LinkSet& staticSet, const LinkSet& frameSet, bool glossy, bool metal,
+                 const LinkSet& staticSet, const LinkSet& frameSet, const scene::Geometry& g,
                  vk::Allocations& allocations)
     : ctx_(ctx),
       settings_(settings),
@@ -26,9 +26,10 @@ Bounces::Bounces(const vk::Context& ctx, const Hierarchy& h, const IvSettings& s
       frameSet_(frameSet),
       surfelCount_(uint32_t(h.leafOfSurfel.size())),
       nodeCount_(uint32_t(h.nodes.size())),
-      glossy_(glossy),
-      metal_(glossy && metal),
-      emit_(shaderProgram(ctx, "emit", vk::Specialization{.constants = {{"kSenderLobes", glossy ? 1u : 0u}}})),
+      glossy_(g.directionalLobes),
+      metal_(g.directionalLobes && g.lobeDominatedMaterials),
+      bases_(g.directionalBases),
+      emit_(shaderProgram(ctx, "emit", vk::Specialization{.constants = {{"kSenderLobes", glossy_ ? 1u : 0u}}})),
       interpolate_(shaderProgram(ctx, "interpolate")),
       pullUp_(shaderProgram(ctx, "pull_up")),
       check_(shaderProgram(ctx, "bounce_check")),
@@ -48,8 +49,8 @@ Bounces::Bounces(const vk::Context& ctx, const Hierarchy& h, const IvSettings& s
   state_ = vk::Buffer(ctx, sizeof(gpu::BounceState), vk::Memory::Host, &allocations);
   change_ =
       vk::Buffer(ctx, std::max<size_t>(h.leafOfSurfel.size(), 1) * sizeof(glm::vec4), vk::Memory::Device, &allocations);
-  receiverLobe_ = vk::Buffer(ctx, glossy ? change_.size() : 16, vk::Memory::Device, &allocations);
-  receiverExcess_ = vk::Buffer(ctx, glossy ? change_.size() : 16, vk::Memory::Device, &allocations);
+  receiverLobe_ = vk::Buffer(ctx, glossy_ ? change_.size() : 16, vk::Memory::Device, &allocations);
+  receiverExcess_ = vk::Buffer(ctx, glossy_ ? change_.size() : 16, vk::Memory::Device, &allocations);
   // A scene with a metal's: what the first bounce's light sends along the metals' lobes.
   arrivalExcess_ = vk::Buffer(ctx, metal_ ? change_.size() : 16, vk::Memory::Device, &allocations);
   arrivalTaps_ = vk::Buffer(ctx, metal_ ? change_.size() / 4 : 16, vk::Memory::Device, &allocations);
@@ -225,7 +226,10 @@ void Bounces::makeLinkReaders() {
   gatherCreases_.emplace(ctx_, "gather_creases", shaderCode("gather_creases"),
                          vk::Specialization{.constants = {{"texelViews", texelViews_}}});
   markTaps_.emplace(ctx_, "mark_taps", shaderCode("mark_taps"));
-  reflectReceivers_.emplace(ctx_, "reflect_receivers", shaderCode("reflect_receivers"), views);
+  reflectReceivers_.emplace(ctx_, "reflect_receivers", shaderCode("reflect_receivers"),
+                            vk::Specialization{.constants = {{"texelViews", texelViews_},
+                                                             {"kSenderLobes", glossy_ ? 1u : 0u},
+                                                             {"kBasesByAngle", bases_ ? 1u : 0u}}});
   reflectSurfels_.emplace(ctx_, "reflect_surfels", shaderCode("reflect_surfels"));
   if (!glossy_) return;
   lobeExcess_.emplace(ctx_, "lobe_excess", shaderCode("lobe_excess"), views);

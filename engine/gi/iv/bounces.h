@@ -13,17 +13,19 @@
 #include "engine/gi/iv/buffers.h"
 #include "engine/gi/iv/settings.h"
 #include "engine/gi/links.h"
+#include "engine/scene/geometry.h"
 #include "engine/vk/program.h"
 
 namespace ivgi::gi {
 
 class Bounces {
  public:
-  // Records into the solver's buffers `b`, over the links of its two sets; `glossy`: some surface's
-  // lobe is far from even (Geometry::directionalLobes: recordReflections has work); `metal`: in
-  // some, the lobe reflects most (gpu::lobeDominates), and sends the first bounce's light along it.
+  // Records into the solver's buffers `b`, over the links of its two sets, for the materials of `g`:
+  // where some surface's lobe is far from even (Geometry::directionalLobes), recordReflections has
+  // work, and where in some the lobe reflects most (a metal: Geometry::lobeDominatedMaterials), it
+  // sends the first bounce's light along it.
   Bounces(const vk::Context& ctx, const Hierarchy& h, const IvSettings& settings, const IvBuffers& b,
-          const LinkSet& staticSet, const LinkSet& frameSet, bool glossy, bool metal, vk::Allocations& allocations);
+          const LinkSet& staticSet, const LinkSet& frameSet, const scene::Geometry& g, vk::Allocations& allocations);
   // π·Le into nodeEmission at the leaves, pulled up, and copied to radiosityA (where bounces start).
   void recordEmission(VkCommandBuffer cmd) const;
   // The frame's first gather comes next, over the receivers listed.
@@ -78,6 +80,7 @@ class Bounces {
   const uint32_t surfelCount_, nodeCount_;
   const bool glossy_;  // some lobe is far from even: glossy leaves send their lobes (sender_lobes.glsl)
   const bool metal_;   // some material's lobe reflects most: it sends the first bounce's light along it too
+  const bool bases_;   // some dielectric's base sends far from evenly (Geometry::directionalBases)
   vk::Program emit_, interpolate_, pullUp_, check_, tail_;
   uint32_t texelViews_ = 1;
   // The passes that read the links: made again for more texel views.

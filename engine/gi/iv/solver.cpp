@@ -58,8 +58,7 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, IvSetup set
       refit_(ctx),
       links_(ctx),
       prune_(ctx, settings_, surfelCount_, b_, staticSet_, frameSet_),
-      bounces_(ctx, setup_.hierarchy, settings_, b_, staticSet_, frameSet_, g.directionalLobes,
-               g.lobeDominatedMaterials, allocations_),
+      bounces_(ctx, setup_.hierarchy, settings_, b_, staticSet_, frameSet_, g, allocations_),
       receivers_(ctx, setup_.hierarchy, settings_, b_, allocations_),
       room_(ctx, settings_, b_, staticSet_, frameSet_, allocations_) {
   const Hierarchy& h = setup_.hierarchy;
