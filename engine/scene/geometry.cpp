@@ -345,8 +345,9 @@ Geometry buildGeometry(const Scene& scene, uint32_t tessellation, const BuildPro
     g.glossyMaterials |= !gpu::isLambertian(brdf);
     g.lobeDominatedMaterials |= gpu::lobeDominates(brdf, SpecularAlbedo::table().at(1.0f, std::sqrt(brdf.alpha)));
     if (!g.directionalLobes) g.directionalLobes = sendsByDirection(material, brdf);
-    g.directionalBases |=
-        (material.metallicRoughnessTexture >= 0 && !gpu::isLambertian(brdf)) || sendsBaseByDirection(brdf);
+    if (!g.directionalBases)
+      g.directionalBases =
+          (material.metallicRoughnessTexture >= 0 && !gpu::isLambertian(brdf)) || sendsBaseByDirection(brdf);
     g.normalTextures |= material.normalTexture >= 0;
     const bool cutout = gpu::alphaMatters(material.alphaCutoff);
     g.cutouts |= cutout;

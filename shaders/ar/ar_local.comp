@@ -64,7 +64,8 @@ void main() {
   // taken at the bins' centres, a lobe about as wide as a bin sums to more or less than it holds as
   // its peak lies on a centre or between them.
   const SurfaceBrdf brdf = surfelBrdf[s];
-  const bool baseByAngle = basesByAngle(brdf);
+  const vec4 baseShare = baseShareOf(brdf);  // the per-surfel part of baseBeyondEven, once
+  const bool baseByAngle = baseShare.w > 0.0;
   const bool lobeByAngle = kSenderLobes && lobe.w > 0.0;
   const float binSolidAngle = 4.0 * kPi / float(bins);
   float front = 0.0, lobeSum = 0.0;
@@ -74,7 +75,7 @@ void main() {
     const float f = frontOf(c, n);
     front += f;
     if (lobeByAngle) lobeSum += lobeWeight(lobe, light, n, w, binSolidAngle) * f;
-    if (baseByAngle) baseSum += (baseBeyondEven(brdf, dot(n, w)) + 1.0) * f;
+    if (baseByAngle) baseSum += (baseBeyondEven(brdf, baseShare, dot(n, w)) + 1.0) * f;
   }
   const float lobeScale = lobeSum > 0.0 ? front / lobeSum : 0.0;
   const vec3 baseScale = front / max(baseSum, vec3(1e-6));
@@ -87,7 +88,7 @@ void main() {
     if ((lobeByAngle || baseByAngle) && frontOf(c, n) > 0.0) {
       const vec3 w = normalize(binDirection(c, kDirs));
       if (lobeByAngle) through -= lobe.rgb * (lobeScale * lobeWeight(lobe, light, n, w, binSolidAngle) - 1.0) / kPi;
-      if (baseByAngle) through -= reflected * (baseScale * (baseBeyondEven(brdf, dot(n, w)) + 1.0) - 1.0);
+      if (baseByAngle) through -= reflected * (baseScale * (baseBeyondEven(brdf, baseShare, dot(n, w)) + 1.0) - 1.0);
     }
     imageStore(intensity, int(leaf * bins + c), vec4(area * through, 0.0));
   }

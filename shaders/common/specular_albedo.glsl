@@ -24,13 +24,17 @@ layout(constant_id = 26) const bool kBasesByAngle = false;
 // What m's base sends toward exit cosine mu beyond what it would send evenly, per unit of all m
 // reflects of even light: under a glossy dielectric's layer the base leaves as (1 − E(μ))/(1 − Ē)
 // of even (brdf.h's baseWeight), as the resolve shows it toward the camera. Zero for other materials.
-bool basesByAngle(SurfaceBrdf m) { return kBasesByAngle && !isLambertian(m) && m.metallic < 1.0; }
-vec3 baseBeyondEven(SurfaceBrdf m, float mu) {
-  if (!basesByAngle(m)) return vec3(0.0);
+// What of m does not change with the direction, for a pass that takes many: the base's share of all
+// m reflects (base/all at the hemisphere's mean albedo) and 1/(1 − Ē); w = 0 where m's base is even.
+vec4 baseShareOf(SurfaceBrdf m) {
+  if (!kBasesByAngle || isLambertian(m) || m.metallic >= 1.0) return vec4(0.0);
   const vec2 mean = specularAlbedoMeanOf(m.alpha);
   const vec3 base = baseReflectanceOf(m, mean), all = base + lobeReflectanceOf(m, mean);
-  const float toward = 1.0 - layerAlbedo(m, specularAlbedoAt(m, max(mu, 0.0)));
-  const float even = max(1.0 - layerAlbedo(m, mean), 1e-6);
-  return base / max(all, vec3(1e-6)) * (toward / even - 1.0);
+  return vec4(base / max(all, vec3(1e-6)), 1.0 / max(1.0 - layerAlbedo(m, mean), 1e-6));
 }
+vec3 baseBeyondEven(SurfaceBrdf m, vec4 share, float mu) {
+  if (!(share.w > 0.0)) return vec3(0.0);
+  return share.rgb * ((1.0 - layerAlbedo(m, specularAlbedoAt(m, max(mu, 0.0)))) * share.w - 1.0);
+}
+vec3 baseBeyondEven(SurfaceBrdf m, float mu) { return baseBeyondEven(m, baseShareOf(m), mu); }
 #endif
