@@ -153,6 +153,41 @@ IVGI_FN float smithLambda(vec3 d, float ax2, float ay2) {
   return 0.5f * (sqrt(1.0f + a2 * s2 / max(c2, 1e-12f)) - 1.0f);
 }
 
+// GGX's slopes over a disk, against the widened lobe at the disk's centre. GGX's distribution of
+// slopes is the stereographic image of a sphere's even one, which maps disks to caps: at roughness
+// α, a disk of radius ρα around slopes δα from the peak holds sin²(x/2), x = atan2(2ρ, 1 + δ² − ρ²),
+// the cap's share of the sphere. Its mean density over the disk, against that of the lobe widened
+// by it (α'² = α²(1 + ρ²)) at the disk's centre: 1 at the peak, where the widening is the disk's
+// mean; above 1 on the lobe's shoulder, which the disk takes in; 1/(1 + ρ²) far from the peak,
+// where the disk's mean is the narrow lobe's value and the widened tail is heavier by α'²/α².
+IVGI_FN float diskMeanOverWidened(float delta2, float rho2) {
+  if (!(rho2 > 0.0f)) return 1.0f;
+  // The widened density is (1 + ρ²)/t², t = 1 + ρ² + δ²; the disk's mean sin²(x/2)/ρ² is taken
+  // without cancellation on either side of c = 0, its terms scaled by t (no overflow far out).
+  const float t = 1.0f + rho2 + delta2, c = (1.0f + delta2 - rho2) / t, h = sqrt(c * c + 4.0f * rho2 / t / t);
+  return c > 0.0f ? 2.0f / (h * (h + c) * (1.0f + rho2)) : (h - c) * t * t / (2.0f * h * rho2 * (1.0f + rho2));
+}
+
+// The same for widenedSpecular's anisotropic widening (α_x², α_y² of the narrow α²; hf the half
+// vector in the frame turned to the view's azimuth). Along the half vector's slope direction e the
+// spread is the widening ellipse's radius there, and far out the narrow lobe's tail over the
+// widened one's is α²(e_x²α_y² + e_y²α_x²)²/(α_x α_y)³. The isotropic ratio's way from 1 at the
+// peak to its far value, taken along e, carries the factor from 1 to that.
+IVGI_FN float widenedTailFactor(vec3 hf, float a2, float ax2, float ay2) {
+  const float sx = max(ax2 - a2, 0.0f), sy = max(ay2 - a2, 0.0f), across2 = hf.x * hf.x + hf.y * hf.y;
+  if (!(sx + sy > 0.0f) || !(hf.z > 0.0f) || !(across2 > 0.0f)) return 1.0f;
+  const float ex2 = hf.x * hf.x / across2, ey2 = 1.0f - ex2;
+  const float radius2 = sx * sy / max(ex2 * sy + ey2 * sx, 1e-30f);
+  const float narrow2 = max(a2, 1e-8f), rho2 = radius2 / narrow2, delta2 = across2 / (hf.z * hf.z) / narrow2;
+  // The ratio's way from 1 at the peak (0) to its far value (1), negative on the shoulder; for a
+  // small disk its limit, the disk's mean being the density plus ρ²/8 times its Laplacian.
+  const float way = rho2 < 1e-3f ? delta2 * (delta2 - 2.0f) / ((1.0f + delta2) * (1.0f + delta2))
+                                 : (1.0f - diskMeanOverWidened(delta2, rho2)) * (1.0f + rho2) / rho2;
+  const float axy = ax2 * ay2, tail = ex2 * ay2 + ey2 * ax2;
+  const float farRatio = a2 * tail * tail / (axy * sqrt(axy));
+  return max(1.0f - way * (1.0f - farRatio), 0.0f);
+}
+
 // The specular lobe of m (its Fresnel times D·V, the base left out) toward v of light from l, both in
 // the lobe's frame, where the light's directions spread around l with per-axis angular variance
 // `spread` (a sender's extent, a bin's; a disk of solid angle Ω spreads Ω/(4π)). As widenedLobe,
@@ -160,7 +195,8 @@ IVGI_FN float smithLambda(vec3 d, float ax2, float ay2) {
 // 1/(2·v·h) as far. So toward grazing a spread of the light is a wider spread of the half vector
 // across the view's azimuth, and the lobe is widened there alone: an anisotropic GGX of α_x² = α² +
 // spread along the azimuth and α_y² = α² + spread/(v·h)² across it, its masking height-correlated.
-// With no spread it is evalBrdf's lobe.
+// That is the lobe's mean over the spread near its peak; away from it the mean is the narrow lobe's
+// value, which widenedTailFactor restores. With no spread it is evalBrdf's lobe.
 IVGI_FN vec3 widenedSpecular(SurfaceBrdf m, vec3 l, vec3 v, float spread) {
   if (l.z <= 0.0f || v.z <= 0.0f) return vec3(0.0f);
   const vec3 h = normalize(l + v);
@@ -172,7 +208,7 @@ IVGI_FN vec3 widenedSpecular(SurfaceBrdf m, vec3 l, vec3 v, float spread) {
   const vec3 lf = vec3(cx * l.x + cy * l.y, cx * l.y - cy * l.x, l.z), vf = vec3(r, 0.0f, v.z);
   const float ax2 = min(a2 + s, 1.0f), ay2 = min(a2 + s / max(vh * vh, 1e-6f), 1.0f);
   const float k = hf.x * hf.x / ax2 + hf.y * hf.y / ay2 + hf.z * hf.z;
-  const float d = hf.z > 0.0f ? 1.0f / (kPi * sqrt(ax2 * ay2) * k * k) : 0.0f;
+  const float d = hf.z > 0.0f ? widenedTailFactor(hf, a2, ax2, ay2) / (kPi * sqrt(ax2 * ay2) * k * k) : 0.0f;
   const float specular = d / ((1.0f + smithLambda(lf, ax2, ay2) + smithLambda(vf, ax2, ay2)) * 4.0f * l.z * v.z);
   return mix(dielectricFresnel(m, vh) * specular, metalFresnel(m, vh) * specular, m.metallic);
 }
