@@ -471,11 +471,10 @@ TEST(Brdf, AWidenedLobeAtADisksCentreIsTheLobesMeanOverIt) {
 }
 
 // Away from the lobe's peak the mean over a disk is the narrow lobe's value at its centre, where a
-// lobe widened by the disk (α'² = α² + spread) has a tail heavier by α'²/α²: 2.3 times at α 0.09
-// and a disk of 16 bins, up to 4.7 times across the plane of incidence at grazing. iv's reflections
-// sum such disks over the scene, so a surface that mirrors a dark opening took in too much of the
-// lit surfaces beside it (widenedTailFactor). Disks three and six of their radii from the peak,
-// along the plane of incidence and across it; within 16 % where the tail was taken as widened.
+// lobe widened by the disk (α'² = α² + spread) has a tail heavier by α'²/α² (2.3 times at α 0.09
+// and a disk of 16 bins, more across the plane of incidence at grazing). With widenedTailFactor the
+// widened lobe stays within 20 % of the disk's mean, for disks three and six of their radii from
+// the peak, along the plane of incidence and across it.
 TEST(Brdf, AWidenedLobeAwayFromItsPeakIsTheLobesMeanOverTheDisk) {
   const double bin = 4.0 * kPi / 1536.0;
   double worst = 0.0;
