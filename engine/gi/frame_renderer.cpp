@@ -134,7 +134,7 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
   shownSurfels_ =
       vk::Buffer(ctx, reflections_ || viewGuided_ ? std::max<size_t>(surfelCount_, 1) * sizeof(uint32_t) : 16,
                  Memory::Device, tally);
-  if (viewGuided_) solver_->useView(shownSurfels_);
+  if (viewGuided_) solver_->useView(shownSurfels_, view_);
   noDirectLight_ = vk::Buffer(ctx, 16, Memory::Device, tally);
   if (directLight) {
     validate(*directLight);

@@ -40,10 +40,11 @@ class Solver {
   virtual void record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffer& surfels, bool geometryMoved) = 0;
   // Whether the solve this frame would take the image's view into account (guidedByView) and whether
   // record() will solve again (`geometryMoved` as record() takes it). Where both hold, the renderer
-  // marks what the image shows (gpu's kShown bits) in `shown` before record() and the solve reads it.
+  // marks what the image shows (gpu's kShown bits) in `shown` before record() and the solve reads it,
+  // with the camera (a gpu::Camera) the image is drawn from.
   virtual bool guidedByView() const { return false; }
   virtual bool solvesFrame(bool /*geometryMoved*/) const { return false; }
-  virtual void useView(const vk::Buffer& /*shown*/) {}
+  virtual void useView(const vk::Buffer& /*shown*/, const vk::Buffer& /*camera*/) {}
   // Whether record() left the solve to recordMorePasses() (the image is resolved after it).
   virtual bool solvePending() const { return false; }
   // After the frame completed: whether it must be recorded again (the solver has made more room),

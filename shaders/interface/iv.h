@@ -176,6 +176,10 @@ struct ReceiverPush {
   // The prune's batching (Prune::Batching), for the dispatch sizes over the receivers listed.
   uint batch, leavesPerGroup, maxGroups, batches;
 };
+struct SeenPush {  // seen_nodes
+  uint surfelCount;
+  float leastSpread;  // senderBinSpread(): the bins' widening of a lobe (brdf.h's widenedLobe)
+};
 struct InterpolatePush {  // interpolate, bounce_tail
   uint surfelCount;
 };

@@ -4,7 +4,8 @@
 // need, the largest of three tests' statistic over its threshold:
 // - its support against how near what its receiver sees is: kReceiverReach·radius over `proximity`
 //   times the harmonic mean distance of the surfaces around it (light changes near corners, contacts
-//   and occluders; after Ward's irradiance cache);
+//   and occluders; after Ward's irradiance cache), times its sharpness where the eye sees a narrow
+//   lobe's reflection (seen_nodes);
 // - its radius against the largest a cell may have (a shadow's edge between samples spaced wider
 //   might go unseen);
 // - its sample against the prediction from the other samples nearby of its level or coarser (each
@@ -156,9 +157,10 @@ void refineCandidate() {
     const float radius = nodeRadius(c);
     // Past 1 the need makes no difference (refinementShare), so the light's test, a walk of the
     // trees, runs only where the other two leave it below.
-    const float unseen = push.unseenShare < 1.0 && imageLoad(seenNodes, int(c)).x == 0u ? push.unseenShare : 1.0;
+    const float seen = push.unseenShare < 1.0 ? uintBitsToFloat(imageLoad(seenNodes, int(c)).x) : 1.0;
+    const float unseen = seen > 0.0 ? 1.0 : push.unseenShare, sharpness = max(seen, 1.0);
     const float sure =
-        max(sqrt(unseen) * kReceiverReach * radius * proximity[s] / push.proximity, radius / push.largest);
+        max(sqrt(unseen) * kReceiverReach * radius * proximity[s] * sharpness / push.proximity, radius / push.largest);
     if (sure < 1.0 && !walked) {
       level = levelOf(c);
       const Query none = Query(0u, vec3(0.0), vec3(0.0), vec3(0.0), vec3(0.0), false);

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "engine/gi/bins.h"
 #include "engine/gi/pass.h"
 
 namespace ivgi::gi {
@@ -136,8 +137,8 @@ void Receivers::recordStart(VkCommandBuffer cmd) const {
   if (rootCount_ > 0) vk::copyRegion(cmd, roots_, b_.candidatesA, {0, 0, rootCount_ * sizeof(uint32_t)});
   if (followsView()) {
     vk::fillBuffer(cmd, b_.seenNodes, 0u);
-    seen_.dispatchItems(cmd, surfelCount_, b_.pool().with({{"shownSurfels", *shown_}}),
-                        gpu::CountPush{.count = surfelCount_});
+    seen_.dispatchItems(cmd, surfelCount_, b_.pool().with({{"shownSurfels", *shown_}, {"views", *camera_}}),
+                        gpu::SeenPush{.surfelCount = surfelCount_, .leastSpread = senderBinSpread(settings_.bins)});
   }
 }
 

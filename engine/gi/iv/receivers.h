@@ -42,7 +42,7 @@ class Receivers {
   // Whether the refinement judges the surfaces the image does not show at --unseen-tol, and the
   // renderer's marks of what it shows (gpu's kShown bits), which recordStart() then reads.
   bool guidedByView() const { return !everySurfel() && settings_.viewGuided && settings_.unseenTolerance > 1.0f; }
-  void useView(const vk::Buffer& shown) { shown_ = &shown; }
+  void useView(const vk::Buffer& shown, const vk::Buffer& camera) { shown_ = &shown, camera_ = &camera; }
 
   struct Counts {
     uint32_t receivers, fills;
@@ -69,6 +69,7 @@ class Receivers {
   vk::Program args_, select_, refine_, roles_, reach_, neighbours_, weights_, seen_;
   vk::Buffer roots_;  // the first round's candidates, rootCount_ of them (the buffer may hold more room)
   const vk::Buffer* shown_ = nullptr;
+  const vk::Buffer* camera_ = nullptr;
 };
 
 }  // namespace ivgi::gi

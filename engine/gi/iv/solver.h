@@ -58,7 +58,7 @@ class IvSolver final : public Solver {
   void record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffer& surfels, bool geometryMoved) override;
   bool guidedByView() const override { return receivers_.guidedByView(); }
   bool solvesFrame(bool geometryMoved) const override { return geometryMoved || !linked_; }
-  void useView(const vk::Buffer& shown) override { receivers_.useView(shown); }
+  void useView(const vk::Buffer& shown, const vk::Buffer& camera) override { receivers_.useView(shown, camera); }
   bool solvePending() const override { return solvePending_; }
   // Grows what overflowed; a frame that overflowed is redone.
   bool frameMustBeRedone() override;
