@@ -336,14 +336,8 @@ TEST(Glossy, IvReflectsTowardTheSilhouetteWhatLikeViewsFound) {
 // lie nearer by the lobe's width (seen_nodes), so that each surfel takes its reflection from several.
 TEST(Glossy, IvMetalReflectionHoldsUnderARigidTurn) {
   const auto render = [](const std::string& name, float degrees) {
-    tinygltf::Model model = scenes::cornellBox({.cells = 26, .animated = false, .glossy = true});
-    tinygltf::Node turn;
-    turn.name = "turn";
-    const glm::quat q = glm::angleAxis(glm::radians(degrees), glm::vec3(1, 0, 0));
-    turn.rotation = {q.x, q.y, q.z, q.w};
-    turn.children = model.scenes[0].nodes;
-    model.nodes.push_back(turn);
-    model.scenes[0].nodes = {int(model.nodes.size()) - 1};
+    const tinygltf::Model model =
+        test::turned(scenes::cornellBox({.cells = 26, .animated = false, .glossy = true}), degrees, {1, 0, 0});
     const fs::path file = test::scratchDir(name + "-scene") / (name + ".gltf");
     scenes::writeModel(model, file.string());
     return test::renderExr(name, {file.string(), "--supersample", "2", "--size", "160x120"});

@@ -210,14 +210,30 @@ tinygltf::Model sunOverABox() {
   return b.finish();
 }
 
-tinygltf::Model scaled(tinygltf::Model model, float factor) {
-  tinygltf::Node root;
-  root.name = "scale";
-  root.scale = {factor, factor, factor};
+namespace {
+
+tinygltf::Model underRoot(tinygltf::Model model, tinygltf::Node root) {
   root.children = model.scenes[0].nodes;
   model.nodes.push_back(root);
   model.scenes[0].nodes = {int(model.nodes.size() - 1)};
   return model;
+}
+
+}  // namespace
+
+tinygltf::Model scaled(tinygltf::Model model, float factor) {
+  tinygltf::Node root;
+  root.name = "scale";
+  root.scale = {factor, factor, factor};
+  return underRoot(std::move(model), root);
+}
+
+tinygltf::Model turned(tinygltf::Model model, float degrees, glm::vec3 axis) {
+  tinygltf::Node root;
+  root.name = "turn";
+  const glm::quat q = glm::angleAxis(glm::radians(degrees), glm::normalize(axis));
+  root.rotation = {q.x, q.y, q.z, q.w};
+  return underRoot(std::move(model), root);
 }
 
 std::filesystem::path scratchDir(const std::string& name) {

@@ -76,6 +76,9 @@ DirectLightErrors emptyRoomDirectLight(const std::vector<scene::Surfel>& surfels
 
 // `model` under a new root node that scales its scenes' roots by `factor`.
 tinygltf::Model scaled(tinygltf::Model model, float factor);
+// `model` under a new root node that turns its scenes' roots, cameras among them, by `degrees`
+// about `axis`: the same scene seen the same way, askew to the world's axes.
+tinygltf::Model turned(tinygltf::Model model, float degrees, glm::vec3 axis);
 // A sun over a floor with a box on it (two objects), and a camera looking down at them.
 tinygltf::Model sunOverABox();
 

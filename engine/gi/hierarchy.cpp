@@ -40,6 +40,26 @@ void rankCoordinates(const std::vector<glm::vec3>& positions, const std::vector<
   }
 }
 
+// How far the points reach across, whatever their orientation: from the point farthest from their
+// centroid to the point farthest from that one (the diagonal of a box, the diameter of a ball; never
+// below half the set's diameter). The diagonal of their bounds along the world's axes would grow by
+// up to √3 as the same scene turns.
+float extentOf(const std::vector<glm::vec3>& points) {
+  if (points.empty()) return 0.0f;
+  glm::dvec3 centroid(0.0);
+  for (const glm::vec3& p : points) centroid += glm::dvec3(p);
+  centroid /= double(points.size());
+  const auto farthestFrom = [&](glm::dvec3 from) {
+    glm::dvec3 far = from;
+    double most = -1.0;
+    for (const glm::vec3& p : points)
+      if (const double d = glm::distance(glm::dvec3(p), from); d > most) most = d, far = glm::dvec3(p);
+    return far;
+  };
+  const glm::dvec3 a = farthestFrom(centroid);
+  return float(glm::distance(a, farthestFrom(a)));
+}
+
 class TreeBuilder {
  public:
   TreeBuilder(const std::vector<glm::vec3>& positions, const std::vector<glm::vec3>& normals,
@@ -244,9 +264,7 @@ Hierarchy buildHierarchy(const scene::Geometry& g, const std::vector<scene::Surf
   std::vector<std::vector<BuildNode>> trees;
   std::vector<glm::uvec3> ranks(surfelCount);
   Hierarchy h;
-  glm::vec3 lo(1e30f), hi(-1e30f);
-  for (const glm::vec3& p : positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
-  h.size = surfelCount ? glm::length(hi - lo) : 0.0f;
+  h.size = extentOf(positions);
   for (size_t i = 0; i < g.instances.size(); ++i) {
     if (byInstance[i].empty()) continue;
     bool uv = usableUvAtlas(vertexUvs, instanceTriangles[i]);
