@@ -4,9 +4,11 @@
 // the light alone decides; 0 where unseen). The receivers' refinement judges the unseen at
 // --unseen-tol: their light reaches the image only after a bounce. Where a surfel's lobe sends most
 // of what the eye sees of it (gpu::lobeDominates toward the eye: a metal), the image shows the
-// reflection its receivers found through a narrow lobe and carried to it (reflect_surfels), which
-// changes over about α' of the distance over which the irradiance does: the nearness test is scaled
-// by kLobeSpacing · share / α'. A dielectric's lobe holds too little of its light to ask for more.
+// reflections its receivers found through a narrow lobe and carried to it (reflect_surfels); each
+// comes from few links and differs from its neighbours', so a receiver standing for many surfels
+// would decide a patch of the image alone. The nearness test is scaled by kLobeSpacing · share / α'
+// (narrower lobes, nearer receivers), so that each surfel takes its reflection from several. A
+// dielectric's lobe holds too little of its light to ask for more.
 #extension GL_GOOGLE_include_directive : require
 #define NODE_TEXELS 7
 #include "common/common.glsl"
