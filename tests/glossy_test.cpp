@@ -336,11 +336,9 @@ TEST(Glossy, IvReflectsTowardTheSilhouetteWhatLikeViewsFound) {
 // lie nearer by the lobe's width (seen_nodes), so that each surfel takes its reflection from several.
 TEST(Glossy, IvMetalReflectionHoldsUnderARigidTurn) {
   const auto render = [](const std::string& name, float degrees) {
-    const tinygltf::Model model =
-        test::turned(scenes::cornellBox({.cells = 26, .animated = false, .glossy = true}), degrees, {1, 0, 0});
-    const fs::path file = test::scratchDir(name + "-scene") / (name + ".gltf");
-    scenes::writeModel(model, file.string());
-    return test::renderExr(name, {file.string(), "--supersample", "2", "--size", "160x120"});
+    const tinygltf::Model box = scenes::cornellBox({.cells = 26, .animated = false, .glossy = true});
+    return test::renderModelExr(name, test::turned(box, degrees, {1, 0, 0}),
+                                {"--supersample", "2", "--size", "160x120"});
   };
   const fs::path before = render("metal-turn-0", 0.0f), after = render("metal-turn-2", 2.0f);
   const std::vector<float> metallic = test::channelOf(before, "metallic"),

@@ -256,6 +256,15 @@ std::filesystem::path renderExr(const std::string& name, const std::vector<std::
   return dir / "f_0000.exr";
 }
 
+std::filesystem::path renderModelExr(const std::string& name, const tinygltf::Model& model,
+                                     const std::vector<std::string>& args) {
+  const auto file = scratchDir(name + "-scene") / (name + ".gltf");
+  scenes::writeModel(model, file.string());
+  std::vector<std::string> all = {file.string()};
+  all.insert(all.end(), args.begin(), args.end());
+  return renderExr(name, all);
+}
+
 void expectRefusedNaming(const std::string& name, const std::vector<std::string>& args,
                          const std::vector<std::string>& named) {
   const auto dir = scratchDir(name);

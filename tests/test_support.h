@@ -107,6 +107,9 @@ std::filesystem::path scratchDir(const std::string& name);
 // Renders `args` (frame 0 unless they name --frames) as EXR into scratchDir(name) and returns the
 // path of frame 0's file; a failed run fails the test.
 std::filesystem::path renderExr(const std::string& name, const std::vector<std::string>& args);
+// `model` written to a scratch .gltf and rendered as renderExr() renders a file, `args` after it.
+std::filesystem::path renderModelExr(const std::string& name, const tinygltf::Model& model,
+                                     const std::vector<std::string>& args);
 
 // Renders `args` (a scene and its settings) into scratchDir(name): the run must fail with one line
 // on stderr that names each of `named`, and write nothing.
