@@ -100,7 +100,7 @@ FrameRenderer::FrameRenderer(const vk::Context& ctx, const scene::Geometry& g, c
     movingVertices_ = upload(vertices.empty() ? std::vector<uint32_t>{0u} : vertices);  // one stand-in, never read
     movingSurfels_ = upload(surfels.empty() ? std::vector<uint32_t>{0u} : surfels);
   }
-  specularAlbedo_ = upload(g.glossyMaterials ? scene::SpecularAlbedo::table().values() : std::vector<glm::vec2>(1));
+  specularAlbedo_ = upload(g.glossyMaterials ? scene::SpecularAlbedo::table().texels() : std::vector<glm::vec4>(1));
 
   matrices_ = vk::Buffer(ctx, 0, Memory::Host, tally);  // sized on the first frame
   morphWeights_ = vk::Buffer(ctx, std::max<uint32_t>(g.morphWeightCount, 1) * sizeof(float), Memory::Host, tally);

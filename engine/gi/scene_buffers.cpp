@@ -23,7 +23,7 @@ SceneBuffers::SceneBuffers(const vk::Context& ctx, const scene::Geometry& g, con
   binTable = vk::makeBuffer(ctx, binVectorTable(bins), vk::Memory::Device, tally);
   environment = vk::makeBuffer(ctx, environmentTable(sky, bins), vk::Memory::Device, tally);
   surfelBrdf = vk::makeBuffer(ctx, glossy ? g.surfelBrdf : std::vector<gpu::SurfaceBrdf>(1), vk::Memory::Device, tally);
-  specularAlbedo = vk::makeBuffer(ctx, glossy ? scene::SpecularAlbedo::table().values() : std::vector<glm::vec2>(1),
+  specularAlbedo = vk::makeBuffer(ctx, glossy ? scene::SpecularAlbedo::table().texels() : std::vector<glm::vec4>(1),
                                   vk::Memory::Device, tally);
   senderLobes = vk::makeBuffer(ctx, std::vector<glm::vec4>(g.directionalLobes ? 2 * nodeCount : 1, glm::vec4(0.0f)),
                                vk::Memory::Device, tally);

@@ -54,6 +54,13 @@ const SpecularAlbedo& SpecularAlbedo::table() {
   return computed;
 }
 
+std::vector<glm::vec4> SpecularAlbedo::texels() const {
+  std::vector<glm::vec4> texels(values_.size());
+  for (size_t i = 0; i < values_.size(); ++i)
+    texels[i] = glm::vec4(values_[i], values_[std::min(i + 1, values_.size() - 1)]);
+  return texels;
+}
+
 glm::vec2 SpecularAlbedo::at(float mu, float roughness) const {
   const glm::vec4 c = gpu::albedoTableCell(mu, roughness);
   const size_t x0 = size_t(c.x), y0 = size_t(c.y);

@@ -28,8 +28,10 @@ class SpecularAlbedo {
   glm::vec3 reflectance(const gpu::SurfaceBrdf& m, float mu) const;
   glm::vec3 meanReflectance(const gpu::SurfaceBrdf& m) const;
 
-  // The nodes, row by roughness (gpu::kAlbedoTableSize each), then the means per roughness.
-  const std::vector<glm::vec2>& values() const { return values_; }
+  // The nodes (row by roughness, gpu::kAlbedoTableSize each, then the means per roughness) as the
+  // shaders read them (shaders/common/specular_albedo.glsl): each beside the next in its row (the
+  // means: the next mean), so that a bilinear lookup fetches two texels, not four.
+  std::vector<glm::vec4> texels() const;
 
  private:
   SpecularAlbedo();

@@ -36,7 +36,7 @@ layout(std430, binding = 13) readonly buffer GatherOrder { uint gatherOrder[]; }
 // kArFlagChunks where a receiver's list was longer than the chunks recorded walked (the frame is
 // redone in more).
 layout(std430, binding = 14) buffer GatherFlags { uint gatherFlags[]; };
-layout(binding = 15, rg32f) readonly uniform imageBuffer specularAlbedo;
+layout(binding = 15, rgba32f) readonly uniform imageBuffer specularAlbedo;
 layout(push_constant) uniform Push { ArGatherPush push; };
 #include "common/specular_albedo.glsl"
 #define SENDER_LOBES 16

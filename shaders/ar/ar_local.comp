@@ -26,7 +26,7 @@ layout(std430, binding = 8) writeonly buffer Exitance { vec4 exitance[]; };  // 
 layout(std430, binding = 9) readonly buffer SurfelDirect { vec4 surfelDirect[]; };
 layout(std430, binding = 10) readonly buffer SurfelArrival { vec4 surfelArrival[]; };
 layout(std430, binding = 11) readonly buffer SurfelBrdf { SurfaceBrdf surfelBrdf[]; };
-layout(binding = 12, rg32f) readonly uniform imageBuffer specularAlbedo;
+layout(binding = 12, rgba32f) readonly uniform imageBuffer specularAlbedo;
 layout(std430, binding = 13) writeonly buffer SenderLobes { vec4 senderLobes[]; };
 layout(binding = 14, rgba32f) readonly uniform imageBuffer binTable;  // per bin ∫ω dω, Ω
 layout(push_constant) uniform Push { ArLocalPush push; };

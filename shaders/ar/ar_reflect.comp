@@ -19,7 +19,7 @@ layout(binding = 3, rgba32f) readonly uniform imageBuffer incident;  // per surf
 layout(std430, binding = 4) readonly buffer SurfelBrdf { SurfaceBrdf surfelBrdf[]; };
 layout(std430, binding = 5) writeonly buffer SurfelLobe { vec4 surfelLobe[]; };  // rgb radiance
 layout(std430, binding = 6) readonly buffer ShownSurfels { uint shownSurfels[]; };
-layout(binding = 7, rg32f) readonly uniform imageBuffer specularAlbedo;
+layout(binding = 7, rgba32f) readonly uniform imageBuffer specularAlbedo;
 layout(push_constant) uniform Push { LobePush push; };
 #include "common/specular_albedo.glsl"
 

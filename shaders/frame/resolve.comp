@@ -22,10 +22,10 @@ layout(binding = 13, rgba32f) readonly uniform imageBuffer colors;            //
 layout(binding = 14, rgba32f) readonly uniform imageBuffer pixelLights;       // PixelLight: 3 texels a pixel
 layout(binding = 15, rgba32f) readonly uniform imageBuffer vertexUnshadowed;  // per surfel, at its vertex
 layout(std430, binding = 16) writeonly buffer RoughnessMetallic { vec4 roughnessMetallic[]; };
-layout(binding = 17, rg32f) readonly uniform imageBuffer specularAlbedo;   // (A, B), brdf.h
-layout(binding = 18, rgba32f) readonly uniform imageBuffer pixelSpecular;  // 2 texels a pixel (direct_pixels)
-layout(binding = 19, rgba32f) readonly uniform imageBuffer vertexLobe;     // per surfel, at its vertex
-layout(binding = 20, rgba32f) readonly uniform imageBuffer pixelTurn;      // 2 texels a pixel (direct_pixels)
+layout(binding = 17, rgba32f) readonly uniform imageBuffer specularAlbedo;  // (A, B), brdf.h
+layout(binding = 18, rgba32f) readonly uniform imageBuffer pixelSpecular;   // 2 texels a pixel (direct_pixels)
+layout(binding = 19, rgba32f) readonly uniform imageBuffer vertexLobe;      // per surfel, at its vertex
+layout(binding = 20, rgba32f) readonly uniform imageBuffer pixelTurn;       // 2 texels a pixel (direct_pixels)
 layout(push_constant) uniform Push { ResolvePush push; };
 // False for scenes without textures: the lookups are compiled out. lavapipe runs a branch inside
 // the sample loop masked, so even untaken lookups cost a third of the pass.

@@ -16,7 +16,7 @@ layout(std430, binding = 4) writeonly buffer NodeEmission { vec4 nodeEmission[];
 layout(std430, binding = 5) writeonly buffer Radiosity { vec4 radiosity[]; };
 layout(std430, binding = 6) readonly buffer SurfelArrival { vec4 surfelArrival[]; };
 layout(std430, binding = 7) readonly buffer SurfelBrdf { SurfaceBrdf surfelBrdf[]; };
-layout(binding = 8, rg32f) readonly uniform imageBuffer specularAlbedo;
+layout(binding = 8, rgba32f) readonly uniform imageBuffer specularAlbedo;
 layout(std430, binding = 9) readonly buffer Nodes { NodeState nodes[]; };
 layout(std430, binding = 10) writeonly buffer SenderLobes { vec4 senderLobes[]; };
 layout(push_constant) uniform Push { CountPush push; };    // count: surfels

@@ -5,7 +5,7 @@
 #define LOBE_GLSL
 layout(binding = 1, r32ui) readonly uniform uimageBuffer leafOfSurfel;
 layout(std430, binding = 2) readonly buffer SurfelBrdf { SurfaceBrdf surfelBrdf[]; };
-layout(binding = 3, rg32f) readonly uniform imageBuffer specularAlbedo;
+layout(binding = 3, rgba32f) readonly uniform imageBuffer specularAlbedo;
 layout(push_constant) uniform Push { LobePush push; };
 #include "common/specular_albedo.glsl"
 

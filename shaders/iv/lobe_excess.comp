@@ -22,7 +22,7 @@ layout(binding = 6, rg32ui) readonly uniform uimageBuffer staticRanges;         
 layout(binding = 7, rg32ui) readonly uniform uimageBuffer staticLinks[kTexelParts];
 layout(binding = 8, r32ui) readonly uniform uimageBuffer staticBins[kTexelParts];  // StaticBin
 layout(binding = 9, r32ui) readonly uniform uimageBuffer overrides;                // per leaf and mask word
-layout(binding = 10, rg32f) readonly uniform imageBuffer specularAlbedo;
+layout(binding = 10, rgba32f) readonly uniform imageBuffer specularAlbedo;
 layout(std430, binding = 11) writeonly buffer LobeExcess { vec4 lobeExcess[]; };        // per surfel, at receivers
 layout(std430, binding = 14) writeonly buffer ArrivalExcess { vec4 arrivalExcess[]; };  // the same, kArrival
 layout(push_constant) uniform Push { GatherPush push; };

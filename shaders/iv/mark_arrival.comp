@@ -8,7 +8,7 @@ layout(local_size_x = 64) in;
 
 layout(binding = 0, r32ui) readonly uniform uimageBuffer tapCounts;
 layout(binding = 1, rg32ui) readonly uniform uimageBuffer taps;  // InterpolationTap
-layout(binding = 2, rg32f) readonly uniform imageBuffer specularAlbedo;
+layout(binding = 2, rgba32f) readonly uniform imageBuffer specularAlbedo;
 layout(std430, binding = 3) readonly buffer SurfelBrdf { SurfaceBrdf surfelBrdf[]; };
 layout(binding = 4, r32ui) writeonly uniform uimageBuffer arrivalTaps;  // per surfel: 1 where tapped
 layout(push_constant) uniform Push { GatherPush push; };

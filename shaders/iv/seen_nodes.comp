@@ -20,7 +20,7 @@ layout(std430, binding = 2) readonly buffer ShownSurfels { uint shownSurfels[]; 
 layout(std430, binding = 3) buffer SeenNodes { uint seenNodes[]; };  // float bits
 layout(binding = 4, rgba32f) readonly uniform imageBuffer views;     // the image's Camera
 layout(std430, binding = 5) readonly buffer SurfelBrdf { SurfaceBrdf surfelBrdf[]; };
-layout(binding = 6, rg32f) readonly uniform imageBuffer specularAlbedo;
+layout(binding = 6, rgba32f) readonly uniform imageBuffer specularAlbedo;
 layout(push_constant) uniform Push { SeenPush push; };
 #include "common/specular_albedo.glsl"
 

@@ -15,7 +15,7 @@ layout(binding = 1, r32ui) readonly uniform uimageBuffer leafOfSurfel;
 layout(binding = 2, r32ui) readonly uniform uimageBuffer tapCounts;
 layout(binding = 3, rg32ui) readonly uniform uimageBuffer taps;  // InterpolationTap
 layout(binding = 4, rgba32f) readonly uniform imageBuffer receiverArrival;
-layout(binding = 5, rg32f) readonly uniform imageBuffer specularAlbedo;
+layout(binding = 5, rgba32f) readonly uniform imageBuffer specularAlbedo;
 layout(std430, binding = 6) readonly buffer SurfelBrdf { SurfaceBrdf surfelBrdf[]; };
 layout(std430, binding = 7) writeonly buffer ArrivalLobes { vec4 arrivalLobes[]; };  // per node
 layout(push_constant) uniform Push { GatherPush push; };
