@@ -74,7 +74,8 @@ std::optional<uint32_t> computeQueueFamily(VkPhysicalDevice pd, uint32_t* timest
 }
 
 DeviceInfo describe(VkPhysicalDevice pd, uint32_t index) {
-  VkPhysicalDeviceIDProperties id{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ID_PROPERTIES};
+  VkPhysicalDeviceSubgroupProperties subgroup{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+  VkPhysicalDeviceIDProperties id{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ID_PROPERTIES, &subgroup};
   VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES, &id};
   VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &driver};
   vkGetPhysicalDeviceProperties2(pd, &props);
@@ -101,6 +102,9 @@ DeviceInfo describe(VkPhysicalDevice pd, uint32_t index) {
   if (!f12.shaderBufferInt64Atomics) missing.push_back("64-bit buffer atomics (shaderBufferInt64Atomics)");
   if (!feats.features.shaderInt64) missing.push_back("shaderInt64");
   if (!hasExtension(pd, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME)) missing.push_back("VK_KHR_push_descriptor");
+  if (!(subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) ||
+      !(subgroup.supportedOperations & VK_SUBGROUP_FEATURE_BALLOT_BIT))
+    missing.push_back("subgroup ballot in compute shaders");
   if (!computeQueueFamily(pd, &tsBits))
     missing.push_back("a compute queue");
   else if (tsBits == 0 || props.properties.limits.timestampPeriod <= 0)

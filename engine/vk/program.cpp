@@ -171,7 +171,7 @@ Program::Program(const Context& ctx, std::string name, std::span<const uint32_t>
                  const Specialization& specialization)
     : ctx_(ctx), name_(std::move(name)) {
   // One compilation per shader code and specialization for the context (the device's own values,
-  // texelPartBits and cpuDevice, are the same for every program of it).
+  // texelPartBits, cpuDevice and groupInOneSubgroup, are the same for every program of it).
   std::string key = name_ + "@" + std::to_string(reinterpret_cast<uintptr_t>(code.data())) + "+" +
                     std::to_string(code.size()) + " x" + std::to_string(specialization.localSizeX);
   for (const auto& [constant, value] : specialization.constants)
@@ -222,6 +222,9 @@ std::shared_ptr<Program::Compiled> Program::compile(std::span<const uint32_t> co
     specialize(r.localSizeConstant[0], specialization.localSizeX);
     c->localSize[0] = specialization.localSizeX;
   }
+  // common.glsl: whether subgroup operations reach the whole workgroup.
+  if (const Reflection::Constant* k = constant("groupInOneSubgroup"))
+    specialize(k->id, ctx.subgroupSize() >= c->localSize[0] * c->localSize[1] * c->localSize[2] ? 1u : 0u);
 
   VkShaderModuleCreateInfo mi{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
   mi.codeSize = code.size_bytes();

@@ -11,6 +11,9 @@ float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
 // and lavapipe loses lanes of a divergent loop at a memory barrier: fences between workgroups of one
 // dispatch (climb.glsl, a last workgroup's bookkeeping) are a GPU's only.
 layout(constant_id = 29) const bool cpuDevice = false;
+// Set by vk::Program from the device: whether the device's subgroup holds a whole workgroup, so
+// that subgroup operations reach every lane of it without a barrier.
+layout(constant_id = 25) const bool groupInOneSubgroup = false;
 
 // Ends main() in every invocation but the first of the dispatch's last workgroup to get here, which
 // may then read what every workgroup wrote (a dispatch's bookkeeping for the next, without a
