@@ -29,6 +29,7 @@ layout(std430, binding = 14) writeonly buffer ArrivalExcess { vec4 arrivalExcess
 layout(push_constant) uniform Push { GatherPush push; };
 #include "common/specular_albedo.glsl"
 #define LINK_LANES
+#define LINK_BATCHES
 #include "receiver_links.glsl"
 #define SENDER_LOBES 12
 #define ARRIVAL_LOBES 13
@@ -52,85 +53,27 @@ void addLobes(uint q, vec3 x, float f, inout vec3 excess, inout vec3 arrival) {
   arrival += f * arrivalAlong(q, first, n, w, widening, push.leastSpread);
 }
 
-// A CPU device runs the body of a branch for all of a subgroup's lanes, masked, whichever take it:
-// weighed in the walk, every link would cost the lobes. So the walk gathers the links whose sender
-// sends by direction into a batch, in lane order, and a loop of their own weighs them, a lane each.
-const uint kLobeBatch = 32u * kReceiverGroup;
-shared uvec2 lobeBatch[kLobeBatch];
-// Where the workgroup spans subgroups: the lanes that batched a link in a round, a word a round,
-// three in turn, so that the word of the round after next is cleared while this round's is read.
-shared uint batchedLanes[3];
+// The lane's sums over the links it weighs, of the receiver being walked, toward its centre.
+vec3 excessSum, arrivalSum, receiverAt;
 
-bool sendsByDirection(uint q) {
-  return (kSenderLobes && imageLoad(senderLobes, int(2u * q)).w > 0.0) ||
-         (kArrival && imageLoad(arrivalLobes, int(2u * kArrivalLobes * q)).w > 0.0);
+// Only the links whose sender sends by direction weigh a lobe: batched.
+bool visitLink(uvec2 link) {
+  return (kSenderLobes && imageLoad(senderLobes, int(2u * link.x)).w > 0.0) ||
+         (kArrival && imageLoad(arrivalLobes, int(2u * kArrivalLobes * link.x)).w > 0.0);
 }
-
-// The lanes' writes to the batch seen by every lane; every lane calls it.
-void batchBarrier() {
-  if (groupInOneSubgroup) {
-    subgroupMemoryBarrierShared();
-    subgroupBarrier();
-  } else {
-    barrier();
-  }
-}
-
-// Adds link to the batch where `lobed`; `batched` (the same in every lane) grows by the lanes that
-// did. Every lane calls it, `round` counting its calls.
-void batchLink(bool lobed, uvec2 link, inout uint batched, inout uint round) {
-  uint before, count;
-  if (groupInOneSubgroup) {
-    const uvec4 lanes = subgroupBallot(lobed);
-    before = subgroupBallotExclusiveBitCount(lanes), count = subgroupBallotBitCount(lanes);
-  } else {
-    const uint word = round++ % 3u, lane = linkLane();
-    if (lobed) atomicOr(batchedLanes[word], 1u << lane);
-    if (lane == 0u) batchedLanes[(word + 1u) % 3u] = 0u;
-    barrier();
-    const uint lanes = batchedLanes[word];
-    before = bitCount(lanes & ((1u << lane) - 1u)), count = bitCount(lanes);
-  }
-  if (lobed) lobeBatch[batched + before] = link;
-  batched += count;
-}
+void batchedLink(uvec2 link) { addLobes(link.x, receiverAt, uintBitsToFloat(link.y), excessSum, arrivalSum); }
 
 void main() {
-  if (linkLane() < 3u) batchedLanes[linkLane()] = 0u;
-  barrier();
-  uint round = 0u;
   const uint count = receiverCounts[kReceiverCount];
   FOR_GROUP_RECEIVERS(k, push.newOnly != 0u ? receiverCounts[kReceiverRound] : 0u, count) {
     const uint s = imageLoad(receivers, int(k)).x;
-    const vec3 at = nodePositionArea(imageLoad(leafOfSurfel, int(s)).x).xyz;
-    vec3 excess = vec3(0.0), arrival = vec3(0.0);
-    const uvec2 range = imageLoad(ranges, int(s)).xy, staticRange = imageLoad(staticRanges, int(s)).xy;
-    const uint end = range.x + range.y, staticEnd = staticRange.x + staticRange.y;
-    uint next = range.x, nextStatic = staticRange.x;
-    while (next < end || nextStatic < staticEnd) {
-      uint batched = 0u;
-      for (; next < end && batched + kReceiverGroup <= kLobeBatch; next += kReceiverGroup) {
-        const uint i = next + linkLane();
-        const uvec2 link = i < end ? loadParted(leafLinks, i).xy : uvec2(0u);
-        batchLink(i < end && sendsByDirection(link.x), link, batched, round);
-      }
-      for (; nextStatic < staticEnd && batched + kReceiverGroup <= kLobeBatch; nextStatic += kReceiverGroup) {
-        const uint i = nextStatic + linkLane();
-        const uvec2 link = i < staticEnd ? loadParted(staticLinks, i).xy : uvec2(0u);
-        const bool lobed = i < staticEnd && sendsByDirection(link.x) && staticLinkStands(s, i, push.maskWords);
-        batchLink(lobed, link, batched, round);
-      }
-      batchBarrier();
-      for (uint j = linkLane(); j < batched; j += kReceiverGroup) {
-        const uvec2 link = lobeBatch[j];
-        addLobes(link.x, at, uintBitsToFloat(link.y), excess, arrival);
-      }
-      batchBarrier();  // read before the next batch overwrites it
-    }
-    sumLanes(excess, arrival);
+    receiverAt = nodePositionArea(imageLoad(leafOfSurfel, int(s)).x).xyz;
+    excessSum = arrivalSum = vec3(0.0);
+    walkLinksInBatches(s);
+    sumLanes(excessSum, arrivalSum);
     if (linkLane() == 0u) {
-      lobeExcess[s] = vec4(excess, 0.0);
-      if (kArrival) arrivalExcess[s] = vec4(arrival, 0.0);
+      lobeExcess[s] = vec4(excessSum, 0.0);
+      if (kArrival) arrivalExcess[s] = vec4(arrivalSum, 0.0);
     }
   }
 }
