@@ -29,10 +29,13 @@ layout(binding = 11, rgba32f) readonly uniform imageBuffer nodeEmission;        
 layout(std430, binding = 12) writeonly buffer ReceiverArrival { vec4 receiverArrival[]; };
 layout(binding = 13, r32ui) readonly uniform uimageBuffer arrivalTaps;  // per surfel: 1 where a metal surfel taps it
 layout(push_constant) uniform Push { GatherPush push; };
+#define LINK_LANES
 #include "receiver_links.glsl"
 
+// The lane's sums over the links it walks.
 vec3 irradiance[kArrivalClasses];
 vec4 directions[kArrivalClasses];
+shared vec4 laneSumsOfClasses[kReceiverGroup][2u * kArrivalClasses];
 
 // Files the light a link to sender q brings (f: its form factor) under its class of direction.
 void file(uint q, float f, vec3 x) {
@@ -53,24 +56,36 @@ void file(uint q, float f, vec3 x) {
   }
 }
 
+// The workgroup's lanes walk each tapped receiver's links together (receiver_links.glsl's
+// LINK_LANES): a lane a receiver waited on the longest list of eight, and ran for the receivers
+// no metal taps.
 void main() {
-  const uint k = itemIndex();
-  if (k >= receiverCounts[kReceiverCount]) return;
-  const uint s = imageLoad(receivers, int(k)).x;
-  if (imageLoad(arrivalTaps, int(s)).x == 0u) return;
-  const vec3 x = nodePositionArea(imageLoad(leafOfSurfel, int(s)).x).xyz;
-  for (uint c = 0u; c < kArrivalClasses; ++c) irradiance[c] = vec3(0.0), directions[c] = vec4(0.0);
-  const uvec2 range = imageLoad(ranges, int(s)).xy, staticRange = imageLoad(staticRanges, int(s)).xy;
-  for (uint i = range.x; i < range.x + range.y; ++i) {
-    const uvec2 link = loadParted(leafLinks, i).xy;
-    file(link.x, uintBitsToFloat(link.y), x);
-  }
-  for (uint i = staticRange.x; i < staticRange.x + staticRange.y; ++i) {
-    const uvec2 link = loadParted(staticLinks, i).xy;
-    if (staticLinkStands(s, i, push.maskWords)) file(link.x, uintBitsToFloat(link.y), x);
-  }
-  for (uint c = 0u; c < kArrivalClasses; ++c) {
-    receiverArrival[2u * kArrivalClasses * s + 2u * c] = vec4(irradiance[c], 0.0);
-    receiverArrival[2u * kArrivalClasses * s + 2u * c + 1u] = directions[c];
+  const uint count = receiverCounts[kReceiverCount];
+  FOR_GROUP_RECEIVERS(k, 0u, count) {
+    const uint s = imageLoad(receivers, int(k)).x;
+    if (imageLoad(arrivalTaps, int(s)).x == 0u) continue;
+    const vec3 x = nodePositionArea(imageLoad(leafOfSurfel, int(s)).x).xyz;
+    for (uint c = 0u; c < kArrivalClasses; ++c) irradiance[c] = vec3(0.0), directions[c] = vec4(0.0);
+    const uvec2 range = imageLoad(ranges, int(s)).xy, staticRange = imageLoad(staticRanges, int(s)).xy;
+    for (uint i = range.x + linkLane(); i < range.x + range.y; i += kReceiverGroup) {
+      const uvec2 link = loadParted(leafLinks, i).xy;
+      file(link.x, uintBitsToFloat(link.y), x);
+    }
+    for (uint i = staticRange.x + linkLane(); i < staticRange.x + staticRange.y; i += kReceiverGroup) {
+      const uvec2 link = loadParted(staticLinks, i).xy;
+      if (staticLinkStands(s, i, push.maskWords)) file(link.x, uintBitsToFloat(link.y), x);
+    }
+    // The lanes' sums, in lane order: each lane sums texels `lane` and `lane` + kReceiverGroup.
+    for (uint c = 0u; c < kArrivalClasses; ++c) {
+      laneSumsOfClasses[linkLane()][2u * c] = vec4(irradiance[c], 0.0);
+      laneSumsOfClasses[linkLane()][2u * c + 1u] = directions[c];
+    }
+    barrier();
+    for (uint t = linkLane(); t < 2u * kArrivalClasses; t += kReceiverGroup) {
+      vec4 sum = vec4(0.0);
+      for (uint l = 0u; l < kReceiverGroup; ++l) sum += laneSumsOfClasses[l][t];
+      receiverArrival[2u * kArrivalClasses * s + t] = sum;
+    }
+    barrier();
   }
 }
