@@ -140,6 +140,8 @@ struct GatherPush {     // gather, lobe_excess and the passes of the metals' lob
   uint poseBase;        // PrunePush's
   uint arrival;         // gather: 1 adds what metals send along their lobes of the first bounce
   uint surfelCount;     // mark_arrival, send_arrival
+  uint directKnown;     // lobe_excess: 1 where the estimates left each receiver's direct light's
+                        // excess (Bounces::recordStart's `estimated`): the first bounce's alone
 };
 // The first bounce's light arriving where a metal surfel interpolates it from, split by where it
 // comes from: the classes are the world's six half-axes, the one nearest its direction

@@ -1,12 +1,13 @@
 #version 460
-// iv, once a frame before the bounces (where some lobe sends by direction): what the glossy leaves
-// among each receiver's senders send toward it along their lobes beyond their radiosity sent evenly
-// (sender_lobes.glsl), Σ F·S·(π f/a − 1) over its surviving links. It comes from the direct
-// light alone, which the bounces do not change, so the gather adds it to every bounce's
-// irradiance rather than weighing each link again. Also before each of the receivers' refinement
-// rounds' estimates, at the round's new receivers (GatherPush::newOnly). With kArrival (once a
-// frame), also the same of what they send along their lobes of the first bounce's light
-// (send_arrival.comp), which the gather adds from the second bounce on.
+// iv (where some lobe sends by direction): what the glossy leaves among each receiver's senders send
+// toward it along their lobes beyond their radiosity sent evenly (sender_lobes.glsl), Σ F·S·(π f/a
+// − 1) over its surviving links. It comes from the direct light alone, which the bounces do not
+// change, so the gather adds it to every bounce's irradiance rather than weighing each link again.
+// At each of the receivers' refinement rounds' estimates, at the round's new receivers
+// (GatherPush::newOnly); where no round ran (every surfel a receiver), once before the bounces.
+// With kArrival (once a frame before the bounces), also the same of what they send along their
+// lobes of the first bounce's light (send_arrival.comp), which the gather adds from the second
+// bounce on: that alone where the estimates left the rest (GatherPush::directKnown).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_ballot : require
 #define NODE_TEXELS 0
@@ -46,7 +47,7 @@ void addLobes(uint q, vec3 x, float f, inout vec3 excess, inout vec3 arrival) {
   vec3 n, w;
   float widening;
   if (!(lobe.w > 0.0 || first.w > 0.0) || !senderToward(q, x, 0.0, n, w, widening)) return;
-  if (lobe.w > 0.0) {
+  if (lobe.w > 0.0 && push.directKnown == 0u) {
     const vec4 light = imageLoad(senderLobes, int(2u * q + 1u));
     excess += f * excessAlong(lobe, light.xyz, light.w, n, w, widening, push.leastSpread);
   }
@@ -58,7 +59,7 @@ vec3 excessSum, arrivalSum, receiverAt;
 
 // Only the links whose sender sends by direction weigh a lobe: batched.
 bool visitLink(uvec2 link) {
-  return (kSenderLobes && imageLoad(senderLobes, int(2u * link.x)).w > 0.0) ||
+  return (kSenderLobes && push.directKnown == 0u && imageLoad(senderLobes, int(2u * link.x)).w > 0.0) ||
          (kArrival && imageLoad(arrivalLobes, int(2u * kArrivalLobes * link.x)).w > 0.0);
 }
 void batchedLink(uvec2 link) { addLobes(link.x, receiverAt, uintBitsToFloat(link.y), excessSum, arrivalSum); }
@@ -72,7 +73,7 @@ void main() {
     walkLinksInBatches(s);
     sumLanes(excessSum, arrivalSum);
     if (linkLane() == 0u) {
-      lobeExcess[s] = vec4(excessSum, 0.0);
+      if (push.directKnown == 0u) lobeExcess[s] = vec4(excessSum, 0.0);
       if (kArrival) arrivalExcess[s] = vec4(arrivalSum, 0.0);
     }
   }

@@ -97,7 +97,7 @@ void Bounces::recordEmission(VkCommandBuffer cmd) const {
     vk::copyBuffer(cmd, b_.nodeEmission, b_.radiosityA);
 }
 
-void Bounces::recordStart(VkCommandBuffer cmd) const {
+void Bounces::recordStart(VkCommandBuffer cmd, bool estimated) const {
   vk::fillBuffer(cmd, state_, 0u);
   // The irradiance before the first gather: the depth maps' direct light where they give it, else
   // zeros (the first gather's change is then all of it).
@@ -105,8 +105,8 @@ void Bounces::recordStart(VkCommandBuffer cmd) const {
   vk::copyRegion(cmd, b_.receiverArgs, fullArgs_, {gpu::kArgsReceivers * sizeof(glm::uvec4), 0, sizeof(glm::uvec4)});
   vk::copyBuffer(cmd, fullArgs_, args_);
   if (metal_)
-    recordArrival(cmd);
-  else
+    recordArrival(cmd, estimated);
+  else if (!estimated)
     recordLobeExcess(cmd, gpu::kArgsReceivers, 0u);
 }
 
@@ -124,16 +124,17 @@ void Bounces::recordLobeExcess(VkCommandBuffer cmd, uint32_t args, uint32_t newO
                                 lobeBindings().with({{"lobeExcess", receiverExcess_}}), gatherPush(newOnly));
 }
 
-void Bounces::recordArrival(VkCommandBuffer cmd) const {
+void Bounces::recordArrival(VkCommandBuffer cmd, bool estimated) const {
   const vk::Bindings bindings = lobeBindings();
   const size_t receiversArgs = gpu::kArgsReceivers * sizeof(glm::uvec4);
   vk::fillBuffer(cmd, arrivalTaps_, 0u);
   markArrival_->dispatchItems(cmd, surfelCount_, bindings, gatherPush(0u));
   arrivalLobes_->dispatchIndirect(cmd, b_.receiverArgs, receiversArgs, bindings, gatherPush(0u));
   sendArrival_->dispatchItems(cmd, surfelCount_, bindings, gatherPush(0u));
-  // Both lobes' excess at once: the direct light's and the first bounce's.
+  // Both lobes' excess at once, the direct light's and the first bounce's; the first bounce's alone
+  // where the estimates left the direct light's.
   lobeExcessBoth_->dispatchIndirect(cmd, b_.receiverArgs, receiversArgs,
-                                    bindings.with({{"lobeExcess", receiverExcess_}}), gatherPush(0u));
+                                    bindings.with({{"lobeExcess", receiverExcess_}}), gatherPush(0u, false, estimated));
 }
 
 vk::Bindings Bounces::gatherBindings(const vk::Buffer& in) const {
@@ -145,7 +146,7 @@ vk::Bindings Bounces::gatherBindings(const vk::Buffer& in) const {
                          {"stillGathered", stillGathered_}});
 }
 
-gpu::GatherPush Bounces::gatherPush(uint32_t newOnly, bool arrival) const {
+gpu::GatherPush Bounces::gatherPush(uint32_t newOnly, bool arrival, bool directKnown) const {
   return {.maskWords = gpu::maskWordsFor(settings_.bins),
           .newOnly = newOnly,
           .emittersByMaps = b_.scene.emittersByMaps() ? 1u : 0u,
@@ -153,7 +154,8 @@ gpu::GatherPush Bounces::gatherPush(uint32_t newOnly, bool arrival) const {
           .leastSpread = senderBinSpread(settings_.bins),
           .poseBase = b_.scene.nodeCount,
           .arrival = arrival ? 1u : 0u,
-          .surfelCount = surfelCount_};
+          .surfelCount = surfelCount_,
+          .directKnown = directKnown ? 1u : 0u};
 }
 
 void Bounces::recordEstimate(VkCommandBuffer cmd) const {

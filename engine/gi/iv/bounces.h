@@ -28,8 +28,10 @@ class Bounces {
           const LinkSet& staticSet, const LinkSet& frameSet, const scene::Geometry& g, vk::Allocations& allocations);
   // π·Le into nodeEmission at the leaves, pulled up, and copied to radiosityA (where bounces start).
   void recordEmission(VkCommandBuffer cmd) const;
-  // The frame's first gather comes next, over the receivers listed.
-  void recordStart(VkCommandBuffer cmd) const;
+  // The frame's first gather comes next, over the receivers listed. `estimated`: every one went
+  // through recordEstimate this frame, which left what glossy senders send it along their lobes of
+  // the direct light.
+  void recordStart(VkCommandBuffer cmd, bool estimated) const;
   // The irradiance the receivers' refinement judges by: the direct light of the round's new
   // receivers, gathered from the emission.
   void recordEstimate(VkCommandBuffer cmd) const;
@@ -61,13 +63,13 @@ class Bounces {
   // The gather's buffers, reading the radiosity `in`.
   vk::Bindings gatherBindings(const vk::Buffer& in) const;
   // `arrival`: the gather adds what metals send along their lobes of the first bounce.
-  gpu::GatherPush gatherPush(uint32_t newOnly, bool arrival = false) const;
+  gpu::GatherPush gatherPush(uint32_t newOnly, bool arrival = false, bool directKnown = false) const;
   // The buffers of the glossy lobes' passes: pool() with the lobes' own.
   vk::Bindings lobeBindings() const;
   // A scene with a metal's, before the first gather: what glossy senders send along their lobes
-  // toward every receiver of the direct light, and the metals of the first bounce's (mark_arrival,
-  // arrival_lobes, send_arrival, lobe_excess with kArrival).
-  void recordArrival(VkCommandBuffer cmd) const;
+  // toward every receiver of the direct light (unless `estimated`, recordStart's), and the metals
+  // of the first bounce's (mark_arrival, arrival_lobes, send_arrival, lobe_excess with kArrival).
+  void recordArrival(VkCommandBuffer cmd, bool estimated) const;
   // What glossy senders send along their lobes to the receivers (lobe_excess.comp), at those the
   // receiver dispatch arguments `args` cover: every one, or (newOnly) the round's new ones.
   void recordLobeExcess(VkCommandBuffer cmd, uint32_t args, uint32_t newOnly) const;

@@ -268,7 +268,7 @@ void IvSolver::recordSolve(VkCommandBuffer cmd, vk::PassTimer& timer) {
 
 void IvSolver::recordFirstBounces(VkCommandBuffer cmd, vk::PassTimer& timer) {
   timedPass(cmd, timer, "bounces", [&] {
-    bounces_.recordStart(cmd);
+    bounces_.recordStart(cmd, !receivers_.everySurfel());
     gathersRecorded_ = std::min(kFirstBounceSteps, bounces_.maxGathers());
     bounces_.recordSteps(cmd, 0, gathersRecorded_);
   });
