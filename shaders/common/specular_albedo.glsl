@@ -27,7 +27,7 @@ layout(constant_id = 26) const bool kBasesByAngle = false;
 // What of m does not change with the direction, for a pass that takes many: the base's share of all
 // m reflects (base/all at the hemisphere's mean albedo) and 1/(1 − Ē); w = 0 where m's base is even.
 vec4 baseShareOf(SurfaceBrdf m) {
-  if (!kBasesByAngle || isLambertian(m) || m.metallic >= 1.0) return vec4(0.0);
+  if (!kBasesByAngle || !baseLeavesByAngle(m)) return vec4(0.0);
   const vec2 mean = specularAlbedoMeanOf(m.alpha);
   const vec3 base = baseReflectanceOf(m, mean), all = base + lobeReflectanceOf(m, mean);
   return vec4(base / max(all, vec3(1e-6)), 1.0 / max(1.0 - layerAlbedo(m, mean), 1e-6));

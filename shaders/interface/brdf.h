@@ -94,6 +94,9 @@ IVGI_FN bool isLambertian(SurfaceBrdf m) {
   return m.metallic <= 0.0f && m.specular.w <= 0.0f && maxOf(vec3(m.specular.x, m.specular.y, m.specular.z)) <= 0.0f;
 }
 
+// Whether m's diffuse base lies under a specular layer, which sends it by its exit angle (baseWeight).
+IVGI_FN bool baseLeavesByAngle(SurfaceBrdf m) { return !isLambertian(m) && m.metallic < 1.0f; }
+
 // The specular albedo table (engine/scene/reflectance.h): kAlbedoTableSize directions, cos θ
 // at ((i + ½) / size)² (denser toward grazing, where the albedo turns fastest), by
 // kAlbedoTableSize roughnesses at (j / (size − 1))² (denser toward smooth, likewise).

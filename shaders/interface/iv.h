@@ -14,11 +14,13 @@ struct LeafLink {
 // Per node, for the prune: it moves (its object may move: pruned every frame), its object's
 // surface is closed (scene::closedInstances) with its normals out (Hierarchy::rootEncloses), its object moves rigidly
 // (its links to itself are pruned once, in its rest pose), and above kNodeRootShift its object's root node (which is
-// the object's number: roots come first).
+// the object's number: roots come first). For the reflections, a leaf whose base leaves by its exit angle
+// (baseLeavesByAngle, in a scene where some base does: Geometry::directionalBases).
 IVGI_CONST uint kNodeMoves = 1u;
 IVGI_CONST uint kNodeClosed = 2u;
 IVGI_CONST uint kNodeRigid = 4u;
-IVGI_CONST uint kNodeRootShift = 3u;
+IVGI_CONST uint kNodeBaseByAngle = 8u;
+IVGI_CONST uint kNodeRootShift = 4u;
 // After the nodes' flags, per object, the rigid motion from where a rigidly moving object is this
 // frame back to its rest pose: 3 rows of a 3×4 matrix, as float bits (identity for the others).
 IVGI_CONST uint kPoseWords = 12u;

@@ -5,6 +5,7 @@
 // (reflect_surfels). Its α beside it; −1 where it reflects nothing toward the eye. Only at the
 // receivers the image reads (mark_taps): the others' values are left as they were, never read.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_ballot : require
 #define NODE_TEXELS 0
 #include "common/common.glsl"
 #include "common/parted_texels.glsl"

@@ -107,6 +107,9 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, IvSetup set
     if (h.nodes[node].parent >= 0) twinned[uint32_t(h.nodes[node].parent)] &= twinned[node];
     if (twinned[node]) nodeFlags[node] |= gpu::kNodeClosed;
   }
+  if (g.directionalBases)
+    for (uint32_t s = 0; s < surfelCount_; ++s)
+      if (gpu::baseLeavesByAngle(g.surfelBrdf[s])) nodeFlags[h.leafOfSurfel[s]] |= gpu::kNodeBaseByAngle;
   if (anyRigid_) keepRestPose(g, nodeFlags);
   std::vector<uint32_t> leafMoves(surfelCount_);
   for (uint32_t s = 0; s < surfelCount_; ++s) leafMoves[s] = nodeFlags[h.leafOfSurfel[s]] & gpu::kNodeMoves;
