@@ -88,6 +88,39 @@ void reflectionsOnlyWhereShown(const MakeSolver& make, bool receivers) {
 
 }  // namespace
 
+// The passes that weigh only some links' lobes (lobe_excess, reflect_receivers) gather those links
+// in batches (receiver_links.glsl's walkLinksInBatches): by a subgroup ballot where the device's
+// subgroup holds the workgroup, else behind barriers. The second way, forced on a device that has
+// the first, must give the same image (the batches fill in lane order either way; within 1e-5
+// where a device's ballot orders its lanes otherwise) and no validation error.
+TEST(Glossy, IvBatchesLinksAlikeWhereWorkgroupsSpanSubgroups) {
+  const scene::Scene s = scene::sceneFromModel(scenes::cornellBox({.cells = 8, .glossy = true}), "test");
+  const scene::Geometry g = scene::buildGeometry(s);
+  const scene::Pose pose = scene::evaluatePose(s, 0, 0.25f);
+  const scene::CameraView view = scene::cameraView(s, pose, s.cameraNodes()[0]);
+  const gi::DirectLightSettings maps{.samples = 16, .resolution = 64, .perPixel = true};
+  const auto renderOn = [&](const vk::Context& ctx) {
+    gi::FrameRenderer r(ctx, g, gi::ImageSettings{48, 36, 1},
+                        std::make_unique<gi::IvSolver>(ctx, g, gi::makeIvSetup(s, g, gi::IvSettings{.bins = 8}, 0)),
+                        maps);
+    return r.render(g.frameInputs(s, pose), view, scene::worldLights(s, pose)).channels.radiance;
+  };
+  vk::Context spanning(vk::ContextOptions{.validation = true, .spanSubgroups = true});
+  if (!test::gpu().subgroupHolds(gpu::kReceiverGroup)) GTEST_SKIP() << "the device takes the barriers' way itself";
+  ASSERT_FALSE(spanning.subgroupHolds(gpu::kReceiverGroup));
+  const std::vector<glm::vec4> ballot = renderOn(test::gpu()), barriers = renderOn(spanning);
+  ASSERT_EQ(ballot.size(), barriers.size());
+  double largest = 0.0, worst = 0.0;
+  for (size_t i = 0; i < ballot.size(); ++i)
+    for (int c = 0; c < 3; ++c) {
+      largest = std::max(largest, double(ballot[i][c]));
+      worst = std::max(worst, std::abs(double(ballot[i][c]) - double(barriers[i][c])));
+    }
+  EXPECT_GT(largest, 0.0);
+  EXPECT_LE(worst, 1e-5 * largest);
+  EXPECT_EQ(spanning.validationErrors(), 0u);
+}
+
 TEST(Glossy, IvReflectsOnlyWhatTheImageShows) {
   reflectionsOnlyWhereShown(
       [](const scene::Scene& s, const scene::Geometry& g) -> std::unique_ptr<gi::Solver> {

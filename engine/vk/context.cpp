@@ -242,6 +242,7 @@ Context::Context(const ContextOptions& options) {
   if (options.texelPartBits)  // views start 16-byte aligned
     texelPartBits_ = std::clamp<uint32_t>(options.texelPartBits, 4, texelPartBits_);
   subgroupSize_ = std::max(subgroup.subgroupSize, 1u);
+  spanSubgroups_ = options.spanSubgroups;
   vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
   queueFamily_ = *computeQueueFamily(physical_, &timestampValidBits_);
 

@@ -39,6 +39,9 @@ struct ContextOptions {
   // Texels a view of a parted array holds, as a power of two; 0: the most the device allows (tests
   // make it small, so that small scenes fill several views).
   uint32_t texelPartBits = 0;
+  // Passes take their way for a device whose subgroups are smaller than their workgroups
+  // (subgroupHolds() false), so that tests check that way on any device.
+  bool spanSubgroups = false;
 };
 
 class PassTimer;
@@ -74,6 +77,9 @@ class Context {
   uint32_t timestampValidBits() const { return timestampValidBits_; }
   // Invocations a subgroup runs together (8 on lavapipe, 32 on NVIDIA).
   uint32_t subgroupSize() const { return subgroupSize_; }
+  // Whether a workgroup of `invocations` lies in one subgroup, so that subgroup operations reach all
+  // of it (shaders' groupInOneSubgroup).
+  bool subgroupHolds(uint32_t invocations) const { return !spanSubgroups_ && subgroupSize_ >= invocations; }
   // 64-bit atomics on workgroup-shared memory (else passes keep such data in buffers).
   bool sharedInt64Atomics() const { return sharedInt64Atomics_; }
 
@@ -114,6 +120,7 @@ class Context {
   uint32_t queueFamily_ = 0;
   uint32_t timestampValidBits_ = 0;
   uint32_t subgroupSize_ = 1;
+  bool spanSubgroups_ = false;
   bool sharedInt64Atomics_ = false;
   VkCommandPool pool_ = VK_NULL_HANDLE;
   VkFence fence_ = VK_NULL_HANDLE;

@@ -224,7 +224,7 @@ std::shared_ptr<Program::Compiled> Program::compile(std::span<const uint32_t> co
   }
   // common.glsl: whether subgroup operations reach the whole workgroup.
   if (const Reflection::Constant* k = constant("groupInOneSubgroup"))
-    specialize(k->id, ctx.subgroupSize() >= c->localSize[0] * c->localSize[1] * c->localSize[2] ? 1u : 0u);
+    specialize(k->id, ctx.subgroupHolds(c->localSize[0] * c->localSize[1] * c->localSize[2]) ? 1u : 0u);
 
   VkShaderModuleCreateInfo mi{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
   mi.codeSize = code.size_bytes();
