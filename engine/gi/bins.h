@@ -35,6 +35,19 @@ inline float roughnessOfSpread(float spread) { return std::sqrt(std::sqrt(spread
 // resolves finer, "--bins 16").
 void noteUnresolvedRoughness(const scene::Geometry& g, float spread, const char* method, const std::string& option);
 
+// Per object (its surfels by `objectOfSurfel`, its instance `objectInstance`): the axes its surfaces
+// follow at rest (`world`: the vertices there), as rows (binFrame's x, y, z): z the direction for
+// which Σ area·(n·z)⁴ is largest among the world's axes and the normals of its largest surfels, x the
+// mean orientation, modulo a right angle about z, of the normals across z (by area) and of the
+// edges of its faces along z's plane (by length). A receiver's bins tilt from its object's axis
+// nearest its normal (common.glsl's tiltedTangent), so that the faces of a room or a part modelled
+// askew to the world's axes lie along their bins as they would along the world's, neighbours on a
+// curved surface bin alike, and the bins turn with the object.
+std::vector<glm::mat3> objectAxes(const scene::Geometry& g, const std::vector<scene::WorldVertex>& world,
+                                  const std::vector<scene::Surfel>& surfels,
+                                  const std::vector<uint32_t>& objectOfSurfel,
+                                  const std::vector<uint32_t>& objectInstance);
+
 // The environment's radiance per bin, or one zero for none (a buffer is never empty).
 std::vector<glm::vec4> environmentTable(const std::optional<scene::Environment>& environment, uint32_t n);
 

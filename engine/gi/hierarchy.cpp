@@ -1,5 +1,7 @@
 #include "engine/gi/hierarchy.h"
 
+#include "engine/gi/bins.h"
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -334,9 +336,11 @@ Hierarchy buildHierarchy(const scene::Geometry& g, const std::vector<scene::Surf
 namespace ivgi::gi {
 
 Hierarchy restPoseHierarchy(const scene::Scene& scene, const scene::Geometry& g) {
-  auto rest =
-      scene::surfelsOnHost(g, scene::animateOnHost(g, g.frameInputs(scene, scene::evaluatePose(scene, -1, 0.0f))));
-  return buildHierarchy(g, rest);
+  const auto world = scene::animateOnHost(g, g.frameInputs(scene, scene::evaluatePose(scene, -1, 0.0f)));
+  const auto rest = scene::surfelsOnHost(g, world);
+  Hierarchy h = buildHierarchy(g, rest);
+  h.rootAxes = objectAxes(g, world, rest, h.rootOfSurfel, h.rootInstance);
+  return h;
 }
 
 namespace {

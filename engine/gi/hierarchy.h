@@ -36,6 +36,9 @@ struct Hierarchy {
   // Per root: 1 where its surface at rest, normals out, encloses a volume (it may hold other
   // objects' surfels inside it).
   std::vector<uint8_t> rootEncloses;
+  // Per root: the axes its surfaces follow at rest, as rows (gi::objectAxes), which its leaves' bins
+  // tilt from.
+  std::vector<glm::mat3> rootAxes;
   float size = 0;  // how far the surfels reach across at rest (extentOf: the same however the scene turns)
   uint32_t levels() const { return uint32_t(levelStart.size() - 1); }
   uint32_t maxDepth() const { return levels() ? levels() - 1 : 0; }

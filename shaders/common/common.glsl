@@ -99,7 +99,8 @@ bool loopBudgetSpent() {
 #ifdef NODE_TEXELS
 layout(binding = NODE_TEXELS, rgba32f) readonly uniform imageBuffer nodes;
 // A shader that also defines NODE_POSE sees every node through a rigid motion it sets (nodeTurn,
-// nodeShift; the prune: a rigidly moving leaf sees the scene as from its object's rest pose).
+// nodeShift; the prune: a leaf sees the scene in its bin frame, a rigidly moving leaf as from its
+// object's rest pose).
 #ifdef NODE_POSE
 mat3 nodeTurn = mat3(1.0);
 vec3 nodeShift = vec3(0.0);
@@ -164,6 +165,44 @@ vec3 unpackUnitVector(uint bits) {
   if (n.z < 0.0) n.xy = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
   return normalize(n);
 }
+
+// The frame a receiver's bins lie along, as rows (frame * d is d in it): its normal and, across it,
+// `along` (made a tangent; any tangent where it lies along the normal). Bins along the world's axes
+// fall across the horizon of any surface not along them, and along no edge of a room modelled
+// askew; along the receiver's own normal the horizon runs between two rows of bins (N even), and
+// the prune tilts `along` from its object's axes (gi::objectAxes), so that the faces meeting its
+// surface lie along bins too. The axes go through packUnitVector (binFrameOf), so that a pass that
+// reads them back (StaticLeaf) bins alike, and so that axes within its precision of the world's
+// are the world's.
+vec3 frameTangent(vec3 normal, vec3 along) {
+  vec3 t1, t2;
+  tangentFrame(normal, t1, t2);
+  const vec3 x = along - normal * dot(normal, along);
+  return dot(x, x) > 1e-12 * dot(along, along) ? normalize(x) : t1;
+}
+mat3 binFrame(vec3 normal, vec3 along) {
+  const vec3 x = frameTangent(normal, along);
+  return transpose(mat3(x, cross(normal, x), normal));
+}
+// A tangent of unit normal n that varies smoothly with n (in some frame: the prune's, its object's
+// axes): that frame's first axis `first` about its axis `a` nearest n (first × b = a for the third),
+// turned the least way from a onto n (Rodrigues' formula with w = a × n, |w| = sin θ, a · n = cos θ
+// ≥ 1/√3). On a surface along the frame's axes it is one of them; neighbours on a curved surface
+// get nearly the same one.
+vec3 tiltedTangent(vec3 n) {
+  const vec3 m = abs(n);
+  const uint axis = m.x >= m.y && m.x >= m.z ? 0u : (m.y >= m.z ? 1u : 2u);
+  const float sign = n[axis] < 0.0 ? -1.0 : 1.0;
+  vec3 a = vec3(0.0), first = vec3(0.0);
+  a[axis] = sign;
+  first[sign > 0.0 ? (axis + 1u) % 3u : (axis + 2u) % 3u] = 1.0;
+  const vec3 w = cross(a, n);
+  return dot(a, n) * first + cross(w, first) + w * (dot(w, first) / (1.0 + dot(a, n)));
+}
+uvec2 packBinFrame(vec3 normal, vec3 along) {
+  return uvec2(packUnitVector(normal), packUnitVector(frameTangent(normal, along)));
+}
+mat3 binFrameOf(uvec2 packed) { return binFrame(unpackUnitVector(packed.x), unpackUnitVector(packed.y)); }
 
 // A float's bits as a uint that orders as the float does (for atomicMin and atomicMax), and back.
 uint orderedBits(float f) {

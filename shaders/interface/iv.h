@@ -21,9 +21,13 @@ IVGI_CONST uint kNodeClosed = 2u;
 IVGI_CONST uint kNodeRigid = 4u;
 IVGI_CONST uint kNodeBaseByAngle = 8u;
 IVGI_CONST uint kNodeRootShift = 4u;
-// After the nodes' flags, per object, the rigid motion from where a rigidly moving object is this
-// frame back to its rest pose: 3 rows of a 3×4 matrix, as float bits (identity for the others).
-IVGI_CONST uint kPoseWords = 12u;
+// After the nodes' flags, per object, kPoseWords float bits: the rigid motion from where a rigidly
+// moving object is this frame back to its rest pose, 3 rows of a 3×4 matrix (identity for the
+// others); then the axes its surfaces follow (gi::objectAxes' first and last rows), at rest
+// (kRestAxesWord) and as it stands this frame (kAxesWord).
+IVGI_CONST uint kRestAxesWord = 12u;
+IVGI_CONST uint kAxesWord = 18u;
+IVGI_CONST uint kPoseWords = 24u;
 // Arrays that can outgrow one texel view (the leaf links grow with the bins squared) are bound as
 // kTexelParts views of one buffer, each 2^texelPartBits texels (shaders/common/parted_texels.glsl, which
 // names each view). Two: the prune binds four such arrays, and a push-descriptor layout holds at
@@ -39,15 +43,16 @@ IVGI_CONST uint kManyEmitters = 0xFFFFFFFFu;  // a static leaf's emitters that d
 // What a static leaf keeps of its static survivors between frames (prune_bins.comp): the
 // environment through its static bins and that light's rotation gradient (columns r, g, b), the
 // emission those bins credited (taken back where its emitters' direct light stands for it), the
-// proximity of what they show, and how many emitters it lists (kManyEmitters: too many to list).
+// proximity of what they show, how many emitters it lists (kManyEmitters: too many to list), and the
+// frame its bins lie along (common.glsl's packBinFrame: its normal and first axis, packed).
 struct StaticLeaf {
   vec4 environment;
   vec4 environmentTurn[3];
   vec4 correction;
   float proximity;
   uint emitterCount;
-  uint pad0;
-  uint pad1;
+  uint frameNormal;
+  uint frameTangent;
 };
 // Per surfel, the prune's light from outside the links (the environment through the empty bins, the
 // lights the bins carry) and the rotation gradient of its environment's part: kExternalTexels

@@ -64,8 +64,8 @@ vec3 towardSender(uvec2 link, vec3 x, vec3 n) {
   return cross(n, w) * min(uintBitsToFloat(link.y) / max(dot(n, w), 1e-6), push.largestBin / kPi);
 }
 
-// A static link's turn, along its bin (binTable: the bin's ∫ω dω), whose directions turn with the
-// receiver's object where it moves rigidly (`toWorld`: from its rest pose to now).
+// A static link's turn, along its bin (binTable: the bin's ∫ω dω) in the receiver's bin frame, which
+// turns with its object where it moves rigidly (`toWorld`: from that frame at its rest pose to now).
 vec3 alongBin(uint bin, float f, vec3 n, mat3 toWorld) {
   const vec3 v = toWorld * imageLoad(binTable, int(bin)).xyz;
   const float c = dot(n, v);
@@ -105,7 +105,9 @@ void main() {
     const uint leaf = imageLoad(leafOfSurfel, int(s)).x;
     const vec3 x = nodePositionArea(leaf).xyz, n = nodeNormalCone(leaf).xyz;
     const uint flags = imageLoad(nodeFlags, int(leaf)).x;
-    const mat3 toWorld = (flags & kNodeRigid) != 0u ? transpose(restTurn(flags >> kNodeRootShift)) : mat3(1.0);
+    const mat3 fromRest = (flags & kNodeRigid) != 0u ? restTurn(flags >> kNodeRootShift) : mat3(1.0);
+    const mat3 toWorld =
+        transpose(binFrameOf(uvec2(staticLeaves[s].frameNormal, staticLeaves[s].frameTangent)) * fromRest);
     mat3 turn;  // columns: d/dθ of r, g and b for a turn about each axis
     for (uint c = 0u; c < 3u; ++c) turn[c] = imageLoad(externalLight, int(kExternalTexels * s + 1u + c)).xyz;
     for (uint i = range.x; i < range.x + range.y; ++i) {

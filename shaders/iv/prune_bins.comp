@@ -120,12 +120,29 @@ vec3 sumPartials(uint lid, vec3 mine) {
 // This invocation's lane, and where its workgroup's bins start in the global slots (0: shared).
 uint lid = 0u, slot = 0u;
 
-// Sets what the leaf (its node's `flags`) sees every node through: where its object moves rigidly,
-// the object's motion back to its rest pose (`posed`), else none.
-void poseNodes(uint flags) {
+// Sets what the leaf (its surfel, node and the node's `flags`) sees every node through: its own bin
+// frame (common.glsl's binFrame: its normal, and its object's axes tilted onto it), after, where
+// its object moves rigidly, the object's motion back to its rest pose (`posed`). The static pass
+// keeps the frame for the frames, which merge their senders into the bins it filed, and for the
+// gather, which turns them back into the world.
+void poseNodes(uint surfel, uint node, uint flags) {
   posed = !kStaticPass && (flags & kNodeRigid) != 0u;  // the static pass reads them at rest
-  nodeTurn = posed ? restTurn(flags >> kNodeRootShift) : mat3(1.0);
-  nodeShift = posed ? restShift(flags >> kNodeRootShift) : vec3(0.0);
+  const mat3 turn = posed ? restTurn(flags >> kNodeRootShift) : mat3(1.0);
+  const vec3 shift = posed ? restShift(flags >> kNodeRootShift) : vec3(0.0);
+  uvec2 frame;
+  if (merging) {
+    frame = uvec2(staticLeaves[surfel].frameNormal, staticLeaves[surfel].frameTangent);
+  } else {
+    nodeTurn = mat3(1.0), nodeShift = vec3(0.0);
+    const mat3 axes = objectAxes(flags >> kNodeRootShift, kStaticPass);  // the static pass reads the nodes at rest
+    const vec3 n = nodeNormalCone(node).xyz;
+    frame = packBinFrame(n, transpose(axes) * tiltedTangent(axes * n));
+    if (kStaticPass && lid == 0u)
+      staticLeaves[surfel].frameNormal = frame.x, staticLeaves[surfel].frameTangent = frame.y;
+  }
+  const mat3 binTurn = binFrameOf(frame);
+  nodeTurn = binTurn * turn;
+  nodeShift = binTurn * shift;
 }
 
 // The leaf being pruned: its surfel, its node, and the receiver's position, normal and area.
@@ -331,8 +348,8 @@ void writeSurvivors(Leaf leaf, bool direct, inout vec3 emitterLight, out vec3 en
         }
       }
       if (merging && !posed && push.environmentOn != 0u) {
-        environmentChange += environmentThrough(n, b, covered) - environmentThrough(n, b, staticCovered);
-        turnChange += environmentTurnThrough(n, b, covered) - environmentTurnThrough(n, b, staticCovered);
+        addEnvironmentThrough(n, b, covered, 1.0, environmentChange, turnChange);
+        addEnvironmentThrough(n, b, staticCovered, -1.0, environmentChange, turnChange);
       }
     }
   }
@@ -347,11 +364,8 @@ void sumExternalLight(Leaf leaf, bool direct, vec3 emitterLight, vec3 environmen
   vec3 env = environmentChange;
   mat3 turn = turnChange;
   if (push.environmentOn != 0u && leaf.area > 0.0 && (!merging || posed))
-    for (uint b = lid; b < kBinCount; b += kGroupSize) {
-      const uint covered = closedCoverage(b, coverageAt(slot, b, false), false);
-      env += environmentThrough(leaf.n, b, covered);
-      turn += environmentTurnThrough(leaf.n, b, covered);
-    }
+    for (uint b = lid; b < kBinCount; b += kGroupSize)
+      addEnvironmentThrough(leaf.n, b, closedCoverage(b, coverageAt(slot, b, false), false), 1.0, env, turn);
   if (push.environmentOn != 0u)
     for (uint c = 0u; c < 3u; ++c) {
       turn[c] = sumPartials(lid, turn[c]);
@@ -377,7 +391,8 @@ void sumExternalLight(Leaf leaf, bool direct, vec3 emitterLight, vec3 environmen
                (direct ? staticLeaves[surfel].correction.rgb : vec3(0.0));
       if (leaf.area > 0.0) sum += punctualLight(slot, leaf.p, leaf.n);
       externalLight[kExternalTexels * surfel] = vec4(sum, 0.0);
-      // The turn's axes back in the world (nodeTurn is a rotation: its inverse is its transpose).
+      // The turn's axes back in the world from the leaf's frame (nodeTurn is a rotation: its inverse is
+      // its transpose).
       for (uint c = 0u; c < 3u; ++c)
         externalLight[kExternalTexels * surfel + 1u + c] =
             vec4(transpose(nodeTurn) *
@@ -440,7 +455,7 @@ void main() {
       if (push.listed != 0u && !(rigid && staticRanges[surfel].first == kRigidUnpruned)) continue;
     }
     merging = !kStaticPass && (!moves || rigid);
-    poseNodes(flags);
+    poseNodes(surfel, node, flags);
     if (lid == 0u && posed) atomicAdd(counters[kCounterRigidLeaves], 1u);
     staticFirst = merging ? staticRanges[surfel].first : 0u;
     maskBase = surfel * kMaskWords;

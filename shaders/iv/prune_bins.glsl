@@ -130,23 +130,27 @@ float survivorFormFactor(vec3 n, uint sender, uint b, uint covered) {
   return facing ? max(dot(n, bin.xyz), 0.0) * coveredFraction(covered) / kPi : 0.0;
 }
 
-// The environment's radiance in bin b (along `along`, its ∫ω dω): a posed leaf's bins are fixed to its
-// object, so it looks up the world's bin its own lies in this frame.
-vec3 environmentIn(uint b, vec3 along) {
-  return imageLoad(environment, int(posed ? binOf(transpose(nodeTurn) * along, kN) : b)).rgb;
+// The environment's radiance in the leaf's bin b: the world's bins, as filtered over each, interpolated
+// bilinearly at b's centre turned back into the world, so that a bin brighter than its neighbours (a
+// sun) sends about its own light into the leaf's bins however they lie across it (the nearest world
+// bin would send it into none or two). In a frame along the world's axes, b's centre is a world
+// bin's: that bin's radiance alone.
+vec3 environmentIn(uint b) {
+  uvec4 bins;
+  vec4 weights;
+  binTaps(transpose(nodeTurn) * binDirection(b, kN), kN, bins, weights);
+  return weights.x * imageLoad(environment, int(bins.x)).rgb + weights.y * imageLoad(environment, int(bins.y)).rgb +
+         weights.z * imageLoad(environment, int(bins.z)).rgb + weights.w * imageLoad(environment, int(bins.w)).rgb;
 }
 
-// How environmentThrough changes as the normal turns: columns r, g, b, each the turn's axis weighed
-// (∫ n × ω dω over the bin, times its radiance and uncovered part; 0 below the horizon).
-mat3 environmentTurnThrough(vec3 n, uint b, uint covered) {
-  vec4 bin = imageLoad(binTable, int(b));
-  if (!(dot(n, bin.xyz) > 0.0)) return mat3(0.0);
-  return outerProduct(cross(n, bin.xyz), environmentIn(b, bin.xyz) * (1.0 - coveredFraction(covered)));
-}
-
-// Environment radiance through the uncovered part of bin b, cosine-weighted (0 below the horizon).
-vec3 environmentThrough(vec3 n, uint b, uint covered) {
-  vec4 bin = imageLoad(binTable, int(b));
-  float c = dot(n, bin.xyz);
-  return c > 0.0 ? environmentIn(b, bin.xyz) * c * (1.0 - coveredFraction(covered)) : vec3(0.0);
+// Adds the environment's radiance through the uncovered part of bin b, cosine-weighted (0 below the
+// horizon), times `sign` to `light`, and to `turn` how that changes as the normal turns (columns r,
+// g, b, each the turn's axis weighed: ∫ n × ω dω over the bin times the radiance seen).
+void addEnvironmentThrough(vec3 n, uint b, uint covered, float sign, inout vec3 light, inout mat3 turn) {
+  const vec3 along = imageLoad(binTable, int(b)).xyz;
+  const float c = dot(n, along);
+  if (!(c > 0.0)) return;
+  const vec3 seen = sign * environmentIn(b) * (1.0 - coveredFraction(covered));
+  light += c * seen;
+  turn += outerProduct(cross(n, along), seen);
 }

@@ -34,6 +34,7 @@ IvSetup validated(const vk::Context& ctx, IvSetup setup) {
 IvSetup makeIvSetup(const scene::Scene& scene, const scene::Geometry& g, const IvSettings& settings,
                     std::optional<int> animation) {
   IvSetup setup{restPoseHierarchy(scene, g), settings, {}};
+  setup.restPose = g.frameInputs(scene, scene::evaluatePose(scene, -1, 0.0f));  // what the objects turn from
   if (animation) markMovingObjects(setup, scene, g, *animation);
   return setup;
 }
@@ -92,10 +93,10 @@ IvSolver::IvSolver(const vk::Context& ctx, const scene::Geometry& g, IvSetup set
     nodeFlags[h.roots[r]] = (!split || moves(r) ? gpu::kNodeMoves : 0u) | (closed(r) ? gpu::kNodeClosed : 0u) |
                             (anyRigid_ && rigidGroup[r] >= 0 ? gpu::kNodeRigid : 0u) |
                             h.roots[r] << gpu::kNodeRootShift;
-    for (uint32_t row = 0; row < 3; ++row)
-      nodeFlags[poseBase_ + gpu::kPoseWords * r + 4 * row + row] = std::bit_cast<uint32_t>(1.0f);
     objectMatrix_.push_back(g.instances[h.rootInstance[r]].matrix);
   }
+  setObjectMatrices({});
+  for (size_t w = 0; w < poses_.size(); ++w) nodeFlags[poseBase_ + w] = std::bit_cast<uint32_t>(poses_[w]);
   for (uint32_t node = 0; node < nodeCount_; ++node)
     if (h.nodes[node].parent >= 0) nodeFlags[node] = nodeFlags[uint32_t(h.nodes[node].parent)];
   // A node whose every surfel has a twin facing the other way in its place (an open double-sided
@@ -197,12 +198,15 @@ void IvSolver::setLights(const std::vector<gpu::PunctualLight>& lights) {
   b_.scene.setLights(ctx_, lights, allocations_);
 }
 
+// Per object: where it moves rigidly, its motion back to rest; and the axes its surfaces follow,
+// at rest and turned as it stands (every object whose world matrix turns: the bins of a leaf pruned
+// every frame turn with it as those of a leaf pruned once at rest do). `matrices` empty: at rest.
 void IvSolver::setObjectMatrices(const std::vector<glm::mat4>& matrices) {
-  if (!anyRigid_) return;
   poses_.assign(gpu::kPoseWords * objectMatrix_.size(), 0.0f);
+  const Hierarchy& h = setup_.hierarchy;
   for (size_t r = 0; r < objectMatrix_.size(); ++r) {
-    glm::mat4 back(1.0f);  // now → rest: M_rest · M_now⁻¹, a rigid motion
-    if (rigid(r)) {
+    glm::mat4 back(1.0f);  // now → rest: M_rest · M_now⁻¹, a rigid motion where the object is rigid
+    if (!matrices.empty() && !setup_.restPose.matrices.empty()) {
       const glm::mat4 m = setup_.restPose.matrices.at(objectMatrix_[r]) * glm::inverse(matrices.at(objectMatrix_[r]));
       // Its rotation made orthonormal again (the rigidity test allows a little drift).
       const glm::vec3 x = glm::normalize(glm::vec3(m[0])),
@@ -210,8 +214,15 @@ void IvSolver::setObjectMatrices(const std::vector<glm::mat4>& matrices) {
       back = glm::mat4(glm::mat3(x, y, glm::cross(x, y)));
       back[3] = m[3];
     }
+    float* words = poses_.data() + gpu::kPoseWords * r;
+    const glm::mat4 pose = anyRigid_ && rigid(r) ? back : glm::mat4(1.0f);
     for (uint32_t row = 0; row < 3; ++row)
-      for (uint32_t col = 0; col < 4; ++col) poses_[gpu::kPoseWords * r + 4 * row + col] = back[col][row];
+      for (uint32_t col = 0; col < 4; ++col) words[4 * row + col] = pose[col][row];
+    const glm::mat3 rest = glm::transpose(h.rootAxes.at(r)), now = glm::transpose(glm::mat3(back)) * rest;
+    for (uint32_t k = 0; k < 3; ++k) {  // the rows x and z: the columns of the transposes
+      words[gpu::kRestAxesWord + k] = rest[0][k], words[gpu::kRestAxesWord + 3 + k] = rest[2][k];
+      words[gpu::kAxesWord + k] = now[0][k], words[gpu::kAxesWord + 3 + k] = now[2][k];
+    }
   }
 }
 
