@@ -38,8 +38,9 @@ void noteUnresolvedRoughness(const scene::Geometry& g, float spread, const char*
 // Per object (its surfels by `objectOfSurfel`, its instance `objectInstance`): the axes its surfaces
 // follow at rest (`world`: the vertices there), as rows (binFrame's x, y, z): z the direction for
 // which Σ area·(n·z)⁴ is largest among the world's axes and the normals of its largest surfels, x the
-// mean orientation, modulo a right angle about z, of the normals across z (by area) and of the
-// edges of its faces along z's plane (by length). A receiver's bins tilt from its object's axis
+// orientation, modulo a right angle about z, that most of the normals across z (by area) and of the
+// edges of its faces along z's plane (by length) take (the most weighted degree, then the mean about
+// it). A receiver's bins tilt from its object's axis
 // nearest its normal (common.glsl's tiltedTangent), so that the faces of a room or a part modelled
 // askew to the world's axes lie along their bins as they would along the world's, neighbours on a
 // curved surface bin alike, and the bins turn with the object.

@@ -348,8 +348,8 @@ void writeSurvivors(Leaf leaf, bool direct, inout vec3 emitterLight, out vec3 en
         }
       }
       if (merging && !posed && push.environmentOn != 0u) {
-        addEnvironmentThrough(n, b, covered, 1.0, environmentChange, turnChange);
-        addEnvironmentThrough(n, b, staticCovered, -1.0, environmentChange, turnChange);
+        addEnvironmentThrough(n, b, coveredFraction(staticCovered) - coveredFraction(covered), environmentChange,
+                              turnChange);
       }
     }
   }
@@ -365,7 +365,8 @@ void sumExternalLight(Leaf leaf, bool direct, vec3 emitterLight, vec3 environmen
   mat3 turn = turnChange;
   if (push.environmentOn != 0u && leaf.area > 0.0 && (!merging || posed))
     for (uint b = lid; b < kBinCount; b += kGroupSize)
-      addEnvironmentThrough(leaf.n, b, closedCoverage(b, coverageAt(slot, b, false), false), 1.0, env, turn);
+      addEnvironmentThrough(leaf.n, b, 1.0 - coveredFraction(closedCoverage(b, coverageAt(slot, b, false), false)), env,
+                            turn);
   if (push.environmentOn != 0u)
     for (uint c = 0u; c < 3u; ++c) {
       turn[c] = sumPartials(lid, turn[c]);

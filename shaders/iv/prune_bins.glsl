@@ -143,14 +143,15 @@ vec3 environmentIn(uint b) {
          weights.z * imageLoad(environment, int(bins.z)).rgb + weights.w * imageLoad(environment, int(bins.w)).rgb;
 }
 
-// Adds the environment's radiance through the uncovered part of bin b, cosine-weighted (0 below the
-// horizon), times `sign` to `light`, and to `turn` how that changes as the normal turns (columns r,
-// g, b, each the turn's axis weighed: ∫ n × ω dω over the bin times the radiance seen).
-void addEnvironmentThrough(vec3 n, uint b, uint covered, float sign, inout vec3 light, inout mat3 turn) {
+// Adds the environment's radiance through the part `open` of bin b (its uncovered part, or how much
+// that changed), cosine-weighted (0 below the horizon), to `light`, and to `turn` how that changes
+// as the normal turns (columns r, g, b, each the turn's axis weighed: ∫ n × ω dω over the bin times
+// the radiance seen).
+void addEnvironmentThrough(vec3 n, uint b, float open, inout vec3 light, inout mat3 turn) {
   const vec3 along = imageLoad(binTable, int(b)).xyz;
   const float c = dot(n, along);
   if (!(c > 0.0)) return;
-  const vec3 seen = sign * environmentIn(b) * (1.0 - coveredFraction(covered));
+  const vec3 seen = environmentIn(b) * open;
   light += c * seen;
   turn += outerProduct(cross(n, along), seen);
 }

@@ -34,8 +34,10 @@ IvSetup validated(const vk::Context& ctx, IvSetup setup) {
 IvSetup makeIvSetup(const scene::Scene& scene, const scene::Geometry& g, const IvSettings& settings,
                     std::optional<int> animation) {
   IvSetup setup{restPoseHierarchy(scene, g), settings, {}};
-  setup.restPose = g.frameInputs(scene, scene::evaluatePose(scene, -1, 0.0f));  // what the objects turn from
-  if (animation) markMovingObjects(setup, scene, g, *animation);
+  if (animation)
+    markMovingObjects(setup, scene, g, *animation);
+  else
+    setup.restPose = g.frameInputs(scene, scene::evaluatePose(scene, -1, 0.0f));  // what the objects turn from
   return setup;
 }
 
