@@ -34,7 +34,7 @@ void noteUnresolvedRoughness(const scene::Geometry& g, float spread, const char*
 
 namespace {
 
-std::vector<glm::vec4> computeBinVectorTable(uint32_t n) {
+std::vector<glm::vec4> computeBinVectorTable(uint32_t n, BinFrame frame) {
   // Each bin cut into k×k cells of exact solid angle, each at its centre direction: the error falls
   // as 1/k², far below float precision at k = 32.
   constexpr int k = 32;
@@ -44,27 +44,37 @@ std::vector<glm::vec4> computeBinVectorTable(uint32_t n) {
   parallelFor(table.size(), [&](size_t bin) {
     const uint32_t b = uint32_t(bin), face = b / (n * n), r = b % (n * n);
     const double u0 = -1.0 + (r % n) * step, v0 = -1.0 + (r / n) * step;
-    glm::dvec3 sum(0.0);
+    // The whole bin, and its part above the normal's horizon (z > 0; for odd n the middle row of
+    // the side faces is cut along its middle, between two rows of the k cells).
+    glm::dvec3 sum(0.0), sumAbove(0.0);
+    double omegaAbove = 0.0;
+    bool below = false;
     for (int j = 0; j < k; ++j)
       for (int i = 0; i < k; ++i) {
         const double a0 = u0 + i * cell, b0 = v0 + j * cell, a1 = a0 + cell, b1 = b0 + cell;
         const double omega = phi(a1, b1) - phi(a0, b1) - phi(a1, b0) + phi(a0, b0);
         const glm::vec3 centre = gpu::faceDirection(face, glm::vec2(float(a0 + 0.5 * cell), float(b0 + 0.5 * cell)));
         sum += glm::dvec3(glm::normalize(centre)) * omega;
+        if (centre.z > 0.0f)
+          sumAbove += glm::dvec3(glm::normalize(centre)) * omega, omegaAbove += omega;
+        else
+          below = true;
       }
-    table[b] = glm::vec4(glm::vec3(sum), gpu::binSolidAngle(b, n));
+    const bool cut = frame == BinFrame::Normal && below && omegaAbove > 0.0;
+    table[b] =
+        cut ? glm::vec4(glm::vec3(sumAbove), float(omegaAbove)) : glm::vec4(glm::vec3(sum), gpu::binSolidAngle(b, n));
   });
   return table;
 }
 
 }  // namespace
 
-const std::vector<glm::vec4>& binVectorTable(uint32_t n) {
+const std::vector<glm::vec4>& binVectorTable(uint32_t n, BinFrame frame) {
   static std::mutex lock;
-  static std::map<uint32_t, std::vector<glm::vec4>> tables;
+  static std::map<std::pair<uint32_t, BinFrame>, std::vector<glm::vec4>> tables;
   const std::lock_guard<std::mutex> guard(lock);
-  auto it = tables.find(n);
-  if (it == tables.end()) it = tables.emplace(n, computeBinVectorTable(n)).first;
+  auto it = tables.find({n, frame});
+  if (it == tables.end()) it = tables.emplace(std::pair(n, frame), computeBinVectorTable(n, frame)).first;
   return it->second;
 }
 

@@ -15,9 +15,16 @@
 
 namespace ivgi::gi {
 
+// The frame a solver's bins lie in: ar's tables are fixed in the world; each of iv's receivers bins
+// in a frame of its own whose z is its normal (binFrame), so that its horizon runs along the side
+// faces' middle: between two rows of bins for even n, through the middle row for odd n.
+enum class BinFrame { World, Normal };
 // Per bin of 6·n²: ∫ ω dω over the bin (so that n·∫ω dω is the bin's cosine-weighted solid angle for any
-// normal n that sees the whole bin), and Ω. Computed once a process for each n (a million atan2 at 16).
-const std::vector<glm::vec4>& binVectorTable(uint32_t n);
+// normal n that sees the whole bin), and Ω. In the normal's frame, a bin the horizon cuts counts for
+// its part above it alone (odd n): weighed whole, its halves' cosines cancel, and the light of the
+// band above the horizon (a 5th of the hemisphere's cosine at n = 3) would be lost. Computed once a
+// process for each n and frame (a million atan2 at 16).
+const std::vector<glm::vec4>& binVectorTable(uint32_t n, BinFrame frame);
 
 // The solid angle of an average bin of 6·n²: 4π/(6n²) (link creation's κ counts in it).
 float meanBinSolidAngle(uint32_t n);

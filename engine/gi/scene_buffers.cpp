@@ -6,8 +6,9 @@
 namespace ivgi::gi {
 
 SceneBuffers::SceneBuffers(const vk::Context& ctx, const scene::Geometry& g, const Hierarchy& h, uint32_t bins,
-                           const std::optional<scene::Environment>& sky, const std::vector<bool>& objectMoves,
-                           const std::vector<bool>& objectRigid, vk::Allocations& allocations)
+                           BinFrame frame, const std::optional<scene::Environment>& sky,
+                           const std::vector<bool>& objectMoves, const std::vector<bool>& objectRigid,
+                           vk::Allocations& allocations)
     : nodeCount(uint32_t(h.nodes.size())),
       surfelCount(uint32_t(h.leafOfSurfel.size())),
       rootCount(uint32_t(h.roots.size())),
@@ -20,7 +21,7 @@ SceneBuffers::SceneBuffers(const vk::Context& ctx, const scene::Geometry& g, con
   leafOfSurfel = vk::makeBuffer(ctx, h.leafOfSurfel, vk::Memory::Device, tally);
   albedo = vk::makeBuffer(ctx, g.surfelAlbedo, vk::Memory::Device, tally);
   emission = vk::makeBuffer(ctx, g.surfelEmission, vk::Memory::Device, tally);
-  binTable = vk::makeBuffer(ctx, binVectorTable(bins), vk::Memory::Device, tally);
+  binTable = vk::makeBuffer(ctx, binVectorTable(bins, frame), vk::Memory::Device, tally);
   environment = vk::makeBuffer(ctx, environmentTable(sky, bins), vk::Memory::Device, tally);
   surfelBrdf = vk::makeBuffer(ctx, glossy ? g.surfelBrdf : std::vector<gpu::SurfaceBrdf>(1), vk::Memory::Device, tally);
   specularAlbedo = vk::makeBuffer(ctx, glossy ? scene::SpecularAlbedo::table().texels() : std::vector<glm::vec4>(1),

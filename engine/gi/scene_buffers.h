@@ -6,6 +6,7 @@
 #include <optional>
 #include <vector>
 
+#include "engine/gi/bins.h"
 #include "engine/gi/hierarchy.h"
 #include "engine/scene/environment.h"
 #include "engine/scene/geometry.h"
@@ -74,9 +75,11 @@ struct SceneBuffers {
   // Per root: `objectMoves`, whether its object moves over the frames rendered (empty: every one
   // may); `objectRigid`, whether it moves rigidly and what it buries of itself is found at its rest
   // pose (Refit::recordRestBurial; empty: none).
+  // `bins` lie in `frame` (iv's: each receiver's normal; ar's: the world's).
   SceneBuffers(const vk::Context& ctx, const scene::Geometry& geometry, const Hierarchy& hierarchy, uint32_t bins,
-               const std::optional<scene::Environment>& environment, const std::vector<bool>& objectMoves,
-               const std::vector<bool>& objectRigid, vk::Allocations& allocations);
+               BinFrame frame, const std::optional<scene::Environment>& environment,
+               const std::vector<bool>& objectMoves, const std::vector<bool>& objectRigid,
+               vk::Allocations& allocations);
   // The frame's punctual lights in world space (the buffer grows where they do not fit).
   void setLights(const vk::Context& ctx, const std::vector<gpu::PunctualLight>& frameLights,
                  vk::Allocations& allocations);

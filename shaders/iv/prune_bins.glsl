@@ -134,11 +134,13 @@ float survivorFormFactor(vec3 n, uint sender, uint b, uint covered) {
 // bilinearly at b's centre turned back into the world, so that a bin brighter than its neighbours (a
 // sun) sends about its own light into the leaf's bins however they lie across it (the nearest world
 // bin would send it into none or two). In a frame along the world's axes, b's centre is a world
-// bin's: that bin's radiance alone.
+// bin's: that bin's radiance alone. For odd N a bin the horizon cuts is read at the mean direction
+// of its part above it (binTable), and so is every bin, alike.
 vec3 environmentIn(uint b) {
   uvec4 bins;
   vec4 weights;
-  binTaps(transpose(nodeTurn) * binDirection(b, kN), kN, bins, weights);
+  const vec3 at = (kN & 1u) != 0u ? normalize(imageLoad(binTable, int(b)).xyz) : binDirection(b, kN);
+  binTaps(transpose(nodeTurn) * at, kN, bins, weights);
   return weights.x * imageLoad(environment, int(bins.x)).rgb + weights.y * imageLoad(environment, int(bins.y)).rgb +
          weights.z * imageLoad(environment, int(bins.z)).rgb + weights.w * imageLoad(environment, int(bins.w)).rgb;
 }

@@ -101,7 +101,7 @@ ArSolver::ArSolver(const vk::Context& ctx, const scene::Geometry& g, Hierarchy h
                         ": --dirs " + std::to_string(std::max(1u, uint32_t(n / std::sqrt(over)))) +
                         " would fit (the tables grow as N^2)");
   vk::Allocations* tally = &allocations_;
-  b_.scene = SceneBuffers(ctx, g, hierarchy_, n, settings_.environment, objectMoves, {}, allocations_);
+  b_.scene = SceneBuffers(ctx, g, hierarchy_, n, BinFrame::World, settings_.environment, objectMoves, {}, allocations_);
   noteUnresolvedRoughness(g, tableBinSpread(n), "ar", "--dirs " + std::to_string(n));
   b_.brightEmitters = vk::makeBuffer(ctx, brightEmitters(hierarchy_, g.surfelEmission), vk::Memory::Device, tally);
   b_.args = vk::Buffer(ctx, 4 * sizeof(glm::uvec4), vk::Memory::Device, tally);

@@ -153,8 +153,8 @@ void IvSolver::uploadScene(const scene::Geometry& g, const std::vector<uint32_t>
   // An object whose rest pose is kept (anyRigid_) finds there what it buries of itself.
   std::vector<bool> restBurial(setup_.hierarchy.roots.size());
   for (size_t r = 0; r < restBurial.size(); ++r) restBurial[r] = anyRigid_ && rigid(r);
-  b_.scene = SceneBuffers(ctx, g, setup_.hierarchy, settings_.bins, settings_.environment, setup_.objectMoves,
-                          restBurial, allocations_);
+  b_.scene = SceneBuffers(ctx, g, setup_.hierarchy, settings_.bins, BinFrame::Normal, settings_.environment,
+                          setup_.objectMoves, restBurial, allocations_);
   b_.nodeFlags = vk::makeBuffer(ctx, nodeFlags, vk::Memory::Device, tally);
   b_.args = vk::Buffer(ctx, 4 * sizeof(glm::uvec4), vk::Memory::Device, tally);
   for (LinkSet* set : {&staticSet_, &frameSet_}) set->allocateLists(ctx, nodeCount_, tally);
