@@ -54,9 +54,10 @@ std::vector<glm::vec4> computeBinVectorTable(uint32_t n, BinFrame frame) {
         const double a0 = u0 + i * cell, b0 = v0 + j * cell, a1 = a0 + cell, b1 = b0 + cell;
         const double omega = phi(a1, b1) - phi(a0, b1) - phi(a1, b0) + phi(a0, b0);
         const glm::vec3 centre = gpu::faceDirection(face, glm::vec2(float(a0 + 0.5 * cell), float(b0 + 0.5 * cell)));
-        sum += glm::dvec3(glm::normalize(centre)) * omega;
+        const glm::dvec3 part = glm::dvec3(glm::normalize(centre)) * omega;
+        sum += part;
         if (centre.z > 0.0f)
-          sumAbove += glm::dvec3(glm::normalize(centre)) * omega, omegaAbove += omega;
+          sumAbove += part, omegaAbove += omega;
         else
           below = true;
       }

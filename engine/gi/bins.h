@@ -22,7 +22,7 @@ enum class BinFrame { World, Normal };
 // Per bin of 6·n²: ∫ ω dω over the bin (so that n·∫ω dω is the bin's cosine-weighted solid angle for any
 // normal n that sees the whole bin), and Ω. In the normal's frame, a bin the horizon cuts counts for
 // its part above it alone (odd n): weighed whole, its halves' cosines cancel, and the light of the
-// band above the horizon (a 5th of the hemisphere's cosine at n = 3) would be lost. Computed once a
+// band above the horizon (a tenth of the hemisphere's cosine at n = 3) would be lost. Computed once a
 // process for each n and frame (a million atan2 at 16).
 const std::vector<glm::vec4>& binVectorTable(uint32_t n, BinFrame frame);
 
