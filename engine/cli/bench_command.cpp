@@ -173,7 +173,7 @@ int runBench(const BenchOptions& o) {
     if (st.staticLinks)
       std::printf(" (of which %u and %u between static objects or within a rigid one, made once)", st.staticLinks,
                   st.staticLeafLinks);
-    // A redone frame's timings are its second run's: say so where it happened.
+    // A redone frame's timings are the sum of its runs: say so where it happened.
     if (st.framesRedone) std::printf("; %u frame(s) redone with more room for links or loop rounds", st.framesRedone);
     std::printf("; prune workgroups of %u invocations", st.pruneGroupSize);
     linksInHostMemory = st.hostBytes;

@@ -205,12 +205,12 @@ vk::Bindings FrameRenderer::pool() const {
                                           {"surfelUnshadowed", noDirectLight_}}));
 }
 
-bool FrameRenderer::recordFrame(VkCommandBuffer cmd, const gpu::Camera& camera, bool geometryMoved) {
+bool FrameRenderer::recordFrame(VkCommandBuffer cmd, const gpu::Camera& camera, bool geometryMoved, bool redo) {
   const glm::uvec2 fine = glm::uvec2(image_.width, image_.height) * image_.samples;
   const vk::Bindings buffers = pool();
-  timer_.reset(cmd);
+  timer_.reset(cmd, redo);
   if (programTimer_) {  // dispatches are timed from the reset to the frame's results
-    programTimer_->reset(cmd);
+    programTimer_->reset(cmd, redo);
     ctx_.timeDispatches(&*programTimer_);
   }
   if (geometryMoved || !posed_) {  // else the posed vertices and the surfels stand from the frame before
@@ -285,19 +285,19 @@ FrameResult FrameRenderer::render(const scene::FrameInputs& in, const scene::Cam
   if (solver_) solver_->setLights(lights), solver_->setObjectMatrices(in.matrices), solver_->beginFrame(frame);
   const gpu::Camera camera = scene::gpuCamera(view, float(image_.width) / float(image_.height));
   if (direct_) direct_->setFrame(in, lights, camera);
-  // A frame the solver could not finish (it ran out of room) is redone, relinking; one whose solver
-  // has more to do (its solve after its links, bounces not converged) gets it, and the image is
-  // resolved again.
-  auto solve = [&](bool moved) {
+  // A frame the solver could not finish (it ran out of room, its iteration diverged) is redone, and
+  // its times are those of all its runs; one whose solver has more to do (its solve after its
+  // links, bounces not converged) gets it, and the image is resolved again.
+  auto solve = [&](bool moved, bool redo) {
     bool resolved = false;
-    ctx_.submitAndWait([&](VkCommandBuffer cmd) { resolved = recordFrame(cmd, camera, moved); });
+    ctx_.submitAndWait([&](VkCommandBuffer cmd) { resolved = recordFrame(cmd, camera, moved, redo); });
     bool more = false;
     for (; solver_ && solver_->wantsMorePasses(); more = true)
       ctx_.submitAndWait([&](VkCommandBuffer cmd) { solver_->recordMorePasses(cmd, timer_); });
     return more || !resolved;
   };
-  bool resolveAgain = solve(geometryMoved);
-  while (solver_ && solver_->frameMustBeRedone()) resolveAgain = solve(true);
+  bool resolveAgain = solve(geometryMoved, false);
+  while (solver_ && solver_->frameMustBeRedone()) resolveAgain = solve(true, true);
   if (resolveAgain) ctx_.submitAndWait([&](VkCommandBuffer cmd) { recordResolve(cmd, camera); });
   if (solver_) solver_->frameStands();
 

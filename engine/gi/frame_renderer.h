@@ -32,7 +32,7 @@ void validate(const ImageSettings& settings, const vk::Context& ctx);
 
 struct FrameResult {
   image::FrameChannels channels;
-  std::vector<vk::PassTime> passTimes;                        // a pass recorded more than once: summed
+  std::vector<vk::PassTime> passTimes;                        // a pass recorded more than once (or redone): summed
   std::vector<std::pair<std::string, double>> solverFigures;  // the solver's frameFigures()
   // After timePrograms(): per program, its dispatches' times summed and how many ran.
   std::vector<vk::PassTime> programTimes;
@@ -74,7 +74,8 @@ class FrameRenderer {
 
  private:
   // The frame's passes; false where the solver left its solve for later and the resolve with it.
-  bool recordFrame(VkCommandBuffer cmd, const gpu::Camera& camera, bool geometryMoved);
+  // `redo`: the frame is recorded again, its earlier runs' times kept (they are what it cost too).
+  bool recordFrame(VkCommandBuffer cmd, const gpu::Camera& camera, bool geometryMoved, bool redo);
   void recordResolve(VkCommandBuffer cmd, const gpu::Camera& camera);
   vk::Bindings pool() const;  // every buffer by the name the shaders bind it under
 

@@ -13,7 +13,8 @@ PassTimer::PassTimer(const Context& ctx, uint32_t maxPasses) : ctx_(ctx), maxPas
 
 PassTimer::~PassTimer() { vkDestroyQueryPool(ctx_.device(), pool_, nullptr); }
 
-void PassTimer::reset(VkCommandBuffer cmd) {
+void PassTimer::reset(VkCommandBuffer cmd, bool keepEarlier) {
+  kept_ = keepEarlier ? results() : std::vector<PassTime>{};
   vkCmdResetQueryPool(cmd, pool_, 0, 2 * maxPasses_);
   names_.clear();
 }
@@ -29,7 +30,7 @@ void PassTimer::end(VkCommandBuffer cmd) {
 }
 
 std::vector<PassTime> PassTimer::results() const {
-  std::vector<PassTime> out;
+  std::vector<PassTime> out = kept_;
   if (names_.empty()) return out;
   std::vector<uint64_t> ticks(2 * names_.size());
   check(vkGetQueryPoolResults(ctx_.device(), pool_, 0, uint32_t(ticks.size()), ticks.size() * sizeof(uint64_t),
@@ -42,7 +43,7 @@ std::vector<PassTime> PassTimer::results() const {
     if (same == out.end())
       out.push_back({names_[i], ms, 1});
     else
-      same->ms += ms, ++same->count;  // a pass recorded again (in a later submission of the frame)
+      same->ms += ms, ++same->count;  // a pass recorded again (in a later submission or run of the frame)
   }
   return out;
 }

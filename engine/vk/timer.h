@@ -24,7 +24,10 @@ class PassTimer {
   PassTimer(const PassTimer&) = delete;
   PassTimer& operator=(const PassTimer&) = delete;
 
-  void reset(VkCommandBuffer cmd);  // start of a frame's command buffer
+  // At the start of a frame's command buffer. `keepEarlier`: the frame is recorded again (redone),
+  // and the passes timed since the last reset, completed, are kept and summed into results(): the
+  // frame cost every run of it.
+  void reset(VkCommandBuffer cmd, bool keepEarlier = false);
   void begin(VkCommandBuffer cmd, std::string pass);
   void end(VkCommandBuffer cmd);
   // How many more passes this frame can time.
@@ -38,6 +41,7 @@ class PassTimer {
   VkQueryPool pool_ = VK_NULL_HANDLE;
   uint32_t maxPasses_;
   std::vector<std::string> names_;
+  std::vector<PassTime> kept_;  // the frame's earlier runs (reset's keepEarlier)
 };
 
 }  // namespace ivgi::vk

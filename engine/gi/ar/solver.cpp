@@ -221,7 +221,9 @@ void ArSolver::record(VkCommandBuffer cmd, vk::PassTimer& timer, const vk::Buffe
   if (reused_) return;
   shownWarm_ = warm_;
   vk::fillBuffer(cmd, b_.gatherFlags, 0u);
-  if (geometryMoved || !linked_) {
+  // A frame redone over the links it made (its iteration damped or capped, its lists walked in more
+  // chunks) keeps them: only one that ran out of link room links again.
+  if ((geometryMoved && !redoing_) || !linked_) {
     timedPass(cmd, timer, "refit", [&] { refit_.record(cmd, b_.scene, surfels); });
     timedPass(cmd, timer, "links", [&] {
       if (!staticLinked_ && !staticSet_.empty()) recordLinks(cmd, staticSet_);
