@@ -13,6 +13,7 @@
 #include "engine/image/frame_image.h"
 #include "engine/image/image_file.h"
 #include "engine/image/metrics.h"
+#include "scenes/builtin.h"
 #include "tests/test_support.h"
 
 using namespace ivgi;
@@ -318,4 +319,32 @@ TEST(BenchCli, EqualErrorReportsTheRatio) {
   EXPECT_TRUE(last["spp"] == 64 || (last["relMSE"].get<double>() <= j["solver"]["relMSE"].get<double>() &&
                                     last["FLIP"].get<double>() <= j["solver"]["FLIP"].get<double>()))
       << j.dump();
+}
+
+// On a scene that does not move, the frame compared is the solution the timed frames solved (not
+// solved again): the same image `render` writes of that frame, so the same error.
+TEST(BenchCli, EqualErrorOnAStillSceneMeasuresTheRenderedFrame) {
+  const auto dir = test::scratchDir("equal_error_still");
+  const std::string scene = (dir / "still.gltf").string(), pt = (dir / "pt_0000.exr").string();
+  scenes::writeModel(scenes::cornellBox({.cells = 2, .animated = false}), scene);
+  const std::vector<std::string> image = {"--size", "32x24", "--frames", "0", "--format", "exr"};
+  auto render = [&](std::vector<std::string> args) {
+    args.insert(args.begin(), scene), args.insert(args.begin(), "render");
+    args.insert(args.end(), image.begin(), image.end());
+    const test::Run r = test::runIvgi(args);
+    ASSERT_EQ(r.status, 0) << r.err;
+  };
+  render({"--method", "pt", "--spp", "64", "--out", (dir / "pt_%04d").string()});
+  for (const std::string method : {"iv", "ar"}) {
+    render({"--method", method, "--out", (dir / (method + "_%04d")).string()});
+    const fs::path report = dir / (method + ".json"), bench = dir / (method + "_bench.json");
+    test::Run r = test::runIvgi({"compare", (dir / (method + "_0000.exr")).string(), pt, "--json", report.string()});
+    ASSERT_EQ(r.status, 0) << r.err;
+    r = test::runIvgi({"bench", scene, "--method", method, "--equal-error", "--size", "32x24", "--reference", pt,
+                       "--max-spp", "4", "--frames", "2", "--warmup", "0", "--json", bench.string()});
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_DOUBLE_EQ(readJson(bench)["solver"]["relMSE"].get<double>(),
+                     readJson(report)["frames"][0]["metrics"]["relMSE"].get<double>())
+        << method;
+  }
 }
