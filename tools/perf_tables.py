@@ -351,7 +351,8 @@ spp until it reaches the solver's relMSE, or FLIP, and its time there is interpo
 The animated Cornell box at 8 to 100 cells a side (frame 0 at 320×240 against pt at 4096 spp; iv and
 ar over 10 animated frames, each solved anew), the Blender room (tools/scenes/blender_room.py:
 frame 0 at 480×270 against pt at 1024 spp; 10 frames of Suzanne turning, after 2 not measured)
-and 2CylinderEngine (480×270 against pt at 1024 spp; its one frame solved in full). One run each."""
+and 2CylinderEngine (480×270 against pt at 1024 spp; its one frame solved in full, every run of a
+frame redone counted). One run each."""
 GLOSSY_INTRO = """`ivgi render cornell --glossy --cells 26 --size 320x240 --supersample S --frames 0` (the
 polished floor at roughness 0.2, the metal tall block at 0.3, the satin short block at 0.5; the
 walls Lambertian) against pt at 4096 spp, with `tools/cornell_regions.py`'s regions; and `ivgi
