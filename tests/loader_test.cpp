@@ -5,6 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <tuple>
 
 #include "engine/scene/geometry.h"
 #include "engine/scene/gltf.h"
@@ -489,6 +492,88 @@ TEST(Loader, OnlyLobesFarFromEvenAreSentByDirection) {
   EXPECT_FALSE(g.glossyMaterials || g.directionalLobes);
 }
 
+namespace {
+
+// One triangle in a .gltf beside its .bin, or a .glb holding both, with a textured material whose
+// properties the test then sets to types the schema does not allow.
+struct TriangleFile {
+  std::filesystem::path dir = test::scratchDir("wrong_types");
+  std::string bin = [] {
+    const float positions[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    return std::string(reinterpret_cast<const char*>(positions), sizeof positions);
+  }();
+  nlohmann::json doc = nlohmann::json::parse(R"({
+    "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+    "nodes": [{"mesh": 0, "name": "triangle", "translation": [0, 0, 0]}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "material": 0}]}],
+    "materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1], "metallicFactor": 0}}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                   "min": [0, 0, 0], "max": [1, 1, 0]}],
+    "bufferViews": [{"buffer": 0, "byteLength": 36}],
+    "buffers": [{"uri": "triangle.bin", "byteLength": 36}]})");
+
+  Scene loadText() const {
+    std::ofstream(dir / "triangle.bin", std::ios::binary) << bin;
+    std::ofstream(dir / "triangle.gltf") << doc.dump();
+    return loadGltf((dir / "triangle.gltf").string());
+  }
+  Scene loadBinary() const {
+    nlohmann::json inside = doc;
+    inside["buffers"][0].erase("uri");
+    std::string text = inside.dump();
+    text.resize((text.size() + 3) / 4 * 4, ' ');
+    auto word = [](uint32_t v) { return std::string(reinterpret_cast<const char*>(&v), 4); };
+    const uint32_t total = uint32_t(12 + 8 + text.size() + 8 + bin.size());
+    std::ofstream(dir / "triangle.glb", std::ios::binary)
+        << "glTF" << word(2) << word(total) << word(uint32_t(text.size())) << "JSON" << text
+        << word(uint32_t(bin.size())) << "BIN" << '\0' << bin;
+    return loadGltf((dir / "triangle.glb").string());
+  }
+};
+
+}  // namespace
+
+// tinygltf reads a property of the wrong type as absent: a material's pbrMetallicRoughness given as
+// an array rendered the glTF defaults (a white metal), a texture index of -1 no texture. Such a file
+// is refused, naming the property; a name of the wrong type changes nothing drawn and still loads.
+TEST(Loader, PropertiesOfAWrongTypeAreRefusedNamingThem) {
+  {
+    TriangleFile t;
+    EXPECT_EQ(t.loadText().materials.at(0).metallic, 0.0f) << "the file as the schema allows loads";
+    EXPECT_EQ(t.loadBinary().materials.at(0).metallic, 0.0f);
+    t.doc["nodes"][0]["name"] = 42;
+    EXPECT_NO_THROW(t.loadText()) << "a name changes nothing drawn";
+  }
+  const std::vector<std::tuple<const char*, nlohmann::json, std::string>> wrong = {
+      {"/meshes/0/primitives", nlohmann::json::object(), "meshes[0].primitives is an object, not an array"},
+      {"/meshes/0/primitives", nlohmann::json::array(), "meshes[0].primitives is empty"},
+      {"/materials/0/pbrMetallicRoughness", {"not an object"}, "materials[0].pbrMetallicRoughness is an array"},
+      {"/materials/0/pbrMetallicRoughness/metallicFactor", "0", "metallicFactor is a string, not a number"},
+      {"/nodes/0/scale", "large", "nodes[0].scale is not an array of 3 numbers"},
+      {"/materials/0/emissiveTexture", {{"index", -1}}, "materials[0].emissiveTexture.index is -1, not an index"},
+      {"/materials/0/emissiveTexture",
+       {{"index", 0}, {"extensions", {{"KHR_texture_transform", "turned"}}}},
+       "emissiveTexture.extensions.KHR_texture_transform is a string, not an object"},
+      {"/materials/0/doubleSided", 1, "materials[0].doubleSided is a number, not a boolean"},
+      {"/nodes/0/translation", {1, 2}, "nodes[0].translation is not an array of 3 numbers"},
+      {"/nodes/0/children", {0.5}, "nodes[0].children[0] is 0.5, not an index"},
+      {"/meshes/0/primitives/0/mode", 9, "meshes[0].primitives[0].mode is 9, not a primitive mode"}};
+  for (const auto& [pointer, value, expected] : wrong)
+    for (bool binary : {false, true}) {
+      TriangleFile t;
+      t.doc[nlohmann::json::json_pointer(pointer)] = value;
+      try {
+        binary ? t.loadBinary() : t.loadText();
+        ADD_FAILURE() << pointer << " = " << value.dump() << " was accepted";
+      } catch (const LoadError& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find(binary ? "triangle.glb" : "triangle.gltf"), std::string::npos) << what;
+        EXPECT_NE(what.find(expected), std::string::npos) << what;
+        EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+      }
+    }
+}
+
 TEST(Loader, MalformedAssimpModelsAreRefused) {
   auto dir = test::assimpGltfDir();
   for (const char* file : {"IndexOutOfRange/IndexOutOfRange.gltf", "MissingBin/BoxTextured.gltf",
@@ -500,4 +585,19 @@ TEST(Loader, MalformedAssimpModelsAreRefused) {
       EXPECT_NE(std::string(e.what()).find(file), std::string::npos) << "the message names the file: " << e.what();
     }
   }
+  // Properties of a type the schema does not allow, which tinygltf read as absent.
+  for (const auto& [file, property] : std::vector<std::pair<std::string, std::string>>{
+           {"wrongTypes/badArray.gltf", "meshes[0].primitives"},
+           {"wrongTypes/badObject.gltf", "materials[0].pbrMetallicRoughness"},
+           {"wrongTypes/badUint.gltf", "materials[0].pbrMetallicRoughness.baseColorTexture.index"},
+           {"wrongTypes/badExtension.gltf", "baseColorTexture.extensions.KHR_texture_transform"}}) {
+    try {
+      loadGltf((dir / file).string());
+      ADD_FAILURE() << file << " loaded";
+    } catch (const LoadError& e) {
+      EXPECT_NE(std::string(e.what()).find(file), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(property), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_NO_THROW(loadGltf((dir / "wrongTypes/badString.gltf").string())) << "a node's name of another type";
 }

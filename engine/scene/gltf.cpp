@@ -15,6 +15,7 @@
 
 #include "engine/image/image_header.h"
 #include "engine/scene/gltf_accessors.h"
+#include "engine/scene/gltf_types.h"
 
 namespace ivgi::scene {
 
@@ -696,6 +697,10 @@ Scene loadGltf(const std::string& path, const Limits& limits) {
     while (!why.empty() && why.back() == ' ') why.pop_back();
     throw LoadError(path + ": " + (binary ? "invalid .glb: " : "invalid glTF: ") + why);
   }
+  // tinygltf reads a property of the wrong type as absent: refused instead, naming it.
+  if (const nlohmann::json doc = gltfJson(path, binary); !doc.is_discarded())
+    if (auto problem = gltfTypeProblem(doc))
+      throw LoadError(path + ": " + (binary ? "invalid .glb: " : "invalid glTF: ") + *problem);
   Scene scene = sceneFromModel(model, path, limits);
   if (!warn.empty()) {
     std::replace(warn.begin(), warn.end(), '\n', ' ');
