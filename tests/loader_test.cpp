@@ -557,7 +557,11 @@ TEST(Loader, PropertiesOfAWrongTypeAreRefusedNamingThem) {
       {"/materials/0/doubleSided", 1, "materials[0].doubleSided is a number, not a boolean"},
       {"/nodes/0/translation", {1, 2}, "nodes[0].translation is not an array of 3 numbers"},
       {"/nodes/0/children", {0.5}, "nodes[0].children[0] is 0.5, not an index"},
-      {"/meshes/0/primitives/0/mode", 9, "meshes[0].primitives[0].mode is 9, not a primitive mode"}};
+      {"/meshes/0/primitives/0/mode", 9, "meshes[0].primitives[0].mode is 9, not a primitive mode"},
+      {"/accessors/0/byteOffset", "12", "accessors[0].byteOffset is \"12\", not an index"},
+      {"/accessors/0/bufferView", -1, "accessors[0].bufferView is -1, not an index"},
+      {"/accessors/0/normalized", 1, "accessors[0].normalized is a number, not a boolean"},
+      {"/bufferViews/0/byteStride", "12", "bufferViews[0].byteStride is \"12\", not an index"}};
   for (const auto& [pointer, value, expected] : wrong)
     for (bool binary : {false, true}) {
       TriangleFile t;

@@ -229,6 +229,39 @@ void animation(const json& a, const std::string& path) {
   });
 }
 
+// Where an accessor's or a sparse part's data lies: its buffer view and the offset into it.
+void placed(const json& v, const std::string& path) {
+  optional(v, "bufferView", path, index);
+  optional(v, "byteOffset", path, index);
+}
+
+void accessor(const json& a, const std::string& path) {
+  placed(a, path);
+  required(a, "componentType", path, index);
+  optional(a, "normalized", path, boolean);
+  required(a, "count", path, index);
+  required(a, "type", path, string);
+  optional(a, "sparse", path, [](const json& sparse, const std::string& p) {
+    object(sparse, p);
+    required(sparse, "count", p, index);
+    required(sparse, "indices", p, [](const json& i, const std::string& q) {
+      object(i, q);
+      placed(i, q);
+      required(i, "componentType", q, index);
+    });
+    required(sparse, "values", p, [](const json& v, const std::string& q) {
+      object(v, q);
+      placed(v, q);
+    });
+  });
+}
+
+void bufferView(const json& v, const std::string& path) {
+  required(v, "buffer", path, index);
+  for (const char* key : {"byteOffset", "byteStride", "target"}) optional(v, key, path, index);
+  required(v, "byteLength", path, index);
+}
+
 void root(const json& g) {
   object(g, "the file's root");
   optional(g, "scene", "", index);
@@ -236,6 +269,21 @@ void root(const json& g) {
     objects(v, p, [](const json& s, const std::string& q) { optional(s, "nodes", q, indices); });
   });
   optional(g, "nodes", "", [](const json& v, const std::string& p) { objects(v, p, node); });
+  optional(g, "accessors", "", [](const json& v, const std::string& p) { objects(v, p, accessor); });
+  optional(g, "bufferViews", "", [](const json& v, const std::string& p) { objects(v, p, bufferView); });
+  optional(g, "buffers", "", [](const json& v, const std::string& p) {
+    objects(v, p, [](const json& b, const std::string& q) {
+      required(b, "byteLength", q, index);
+      optional(b, "uri", q, string);
+    });
+  });
+  optional(g, "images", "", [](const json& v, const std::string& p) {
+    objects(v, p, [](const json& i, const std::string& q) {
+      optional(i, "uri", q, string);
+      optional(i, "mimeType", q, string);
+      optional(i, "bufferView", q, index);
+    });
+  });
   optional(g, "meshes", "", [](const json& v, const std::string& p) {
     objects(v, p, [](const json& m, const std::string& q) {
       required(m, "primitives", q, [](const json& list, const std::string& r) { objects(list, r, primitive, 1); });
