@@ -16,7 +16,8 @@ namespace ivgi::scene {
 // the schema says. Expects the JSON tinygltf has parsed (gltfJson).
 std::optional<std::string> gltfTypeProblem(const nlohmann::json& gltf);
 
-// The JSON of a .gltf file's text, or of a .glb's JSON chunk; null where it cannot be read as JSON.
+// The JSON of a .gltf file's text, or of a .glb's JSON chunk; discarded (is_discarded()) where it
+// cannot be read as JSON.
 nlohmann::json gltfJson(const std::string& path, bool binary);
 
 }  // namespace ivgi::scene
