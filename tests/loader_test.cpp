@@ -578,6 +578,39 @@ TEST(Loader, PropertiesOfAWrongTypeAreRefusedNamingThem) {
     }
 }
 
+// Values the schema's types allow but its rules do not: a light of another type was read as a point
+// light; a rotation of no length as none, and one far from unit length sheared its node.
+TEST(Loader, ALightOfNoKnownTypeAndARotationOfNoLengthAreRefused) {
+  auto refused = [](const TriangleFile& t, const std::string& expected) {
+    try {
+      t.loadText();
+      ADD_FAILURE() << expected << ": accepted";
+    } catch (const LoadError& e) {
+      EXPECT_NE(std::string(e.what()).find("triangle.gltf"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  };
+  TriangleFile light;
+  light.doc["extensionsUsed"] = {"KHR_lights_punctual"};
+  light.doc["extensions"]["KHR_lights_punctual"]["lights"] = {{{"type", "point"}, {"intensity", 5}}};
+  light.doc["nodes"].push_back({{"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+  light.doc["scenes"][0]["nodes"].push_back(1);
+  EXPECT_EQ(light.loadText().lights.size(), 1u);
+  light.doc["extensions"]["KHR_lights_punctual"]["lights"][0]["type"] = "laser";
+  refused(light, "light 0: type 'laser' is not directional, point or spot");
+
+  TriangleFile turned;
+  turned.doc["nodes"][0]["rotation"] = {0, 0, 0, 0};
+  refused(turned, "node 'triangle': rotation of length 0");
+  turned.doc["nodes"][0]["rotation"] = {0, 0, 0, 2};
+  const Scene s = turned.loadText();
+  EXPECT_FLOAT_EQ(s.nodes[0].rotation.w, 1.0f) << "taken at unit length";
+  ASSERT_EQ(s.warnings.size(), 1u);
+  EXPECT_NE(s.warnings[0].find("unit length"), std::string::npos) << s.warnings[0];
+  turned.doc["nodes"][0]["rotation"] = {0, 0, 0.7071, 0.7071};
+  EXPECT_TRUE(turned.loadText().warnings.empty()) << "a rotation rounded by its exporter is taken without a word";
+}
+
 TEST(Loader, MalformedAssimpModelsAreRefused) {
   auto dir = test::assimpGltfDir();
   for (const char* file : {"IndexOutOfRange/IndexOutOfRange.gltf", "MissingBin/BoxTextured.gltf",

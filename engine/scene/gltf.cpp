@@ -437,9 +437,13 @@ class Converter {
   }
 
   void lights() {
-    for (const auto& l : m_.lights) {
+    for (size_t i = 0; i < m_.lights.size(); ++i) {
+      const auto& l = m_.lights[i];
       Light out;
       out.name = l.name;
+      if (l.type != "directional" && l.type != "spot" && l.type != "point")
+        read_.fail((l.name.empty() ? "light " + std::to_string(i) : "light '" + l.name + "'") + ": type '" + l.type +
+                   "' is not directional, point or spot");
       out.type = l.type == "directional" ? Light::Type::Directional
                  : l.type == "spot"      ? Light::Type::Spot
                                          : Light::Type::Point;
@@ -464,9 +468,20 @@ class Converter {
         out.matrix = m;
       }
       if (n.translation.size() == 3) out.translation = {n.translation[0], n.translation[1], n.translation[2]};
-      if (n.rotation.size() == 4)
-        out.rotation =
-            glm::quat(float(n.rotation[3]), float(n.rotation[0]), float(n.rotation[1]), float(n.rotation[2]));
+      if (n.rotation.size() == 4) {
+        // glTF asks for a unit quaternion. Taken as it is, one off by its exporter's rounding would
+        // shear the node: it is taken at unit length (with a warning where it is off by more than
+        // rounding); one of no length names no rotation and is refused.
+        const glm::dvec4 q(n.rotation[0], n.rotation[1], n.rotation[2], n.rotation[3]);
+        const double length = glm::length(q);
+        if (!(length > 1e-3 && length < 1e3))
+          read_.fail("node '" + out.name + "': rotation of length " + std::to_string(length) +
+                     " is not a unit quaternion");
+        if (std::abs(length - 1.0) > 1e-3)
+          warn("node '" + out.name + "': rotation of length " + std::to_string(length) + " taken at unit length");
+        const double scale = std::abs(length - 1.0) > 1e-6 ? 1.0 / length : 1.0;  // a unit one keeps its bits
+        out.rotation = glm::quat(float(q.w * scale), float(q.x * scale), float(q.y * scale), float(q.z * scale));
+      }
       if (n.scale.size() == 3) out.scale = {n.scale[0], n.scale[1], n.scale[2]};
       for (double w : n.weights) out.weights.push_back(float(w));
       auto checkIndex = [&](int v, size_t size, const char* kind) {
