@@ -561,7 +561,8 @@ TEST(Loader, PropertiesOfAWrongTypeAreRefusedNamingThem) {
       {"/accessors/0/byteOffset", "12", "accessors[0].byteOffset is \"12\", not an index"},
       {"/accessors/0/bufferView", -1, "accessors[0].bufferView is -1, not an index"},
       {"/accessors/0/normalized", 1, "accessors[0].normalized is a number, not a boolean"},
-      {"/bufferViews/0/byteStride", "12", "bufferViews[0].byteStride is \"12\", not an index"}};
+      {"/bufferViews/0/byteStride", "12", "bufferViews[0].byteStride is \"12\", not an index"},
+      {"/samplers", {{{"wrapS", 12345}}}, "samplers[0].wrapS is 12345, not one of 33071, 33648, 10497"}};
   for (const auto& [pointer, value, expected] : wrong)
     for (bool binary : {false, true}) {
       TriangleFile t;
@@ -579,7 +580,8 @@ TEST(Loader, PropertiesOfAWrongTypeAreRefusedNamingThem) {
 }
 
 // Values the schema's types allow but its rules do not: a light of another type was read as a point
-// light; a rotation of no length as none, and one far from unit length sheared its node.
+// light, one of negative intensity sent negative light, a spot's inner cone wider than its outer
+// one; a rotation of no length was read as none, and one far from unit length sheared its node.
 TEST(Loader, ALightOfNoKnownTypeAndARotationOfNoLengthAreRefused) {
   auto refused = [](const TriangleFile& t, const std::string& expected) {
     try {
@@ -598,6 +600,11 @@ TEST(Loader, ALightOfNoKnownTypeAndARotationOfNoLengthAreRefused) {
   EXPECT_EQ(light.loadText().lights.size(), 1u);
   light.doc["extensions"]["KHR_lights_punctual"]["lights"][0]["type"] = "laser";
   refused(light, "light 0: type 'laser' is not directional, point or spot");
+  light.doc["extensions"]["KHR_lights_punctual"]["lights"][0] = {{"type", "point"}, {"intensity", -5}};
+  refused(light, "lights[0].intensity is -5, not a number of at least 0");
+  light.doc["extensions"]["KHR_lights_punctual"]["lights"][0] = {
+      {"type", "spot"}, {"spot", {{"innerConeAngle", 1.0}, {"outerConeAngle", 0.5}}}};
+  refused(light, "light 0: its cone's angles");
 
   TriangleFile turned;
   turned.doc["nodes"][0]["rotation"] = {0, 0, 0, 0};

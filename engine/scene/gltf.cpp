@@ -441,9 +441,13 @@ class Converter {
       const auto& l = m_.lights[i];
       Light out;
       out.name = l.name;
+      const std::string what = l.name.empty() ? "light " + std::to_string(i) : "light '" + l.name + "'";
       if (l.type != "directional" && l.type != "spot" && l.type != "point")
-        read_.fail((l.name.empty() ? "light " + std::to_string(i) : "light '" + l.name + "'") + ": type '" + l.type +
-                   "' is not directional, point or spot");
+        read_.fail(what + ": type '" + l.type + "' is not directional, point or spot");
+      if (l.type == "spot" &&
+          !(l.spot.innerConeAngle < l.spot.outerConeAngle && l.spot.outerConeAngle <= gpu::kPi / 2 + 1e-6))
+        read_.fail(what + ": its cone's angles (inner " + std::to_string(l.spot.innerConeAngle) + ", outer " +
+                   std::to_string(l.spot.outerConeAngle) + ") are not 0 <= inner < outer <= pi/2");
       out.type = l.type == "directional" ? Light::Type::Directional
                  : l.type == "spot"      ? Light::Type::Spot
                                          : Light::Type::Point;

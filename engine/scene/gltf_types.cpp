@@ -71,12 +71,30 @@ void primitiveMode(const json& v, const std::string& path) {
     fail(path, "is " + shown(v) + ", not a primitive mode (0 to 6)");
 }
 
-// `count` numbers (0: any number of them).
-Check numbersOf(size_t count) {
-  return [count](const json& v, const std::string& path) {
+// A number of at least 0; one above 0.
+void atLeastZero(const json& v, const std::string& path) {
+  if (!v.is_number() || v.get<double>() < 0.0) fail(path, "is " + shown(v) + ", not a number of at least 0");
+}
+void aboveZero(const json& v, const std::string& path) {
+  if (!v.is_number() || !(v.get<double>() > 0.0)) fail(path, "is " + shown(v) + ", not a number above 0");
+}
+// One of the values the schema lists for the property.
+Check oneOf(std::vector<json> values) {
+  return [values](const json& v, const std::string& path) {
+    for (const json& allowed : values)
+      if (v == allowed) return;
+    std::string listed;
+    for (const json& allowed : values) listed += (listed.empty() ? "" : ", ") + allowed.dump();
+    fail(path, "is " + shown(v) + ", not one of " + listed);
+  };
+}
+
+// `count` numbers (0: any number of them), each passing `each`.
+Check numbersOf(size_t count, Check each = number) {
+  return [count, each](const json& v, const std::string& path) {
     if (!v.is_array() || (count && v.size() != count))
       fail(path, count ? "is not an array of " + std::to_string(count) + " numbers" : "is not an array of numbers");
-    for (size_t i = 0; i < v.size(); ++i) number(v[i], at(path, i));
+    for (size_t i = 0; i < v.size(); ++i) each(v[i], at(path, i));
   };
 }
 // An array whose every item passes `item` (`atLeast`: the fewest items it may hold).
@@ -206,16 +224,18 @@ Check camera() {
 Check animation() {
   const Check channel =
       objectOf({required("sampler", index), required("target", objectOf({{"node", index}, required("path", string)}))});
-  const Check sampler = objectOf({required("input", index), required("output", index), {"interpolation", string}});
+  const Check sampler = objectOf({required("input", index),
+                                  required("output", index),
+                                  {"interpolation", oneOf({"LINEAR", "STEP", "CUBICSPLINE"})}});
   return objectOf({{"channels", arrayOf(channel)}, {"samplers", arrayOf(sampler)}});
 }
 
 Check light() {
   return objectOf({required("type", string),
-                   {"color", numbersOf(3)},
-                   {"intensity", number},
-                   {"range", number},
-                   {"spot", objectOf({{"innerConeAngle", number}, {"outerConeAngle", number}})}});
+                   {"color", numbersOf(3, atLeastZero)},
+                   {"intensity", atLeastZero},
+                   {"range", aboveZero},
+                   {"spot", objectOf({{"innerConeAngle", atLeastZero}, {"outerConeAngle", aboveZero}})}});
 }
 
 Check gltfSchema() {
@@ -234,8 +254,10 @@ Check gltfSchema() {
        {"buffers", arrayOf(objectOf({required("byteLength", index), {"uri", string}}))},
        {"images", arrayOf(objectOf({{"uri", string}, {"mimeType", string}, {"bufferView", index}}))},
        {"textures", arrayOf(objectOf({{"sampler", index}, {"source", index}}))},
-       {"samplers",
-        arrayOf(objectOf({{"magFilter", index}, {"minFilter", index}, {"wrapS", index}, {"wrapT", index}}))},
+       {"samplers", arrayOf(objectOf({{"magFilter", oneOf({9728, 9729})},
+                                      {"minFilter", oneOf({9728, 9729, 9984, 9985, 9986, 9987})},
+                                      {"wrapS", oneOf({33071, 33648, 10497})},
+                                      {"wrapT", oneOf({33071, 33648, 10497})}}))},
        {"skins",
         arrayOf(objectOf({required("joints", arrayOf(index)), {"inverseBindMatrices", index}, {"skeleton", index}}))},
        {"cameras", arrayOf(camera())},
