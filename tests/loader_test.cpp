@@ -599,7 +599,7 @@ TEST(Loader, ALightOfNoKnownTypeAndARotationOfNoLengthAreRefused) {
   light.doc["scenes"][0]["nodes"].push_back(1);
   EXPECT_EQ(light.loadText().lights.size(), 1u);
   light.doc["extensions"]["KHR_lights_punctual"]["lights"][0]["type"] = "laser";
-  refused(light, "light 0: type 'laser' is not directional, point or spot");
+  refused(light, "lights[0].type is \"laser\", not one of \"directional\", \"point\", \"spot\"");
   light.doc["extensions"]["KHR_lights_punctual"]["lights"][0] = {{"type", "point"}, {"intensity", -5}};
   refused(light, "lights[0].intensity is -5, not a number of at least 0");
   light.doc["extensions"]["KHR_lights_punctual"]["lights"][0] = {

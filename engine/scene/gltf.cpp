@@ -442,8 +442,6 @@ class Converter {
       Light out;
       out.name = l.name;
       const std::string what = l.name.empty() ? "light " + std::to_string(i) : "light '" + l.name + "'";
-      if (l.type != "directional" && l.type != "spot" && l.type != "point")
-        read_.fail(what + ": type '" + l.type + "' is not directional, point or spot");
       if (l.type == "spot" &&
           !(l.spot.innerConeAngle < l.spot.outerConeAngle && l.spot.outerConeAngle <= gpu::kPi / 2 + 1e-6))
         read_.fail(what + ": its cone's angles (inner " + std::to_string(l.spot.innerConeAngle) + ", outer " +

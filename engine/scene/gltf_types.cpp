@@ -231,7 +231,7 @@ Check animation() {
 }
 
 Check light() {
-  return objectOf({required("type", string),
+  return objectOf({required("type", oneOf({"directional", "point", "spot"})),
                    {"color", numbersOf(3, atLeastZero)},
                    {"intensity", atLeastZero},
                    {"range", aboveZero},
