@@ -10,8 +10,10 @@
 #include <fstream>
 #include <functional>
 #include <glm/gtc/type_ptr.hpp>
+#include <iterator>
 #include <optional>
 #include <set>
+#include <vector>
 
 #include "engine/image/image_header.h"
 #include "engine/scene/gltf_accessors.h"
@@ -683,20 +685,28 @@ Scene loadGltf(const std::string& path, const Limits& limits) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw LoadError(path + ": no such file");
   if (fs::is_directory(path, ec)) throw LoadError(path + ": is a directory, not a glTF file");
+  // A device or a pipe has no end to read to.
+  if (!fs::is_regular_file(path, ec)) throw LoadError(path + ": not a regular file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw LoadError(path + ": cannot be opened for reading");
-  char magic[4] = {};
-  in.read(magic, 4);
-  bool binary = in.gcount() == 4 && std::memcmp(magic, "glTF", 4) == 0;
+  // Read once: tinygltf parses these bytes, and the type check reads their JSON again.
+  const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   in.close();
+  const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+  const std::string invalid = path + ": " + (binary ? "invalid .glb: " : "invalid glTF: ");
 
   tinygltf::TinyGLTF loader;
   tinygltf::Model model;
   ImageChecks imageChecks{model, limits.texels, {}};
   loader.SetImageLoader(&decodeCheckedImage, &imageChecks);
-  std::string err, warn;
-  bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
-                   : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+  std::string err = bytes.empty() ? "the file is empty" : "", warn;
+  // Relative URIs resolve against the file's folder, as tinygltf's own file loaders resolve them.
+  const std::string folder = fs::path(path).parent_path().string();
+  const auto size = static_cast<unsigned int>(bytes.size());
+  const bool ok =
+      !bytes.empty() && (binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), size, folder)
+                                : loader.LoadASCIIFromString(
+                                      &model, &err, &warn, reinterpret_cast<const char*>(bytes.data()), size, folder));
   if (!imageChecks.refusal.empty()) throw LoadError(path + ": " + imageChecks.refusal);
   if (!ok || !err.empty()) {
     // A file that needs an extension ivgi does not read (Draco's compressed meshes, say) often fails
@@ -712,12 +722,11 @@ Scene loadGltf(const std::string& path, const Limits& limits) {
     }
     if (why.size() > 240) why = why.substr(0, 240) + "...";
     while (!why.empty() && why.back() == ' ') why.pop_back();
-    throw LoadError(path + ": " + (binary ? "invalid .glb: " : "invalid glTF: ") + why);
+    throw LoadError(invalid + why);
   }
   // tinygltf reads a property of the wrong type as absent: refused instead, naming it.
-  if (const nlohmann::json doc = gltfJson(path, binary); !doc.is_discarded())
-    if (auto problem = gltfTypeProblem(doc))
-      throw LoadError(path + ": " + (binary ? "invalid .glb: " : "invalid glTF: ") + *problem);
+  if (const nlohmann::json doc = gltfJson(bytes, binary); !doc.is_discarded())
+    if (auto problem = gltfTypeProblem(doc)) throw LoadError(invalid + *problem);
   Scene scene = sceneFromModel(model, path, limits);
   if (!warn.empty()) {
     std::replace(warn.begin(), warn.end(), '\n', ' ');

@@ -3,9 +3,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <fstream>
 #include <functional>
-#include <iterator>
 #include <vector>
 
 namespace ivgi::scene {
@@ -277,23 +275,16 @@ std::optional<std::string> gltfTypeProblem(const json& gltf) {
   return std::nullopt;
 }
 
-json gltfJson(const std::string& path, bool binary) {
-  std::ifstream in(path, std::ios::binary);
-  std::string text;
-  if (!binary) {
-    text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  } else {
-    // A .glb: a 12-byte header, then the JSON chunk's length and type, then the chunk.
-    unsigned char head[20] = {};
-    in.read(reinterpret_cast<char*>(head), sizeof head);
-    if (in.gcount() != sizeof head || std::memcmp(head + 16, "JSON", 4) != 0) return json(json::value_t::discarded);
-    const uint32_t length =
-        uint32_t(head[12]) | uint32_t(head[13]) << 8 | uint32_t(head[14]) << 16 | uint32_t(head[15]) << 24;
-    text.resize(length);
-    in.read(text.data(), std::streamsize(length));
-    if (in.gcount() != std::streamsize(length)) return json(json::value_t::discarded);
-  }
-  return json::parse(text, nullptr, false);
+json gltfJson(std::span<const unsigned char> file, bool binary) {
+  if (!binary) return json::parse(file.begin(), file.end(), nullptr, false);
+  // A .glb: a 12-byte header, then the JSON chunk's length and type, then the chunk.
+  constexpr size_t kChunk = 20;
+  if (file.size() < kChunk || std::memcmp(file.data() + 16, "JSON", 4) != 0) return json(json::value_t::discarded);
+  const uint32_t length =
+      uint32_t(file[12]) | uint32_t(file[13]) << 8 | uint32_t(file[14]) << 16 | uint32_t(file[15]) << 24;
+  if (length > file.size() - kChunk) return json(json::value_t::discarded);
+  const auto chunk = file.subspan(kChunk, length);
+  return json::parse(chunk.begin(), chunk.end(), nullptr, false);
 }
 
 }  // namespace ivgi::scene

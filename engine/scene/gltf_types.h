@@ -7,6 +7,7 @@
 // tinygltf.
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <span>
 #include <string>
 
 namespace ivgi::scene {
@@ -16,8 +17,8 @@ namespace ivgi::scene {
 // the schema says. Expects the JSON tinygltf has parsed (gltfJson).
 std::optional<std::string> gltfTypeProblem(const nlohmann::json& gltf);
 
-// The JSON of a .gltf file's text, or of a .glb's JSON chunk; discarded (is_discarded()) where it
+// The JSON of a .gltf file's bytes, or of a .glb's JSON chunk; discarded (is_discarded()) where it
 // cannot be read as JSON.
-nlohmann::json gltfJson(const std::string& path, bool binary);
+nlohmann::json gltfJson(std::span<const unsigned char> file, bool binary);
 
 }  // namespace ivgi::scene
