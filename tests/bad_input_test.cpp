@@ -71,13 +71,16 @@ TEST(BadInput, ADeviceFileIsRefusedNotReadForever) {
   if (!fs::exists("/dev/zero")) GTEST_SKIP() << "no /dev/zero";
   expectOneLineError(test::runIvgi({"compare", "/dev/zero", "/dev/zero"}), {"/dev/zero", "not a regular file"});
   expectRenderRefused("cornell", {"--env", "/dev/zero"}, {"/dev/zero"});
-  expectRenderRefused("/dev/zero", {}, {"/dev/zero"});
+  expectRenderRefused("/dev/zero", {}, {"/dev/zero", "not a regular file"});
 }
 
 TEST(BadInput, NotAGltfFile) {
   auto path = test::scratchDir("in") / "notes.gltf";
   std::ofstream(path) << "these are not the droids you are looking for\n";
   expectRenderRefused(path.string(), {}, {path.string(), "invalid glTF"});
+  const auto empty = test::scratchDir("in") / "empty.gltf";
+  std::ofstream{empty};
+  expectRenderRefused(empty.string(), {}, {empty.string(), "invalid glTF: the file is empty"});
 }
 
 TEST(BadInput, CorruptedEmbeddedBuffer) {
