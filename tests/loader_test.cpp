@@ -507,6 +507,7 @@ struct TriangleFile {
                    "min": [0, 0, 0], "max": [1, 1, 0]}],
     "bufferViews": [{"buffer": 0, "byteLength": 36}],
     "buffers": [{"uri": "triangle.bin", "byteLength": 36}]})");
+  uint32_t glbVersion = 2;  // the .glb header's
 
   Scene loadText() const {
     std::ofstream(dir / "triangle.bin", std::ios::binary) << bin;
@@ -521,7 +522,7 @@ struct TriangleFile {
     auto word = [](uint32_t v) { return std::string(reinterpret_cast<const char*>(&v), 4); };
     const uint32_t total = uint32_t(12 + 8 + text.size() + 8 + bin.size());
     std::ofstream(dir / "triangle.glb", std::ios::binary)
-        << "glTF" << word(2) << word(total) << word(uint32_t(text.size())) << "JSON" << text
+        << "glTF" << word(glbVersion) << word(total) << word(uint32_t(text.size())) << "JSON" << text
         << word(uint32_t(bin.size())) << "BIN" << '\0' << bin;
     return loadGltf((dir / "triangle.glb").string());
   }
@@ -602,6 +603,75 @@ TEST(Loader, ALightOfNoKnownTypeAndARotationOfNoLengthAreRefused) {
   EXPECT_NE(s.warnings[0].find("unit length"), std::string::npos) << s.warnings[0];
   turned.doc["nodes"][0]["rotation"] = {0, 0, 0.7071, 0.7071};
   EXPECT_TRUE(turned.loadText().warnings.empty()) << "a rotation rounded by its exporter is taken without a word";
+}
+
+// A file of another glTF version fails tinygltf's checks on whatever differs first (glTF 1.0's
+// named scene was refused as "scene is \"defaultScene\", not an index"): it is named for what it is.
+TEST(Loader, OtherVersionsOfGltfAreNamedAsSuch) {
+  auto refused = [](const TriangleFile& t, const std::string& expected) {
+    for (bool binary : {false, true})
+      EXPECT_THAT([&] { binary ? t.loadBinary() : t.loadText(); },
+                  ThrowsMessage<LoadError>(AllOf(HasSubstr(binary ? "triangle.glb: " : "triangle.gltf: "),
+                                                 HasSubstr(expected + "; ivgi reads glTF 2.0"))));
+  };
+  TriangleFile t;
+  t.doc["asset"]["version"] = "1.0";
+  refused(t, "is glTF 1.0 (asset.version \"1.0\")");
+  t.doc["asset"]["version"] = "3.0";
+  refused(t, "is glTF 3.0 (asset.version \"3.0\")");
+  // A later minor version is read, its additions ignored, unless its minVersion asks for more.
+  t.doc["asset"]["version"] = "2.1";
+  EXPECT_NO_THROW(t.loadText());
+  t.doc["asset"]["minVersion"] = "2.0";
+  EXPECT_NO_THROW(t.loadBinary());
+  t.doc["asset"]["minVersion"] = "2.1";
+  refused(t, "needs glTF 2.1 at least (asset.minVersion)");
+
+  TriangleFile glb1;
+  glb1.glbVersion = 1;
+  EXPECT_THAT([&] { glb1.loadBinary(); },
+              ThrowsMessage<LoadError>(HasSubstr("triangle.glb: is binary glTF of version 1 (its header)")));
+
+  // Khronos' glTF 1.0 files as assimp-testmodels holds them; the truck's asset.version is a number.
+  const auto dir = test::assimpGltfDir().parent_path() / "glTF";
+  for (const auto& [file, expected] : std::vector<std::pair<std::string, std::string>>{
+           {"BoxTextured-glTF/BoxTextured.gltf", "is glTF 1.0 (asset.version \"1.0\")"},
+           {"BoxTextured-glTF-Binary/BoxTextured.glb", "is binary glTF of version 1"},
+           {"CesiumMilkTruck/CesiumMilkTruck.gltf", "is glTF 1.0 (its accessors are named rather than listed)"}}) {
+    const std::string path = (dir / file).string();  // (clang 14 captures no structured binding)
+    const std::string what = expected;
+    EXPECT_THAT([&] { loadGltf(path); }, ThrowsMessage<LoadError>(AllOf(HasSubstr(file), HasSubstr(what))));
+  }
+}
+
+// tinygltf does not check the default scene's index where the file has no scenes: it was read as
+// no scene at all, and the file refused as one with no triangles.
+TEST(Loader, ADefaultSceneOutOfRangeIsRefused) {
+  TriangleFile t;
+  t.doc["scene"] = 1;
+  EXPECT_THAT([&] { t.loadText(); },
+              ThrowsMessage<LoadError>(HasSubstr("triangle.gltf: scene 1 is out of range (the file has 1 scenes)")));
+  t.doc.erase("scenes");
+  t.doc["scene"] = 0;
+  EXPECT_THAT([&] { t.loadBinary(); },
+              ThrowsMessage<LoadError>(HasSubstr("triangle.glb: scene 0 is out of range (the file has 0 scenes)")));
+  t.doc.erase("scene");
+  EXPECT_EQ(t.loadText().roots.size(), 1u) << "without scenes, every node without a parent is drawn";
+}
+
+// tinygltf takes a file's size as 32 bits: a larger file was parsed cut short and refused as
+// malformed. It is refused for its size, before a byte of it is read (a sparse file here).
+TEST(Loader, AFileOverFourGiBIsRefusedUnread) {
+  const auto path = test::scratchDir("huge") / "huge.glb";
+  std::filesystem::remove(path);
+  std::ofstream(path, std::ios::binary) << "glTF";
+  std::error_code ec;
+  std::filesystem::resize_file(path, (uintmax_t(1) << 32) + 1, ec);
+  if (ec) GTEST_SKIP() << "this file system holds no sparse 4 GiB file: " << ec.message();
+  const std::string name = path.string();
+  EXPECT_THAT([&] { loadGltf(name); },
+              ThrowsMessage<LoadError>(HasSubstr("huge.glb: is 4294967297 bytes, more than a glTF file may hold")));
+  std::filesystem::remove(path);
 }
 
 TEST(Loader, MalformedAssimpModelsAreRefused) {

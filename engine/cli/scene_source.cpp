@@ -98,7 +98,14 @@ scene::Geometry renderableGeometry(const scene::Scene& s, const SolverOptions& s
   if (solver.tessellation > 100000) throw SettingsError("--tessellate must be 0 to 100000");
   scene::Geometry g =
       scene::buildGeometry(s, sampledTessellation(solver), buildProgress(), limits, openSpaceOf(solver, s));
-  if (g.triangles.empty()) throw scene::LoadError(s.source + ": the scene has no triangles to render");
+  if (g.triangles.empty()) {
+    // What the loader skipped is often why (a file of points or lines): said in the one line.
+    std::string why;
+    if (!s.warnings.empty())
+      why = " (" + s.warnings.front() +
+            (s.warnings.size() > 1 ? ", and " + std::to_string(s.warnings.size() - 1) + " warnings more" : "") + ")";
+    throw scene::LoadError(s.source + ": the scene has no triangles to render" + why);
+  }
   return g;
 }
 

@@ -5,12 +5,14 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <glm/gtc/type_ptr.hpp>
 #include <iterator>
+#include <limits>
 #include <optional>
 #include <set>
 #include <vector>
@@ -512,9 +514,11 @@ class Converter {
       for (int p = int(i); p >= 0; p = scene_.nodes[p].parent)
         if (++steps > scene_.nodes.size()) read_.fail("node hierarchy has a cycle");
     }
+    if (m_.defaultScene >= int(m_.scenes.size()))
+      read_.fail("scene " + std::to_string(m_.defaultScene) + " is out of range (the file has " +
+                 std::to_string(m_.scenes.size()) + " scenes)");
     if (!m_.scenes.empty()) {
       int s = m_.defaultScene >= 0 ? m_.defaultScene : 0;
-      if (s >= int(m_.scenes.size())) read_.fail("default scene index out of range");
       for (int r : m_.scenes[s].nodes) {
         if (r < 0 || r >= int(scene_.nodes.size()))
           read_.fail("scene node index " + std::to_string(r) + " out of range");
@@ -687,13 +691,30 @@ Scene loadGltf(const std::string& path, const Limits& limits) {
   if (fs::is_directory(path, ec)) throw LoadError(path + ": is a directory, not a glTF file");
   // A device or a pipe has no end to read to.
   if (!fs::is_regular_file(path, ec)) throw LoadError(path + ": not a regular file");
+  // A .glb's lengths are 32 bits, and tinygltf takes a file's size as one: refused before reading.
+  const auto tooLarge = [&](uintmax_t size) {
+    if (size > std::numeric_limits<uint32_t>::max())
+      throw LoadError(path + ": is " + std::to_string(size) + " bytes, more than a glTF file may hold (4 GiB)");
+  };
+  if (const uintmax_t size = fs::file_size(path, ec); !ec) tooLarge(size);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw LoadError(path + ": cannot be opened for reading");
-  // Read once: tinygltf parses these bytes, and the type check reads their JSON again.
+  // Read once: tinygltf parses these bytes, and the checks below read their JSON again.
   const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   in.close();
+  tooLarge(bytes.size());  // (it may have grown since)
   const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
   const std::string invalid = path + ": " + (binary ? "invalid .glb: " : "invalid glTF: ");
+  // Another version of glTF fails tinygltf's checks on whatever differs first: say what it is.
+  const std::string onlyTwo = "; ivgi reads glTF 2.0";
+  if (binary && bytes.size() >= 8) {
+    const uint32_t version =
+        uint32_t(bytes[4]) | uint32_t(bytes[5]) << 8 | uint32_t(bytes[6]) << 16 | uint32_t(bytes[7]) << 24;
+    if (version != 2)
+      throw LoadError(path + ": is binary glTF of version " + std::to_string(version) + " (its header)" + onlyTwo);
+  }
+  const nlohmann::json doc = gltfJson(bytes, binary);
+  if (auto problem = gltfVersionProblem(doc)) throw LoadError(path + ": " + *problem + onlyTwo);
 
   tinygltf::TinyGLTF loader;
   tinygltf::Model model;
@@ -725,7 +746,7 @@ Scene loadGltf(const std::string& path, const Limits& limits) {
     throw LoadError(invalid + why);
   }
   // tinygltf reads a property of the wrong type as absent: refused instead, naming it.
-  if (const nlohmann::json doc = gltfJson(bytes, binary); !doc.is_discarded())
+  if (!doc.is_discarded())
     if (auto problem = gltfTypeProblem(doc)) throw LoadError(invalid + *problem);
   Scene scene = sceneFromModel(model, path, limits);
   if (!warn.empty()) {

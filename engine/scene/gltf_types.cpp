@@ -1,9 +1,11 @@
 #include "engine/scene/gltf_types.h"
 
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <functional>
+#include <utility>
 #include <vector>
 
 namespace ivgi::scene {
@@ -272,6 +274,43 @@ std::optional<std::string> gltfTypeProblem(const json& gltf) {
   } catch (const Problem& p) {
     return p.text;
   }
+  return std::nullopt;
+}
+
+namespace {
+
+// "<major>.<minor>" (glTF 1.0's files also wrote "1.0.2") as a pair; none where it is not one.
+std::optional<std::pair<int, int>> versionOf(const json& v) {
+  if (!v.is_string()) return std::nullopt;
+  const std::string& text = v.get_ref<const std::string&>();
+  std::pair<int, int> version;
+  const char* end = text.data() + text.size();
+  auto [dot, e1] = std::from_chars(text.data(), end, version.first);
+  if (e1 != std::errc() || dot == end || *dot != '.') return std::nullopt;
+  if (std::from_chars(dot + 1, end, version.second).ec != std::errc()) return std::nullopt;
+  return version;
+}
+
+}  // namespace
+
+std::optional<std::string> gltfVersionProblem(const json& gltf) {
+  if (!gltf.is_object()) return std::nullopt;
+  const json none;
+  const auto asset = gltf.find("asset");
+  const json& version = asset != gltf.end() && asset->is_object() ? asset->value("version", none) : none;
+  if (auto v = versionOf(version)) {
+    if (v->first != 2)
+      return "is glTF " + std::to_string(v->first) + "." + std::to_string(v->second) + " (asset.version " +
+             shown(version) + ")";
+    if (auto least = versionOf(asset->value("minVersion", none)); least && *least > std::pair(2, 0))
+      return "needs glTF " + std::to_string(least->first) + "." + std::to_string(least->second) +
+             " at least (asset.minVersion)";
+    return std::nullopt;
+  }
+  // glTF 1.0's drafts wrote no asset.version or a number; their collections were objects keyed by name.
+  for (const char* collection : {"accessors", "bufferViews", "buffers", "meshes", "nodes", "scenes"})
+    if (auto c = gltf.find(collection); c != gltf.end() && c->is_object())
+      return std::string("is glTF 1.0 (its ") + collection + " are named rather than listed)";
   return std::nullopt;
 }
 
