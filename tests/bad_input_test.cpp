@@ -299,6 +299,40 @@ TEST(BadInput, EarlierFramesSurviveAFailedRun) {
   EXPECT_TRUE(fs::exists(out / "f_0001.png"));
 }
 
+// What a run writes at its end (render's sidecar, bench's and compare's --json, the sweep's
+// tables) was first tried once every frame had rendered: a --json naming a folder failed the run
+// at its end. Each is now checked before the first frame; a missing folder is made, as the
+// frames' own is.
+TEST(BadInput, WhatARunWritesAtItsEndIsCheckedBeforeItsFirstFrame) {
+  const fs::path dir = test::scratchDir("ends");
+  const fs::path out = dir / "out", file = dir / "a_file";
+  std::ofstream(file) << "not a folder";
+  const std::string pattern = (out / "f_%04d").string();
+  auto render = [&](const std::string& json) {
+    return test::runIvgi({"render", "--size", "16x12", "--frames", "0", "--out", pattern, "--json", json});
+  };
+  expectOneLineError(render(dir.string()), {dir.string(), "is a directory"});
+  const std::string inFile = (file / "x.json").string();
+  expectOneLineError(render(inFile), {inFile, "cannot make its folder"});
+  EXPECT_EQ(filesIn(out), 0u) << "no frame rendered";
+  expectOneLineError(test::runIvgi({"render", "--size", "16x12", "--frames", "0", "--out", (file / "f_%04d").string()}),
+                     {"cannot make its folder", file.string()});
+  expectOneLineError(test::runIvgi({"bench", "--size", "16x12", "--frames", "1", "--warmup", "0", "--json", inFile}),
+                     {inFile, "cannot make its folder"});
+
+  const fs::path made = dir / "made" / "x.json";
+  const test::Run ok = render(made.string());
+  ASSERT_EQ(ok.status, 0) << ok.err;
+  EXPECT_TRUE(fs::exists(made)) << "the sidecar's folder is made";
+  ASSERT_TRUE(fs::exists(out / "f_0000.exr"));
+  expectOneLineError(test::runIvgi({"sweep", "cornell", "--bins", "4", "--reference", (out / "f_0000.exr").string(),
+                                    "--out", (file / "sweep").string()}),
+                     {"sweep.csv", "cannot make its folder"});
+  const std::string frame = (out / "f_0000.exr").string();
+  expectOneLineError(test::runIvgi({"compare", frame, frame, "--json", dir.string()}),
+                     {dir.string(), "is a directory"});
+}
+
 // A camera whose transform collapses its view (scaled to zero, or turned so that it looks along no
 // direction) cannot frame an image: one line names the file, the camera and the problem.
 TEST(BadInput, DegenerateCamera) {

@@ -101,6 +101,7 @@ void checkFrameCounts(const BenchOptions& o) {
 int runBench(const BenchOptions& o) {
   if (o.equalError && o.perProgram)
     throw SettingsError("--per-program times bench's own frames; --equal-error does not take it");
+  if (!o.json.empty()) image::prepareToWrite(o.json);  // written at the end
   if (o.equalError) return runEqualError(o);
   checkFrameCounts(o);
   gi::ImageSettings image{.samples = o.supersample};

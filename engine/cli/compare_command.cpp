@@ -13,6 +13,7 @@
 #include "engine/cli/frame_pairs.h"
 #include "engine/cli/json_file.h"
 #include "engine/cli/options.h"
+#include "engine/image/atomic_file.h"
 #include "engine/image/compare.h"
 #include "engine/image/frame_image.h"
 #include "engine/image/image_file.h"
@@ -209,6 +210,7 @@ void noteSampling(const std::vector<FramePair>& pairs) {
 int runCompare(const CompareOptions& o) {
   check(o);
   const std::vector<FramePair> pairs = pairFrames(o.test, o.reference);
+  if (!o.json.empty()) image::prepareToWrite(o.json);  // written once every frame is compared
   noteSampling(pairs);
   const bool sequence = !(fs::is_regular_file(o.test) && fs::is_regular_file(o.reference));
   // A sequence's images are of its failing frames only, in folders: --heatmap/--ratio, else beside the report.

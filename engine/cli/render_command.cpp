@@ -113,7 +113,10 @@ int runRender(const RenderOptions& o) {
   const auto frames = shardFrames(range.frames(), shard, chainStart);
   const FrameCamera camera(s, g, tl, o.fps, o.camera, range.frames(), float(image.width) / float(image.height));
 
-  fs::create_directories(pattern.directory());
+  // The frames' folder, and the sidecar written at the end, checked before the first frame renders.
+  const std::string sidecarPath = Sidecar::forShard(o.json.empty() ? pattern.sidecar() : o.json, shard);
+  image::prepareToWrite(sidecarPath);
+  image::prepareToWrite(pattern.path(frames.empty() ? range.first : frames.front(), formats.front()));
   image::installInterruptCleanup();
   // While this run lives, its temporaries are its own; with --resume, those of runs that ended are removed.
   const image::RunLock lock(pattern.directory());
@@ -138,7 +141,7 @@ int runRender(const RenderOptions& o) {
                    {"unbounded", pt && !solver.iv.bounces},
                    {"camera", camera.name()}});
   Sidecar sidecar(
-      Sidecar::forShard(o.json.empty() ? pattern.sidecar() : o.json, shard),
+      sidecarPath,
       {{"ivgi", IVGI_VERSION},
        {"scene", s.source},
        {"settings", settings},

@@ -122,6 +122,8 @@ int runSweep(const SweepOptions& o) {
   auto tolerances = parseList<float>("--bounce-tol", o.bounceTolerances);
   auto kappas = parseList<float>("--kappa", o.kappa);
   auto receiverTolerances = parseList<float>("--receiver-tol", o.receiverTolerances);
+  // Its files are written once every setting has run: their folder is checked first.
+  image::prepareToWrite((std::filesystem::path(o.out) / "sweep.csv").string());
   std::vector<SolverOptions> grid;
   for (const auto& m : methods) {
     if (m != "iv" && m != "ar" && m != "none")
@@ -212,7 +214,6 @@ int runSweep(const SweepOptions& o) {
   }
 
   namespace fs = std::filesystem;
-  fs::create_directories(o.out);
   const std::string csvPath = (fs::path(o.out) / "sweep.csv").string(),
                     jsonPath = (fs::path(o.out) / "sweep.json").string(),
                     pngPath = (fs::path(o.out) / "sweep.png").string();

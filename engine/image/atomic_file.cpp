@@ -79,7 +79,27 @@ bool runIsOver(const fs::path& folder, const std::string& runOwner) {
   return pid > 0 && kill(pid, 0) != 0 && errno == ESRCH;
 }
 
+// Where writeAtomically writes `final` before renaming it.
+fs::path temporaryOf(const fs::path& final) {
+  return final.parent_path() / (kTempPrefix + owner() + "~" + final.filename().string());
+}
+
 }  // namespace
+
+void prepareToWrite(const std::string& path) {
+  const fs::path final(path);
+  std::error_code ec;
+  if (fs::is_directory(final, ec)) throw std::runtime_error(path + ": is a directory");
+  if (const fs::path folder = final.parent_path(); !folder.empty()) {
+    fs::create_directories(folder, ec);
+    if (ec) throw std::runtime_error(path + ": cannot make its folder " + folder.string() + ": " + ec.message());
+  }
+  const fs::path temp = temporaryOf(final);
+  const int fd = open(temp.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0) throw std::runtime_error(path + ": cannot be written: " + std::strerror(errno));
+  close(fd);
+  unlink(temp.c_str());
+}
 
 void installInterruptCleanup() {
   struct sigaction sa {};
@@ -90,8 +110,7 @@ void installInterruptCleanup() {
 }
 
 void writeAtomically(const std::string& path, const std::function<void(const std::string&)>& write) {
-  fs::path final(path);
-  fs::path temp = final.parent_path() / (kTempPrefix + owner() + "~" + final.filename().string());
+  const fs::path final(path), temp = temporaryOf(final);
   const std::string tempName = temp.string();
   const int slot = claimSlot(tempName);
   try {

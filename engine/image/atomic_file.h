@@ -13,6 +13,11 @@ namespace ivgi::image {
 // detection by name still works. Throws std::runtime_error naming `path` on failure.
 void writeAtomically(const std::string& path, const std::function<void(const std::string&)>& write);
 
+// Makes `path`'s folder where it is missing and checks that the file can be written there, by
+// creating and removing the temporary writeAtomically would write; throws std::runtime_error naming
+// `path` and what stands in the way. For what a long run writes at its end, checked at its start.
+void prepareToWrite(const std::string& path);
+
 // Installs the SIGINT/SIGTERM handler that removes temporaries (and run locks) and exits with
 // 128 + signal.
 void installInterruptCleanup();
