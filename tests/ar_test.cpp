@@ -12,6 +12,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "engine/gi/ar/divergence.h"
 #include "engine/gi/ar/solver.h"
 #include "engine/scene/gltf.h"
 #include "engine/scene/lights.h"
@@ -751,6 +752,32 @@ void expectFiniteWithin(const ArSolved& solved, float most) {
 }
 
 }  // namespace
+
+// What the guard judges a divergence, and that its words name the cause: Khronos' ClearCoatTest
+// tripped it undamped on light cancelled past zero, and the line on stderr said "the irradiance
+// changed by 1 of itself at iteration 1", the first iteration's change from nothing.
+TEST(ArConvergence, TheGuardNamesWhatTrippedIt) {
+  using Floats = std::vector<float>;
+  const Floats settling = {1.0f, 0.6f, 0.3f, 0.15f}, none(4, 0.0f);
+  EXPECT_EQ(gi::divergence(settling, none, 4, 1.0f), std::nullopt);
+  EXPECT_EQ(gi::divergence(settling, Floats{0.0f, 0.2f, 0.73f, 0.4f}, 4, 1.0f),
+            "light cancelled past zero 0.73 times the light at iteration 3");
+  EXPECT_EQ(gi::divergence(Floats{1.0f, 0.6f}, Floats{0.0f, 0.9f}, 2, 1.0f), std::nullopt)
+      << "the first two iterations are not judged on light cancelled past zero";
+  EXPECT_EQ(gi::divergence(settling, Floats{0.0f, 0.2f, 0.73f, 0.4f}, 4, 0.5f), std::nullopt)
+      << "a damped iteration may settle with light cancelled past zero";
+  const Floats growing = {1.0f, 0.5f, 0.2f, 0.1f, 0.4f, 0.9f, 1.71f, 1.2f};
+  EXPECT_EQ(gi::divergence(growing, Floats(8, 0.0f), 4, 1.0f),
+            "the irradiance changed by 1.71 of itself at iteration 7");
+  EXPECT_EQ(gi::divergence(growing, Floats(8, 0.0f), 4, 0.5f),
+            "the irradiance changed by 1.71 of itself at iteration 7");
+  Floats slow(17, 0.1f);
+  EXPECT_EQ(gi::divergence(slow, Floats(17, 0.0f), 4, 0.5f),
+            "the change fell by less than a quarter over 16 iterations, to 0.1 of the irradiance at iteration 17");
+  EXPECT_EQ(gi::divergence(slow, Floats(17, 0.0f), 4, 1.0f), std::nullopt) << "undamped, a slow change is allowed";
+  slow[16] = std::nanf("");
+  EXPECT_EQ(gi::divergence(slow, Floats(17, 0.0f), 1, 1.0f), "a change that is not a finite number at iteration 17");
+}
 
 // The guard (docs/design.md §2.2): a frame whose iteration diverges, where no damping is allowed
 // (or none holds it), is redone up to its best iteration, says so, and holds no NaN, no Inf and no

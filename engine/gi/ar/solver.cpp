@@ -6,6 +6,7 @@
 #include <numeric>
 
 #include "engine/core/errors.h"
+#include "engine/gi/ar/divergence.h"
 #include "engine/gi/bins.h"
 #include "engine/gi/pass.h"
 
@@ -17,9 +18,6 @@ namespace {
 // each submission, so the frame runs up to a submission's worth past its tolerance. A warm start
 // begins near its solution: its first submission is the two iterations that can show it settled.
 constexpr uint32_t kIterationSteps = 4, kWarmFirstSteps = 2;
-// Where the iteration counts as diverging: light cancelled past zero beyond this share of the
-// light, or a change of the irradiance above the irradiance and this many times its smallest.
-constexpr float kNegativeBound = 0.5f, kGrowthBound = 10.0f;
 
 std::string mib(uint64_t bytes) { return std::to_string((bytes + (1 << 20) - 1) >> 20) + " MiB"; }
 
@@ -323,10 +321,11 @@ void ArSolver::judge() const {
   }
   const std::ptrdiff_t fresh = recorded_ - judged_;  // the iterations just judged
   judged_ = recorded_;
-  if (!cap_ && diverging(fresh)) {
+  const std::optional<std::string> why =
+      cap_ ? std::nullopt : divergence(residuals_, negatives_, size_t(fresh), damping_);
+  if (why) {
     const auto best = std::min_element(residuals_.begin(), residuals_.end());
-    const auto worst = std::max_element(residuals_.begin(), residuals_.end());
-    if (damping_ == 1.0f) firstGrowth_ = *worst, firstGrowthAt_ = uint32_t(worst - residuals_.begin()) + 1;
+    if (damping_ == 1.0f) firstDivergence_ = *why;
     redo_ = done_ = true;
     if (damping_ > settings_.leastDamping) return void(damping_ *= 0.5f);
     cap_ = uint32_t(best - residuals_.begin()) + 1;
@@ -334,10 +333,8 @@ void ArSolver::judge() const {
     char damped[80] = "";
     if (damping_ < 1.0f)
       std::snprintf(damped, sizeof damped, " undamped, and still grew with each step damped to %.3g", double(damping_));
-    std::fprintf(stderr,
-                 "ivgi: ar: the iteration diverges (the irradiance changed by %.3g of itself at iteration %u%s); the "
-                 "frame shows iteration %u, its best\n",
-                 double(firstGrowth_), firstGrowthAt_, damped, cap_);
+    std::fprintf(stderr, "ivgi: ar: the iteration diverges (%s%s); the frame shows iteration %u, its best\n",
+                 firstDivergence_.c_str(), damped, cap_);
     return;
   }
   if (recorded_ >= iterationLimit()) return void(done_ = true);
@@ -347,21 +344,6 @@ void ArSolver::judge() const {
   const size_t cycle = settings_.scheme == ArScheme::Symmetric ? 1 : gpu::kAntiradianceSteps + 1;
   if (residuals_.size() < cycle + 1) return;
   done_ = *std::max_element(residuals_.end() - cycle, residuals_.end()) < settings_.tolerance;
-}
-
-bool ArSolver::diverging(std::ptrdiff_t fresh) const {
-  const std::vector<float>& r = residuals_;
-  // Over every iteration just judged: a growing change may alternate with smaller ones.
-  const float best = *std::min_element(r.begin(), r.end()), worst = *std::max_element(r.end() - fresh, r.end());
-  const float negative = *std::max_element(negatives_.end() - fresh, negatives_.end());
-  if (!std::all_of(r.end() - fresh, r.end(), [](float x) { return std::isfinite(x); }) || !std::isfinite(negative))
-    return true;
-  if (recorded_ >= 8 && worst > 1.0f && worst > kGrowthBound * best) return true;
-  // Undamped, light cancelled far past zero; damped, the light may settle with some cancelled past
-  // zero (a damped step is slower, not off), but a change still above the light after 8 steps, or
-  // one that did not fall by a quarter over 16, is light the damping does not hold.
-  if (damping_ == 1.0f) return recorded_ >= 3 && negative > kNegativeBound;
-  return (recorded_ >= 8 && r.back() > 1.0f) || (r.size() > 16 && r.back() > 0.75f * r[r.size() - 17]);
 }
 
 bool ArSolver::wantsMorePasses() const {
@@ -435,9 +417,9 @@ void ArSolver::frameStands() {
   standing_ = true;
   if (damping_ < 1.0f && !diverged_)
     std::fprintf(stderr,
-                 "ivgi: ar: the iteration diverges undamped (the irradiance changed by %.3g of itself at iteration "
-                 "%u); with each step damped to %.3g it settled in %u iterations\n",
-                 double(firstGrowth_), firstGrowthAt_, double(damping_), recorded_);
+                 "ivgi: ar: the iteration diverges undamped (%s); with each step damped to %.3g it settled in %u "
+                 "iterations\n",
+                 firstDivergence_.c_str(), double(damping_), recorded_);
   solved_ = diverged_ ? -1 : frame_;
   cap_ = 0;
   frameDamping_ = damping_, damping_ = 1.0f;

@@ -81,7 +81,6 @@ class ArSolver final : public Solver {
   // Reads the sums of the iterations recorded since the last look and decides whether to go on
   // (wantsMorePasses() asks, so what it decides is mutable).
   void judge() const;
-  bool diverging(std::ptrdiff_t fresh) const;  // over the residuals, the `fresh` just judged
   uint32_t iterationLimit() const;
 
   const vk::Context& ctx_;
@@ -126,9 +125,8 @@ class ArSolver final : public Solver {
   float frameDamping_ = 1.0f;  // the damping the last frame that stood was solved with
   mutable uint32_t cap_ = 0;
   mutable bool diverged_ = false, redo_ = false;
-  // The first divergence of the frame, named in its one line on stderr: the change, its iteration.
-  mutable float firstGrowth_ = 0.0f;
-  mutable uint32_t firstGrowthAt_ = 0;
+  // Why the frame's plain iteration diverges, named in its one line on stderr (divergence()).
+  mutable std::string firstDivergence_;
   uint32_t framesRedone_ = 0;
 };
 
