@@ -271,8 +271,11 @@ TEST(BadInput, AbsurdOptions) {
   expectRenderRefused("cornell", {"--cells", "0"}, {"--cells"});
   expectRenderRefused("cornell", {"--format", "jpg"}, {"--format"});
   expectRenderRefused("cornell", {"--device", "no such gpu"}, {"no Vulkan device matches 'no such gpu'"});
-  expectRenderRefused("cornell", {"--camera", "nope"}, {"no camera named 'nope'"});
-  expectRenderRefused("cornell", {"--animation", "nope"}, {"no animation named 'nope'"});
+  expectRenderRefused("cornell", {"--camera", "nope"},
+                      {"no camera named or numbered 'nope' (1 camera, numbered 0 to 0"});
+  expectRenderRefused("cornell", {"--camera", "5"}, {"no camera named or numbered '5'"});
+  expectRenderRefused("cornell", {"--animation", "nope"},
+                      {"no animation named or numbered 'nope' (1 animation, numbered 0 to 0"});
   expectRenderRefused("cornell", {"--direct", "rays"}, {"--direct rays"});
   expectRenderRefused("cornell", {"--direct", "maps", "--method", "pt"}, {"--direct maps", "only iv and ar"});
   expectRenderRefused("cornell", {"--direct", "maps", "--light-samples", "0"}, {"--light-samples 0"});

@@ -8,15 +8,24 @@
 
 namespace ivgi::cli {
 
+namespace {
+
+// "no camera named or numbered 'x' (3 cameras, numbered 0 to 2; see `ivgi info`)": the option takes either.
+std::string noneSuch(const std::string& what, const std::string& choice, size_t count) {
+  const std::string numbered = count ? ", numbered 0 to " + std::to_string(count - 1) : "";
+  return "no " + what + " named or numbered '" + choice + "' (" + std::to_string(count) + " " + what +
+         (count == 1 ? "" : "s") + numbered + "; see `ivgi info`)";
+}
+
+}  // namespace
+
 Timeline timeline(const scene::Scene& s, const std::string& choice, double fps) {
   if (!(fps > 0.0 && fps <= 1000.0)) throw SettingsError("--fps must lie in (0, 1000]");
   Timeline t;
   if (choice == "none") return t;
   if (!choice.empty()) {
     auto a = s.findAnimation(choice);
-    if (!a)
-      throw scene::LoadError(s.source + ": no animation named '" + choice + "' (" +
-                             std::to_string(s.animations.size()) + " animations; see `ivgi info`)");
+    if (!a) throw scene::LoadError(s.source + ": " + noneSuch("animation", choice, s.animations.size()));
     t.animation = *a;
   } else if (!s.animations.empty()) {
     t.animation = 0;
@@ -34,9 +43,7 @@ FrameCamera::FrameCamera(const scene::Scene& s, const scene::Geometry& g, const 
     : scene_(s) {
   if (!camera.empty()) {
     auto c = s.findCameraNode(camera);
-    if (!c)
-      throw scene::LoadError(s.source + ": no camera named '" + camera + "' (" +
-                             std::to_string(s.cameraNodes().size()) + " cameras; see `ivgi info`)");
+    if (!c) throw scene::LoadError(s.source + ": " + noneSuch("camera", camera, s.cameraNodes().size()));
     node_ = *c;
   } else if (auto cams = s.cameraNodes(); !cams.empty()) {
     node_ = cams.front();
