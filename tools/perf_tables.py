@@ -603,7 +603,7 @@ def equal_rows(ratios):
     ar, ar_flip = ratios["ar, defaults"]
     return [f"| iv faster than pt at equal relMSE, defaults / every surfel a receiver | {iv} |",
             f"| iv faster than pt at equal FLIP, defaults / every surfel a receiver | {iv_flip} |",
-            f"| ar against pt at equal relMSE / FLIP, defaults | {ar:.2f}× / {ar_flip:.2f}× |"]
+            f"| ar against pt at equal relMSE / FLIP, defaults | {ar:.1f}× / {ar_flip:.1f}× |"]
 
 
 def with_rows(table, rows):
