@@ -9,6 +9,7 @@
 
 #include <fcntl.h>
 
+#include <algorithm>
 #include <chrono>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -126,6 +127,31 @@ TEST(Render, TheDefaultDirectLightSuitsTheScene) {
   // The environment through the solvers' bins unless asked for through the maps.
   EXPECT_EQ(directOf({"cornell", "--env", "1,1,1"})["environmentDirections"], 0);
   EXPECT_EQ(directOf({"cornell", "--env", "1,1,1", "--env-directions", "16"})["environmentDirections"], 16);
+}
+
+// What a file holds that ivgi ignores is said once by every command that renders it: bench and
+// the sweep said nothing, so a benchmark of a file could leave out part of it unremarked.
+TEST(Render, EveryCommandSaysWhatTheFileHoldsThatIsIgnored) {
+  scenes::GltfBuilder b;
+  scenes::MeshData floor;
+  scenes::addQuad(floor, {-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}, 2, 2, {0, 1, 0});
+  b.node("floor", b.mesh("floor", {{floor, b.material("floor", glm::vec3(0.5f))}}));
+  tinygltf::Model model = b.finish();
+  model.extensionsUsed.push_back("KHR_materials_sheen");
+  const fs::path dir = test::scratchDir("ignored"), file = dir / "sheen.gltf";
+  scenes::writeModel(model, file.string());
+  const std::string warning = "ivgi: warning: " + file.string() + ": extension KHR_materials_sheen";
+  auto warnings = [&](const test::Run& r) {
+    EXPECT_EQ(r.status, 0) << r.err;
+    const auto lines = r.errLines();
+    return std::count_if(lines.begin(), lines.end(), [&](const std::string& l) { return l.rfind(warning, 0) == 0; });
+  };
+  const std::string out = (dir / "f_%04d").string(), size = "16x12";
+  EXPECT_EQ(warnings(test::runIvgi({"render", file.string(), "--frames", "0", "--size", size, "--out", out})), 1);
+  EXPECT_EQ(warnings(test::runIvgi({"bench", file.string(), "--frames", "1", "--warmup", "0", "--size", size})), 1);
+  EXPECT_EQ(warnings(test::runIvgi({"sweep", file.string(), "--method", "none", "--repeats", "1", "--warmup", "0",
+                                    "--reference", (dir / "f_0000.exr").string(), "--out", (dir / "sweep").string()})),
+            1);
 }
 
 TEST(Render, ExrCarriesEveryLayerAndPngIsDisplayReady) {

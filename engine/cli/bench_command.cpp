@@ -108,6 +108,7 @@ int runBench(const BenchOptions& o) {
   parseSize(o.size, image.width, image.height);
   scene::Scene s = loadScene(o.source);
   scene::Geometry g = renderableGeometry(s, o.solver, o.source.limits);
+  sayWarnings(s);
   const SolverOptions solver = withSceneLight(o.solver, s, g);
   const Timeline tl = timeline(s, "", o.fps);
   const int animation = tl.animation;

@@ -70,6 +70,9 @@ uint32_t sampledTessellation(const SolverOptions& solver);
 // that see only open space given faces where the environment withSceneLight() gives it lights
 // them; throws LoadError when there is no triangle to render.
 scene::Geometry renderableGeometry(const scene::Scene& scene, const SolverOptions& solver, const scene::Limits& limits);
+// The loader's warnings (what the file holds that ivgi ignores), a line each on stderr; said once
+// the scene is known to render, so that a refusal before it stays its one line.
+void sayWarnings(const scene::Scene& scene);
 // Whether the environment withSceneLight() gives lights open space: --env as given, or where it is
 // not, the default sky of a scene whose drawn materials emit nothing and which has no light.
 scene::OpenSpace openSpaceOf(const SolverOptions& solver, const scene::Scene& scene);

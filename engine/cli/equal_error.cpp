@@ -79,6 +79,7 @@ int runEqualError(const BenchOptions& o) {
   scene::Geometry g = renderableGeometry(s, o.solver, o.source.limits);
   const scene::Geometry modelled =
       renderableGeometry(s, {.method = "pt"}, o.source.limits);  // pt traces the mesh as modelled
+  sayWarnings(s);
   // The scene's own lights, or for a scene without any the default sky, for both methods.
   const SolverOptions solver = withSceneLight(o.solver, s, g);
   std::optional<scene::Environment> environment;

@@ -87,7 +87,7 @@ int runRender(const RenderOptions& o) {
   }
   scene::Geometry g = renderableGeometry(s, o.solver, o.source.limits);
   const SolverOptions solver = withSceneLight(o.solver, s, g);
-  for (const auto& w : s.warnings) std::fprintf(stderr, "ivgi: warning: %s: %s\n", s.source.c_str(), w.c_str());
+  sayWarnings(s);
 
   // The frame source: the GPU pipeline (iv, none) or the Embree path tracer (pt, no Vulkan).
   std::shared_ptr<vk::Context> ctx;

@@ -109,6 +109,10 @@ scene::Geometry renderableGeometry(const scene::Scene& s, const SolverOptions& s
   return g;
 }
 
+void sayWarnings(const scene::Scene& s) {
+  for (const auto& w : s.warnings) std::fprintf(stderr, "ivgi: warning: %s: %s\n", s.source.c_str(), w.c_str());
+}
+
 SolverOptions withSceneLight(SolverOptions o, const scene::Scene& s, const scene::Geometry& g) {
   if (o.environment == "none") {
     o.environment.clear();

@@ -160,6 +160,7 @@ int runSweep(const SweepOptions& o) {
   const image::RgbImage reference = image::readLinearRgb(o.reference);
   scene::Scene s = loadScene(o.source);
   scene::Geometry g = renderableGeometry(s, {.tessellation = o.tessellation}, o.source.limits);
+  sayWarnings(s);
   const std::string environment = withSceneLight({.environment = o.environment}, s, g).environment;
   for (SolverOptions& setting : grid) setting.environment = environment;
   const Timeline tl = timeline(s, o.animation, o.fps);
