@@ -101,7 +101,6 @@ void checkFrameCounts(const BenchOptions& o) {
 int runBench(const BenchOptions& o) {
   if (o.equalError && o.perProgram)
     throw SettingsError("--per-program times bench's own frames; --equal-error does not take it");
-  if (!o.json.empty()) image::prepareToWrite(o.json);  // written at the end
   if (o.equalError) return runEqualError(o);
   checkFrameCounts(o);
   gi::ImageSettings image{.samples = o.supersample};
@@ -109,6 +108,7 @@ int runBench(const BenchOptions& o) {
   scene::Scene s = loadScene(o.source);
   scene::Geometry g = renderableGeometry(s, o.solver, o.source.limits);
   sayWarnings(s);
+  if (!o.json.empty()) image::prepareToWrite(o.json);  // written at the end
   const SolverOptions solver = withSceneLight(o.solver, s, g);
   const Timeline tl = timeline(s, "", o.fps);
   const int animation = tl.animation;

@@ -17,6 +17,7 @@
 #include "engine/cli/options.h"
 #include "engine/cli/report.h"
 #include "engine/cli/statistics.h"
+#include "engine/image/atomic_file.h"
 #include "engine/reference/path_tracer.h"
 #include "engine/scene/animation.h"
 #include "engine/scene/lights.h"
@@ -80,6 +81,7 @@ int runEqualError(const BenchOptions& o) {
   const scene::Geometry modelled =
       renderableGeometry(s, {.method = "pt"}, o.source.limits);  // pt traces the mesh as modelled
   sayWarnings(s);
+  if (!o.json.empty()) image::prepareToWrite(o.json);  // written at the end
   // The scene's own lights, or for a scene without any the default sky, for both methods.
   const SolverOptions solver = withSceneLight(o.solver, s, g);
   std::optional<scene::Environment> environment;

@@ -122,8 +122,6 @@ int runSweep(const SweepOptions& o) {
   auto tolerances = parseList<float>("--bounce-tol", o.bounceTolerances);
   auto kappas = parseList<float>("--kappa", o.kappa);
   auto receiverTolerances = parseList<float>("--receiver-tol", o.receiverTolerances);
-  // Its files are written once every setting has run: their folder is checked first.
-  image::prepareToWrite((std::filesystem::path(o.out) / "sweep.csv").string());
   std::vector<SolverOptions> grid;
   for (const auto& m : methods) {
     if (m != "iv" && m != "ar" && m != "none")
@@ -167,6 +165,8 @@ int runSweep(const SweepOptions& o) {
   if (o.frame > tl.lastFrame)
     throw SettingsError("--frame " + std::to_string(o.frame) + ": the animation ends at frame " +
                         std::to_string(tl.lastFrame));
+  // Its files are written once every setting has run: their folder is checked before the first.
+  image::prepareToWrite((std::filesystem::path(o.out) / "sweep.csv").string());
   gi::ImageSettings image{reference.width, reference.height, o.supersample};
   const FrameCamera camera(s, g, tl, o.fps, o.camera, {o.frame}, float(image.width) / float(image.height));
   const auto pose = scene::evaluatePose(s, tl.animation, float(tl.time(o.frame, o.fps)));
