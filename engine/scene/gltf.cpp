@@ -706,15 +706,9 @@ Scene loadGltf(const std::string& path, const Limits& limits) {
   const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
   const std::string invalid = path + ": " + (binary ? "invalid .glb: " : "invalid glTF: ");
   // Another version of glTF fails tinygltf's checks on whatever differs first: say what it is.
-  const std::string onlyTwo = "; ivgi reads glTF 2.0";
-  if (binary && bytes.size() >= 8) {
-    const uint32_t version =
-        uint32_t(bytes[4]) | uint32_t(bytes[5]) << 8 | uint32_t(bytes[6]) << 16 | uint32_t(bytes[7]) << 24;
-    if (version != 2)
-      throw LoadError(path + ": is binary glTF of version " + std::to_string(version) + " (its header)" + onlyTwo);
-  }
   const nlohmann::json doc = gltfJson(bytes, binary);
-  if (auto problem = gltfVersionProblem(doc)) throw LoadError(path + ": " + *problem + onlyTwo);
+  if (auto problem = gltfVersionProblem(bytes, binary, doc))
+    throw LoadError(path + ": " + *problem + "; ivgi reads glTF 2.0");
 
   tinygltf::TinyGLTF loader;
   tinygltf::Model model;

@@ -279,6 +279,11 @@ std::optional<std::string> gltfTypeProblem(const json& gltf) {
 
 namespace {
 
+// The little-endian 32-bit word of a .glb at byte `at` (its header's and chunks' fields).
+uint32_t glbWord(std::span<const unsigned char> file, size_t at) {
+  return uint32_t(file[at]) | uint32_t(file[at + 1]) << 8 | uint32_t(file[at + 2]) << 16 | uint32_t(file[at + 3]) << 24;
+}
+
 // "<major>.<minor>" (glTF 1.0's files also wrote "1.0.2") as a pair; none where it is not one.
 std::optional<std::pair<int, int>> versionOf(const json& v) {
   if (!v.is_string()) return std::nullopt;
@@ -293,7 +298,10 @@ std::optional<std::pair<int, int>> versionOf(const json& v) {
 
 }  // namespace
 
-std::optional<std::string> gltfVersionProblem(const json& gltf) {
+std::optional<std::string> gltfVersionProblem(std::span<const unsigned char> file, bool binary, const json& gltf) {
+  if (binary && file.size() >= 8)
+    if (const uint32_t version = glbWord(file, 4); version != 2)
+      return "is binary glTF of version " + std::to_string(version) + " (its header)";
   if (!gltf.is_object()) return std::nullopt;
   const json none;
   const auto asset = gltf.find("asset");
@@ -319,8 +327,7 @@ json gltfJson(std::span<const unsigned char> file, bool binary) {
   // A .glb: a 12-byte header, then the JSON chunk's length and type, then the chunk.
   constexpr size_t kChunk = 20;
   if (file.size() < kChunk || std::memcmp(file.data() + 16, "JSON", 4) != 0) return json(json::value_t::discarded);
-  const uint32_t length =
-      uint32_t(file[12]) | uint32_t(file[13]) << 8 | uint32_t(file[14]) << 16 | uint32_t(file[15]) << 24;
+  const uint32_t length = glbWord(file, 12);
   if (length > file.size() - kChunk) return json(json::value_t::discarded);
   const auto chunk = file.subspan(kChunk, length);
   return json::parse(chunk.begin(), chunk.end(), nullptr, false);

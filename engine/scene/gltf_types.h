@@ -17,11 +17,13 @@ namespace ivgi::scene {
 // the schema says. Expects the JSON tinygltf has parsed (gltfJson).
 std::optional<std::string> gltfTypeProblem(const nlohmann::json& gltf);
 
-// Where the JSON is not glTF 2.0, what it is, as "is glTF 1.0 (asset.version \"1.0\")"; none where a
-// glTF 2.0 reader may read it, a later minor version included unless its asset.minVersion asks for
-// more (the specification has such a reader ignore what the minor version added). A file without
-// an asset whose collections are objects of named entries is glTF 1.0's form.
-std::optional<std::string> gltfVersionProblem(const nlohmann::json& gltf);
+// Where a file is not glTF 2.0, what it is, as "is glTF 1.0 (asset.version \"1.0\")", from a .glb's
+// header and the file's JSON (gltfJson); none where a glTF 2.0 reader may read it, a later minor
+// version included unless its asset.minVersion asks for more (the specification has such a reader
+// ignore what the minor version added). A file without a version string whose collections are
+// objects of named entries is glTF 1.0's form.
+std::optional<std::string> gltfVersionProblem(std::span<const unsigned char> file, bool binary,
+                                              const nlohmann::json& gltf);
 
 // The JSON of a .gltf file's bytes, or of a .glb's JSON chunk; discarded (is_discarded()) where it
 // cannot be read as JSON.
